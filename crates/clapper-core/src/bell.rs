@@ -1,0 +1,472 @@
+//! A bell and its clapper: mass properties, validation, derived lengths and
+//! periods, the two bells of the paper's Table 1, and the two other ways of
+//! getting a bell: from a point of the clapping chart (SPEC §5) and from
+//! tower measurements (SPEC §1).
+
+use std::f64::consts::PI;
+
+/// Acceleration due to gravity (m/s²), the value the paper uses.
+pub const G: f64 = 9.81;
+
+/// A bad bell parameter: which field, its value, and what is allowed.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[error("{field} = {value} is out of range: {allowed}")]
+pub struct ParamError {
+    /// The field's name as the user writes it (e.g. `clapper_mass_kg`).
+    pub field: &'static str,
+    /// The rejected value.
+    pub value: f64,
+    /// The allowed range, in words.
+    pub allowed: &'static str,
+}
+
+/// Something odd about a bell that does not stop it being simulated.
+#[derive(Clone, Debug, PartialEq)]
+pub enum BellWarning {
+    /// `I_c < m b²`: the clapper's radius of gyration about its pivot is
+    /// smaller than the distance to its centre of mass, which no real body
+    /// has. The paper's chart construction produces such clappers at large
+    /// L_b/L_c (and the lab bell's Table 1 values are just inside it), so it
+    /// is a warning.
+    ClapperInertiaBelowPointMass {
+        /// I_c (kg m²).
+        inertia: f64,
+        /// m b² (kg m²).
+        point_mass_inertia: f64,
+    },
+    /// The same for the bell: `I_b < M a²`.
+    BellInertiaBelowPointMass {
+        /// I_b (kg m²).
+        inertia: f64,
+        /// M a² (kg m²).
+        point_mass_inertia: f64,
+    },
+}
+
+impl std::fmt::Display for BellWarning {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Self::ClapperInertiaBelowPointMass {
+                inertia,
+                point_mass_inertia,
+            } => write!(
+                f,
+                "clapper inertia I_c = {inertia:.4} kg m^2 is below m b^2 = {point_mass_inertia:.4} kg m^2: \
+                 physically impossible, simulated anyway"
+            ),
+            Self::BellInertiaBelowPointMass {
+                inertia,
+                point_mass_inertia,
+            } => write!(
+                f,
+                "bell inertia I_b = {inertia:.4} kg m^2 is below M a^2 = {point_mass_inertia:.4} kg m^2: \
+                 physically impossible, simulated anyway"
+            ),
+        }
+    }
+}
+
+/// A bell and clapper by mass properties (SI units, angle in radians).
+///
+/// Build one with [`Bell::new`], which validates; the fields are public for
+/// reading and for struct-update syntax, and every simulation entry point
+/// validates again, so a hand-edited bell cannot reach the integrator.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Bell {
+    /// M: mass of the bell and its fittings (kg).
+    pub bell_mass: f64,
+    /// m: mass of the clapper (kg).
+    pub clapper_mass: f64,
+    /// a: bell pivot to bell centre of mass (m).
+    pub a: f64,
+    /// b: clapper pivot to clapper centre of mass (m).
+    pub b: f64,
+    /// I_b: bell moment of inertia about its pivot (kg m²).
+    pub bell_inertia: f64,
+    /// I_c: clapper moment of inertia about its pivot (kg m²).
+    pub clapper_inertia: f64,
+    /// r: how far the clapper pivot lies below the bell pivot (m); may be
+    /// negative (clapper pivot above the bell's axis).
+    pub r: f64,
+    /// φ_max: clapper angle relative to the bell at contact (rad), in (0, π/2).
+    pub phi_max: f64,
+}
+
+fn positive(field: &'static str, value: f64) -> Result<(), ParamError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(ParamError {
+            field,
+            value,
+            allowed: "a finite number > 0",
+        })
+    }
+}
+
+impl Bell {
+    /// A validated bell. `phi_max` is in radians.
+    #[allow(clippy::too_many_arguments)] // the eight numbers of Table 1, in its order
+    pub fn new(
+        bell_mass: f64,
+        clapper_mass: f64,
+        a: f64,
+        b: f64,
+        bell_inertia: f64,
+        clapper_inertia: f64,
+        r: f64,
+        phi_max: f64,
+    ) -> Result<Self, ParamError> {
+        let bell = Self {
+            bell_mass,
+            clapper_mass,
+            a,
+            b,
+            bell_inertia,
+            clapper_inertia,
+            r,
+            phi_max,
+        };
+        bell.validate()?;
+        Ok(bell)
+    }
+
+    /// Check every field against SPEC §1.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        positive("bell_mass_kg", self.bell_mass)?;
+        positive("clapper_mass_kg", self.clapper_mass)?;
+        positive("a_m", self.a)?;
+        positive("b_m", self.b)?;
+        positive("bell_inertia_kg_m2", self.bell_inertia)?;
+        positive("clapper_inertia_kg_m2", self.clapper_inertia)?;
+        if !self.r.is_finite() {
+            return Err(ParamError {
+                field: "r_m",
+                value: self.r,
+                allowed: "a finite number (may be negative)",
+            });
+        }
+        check_phi_max(self.phi_max)
+    }
+
+    /// The same bell with another contact angle φ_max (rad), validated.
+    pub fn with_phi_max(self, phi_max: f64) -> Result<Self, ParamError> {
+        check_phi_max(phi_max)?;
+        Ok(Self { phi_max, ..self })
+    }
+
+    /// The laboratory bell of Table 1.
+    pub fn lab() -> Self {
+        Self {
+            bell_mass: 45.8,
+            clapper_mass: 1.65,
+            a: 0.24,
+            b: 0.25,
+            bell_inertia: 4.1,
+            clapper_inertia: 0.093,
+            r: 0.10,
+            phi_max: 26f64.to_radians(),
+        }
+    }
+
+    /// The (old) tenor of Great St Mary's, Cambridge, Table 1.
+    pub fn gsm_tenor() -> Self {
+        Self {
+            bell_mass: 1378.0,
+            clapper_mass: 24.2,
+            a: 0.705,
+            b: 0.589,
+            bell_inertia: 1311.0,
+            clapper_inertia: 11.0,
+            r: 0.179,
+            phi_max: 32f64.to_radians(),
+        }
+    }
+
+    /// L_b = I_b / (M a), the bell's equivalent simple pendulum length (m), (8).
+    pub fn lb(&self) -> f64 {
+        self.bell_inertia / (self.bell_mass * self.a)
+    }
+
+    /// L_c = I_c / (m b), the clapper's equivalent simple pendulum length (m), (8).
+    pub fn lc(&self) -> f64 {
+        self.clapper_inertia / (self.clapper_mass * self.b)
+    }
+
+    /// T_b = 2π √(L_b/g), the bell's small-swing period (s), (9).
+    pub fn tb(&self) -> f64 {
+        period_of_length(self.lb())
+    }
+
+    /// T_c = 2π √(L_c/g), the clapper's small-swing period (s), (9).
+    pub fn tc(&self) -> f64 {
+        period_of_length(self.lc())
+    }
+
+    /// r / L_c, the chart's horizontal coordinate (dimensionless).
+    pub fn r_over_lc(&self) -> f64 {
+        self.r / self.lc()
+    }
+
+    /// L_b / L_c, the chart's vertical coordinate (dimensionless).
+    pub fn lb_over_lc(&self) -> f64 {
+        self.lb() / self.lc()
+    }
+
+    /// Physically odd but simulable properties (SPEC §1).
+    pub fn warnings(&self) -> Vec<BellWarning> {
+        let mut w = Vec::new();
+        let mb2 = self.clapper_mass * self.b * self.b;
+        if self.clapper_inertia < mb2 {
+            w.push(BellWarning::ClapperInertiaBelowPointMass {
+                inertia: self.clapper_inertia,
+                point_mass_inertia: mb2,
+            });
+        }
+        let ma2 = self.bell_mass * self.a * self.a;
+        if self.bell_inertia < ma2 {
+            w.push(BellWarning::BellInertiaBelowPointMass {
+                inertia: self.bell_inertia,
+                point_mass_inertia: ma2,
+            });
+        }
+        w
+    }
+}
+
+fn check_phi_max(phi_max: f64) -> Result<(), ParamError> {
+    if phi_max.is_finite() && phi_max > 0.0 && phi_max < PI / 2.0 {
+        Ok(())
+    } else {
+        Err(ParamError {
+            field: "phi_max_deg",
+            value: phi_max.to_degrees(),
+            allowed: "between 0 and 90 deg, exclusive",
+        })
+    }
+}
+
+/// T = 2π √(L/g) (s) for a pendulum length L (m).
+pub fn period_of_length(l: f64) -> f64 {
+    2.0 * PI * (l / G).sqrt()
+}
+
+/// L = g T² / (4π²) (m) for a small-swing period T (s).
+pub fn length_of_period(t: f64) -> f64 {
+    G * t * t / (4.0 * PI * PI)
+}
+
+/// The paper's recipe for a bell at a point of the clapping chart
+/// (Section 4.2 and SPEC §5). Defaults are the paper's values.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ChartConstruction {
+    /// M (kg); default 45.8, the lab bell's.
+    pub bell_mass: f64,
+    /// m (kg); default 1.65, the lab clapper's.
+    pub clapper_mass: f64,
+    /// a (m); default 0.24, the lab bell's.
+    pub a: f64,
+    /// T_b (s); default 1.8 s, between the lab bell and the GSM tenor. Fixes
+    /// L_b = g T_b²/(4π²) = 0.805 m (the paper prints 0.85 m, which does not
+    /// follow from 1.8 s; SPEC §5 takes the period as the input).
+    pub tb: f64,
+    /// I_c (kg m²); default 0.20.
+    pub clapper_inertia: f64,
+    /// φ_max (rad); default 26 deg, the lab bell's.
+    pub phi_max: f64,
+}
+
+impl Default for ChartConstruction {
+    fn default() -> Self {
+        Self {
+            bell_mass: 45.8,
+            clapper_mass: 1.65,
+            a: 0.24,
+            tb: 1.8,
+            clapper_inertia: 0.20,
+            phi_max: 26f64.to_radians(),
+        }
+    }
+}
+
+impl ChartConstruction {
+    /// The bell at chart point (`r_over_lc`, `lb_over_lc`).
+    pub fn bell(&self, r_over_lc: f64, lb_over_lc: f64) -> Result<Bell, ParamError> {
+        if !r_over_lc.is_finite() {
+            return Err(ParamError {
+                field: "r_over_lc",
+                value: r_over_lc,
+                allowed: "a finite number",
+            });
+        }
+        positive("lb_over_lc", lb_over_lc)?;
+        positive("tb_s", self.tb)?;
+        let lb = length_of_period(self.tb);
+        let lc = lb / lb_over_lc;
+        Bell::new(
+            self.bell_mass,
+            self.clapper_mass,
+            self.a,
+            self.clapper_inertia / (self.clapper_mass * lc),
+            self.bell_mass * self.a * lb,
+            self.clapper_inertia,
+            r_over_lc * lc,
+            self.phi_max,
+        )
+    }
+}
+
+/// A bell as a tower measures it: two small-swing periods, the pivot offset,
+/// the contact angle, and optionally what else is known (SPEC §1).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TowerMeasurements {
+    /// Small-swing period of the bell (s).
+    pub bell_period: f64,
+    /// Small-swing period of the clapper, swinging alone in the hung bell (s).
+    pub clapper_period: f64,
+    /// r (m).
+    pub r: f64,
+    /// φ_max (rad).
+    pub phi_max: f64,
+    /// M (kg), if weighed.
+    pub bell_mass: Option<f64>,
+    /// m (kg), if weighed.
+    pub clapper_mass: Option<f64>,
+    /// a (m), if known.
+    pub a: Option<f64>,
+    /// b (m), if known.
+    pub b: Option<f64>,
+}
+
+/// Which mass properties a tower-measured bell had to assume.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Assumed {
+    /// Field names (as in bell files) with the value assumed, in SI units.
+    pub fields: Vec<(&'static str, f64)>,
+}
+
+impl TowerMeasurements {
+    /// Assumed a/L_b when a is not given: 0.6, so that I_b = 0.6 M L_b² is
+    /// above M a² (a real body). It does not move the chart position.
+    pub const A_OVER_LB: f64 = 0.6;
+    /// Assumed b/L_c when b is not given: 0.9, so that I_c = 0.9 m L_c² is
+    /// above m b². It does not move the chart position.
+    pub const B_OVER_LC: f64 = 0.9;
+
+    /// A full bell with the measured periods, r and φ_max. Masses not given
+    /// are the chart construction's (45.8 kg, 1.65 kg): the motion depends on
+    /// them only through the small mass ratio, forces scale with them. The
+    /// assumed values are listed.
+    pub fn bell(&self) -> Result<(Bell, Assumed), ParamError> {
+        positive("bell_period_s", self.bell_period)?;
+        positive("clapper_period_s", self.clapper_period)?;
+        let lb = length_of_period(self.bell_period);
+        let lc = length_of_period(self.clapper_period);
+        let defaults = ChartConstruction::default();
+        let mut assumed = Assumed::default();
+        let mut pick = |name: &'static str, given: Option<f64>, default: f64| match given {
+            Some(v) => {
+                positive(name, v)?;
+                Ok(v)
+            }
+            None => {
+                assumed.fields.push((name, default));
+                Ok(default)
+            }
+        };
+        let big_m = pick("bell_mass_kg", self.bell_mass, defaults.bell_mass)?;
+        let small_m = pick("clapper_mass_kg", self.clapper_mass, defaults.clapper_mass)?;
+        let a = pick("a_m", self.a, Self::A_OVER_LB * lb)?;
+        let b = pick("b_m", self.b, Self::B_OVER_LC * lc)?;
+        let bell = Bell::new(big_m, small_m, a, b, big_m * a * lb, small_m * b * lc, self.r, self.phi_max)?;
+        Ok((bell, assumed))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+
+    #[test]
+    fn table1_lab_derived_values() {
+        let b = Bell::lab();
+        // Table 1 prints rounded L values; from the inputs (SPEC §1):
+        assert_relative_eq!(b.lb(), 4.1 / (45.8 * 0.24), max_relative = 1e-12);
+        assert!((b.lb() - 0.376).abs() / 0.376 < 0.01);
+        assert!((b.lc() - 0.224).abs() / 0.224 < 0.01);
+        assert!((b.tb() - 1.23).abs() < 0.01);
+        assert!((b.tc() - 0.95).abs() < 0.01);
+        assert!((b.r_over_lc() - 0.444).abs() < 0.001, "{}", b.r_over_lc());
+        assert!((b.lb_over_lc() - 1.654).abs() < 0.001, "{}", b.lb_over_lc());
+        // And to Table 1's printed ratios within 1 %.
+        assert!((b.r_over_lc() - 0.45).abs() / 0.45 < 0.015);
+        assert!((b.lb_over_lc() - 1.68).abs() / 1.68 < 0.016);
+    }
+
+    #[test]
+    fn table1_gsm_tenor_derived_values() {
+        let b = Bell::gsm_tenor();
+        assert!((b.lb() - 1.35).abs() / 1.35 < 0.01);
+        assert!((b.lc() - 0.770).abs() / 0.770 < 0.01);
+        assert!((b.tb() - 2.33).abs() < 0.01);
+        assert!((b.tc() - 1.76).abs() < 0.01);
+        assert!((b.r_over_lc() - 0.23).abs() < 0.005);
+        assert!((b.lb_over_lc() - 1.75).abs() < 0.005);
+        assert!(b.warnings().is_empty());
+    }
+
+    #[test]
+    fn lab_clapper_is_flagged_as_impossible_but_accepted() {
+        let b = Bell::lab();
+        assert!(b.validate().is_ok());
+        assert!(matches!(b.warnings()[..], [BellWarning::ClapperInertiaBelowPointMass { .. }]));
+    }
+
+    #[test]
+    fn validation_names_the_field() {
+        let e = Bell { clapper_mass: -1.0, ..Bell::lab() }.validate().unwrap_err();
+        assert_eq!(e.field, "clapper_mass_kg");
+        let e = Bell::lab().with_phi_max(120f64.to_radians()).unwrap_err();
+        assert_eq!(e.field, "phi_max_deg");
+        assert!((e.value - 120.0).abs() < 1e-9);
+        let e = Bell { r: f64::NAN, ..Bell::lab() }.validate().unwrap_err();
+        assert_eq!(e.field, "r_m");
+        assert!(Bell { r: -0.2, ..Bell::lab() }.validate().is_ok());
+    }
+
+    #[test]
+    fn chart_point_bell_lands_on_its_point() {
+        let c = ChartConstruction::default();
+        assert!((length_of_period(1.8) - 0.805).abs() < 0.001);
+        for &(x, y) in &[(0.458, 0.732), (-0.005, 1.363), (0.0, 2.4), (-0.3, 0.5), (0.7, 2.5)] {
+            let b = c.bell(x, y).unwrap();
+            assert_relative_eq!(b.r_over_lc(), x, epsilon = 1e-12);
+            assert_relative_eq!(b.lb_over_lc(), y, max_relative = 1e-12);
+            assert_relative_eq!(b.tb(), 1.8, max_relative = 1e-12);
+            assert_relative_eq!(b.clapper_inertia, 0.2);
+        }
+        assert_eq!(c.bell(0.1, 0.0).unwrap_err().field, "lb_over_lc");
+    }
+
+    #[test]
+    fn tower_measurements_reproduce_table1_positions() {
+        for bell in [Bell::lab(), Bell::gsm_tenor()] {
+            let t = TowerMeasurements {
+                bell_period: bell.tb(),
+                clapper_period: bell.tc(),
+                r: bell.r,
+                phi_max: bell.phi_max,
+                bell_mass: None,
+                clapper_mass: None,
+                a: None,
+                b: None,
+            };
+            let (tb, assumed) = t.bell().unwrap();
+            assert_relative_eq!(tb.r_over_lc(), bell.r_over_lc(), max_relative = 1e-12);
+            assert_relative_eq!(tb.lb_over_lc(), bell.lb_over_lc(), max_relative = 1e-12);
+            assert_eq!(assumed.fields.len(), 4);
+            assert!(tb.warnings().is_empty());
+        }
+    }
+}

@@ -1,0 +1,42 @@
+//! # clapper-core
+//!
+//! The physics of a church bell rung full circle: the bell and its clapper as
+//! two coupled pendulums (equations (5), (6) of Woodhouse et al. 2012), the
+//! clapper striking and bouncing (rigid impacts or the paper's penalty
+//! spring), strokes and their quantities, and the paper's closed forms.
+//!
+//! This crate does no file, terminal or network I/O; formats, plots and the
+//! command line live in outer crates. The contract it implements is
+//! `SPEC.md`; units are SI inside, radians for angles.
+//!
+//! ```
+//! use clapper_core::prelude::*;
+//!
+//! let bell = Bell::lab();
+//! let cfg = SimConfig::default(); // theta0 171 deg, R 0.2, impact model
+//! let right = first_stroke(&bell, &cfg, Style::Right).unwrap();
+//! let wrong = first_stroke(&bell, &cfg, Style::Wrong).unwrap();
+//! // The lab bell rings both right and wrong when fully up (SPEC §7).
+//! assert!(right.sustained() && wrong.sustained());
+//! println!("first strike at {:.1} deg", right.strike_angle().unwrap().to_degrees());
+//! ```
+
+#![warn(missing_docs)]
+
+pub mod bell;
+pub mod dynamics;
+pub mod liftoff;
+pub mod ode;
+pub mod ringing;
+pub mod stroke;
+
+/// The names most programs need.
+pub mod prelude {
+    pub use crate::bell::{Bell, BellWarning, ChartConstruction, ParamError, TowerMeasurements};
+    pub use crate::liftoff::{liftoff_angles, LiftoffAngles};
+    pub use crate::ringing::{first_stroke, ring, Protocol, Ringing};
+    pub use crate::stroke::{
+        run_stroke, ClapperState, ContactModel, EndReason, Impact, Observer, Side, SimConfig, SimError, Stroke,
+        StrokeStart, Style, TraceRecorder,
+    };
+}

@@ -1,0 +1,599 @@
+//! Dormand–Prince 5(4) with Hairer's step-size control and 4th-order dense
+//! output (Hairer, Nørsett & Wanner, *Solving ODEs I*, II.5 and the DOPRI5
+//! code), plus root location of events on the dense output.
+
+use super::{Direction, EventSystem, OdeError, Options, Stats, MAX_EVENTS};
+
+// Butcher tableau of Dormand & Prince (1980).
+const C2: f64 = 1.0 / 5.0;
+const C3: f64 = 3.0 / 10.0;
+const C4: f64 = 4.0 / 5.0;
+const C5: f64 = 8.0 / 9.0;
+const A21: f64 = 1.0 / 5.0;
+const A31: f64 = 3.0 / 40.0;
+const A32: f64 = 9.0 / 40.0;
+const A41: f64 = 44.0 / 45.0;
+const A42: f64 = -56.0 / 15.0;
+const A43: f64 = 32.0 / 9.0;
+const A51: f64 = 19372.0 / 6561.0;
+const A52: f64 = -25360.0 / 2187.0;
+const A53: f64 = 64448.0 / 6561.0;
+const A54: f64 = -212.0 / 729.0;
+const A61: f64 = 9017.0 / 3168.0;
+const A62: f64 = -355.0 / 33.0;
+const A63: f64 = 46732.0 / 5247.0;
+const A64: f64 = 49.0 / 176.0;
+const A65: f64 = -5103.0 / 18656.0;
+const A71: f64 = 35.0 / 384.0;
+const A73: f64 = 500.0 / 1113.0;
+const A74: f64 = 125.0 / 192.0;
+const A75: f64 = -2187.0 / 6784.0;
+const A76: f64 = 11.0 / 84.0;
+// Error weights: 5th-order minus embedded 4th-order solution.
+const E1: f64 = 71.0 / 57600.0;
+const E3: f64 = -71.0 / 16695.0;
+const E4: f64 = 71.0 / 1920.0;
+const E5: f64 = -17253.0 / 339200.0;
+const E6: f64 = 22.0 / 525.0;
+const E7: f64 = -1.0 / 40.0;
+// Dense output coefficients (Hairer's CONTD5).
+const D1: f64 = -12715105075.0 / 11282082432.0;
+const D3: f64 = 87487479700.0 / 32700410799.0;
+const D4: f64 = -10690763975.0 / 1880347072.0;
+const D5: f64 = 701980252875.0 / 199316789632.0;
+const D6: f64 = -1453857185.0 / 822651844.0;
+const D7: f64 = 69997945.0 / 29380423.0;
+
+// Step-size controller (Hairer's PI controller constants).
+const SAFETY: f64 = 0.9;
+const BETA: f64 = 0.04;
+const EXPO1: f64 = 0.2 - BETA * 0.75;
+const FAC_MIN: f64 = 0.2; // largest shrink per step is 1/5 ...
+const FAC_MAX: f64 = 10.0; // ... largest growth 10x
+/// Bisection/Illinois iterations for one root; 1e-12 s from a 0.05 s step
+/// needs about 36 halvings, so this bound is never the binding one.
+const MAX_ROOT_ITERS: usize = 200;
+
+/// The dense output of one step: a quartic in the step fraction that
+/// interpolates the solution to 4th order anywhere in `[t0, t0 + h]`.
+#[derive(Clone, Copy, Debug)]
+pub struct Dense<const N: usize> {
+    t0: f64,
+    h: f64,
+    r: [[f64; N]; 5],
+}
+
+impl<const N: usize> Dense<N> {
+    /// Start time of the step (s).
+    pub fn t0(&self) -> f64 {
+        self.t0
+    }
+
+    /// End time of the step (s).
+    pub fn t1(&self) -> f64 {
+        self.t0 + self.h
+    }
+
+    /// The interpolated state at time `t` (s), which should lie in the step.
+    #[inline]
+    pub fn eval(&self, t: f64) -> [f64; N] {
+        let s = (t - self.t0) / self.h;
+        let s1 = 1.0 - s;
+        let r = &self.r;
+        std::array::from_fn(|i| r[0][i] + s * (r[1][i] + s1 * (r[2][i] + s * (r[3][i] + s1 * r[4][i]))))
+    }
+}
+
+/// Where [`Dopri5::integrate`] stopped.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Segment<const N: usize> {
+    /// Time (s) of the stop.
+    pub t: f64,
+    /// State at the stop.
+    pub y: [f64; N],
+    /// The event that stopped integration, or `None` if `t_end` was reached.
+    pub event: Option<usize>,
+}
+
+/// An adaptive Dormand–Prince 5(4) integrator.
+///
+/// One integrator carries a step-size suggestion and a step budget from one
+/// [`integrate`](Self::integrate) call to the next, so a caller that stops at
+/// an event, changes the state and calls again continues efficiently.
+#[derive(Clone, Debug)]
+pub struct Dopri5<const N: usize> {
+    opts: Options,
+    h_next: Option<f64>,
+    stats: Stats,
+}
+
+fn sign(x: f64) -> i8 {
+    if x > 0.0 {
+        1
+    } else if x < 0.0 {
+        -1
+    } else {
+        0
+    }
+}
+
+impl<const N: usize> Dopri5<N> {
+    /// An integrator with the given options.
+    pub fn new(opts: Options) -> Self {
+        Self {
+            opts,
+            h_next: None,
+            stats: Stats::default(),
+        }
+    }
+
+    /// The options in force.
+    pub fn options(&self) -> &Options {
+        &self.opts
+    }
+
+    /// Work done so far.
+    pub fn stats(&self) -> Stats {
+        self.stats
+    }
+
+    /// Forget the step-size suggestion (after a discontinuity in the
+    /// right-hand side, the old step size may not fit).
+    pub fn reset_step(&mut self) {
+        self.h_next = None;
+    }
+
+    fn check_options(&self) -> Result<(), OdeError> {
+        let o = &self.opts;
+        if !(o.rtol > 0.0 && o.rtol.is_finite()) || !(o.atol > 0.0 && o.atol.is_finite()) {
+            return Err(OdeError::InvalidOptions("tolerances must be positive and finite"));
+        }
+        if !(o.h_max > 0.0) || !(o.event_time_tol > 0.0) {
+            return Err(OdeError::InvalidOptions("h_max and event_time_tol must be positive"));
+        }
+        Ok(())
+    }
+
+    #[inline]
+    fn err_norm(&self, y0: &[f64; N], y1: &[f64; N], e: &[f64; N]) -> f64 {
+        let mut s = 0.0;
+        for i in 0..N {
+            let sk = self.opts.atol + self.opts.rtol * y0[i].abs().max(y1[i].abs());
+            let q = e[i] / sk;
+            s += q * q;
+        }
+        (s / N as f64).sqrt()
+    }
+
+    fn initial_step<S: EventSystem<N>>(&mut self, sys: &S, t0: f64, y0: &[f64; N], f0: &[f64; N]) -> f64 {
+        let mut d0 = 0.0;
+        let mut d1 = 0.0;
+        for i in 0..N {
+            let sk = self.opts.atol + self.opts.rtol * y0[i].abs();
+            d0 += (y0[i] / sk).powi(2);
+            d1 += (f0[i] / sk).powi(2);
+        }
+        d0 = (d0 / N as f64).sqrt();
+        d1 = (d1 / N as f64).sqrt();
+        let h0 = if d0 < 1e-10 || d1 < 1e-10 { 1e-6 } else { 0.01 * d0 / d1 };
+        let h0 = h0.min(self.opts.h_max);
+        let y1: [f64; N] = std::array::from_fn(|i| y0[i] + h0 * f0[i]);
+        let f1 = sys.rhs(t0 + h0, &y1);
+        self.stats.rhs_evals += 1;
+        let mut d2 = 0.0;
+        for i in 0..N {
+            let sk = self.opts.atol + self.opts.rtol * y0[i].abs();
+            d2 += ((f1[i] - f0[i]) / sk).powi(2);
+        }
+        d2 = (d2 / N as f64).sqrt() / h0;
+        let dm = d1.max(d2);
+        let h1 = if dm <= 1e-15 {
+            (h0 * 1e-3).max(1e-6)
+        } else {
+            (0.01 / dm).powf(0.2)
+        };
+        (100.0 * h0).min(h1).min(self.opts.h_max)
+    }
+
+    /// Integrate `sys` from `(t0, y0)` towards `t_end` (> `t0`), stopping at
+    /// the earliest event. `observe(dense, t_stop)` is called after every
+    /// accepted step with its dense output and the time the step is used up
+    /// to (earlier than the step's end when an event cut it short).
+    pub fn integrate<S, F>(
+        &mut self,
+        sys: &S,
+        t0: f64,
+        y0: [f64; N],
+        t_end: f64,
+        observe: &mut F,
+    ) -> Result<Segment<N>, OdeError>
+    where
+        S: EventSystem<N>,
+        F: FnMut(&Dense<N>, f64),
+    {
+        self.check_options()?;
+        let n_ev = sys.n_events().min(MAX_EVENTS);
+        if !(t_end > t0) {
+            return Ok(Segment { t: t0, y: y0, event: None });
+        }
+
+        // Event bookkeeping: last value, the sign it is known to have, and
+        // whether it starts exactly at zero (a restart at its own root).
+        let mut g_prev = [0.0f64; MAX_EVENTS];
+        let mut s_prev = [0i8; MAX_EVENTS];
+        let mut at_zero = [false; MAX_EVENTS];
+        for i in 0..n_ev {
+            let g = sys.event(i, t0, &y0);
+            g_prev[i] = g;
+            s_prev[i] = sign(g);
+            at_zero[i] = g == 0.0;
+        }
+        let mut first_step = true;
+
+        let mut t = t0;
+        let mut y = y0;
+        let mut k1 = sys.rhs(t, &y);
+        self.stats.rhs_evals += 1;
+        if k1.iter().chain(y.iter()).any(|v| !v.is_finite()) {
+            return Err(OdeError::NonFinite { t });
+        }
+        let mut h = match self.h_next {
+            Some(h) => h.min(self.opts.h_max),
+            None => self.initial_step(sys, t, &y, &k1),
+        };
+        let mut fac_old = 1e-4f64;
+        let mut last_rejected = false;
+
+        loop {
+            if self.stats.steps >= self.opts.max_steps {
+                return Err(OdeError::StepLimit {
+                    limit: self.opts.max_steps,
+                    t,
+                });
+            }
+            let remaining = t_end - t;
+            let last = h >= remaining;
+            if last {
+                h = remaining;
+            }
+            if h <= 1e-14 * t.abs().max(1.0) && !last {
+                return Err(OdeError::StepSizeUnderflow { h, t });
+            }
+
+            // The six new stages (k7 is f at the new point, reused as the next k1).
+            let yt: [f64; N] = std::array::from_fn(|i| y[i] + h * A21 * k1[i]);
+            let k2 = sys.rhs(t + C2 * h, &yt);
+            let yt: [f64; N] = std::array::from_fn(|i| y[i] + h * (A31 * k1[i] + A32 * k2[i]));
+            let k3 = sys.rhs(t + C3 * h, &yt);
+            let yt: [f64; N] = std::array::from_fn(|i| y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i]));
+            let k4 = sys.rhs(t + C4 * h, &yt);
+            let yt: [f64; N] =
+                std::array::from_fn(|i| y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i]));
+            let k5 = sys.rhs(t + C5 * h, &yt);
+            let yt: [f64; N] = std::array::from_fn(|i| {
+                y[i] + h * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i])
+            });
+            let t_new = if last { t_end } else { t + h };
+            let k6 = sys.rhs(t_new, &yt);
+            let y_new: [f64; N] = std::array::from_fn(|i| {
+                y[i] + h * (A71 * k1[i] + A73 * k3[i] + A74 * k4[i] + A75 * k5[i] + A76 * k6[i])
+            });
+            let k7 = sys.rhs(t_new, &y_new);
+            self.stats.rhs_evals += 6;
+            let e: [f64; N] = std::array::from_fn(|i| {
+                h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i])
+            });
+            let err = self.err_norm(&y, &y_new, &e);
+
+            if !err.is_finite() {
+                // Treat like a failed step: shrink hard and try again.
+                self.stats.rejected += 1;
+                h *= 0.1;
+                last_rejected = true;
+                if h <= 1e-14 * t.abs().max(1.0) {
+                    return Err(OdeError::NonFinite { t });
+                }
+                continue;
+            }
+
+            let fac11 = err.powf(EXPO1);
+            if err > 1.0 {
+                self.stats.rejected += 1;
+                h /= (fac11 / SAFETY).min(1.0 / FAC_MIN);
+                last_rejected = true;
+                continue;
+            }
+
+            // Accepted.
+            self.stats.steps += 1;
+            let fac = (fac11 / fac_old.powf(BETA) / SAFETY).clamp(1.0 / FAC_MAX, 1.0 / FAC_MIN);
+            let mut h_new = (h / fac).min(self.opts.h_max);
+            if last_rejected {
+                h_new = h_new.min(h);
+            }
+            fac_old = err.max(1e-4);
+            last_rejected = false;
+
+            let dense = {
+                let mut r = [[0.0; N]; 5];
+                for i in 0..N {
+                    let ydiff = y_new[i] - y[i];
+                    let bspl = h * k1[i] - ydiff;
+                    r[0][i] = y[i];
+                    r[1][i] = ydiff;
+                    r[2][i] = bspl;
+                    r[3][i] = ydiff - h * k7[i] - bspl;
+                    r[4][i] = h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
+                }
+                Dense { t0: t, h, r }
+            };
+
+            // An event that starts exactly at zero takes the sign it has just
+            // after the start (probed on the dense output, well inside any
+            // real flight); only if that is still zero, the side its
+            // direction comes from. So it neither fires again at the restart
+            // point nor misses a return to zero within the first step.
+            let mut t_left = [t; MAX_EVENTS];
+            if first_step {
+                first_step = false;
+                let tp = t + (1e-9 * h).max(4.0 * f64::EPSILON * t.abs());
+                for i in 0..n_ev {
+                    if at_zero[i] && tp < t_new {
+                        let gp = sys.event(i, tp, &dense.eval(tp));
+                        s_prev[i] = match (sign(gp), sys.direction(i)) {
+                            (0, Direction::Rising) => -1,
+                            (0, Direction::Falling) => 1,
+                            (s, _) => s,
+                        };
+                        g_prev[i] = gp;
+                        t_left[i] = tp;
+                    }
+                }
+            }
+
+            // Events: the earliest root among those that crossed in their direction.
+            let mut best: Option<(f64, usize)> = None;
+            let mut g_new = [0.0f64; MAX_EVENTS];
+            for i in 0..n_ev {
+                let g1 = sys.event(i, t_new, &y_new);
+                g_new[i] = g1;
+                let s0 = s_prev[i];
+                let s1 = sign(g1);
+                let crossed = match sys.direction(i) {
+                    Direction::Rising => s0 < 0 && s1 >= 0,
+                    Direction::Falling => s0 > 0 && s1 <= 0,
+                    Direction::Either => s0 != 0 && s1 != s0,
+                };
+                if crossed {
+                    let root = locate_root(
+                        |tt| sys.event(i, tt, &dense.eval(tt)),
+                        t_left[i],
+                        g_prev[i],
+                        s0,
+                        t_new,
+                        g1,
+                        self.opts.event_time_tol,
+                    );
+                    if best.is_none_or(|(tb, _)| root < tb) {
+                        best = Some((root, i));
+                    }
+                }
+            }
+
+            if let Some((t_ev, i)) = best {
+                observe(&dense, t_ev);
+                let y_ev = if t_ev >= t_new { y_new } else { dense.eval(t_ev) };
+                self.h_next = Some(h_new.max(h));
+                return Ok(Segment {
+                    t: t_ev,
+                    y: y_ev,
+                    event: Some(i),
+                });
+            }
+
+            observe(&dense, t_new);
+            for i in 0..n_ev {
+                g_prev[i] = g_new[i];
+                let s1 = sign(g_new[i]);
+                if s1 != 0 {
+                    s_prev[i] = s1;
+                }
+            }
+            t = t_new;
+            y = y_new;
+            k1 = k7;
+            if y.iter().chain(k1.iter()).any(|v| !v.is_finite()) {
+                return Err(OdeError::NonFinite { t });
+            }
+            if last {
+                self.h_next = Some(h_new);
+                return Ok(Segment { t, y, event: None });
+            }
+            h = h_new;
+        }
+    }
+}
+
+/// Find the first time in `(a, b]` where `g` reaches the side opposite to
+/// `sa`, the sign `g` is known to have at `a` (its value `ga` there may be
+/// exactly zero after a restart). Returns a time at which `g` is already on
+/// the far side (or zero), within `tol` of the root.
+fn locate_root<G: Fn(f64) -> f64>(g: G, mut a: f64, ga: f64, sa: i8, mut b: f64, gb: f64, tol: f64) -> f64 {
+    // Oriented so that the start side is negative.
+    let orient = -f64::from(sa);
+    let mut fa = ga * orient;
+    let mut fb = gb * orient;
+    if fb == 0.0 && fa < 0.0 && (b - a) <= tol {
+        return b;
+    }
+    let mut side = 0i8;
+    for iter in 0..MAX_ROOT_ITERS {
+        if b - a <= tol {
+            break;
+        }
+        // Regula falsi (Illinois) when both ends are informative, bisection
+        // otherwise and every fourth iteration, so the bracket always shrinks.
+        let c = if fa < 0.0 && fb > 0.0 && iter % 4 != 3 {
+            let c = (a * fb - b * fa) / (fb - fa);
+            let margin = 0.01 * (b - a);
+            c.clamp(a + margin.min(tol * 0.5), b - margin.min(tol * 0.5))
+        } else {
+            0.5 * (a + b)
+        };
+        let fc = g(c) * orient;
+        if fc < 0.0 {
+            a = c;
+            fa = fc;
+            if side == -1 {
+                fb *= 0.5;
+            }
+            side = -1;
+        } else {
+            b = c;
+            fb = fc.max(f64::MIN_POSITIVE);
+            if side == 1 {
+                fa *= 0.5;
+            }
+            side = 1;
+        }
+    }
+    b
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    struct Exp;
+    impl EventSystem<1> for Exp {
+        fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
+            [y[0]]
+        }
+    }
+
+    struct Osc;
+    impl EventSystem<2> for Osc {
+        fn rhs(&self, _t: f64, y: &[f64; 2]) -> [f64; 2] {
+            [y[1], -y[0]]
+        }
+        fn n_events(&self) -> usize {
+            2
+        }
+        fn event(&self, i: usize, _t: f64, y: &[f64; 2]) -> f64 {
+            if i == 0 {
+                y[0]
+            } else {
+                y[1]
+            }
+        }
+        fn direction(&self, i: usize) -> Direction {
+            if i == 0 {
+                Direction::Rising
+            } else {
+                Direction::Either
+            }
+        }
+    }
+
+    #[test]
+    fn exponential_growth_to_tolerance() {
+        let mut s = Dopri5::new(Options {
+            rtol: 1e-10,
+            atol: 1e-12,
+            ..Options::default()
+        });
+        let end = s.integrate(&Exp, 0.0, [1.0], 2.0, &mut |_: &_, _| {}).unwrap();
+        assert_eq!(end.event, None);
+        assert!((end.y[0] - 2f64.exp()).abs() / 2f64.exp() < 1e-9, "{}", end.y[0]);
+    }
+
+    #[test]
+    fn dense_output_is_accurate_inside_steps() {
+        let mut s = Dopri5::new(Options {
+            rtol: 1e-10,
+            atol: 1e-12,
+            h_max: 0.5,
+            ..Options::default()
+        });
+        let mut worst = 0.0f64;
+        let mut steps = 0;
+        s.integrate(&Exp, 0.0, [1.0], 3.0, &mut |d: &Dense<1>, t_stop| {
+            steps += 1;
+            for k in 0..=10 {
+                let tt = d.t0() + (t_stop - d.t0()) * k as f64 / 10.0;
+                worst = worst.max((d.eval(tt)[0] - tt.exp()).abs() / tt.exp());
+            }
+        })
+        .unwrap();
+        assert!(steps > 3);
+        // 4th-order interpolant: a little looser than the 5th-order step ends.
+        assert!(worst < 1e-8, "dense error {worst}");
+    }
+
+    #[test]
+    fn events_fire_in_direction_and_do_not_retrigger_on_restart() {
+        let mut s = Dopri5::new(Options::default());
+        // y0 = sin t. Rising zero of y0 at 2 pi; the Either event on y1 = cos t at pi/2 comes first.
+        let end = s.integrate(&Osc, 0.0, [0.0, 1.0], 20.0, &mut |_: &_, _| {}).unwrap();
+        assert_eq!(end.event, Some(1));
+        assert!((end.t - std::f64::consts::FRAC_PI_2).abs() < 1e-10);
+        // Restart exactly at a rising zero of y0: it must not fire at the start.
+        let end = s.integrate(&Osc, 0.0, [0.0, 1.0], 20.0, &mut |_: &_, _| {}).unwrap();
+        assert!(end.t > 1.0);
+        let mut t = 0.0;
+        let mut y = [0.0, 1.0];
+        let mut rising = vec![];
+        for _ in 0..10 {
+            let seg = s.integrate(&Osc, t, y, 20.0, &mut |_: &_, _| {}).unwrap();
+            if seg.event.is_none() {
+                break;
+            }
+            if seg.event == Some(0) {
+                rising.push(seg.t);
+            }
+            t = seg.t;
+            y = seg.y;
+        }
+        let two_pi = 2.0 * std::f64::consts::PI;
+        assert_eq!(rising.len(), 3, "{rising:?}");
+        for (k, r) in rising.iter().enumerate() {
+            assert!((r - two_pi * (k + 1) as f64).abs() < 1e-8, "{r}");
+        }
+    }
+
+    #[test]
+    fn step_limit_is_a_typed_error() {
+        let mut s = Dopri5::new(Options {
+            max_steps: 5,
+            h_max: 1e-3,
+            ..Options::default()
+        });
+        let err = s.integrate(&Exp, 0.0, [1.0], 1.0, &mut |_: &_, _| {}).unwrap_err();
+        assert!(matches!(err, OdeError::StepLimit { limit: 5, .. }));
+    }
+
+    #[test]
+    fn blow_up_is_a_typed_error_not_a_hang() {
+        struct Blow;
+        impl EventSystem<1> for Blow {
+            fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
+                [y[0] * y[0]]
+            }
+        }
+        let mut s = Dopri5::new(Options::default());
+        // y' = y^2 from 1 blows up at t = 1.
+        let err = s.integrate(&Blow, 0.0, [1.0], 2.0, &mut |_: &_, _| {}).unwrap_err();
+        assert!(matches!(
+            err,
+            OdeError::StepSizeUnderflow { .. } | OdeError::NonFinite { .. } | OdeError::StepLimit { .. }
+        ));
+    }
+
+    #[test]
+    fn root_locator_finds_first_root_after_zero_start() {
+        // g = t (t - 1): zero at 0 (the restart point) and at 1; known negative just after 0.
+        let r = locate_root(|t| t * (t - 1.0), 0.0, 0.0, -1, 1.5, 0.75, 1e-13);
+        assert!((r - 1.0).abs() < 1e-12, "{r}");
+        assert!(r >= 1.0);
+    }
+}
