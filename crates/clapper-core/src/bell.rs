@@ -378,7 +378,16 @@ impl TowerMeasurements {
         let small_m = pick("clapper_mass_kg", self.clapper_mass, defaults.clapper_mass)?;
         let a = pick("a_m", self.a, Self::A_OVER_LB * lb)?;
         let b = pick("b_m", self.b, Self::B_OVER_LC * lc)?;
-        let bell = Bell::new(big_m, small_m, a, b, big_m * a * lb, small_m * b * lc, self.r, self.phi_max)?;
+        let bell = Bell::new(
+            big_m,
+            small_m,
+            a,
+            b,
+            big_m * a * lb,
+            small_m * b * lc,
+            self.r,
+            self.phi_max,
+        )?;
         Ok((bell, assumed))
     }
 }
@@ -420,17 +429,30 @@ mod tests {
     fn lab_clapper_is_flagged_as_impossible_but_accepted() {
         let b = Bell::lab();
         assert!(b.validate().is_ok());
-        assert!(matches!(b.warnings()[..], [BellWarning::ClapperInertiaBelowPointMass { .. }]));
+        assert!(matches!(
+            b.warnings()[..],
+            [BellWarning::ClapperInertiaBelowPointMass { .. }]
+        ));
     }
 
     #[test]
     fn validation_names_the_field() {
-        let e = Bell { clapper_mass: -1.0, ..Bell::lab() }.validate().unwrap_err();
+        let e = Bell {
+            clapper_mass: -1.0,
+            ..Bell::lab()
+        }
+        .validate()
+        .unwrap_err();
         assert_eq!(e.field, "clapper_mass_kg");
         let e = Bell::lab().with_phi_max(120f64.to_radians()).unwrap_err();
         assert_eq!(e.field, "phi_max_deg");
         assert!((e.value - 120.0).abs() < 1e-9);
-        let e = Bell { r: f64::NAN, ..Bell::lab() }.validate().unwrap_err();
+        let e = Bell {
+            r: f64::NAN,
+            ..Bell::lab()
+        }
+        .validate()
+        .unwrap_err();
         assert_eq!(e.field, "r_m");
         assert!(Bell { r: -0.2, ..Bell::lab() }.validate().is_ok());
     }

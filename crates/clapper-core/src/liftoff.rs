@@ -53,7 +53,11 @@ mod tests {
     #[test]
     fn spec_reference_value_and_symmetry() {
         let a = liftoff_angles(1.68, 26f64.to_radians()).unwrap();
-        assert!((a.right.to_degrees() - 124.70).abs() < 0.005, "{}", a.right.to_degrees());
+        assert!(
+            (a.right.to_degrees() - 124.70).abs() < 0.005,
+            "{}",
+            a.right.to_degrees()
+        );
         assert!((a.right + a.wrong - std::f64::consts::PI).abs() < 1e-15);
         // L_c/L_b = cos φ_max: lift-off exactly at 90 deg.
         let a = liftoff_angles(1.0 / 26f64.to_radians().cos(), 26f64.to_radians()).unwrap();

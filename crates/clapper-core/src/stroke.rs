@@ -572,9 +572,10 @@ impl Observer for TraceRecorder {
     }
 
     fn on_jump(&mut self, before: &Sample, after: &Sample) {
-        self.samples.push(*before);
-        if after != before {
-            self.samples.push(*after);
+        for s in [before, after] {
+            if self.samples.last() != Some(s) {
+                self.samples.push(*s);
+            }
         }
     }
 }
@@ -856,7 +857,10 @@ pub fn run_stroke<O: Observer>(
             Ev::Separation(side) => {
                 clapper = ClapperState::Flying;
                 departed = Some(side);
-                if let Some(last) = impacts.last_mut().filter(|l| l.side == side && l.phi_dot_after.is_none()) {
+                if let Some(last) = impacts
+                    .last_mut()
+                    .filter(|l| l.side == side && l.phi_dot_after.is_none())
+                {
                     last.phi_dot_after = Some(y[PHI_DOT]);
                 }
             }

@@ -53,7 +53,13 @@ fn large_amplitude_pendulum_matches_elliptic_integral() {
     assert!((exact - 2.8776635).abs() < 5e-8, "AGM reference {exact}");
     let mut s = Dopri5::new(tight());
     let end = s
-        .integrate(&Pendulum { omega2: omega * omega }, 0.0, [theta0, 0.0], 10.0, &mut |_: &_, _| {})
+        .integrate(
+            &Pendulum { omega2: omega * omega },
+            0.0,
+            [theta0, 0.0],
+            10.0,
+            &mut |_: &_, _| {},
+        )
         .unwrap();
     assert_eq!(end.event, Some(0));
     let rel = (end.t - 2.8776635).abs() / 2.8776635;
@@ -190,8 +196,16 @@ fn simulated_liftoff_at_r0_matches_equation_15() {
         // The clapper leaves its side once, at the angle of (15) / (16).
         let r = right.liftoff_angle().unwrap().to_degrees();
         let w = wrong.liftoff_angle().unwrap().to_degrees();
-        assert!((r - formula.right.to_degrees()).abs() < 0.01, "L_b/L_c {y}: right {r} vs {}", formula.right.to_degrees());
-        assert!((w - formula.wrong.to_degrees()).abs() < 0.01, "L_b/L_c {y}: wrong {w} vs {}", formula.wrong.to_degrees());
+        assert!(
+            (r - formula.right.to_degrees()).abs() < 0.01,
+            "L_b/L_c {y}: right {r} vs {}",
+            formula.right.to_degrees()
+        );
+        assert!(
+            (w - formula.wrong.to_degrees()).abs() < 0.01,
+            "L_b/L_c {y}: wrong {w} vs {}",
+            formula.wrong.to_degrees()
+        );
         checked += 1;
     }
     assert_eq!(checked, 19);
@@ -218,7 +232,10 @@ fn penalty_converges_to_impact_as_stiffness_grows() {
         errors.push((k, ea, ev, edt));
     }
     for w in errors.windows(2) {
-        assert!(w[1].1 < w[0].1 && w[1].2 < w[0].2 && w[1].3 < w[0].3, "not shrinking: {errors:?}");
+        assert!(
+            w[1].1 < w[0].1 && w[1].2 < w[0].2 && w[1].3 < w[0].3,
+            "not shrinking: {errors:?}"
+        );
     }
     // SPEC §3: at k = 1e6 about 0.002 deg and 1.5 % on the interval.
     let (_, ea, _, edt) = errors[1];
@@ -256,13 +273,20 @@ fn fig9_bells_behave_as_the_paper_says() {
     let hard = first_stroke(&c.bell(0.458, 0.732).unwrap(), &cfg, Style::Right).unwrap();
     assert!(hard.sustained());
     assert!(hard.strike_velocity().unwrap().abs() > 2.0 * lab.strike_velocity().unwrap().abs());
-    assert!((hard.strike_angle().unwrap() - lab.strike_angle().unwrap()).abs().to_degrees() < 15.0);
+    assert!(
+        (hard.strike_angle().unwrap() - lab.strike_angle().unwrap())
+            .abs()
+            .to_degrees()
+            < 15.0
+    );
     // (d): rings right with a very late first strike, near the top of the swing.
     let late = first_stroke(&c.bell(-0.005, 1.363).unwrap(), &cfg, Style::Right).unwrap();
     assert!(late.sustained());
     assert!(late.strike_angle().unwrap().to_degrees() < -150.0);
     // The GSM tenor rings right when up.
-    assert!(first_stroke(&Bell::gsm_tenor(), &cfg, Style::Right).unwrap().sustained());
+    assert!(first_stroke(&Bell::gsm_tenor(), &cfg, Style::Right)
+        .unwrap()
+        .sustained());
 }
 
 #[test]
@@ -270,7 +294,9 @@ fn quantities_follow_their_definitions() {
     let s = first_stroke(&Bell::lab(), &SimConfig::default(), Style::Right).unwrap();
     let i = s.first_strike_index().unwrap();
     assert!(s.impacts[..i].iter().all(|x| x.side == s.start_side));
-    assert!(s.impacts[i..].iter().all(|x| x.side != s.start_side || x.t > s.impacts[i].t));
+    assert!(s.impacts[i..]
+        .iter()
+        .all(|x| x.side != s.start_side || x.t > s.impacts[i].t));
     let a = s.amplitude_ratio().unwrap();
     let dt = s.second_strike_delay().unwrap() * 1e3;
     let d = s.double_strike_index().unwrap();
@@ -316,7 +342,12 @@ fn agrees_with_ode_solvers_dopri5() {
             let end = ours.integrate(&Free(d), t, y, xp, &mut |_: &_, _| {}).unwrap();
             (t, y) = (end.t, end.y);
             for i in 0..4 {
-                assert!((y[i] - yp[i]).abs() < 1e-7, "t {xp} component {i}: {} vs {}", y[i], yp[i]);
+                assert!(
+                    (y[i] - yp[i]).abs() < 1e-7,
+                    "t {xp} component {i}: {} vs {}",
+                    y[i],
+                    yp[i]
+                );
             }
         }
         assert!((t - 3.0).abs() < 1e-12);

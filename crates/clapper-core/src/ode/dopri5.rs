@@ -145,10 +145,11 @@ impl<const N: usize> Dopri5<N> {
 
     fn check_options(&self) -> Result<(), OdeError> {
         let o = &self.opts;
-        if !(o.rtol > 0.0 && o.rtol.is_finite()) || !(o.atol > 0.0 && o.atol.is_finite()) {
+        let positive = |x: f64| x.is_finite() && x > 0.0;
+        if !(positive(o.rtol) && positive(o.atol)) {
             return Err(OdeError::InvalidOptions("tolerances must be positive and finite"));
         }
-        if !(o.h_max > 0.0) || !(o.event_time_tol > 0.0) {
+        if !(positive(o.h_max) && positive(o.event_time_tol)) {
             return Err(OdeError::InvalidOptions("h_max and event_time_tol must be positive"));
         }
         Ok(())
@@ -213,8 +214,15 @@ impl<const N: usize> Dopri5<N> {
     {
         self.check_options()?;
         let n_ev = sys.n_events().min(MAX_EVENTS);
-        if !(t_end > t0) {
-            return Ok(Segment { t: t0, y: y0, event: None });
+        if !t0.is_finite() {
+            return Err(OdeError::NonFinite { t: t0 });
+        }
+        if t_end <= t0 || t_end.is_nan() {
+            return Ok(Segment {
+                t: t0,
+                y: y0,
+                event: None,
+            });
         }
 
         // Event bookkeeping: last value, the sign it is known to have, and
@@ -245,7 +253,8 @@ impl<const N: usize> Dopri5<N> {
         let mut last_rejected = false;
 
         loop {
-            if self.stats.steps >= self.opts.max_steps {
+            // Rejected attempts count too, so that no input can loop forever.
+            if self.stats.steps + self.stats.rejected >= self.opts.max_steps {
                 return Err(OdeError::StepLimit {
                     limit: self.opts.max_steps,
                     t,
@@ -256,7 +265,7 @@ impl<const N: usize> Dopri5<N> {
             if last {
                 h = remaining;
             }
-            if h <= 1e-14 * t.abs().max(1.0) && !last {
+            if (h.is_nan() || h <= 1e-14 * t.abs().max(1.0)) && !last {
                 return Err(OdeError::StepSizeUnderflow { h, t });
             }
 
@@ -290,7 +299,7 @@ impl<const N: usize> Dopri5<N> {
                 self.stats.rejected += 1;
                 h *= 0.1;
                 last_rejected = true;
-                if h <= 1e-14 * t.abs().max(1.0) {
+                if h.is_nan() || h <= 1e-14 * t.abs().max(1.0) {
                     return Err(OdeError::NonFinite { t });
                 }
                 continue;

@@ -82,8 +82,8 @@ pub struct Options {
     /// Largest step (s). Default 0.05 s, a few percent of the fastest swing
     /// period of a real bell, so that no event hides inside one step.
     pub h_max: f64,
-    /// The most steps one integrator may take over its life (a stroke uses one
-    /// integrator). Default 2,000,000: enough for the penalty model at
+    /// The most step attempts (accepted and rejected) one integrator may make
+    /// over its life (a stroke uses one integrator). Default 2,000,000: enough for the penalty model at
     /// k = 1e9 N m/rad over a long stroke, small enough to stop in seconds.
     pub max_steps: u64,
     /// Time resolution of event location (s). Default 1e-12 s.

@@ -1,0 +1,46 @@
+//! `clapper`: the command line of clapper.
+
+mod files;
+mod simulate;
+
+use clap::{Parser, Subcommand};
+
+/// Dynamics of church bells rung full circle: a bell and its clapper as
+/// coupled pendulums, after Woodhouse, Swallowe, Bumpus & Smith (2012).
+#[derive(Parser, Debug)]
+#[command(name = "clapper", version, about, long_about = None)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Simulate strokes of one bell and report strikes, lift-off, bounces and
+    /// whether the style is sustained.
+    Simulate(simulate::SimulateArgs),
+    /// The closed-form lift-off angles for r = 0, equations (15) and (16).
+    Liftoff(simulate::LiftoffArgs),
+}
+
+fn main() {
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) if e.use_stderr() => {
+            // One line naming the problem, not clap's three.
+            let text = e.to_string();
+            let first = text.lines().next().unwrap_or("invalid arguments");
+            eprintln!("{first} (see clapper --help)");
+            std::process::exit(2);
+        }
+        Err(e) => e.exit(),
+    };
+    let result = match cli.command {
+        Command::Simulate(args) => simulate::run(args),
+        Command::Liftoff(args) => simulate::liftoff(args),
+    };
+    if let Err(e) = result {
+        eprintln!("error: {e:#}");
+        std::process::exit(1);
+    }
+}

@@ -1,0 +1,195 @@
+//! The command line, through the built binary.
+
+use assert_cmd::Command;
+use predicates::prelude::*;
+
+fn clapper() -> Command {
+    Command::cargo_bin("clapper").unwrap()
+}
+
+fn json(args: &[&str]) -> serde_json::Value {
+    let out = clapper().args(args).arg("--json").output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+#[test]
+fn simulate_lab_prints_a_readable_summary() {
+    clapper()
+        .args(["simulate", "--preset", "lab"])
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("r/L_c = 0.444"))
+        .stdout(predicate::str::contains("first strike"))
+        .stdout(predicate::str::contains("deg"))
+        .stdout(predicate::str::contains("sustains ringing right"))
+        .stderr(predicate::str::contains("warning: clapper inertia"));
+}
+
+#[test]
+fn simulate_json_has_the_documented_shape() {
+    let v = json(&["simulate", "--preset", "lab", "--style", "wrong"]);
+    assert_eq!(v["style"], "wrong");
+    assert_eq!(v["sustained"], true);
+    assert!((v["bell"]["lb_over_lc"].as_f64().unwrap() - 1.654).abs() < 1e-3);
+    let strokes = v["strokes"].as_array().unwrap();
+    assert_eq!(strokes.len(), 2);
+    let fs = &strokes[0]["first_strike"];
+    assert!(
+        fs["phidot_rad_s"].as_f64().unwrap() > 0.0,
+        "wrong style strikes with positive phi'"
+    );
+    assert!(strokes[0]["impacts"].as_array().unwrap().len() >= 2);
+    assert!(strokes[0]["end_side"].is_number());
+}
+
+#[test]
+fn half_up_lab_bell_cannot_ring_right() {
+    let v = json(&["simulate", "--preset", "lab", "--theta0", "90"]);
+    assert_eq!(v["sustained"], false);
+    assert!(v["strokes"][0]["first_strike"].is_null());
+    assert!(v["strokes"][0]["double_strike_index"].is_null());
+}
+
+#[test]
+fn chart_point_and_overrides_reach_the_simulation() {
+    let v = json(&[
+        "simulate",
+        "--chart-point",
+        "0.458,0.732",
+        "--restitution",
+        "0.05",
+        "--phi-max",
+        "30",
+        "--strokes",
+        "3",
+        "--protocol",
+        "free",
+        "--stiffness",
+        "1e7",
+    ]);
+    assert!((v["bell"]["r_over_lc"].as_f64().unwrap() - 0.458).abs() < 1e-9);
+    assert!((v["bell"]["phi_max_deg"].as_f64().unwrap() - 30.0).abs() < 1e-9);
+    assert_eq!(v["settings"]["contact"], "penalty");
+    assert_eq!(v["settings"]["stiffness_n_m_per_rad"], 1e7);
+    assert_eq!(v["settings"]["protocol"], "free");
+    assert_eq!(v["strokes"].as_array().unwrap().len(), 3);
+    // Negative chart coordinates parse too.
+    let v = json(&["simulate", "--chart-point", "-0.005,1.363", "--strokes", "1"]);
+    assert!(v["strokes"][0]["first_strike"]["theta_deg"].as_f64().unwrap() < -150.0);
+}
+
+#[test]
+fn trace_and_plot_files_are_written() {
+    let dir = tempfile::tempdir().unwrap();
+    let trace = dir.path().join("t.csv");
+    let svg = dir.path().join("f.svg");
+    let png = dir.path().join("f.png");
+    for plot in [&svg, &png] {
+        clapper()
+            .args(["simulate", "--preset", "gsm-tenor", "--trace"])
+            .arg(&trace)
+            .arg("--plot")
+            .arg(plot)
+            .assert()
+            .success();
+    }
+    let text = std::fs::read_to_string(&trace).unwrap();
+    let mut lines = text.lines();
+    assert_eq!(
+        lines.next().unwrap(),
+        "t_s,theta_deg,phi_deg,thetadot_rad_s,phidot_rad_s,contact_force_n_m"
+    );
+    let rows: Vec<Vec<f64>> = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    assert!(rows.len() > 1000);
+    assert!(rows.windows(2).all(|w| w[0][0] <= w[1][0]), "time goes forward");
+    assert!(rows.iter().all(|r| r[2].abs() <= 32.0 + 1e-6), "phi within +-phi_max");
+    assert!(rows.iter().any(|r| r[5] != 0.0), "resting contact force shows");
+    assert!(std::fs::read_to_string(&svg).unwrap().contains("<svg"));
+    assert_eq!(&std::fs::read(&png).unwrap()[1..4], b"PNG");
+    // No partial files left behind.
+    assert_eq!(std::fs::read_dir(dir.path()).unwrap().count(), 3);
+}
+
+#[test]
+fn bell_files_in_both_forms() {
+    let dir = tempfile::tempdir().unwrap();
+    let tower = dir.path().join("tenor.toml");
+    std::fs::write(
+        &tower,
+        "bell_period_s = 2.33\nclapper_period_s = 1.76\nr_m = 0.179\nphi_max_deg = 32\n",
+    )
+    .unwrap();
+    let v = json(&["simulate", "--bell", tower.to_str().unwrap()]);
+    assert_eq!(v["bell"]["name"], "tenor");
+    assert!(!v["bell"]["assumed"].as_array().unwrap().is_empty());
+    let v = json(&["simulate", "--bell", "../../examples/lab.toml"]);
+    assert!((v["bell"]["r_over_lc"].as_f64().unwrap() - 0.444).abs() < 1e-3);
+}
+
+#[test]
+fn liftoff_closed_form() {
+    let v: serde_json::Value = serde_json::from_slice(
+        &clapper()
+            .args(["liftoff", "--lb-over-lc", "1.68", "--phi-max", "26", "--json"])
+            .output()
+            .unwrap()
+            .stdout,
+    )
+    .unwrap();
+    assert!((v["right_deg"].as_f64().unwrap() - 124.70).abs() < 0.005);
+    assert!((v["wrong_deg"].as_f64().unwrap() - 55.30).abs() < 0.005);
+}
+
+/// Bad input: one line naming the problem, non-zero exit, never a panic.
+#[test]
+fn bad_input_gives_one_line_errors() {
+    let dir = tempfile::tempdir().unwrap();
+    let write = |name: &str, text: &str| {
+        let p = dir.path().join(name);
+        std::fs::write(&p, text).unwrap();
+        p.to_str().unwrap().to_string()
+    };
+    let lab = std::fs::read_to_string("../../examples/lab.toml").unwrap();
+    let negative = write(
+        "neg.toml",
+        &lab.replace("clapper_mass_kg = 1.65", "clapper_mass_kg = -1.65"),
+    );
+    let unknown = write("unk.toml", &format!("{lab}\ncolour = \"bronze\"\n"));
+    let text_value = write("txt.toml", &lab.replace("a_m = 0.24", "a_m = \"big\""));
+    let missing = dir.path().join("nope.toml").to_str().unwrap().to_string();
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (vec!["simulate", "--bell", &negative], "clapper_mass_kg"),
+        (vec!["simulate", "--phi-max", "120"], "phi_max_deg"),
+        (vec!["simulate", "--bell", &unknown], "colour"),
+        (vec!["simulate", "--bell", &text_value], "a_m"),
+        (vec!["simulate", "--theta0", "abc"], "abc"),
+        (vec!["simulate", "--bell", &missing], "nope.toml"),
+        (vec!["simulate", "--theta0", "200"], "theta0_deg"),
+        (vec!["simulate", "--restitution", "0"], "restitution"),
+        (vec!["simulate", "--chart-point", "1"], "X,Y"),
+        (vec!["simulate", "--strokes", "0"], "--strokes"),
+        (
+            vec!["simulate", "--contact", "impact", "--stiffness", "1e6"],
+            "stiffness",
+        ),
+        (vec!["simulate", "--stiffness", "-5"], "stiffness"),
+        (vec!["simulate", "--plot", "x.jpg"], ".svg or .png"),
+        (vec!["liftoff", "--lb-over-lc", "-1"], "lb_over_lc"),
+        (
+            vec!["simulate", "--preset", "lab", "--bell", "x.toml"],
+            "cannot be used with",
+        ),
+    ];
+    for (args, needle) in cases {
+        let out = clapper().args(&args).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?} should fail");
+        assert!(out.status.code().is_some(), "{args:?} died by a signal");
+        assert!(!err.contains("panicked"), "{args:?} panicked: {err}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: not one line: {err}");
+        assert!(err.contains(needle), "{args:?}: {err:?} should name {needle}");
+    }
+}

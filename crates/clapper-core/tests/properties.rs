@@ -1,0 +1,128 @@
+//! Property tests: every simulation in and well beyond the chart domain ends
+//! with a result or a typed error (no panic, no hang), and the model's
+//! handstroke/backstroke mirror symmetry holds.
+
+use clapper_core::prelude::*;
+use proptest::prelude::*;
+
+fn config(theta0_deg: f64, r: f64, contact: ContactModel) -> SimConfig {
+    SimConfig {
+        theta0: theta0_deg.to_radians(),
+        restitution: r,
+        contact,
+        ..SimConfig::default()
+    }
+}
+
+fn mirrored(bell: &Bell, cfg: &SimConfig, side: Side) -> Result<(Stroke, Stroke), SimError> {
+    let a = run_stroke(
+        bell,
+        cfg,
+        StrokeStart::at_rest(bell, cfg, 0.0, cfg.theta0, side),
+        &mut (),
+    )?;
+    let b = run_stroke(
+        bell,
+        cfg,
+        StrokeStart::at_rest(bell, cfg, 0.0, -cfg.theta0, side.opposite()),
+        &mut (),
+    )?;
+    Ok((a, b))
+}
+
+fn check_mirror(a: &Stroke, b: &Stroke) -> Result<(), TestCaseError> {
+    prop_assert_eq!(a.impacts.len(), b.impacts.len());
+    prop_assert_eq!(a.end.reason, b.end.reason);
+    prop_assert_eq!(a.sustained(), b.sustained());
+    for (p, q) in a.impacts.iter().zip(&b.impacts) {
+        prop_assert!((p.theta + q.theta).abs() < 1e-9, "{} {}", p.theta, q.theta);
+        prop_assert!((p.phi_dot_before + q.phi_dot_before).abs() < 1e-9 * (1.0 + p.phi_dot_before.abs()));
+        prop_assert!((p.t - q.t).abs() < 1e-9);
+    }
+    prop_assert!((a.end.y[0] + b.end.y[0]).abs() < 1e-9);
+    Ok(())
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 200, ..ProptestConfig::default() })]
+
+    /// Impact model, wide domain: r/L_c -1..2, L_b/L_c 0.2..5, phi_max 5..60 deg,
+    /// R 0.001..1, theta0 1..179.9 deg.
+    #[test]
+    fn impact_model_always_ends_and_is_symmetric(
+        x in -1.0f64..2.0, y in 0.2f64..5.0, phi in 5.0f64..60.0,
+        r in 0.001f64..=1.0, theta0 in 1.0f64..179.9, right in any::<bool>(),
+    ) {
+        let c = ChartConstruction { phi_max: phi.to_radians(), ..ChartConstruction::default() };
+        let bell = c.bell(x, y).unwrap();
+        let cfg = config(theta0, r, ContactModel::Impact);
+        let side = if right { Side::Plus } else { Side::Minus };
+        match mirrored(&bell, &cfg, side) {
+            Ok((a, b)) => {
+                check_mirror(&a, &b)?;
+                prop_assert!(a.end.t > 0.0 && a.end.y.iter().all(|v| v.is_finite()));
+                if let Some(d) = a.double_strike_index() { prop_assert!(d >= 0.0); }
+            }
+            // A typed error is an acceptable outcome; a panic is not.
+            Err(e) => prop_assert!(!e.to_string().is_empty()),
+        }
+    }
+
+    /// The chart domain proper, both styles, with the defaults of the charts.
+    #[test]
+    fn chart_domain_gives_results(x in -0.3f64..0.7, y in 0.5f64..2.5, right in any::<bool>()) {
+        let bell = ChartConstruction::default().bell(x, y).unwrap();
+        let style = if right { Style::Right } else { Style::Wrong };
+        let s = first_stroke(&bell, &SimConfig::default(), style);
+        prop_assert!(s.is_ok(), "{:?}", s.err());
+        let s = s.unwrap();
+        prop_assert_eq!(s.end.reason, EndReason::TurningPoint);
+        if let Some(v) = s.strike_velocity() {
+            // A strike on the side opposite the start moves towards it.
+            prop_assert!(v * s.start_side.sign() < 0.0, "{}", v);
+        }
+    }
+}
+
+proptest! {
+    #![proptest_config(ProptestConfig { cases: 24, ..ProptestConfig::default() })]
+
+    /// Penalty model, stiffness up to 1e9 N m/rad.
+    #[test]
+    fn penalty_model_always_ends_and_is_symmetric(
+        x in -1.0f64..2.0, y in 0.2f64..5.0, phi in 5.0f64..60.0,
+        r in 0.001f64..=1.0, theta0 in 1.0f64..179.9, logk in 4.0f64..9.0,
+    ) {
+        let c = ChartConstruction { phi_max: phi.to_radians(), ..ChartConstruction::default() };
+        let bell = c.bell(x, y).unwrap();
+        let cfg = config(theta0, r, ContactModel::Penalty { stiffness: 10f64.powf(logk) });
+        match mirrored(&bell, &cfg, Side::Plus) {
+            Ok((a, b)) => check_mirror(&a, &b)?,
+            Err(e) => prop_assert!(!e.to_string().is_empty()),
+        }
+    }
+}
+
+#[test]
+fn out_of_range_settings_are_typed_errors() {
+    let bell = Bell::lab();
+    for cfg in [
+        config(0.0, 0.2, ContactModel::Impact),
+        config(180.0, 0.2, ContactModel::Impact),
+        config(171.0, 0.0, ContactModel::Impact),
+        config(171.0, 1.5, ContactModel::Impact),
+        config(171.0, f64::NAN, ContactModel::Impact),
+        config(171.0, 0.2, ContactModel::Penalty { stiffness: -1.0 }),
+    ] {
+        let e = first_stroke(&bell, &cfg, Style::Right).unwrap_err();
+        assert!(matches!(e, SimError::Param(_)), "{e}");
+    }
+    let bad = Bell {
+        bell_mass: -3.0,
+        ..bell
+    };
+    assert!(matches!(
+        first_stroke(&bad, &SimConfig::default(), Style::Right),
+        Err(SimError::Param(p)) if p.field == "bell_mass_kg"
+    ));
+}

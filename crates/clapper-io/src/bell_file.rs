@@ -1,0 +1,265 @@
+//! Bell files in TOML. Two forms, told apart by their keys:
+//!
+//! By mass properties (all eight keys):
+//! ```toml
+//! name = "Lab bell"
+//! bell_mass_kg = 45.8
+//! clapper_mass_kg = 1.65
+//! a_m = 0.24
+//! b_m = 0.25
+//! bell_inertia_kg_m2 = 4.1
+//! clapper_inertia_kg_m2 = 0.093
+//! r_m = 0.10
+//! phi_max_deg = 26
+//! ```
+//!
+//! By tower measurements (periods, r and φ_max; masses and a, b optional):
+//! ```toml
+//! name = "Tenor"
+//! bell_period_s = 2.33
+//! clapper_period_s = 1.76
+//! r_m = 0.179
+//! phi_max_deg = 32
+//! ```
+//! Unknown keys are refused, so a misspelt key cannot silently fall back to
+//! a default.
+
+use std::path::Path;
+
+use clapper_core::bell::{Assumed, Bell, ParamError, TowerMeasurements};
+use serde::Deserialize;
+
+/// The keys of a bell file, all optional at this stage.
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct BellFile {
+    name: Option<String>,
+    bell_mass_kg: Option<f64>,
+    clapper_mass_kg: Option<f64>,
+    a_m: Option<f64>,
+    b_m: Option<f64>,
+    bell_inertia_kg_m2: Option<f64>,
+    clapper_inertia_kg_m2: Option<f64>,
+    r_m: Option<f64>,
+    phi_max_deg: Option<f64>,
+    bell_period_s: Option<f64>,
+    clapper_period_s: Option<f64>,
+}
+
+/// How a bell file described its bell.
+#[derive(Clone, Debug, PartialEq)]
+pub enum BellSource {
+    /// All mass properties given.
+    MassProperties,
+    /// Tower measurements; the listed properties were assumed.
+    Tower(Assumed),
+}
+
+/// A bell read from a file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LoadedBell {
+    /// The file's `name`, or the file stem.
+    pub name: String,
+    /// The bell (validated).
+    pub bell: Bell,
+    /// Which form the file used.
+    pub source: BellSource,
+}
+
+/// Why a bell file could not be used. Every message is one line.
+#[derive(Debug, thiserror::Error)]
+pub enum BellFileError {
+    /// The file could not be read.
+    #[error("cannot read bell file {path}: {source}")]
+    Read {
+        /// The path.
+        path: String,
+        /// The I/O error.
+        source: std::io::Error,
+    },
+    /// Not valid TOML, an unknown key, or a value of the wrong type.
+    #[error("{0}")]
+    Syntax(String),
+    /// Keys of the mass form are missing.
+    #[error("bell file is missing {0} (give all mass properties, or bell_period_s and clapper_period_s)")]
+    Missing(String),
+    /// Keys of the two forms are mixed.
+    #[error("bell file mixes forms: {0} cannot be combined with bell_period_s / clapper_period_s")]
+    Mixed(String),
+    /// A value is out of range.
+    #[error("bell file: {0}")]
+    Param(#[from] ParamError),
+}
+
+/// Read and validate a bell file.
+pub fn load_bell(path: &Path) -> Result<LoadedBell, BellFileError> {
+    let text = std::fs::read_to_string(path).map_err(|source| BellFileError::Read {
+        path: path.display().to_string(),
+        source,
+    })?;
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    parse_bell(&text, &stem).map_err(|e| match e {
+        BellFileError::Syntax(m) => BellFileError::Syntax(format!("{}: {m}", path.display())),
+        other => other,
+    })
+}
+
+/// One line from a TOML error: where, which key, and what is wrong.
+fn one_line(text: &str, err: &toml::de::Error) -> String {
+    let msg = err.message().replace('\n', " ");
+    match err.span() {
+        Some(span) => {
+            let line = text[..span.start.min(text.len())].matches('\n').count() + 1;
+            let src = text.lines().nth(line - 1).unwrap_or("").trim();
+            format!("line {line} (`{src}`): {msg}")
+        }
+        None => msg,
+    }
+}
+
+/// Parse a bell file's text; `default_name` names a bell without `name`.
+pub fn parse_bell(text: &str, default_name: &str) -> Result<LoadedBell, BellFileError> {
+    let f: BellFile = toml::from_str(text).map_err(|e| BellFileError::Syntax(one_line(text, &e)))?;
+    let name = f.name.clone().unwrap_or_else(|| default_name.to_string());
+    let phi_max = f.phi_max_deg.map(f64::to_radians);
+    let tower = f.bell_period_s.is_some() || f.clapper_period_s.is_some();
+    if tower {
+        let mixed: Vec<&str> = [
+            ("bell_inertia_kg_m2", f.bell_inertia_kg_m2.is_some()),
+            ("clapper_inertia_kg_m2", f.clapper_inertia_kg_m2.is_some()),
+        ]
+        .iter()
+        .filter(|(_, present)| *present)
+        .map(|(k, _)| *k)
+        .collect();
+        if !mixed.is_empty() {
+            return Err(BellFileError::Mixed(mixed.join(", ")));
+        }
+        let missing = missing_of(&[
+            ("bell_period_s", f.bell_period_s.is_some()),
+            ("clapper_period_s", f.clapper_period_s.is_some()),
+            ("r_m", f.r_m.is_some()),
+            ("phi_max_deg", f.phi_max_deg.is_some()),
+        ]);
+        if !missing.is_empty() {
+            return Err(BellFileError::Missing(missing));
+        }
+        let t = TowerMeasurements {
+            bell_period: f.bell_period_s.unwrap_or_default(),
+            clapper_period: f.clapper_period_s.unwrap_or_default(),
+            r: f.r_m.unwrap_or_default(),
+            phi_max: phi_max.unwrap_or_default(),
+            bell_mass: f.bell_mass_kg,
+            clapper_mass: f.clapper_mass_kg,
+            a: f.a_m,
+            b: f.b_m,
+        };
+        let (bell, assumed) = t.bell()?;
+        return Ok(LoadedBell {
+            name,
+            bell,
+            source: BellSource::Tower(assumed),
+        });
+    }
+    let missing = missing_of(&[
+        ("bell_mass_kg", f.bell_mass_kg.is_some()),
+        ("clapper_mass_kg", f.clapper_mass_kg.is_some()),
+        ("a_m", f.a_m.is_some()),
+        ("b_m", f.b_m.is_some()),
+        ("bell_inertia_kg_m2", f.bell_inertia_kg_m2.is_some()),
+        ("clapper_inertia_kg_m2", f.clapper_inertia_kg_m2.is_some()),
+        ("r_m", f.r_m.is_some()),
+        ("phi_max_deg", f.phi_max_deg.is_some()),
+    ]);
+    if !missing.is_empty() {
+        return Err(BellFileError::Missing(missing));
+    }
+    let bell = Bell::new(
+        f.bell_mass_kg.unwrap_or_default(),
+        f.clapper_mass_kg.unwrap_or_default(),
+        f.a_m.unwrap_or_default(),
+        f.b_m.unwrap_or_default(),
+        f.bell_inertia_kg_m2.unwrap_or_default(),
+        f.clapper_inertia_kg_m2.unwrap_or_default(),
+        f.r_m.unwrap_or_default(),
+        phi_max.unwrap_or_default(),
+    )?;
+    Ok(LoadedBell {
+        name,
+        bell,
+        source: BellSource::MassProperties,
+    })
+}
+
+fn missing_of(keys: &[(&str, bool)]) -> String {
+    keys.iter()
+        .filter(|(_, present)| !present)
+        .map(|(k, _)| *k)
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const LAB: &str = "name = \"Lab bell\"\nbell_mass_kg = 45.8\nclapper_mass_kg = 1.65\na_m = 0.24\nb_m = 0.25\n\
+                       bell_inertia_kg_m2 = 4.1\nclapper_inertia_kg_m2 = 0.093\nr_m = 0.10\nphi_max_deg = 26\n";
+
+    #[test]
+    fn mass_form_reads_the_lab_bell() {
+        let b = parse_bell(LAB, "x").unwrap();
+        assert_eq!(b.name, "Lab bell");
+        assert_eq!(b.source, BellSource::MassProperties);
+        assert!((b.bell.lb_over_lc() - Bell::lab().lb_over_lc()).abs() < 1e-12);
+    }
+
+    #[test]
+    fn tower_form_lists_what_it_assumed() {
+        let b = parse_bell(
+            "bell_period_s = 2.33\nclapper_period_s = 1.76\nr_m = 0.179\nphi_max_deg = 32\n",
+            "tenor",
+        )
+        .unwrap();
+        assert_eq!(b.name, "tenor");
+        let BellSource::Tower(assumed) = &b.source else {
+            panic!()
+        };
+        assert_eq!(assumed.fields.len(), 4);
+        assert!((b.bell.lb_over_lc() - 1.752).abs() < 0.01);
+        let b = parse_bell(
+            "bell_period_s = 2.33\nclapper_period_s = 1.76\nr_m = 0.179\nphi_max_deg = 32\nbell_mass_kg = 1378\n",
+            "t",
+        )
+        .unwrap();
+        let BellSource::Tower(assumed) = &b.source else {
+            panic!()
+        };
+        assert!(assumed.fields.iter().all(|(k, _)| *k != "bell_mass_kg"));
+    }
+
+    #[test]
+    fn errors_are_one_line_and_name_the_problem() {
+        let cases = [
+            (LAB.replace("45.8", "-45.8"), "bell_mass_kg"),
+            (LAB.replace("= 26", "= 120"), "phi_max_deg"),
+            (format!("{LAB}colour = \"bronze\"\n"), "colour"),
+            (LAB.replace("0.25", "\"abc\""), "b_m"),
+            (LAB.replace("a_m = 0.24\n", ""), "a_m"),
+            (
+                "bell_period_s = 2\nclapper_period_s = 1.5\nr_m = 0.1\nphi_max_deg = 30\nbell_inertia_kg_m2 = 3\n"
+                    .into(),
+                "bell_inertia_kg_m2",
+            ),
+            ("this is not toml".into(), "line 1"),
+        ];
+        for (text, needle) in cases {
+            let e = parse_bell(&text, "x").unwrap_err().to_string();
+            assert!(!e.contains('\n'), "not one line: {e}");
+            assert!(e.contains(needle), "{e:?} should name {needle}");
+        }
+    }
+}

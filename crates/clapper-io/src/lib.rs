@@ -1,0 +1,16 @@
+//! # clapper-io
+//!
+//! The file formats of clapper, outside the physics core: bell files in
+//! TOML (by mass properties or by tower measurements), traces in CSV, and
+//! the JSON report of a simulation. Angles are in degrees here, at the
+//! edge; the core works in radians.
+
+#![warn(missing_docs)]
+
+pub mod bell_file;
+pub mod report;
+pub mod trace;
+
+pub use bell_file::{load_bell, parse_bell, BellFileError, BellSource, LoadedBell};
+pub use report::{SimulationReport, SimulationSettings};
+pub use trace::write_trace_csv;

@@ -1,0 +1,351 @@
+//! The JSON report of `clapper simulate --json` (and of the web API, which
+//! answers the same object).
+
+use clapper_core::bell::{Bell, BellWarning};
+use clapper_core::ringing::{Protocol, Ringing};
+use clapper_core::stroke::{ClapperState, ContactModel, EndReason, SimConfig, Stroke, Style};
+use serde::Serialize;
+
+use crate::bell_file::BellSource;
+
+/// Bell properties as reported: chart position, lengths, periods, and the
+/// mass properties simulated.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct BellReport {
+    /// Name of the bell (preset, file, or chart point).
+    pub name: String,
+    /// r / L_c.
+    pub r_over_lc: f64,
+    /// L_b / L_c.
+    pub lb_over_lc: f64,
+    /// L_b (m).
+    pub lb_m: f64,
+    /// L_c (m).
+    pub lc_m: f64,
+    /// T_b (s).
+    pub tb_s: f64,
+    /// T_c (s).
+    pub tc_s: f64,
+    /// M (kg).
+    pub bell_mass_kg: f64,
+    /// m (kg).
+    pub clapper_mass_kg: f64,
+    /// a (m).
+    pub a_m: f64,
+    /// b (m).
+    pub b_m: f64,
+    /// I_b (kg m²).
+    pub bell_inertia_kg_m2: f64,
+    /// I_c (kg m²).
+    pub clapper_inertia_kg_m2: f64,
+    /// r (m).
+    pub r_m: f64,
+    /// φ_max (deg).
+    pub phi_max_deg: f64,
+    /// Mass properties that were assumed, not given (tower measurements).
+    pub assumed: Vec<String>,
+    /// Physically odd properties that were simulated anyway.
+    pub warnings: Vec<String>,
+}
+
+impl BellReport {
+    /// The report of `bell` named `name`, read from `source`.
+    pub fn new(name: &str, bell: &Bell, source: &BellSource) -> Self {
+        let assumed = match source {
+            BellSource::MassProperties => vec![],
+            BellSource::Tower(a) => a.fields.iter().map(|(k, v)| format!("{k} = {v:.4}")).collect(),
+        };
+        Self {
+            name: name.to_string(),
+            r_over_lc: bell.r_over_lc(),
+            lb_over_lc: bell.lb_over_lc(),
+            lb_m: bell.lb(),
+            lc_m: bell.lc(),
+            tb_s: bell.tb(),
+            tc_s: bell.tc(),
+            bell_mass_kg: bell.bell_mass,
+            clapper_mass_kg: bell.clapper_mass,
+            a_m: bell.a,
+            b_m: bell.b,
+            bell_inertia_kg_m2: bell.bell_inertia,
+            clapper_inertia_kg_m2: bell.clapper_inertia,
+            r_m: bell.r,
+            phi_max_deg: bell.phi_max.to_degrees(),
+            assumed,
+            warnings: bell.warnings().iter().map(BellWarning::to_string).collect(),
+        }
+    }
+}
+
+/// The settings a simulation ran with.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct SimulationSettings {
+    /// θ0 (deg).
+    pub theta0_deg: f64,
+    /// R.
+    pub restitution: f64,
+    /// "impact" or "penalty".
+    pub contact: String,
+    /// k (N m/rad) for the penalty model, else null.
+    pub stiffness_n_m_per_rad: Option<f64>,
+    /// "restart" or "free".
+    pub protocol: String,
+    /// Strokes asked for.
+    pub strokes_requested: usize,
+    /// Integrator relative tolerance.
+    pub rtol: f64,
+}
+
+impl SimulationSettings {
+    /// The settings of `cfg` under `protocol` for `strokes` strokes.
+    pub fn new(cfg: &SimConfig, protocol: Protocol, strokes: usize) -> Self {
+        let (contact, stiffness) = match cfg.contact {
+            ContactModel::Impact => ("impact", None),
+            ContactModel::Penalty { stiffness } => ("penalty", Some(stiffness)),
+        };
+        Self {
+            theta0_deg: cfg.theta0.to_degrees(),
+            restitution: cfg.restitution,
+            contact: contact.into(),
+            stiffness_n_m_per_rad: stiffness,
+            protocol: protocol_name(protocol).into(),
+            strokes_requested: strokes,
+            rtol: cfg.ode.rtol,
+        }
+    }
+}
+
+/// `right` or `wrong`.
+pub fn style_name(s: Style) -> &'static str {
+    match s {
+        Style::Right => "right",
+        Style::Wrong => "wrong",
+    }
+}
+
+fn protocol_name(p: Protocol) -> &'static str {
+    match p {
+        Protocol::Restart => "restart",
+        Protocol::Free => "free",
+    }
+}
+
+/// The first strike of a stroke.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct StrikeReport {
+    /// θ at the strike (deg).
+    pub theta_deg: f64,
+    /// φ' just before (rad/s).
+    pub phidot_rad_s: f64,
+    /// Time since the stroke began (s).
+    pub t_s: f64,
+}
+
+/// One impact.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct ImpactReport {
+    /// Time since the stroke began (s).
+    pub t_s: f64,
+    /// θ (deg).
+    pub theta_deg: f64,
+    /// φ' just before (rad/s).
+    pub phidot_rad_s: f64,
+    /// φ' just after, or at separation for the penalty model (rad/s).
+    pub phidot_after_rad_s: Option<f64>,
+    /// +1 or −1.
+    pub side: i8,
+}
+
+/// One stroke.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct StrokeReport {
+    /// 1-based number; odd strokes are handstrokes.
+    pub number: usize,
+    /// Time the stroke began, from the start of the simulation (s).
+    pub start_t_s: f64,
+    /// θ at the start (deg).
+    pub start_theta_deg: f64,
+    /// Side the clapper started on (+1/−1).
+    pub start_side: i8,
+    /// Style the stroke began in.
+    pub style: String,
+    /// The first strike, or null.
+    pub first_strike: Option<StrikeReport>,
+    /// θ when the clapper last left its starting side before the first strike (deg).
+    pub liftoff_theta_deg: Option<f64>,
+    /// dt12 (ms).
+    pub second_strike_delay_ms: Option<f64>,
+    /// A.
+    pub amplitude_ratio: Option<f64>,
+    /// D of (33), clamped.
+    pub double_strike_index: Option<f64>,
+    /// Time from the first strike until the clapper came to rest (s).
+    pub bounce_time_s: Option<f64>,
+    /// Every impact.
+    pub impacts: Vec<ImpactReport>,
+    /// θ at the end (deg).
+    pub end_theta_deg: f64,
+    /// Side the clapper was left on (+1/−1).
+    pub end_side: i8,
+    /// "resting", "flying" or "in contact".
+    pub end_clapper: String,
+    /// "turning point", "over the balance" or "time limit".
+    pub end_reason: String,
+    /// Duration (s).
+    pub duration_s: f64,
+    /// The style the next stroke starts in.
+    pub continues_as: String,
+    /// Whether this stroke sustained its style.
+    pub sustained: bool,
+    /// Integrator steps.
+    pub steps: u64,
+    /// Right-hand-side evaluations.
+    pub rhs_evals: u64,
+}
+
+fn side_num(s: clapper_core::stroke::Side) -> i8 {
+    s.sign() as i8
+}
+
+impl StrokeReport {
+    /// The report of stroke `number` (1-based).
+    pub fn new(number: usize, s: &Stroke) -> Self {
+        let t0 = s.start.t;
+        Self {
+            number,
+            start_t_s: t0,
+            start_theta_deg: s.start.y[0].to_degrees(),
+            start_side: side_num(s.start_side),
+            style: style_name(s.style).into(),
+            first_strike: s.first_strike().map(|i| StrikeReport {
+                theta_deg: i.theta.to_degrees(),
+                phidot_rad_s: i.phi_dot_before,
+                t_s: i.t - t0,
+            }),
+            liftoff_theta_deg: s.liftoff_angle().map(f64::to_degrees),
+            second_strike_delay_ms: s.second_strike_delay().map(|d| d * 1e3),
+            amplitude_ratio: s.amplitude_ratio(),
+            double_strike_index: s.double_strike_index(),
+            bounce_time_s: s.bounce_time(),
+            impacts: s
+                .impacts
+                .iter()
+                .map(|i| ImpactReport {
+                    t_s: i.t - t0,
+                    theta_deg: i.theta.to_degrees(),
+                    phidot_rad_s: i.phi_dot_before,
+                    phidot_after_rad_s: i.phi_dot_after,
+                    side: side_num(i.side),
+                })
+                .collect(),
+            end_theta_deg: s.end.y[0].to_degrees(),
+            end_side: side_num(s.end.side()),
+            end_clapper: match s.end.clapper {
+                ClapperState::Flying => "flying",
+                ClapperState::Resting(_) | ClapperState::Rebounding { settled: true, .. } => "resting",
+                _ => "in contact",
+            }
+            .into(),
+            end_reason: match s.end.reason {
+                EndReason::TurningPoint => "turning point",
+                EndReason::OverTheBalance => "over the balance",
+                EndReason::TimeLimit => "time limit",
+            }
+            .into(),
+            duration_s: s.end.t - t0,
+            continues_as: style_name(s.continues_as()).into(),
+            sustained: s.sustained(),
+            steps: s.stats.steps,
+            rhs_evals: s.stats.rhs_evals,
+        }
+    }
+}
+
+/// Everything `clapper simulate --json` prints.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct SimulationReport {
+    /// The bell.
+    pub bell: BellReport,
+    /// The settings.
+    pub settings: SimulationSettings,
+    /// The style asked for.
+    pub style: String,
+    /// Whether the bell sustains that style (first stroke, restart protocol).
+    pub sustained: bool,
+    /// "right", "wrong" or "neither": the style the first stroke sustains.
+    pub verdict: String,
+    /// The strokes.
+    pub strokes: Vec<StrokeReport>,
+}
+
+impl SimulationReport {
+    /// The report of `ringing` of `bell`.
+    pub fn new(bell: BellReport, settings: SimulationSettings, ringing: &Ringing) -> Self {
+        let sustained = ringing.sustained();
+        Self {
+            bell,
+            settings,
+            style: style_name(ringing.style).into(),
+            sustained,
+            verdict: if sustained {
+                style_name(ringing.style).into()
+            } else {
+                "neither".into()
+            },
+            strokes: ringing
+                .strokes
+                .iter()
+                .enumerate()
+                .map(|(i, s)| StrokeReport::new(i + 1, s))
+                .collect(),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clapper_core::ringing::ring;
+
+    #[test]
+    fn report_has_the_documented_keys() {
+        let bell = Bell::lab();
+        let cfg = SimConfig::default();
+        let r = ring(&bell, &cfg, Style::Right, Protocol::Restart, 2, &mut ()).unwrap();
+        let rep = SimulationReport::new(
+            BellReport::new("lab", &bell, &BellSource::MassProperties),
+            SimulationSettings::new(&cfg, Protocol::Restart, 2),
+            &r,
+        );
+        let v = serde_json::to_value(&rep).unwrap();
+        for k in ["r_over_lc", "lb_over_lc", "lb_m", "lc_m", "tb_s", "tc_s"] {
+            assert!(v["bell"][k].is_number(), "{k}");
+        }
+        assert_eq!(v["style"], "right");
+        assert_eq!(v["sustained"], true);
+        let s = &v["strokes"][0];
+        for k in ["theta_deg", "phidot_rad_s", "t_s"] {
+            assert!(s["first_strike"][k].is_number(), "{k}");
+        }
+        for k in [
+            "liftoff_theta_deg",
+            "second_strike_delay_ms",
+            "amplitude_ratio",
+            "double_strike_index",
+            "bounce_time_s",
+            "end_theta_deg",
+            "end_side",
+        ] {
+            assert!(s[k].is_number(), "{k}");
+        }
+        let imp = &s["impacts"][0];
+        for k in ["t_s", "theta_deg", "phidot_rad_s", "side"] {
+            assert!(imp[k].is_number(), "{k}");
+        }
+        // Backstroke mirrors the handstroke.
+        let (a, b) = (&v["strokes"][0], &v["strokes"][1]);
+        let fa = a["first_strike"]["theta_deg"].as_f64().unwrap();
+        let fb = b["first_strike"]["theta_deg"].as_f64().unwrap();
+        assert!((fa + fb).abs() < 1e-6);
+    }
+}

@@ -1,0 +1,223 @@
+//! # clapper-plot
+//!
+//! Plots for people who would rather look than read. The file type follows
+//! the extension: `.svg` or `.png`. PNG text needs a system font (fontconfig;
+//! DejaVu Sans on Debian).
+
+#![warn(missing_docs)]
+
+use std::path::Path;
+
+use clapper_core::stroke::Sample;
+use plotters::coord::Shift;
+use plotters::prelude::*;
+use plotters::series::DashedLineSeries;
+
+/// Why a plot could not be drawn.
+#[derive(Debug, thiserror::Error)]
+pub enum PlotError {
+    /// The extension is neither `.svg` nor `.png`.
+    #[error("plot file {0} must end in .svg or .png")]
+    Format(String),
+    /// Nothing to draw.
+    #[error("nothing to plot: {0}")]
+    Empty(&'static str),
+    /// The drawing backend failed (file not writable, no font, ...).
+    #[error("could not draw {path}: {message}")]
+    Draw {
+        /// The file.
+        path: String,
+        /// The backend's message.
+        message: String,
+    },
+}
+
+/// One plot's file format.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Format {
+    /// Scalable vector graphics.
+    Svg,
+    /// Portable network graphics.
+    Png,
+}
+
+/// The format of `path` by its extension.
+pub fn format_of(path: &Path) -> Result<Format, PlotError> {
+    match path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(str::to_ascii_lowercase)
+        .as_deref()
+    {
+        Some("svg") => Ok(Format::Svg),
+        Some("png") => Ok(Format::Png),
+        _ => Err(PlotError::Format(path.display().to_string())),
+    }
+}
+
+/// What a stroke plot shows besides the trace.
+#[derive(Clone, Debug, Default)]
+pub struct StrokePlot<'a> {
+    /// Title line (bell, style, settings).
+    pub title: &'a str,
+    /// φ_max (deg), drawn as two faint lines.
+    pub phi_max_deg: f64,
+    /// Times (s) at which strokes begin, drawn as vertical lines.
+    pub stroke_starts: Vec<f64>,
+}
+
+fn draw_err(path: &Path, e: impl std::fmt::Display) -> PlotError {
+    PlotError::Draw {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    }
+}
+
+/// The paper's Fig 9: θ and φ (deg, left axis) and φ' (rad/s, right axis)
+/// against time (s), over the strokes in `samples`.
+pub fn stroke_plot(path: &Path, samples: &[Sample], plot: &StrokePlot<'_>) -> Result<(), PlotError> {
+    if samples.len() < 2 {
+        return Err(PlotError::Empty("fewer than two samples"));
+    }
+    let size = (1200, 700);
+    match format_of(path)? {
+        Format::Svg => {
+            let root = SVGBackend::new(path, size).into_drawing_area();
+            draw_strokes(&root, samples, plot).map_err(|e| draw_err(path, e))?;
+            root.present().map_err(|e| draw_err(path, e))
+        }
+        Format::Png => {
+            let root = BitMapBackend::new(path, size).into_drawing_area();
+            draw_strokes(&root, samples, plot).map_err(|e| draw_err(path, e))?;
+            root.present().map_err(|e| draw_err(path, e))
+        }
+    }
+}
+
+type DrawResult<DB> = Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
+
+fn draw_strokes<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    samples: &[Sample],
+    plot: &StrokePlot<'_>,
+) -> DrawResult<DB> {
+    root.fill(&WHITE)?;
+    let t0 = samples.first().map_or(0.0, |s| s.t);
+    let t1 = samples.last().map_or(1.0, |s| s.t).max(t0 + 1e-3);
+    let vmax = samples.iter().map(|s| s.y[3].abs()).fold(0.0f64, f64::max).max(0.1) * 1.1;
+    let mut chart = ChartBuilder::on(root)
+        .caption(plot.title, ("sans-serif", 22))
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(60)
+        .right_y_label_area_size(70)
+        .build_cartesian_2d(t0..t1, -190.0f64..190.0)?
+        .set_secondary_coord(t0..t1, -vmax..vmax);
+    chart
+        .configure_mesh()
+        .x_desc("time (s)")
+        .y_desc("angle (deg)")
+        .y_labels(9)
+        .light_line_style(RGBColor(235, 235, 235))
+        .label_style(("sans-serif", 15))
+        .axis_desc_style(("sans-serif", 17))
+        .draw()?;
+    chart
+        .configure_secondary_axes()
+        .y_desc("clapper rate phi' (rad/s)")
+        .label_style(("sans-serif", 15))
+        .axis_desc_style(("sans-serif", 17))
+        .draw()?;
+    let grey = RGBColor(170, 170, 170);
+    for &m in &[plot.phi_max_deg, -plot.phi_max_deg] {
+        if m != 0.0 {
+            chart.draw_series(LineSeries::new([(t0, m), (t1, m)], grey.stroke_width(1)))?;
+        }
+    }
+    for &ts in &plot.stroke_starts {
+        chart.draw_series(LineSeries::new([(ts, -190.0), (ts, 190.0)], grey.stroke_width(1)))?;
+    }
+    let blue = RGBColor(31, 90, 180);
+    let green = RGBColor(20, 140, 60);
+    let red = RGBColor(210, 40, 40);
+    chart
+        .draw_series(DashedLineSeries::new(
+            samples.iter().map(|s| (s.t, s.y[0].to_degrees())),
+            8,
+            5,
+            blue.stroke_width(2),
+        ))?
+        .label("bell angle theta (deg)")
+        .legend(move |(x, y)| PathElement::new([(x, y), (x + 25, y)], blue.stroke_width(2)));
+    chart
+        .draw_series(LineSeries::new(
+            samples.iter().map(|s| (s.t, s.y[1].to_degrees())),
+            green.stroke_width(2),
+        ))?
+        .label("clapper angle phi (deg)")
+        .legend(move |(x, y)| PathElement::new([(x, y), (x + 25, y)], green.stroke_width(2)));
+    chart
+        .draw_secondary_series(LineSeries::new(
+            samples.iter().map(|s| (s.t, s.y[3])),
+            red.stroke_width(1),
+        ))?
+        .label("clapper rate phi' (rad/s, right axis)")
+        .legend(move |(x, y)| PathElement::new([(x, y), (x + 25, y)], red.stroke_width(2)));
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::LowerRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 15))
+        .draw()?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn samples() -> Vec<Sample> {
+        (0..200)
+            .map(|k| {
+                let t = k as f64 * 0.01;
+                Sample {
+                    t,
+                    y: [3.0 * (t * 2.0).cos(), 0.4 * (t * 5.0).sin(), 0.0, (t * 7.0).sin()],
+                    contact_force: 0.0,
+                }
+            })
+            .collect()
+    }
+
+    #[test]
+    fn writes_svg_and_png() {
+        let dir = tempfile::tempdir().unwrap();
+        let p = StrokePlot {
+            title: "test",
+            phi_max_deg: 26.0,
+            stroke_starts: vec![1.0],
+        };
+        let svg = dir.path().join("a.svg");
+        stroke_plot(&svg, &samples(), &p).unwrap();
+        let text = std::fs::read_to_string(&svg).unwrap();
+        assert!(text.contains("<svg") && text.contains("time (s)"));
+        let png = dir.path().join("a.png");
+        stroke_plot(&png, &samples(), &p).unwrap();
+        let bytes = std::fs::read(&png).unwrap();
+        assert_eq!(&bytes[1..4], b"PNG");
+    }
+
+    #[test]
+    fn refuses_other_formats_and_empty_traces() {
+        let p = StrokePlot::default();
+        assert!(matches!(
+            stroke_plot(Path::new("x.jpg"), &samples(), &p),
+            Err(PlotError::Format(_))
+        ));
+        assert!(matches!(
+            stroke_plot(Path::new("x.svg"), &[], &p),
+            Err(PlotError::Empty(_))
+        ));
+    }
+}
