@@ -1,5 +1,7 @@
 //! `clapper`: the command line of clapper.
 
+mod chart;
+mod figures;
 mod files;
 mod simulate;
 
@@ -21,6 +23,11 @@ enum Command {
     Simulate(simulate::SimulateArgs),
     /// The closed-form lift-off angles for r = 0, equations (15) and (16).
     Liftoff(simulate::LiftoffArgs),
+    /// A clapping chart: sweep the plane of (r/L_c, L_b/L_c) and show where
+    /// a bell rings right or wrong and how it strikes.
+    Chart(chart::ChartArgs),
+    /// Reproduce the paper's figures 7, 9-12 and 14-16 into a folder.
+    Figures(figures::FiguresArgs),
 }
 
 fn main() {
@@ -38,6 +45,8 @@ fn main() {
     let result = match cli.command {
         Command::Simulate(args) => simulate::run(args),
         Command::Liftoff(args) => simulate::liftoff(args),
+        Command::Chart(args) => chart::run(args),
+        Command::Figures(args) => figures::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -30,6 +30,15 @@ pub enum StyleArg {
     Wrong,
 }
 
+impl StyleArg {
+    pub fn style(self) -> Style {
+        match self {
+            StyleArg::Right => Style::Right,
+            StyleArg::Wrong => Style::Wrong,
+        }
+    }
+}
+
 #[derive(Clone, Copy, Debug, ValueEnum, PartialEq, Eq)]
 pub enum ProtocolArg {
     /// Every stroke starts from rest at +-theta0 (the ringer restores the swing).
@@ -46,7 +55,7 @@ pub enum ContactArg {
     Penalty,
 }
 
-fn parse_point(s: &str) -> std::result::Result<(f64, f64), String> {
+pub fn parse_point(s: &str) -> std::result::Result<(f64, f64), String> {
     let (x, y) = s
         .split_once(',')
         .ok_or_else(|| format!("'{s}' is not X,Y (r/L_c,L_b/L_c), e.g. 0.45,1.68"))?;
@@ -147,8 +156,9 @@ fn load(args: &SimulateArgs) -> Result<(String, Bell, BellSource)> {
     Ok((name, bell, source))
 }
 
-fn config(args: &SimulateArgs) -> Result<SimConfig> {
-    let contact = match (args.contact, args.stiffness) {
+/// The contact model from `--contact` and `--stiffness`.
+pub fn contact_model(contact: Option<ContactArg>, stiffness: Option<f64>) -> Result<ContactModel> {
+    Ok(match (contact, stiffness) {
         (Some(ContactArg::Impact), Some(_)) => {
             bail!("--stiffness applies to the penalty model; drop it or use --contact penalty")
         }
@@ -156,7 +166,11 @@ fn config(args: &SimulateArgs) -> Result<SimConfig> {
         (_, k) => ContactModel::Penalty {
             stiffness: k.unwrap_or(clapper_core::stroke::DEFAULT_STIFFNESS),
         },
-    };
+    })
+}
+
+fn config(args: &SimulateArgs) -> Result<SimConfig> {
+    let contact = contact_model(args.contact, args.stiffness)?;
     let cfg = SimConfig {
         theta0: args.theta0.to_radians(),
         restitution: args.restitution,
@@ -176,10 +190,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     if let Some(p) = &args.plot {
         clapper_plot::format_of(p)?;
     }
-    let style = match args.style {
-        StyleArg::Right => Style::Right,
-        StyleArg::Wrong => Style::Wrong,
-    };
+    let style = args.style.style();
     let protocol = match args.protocol {
         ProtocolArg::Restart => Protocol::Restart,
         ProtocolArg::Free => Protocol::Free,
@@ -236,7 +247,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     Ok(())
 }
 
-fn contact_name(cfg: &SimConfig) -> String {
+pub fn contact_name(cfg: &SimConfig) -> String {
     match cfg.contact {
         ContactModel::Impact => "impact".into(),
         ContactModel::Penalty { stiffness } => format!("penalty (k = {stiffness:e} N m/rad)"),

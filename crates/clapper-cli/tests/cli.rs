@@ -193,3 +193,127 @@ fn bad_input_gives_one_line_errors() {
         assert!(err.contains(needle), "{args:?}: {err:?} should name {needle}");
     }
 }
+
+#[test]
+fn chart_csv_is_the_same_for_any_thread_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let mut outputs = vec![];
+    for threads in ["1", "2", "4"] {
+        let csv = dir.path().join(format!("c{threads}.csv"));
+        clapper()
+            .args(["chart", "--grid", "9x6", "--threads", threads, "--csv"])
+            .arg(&csv)
+            .assert()
+            .success();
+        outputs.push(std::fs::read(&csv).unwrap());
+    }
+    assert_eq!(outputs[0], outputs[1]);
+    assert_eq!(outputs[0], outputs[2]);
+    let text = String::from_utf8(outputs[0].clone()).unwrap();
+    assert_eq!(
+        text.lines().next().unwrap(),
+        "r_over_lc,lb_over_lc,style,sustained,strike_theta_deg,strike_phidot_rad_s,liftoff_theta_deg,double_strike_index"
+    );
+    assert_eq!(text.lines().count(), 1 + 9 * 6 * 2);
+}
+
+#[test]
+fn chart_point_agrees_with_simulate() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("p.csv");
+    clapper()
+        .args([
+            "chart",
+            "--grid",
+            "1",
+            "--r-range",
+            "0.444,0.444",
+            "--lb-range",
+            "1.654,1.654",
+            "--csv",
+        ])
+        .arg(&csv)
+        .assert()
+        .success();
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let v = json(&["simulate", "--chart-point", "0.444,1.654", "--strokes", "1"]);
+    let row: Vec<&str> = text.lines().nth(1).unwrap().split(',').collect();
+    assert_eq!(row[2], "right");
+    assert_eq!(row[3], v["sustained"].to_string());
+    let chart_theta: f64 = row[4].parse().unwrap();
+    let sim_theta = v["strokes"][0]["first_strike"]["theta_deg"].as_f64().unwrap();
+    assert!((chart_theta - sim_theta).abs() < 1e-6, "{chart_theta} vs {sim_theta}");
+    let chart_d: f64 = row[7].parse().unwrap();
+    assert!((chart_d - v["strokes"][0]["double_strike_index"].as_f64().unwrap()).abs() < 1e-6);
+}
+
+#[test]
+fn chart_plots_and_bad_chart_options() {
+    let dir = tempfile::tempdir().unwrap();
+    for q in ["style", "strike-angle", "strike-velocity", "liftoff", "double-strike"] {
+        let out = dir.path().join(format!("{q}.svg"));
+        clapper()
+            .args([
+                "chart",
+                "--grid",
+                "6",
+                "--quantity",
+                q,
+                "--bells",
+                "../../examples/lab.toml",
+                "--out",
+            ])
+            .arg(&out)
+            .assert()
+            .success()
+            .stdout(predicate::str::contains("Lab bell"));
+        let svg = std::fs::read_to_string(&out).unwrap();
+        assert!(svg.contains("r / L_c") && svg.contains("Lab bell"));
+    }
+    for (args, needle) in [
+        (vec!["chart", "--grid", "0"], "grid"),
+        (vec!["chart", "--grid", "5000"], "grid"),
+        (vec!["chart", "--grid", "abc"], "not a grid"),
+        (vec!["chart", "--lb-range", "-1,2"], "lb_over_lc"),
+        (vec!["chart", "--quantity", "style", "--style", "right"], "--style both"),
+        (vec!["chart", "--phi-max", "95"], "phi_max_deg"),
+        (vec!["chart", "--threads", "0"], "--threads"),
+    ] {
+        let out = clapper().args(&args).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success(), "{args:?}");
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+}
+
+#[test]
+fn figures_writes_every_figure_with_data_and_an_index() {
+    let dir = tempfile::tempdir().unwrap();
+    clapper()
+        .args(["figures", "--grid", "5", "--out"])
+        .arg(dir.path())
+        .assert()
+        .success();
+    for f in [
+        "fig07", "fig09a", "fig09b", "fig09c", "fig09d", "fig10", "fig11", "fig12", "fig14", "fig15", "fig16",
+    ] {
+        for ext in ["svg", "png"] {
+            assert!(dir.path().join(format!("{f}.{ext}")).exists(), "{f}.{ext}");
+        }
+    }
+    for csv in [
+        "fig07.csv",
+        "fig09a.csv",
+        "chart-base.csv",
+        "chart-right-R0.05.csv",
+        "chart-theta0-90.csv",
+    ] {
+        assert!(dir.path().join(csv).exists(), "{csv}");
+    }
+    let index = std::fs::read_to_string(dir.path().join("index.md")).unwrap();
+    assert_eq!(index.matches("\n## ").count(), 11);
+    assert!(std::fs::read_to_string(dir.path().join("index.html"))
+        .unwrap()
+        .contains("<img"));
+}

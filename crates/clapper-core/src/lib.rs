@@ -24,6 +24,7 @@
 #![warn(missing_docs)]
 
 pub mod bell;
+pub mod chart;
 pub mod dynamics;
 pub mod liftoff;
 pub mod ode;

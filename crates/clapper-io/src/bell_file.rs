@@ -107,6 +107,48 @@ pub fn load_bell(path: &Path) -> Result<LoadedBell, BellFileError> {
     })
 }
 
+/// Read a file of one bell, or of several as `[[bell]]` tables (each with
+/// the keys of a one-bell file).
+pub fn load_bells(path: &Path) -> Result<Vec<LoadedBell>, BellFileError> {
+    let text = std::fs::read_to_string(path).map_err(|source| BellFileError::Read {
+        path: path.display().to_string(),
+        source,
+    })?;
+    let stem = path
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    parse_bells(&text, &stem).map_err(|e| match e {
+        BellFileError::Syntax(m) => BellFileError::Syntax(format!("{}: {m}", path.display())),
+        other => other,
+    })
+}
+
+/// Parse one bell, or several as `[[bell]]` tables.
+pub fn parse_bells(text: &str, default_name: &str) -> Result<Vec<LoadedBell>, BellFileError> {
+    let table: toml::Table = toml::from_str(text).map_err(|e| BellFileError::Syntax(one_line(text, &e)))?;
+    match table.get("bell") {
+        Some(toml::Value::Array(list)) => {
+            if table.len() > 1 {
+                return Err(BellFileError::Syntax(
+                    "a file of several bells holds only [[bell]] tables".into(),
+                ));
+            }
+            list.iter()
+                .enumerate()
+                .map(|(k, v)| {
+                    let one = toml::to_string(v).map_err(|e| BellFileError::Syntax(e.to_string()))?;
+                    parse_bell(&one, &format!("{default_name} {}", k + 1)).map_err(|e| match e {
+                        BellFileError::Syntax(m) => BellFileError::Syntax(format!("bell {}: {m}", k + 1)),
+                        other => other,
+                    })
+                })
+                .collect()
+        }
+        _ => Ok(vec![parse_bell(text, default_name)?]),
+    }
+}
+
 /// One line from a TOML error: where, which key, and what is wrong.
 fn one_line(text: &str, err: &toml::de::Error) -> String {
     let msg = err.message().replace('\n', " ");
@@ -239,6 +281,18 @@ mod tests {
             panic!()
         };
         assert!(assumed.fields.iter().all(|(k, _)| *k != "bell_mass_kg"));
+    }
+
+    #[test]
+    fn several_bells_as_tables() {
+        let text = format!("[[bell]]\n{LAB}\n[[bell]]\nname = \"t\"\nbell_period_s = 2\nclapper_period_s = 1.5\nr_m = 0.1\nphi_max_deg = 30\n");
+        let bells = parse_bells(&text, "ring").unwrap();
+        assert_eq!(bells.len(), 2);
+        assert_eq!(bells[0].name, "Lab bell");
+        assert_eq!(bells[1].name, "t");
+        assert_eq!(parse_bells(LAB, "one").unwrap().len(), 1);
+        let bad = text.replace("phi_max_deg = 30", "phi_max_deg = \"x\"");
+        assert!(parse_bells(&bad, "ring").unwrap_err().to_string().contains("bell 2"));
     }
 
     #[test]

@@ -6,6 +6,13 @@
 
 #![warn(missing_docs)]
 
+pub mod chart;
+pub mod quantity;
+
+pub use chart::{chart_figure, line_plot, ChartFigure, Marker, Panel, Scale, Series};
+pub use plotters::style::RGBColor;
+pub use quantity::Quantity;
+
 use std::path::Path;
 
 use clapper_core::stroke::Sample;

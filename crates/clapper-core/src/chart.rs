@@ -1,0 +1,320 @@
+//! Clapping charts: a sweep over the plane of (r/L_c, L_b/L_c) with the
+//! paper's construction of a bell at each point (SPEC §5), both styles, in
+//! parallel. Results are collected by index, so they are the same whatever
+//! the number of threads.
+
+use std::sync::atomic::{AtomicU64, Ordering};
+
+use rayon::prelude::*;
+
+use crate::bell::{ChartConstruction, ParamError};
+use crate::ringing::first_stroke;
+use crate::stroke::{SimConfig, SimError, Stroke, Style};
+
+/// The most points one chart may have: 2000 x 2000 (a chart of both styles
+/// then holds 8 million stroke summaries, about 0.6 GB).
+pub const MAX_POINTS: usize = 4_000_000;
+
+/// A rectangle of the chart plane.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Domain {
+    /// r/L_c from, to.
+    pub x: (f64, f64),
+    /// L_b/L_c from, to (> 0).
+    pub y: (f64, f64),
+}
+
+impl Default for Domain {
+    /// The paper's (and King et al.'s) range: r/L_c -0.3..0.7, L_b/L_c 0.5..2.5.
+    fn default() -> Self {
+        Self {
+            x: (-0.3, 0.7),
+            y: (0.5, 2.5),
+        }
+    }
+}
+
+/// Which styles a chart computes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Styles {
+    /// Ringing right only.
+    Right,
+    /// Ringing wrong only.
+    Wrong,
+    /// Both.
+    Both,
+}
+
+impl Styles {
+    /// The styles, right first.
+    pub fn list(self) -> &'static [Style] {
+        match self {
+            Styles::Right => &[Style::Right],
+            Styles::Wrong => &[Style::Wrong],
+            Styles::Both => &[Style::Right, Style::Wrong],
+        }
+    }
+}
+
+/// Everything that shapes a chart.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ChartSpec {
+    /// The rectangle swept.
+    pub domain: Domain,
+    /// Points along r/L_c (≥ 1).
+    pub nx: usize,
+    /// Points along L_b/L_c (≥ 1).
+    pub ny: usize,
+    /// How a bell is built at each point (carries φ_max).
+    pub construction: ChartConstruction,
+    /// θ0, R, contact model, tolerances.
+    pub config: SimConfig,
+    /// Which styles.
+    pub styles: Styles,
+}
+
+impl Default for ChartSpec {
+    /// The paper's 20 x 20 chart of both styles at its defaults.
+    fn default() -> Self {
+        Self {
+            domain: Domain::default(),
+            nx: 20,
+            ny: 20,
+            construction: ChartConstruction::default(),
+            config: SimConfig::default(),
+            styles: Styles::Both,
+        }
+    }
+}
+
+/// Evenly spaced points from `a` to `b` inclusive; one point is the middle.
+pub fn axis(a: f64, b: f64, n: usize) -> Vec<f64> {
+    match n {
+        0 => vec![],
+        1 => vec![0.5 * (a + b)],
+        _ => (0..n).map(|i| a + (b - a) * i as f64 / (n - 1) as f64).collect(),
+    }
+}
+
+impl ChartSpec {
+    /// Check the domain, the grid size and the configuration.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        let d = &self.domain;
+        for (field, v) in [("r_over_lc", d.x.0), ("r_over_lc", d.x.1)] {
+            if !v.is_finite() {
+                return Err(ParamError {
+                    field,
+                    value: v,
+                    allowed: "a finite number",
+                });
+            }
+        }
+        for v in [d.y.0, d.y.1] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(ParamError {
+                    field: "lb_over_lc",
+                    value: v,
+                    allowed: "a finite number > 0",
+                });
+            }
+        }
+        if d.x.0 > d.x.1 || d.y.0 > d.y.1 {
+            return Err(ParamError {
+                field: "domain",
+                value: f64::NAN,
+                allowed: "each range from low to high",
+            });
+        }
+        let n = self.nx.saturating_mul(self.ny);
+        if self.nx == 0 || self.ny == 0 || n > MAX_POINTS {
+            return Err(ParamError {
+                field: "grid",
+                value: n as f64,
+                allowed: "at least 1 x 1 and at most 4,000,000 points",
+            });
+        }
+        self.config.validate()?;
+        // The construction at the domain's corners catches a bad phi_max or T_b.
+        self.construction.bell(d.x.0, d.y.0)?;
+        Ok(())
+    }
+
+    /// r/L_c of the grid columns.
+    pub fn xs(&self) -> Vec<f64> {
+        axis(self.domain.x.0, self.domain.x.1, self.nx)
+    }
+
+    /// L_b/L_c of the grid rows.
+    pub fn ys(&self) -> Vec<f64> {
+        axis(self.domain.y.0, self.domain.y.1, self.ny)
+    }
+}
+
+/// What a chart keeps of one stroke.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StrokeSummary {
+    /// Whether the style is sustained.
+    pub sustained: bool,
+    /// θ at the first strike (rad).
+    pub strike_theta: Option<f64>,
+    /// φ' just before the first strike (rad/s).
+    pub strike_phidot: Option<f64>,
+    /// Lift-off angle (rad).
+    pub liftoff_theta: Option<f64>,
+    /// D of (33).
+    pub double_strike_index: Option<f64>,
+    /// dt12 (s).
+    pub second_strike_delay: Option<f64>,
+    /// A.
+    pub amplitude_ratio: Option<f64>,
+}
+
+impl From<&Stroke> for StrokeSummary {
+    fn from(s: &Stroke) -> Self {
+        Self {
+            sustained: s.sustained(),
+            strike_theta: s.strike_angle(),
+            strike_phidot: s.strike_velocity(),
+            liftoff_theta: s.liftoff_angle(),
+            double_strike_index: s.double_strike_index(),
+            second_strike_delay: s.second_strike_delay(),
+            amplitude_ratio: s.amplitude_ratio(),
+        }
+    }
+}
+
+/// One point and style of a chart.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ChartCell {
+    /// r/L_c.
+    pub x: f64,
+    /// L_b/L_c.
+    pub y: f64,
+    /// The style simulated.
+    pub style: Style,
+    /// The stroke's summary, or why it could not be simulated.
+    pub result: Result<StrokeSummary, SimError>,
+}
+
+impl ChartCell {
+    /// The summary if the stroke sustained its style.
+    pub fn sustained(&self) -> Option<&StrokeSummary> {
+        self.result.as_ref().ok().filter(|s| s.sustained)
+    }
+}
+
+/// A computed chart.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Chart {
+    /// What was computed.
+    pub spec: ChartSpec,
+    /// Cells in row-major order: L_b/L_c (rows, ascending), then r/L_c
+    /// (ascending), then style (right before wrong).
+    pub cells: Vec<ChartCell>,
+}
+
+impl Chart {
+    /// The cell at column `i`, row `j`, for `style`, if the chart has that style.
+    pub fn cell(&self, i: usize, j: usize, style: Style) -> Option<&ChartCell> {
+        let styles = self.spec.styles.list();
+        let k = styles.iter().position(|s| *s == style)?;
+        self.cells.get((j * self.spec.nx + i) * styles.len() + k)
+    }
+
+    /// How many cells failed with an error.
+    pub fn errors(&self) -> usize {
+        self.cells.iter().filter(|c| c.result.is_err()).count()
+    }
+}
+
+/// Sweep the chart. `progress(done)` is called from worker threads as
+/// strokes complete (`done` of `total = nx * ny * styles`), for a progress
+/// bar; it must be cheap.
+///
+/// ```
+/// use clapper_core::chart::{sweep, ChartSpec};
+/// let spec = ChartSpec { nx: 3, ny: 3, ..ChartSpec::default() };
+/// let chart = sweep(&spec, &|_done| {}).unwrap();
+/// assert_eq!(chart.cells.len(), 3 * 3 * 2);
+/// ```
+pub fn sweep(spec: &ChartSpec, progress: &(dyn Fn(u64) + Sync)) -> Result<Chart, ParamError> {
+    spec.validate()?;
+    let xs = spec.xs();
+    let ys = spec.ys();
+    let styles = spec.styles.list();
+    let total = spec.nx * spec.ny * styles.len();
+    let done = AtomicU64::new(0);
+    let cells: Vec<ChartCell> = (0..total)
+        .into_par_iter()
+        .map(|k| {
+            let style = styles[k % styles.len()];
+            let p = k / styles.len();
+            let (x, y) = (xs[p % spec.nx], ys[p / spec.nx]);
+            let result = spec
+                .construction
+                .bell(x, y)
+                .map_err(SimError::from)
+                .and_then(|bell| first_stroke(&bell, &spec.config, style))
+                .map(|s| StrokeSummary::from(&s));
+            progress(done.fetch_add(1, Ordering::Relaxed) + 1);
+            ChartCell { x, y, style, result }
+        })
+        .collect();
+    Ok(Chart { spec: *spec, cells })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn axis_includes_both_ends() {
+        assert_eq!(axis(0.0, 1.0, 3), vec![0.0, 0.5, 1.0]);
+        assert_eq!(axis(0.0, 1.0, 1), vec![0.5]);
+    }
+
+    #[test]
+    fn bad_specs_are_refused() {
+        let ok = ChartSpec::default();
+        assert!(ok.validate().is_ok());
+        for bad in [
+            ChartSpec { nx: 0, ..ok },
+            ChartSpec {
+                nx: 3000,
+                ny: 3000,
+                ..ok
+            },
+            ChartSpec {
+                domain: Domain {
+                    x: (0.0, 1.0),
+                    y: (-1.0, 2.0),
+                },
+                ..ok
+            },
+            ChartSpec {
+                domain: Domain {
+                    x: (1.0, 0.0),
+                    y: (1.0, 2.0),
+                },
+                ..ok
+            },
+        ] {
+            assert!(sweep(&bad, &|_| {}).is_err(), "{bad:?}");
+        }
+    }
+
+    #[test]
+    fn cells_are_indexed_as_documented() {
+        let spec = ChartSpec {
+            nx: 4,
+            ny: 3,
+            ..ChartSpec::default()
+        };
+        let c = sweep(&spec, &|_| {}).unwrap();
+        let xs = spec.xs();
+        let ys = spec.ys();
+        let cell = c.cell(2, 1, Style::Wrong).unwrap();
+        assert_eq!((cell.x, cell.y, cell.style), (xs[2], ys[1], Style::Wrong));
+        assert_eq!(c.errors(), 0);
+    }
+}

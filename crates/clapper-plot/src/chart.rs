@@ -1,0 +1,428 @@
+//! Clapping-chart heat maps (one or two panels, colour bar with units,
+//! blank where a style is not sustained, region boundaries as lines, bells
+//! marked and labelled) and simple line plots (Fig 7).
+
+use std::path::Path;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::{draw_err, format_of, Format, PlotError};
+
+/// A bell to mark on a chart.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Marker {
+    /// r/L_c.
+    pub x: f64,
+    /// L_b/L_c.
+    pub y: f64,
+    /// Label drawn beside it.
+    pub label: String,
+}
+
+/// One panel of a chart: a grid of values, row-major (row = L_b/L_c index).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Panel {
+    /// Panel title, e.g. "(a) ringing right".
+    pub title: String,
+    /// Column positions (r/L_c), ascending.
+    pub xs: Vec<f64>,
+    /// Row positions (L_b/L_c), ascending.
+    pub ys: Vec<f64>,
+    /// Value at `[j * xs.len() + i]`; `None` is drawn blank.
+    pub values: Vec<Option<f64>>,
+    /// The region whose boundary is drawn (where the style is sustained).
+    pub region: Vec<bool>,
+}
+
+/// How values become colours.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Scale {
+    /// A continuous colour bar from `min` to `max` (values outside are
+    /// clamped), labelled with quantity and units.
+    Continuous {
+        /// Low end.
+        min: f64,
+        /// High end.
+        max: f64,
+        /// Colour bar label, with units.
+        label: String,
+    },
+    /// Categories: value k (0, 1, ...) takes colour k; a legend names them.
+    Categories(Vec<(String, RGBColor)>),
+}
+
+/// A chart figure: title, panels side by side, scale, markers.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ChartFigure {
+    /// Title above the panels.
+    pub title: String,
+    /// Panels, left to right.
+    pub panels: Vec<Panel>,
+    /// Colour scale.
+    pub scale: Scale,
+    /// Bells to mark on every panel.
+    pub markers: Vec<Marker>,
+}
+
+/// Viridis, from five anchors: perceptually even and readable in grey.
+pub fn viridis(t: f64) -> RGBColor {
+    const A: [(u8, u8, u8); 5] = [
+        (68, 1, 84),
+        (59, 82, 139),
+        (33, 145, 140),
+        (94, 201, 98),
+        (253, 231, 37),
+    ];
+    let t = if t.is_finite() { t.clamp(0.0, 1.0) } else { 0.0 };
+    let s = t * 4.0;
+    let k = (s.floor() as usize).min(3);
+    let f = s - k as f64;
+    let mix = |a: u8, b: u8| (a as f64 + (b as f64 - a as f64) * f).round() as u8;
+    RGBColor(
+        mix(A[k].0, A[k + 1].0),
+        mix(A[k].1, A[k + 1].1),
+        mix(A[k].2, A[k + 1].2),
+    )
+}
+
+fn half_steps(v: &[f64], lo: f64, hi: f64) -> Vec<(f64, f64)> {
+    let n = v.len();
+    (0..n)
+        .map(|i| {
+            let left = if i > 0 {
+                0.5 * (v[i - 1] + v[i])
+            } else if n > 1 {
+                v[0] - 0.5 * (v[1] - v[0])
+            } else {
+                lo
+            };
+            let right = if i + 1 < n {
+                0.5 * (v[i] + v[i + 1])
+            } else if n > 1 {
+                v[n - 1] + 0.5 * (v[n - 1] - v[n - 2])
+            } else {
+                hi
+            };
+            (left, right)
+        })
+        .collect()
+}
+
+/// Draw a chart figure to `path` (.svg or .png).
+pub fn chart_figure(path: &Path, fig: &ChartFigure) -> Result<(), PlotError> {
+    if fig.panels.is_empty() || fig.panels.iter().any(|p| p.xs.is_empty() || p.ys.is_empty()) {
+        return Err(PlotError::Empty("a chart needs at least one panel with points"));
+    }
+    for p in &fig.panels {
+        if p.values.len() != p.xs.len() * p.ys.len() || p.region.len() != p.values.len() {
+            return Err(PlotError::Empty("panel values do not match its grid"));
+        }
+    }
+    let size = (80 + 720 * fig.panels.len() as u32 + 150, 760);
+    match format_of(path)? {
+        Format::Svg => {
+            let root = SVGBackend::new(path, size).into_drawing_area();
+            draw_chart(&root, fig).map_err(|e| draw_err(path, e))?;
+            root.present().map_err(|e| draw_err(path, e))
+        }
+        Format::Png => {
+            let root = BitMapBackend::new(path, size).into_drawing_area();
+            draw_chart(&root, fig).map_err(|e| draw_err(path, e))?;
+            root.present().map_err(|e| draw_err(path, e))
+        }
+    }
+}
+
+type DrawResult<DB> = Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
+
+fn colour_of(scale: &Scale, v: f64) -> RGBColor {
+    match scale {
+        Scale::Continuous { min, max, .. } => viridis(if max > min { (v - min) / (max - min) } else { 0.5 }),
+        Scale::Categories(c) => c
+            .get(v.round().max(0.0) as usize)
+            .map(|x| x.1)
+            .unwrap_or(RGBColor(128, 128, 128)),
+    }
+}
+
+fn draw_chart<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, fig: &ChartFigure) -> DrawResult<DB> {
+    root.fill(&WHITE)?;
+    let (w, _) = root.dim_in_pixel();
+    let titled = root.titled(&fig.title, ("sans-serif", 24))?;
+    let (panels_area, bar_area) = titled.split_horizontally(w - 160);
+    let areas = panels_area.split_evenly((1, fig.panels.len()));
+    for (panel, area) in fig.panels.iter().zip(areas.iter()) {
+        draw_panel(area, panel, fig)?;
+    }
+    match &fig.scale {
+        Scale::Continuous { min, max, label } => draw_colour_bar(&bar_area, *min, *max, label)?,
+        Scale::Categories(c) => draw_legend(&bar_area, c)?,
+    }
+    Ok(())
+}
+
+fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel, fig: &ChartFigure) -> DrawResult<DB> {
+    let xr = half_steps(&p.xs, p.xs[0] - 0.5, p.xs[0] + 0.5);
+    let yr = half_steps(&p.ys, p.ys[0] - 0.5, p.ys[0] + 0.5);
+    let (x0, x1) = (xr[0].0, xr[xr.len() - 1].1);
+    let (y0, y1) = (yr[0].0, yr[yr.len() - 1].1);
+    let mut chart = ChartBuilder::on(area)
+        .caption(&p.title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(60)
+        .build_cartesian_2d(x0..x1, y0..y1)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc("r / L_c")
+        .y_desc("L_b / L_c")
+        .label_style(("sans-serif", 15))
+        .axis_desc_style(("sans-serif", 17))
+        .draw()?;
+    let nx = p.xs.len();
+    chart.draw_series(p.values.iter().enumerate().filter_map(|(k, v)| {
+        let v = (*v)?;
+        let (i, j) = (k % nx, k / nx);
+        Some(Rectangle::new(
+            [(xr[i].0, yr[j].0), (xr[i].1, yr[j].1)],
+            colour_of(&fig.scale, v).filled(),
+        ))
+    }))?;
+    // Region boundaries: every cell edge with the region on one side only.
+    let inside = |i: isize, j: isize| -> bool {
+        i >= 0 && j >= 0 && (i as usize) < nx && (j as usize) < p.ys.len() && p.region[j as usize * nx + i as usize]
+    };
+    let mut edges = Vec::new();
+    for j in 0..p.ys.len() as isize {
+        for i in 0..=nx as isize {
+            if inside(i - 1, j) != inside(i, j) {
+                let x = if i == 0 { xr[0].0 } else { xr[i as usize - 1].1 };
+                edges.push([(x, yr[j as usize].0), (x, yr[j as usize].1)]);
+            }
+        }
+    }
+    for i in 0..nx as isize {
+        for j in 0..=p.ys.len() as isize {
+            if inside(i, j - 1) != inside(i, j) {
+                let y = if j == 0 { yr[0].0 } else { yr[j as usize - 1].1 };
+                edges.push([(xr[i as usize].0, y), (xr[i as usize].1, y)]);
+            }
+        }
+    }
+    chart.draw_series(edges.into_iter().map(|e| PathElement::new(e, BLACK.stroke_width(2))))?;
+    for m in &fig.markers {
+        if m.x < x0 || m.x > x1 || m.y < y0 || m.y > y1 {
+            continue;
+        }
+        chart.draw_series(std::iter::once(
+            EmptyElement::at((m.x, m.y))
+                + Circle::new((0, 0), 7, WHITE.filled())
+                + Circle::new((0, 0), 7, BLACK.stroke_width(2))
+                + Text::new(m.label.clone(), (10, -18), ("sans-serif", 16).into_font().color(&BLACK)),
+        ))?;
+    }
+    Ok(())
+}
+
+fn draw_colour_bar<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    min: f64,
+    max: f64,
+    label: &str,
+) -> DrawResult<DB> {
+    let (lo, hi) = if max > min { (min, max) } else { (min - 1.0, min + 1.0) };
+    let mut bar = ChartBuilder::on(area)
+        .margin_top(60)
+        .margin_bottom(57)
+        .margin_right(10)
+        .y_label_area_size(0)
+        .right_y_label_area_size(60)
+        .build_cartesian_2d(0.0..1.0, lo..hi)?;
+    bar.configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_desc(label)
+        .label_style(("sans-serif", 14))
+        .axis_desc_style(("sans-serif", 16))
+        .draw()?;
+    let n = 200;
+    bar.draw_series((0..n).map(|k| {
+        let a = lo + (hi - lo) * k as f64 / n as f64;
+        let b = lo + (hi - lo) * (k + 1) as f64 / n as f64;
+        Rectangle::new([(0.0, a), (1.0, b)], viridis((k as f64 + 0.5) / n as f64).filled())
+    }))?;
+    Ok(())
+}
+
+fn draw_legend<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, cats: &[(String, RGBColor)]) -> DrawResult<DB> {
+    for (k, (name, colour)) in cats.iter().enumerate() {
+        let y = 90 + 34 * k as i32;
+        area.draw(&Rectangle::new([(8, y), (30, y + 22)], colour.filled()))?;
+        area.draw(&Rectangle::new([(8, y), (30, y + 22)], BLACK.stroke_width(1)))?;
+        area.draw(&Text::new(name.clone(), (38, y + 4), ("sans-serif", 16)))?;
+    }
+    Ok(())
+}
+
+/// One line or set of points of a line plot.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Series {
+    /// Legend label.
+    pub label: String,
+    /// The points.
+    pub points: Vec<(f64, f64)>,
+    /// Draw as markers instead of a line.
+    pub markers: bool,
+    /// Colour.
+    pub colour: RGBColor,
+}
+
+/// A plain x-y plot with axis labels (with units) and a legend.
+pub fn line_plot(path: &Path, title: &str, x_label: &str, y_label: &str, series: &[Series]) -> Result<(), PlotError> {
+    let pts = || series.iter().flat_map(|s| s.points.iter());
+    if pts().next().is_none() {
+        return Err(PlotError::Empty("no points"));
+    }
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for &(x, y) in pts() {
+        x0 = x0.min(x);
+        x1 = x1.max(x);
+        y0 = y0.min(y);
+        y1 = y1.max(y);
+    }
+    let pad = |a: f64, b: f64| {
+        let d = (b - a).max(1e-9) * 0.05;
+        (a - d, b + d)
+    };
+    let (x0, x1) = pad(x0, x1);
+    let (y0, y1) = pad(y0, y1);
+    let spec = LineSpec {
+        title,
+        x_label,
+        y_label,
+        series,
+        range: (x0, x1, y0, y1),
+    };
+    let size = (1000, 700);
+    match format_of(path)? {
+        Format::Svg => {
+            draw_lines(SVGBackend::new(path, size).into_drawing_area(), &spec).map_err(|e| draw_err(path, e))
+        }
+        Format::Png => {
+            draw_lines(BitMapBackend::new(path, size).into_drawing_area(), &spec).map_err(|e| draw_err(path, e))
+        }
+    }
+}
+
+struct LineSpec<'a> {
+    title: &'a str,
+    x_label: &'a str,
+    y_label: &'a str,
+    series: &'a [Series],
+    range: (f64, f64, f64, f64),
+}
+
+fn draw_lines<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, spec: &LineSpec<'_>) -> DrawResult<DB> {
+    let (x0, x1, y0, y1) = spec.range;
+    root.fill(&WHITE)?;
+    let mut chart = ChartBuilder::on(&root)
+        .caption(spec.title, ("sans-serif", 22))
+        .margin(15)
+        .x_label_area_size(45)
+        .y_label_area_size(60)
+        .build_cartesian_2d(x0..x1, y0..y1)?;
+    chart
+        .configure_mesh()
+        .x_desc(spec.x_label)
+        .y_desc(spec.y_label)
+        .light_line_style(RGBColor(235, 235, 235))
+        .label_style(("sans-serif", 15))
+        .axis_desc_style(("sans-serif", 17))
+        .draw()?;
+    for s in spec.series {
+        let c = s.colour;
+        if s.markers {
+            chart
+                .draw_series(s.points.iter().map(|&p| Circle::new(p, 5, c.stroke_width(2))))?
+                .label(s.label.clone())
+                .legend(move |(x, y)| Circle::new((x + 10, y), 5, c.stroke_width(2)));
+        } else {
+            chart
+                .draw_series(LineSeries::new(s.points.iter().copied(), c.stroke_width(2)))?
+                .label(s.label.clone())
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 25, y)], c.stroke_width(2)));
+        }
+    }
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::UpperRight)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK)
+        .label_font(("sans-serif", 15))
+        .draw()?;
+    root.present()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn fig(n: usize) -> ChartFigure {
+        let xs: Vec<f64> = (0..n).map(|i| i as f64 / n as f64).collect();
+        let ys = xs.clone();
+        let values: Vec<Option<f64>> = (0..n * n)
+            .map(|k| if k % 3 == 0 { None } else { Some(k as f64) })
+            .collect();
+        let region = values.iter().map(Option::is_some).collect();
+        ChartFigure {
+            title: "test chart".into(),
+            panels: vec![Panel {
+                title: "(a)".into(),
+                xs,
+                ys,
+                values,
+                region,
+            }],
+            scale: Scale::Continuous {
+                min: 0.0,
+                max: (n * n) as f64,
+                label: "value (units)".into(),
+            },
+            markers: vec![Marker {
+                x: 0.5,
+                y: 0.5,
+                label: "bell".into(),
+            }],
+        }
+    }
+
+    #[test]
+    fn draws_svg_and_png_with_labels() {
+        let dir = tempfile::tempdir().unwrap();
+        let svg = dir.path().join("c.svg");
+        chart_figure(&svg, &fig(5)).unwrap();
+        let text = std::fs::read_to_string(&svg).unwrap();
+        for needle in ["r / L_c", "L_b / L_c", "value (units)", "bell", "test chart"] {
+            assert!(text.contains(needle), "{needle}");
+        }
+        let png = dir.path().join("c.png");
+        chart_figure(&png, &fig(1)).unwrap();
+        assert_eq!(&std::fs::read(&png).unwrap()[1..4], b"PNG");
+    }
+
+    #[test]
+    fn mismatched_panels_are_refused() {
+        let mut f = fig(3);
+        f.panels[0].values.pop();
+        assert!(chart_figure(Path::new("x.svg"), &f).is_err());
+    }
+
+    #[test]
+    fn viridis_ends() {
+        assert_eq!(viridis(0.0), RGBColor(68, 1, 84));
+        assert_eq!(viridis(1.0), RGBColor(253, 231, 37));
+        assert_eq!(viridis(f64::NAN), viridis(0.0));
+    }
+}
