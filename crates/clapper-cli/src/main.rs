@@ -30,7 +30,19 @@ enum Command {
     Figures(figures::FiguresArgs),
 }
 
+/// Die quietly on a closed pipe (`clapper chart | head`), as Unix tools
+/// do, instead of panicking in `println!`.
+fn restore_sigpipe() {
+    #[cfg(unix)]
+    // SAFETY: setting a signal disposition to its default before any other
+    // thread exists has no memory-safety preconditions.
+    unsafe {
+        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
+    }
+}
+
 fn main() {
+    restore_sigpipe();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) if e.use_stderr() => {

@@ -149,7 +149,9 @@ fn colour_of(scale: &Scale, v: f64) -> RGBColor {
 fn draw_chart<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, fig: &ChartFigure) -> DrawResult<DB> {
     root.fill(&WHITE)?;
     let (w, _) = root.dim_in_pixel();
-    let titled = root.titled(&fig.title, ("sans-serif", 24))?;
+    // Sans-serif glyphs average about 0.55 em: shrink a long title to fit.
+    let title_px = (f64::from(w) * 0.95 / (0.55 * fig.title.chars().count().max(1) as f64)).min(24.0);
+    let titled = root.titled(&fig.title, ("sans-serif", title_px))?;
     let (panels_area, bar_area) = titled.split_horizontally(w - 160);
     let areas = panels_area.split_evenly((1, fig.panels.len()));
     for (panel, area) in fig.panels.iter().zip(areas.iter()) {
