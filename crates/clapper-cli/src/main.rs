@@ -1,6 +1,7 @@
 //! `clapper`: the command line of clapper.
 
 mod chart;
+mod diagnose;
 mod figures;
 mod files;
 mod simulate;
@@ -28,6 +29,9 @@ enum Command {
     Chart(chart::ChartArgs),
     /// Reproduce the paper's figures 7, 9-12 and 14-16 into a folder.
     Figures(figures::FiguresArgs),
+    /// Diagnose a bell or a ring for the bell-hanger: how it rings, its
+    /// margins, what to change, loads on the frame.
+    Diagnose(diagnose::DiagnoseArgs),
 }
 
 /// Die quietly on a closed pipe (`clapper chart | head`), as Unix tools
@@ -48,8 +52,17 @@ fn main() {
         Err(e) if e.use_stderr() => {
             // One line naming the problem, not clap's three.
             let text = e.to_string();
-            let first = text.lines().next().unwrap_or("invalid arguments");
-            eprintln!("{first} (see clapper --help)");
+            let message: Vec<&str> = text
+                .lines()
+                .take_while(|l| !l.trim().is_empty() && !l.starts_with("Usage:"))
+                .map(str::trim)
+                .collect();
+            let message = if message.is_empty() {
+                "invalid arguments".to_string()
+            } else {
+                message.join(" ")
+            };
+            eprintln!("{message} (see clapper --help)");
             std::process::exit(2);
         }
         Err(e) => e.exit(),
@@ -59,6 +72,7 @@ fn main() {
         Command::Liftoff(args) => simulate::liftoff(args),
         Command::Chart(args) => chart::run(args),
         Command::Figures(args) => figures::run(args),
+        Command::Diagnose(args) => diagnose::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -340,3 +340,66 @@ fn closed_stdout_pipe_is_not_a_panic() {
     child.wait().unwrap();
     assert!(!err.contains("panicked"), "{err}");
 }
+
+#[test]
+fn diagnose_ring_json_flags_the_outlier() {
+    let v = json(&["diagnose", "../../examples/ring-of-eight.csv"]);
+    let bells = v["bells"].as_array().unwrap();
+    assert_eq!(bells.len(), 8);
+    for b in bells {
+        for k in ["r_over_lc", "lb_over_lc"] {
+            assert!(b[k].is_number(), "{k}");
+        }
+        assert!(b["rings_right"].is_boolean() && b["rings_wrong"].is_boolean());
+        for r in ["0.05", "0.1", "0.2"] {
+            assert!(b["double_strike_index"][r].is_number(), "{r}");
+        }
+        assert!(b["first_strike_theta_deg"].is_number() && b["strike_phidot_rad_s"].is_number());
+        let apart = !b["stands_apart"].as_array().unwrap().is_empty();
+        assert_eq!(apart, b["name"] == "6", "{}", b["name"]);
+    }
+    let six = &bells[5];
+    assert_eq!(six["rings_right"], false);
+    assert!(six["min_theta0_right_deg"].is_null());
+    assert!(six["suggestion"]["words"].as_str().unwrap().contains("clapper"));
+    assert!(bells[0]["min_theta0_right_deg"].is_number());
+}
+
+#[test]
+fn diagnose_tower_and_mass_forms_agree_and_report_is_written() {
+    let mass = json(&["diagnose", "../../examples/lab.toml"]);
+    let tower = json(&["diagnose", "../../examples/lab-tower.toml"]);
+    let (m, t) = (&mass["bells"][0], &tower["bells"][0]);
+    for k in ["r_over_lc", "lb_over_lc"] {
+        let (a, b) = (m[k].as_f64().unwrap(), t[k].as_f64().unwrap());
+        assert!((a - b).abs() / a < 0.01, "{k}: {a} vs {b}");
+    }
+    assert_eq!(m["verdict"], t["verdict"]);
+    assert_eq!(m["rings_right"], true);
+    assert!(!t["assumed"].as_array().unwrap().is_empty());
+    let dir = tempfile::tempdir().unwrap();
+    let report = dir.path().join("r.html");
+    clapper()
+        .args(["diagnose", "--preset", "gsm-tenor", "--report"])
+        .arg(&report)
+        .assert()
+        .success()
+        .stdout(predicate::str::contains("GSM tenor"));
+    let html = std::fs::read_to_string(&report).unwrap();
+    assert!(html.contains("<svg") && html.contains("GSM tenor"));
+    // Self-contained: nothing loaded from elsewhere (the SVG namespace URI is a name, not a load).
+    for external in ["src=\"http", "href=\"http", "@import", "<link"] {
+        assert!(!html.contains(external), "{external}");
+    }
+    for (args, needle) in [
+        (vec!["diagnose", "nope.csv"], "nope.csv"),
+        (vec!["diagnose", "--preset", "lab", "--report", "x.pdf"], ".html"),
+        (vec!["diagnose"], "FILE"),
+    ] {
+        let out = clapper().args(&args).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success());
+        assert_eq!(err.trim_end().lines().count(), 1, "{args:?}: {err}");
+        assert!(err.contains(needle), "{args:?}: {err}");
+    }
+}

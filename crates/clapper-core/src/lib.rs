@@ -25,7 +25,9 @@
 
 pub mod bell;
 pub mod chart;
+pub mod diagnose;
 pub mod dynamics;
+pub mod frame;
 pub mod liftoff;
 pub mod ode;
 pub mod ringing;

@@ -44,6 +44,46 @@ struct BellFile {
     phi_max_deg: Option<f64>,
     bell_period_s: Option<f64>,
     clapper_period_s: Option<f64>,
+    /// Complete oscillations (there and back) of the bell counted ...
+    bell_oscillations: Option<f64>,
+    /// ... in this many seconds.
+    bell_oscillations_time_s: Option<f64>,
+    clapper_oscillations: Option<f64>,
+    clapper_oscillations_time_s: Option<f64>,
+}
+
+/// A period from either `period` or `count` oscillations in `time` seconds.
+fn period_of(
+    which: &'static str,
+    period: Option<f64>,
+    count: Option<f64>,
+    time: Option<f64>,
+) -> Result<Option<f64>, BellFileError> {
+    match (period, count, time) {
+        (Some(p), None, None) => Ok(Some(p)),
+        (None, None, None) => Ok(None),
+        (None, Some(n), Some(t)) => {
+            if !(n.is_finite() && n > 0.0) {
+                return Err(ParamError {
+                    field: if which == "bell" {
+                        "bell_oscillations"
+                    } else {
+                        "clapper_oscillations"
+                    },
+                    value: n,
+                    allowed: "a count > 0",
+                }
+                .into());
+            }
+            Ok(Some(t / n))
+        }
+        (Some(_), _, _) => Err(BellFileError::Mixed(format!(
+            "{which}_period_s and {which}_oscillations: give one"
+        ))),
+        _ => Err(BellFileError::Missing(format!(
+            "{which}_oscillations and {which}_oscillations_time_s go together"
+        ))),
+    }
 }
 
 /// How a bell file described its bell.
@@ -108,7 +148,7 @@ pub fn load_bell(path: &Path) -> Result<LoadedBell, BellFileError> {
 }
 
 /// Read a file of one bell, or of several as `[[bell]]` tables (each with
-/// the keys of a one-bell file).
+/// the keys of a one-bell file), or a ring as CSV (by the `.csv` extension).
 pub fn load_bells(path: &Path) -> Result<Vec<LoadedBell>, BellFileError> {
     let text = std::fs::read_to_string(path).map_err(|source| BellFileError::Read {
         path: path.display().to_string(),
@@ -118,10 +158,38 @@ pub fn load_bells(path: &Path) -> Result<Vec<LoadedBell>, BellFileError> {
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
-    parse_bells(&text, &stem).map_err(|e| match e {
+    let is_csv = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("csv"));
+    let parsed = if is_csv {
+        parse_ring_csv(&text)
+    } else {
+        parse_bells(&text, &stem)
+    };
+    parsed.map_err(|e| match e {
         BellFileError::Syntax(m) => BellFileError::Syntax(format!("{}: {m}", path.display())),
         other => other,
     })
+}
+
+/// Parse a ring from CSV: a header row of bell-file keys (`name` first is
+/// usual; any form, empty cells for keys a row does not use), one bell a row.
+pub fn parse_ring_csv(text: &str) -> Result<Vec<LoadedBell>, BellFileError> {
+    let mut rdr = csv::ReaderBuilder::new()
+        .trim(csv::Trim::All)
+        .from_reader(text.as_bytes());
+    let mut out = vec![];
+    for (k, row) in rdr.deserialize::<BellFile>().enumerate() {
+        let f =
+            row.map_err(|e| BellFileError::Syntax(format!("row {}: {}", k + 1, e.to_string().replace('\n', " "))))?;
+        out.push(bell_from_fields(f, &format!("bell {}", k + 1)).map_err(|e| match e {
+            BellFileError::Syntax(m) => BellFileError::Syntax(format!("row {}: {m}", k + 1)),
+            BellFileError::Param(p) => BellFileError::Syntax(format!("row {}: {p}", k + 1)),
+            other => other,
+        })?);
+    }
+    if out.is_empty() {
+        return Err(BellFileError::Missing("every bell: the ring file has no rows".into()));
+    }
+    Ok(out)
 }
 
 /// Parse one bell, or several as `[[bell]]` tables.
@@ -165,8 +233,22 @@ fn one_line(text: &str, err: &toml::de::Error) -> String {
 /// Parse a bell file's text; `default_name` names a bell without `name`.
 pub fn parse_bell(text: &str, default_name: &str) -> Result<LoadedBell, BellFileError> {
     let f: BellFile = toml::from_str(text).map_err(|e| BellFileError::Syntax(one_line(text, &e)))?;
+    bell_from_fields(f, default_name)
+}
+
+fn bell_from_fields(f: BellFile, default_name: &str) -> Result<LoadedBell, BellFileError> {
     let name = f.name.clone().unwrap_or_else(|| default_name.to_string());
     let phi_max = f.phi_max_deg.map(f64::to_radians);
+    let f = BellFile {
+        bell_period_s: period_of("bell", f.bell_period_s, f.bell_oscillations, f.bell_oscillations_time_s)?,
+        clapper_period_s: period_of(
+            "clapper",
+            f.clapper_period_s,
+            f.clapper_oscillations,
+            f.clapper_oscillations_time_s,
+        )?,
+        ..f
+    };
     let tower = f.bell_period_s.is_some() || f.clapper_period_s.is_some();
     if tower {
         let mixed: Vec<&str> = [
@@ -281,6 +363,28 @@ mod tests {
             panic!()
         };
         assert!(assumed.fields.iter().all(|(k, _)| *k != "bell_mass_kg"));
+    }
+
+    #[test]
+    fn oscillation_counts_and_csv_rings() {
+        let b = parse_bell(
+            "bell_oscillations = 10\nbell_oscillations_time_s = 23.3\nclapper_period_s = 1.76\nr_m = 0.179\nphi_max_deg = 32\n",
+            "t",
+        )
+        .unwrap();
+        assert!((b.bell.tb() - 2.33).abs() < 1e-9);
+        let e = parse_bell("bell_period_s = 2\nbell_oscillations = 3\nbell_oscillations_time_s = 6\nclapper_period_s = 1\nr_m = 0\nphi_max_deg = 30\n", "t");
+        assert!(e.unwrap_err().to_string().contains("give one"));
+        let csv =
+            "name,bell_period_s,clapper_period_s,r_m,phi_max_deg\ntreble,1.4,1.1,0.08,28\ntenor,2.3,1.76,0.179,32\n";
+        let ring = parse_ring_csv(csv).unwrap();
+        assert_eq!(ring.len(), 2);
+        assert_eq!(ring[1].name, "tenor");
+        let bad = parse_ring_csv("name,colour\nx,red\n").unwrap_err().to_string();
+        assert!(bad.contains("row 1") && bad.contains("colour"), "{bad}");
+        let bad = parse_ring_csv("name,bell_period_s,clapper_period_s,r_m,phi_max_deg\nx,abc,1,0.1,30\n").unwrap_err();
+        assert!(bad.to_string().contains("row 1"), "{bad}");
+        assert!(parse_ring_csv("name,r_m\n").is_err());
     }
 
     #[test]

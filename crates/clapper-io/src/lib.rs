@@ -12,7 +12,9 @@ pub mod chart_csv;
 pub mod report;
 pub mod trace;
 
-pub use bell_file::{load_bell, load_bells, parse_bell, parse_bells, BellFileError, BellSource, LoadedBell};
+pub use bell_file::{
+    load_bell, load_bells, parse_bell, parse_bells, parse_ring_csv, BellFileError, BellSource, LoadedBell,
+};
 pub use chart_csv::write_chart_csv;
 pub use report::{SimulationReport, SimulationSettings};
 pub use trace::write_trace_csv;

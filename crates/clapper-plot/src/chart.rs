@@ -134,6 +134,21 @@ pub fn chart_figure(path: &Path, fig: &ChartFigure) -> Result<(), PlotError> {
     }
 }
 
+/// Draw a chart figure as SVG text, to embed in a page.
+pub fn chart_figure_svg(fig: &ChartFigure) -> Result<String, PlotError> {
+    if fig.panels.is_empty() {
+        return Err(PlotError::Empty("a chart needs at least one panel"));
+    }
+    let size = (80 + 720 * fig.panels.len() as u32 + 150, 760);
+    let mut out = String::new();
+    {
+        let root = SVGBackend::with_string(&mut out, size).into_drawing_area();
+        draw_chart(&root, fig).map_err(|e| draw_err(Path::new("(svg)"), e))?;
+        root.present().map_err(|e| draw_err(Path::new("(svg)"), e))?;
+    }
+    Ok(out)
+}
+
 type DrawResult<DB> = Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
 
 fn colour_of(scale: &Scale, v: f64) -> RGBColor {

@@ -9,7 +9,7 @@
 pub mod chart;
 pub mod quantity;
 
-pub use chart::{chart_figure, line_plot, ChartFigure, Marker, Panel, Scale, Series};
+pub use chart::{chart_figure, chart_figure_svg, line_plot, ChartFigure, Marker, Panel, Scale, Series};
 pub use plotters::style::RGBColor;
 pub use quantity::Quantity;
 

@@ -1,0 +1,510 @@
+//! Diagnosis of a bell for a bell-hanger (the paper's conclusions): where
+//! it sits on the chart, how it rings, how close it is to an edge in terms
+//! a hanger can change (clapper period, r), and the smallest change that
+//! fixes a problem. Also the ring-level check for a bell that stands apart.
+
+use rayon::prelude::*;
+
+use crate::bell::{length_of_period, Bell, ParamError};
+use crate::dynamics::Dynamics;
+use crate::frame::{frame_peaks, FramePeaks};
+use crate::ringing::first_stroke;
+use crate::stroke::{run_stroke, SimConfig, SimError, StrokeStart, Style, TraceRecorder};
+
+/// Thresholds and search ranges of a diagnosis.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DiagnoseConfig {
+    /// The simulation settings for the verdict (θ0 171 deg, R 0.2, impact).
+    pub sim: SimConfig,
+    /// The restitutions for which D is reported. The paper's 0.05, 0.1, 0.2.
+    pub d_restitutions: [f64; 3],
+    /// A first strike later than this bell angle (rad, ringing right from +θ0)
+    /// is "late, near the top of the swing". Default −150 deg: the Fig 9(d)
+    /// bell (−158 deg) is late, the lab bell (−95 deg) is not.
+    pub late_strike: f64,
+    /// A strike velocity below this many times the bell's small-swing angular
+    /// frequency 2π/T_b is "quiet". Default 0.2: the chart's strikes range
+    /// from about 0.2 to 1.3 of it (the lab bell: 0.24; Fig 9(c): 1.1).
+    pub quiet_ratio: f64,
+    /// D above this at R = 0.1 is "likely to double strike". Default 10,
+    /// the level at which all the paper's listeners heard a double strike.
+    pub double_strike_limit: f64,
+    /// Largest change of clapper period considered (s). Default 0.4 s.
+    pub max_dtc: f64,
+    /// Largest change of r considered (m). Default 0.15 m.
+    pub max_dr: f64,
+}
+
+impl Default for DiagnoseConfig {
+    fn default() -> Self {
+        Self {
+            sim: SimConfig::default(),
+            d_restitutions: [0.05, 0.1, 0.2],
+            late_strike: (-150f64).to_radians(),
+            quiet_ratio: 0.2,
+            double_strike_limit: 10.0,
+            max_dtc: 0.4,
+            max_dr: 0.15,
+        }
+    }
+}
+
+/// The bell with its clapper period changed by `dtc` (s) and r by `dr` (m),
+/// the two things a hanger can change: the clapper's mass and b are kept,
+/// its inertia follows the new period (I_c = m b L_c).
+pub fn adjusted(bell: &Bell, dtc: f64, dr: f64) -> Result<Bell, ParamError> {
+    let tc = bell.tc() + dtc;
+    if !(tc.is_finite() && tc > 0.0) {
+        return Err(ParamError {
+            field: "clapper_period_s",
+            value: tc,
+            allowed: "a finite number > 0",
+        });
+    }
+    let lc = length_of_period(tc);
+    Bell::new(
+        bell.bell_mass,
+        bell.clapper_mass,
+        bell.a,
+        bell.b,
+        bell.bell_inertia,
+        bell.clapper_mass * bell.b * lc,
+        bell.r + dr,
+        bell.phi_max,
+    )
+}
+
+/// How a bell strikes in one style.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StyleOutcome {
+    /// Sustained when fully up.
+    pub sustained: bool,
+    /// θ at the first strike (rad).
+    pub strike_theta: Option<f64>,
+    /// φ' before the first strike (rad/s).
+    pub strike_phidot: Option<f64>,
+    /// Lift-off angle (rad).
+    pub liftoff_theta: Option<f64>,
+    /// D at each of [`DiagnoseConfig::d_restitutions`].
+    pub double_strike_index: [Option<f64>; 3],
+}
+
+/// Something a hanger would want changed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Problem {
+    /// Cannot sustain ringing right when fully up.
+    CannotRingRight,
+    /// Strikes late, near the top of the swing.
+    LateStrike,
+    /// Strikes softly.
+    Quiet,
+    /// D at R = 0.1 above the limit.
+    DoubleStrike,
+}
+
+/// The smallest change found that fixes a bell's problems.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Suggestion {
+    /// Change of clapper period (s).
+    pub dtc: f64,
+    /// Change of r (m).
+    pub dr: f64,
+    /// Chart position after the change.
+    pub position: (f64, f64),
+    /// Distance moved on the chart (chart units).
+    pub chart_distance: f64,
+    /// How it rings right after the change (re-simulated).
+    pub predicted: StyleOutcome,
+}
+
+/// How far a bell is from losing its usual style, per hanger change.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Margin {
+    /// Nearest edge on the chart, over the four changes below (chart units).
+    pub chart_units: Option<f64>,
+    /// Clapper period shorter by this much loses the style (s).
+    pub tc_down: Option<f64>,
+    /// Clapper period longer by this much loses the style (s).
+    pub tc_up: Option<f64>,
+    /// r smaller by this much loses the style (m).
+    pub r_down: Option<f64>,
+    /// r larger by this much loses the style (m).
+    pub r_up: Option<f64>,
+}
+
+/// Everything the diagnosis says about one bell.
+#[derive(Clone, Debug, PartialEq)]
+pub struct BellDiagnosis {
+    /// (r/L_c, L_b/L_c).
+    pub position: (f64, f64),
+    /// Ringing right fully up.
+    pub right: StyleOutcome,
+    /// Ringing wrong fully up.
+    pub wrong: StyleOutcome,
+    /// The style it normally rings: right if it can, else wrong, else none.
+    pub usual: Option<Style>,
+    /// Smallest θ0 (rad) from which it still rings right, scanning down
+    /// from the configured θ0; `None` if it does not ring right fully up.
+    pub min_theta0_right: Option<f64>,
+    /// Margin of the usual style.
+    pub margin: Option<Margin>,
+    /// What is wrong.
+    pub problems: Vec<Problem>,
+    /// The smallest fix found, if there are problems and one exists.
+    pub suggestion: Option<Suggestion>,
+    /// Loads on the frame over a stroke of the usual style.
+    pub frame: Option<FramePeaks>,
+}
+
+impl BellDiagnosis {
+    /// The outcome in the usual style.
+    pub fn usual_outcome(&self) -> Option<&StyleOutcome> {
+        match self.usual? {
+            Style::Right => Some(&self.right),
+            Style::Wrong => Some(&self.wrong),
+        }
+    }
+}
+
+fn outcome(bell: &Bell, cfg: &DiagnoseConfig, style: Style) -> Result<StyleOutcome, SimError> {
+    let s = first_stroke(bell, &cfg.sim, style)?;
+    let mut d = [None; 3];
+    for (k, r) in cfg.d_restitutions.iter().enumerate() {
+        let sim = SimConfig {
+            restitution: *r,
+            ..cfg.sim
+        };
+        d[k] = first_stroke(bell, &sim, style)?.double_strike_index();
+    }
+    Ok(StyleOutcome {
+        sustained: s.sustained(),
+        strike_theta: s.strike_angle(),
+        strike_phidot: s.strike_velocity(),
+        liftoff_theta: s.liftoff_angle(),
+        double_strike_index: d,
+    })
+}
+
+fn sustains(bell: &Bell, cfg: &SimConfig, style: Style) -> bool {
+    first_stroke(bell, cfg, style).is_ok_and(|s| s.sustained())
+}
+
+/// Index of R = 0.1 in the configured list (or the middle one).
+fn r01_index(cfg: &DiagnoseConfig) -> usize {
+    cfg.d_restitutions
+        .iter()
+        .position(|r| (*r - 0.1).abs() < 1e-12)
+        .unwrap_or(1)
+}
+
+fn problems_of(bell: &Bell, right: &StyleOutcome, cfg: &DiagnoseConfig) -> Vec<Problem> {
+    if !right.sustained {
+        return vec![Problem::CannotRingRight];
+    }
+    let mut p = vec![];
+    if right.strike_theta.is_some_and(|t| t < cfg.late_strike) {
+        p.push(Problem::LateStrike);
+    }
+    let omega_b = 2.0 * std::f64::consts::PI / bell.tb();
+    if right.strike_phidot.is_some_and(|v| v.abs() < cfg.quiet_ratio * omega_b) {
+        p.push(Problem::Quiet);
+    }
+    if right.double_strike_index[r01_index(cfg)].is_some_and(|d| d > cfg.double_strike_limit) {
+        p.push(Problem::DoubleStrike);
+    }
+    p
+}
+
+/// Smallest θ0 (rad) from which `bell` still rings right: scan down from
+/// `cfg.theta0` in 2 deg steps, then bisect to 0.1 deg.
+pub fn min_theta0_right(bell: &Bell, cfg: &SimConfig) -> Option<f64> {
+    let rings = |th0: f64| sustains(bell, &SimConfig { theta0: th0, ..*cfg }, Style::Right);
+    if !rings(cfg.theta0) {
+        return None;
+    }
+    let step = 2f64.to_radians();
+    let mut good = cfg.theta0;
+    let mut bad = None;
+    while good - step > 1f64.to_radians() {
+        let t = good - step;
+        if rings(t) {
+            good = t;
+        } else {
+            bad = Some(t);
+            break;
+        }
+    }
+    let Some(mut bad) = bad else {
+        return Some(good);
+    };
+    while good - bad > 0.1f64.to_radians() {
+        let mid = 0.5 * (good + bad);
+        if rings(mid) {
+            good = mid;
+        } else {
+            bad = mid;
+        }
+    }
+    Some(good)
+}
+
+/// The smallest change along one hanger direction that loses `style`:
+/// coarse steps out to `max`, then bisection.
+fn edge_along(
+    bell: &Bell,
+    cfg: &SimConfig,
+    style: Style,
+    max: f64,
+    steps: usize,
+    dir: impl Fn(f64) -> (f64, f64),
+) -> Option<f64> {
+    let holds = |u: f64| {
+        let (dtc, dr) = dir(u);
+        adjusted(bell, dtc, dr).is_ok_and(|b| sustains(&b, cfg, style))
+    };
+    let mut good = 0.0;
+    let mut bad = None;
+    for k in 1..=steps {
+        let u = max * k as f64 / steps as f64;
+        if holds(u) {
+            good = u;
+        } else {
+            bad = Some(u);
+            break;
+        }
+    }
+    let mut bad = bad?;
+    for _ in 0..8 {
+        let mid = 0.5 * (good + bad);
+        if holds(mid) {
+            good = mid;
+        } else {
+            bad = mid;
+        }
+    }
+    Some(bad)
+}
+
+fn chart_distance(a: &Bell, b: &Bell) -> f64 {
+    (a.r_over_lc() - b.r_over_lc()).hypot(a.lb_over_lc() - b.lb_over_lc())
+}
+
+/// Margin of `style` for `bell`.
+pub fn margin(bell: &Bell, cfg: &DiagnoseConfig, style: Style) -> Margin {
+    let sim = &cfg.sim;
+    let (mt, mr) = (cfg.max_dtc, cfg.max_dr);
+    let dirs: [(f64, f64, f64); 4] = [(-1.0, 0.0, mt), (1.0, 0.0, mt), (0.0, -1.0, mr), (0.0, 1.0, mr)];
+    let found: Vec<Option<f64>> = dirs
+        .par_iter()
+        .map(|&(st, sr, max)| edge_along(bell, sim, style, max, 20, |u| (st * u, sr * u)))
+        .collect();
+    let chart_units = dirs
+        .iter()
+        .zip(&found)
+        .filter_map(|(&(st, sr, _), f)| {
+            let u = (*f)?;
+            let b = adjusted(bell, st * u, sr * u).ok()?;
+            Some(chart_distance(bell, &b))
+        })
+        .min_by(f64::total_cmp);
+    Margin {
+        chart_units,
+        tc_down: found[0],
+        tc_up: found[1],
+        r_down: found[2],
+        r_up: found[3],
+    }
+}
+
+/// Whether `o` (ringing right) is free of every problem.
+fn is_good(bell: &Bell, o: &StyleOutcome, cfg: &DiagnoseConfig) -> bool {
+    problems_of(bell, o, cfg).is_empty()
+}
+
+/// Search the hanger's changes (clapper period in 0.02 s steps, r in 5 mm
+/// steps, within the configured ranges) for the one nearest on the chart
+/// that leaves the bell ringing right with none of the problems; failing
+/// that, one that at least fixes those it had.
+pub fn suggest(bell: &Bell, cfg: &DiagnoseConfig, had: &[Problem]) -> Option<Suggestion> {
+    let nt = (cfg.max_dtc / 0.02).round() as i64;
+    let nr = (cfg.max_dr / 0.005).round() as i64;
+    let mut candidates: Vec<(f64, f64, f64)> = (-nt..=nt)
+        .flat_map(|i| (-nr..=nr).map(move |j| (i as f64 * 0.02, j as f64 * 0.005)))
+        .filter(|&(t, r)| t != 0.0 || r != 0.0)
+        .filter_map(|(t, r)| Some((t, r, chart_distance(bell, &adjusted(bell, t, r).ok()?))))
+        .collect();
+    candidates.sort_by(|a, b| a.2.total_cmp(&b.2).then(a.0.abs().total_cmp(&b.0.abs())));
+    // Nearest first: evaluate in chunks and stop at the first chunk with a fix.
+    let fixes = |o: &StyleOutcome, b: &Bell, strict: bool| {
+        if strict {
+            is_good(b, o, cfg)
+        } else {
+            let now = problems_of(b, o, cfg);
+            o.sustained && had.iter().all(|p| !now.contains(p))
+        }
+    };
+    for strict in [true, false] {
+        for chunk in candidates.chunks(64) {
+            let found: Vec<Option<Suggestion>> = chunk
+                .par_iter()
+                .map(|&(dtc, dr, dist)| {
+                    let b = adjusted(bell, dtc, dr).ok()?;
+                    // Cheap test first: one stroke at the verdict settings.
+                    if !sustains(&b, &cfg.sim, Style::Right) {
+                        return None;
+                    }
+                    let o = outcome(&b, cfg, Style::Right).ok()?;
+                    fixes(&o, &b, strict).then_some(Suggestion {
+                        dtc,
+                        dr,
+                        position: (b.r_over_lc(), b.lb_over_lc()),
+                        chart_distance: dist,
+                        predicted: o,
+                    })
+                })
+                .collect();
+            if let Some(s) = found.into_iter().flatten().next() {
+                return Some(s);
+            }
+        }
+    }
+    None
+}
+
+/// Diagnose one bell.
+///
+/// ```
+/// use clapper_core::{bell::Bell, diagnose::{diagnose, DiagnoseConfig}, stroke::Style};
+/// let d = diagnose(&Bell::lab(), &DiagnoseConfig::default()).unwrap();
+/// assert!(d.right.sustained && d.wrong.sustained);
+/// assert_eq!(d.usual, Some(Style::Right));
+/// ```
+pub fn diagnose(bell: &Bell, cfg: &DiagnoseConfig) -> Result<BellDiagnosis, SimError> {
+    bell.validate()?;
+    cfg.sim.validate()?;
+    let right = outcome(bell, cfg, Style::Right)?;
+    let wrong = outcome(bell, cfg, Style::Wrong)?;
+    let usual = if right.sustained {
+        Some(Style::Right)
+    } else if wrong.sustained {
+        Some(Style::Wrong)
+    } else {
+        None
+    };
+    let problems = problems_of(bell, &right, cfg);
+    let suggestion = if problems.is_empty() {
+        None
+    } else {
+        suggest(bell, cfg, &problems)
+    };
+    let frame = {
+        let style = usual.unwrap_or(Style::Right);
+        let mut rec = TraceRecorder::new(1e-3);
+        let start = StrokeStart::at_rest(bell, &cfg.sim, 0.0, cfg.sim.theta0, style.side(cfg.sim.theta0));
+        run_stroke(bell, &cfg.sim, start, &mut rec)?;
+        frame_peaks(&Dynamics::new(bell), &rec.samples)
+    };
+    Ok(BellDiagnosis {
+        position: (bell.r_over_lc(), bell.lb_over_lc()),
+        min_theta0_right: min_theta0_right(bell, &cfg.sim),
+        margin: usual.map(|s| margin(bell, cfg, s)),
+        right,
+        wrong,
+        usual,
+        problems,
+        suggestion,
+        frame,
+    })
+}
+
+/// Why a bell of a ring stands apart from the others.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Outlier {
+    /// Index of the bell in the ring.
+    pub index: usize,
+    /// Reasons, in words.
+    pub reasons: Vec<String>,
+}
+
+/// A number read off a diagnosis, for comparing bells of a ring.
+type Measure = Box<dyn Fn(&BellDiagnosis) -> Option<f64>>;
+
+fn median(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n == 0 {
+        f64::NAN
+    } else if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
+}
+
+/// Bells of a ring that stand apart: a robust z-score (median and scaled
+/// median absolute deviation, floored so that a tight ring does not flag
+/// tiny differences) above 3.5 in r/L_c, L_b/L_c or first strike angle, or a
+/// verdict unlike most of the ring. Needs at least 4 bells.
+pub fn ring_outliers(ring: &[BellDiagnosis]) -> Vec<Outlier> {
+    if ring.len() < 4 {
+        return vec![];
+    }
+    let measures: [(&str, f64, Measure); 3] = [
+        ("r/L_c", 0.05, Box::new(|d| Some(d.position.0))),
+        ("L_b/L_c", 0.05, Box::new(|d| Some(d.position.1))),
+        (
+            "first strike angle",
+            5f64.to_radians(),
+            Box::new(|d| d.usual_outcome().and_then(|o| o.strike_theta)),
+        ),
+    ];
+    let mut out: Vec<Outlier> = (0..ring.len())
+        .map(|index| Outlier { index, reasons: vec![] })
+        .collect();
+    for (name, floor, f) in &measures {
+        let vals: Vec<f64> = ring.iter().filter_map(f).collect();
+        if vals.len() < 4 {
+            continue;
+        }
+        let med = median(vals.clone());
+        let mad = (1.4826 * median(vals.iter().map(|v| (v - med).abs()).collect())).max(*floor);
+        for (k, d) in ring.iter().enumerate() {
+            if let Some(v) = f(d) {
+                let z = (v - med) / mad;
+                if z.abs() > 3.5 {
+                    let shown = if *name == "first strike angle" {
+                        v.to_degrees()
+                    } else {
+                        v
+                    };
+                    let med_shown = if *name == "first strike angle" {
+                        med.to_degrees()
+                    } else {
+                        med
+                    };
+                    out[k].reasons.push(format!(
+                        "{name} {shown:.3} against a ring median of {med_shown:.3} (robust z = {z:.1})"
+                    ));
+                }
+            }
+        }
+    }
+    let verdict = |d: &BellDiagnosis| (d.right.sustained, d.wrong.sustained);
+    let mut counts: Vec<((bool, bool), usize)> = vec![];
+    for d in ring {
+        match counts.iter_mut().find(|(v, _)| *v == verdict(d)) {
+            Some((_, n)) => *n += 1,
+            None => counts.push((verdict(d), 1)),
+        }
+    }
+    if let Some(&(common, n)) = counts.iter().max_by_key(|(_, n)| *n) {
+        if 2 * n > ring.len() {
+            for (k, d) in ring.iter().enumerate() {
+                if verdict(d) != common {
+                    out[k].reasons.push("rings differently from most of the ring".into());
+                }
+            }
+        }
+    }
+    out.into_iter().filter(|o| !o.reasons.is_empty()).collect()
+}
