@@ -381,7 +381,7 @@ fn report_html(rep: &DiagnosisJson, source: &str, chart_svg: &str) -> String {
          body{font-family:sans-serif;max-width:1200px;margin:1em auto;padding:0 1em;color:#222}\
          table{border-collapse:collapse;font-size:14px}td,th{border:1px solid #bbb;padding:3px 6px;text-align:right}\
          th{background:#eee}td:first-child{text-align:left}.apart{background:#fde2c8}svg{max-width:100%;height:auto}\
-         .bell{border-top:1px solid #ccc;margin-top:1em}</style></head><body>",
+         .bell{border-top:1px solid #ccc;margin-top:1em}pre{white-space:pre-wrap}</style></head><body>",
     );
     let _ = write!(
         h,
@@ -509,7 +509,30 @@ pub fn run(args: DiagnoseArgs) -> Result<()> {
             vec![panel],
             markers,
         );
-        let svg = clapper_plot::chart_figure_svg(&fig)?;
+        let mut svg = clapper_plot::chart_figure_svg(&fig)?;
+        // A close-up around the bells, where a ring's labels would crowd.
+        let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+        for b in &bells {
+            x0 = x0.min(b.bell.r_over_lc());
+            x1 = x1.max(b.bell.r_over_lc());
+            y0 = y0.min(b.bell.lb_over_lc());
+            y1 = y1.max(b.bell.lb_over_lc());
+        }
+        let zoom = ChartSpec {
+            domain: clapper_core::chart::Domain {
+                x: (x0 - 0.1, x1 + 0.1),
+                y: ((y0 - 0.1).max(0.05), y1 + 0.1),
+            },
+            ..spec
+        };
+        let zc = clapper_core::chart::sweep(&zoom, &|_| {})?;
+        let zfig = quantity::figure(
+            "Close-up around the bells".into(),
+            clapper_plot::Quantity::Style,
+            vec![quantity::style_panel(&zc, "").context("chart")?],
+            fig.markers.clone(),
+        );
+        svg.push_str(&clapper_plot::chart_figure_svg(&zfig)?);
         let html = report_html(&rep, &source, &svg);
         crate::files::write_atomically(path, |tmp| {
             std::fs::write(tmp, html).with_context(|| format!("cannot write {}", path.display()))
