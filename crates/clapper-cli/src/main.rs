@@ -4,6 +4,7 @@ mod chart;
 mod diagnose;
 mod figures;
 mod files;
+mod measure;
 mod simulate;
 
 use clap::{Parser, Subcommand};
@@ -32,6 +33,20 @@ enum Command {
     /// Diagnose a bell or a ring for the bell-hanger: how it rings, its
     /// margins, what to change, loads on the frame.
     Diagnose(diagnose::DiagnoseArgs),
+    /// The coefficient of restitution from velocity jumps or an accelerometer
+    /// recording of clapper drops (Section 3.2, Fig 8).
+    Restitution(measure::RestitutionArgs),
+    /// Contacts, bounces, rest and lift-off from a contact-detector recording (Figs 2, 5).
+    Contacts(measure::ContactsArgs),
+    /// A spectrogram of a recording (Fig 3).
+    Spectrogram(measure::SpectrogramArgs),
+    /// The level of one frequency against time (Fig 4).
+    Decay(measure::DecayArgs),
+    /// The partials of a single strike: frequency, Q factor, level, doublets.
+    Modes(measure::ModesArgs),
+    /// Energy into vibration at an impact (Section 3.3): K, lambda, R, the
+    /// shortest clean pulse; and choosing an impulse hammer.
+    Impulse(measure::ImpulseArgs),
 }
 
 /// Die quietly on a closed pipe (`clapper chart | head`), as Unix tools
@@ -73,6 +88,12 @@ fn main() {
         Command::Chart(args) => chart::run(args),
         Command::Figures(args) => figures::run(args),
         Command::Diagnose(args) => diagnose::run(args),
+        Command::Restitution(args) => measure::restitution(args),
+        Command::Contacts(args) => measure::contacts(args),
+        Command::Spectrogram(args) => measure::spectrogram_cmd(args),
+        Command::Decay(args) => measure::decay(args),
+        Command::Modes(args) => measure::modes(args),
+        Command::Impulse(args) => measure::impulse(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

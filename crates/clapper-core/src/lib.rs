@@ -30,8 +30,10 @@ pub mod dynamics;
 pub mod frame;
 pub mod liftoff;
 pub mod ode;
+pub mod restitution;
 pub mod ringing;
 pub mod stroke;
+pub mod vibration;
 
 /// The names most programs need.
 pub mod prelude {

@@ -10,6 +10,7 @@
 pub mod bell_file;
 pub mod chart_csv;
 pub mod report;
+pub mod signal_file;
 pub mod trace;
 
 pub use bell_file::{

@@ -8,10 +8,12 @@
 
 pub mod chart;
 pub mod quantity;
+pub mod signal;
 
 pub use chart::{chart_figure, chart_figure_svg, line_plot, ChartFigure, Marker, Panel, Scale, Series};
 pub use plotters::style::RGBColor;
 pub use quantity::Quantity;
+pub use signal::{spectrogram_plot, SpectrogramPlot};
 
 use std::path::Path;
 

@@ -1,0 +1,113 @@
+//! Time-frequency pictures: a spectrogram as a heat map (the paper's Fig 3).
+
+use std::path::Path;
+
+use plotters::coord::Shift;
+use plotters::prelude::*;
+
+use crate::chart::viridis;
+use crate::{draw_err, format_of, Format, PlotError};
+
+/// A spectrogram to draw.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SpectrogramPlot<'a> {
+    /// Title.
+    pub title: &'a str,
+    /// Frame times (s).
+    pub times: &'a [f64],
+    /// Bin frequencies (Hz).
+    pub freqs: &'a [f64],
+    /// dB re maximum, frame-major.
+    pub db: &'a [f64],
+    /// Highest frequency drawn (Hz).
+    pub fmax: f64,
+    /// dB range shown (the floor is −range).
+    pub range_db: f64,
+}
+
+/// Draw a spectrogram; cells are max-pooled to at most 900 x 500 so that
+/// long recordings stay light.
+pub fn spectrogram_plot(path: &Path, p: &SpectrogramPlot<'_>) -> Result<(), PlotError> {
+    if p.times.is_empty() || p.freqs.len() < 2 || p.db.len() != p.times.len() * p.freqs.len() {
+        return Err(PlotError::Empty("spectrogram without frames"));
+    }
+    let size = (1200, 700);
+    match format_of(path)? {
+        Format::Svg => {
+            let root = SVGBackend::new(path, size).into_drawing_area();
+            draw(&root, p).map_err(|e| draw_err(path, e))?;
+            root.present().map_err(|e| draw_err(path, e))
+        }
+        Format::Png => {
+            let root = BitMapBackend::new(path, size).into_drawing_area();
+            draw(&root, p).map_err(|e| draw_err(path, e))?;
+            root.present().map_err(|e| draw_err(path, e))
+        }
+    }
+}
+
+type DrawResult<DB> = Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
+
+fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &SpectrogramPlot<'_>) -> DrawResult<DB> {
+    root.fill(&WHITE)?;
+    let nb = p.freqs.len();
+    let df = p.freqs[1] - p.freqs[0];
+    let bins = ((p.fmax / df).ceil() as usize + 1).min(nb);
+    let nt = p.times.len();
+    let dt = if nt > 1 { p.times[1] - p.times[0] } else { 1.0 };
+    let (t0, t1) = (p.times[0] - 0.5 * dt, p.times[nt - 1] + 0.5 * dt);
+    let fmax = p.freqs[bins - 1] + 0.5 * df;
+    let (pt, pf) = (nt.div_ceil(900), bins.div_ceil(500));
+    let (w, _) = root.dim_in_pixel();
+    let (main, bar) = root.split_horizontally(w - 130);
+    let mut chart = ChartBuilder::on(&main)
+        .caption(p.title, ("sans-serif", 20))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(70)
+        .build_cartesian_2d(t0..t1, 0.0..fmax)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc("time (s)")
+        .y_desc("frequency (Hz)")
+        .label_style(("sans-serif", 15))
+        .axis_desc_style(("sans-serif", 17))
+        .draw()?;
+    let mut cells = vec![];
+    for ft in (0..nt).step_by(pt) {
+        for fb in (0..bins).step_by(pf) {
+            let mut m = f64::NEG_INFINITY;
+            for a in ft..(ft + pt).min(nt) {
+                for b in fb..(fb + pf).min(bins) {
+                    m = m.max(p.db[a * nb + b]);
+                }
+            }
+            let x0 = p.times[ft] - 0.5 * dt;
+            let x1 = p.times[(ft + pt - 1).min(nt - 1)] + 0.5 * dt;
+            let y0 = (p.freqs[fb] - 0.5 * df).max(0.0);
+            let y1 = p.freqs[(fb + pf - 1).min(bins - 1)] + 0.5 * df;
+            let c = viridis((m + p.range_db) / p.range_db);
+            cells.push(Rectangle::new([(x0, y0), (x1, y1)], c.filled()));
+        }
+    }
+    chart.draw_series(cells)?;
+    let mut cb = ChartBuilder::on(&bar)
+        .margin_top(50)
+        .margin_bottom(57)
+        .margin_right(10)
+        .right_y_label_area_size(60)
+        .build_cartesian_2d(0.0..1.0, -p.range_db..0.0)?;
+    cb.configure_mesh()
+        .disable_mesh()
+        .disable_x_axis()
+        .y_desc("level (dB re max)")
+        .label_style(("sans-serif", 14))
+        .draw()?;
+    cb.draw_series((0..100).map(|k| {
+        let a = -p.range_db + p.range_db * k as f64 / 100.0;
+        let b = a + p.range_db / 100.0;
+        Rectangle::new([(0.0, a), (1.0, b)], viridis((k as f64 + 0.5) / 100.0).filled())
+    }))?;
+    Ok(())
+}

@@ -1,0 +1,150 @@
+//! Short FFTs of overlapping Hann-windowed segments (the paper's Fig 3), and
+//! the level of one frequency against time (Fig 4).
+
+use std::f64::consts::PI;
+
+use realfft::RealFftPlanner;
+
+use crate::{Signal, SignalError};
+
+/// A spectrogram: level in dB relative to its maximum.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Spectrogram {
+    /// Frame centre times (s).
+    pub times: Vec<f64>,
+    /// Bin frequencies (Hz).
+    pub freqs: Vec<f64>,
+    /// Level (dB re the maximum, ≤ 0), frame-major: `db[frame * freqs.len() + bin]`.
+    pub db: Vec<f64>,
+}
+
+impl Spectrogram {
+    /// Level (dB) of frame `f`, bin `b`.
+    pub fn at(&self, f: usize, b: usize) -> f64 {
+        self.db[f * self.freqs.len() + b]
+    }
+
+    /// The bin nearest `freq` (Hz).
+    pub fn bin_of(&self, freq: f64) -> usize {
+        let df = self.freqs.get(1).copied().unwrap_or(1.0);
+        ((freq / df).round().max(0.0) as usize).min(self.freqs.len().saturating_sub(1))
+    }
+
+    /// The level (dB) of the bin nearest `freq` against time (Fig 4).
+    pub fn decay(&self, freq: f64) -> Vec<(f64, f64)> {
+        let b = self.bin_of(freq);
+        self.times
+            .iter()
+            .enumerate()
+            .map(|(f, &t)| (t, self.at(f, b)))
+            .collect()
+    }
+}
+
+/// The periodic Hann window of length n.
+pub fn hann(n: usize) -> Vec<f64> {
+    (0..n)
+        .map(|i| 0.5 - 0.5 * (2.0 * PI * i as f64 / n as f64).cos())
+        .collect()
+}
+
+/// Compute a spectrogram with windows of `window` samples overlapping by
+/// the fraction `overlap` (0 ≤ overlap < 1); levels below `-range_db` are
+/// clipped to it.
+pub fn spectrogram(sig: &Signal, window: usize, overlap: f64, range_db: f64) -> Result<Spectrogram, SignalError> {
+    sig.validate()?;
+    if window < 16 {
+        return Err(SignalError::Option(format!("window of {window} samples: at least 16")));
+    }
+    if !(0.0..0.99).contains(&overlap) {
+        return Err(SignalError::Option(format!("overlap {overlap}: from 0 to 0.99")));
+    }
+    if !(range_db.is_finite() && range_db > 0.0) {
+        return Err(SignalError::Option(format!("dB range {range_db}: a number > 0")));
+    }
+    if sig.samples.len() < window {
+        return Err(SignalError::TooShort(format!(
+            "{} samples, less than one window of {window}",
+            sig.samples.len()
+        )));
+    }
+    let hop = ((window as f64 * (1.0 - overlap)).round() as usize).max(1);
+    let w = hann(window);
+    let mut planner = RealFftPlanner::<f64>::new();
+    let fft = planner.plan_fft_forward(window);
+    let mut input = fft.make_input_vec();
+    let mut output = fft.make_output_vec();
+    let nbins = output.len();
+    let frames = (sig.samples.len() - window) / hop + 1;
+    let mut mag = Vec::with_capacity(frames * nbins);
+    for f in 0..frames {
+        let s = &sig.samples[f * hop..f * hop + window];
+        for i in 0..window {
+            input[i] = s[i] * w[i];
+        }
+        fft.process(&mut input, &mut output)
+            .map_err(|e| SignalError::Invalid(e.to_string()))?;
+        mag.extend(output.iter().map(|c| c.norm()));
+    }
+    let max = mag.iter().cloned().fold(0.0f64, f64::max);
+    let floor = 10f64.powf(-range_db / 20.0);
+    let db = mag
+        .iter()
+        .map(|m| {
+            let rel = if max > 0.0 { m / max } else { 0.0 };
+            20.0 * rel.max(floor).log10()
+        })
+        .collect();
+    Ok(Spectrogram {
+        times: (0..frames)
+            .map(|f| (f * hop) as f64 / sig.rate + 0.5 * window as f64 / sig.rate)
+            .collect(),
+        freqs: (0..nbins).map(|b| b as f64 * sig.rate / window as f64).collect(),
+        db,
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_tone_lands_in_its_bin_and_decays_at_its_rate() {
+        let rate = 8000.0;
+        let (f0, q) = (1000.0, 500.0);
+        let alpha = PI * f0 / q;
+        let samples: Vec<f64> = (0..16000)
+            .map(|i| {
+                let t = i as f64 / rate;
+                (-alpha * t).exp() * (2.0 * PI * f0 * t).sin()
+            })
+            .collect();
+        let s = spectrogram(&Signal { rate, samples }, 512, 0.75, 80.0).unwrap();
+        let b = s.bin_of(f0);
+        assert!((s.freqs[b] - f0).abs() < 8.0);
+        // Slope of the decay in dB/s: −20 α / ln 10.
+        let d = s.decay(f0);
+        let (t1, l1) = d[5];
+        let (t2, l2) = d[40];
+        let slope = (l2 - l1) / (t2 - t1);
+        let want = -20.0 * alpha / std::f64::consts::LN_10;
+        assert!((slope - want).abs() / want.abs() < 0.02, "{slope} vs {want}");
+        assert!(s.db.iter().all(|v| *v <= 0.0 && *v >= -80.0));
+    }
+
+    #[test]
+    fn bad_options_are_refused() {
+        let sig = Signal {
+            rate: 100.0,
+            samples: vec![0.0; 100],
+        };
+        assert!(spectrogram(&sig, 8, 0.5, 40.0).is_err());
+        assert!(spectrogram(&sig, 64, 1.0, 40.0).is_err());
+        assert!(spectrogram(&sig, 200, 0.5, 40.0).is_err());
+        let nan = Signal {
+            rate: 100.0,
+            samples: vec![f64::NAN; 100],
+        };
+        assert!(spectrogram(&nan, 64, 0.5, 40.0).is_err());
+    }
+}
