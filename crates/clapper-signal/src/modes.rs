@@ -16,7 +16,8 @@ pub struct Partial {
     pub freq_hz: f64,
     /// Q factor, if its decay could be measured.
     pub q: Option<f64>,
-    /// Level relative to the strongest partial (dB).
+    /// Level at the strike relative to the strongest partial (dB), from the
+    /// decay line extrapolated back to the strike.
     pub level_db: f64,
     /// The other member of a close doublet (Hz), which makes the two beat.
     pub doublet_with: Option<f64>,
@@ -66,14 +67,15 @@ fn spectrum_db(x: &[f64], nfft: usize) -> Result<Vec<f64>, SignalError> {
     Ok(out.iter().map(|c| 20.0 * (c.norm() + 1e-300).log10()).collect())
 }
 
-/// Least-squares slope of y against x.
-fn slope(pts: &[(f64, f64)]) -> f64 {
+/// Least-squares line through the points: (slope, value at x = 0).
+fn line(pts: &[(f64, f64)]) -> (f64, f64) {
     let n = pts.len() as f64;
     let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
     let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
     let sxy: f64 = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum();
     let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
-    sxy / sxx
+    let b = sxy / sxx;
+    (b, my - b * mx)
 }
 
 /// The level (dB) of `freq` in successive Hann windows of `n` samples, hop n/4,
@@ -153,7 +155,7 @@ pub fn find_modes(sig: &Signal, opts: &ModeOptions) -> Result<Vec<Partial>, Sign
         .iter()
         .map(|&(f, level)| {
             let tr = track(x, sig.rate, f, n_win);
-            let q = tr
+            let fitted = tr
                 .iter()
                 .enumerate()
                 .max_by(|a, b| a.1 .1.total_cmp(&b.1 .1))
@@ -166,17 +168,27 @@ pub fn find_modes(sig: &Signal, opts: &ModeOptions) -> Result<Vec<Partial>, Sign
                     if fit.len() < 4 {
                         return None;
                     }
-                    let alpha = -slope(&fit) * LN_10 / 20.0;
-                    (alpha > 0.0).then(|| PI * f / alpha)
+                    let (slope, at_strike) = line(&fit);
+                    let alpha = -slope * LN_10 / 20.0;
+                    (alpha > 0.0).then(|| (PI * f / alpha, at_strike))
                 });
-            Partial {
-                freq_hz: f,
-                q,
-                level_db: level - top,
-                doublet_with: None,
-            }
+            // Level at the strike from the decay line; the spectral peak
+            // (which favours long-ringing partials) only if there is none.
+            (f, fitted.map(|x| x.0), fitted.map_or(level, |x| x.1))
+        })
+        .collect::<Vec<_>>()
+        .into_iter()
+        .map(|(f, q, level)| Partial {
+            freq_hz: f,
+            q,
+            level_db: level,
+            doublet_with: None,
         })
         .collect();
+    let loudest = out.iter().map(|p| p.level_db).fold(f64::NEG_INFINITY, f64::max);
+    for p in &mut out {
+        p.level_db -= loudest;
+    }
     for i in 0..out.len() {
         for j in 0..out.len() {
             if i != j && (out[i].freq_hz - out[j].freq_hz).abs() < opts.doublet_fraction * out[i].freq_hz {
@@ -231,6 +243,10 @@ mod tests {
             assert!((mq - q).abs() / q < 0.02, "Q {mq} vs {q}");
         }
         assert!(modes[0].level_db.abs() < 1e-9);
+        // Amplitudes 1, 0.6, 0.4: 0, -4.4, -8.0 dB at the strike.
+        for (m, want) in modes.iter().zip([0.0, -4.44, -7.96]) {
+            assert!((m.level_db - want).abs() < 0.5, "{} vs {want}", m.level_db);
+        }
         assert!(modes.iter().all(|m| m.doublet_with.is_none()));
     }
 
