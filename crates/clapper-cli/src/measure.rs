@@ -468,7 +468,7 @@ pub fn impulse(args: ImpulseArgs) -> Result<()> {
         );
         println!("  modes strongly excited (|F|^2 >= 1/2): {strong}");
         match shortest {
-            Some(s) if s == 0.0 => println!("  any pulse, even an ideal impulse, rebounds cleanly (K <= 1)"),
+            Some(0.0) => println!("  any pulse, even an ideal impulse, rebounds cleanly (K <= 1)"),
             Some(s) => println!("  shortest pulse for a clean rebound: {:.4} ms", s * 1e3),
             None => println!("  no pulse length gives a clean rebound: the striker is too heavy"),
         }
