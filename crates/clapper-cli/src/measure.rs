@@ -99,9 +99,9 @@ pub fn restitution(args: RestitutionArgs) -> Result<()> {
                     colour: RGBColor(120, 120, 120),
                 },
                 Series {
-                    label: "mean".into(),
+                    label: "mean of each pair (the paper's circles)".into(),
                     points: means,
-                    markers: false,
+                    markers: true,
                     colour: RGBColor(210, 40, 40),
                 },
             ],
@@ -415,17 +415,18 @@ pub fn impulse(args: ImpulseArgs) -> Result<()> {
         (f, t, vibration::heaviest_clean_hammer(&modes, t))
     });
     if let Some(p) = &args.plot {
-        let pts: Vec<(f64, f64)> = (0..=200)
+        // Log axis by hand: x is log10 of the pulse length in ms, 1 µs to 10 ms.
+        let pts: Vec<(f64, f64)> = (0..=400)
             .map(|i| {
-                let t = 1e-5 * 10f64.powf(i as f64 / 50.0);
-                (t * 1e3, vibration::k_factor(&modes, m, t).min(10.0))
+                let lg = -3.0 + 4.0 * i as f64 / 400.0;
+                (lg, vibration::k_factor(&modes, m, 10f64.powf(lg) * 1e-3).min(10.0))
             })
             .collect();
         let (x0, x1) = (pts[0].0, pts[pts.len() - 1].0);
         line_plot(
             p,
             &format!("K against pulse length, striker {m} kg ({} modes)", modes.len()),
-            "half-sine pulse length (ms)",
+            "log10 of the half-sine pulse length in ms (-3 = 1 us, 0 = 1 ms)",
             "K = sum of m/M_n |F|^2 (clean rebound needs K < 1)",
             &[
                 Series {

@@ -315,6 +315,8 @@ pub fn line_plot(path: &Path, title: &str, x_label: &str, y_label: &str, series:
     };
     let (x0, x1) = pad(x0, x1);
     let (y0, y1) = pad(y0, y1);
+    // Headroom for the legend in the upper right.
+    let y1 = y1 + 0.15 * (y1 - y0);
     let spec = LineSpec {
         title,
         x_label,
