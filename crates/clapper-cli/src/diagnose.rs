@@ -263,6 +263,22 @@ fn opt(v: Option<f64>, digits: usize) -> String {
     v.map_or("-".into(), |x| format!("{x:.digits$}"))
 }
 
+/// The numbers of a bell's row in the tables of the text and the report.
+fn cells(b: &BellJson) -> [String; 10] {
+    [
+        format!("{:.3}", b.r_over_lc),
+        format!("{:.3}", b.lb_over_lc),
+        b.verdict.clone(),
+        opt(b.first_strike_theta_deg, 1),
+        opt(b.strike_phidot_rad_s, 2),
+        opt(b.liftoff_theta_deg, 1),
+        opt(b.double_strike_index.r005, 1),
+        opt(b.double_strike_index.r01, 1),
+        opt(b.double_strike_index.r02, 1),
+        opt(b.min_theta0_right_deg, 1),
+    ]
+}
+
 fn text(rep: &DiagnosisJson, source: &str) -> String {
     let mut o = String::new();
     let _ = writeln!(
@@ -281,26 +297,27 @@ fn text(rep: &DiagnosisJson, source: &str) -> String {
         "", "", "", "", "deg", "rad/s", "deg", "", "", "", "deg", "chart"
     );
     for b in &rep.bells {
+        let c = cells(b);
+        let apart = if b.stands_apart.is_empty() {
+            ""
+        } else {
+            "  <- stands apart"
+        };
+        let name: String = b.name.chars().take(12).collect();
         let _ = writeln!(
             o,
-            "{:<12} {:>6.3} {:>7.3} {:>7} {:>9} {:>8} {:>8} {:>7} {:>7} {:>7} {:>9} {:>7}{}",
-            b.name.chars().take(12).collect::<String>(),
-            b.r_over_lc,
-            b.lb_over_lc,
-            b.verdict,
-            opt(b.first_strike_theta_deg, 1),
-            opt(b.strike_phidot_rad_s, 2),
-            opt(b.liftoff_theta_deg, 1),
-            opt(b.double_strike_index.r005, 1),
-            opt(b.double_strike_index.r01, 1),
-            opt(b.double_strike_index.r02, 1),
-            opt(b.min_theta0_right_deg, 1),
+            "{name:<12} {:>6} {:>7} {:>7} {:>9} {:>8} {:>8} {:>7} {:>7} {:>7} {:>9} {:>7}{apart}",
+            c[0],
+            c[1],
+            c[2],
+            c[3],
+            c[4],
+            c[5],
+            c[6],
+            c[7],
+            c[8],
+            c[9],
             opt(b.margin.as_ref().and_then(|m| m.chart_units), 3),
-            if b.stands_apart.is_empty() {
-                ""
-            } else {
-                "  <- stands apart"
-            }
         );
     }
     for b in &rep.bells {
@@ -400,19 +417,20 @@ fn report_html(rep: &DiagnosisJson, source: &str, chart_svg: &str) -> String {
     for b in &rep.bells {
         let _ = write!(
             h,
-            "<tr{}><td>{}</td><td>{:.3}</td><td>{:.3}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td>{}</td><td style=\"text-align:left\">{}</td></tr>",
-            if b.stands_apart.is_empty() { "" } else { " class=\"apart\"" },
-            html_escape(&b.name),
-            b.r_over_lc,
-            b.lb_over_lc,
-            b.verdict,
-            opt(b.first_strike_theta_deg, 1),
-            opt(b.strike_phidot_rad_s, 2),
-            opt(b.liftoff_theta_deg, 1),
-            opt(b.double_strike_index.r005, 1),
-            opt(b.double_strike_index.r01, 1),
-            opt(b.double_strike_index.r02, 1),
-            opt(b.min_theta0_right_deg, 0),
+            "<tr{}><td>{}</td>",
+            if b.stands_apart.is_empty() {
+                ""
+            } else {
+                " class=\"apart\""
+            },
+            html_escape(&b.name)
+        );
+        for c in cells(b) {
+            let _ = write!(h, "<td>{c}</td>");
+        }
+        let _ = write!(
+            h,
+            "<td style=\"text-align:left\">{}</td></tr>",
             html_escape(&b.problems.join("; "))
         );
     }

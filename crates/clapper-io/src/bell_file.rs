@@ -131,8 +131,8 @@ pub enum BellFileError {
     Param(#[from] ParamError),
 }
 
-/// Read and validate a bell file.
-pub fn load_bell(path: &Path) -> Result<LoadedBell, BellFileError> {
+/// The file's text and stem (the default name of an unnamed bell).
+fn read_text(path: &Path) -> Result<(String, String), BellFileError> {
     let text = std::fs::read_to_string(path).map_err(|source| BellFileError::Read {
         path: path.display().to_string(),
         source,
@@ -141,33 +141,36 @@ pub fn load_bell(path: &Path) -> Result<LoadedBell, BellFileError> {
         .file_stem()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
-    parse_bell(&text, &stem).map_err(|e| match e {
+    Ok((text, stem))
+}
+
+/// Put the path in front of a syntax error, so the one line says which file.
+fn in_file<T>(path: &Path, r: Result<T, BellFileError>) -> Result<T, BellFileError> {
+    r.map_err(|e| match e {
         BellFileError::Syntax(m) => BellFileError::Syntax(format!("{}: {m}", path.display())),
         other => other,
     })
 }
 
+/// Read and validate a bell file.
+pub fn load_bell(path: &Path) -> Result<LoadedBell, BellFileError> {
+    let (text, stem) = read_text(path)?;
+    in_file(path, parse_bell(&text, &stem))
+}
+
 /// Read a file of one bell, or of several as `[[bell]]` tables (each with
 /// the keys of a one-bell file), or a ring as CSV (by the `.csv` extension).
 pub fn load_bells(path: &Path) -> Result<Vec<LoadedBell>, BellFileError> {
-    let text = std::fs::read_to_string(path).map_err(|source| BellFileError::Read {
-        path: path.display().to_string(),
-        source,
-    })?;
-    let stem = path
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_default();
+    let (text, stem) = read_text(path)?;
     let is_csv = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("csv"));
-    let parsed = if is_csv {
-        parse_ring_csv(&text)
-    } else {
-        parse_bells(&text, &stem)
-    };
-    parsed.map_err(|e| match e {
-        BellFileError::Syntax(m) => BellFileError::Syntax(format!("{}: {m}", path.display())),
-        other => other,
-    })
+    in_file(
+        path,
+        if is_csv {
+            parse_ring_csv(&text)
+        } else {
+            parse_bells(&text, &stem)
+        },
+    )
 }
 
 /// Parse a ring from CSV: a header row of bell-file keys (`name` first is

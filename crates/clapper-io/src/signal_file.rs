@@ -86,14 +86,19 @@ fn read_wav(path: &Path, channel: usize) -> Result<Signal, SignalFileError> {
     })
 }
 
-fn read_csv(path: &Path, channel: usize) -> Result<Signal, SignalFileError> {
-    let mut rdr = csv::ReaderBuilder::new()
+/// A CSV reader with a header row and trimmed cells.
+fn csv_reader(path: &Path) -> Result<csv::Reader<std::fs::File>, SignalFileError> {
+    csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
         .from_path(path)
         .map_err(|e| SignalFileError::Read {
             path: path.display().to_string(),
             message: e.to_string(),
-        })?;
+        })
+}
+
+fn read_csv(path: &Path, channel: usize) -> Result<Signal, SignalFileError> {
+    let mut rdr = csv_reader(path)?;
     let headers = rdr.headers().map_err(|e| content(path, e.to_string()))?.clone();
     if headers.len() < 2 + channel {
         return Err(content(
@@ -171,13 +176,7 @@ pub fn read_modes(path: &Path) -> Result<Vec<Mode>, SignalFileError> {
         freq_hz: f64,
         effective_mass_kg: f64,
     }
-    let mut rdr = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .from_path(path)
-        .map_err(|e| SignalFileError::Read {
-            path: path.display().to_string(),
-            message: e.to_string(),
-        })?;
+    let mut rdr = csv_reader(path)?;
     let mut out = vec![];
     for (k, row) in rdr.deserialize::<Row>().enumerate() {
         let r = row.map_err(|e| content(path, format!("row {}: {}", k + 1, e.to_string().replace('\n', " "))))?;
