@@ -4,8 +4,10 @@ mod chart;
 mod diagnose;
 mod figures;
 mod files;
+mod listening;
 mod measure;
 mod simulate;
+mod sound;
 
 use clap::{Parser, Subcommand};
 
@@ -47,6 +49,12 @@ enum Command {
     /// Energy into vibration at an impact (Section 3.3): K, lambda, R, the
     /// shortest clean pulse; and choosing an impulse hammer.
     Impulse(measure::ImpulseArgs),
+    /// The sound of the bell rung full circle (or chimed), by modal synthesis
+    /// driven by the simulation.
+    Synth(sound::SynthArgs),
+    /// The double-strike listening test (Section 4.3): make stimuli and
+    /// answer sheets, or analyse the answers.
+    ListeningTest(listening::ListeningArgs),
 }
 
 /// Die quietly on a closed pipe (`clapper chart | head`), as Unix tools
@@ -94,6 +102,8 @@ fn main() {
         Command::Decay(args) => measure::decay(args),
         Command::Modes(args) => measure::modes(args),
         Command::Impulse(args) => measure::impulse(args),
+        Command::Synth(args) => sound::run(args),
+        Command::ListeningTest(args) => listening::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

@@ -289,6 +289,10 @@ pub struct DecayArgs {
     /// WAV channel or CSV value column.
     #[arg(long, default_value_t = 0)]
     pub channel: usize,
+    /// Print JSON, with the moment the decay rate changes most (after the
+    /// loudest frame): where a resting clapper starts to damp the bell.
+    #[arg(long)]
+    pub json: bool,
 }
 
 pub fn decay(args: DecayArgs) -> Result<()> {
@@ -317,9 +321,25 @@ pub fn decay(args: DecayArgs) -> Result<()> {
             }],
         )?;
     }
+    let loudest = d.iter().max_by(|a, b| a.1.total_cmp(&b.1)).map_or(0.0, |p| p.0);
+    let change = clapper_signal::synth::decay_change(&d, loudest);
+    if args.json {
+        println!(
+            "{}",
+            serde_json::json!({
+                "bin_hz": bin,
+                "points": d.iter().map(|p| [p.0, p.1]).collect::<Vec<_>>(),
+                "rate_change": change.map(|(t, a, b)| serde_json::json!({"t_s": t, "before_db_per_s": a, "after_db_per_s": b})),
+            })
+        );
+        return Ok(());
+    }
     println!("t_s,level_db  # bin {bin:.2} Hz");
-    for (t, l) in d {
+    for (t, l) in &d {
         println!("{t:.5},{l:.2}");
+    }
+    if let Some((t, a, b)) = change {
+        println!("# the decay changes most at {t:.3} s: from {a:.1} to {b:.1} dB/s");
     }
     Ok(())
 }

@@ -135,7 +135,7 @@ pub struct LiftoffArgs {
 }
 
 /// The bell, its name and source, with any phi_max override applied.
-fn load(args: &SimulateArgs) -> Result<(String, Bell, BellSource)> {
+pub fn load(args: &SimulateArgs) -> Result<(String, Bell, BellSource)> {
     let (name, bell, source) = match (&args.source.preset, &args.source.bell, &args.source.chart_point) {
         (_, Some(path), _) => {
             let b = clapper_io::load_bell(path)?;
@@ -169,7 +169,7 @@ pub fn contact_model(contact: Option<ContactArg>, stiffness: Option<f64>) -> Res
     })
 }
 
-fn config(args: &SimulateArgs) -> Result<SimConfig> {
+pub fn config(args: &SimulateArgs) -> Result<SimConfig> {
     let contact = contact_model(args.contact, args.stiffness)?;
     let cfg = SimConfig {
         theta0: args.theta0.to_radians(),

@@ -147,6 +147,7 @@ fn modes_spectrogram_and_decay_of_a_strike() {
     let rows: Vec<(f64, f64)> = text
         .lines()
         .skip(1)
+        .filter(|l| !l.starts_with('#'))
         .map(|l| {
             let (a, b) = l.split_once(',').unwrap();
             (a.parse().unwrap(), b.parse().unwrap())

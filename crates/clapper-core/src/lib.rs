@@ -29,6 +29,7 @@ pub mod diagnose;
 pub mod dynamics;
 pub mod frame;
 pub mod liftoff;
+pub mod listening;
 pub mod ode;
 pub mod restitution;
 pub mod ringing;

@@ -63,6 +63,18 @@ pub struct ChartFigure {
     pub scale: Scale,
     /// Bells to mark on every panel.
     pub markers: Vec<Marker>,
+    /// Axis labels (x, y), with units.
+    pub axes: (String, String),
+    /// Curves drawn over every panel.
+    pub lines: Vec<Curve>,
+}
+
+/// A labelled curve drawn over a chart: label, points, colour.
+pub type Curve = (String, Vec<(f64, f64)>, RGBColor);
+
+/// The axis labels of a clapping chart.
+pub fn chart_axes() -> (String, String) {
+    ("r / L_c".into(), "L_b / L_c".into())
 }
 
 /// Viridis, from five anchors: perceptually even and readable in grey.
@@ -193,8 +205,8 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel, fig:
     chart
         .configure_mesh()
         .disable_mesh()
-        .x_desc("r / L_c")
-        .y_desc("L_b / L_c")
+        .x_desc(fig.axes.0.as_str())
+        .y_desc(fig.axes.1.as_str())
         .label_style(("sans-serif", 15))
         .axis_desc_style(("sans-serif", 17))
         .draw()?;
@@ -229,6 +241,24 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel, fig:
         }
     }
     chart.draw_series(edges.into_iter().map(|e| PathElement::new(e, BLACK.stroke_width(2))))?;
+    for (label, pts, colour) in &fig.lines {
+        let inside: Vec<(f64, f64)> = pts
+            .iter()
+            .copied()
+            .filter(|&(x, y)| x >= x0 && x <= x1 && y >= y0 && y <= y1)
+            .collect();
+        if let Some(&last) = inside.last() {
+            chart.draw_series(std::iter::once(PathElement::new(
+                inside.clone(),
+                colour.stroke_width(3),
+            )))?;
+            chart.draw_series(std::iter::once(Text::new(
+                label.clone(),
+                last,
+                ("sans-serif", 16).into_font().color(colour),
+            )))?;
+        }
+    }
     for m in &fig.markers {
         if m.x < x0 || m.x > x1 || m.y < y0 || m.y > y1 {
             continue;
@@ -414,6 +444,8 @@ mod tests {
                 y: 0.5,
                 label: "bell".into(),
             }],
+            axes: chart_axes(),
+            lines: vec![],
         }
     }
 

@@ -143,5 +143,7 @@ pub fn figure(title: String, quantity: Quantity, panels: Vec<Panel>, markers: Ve
         panels,
         scale,
         markers,
+        axes: crate::chart::chart_axes(),
+        lines: vec![],
     }
 }

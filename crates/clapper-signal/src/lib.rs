@@ -13,6 +13,7 @@ pub mod accel;
 pub mod contacts;
 pub mod modes;
 pub mod spectrogram;
+pub mod synth;
 
 /// A signal: samples at a fixed rate.
 #[derive(Clone, Debug, PartialEq)]
