@@ -1,17 +1,8 @@
 //! The command line, through the built binary.
 
-use assert_cmd::Command;
+mod common;
+use common::{clapper, json};
 use predicates::prelude::*;
-
-fn clapper() -> Command {
-    Command::cargo_bin("clapper").unwrap()
-}
-
-fn json(args: &[&str]) -> serde_json::Value {
-    let out = clapper().args(args).arg("--json").output().unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    serde_json::from_slice(&out.stdout).unwrap()
-}
 
 #[test]
 fn simulate_lab_prints_a_readable_summary() {

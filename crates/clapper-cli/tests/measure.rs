@@ -4,21 +4,8 @@
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
 
-use assert_cmd::Command;
-
-fn clapper() -> Command {
-    Command::cargo_bin("clapper").unwrap()
-}
-
-fn json(args: &[&str]) -> serde_json::Value {
-    let out = clapper().args(args).arg("--json").output().unwrap();
-    assert!(
-        out.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).unwrap()
-}
+mod common;
+use common::{clapper, json};
 
 fn lcg(seed: &mut u64) -> f64 {
     *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);

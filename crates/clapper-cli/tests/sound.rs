@@ -2,21 +2,8 @@
 
 use std::path::Path;
 
-use assert_cmd::Command;
-
-fn clapper() -> Command {
-    Command::cargo_bin("clapper").unwrap()
-}
-
-fn json(args: &[&str]) -> serde_json::Value {
-    let out = clapper().args(args).arg("--json").output().unwrap();
-    assert!(
-        out.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    serde_json::from_slice(&out.stdout).unwrap()
-}
+mod common;
+use common::{clapper, json};
 
 fn read_wav(p: &Path) -> Vec<f64> {
     let mut r = hound::WavReader::open(p).unwrap();

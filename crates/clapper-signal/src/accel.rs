@@ -171,15 +171,11 @@ mod tests {
             let jumps = velocity_jumps(&sig, &JumpOptions::default()).unwrap();
             assert!(jumps.len() >= 3, "{r}: {jumps:?}");
             let dv: Vec<f64> = jumps.iter().map(|j| j.dv.abs()).collect();
-            let est = clapper_ratio(&dv);
+            let est = clapper_core::restitution::estimate(std::slice::from_ref(&dv))
+                .unwrap()
+                .r_equal_loss;
             assert!((est - r).abs() / r < 0.10, "R {r}: estimated {est} from {dv:?}");
         }
-    }
-
-    /// (21) from the first two jumps (the core does this too; kept local so
-    /// this crate stays independent of the physics core).
-    fn clapper_ratio(dv: &[f64]) -> f64 {
-        (dv[1] / dv[0]).powi(2)
     }
 
     #[test]

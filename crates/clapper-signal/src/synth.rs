@@ -56,16 +56,7 @@ pub struct SynthSpec {
     pub acceleration: bool,
 }
 
-/// |F(ω)| of a half-sine pulse of length τ, 1 at ω = 0 (SPEC §6).
-fn pulse_spectrum(omega: f64, tau: f64) -> f64 {
-    let x = omega * tau;
-    let d = 1.0 - (x / PI).powi(2);
-    if d.abs() < 1e-9 {
-        PI / 4.0
-    } else {
-        ((x / 2.0).cos() / d).abs()
-    }
-}
+use clapper_core::vibration::half_sine_spectrum as pulse_spectrum;
 
 /// The most samples one synthesis may produce: ten minutes at 96 kHz.
 pub const MAX_SAMPLES: usize = 96_000 * 600;
