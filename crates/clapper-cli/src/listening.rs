@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, Subcommand};
-use clapper_core::listening::{self, Answer};
+use clapper_core::listening;
 use clapper_plot::chart::{ChartFigure, Panel, Scale};
 use clapper_plot::RGBColor;
 use clapper_signal::synth::{lab_partials, synthesize, Strike, SynthSpec};
@@ -145,44 +145,10 @@ fn make(args: MakeArgs) -> Result<()> {
     Ok(())
 }
 
-fn read_answers(path: &std::path::Path) -> Result<Vec<Answer>> {
-    #[derive(serde::Deserialize)]
-    struct Row {
-        listener: String,
-        amplitude_ratio: f64,
-        delay_ms: f64,
-        answer: Option<i8>,
-    }
-    let mut rdr = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .from_path(path)
-        .with_context(|| format!("cannot read {}", path.display()))?;
-    let mut out = vec![];
-    for (k, row) in rdr.deserialize::<Row>().enumerate() {
-        let r = row.map_err(|e| {
-            anyhow::anyhow!(
-                "{}: row {}: {}",
-                path.display(),
-                k + 1,
-                e.to_string().replace('\n', " ")
-            )
-        })?;
-        if let Some(answer) = r.answer {
-            out.push(Answer {
-                listener: r.listener,
-                ratio: r.amplitude_ratio,
-                delay_ms: r.delay_ms,
-                answer,
-            });
-        }
-    }
-    Ok(out)
-}
-
 fn analyse(args: AnalyseArgs) -> Result<()> {
     let mut answers = vec![];
     for f in &args.files {
-        answers.extend(read_answers(f)?);
+        answers.extend(clapper_io::answers::read_answers(f)?);
     }
     if answers.is_empty() {
         bail!("no answers: fill the 'answer' column with 1 (single) or -1 (double)");

@@ -353,6 +353,21 @@ impl TowerMeasurements {
     /// above m b². It does not move the chart position.
     pub const B_OVER_LC: f64 = 0.9;
 
+    /// What a stopwatch, a tape and a protractor give: periods (s), r (m)
+    /// and φ_max (rad); nothing weighed.
+    pub fn new(bell_period: f64, clapper_period: f64, r: f64, phi_max: f64) -> Self {
+        Self {
+            bell_period,
+            clapper_period,
+            r,
+            phi_max,
+            bell_mass: None,
+            clapper_mass: None,
+            a: None,
+            b: None,
+        }
+    }
+
     /// A full bell with the measured periods, r and φ_max. Masses not given
     /// are the chart construction's (45.8 kg, 1.65 kg): the motion depends on
     /// them only through the small mass ratio, forces scale with them. The
@@ -474,16 +489,7 @@ mod tests {
     #[test]
     fn tower_measurements_reproduce_table1_positions() {
         for bell in [Bell::lab(), Bell::gsm_tenor()] {
-            let t = TowerMeasurements {
-                bell_period: bell.tb(),
-                clapper_period: bell.tc(),
-                r: bell.r,
-                phi_max: bell.phi_max,
-                bell_mass: None,
-                clapper_mass: None,
-                a: None,
-                b: None,
-            };
+            let t = TowerMeasurements::new(bell.tb(), bell.tc(), bell.r, bell.phi_max);
             let (tb, assumed) = t.bell().unwrap();
             assert_relative_eq!(tb.r_over_lc(), bell.r_over_lc(), max_relative = 1e-12);
             assert_relative_eq!(tb.lb_over_lc(), bell.lb_over_lc(), max_relative = 1e-12);

@@ -8,19 +8,10 @@ use clapper_core::prelude::*;
 /// Periods as a stopwatch over ten oscillations gives them: to 1 ms.
 fn as_measured(bell: &Bell) -> Bell {
     let round = |t: f64| (t * 1e3).round() / 1e3;
-    TowerMeasurements {
-        bell_period: round(bell.tb()),
-        clapper_period: round(bell.tc()),
-        r: bell.r,
-        phi_max: bell.phi_max,
-        bell_mass: None,
-        clapper_mass: None,
-        a: None,
-        b: None,
-    }
-    .bell()
-    .unwrap()
-    .0
+    TowerMeasurements::new(round(bell.tb()), round(bell.tc()), bell.r, bell.phi_max)
+        .bell()
+        .unwrap()
+        .0
 }
 
 #[test]

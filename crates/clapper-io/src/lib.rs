@@ -7,6 +7,7 @@
 
 #![warn(missing_docs)]
 
+pub mod answers;
 pub mod bell_file;
 pub mod chart_csv;
 pub mod report;

@@ -7,7 +7,7 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::{draw_err, format_of, Format, PlotError};
+use crate::{draw_err, PlotError};
 
 /// A bell to mark on a chart.
 #[derive(Clone, Debug, PartialEq)]
@@ -132,18 +132,7 @@ pub fn chart_figure(path: &Path, fig: &ChartFigure) -> Result<(), PlotError> {
         }
     }
     let size = (80 + 720 * fig.panels.len() as u32 + 150, 760);
-    match format_of(path)? {
-        Format::Svg => {
-            let root = SVGBackend::new(path, size).into_drawing_area();
-            draw_chart(&root, fig).map_err(|e| draw_err(path, e))?;
-            root.present().map_err(|e| draw_err(path, e))
-        }
-        Format::Png => {
-            let root = BitMapBackend::new(path, size).into_drawing_area();
-            draw_chart(&root, fig).map_err(|e| draw_err(path, e))?;
-            root.present().map_err(|e| draw_err(path, e))
-        }
-    }
+    render!(path, size, draw_chart(fig))
 }
 
 /// Draw a chart figure as SVG text, to embed in a page.
@@ -355,14 +344,7 @@ pub fn line_plot(path: &Path, title: &str, x_label: &str, y_label: &str, series:
         range: (x0, x1, y0, y1),
     };
     let size = (1000, 700);
-    match format_of(path)? {
-        Format::Svg => {
-            draw_lines(SVGBackend::new(path, size).into_drawing_area(), &spec).map_err(|e| draw_err(path, e))
-        }
-        Format::Png => {
-            draw_lines(BitMapBackend::new(path, size).into_drawing_area(), &spec).map_err(|e| draw_err(path, e))
-        }
-    }
+    render!(path, size, draw_lines(&spec))
 }
 
 struct LineSpec<'a> {
@@ -373,10 +355,10 @@ struct LineSpec<'a> {
     range: (f64, f64, f64, f64),
 }
 
-fn draw_lines<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, spec: &LineSpec<'_>) -> DrawResult<DB> {
+fn draw_lines<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, spec: &LineSpec<'_>) -> DrawResult<DB> {
     let (x0, x1, y0, y1) = spec.range;
     root.fill(&WHITE)?;
-    let mut chart = ChartBuilder::on(&root)
+    let mut chart = ChartBuilder::on(root)
         .caption(spec.title, ("sans-serif", 22))
         .margin(15)
         .x_label_area_size(45)
@@ -411,7 +393,7 @@ fn draw_lines<DB: DrawingBackend>(root: DrawingArea<DB, Shift>, spec: &LineSpec<
         .border_style(BLACK)
         .label_font(("sans-serif", 15))
         .draw()?;
-    root.present()
+    Ok(())
 }
 
 #[cfg(test)]

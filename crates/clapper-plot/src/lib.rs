@@ -6,6 +6,27 @@
 
 #![warn(missing_docs)]
 
+/// Draw to `path` as SVG or PNG by its extension: `$draw(&root, args..)` is
+/// called on a drawing area of either backend, then presented. A macro
+/// because the two backends are different types.
+macro_rules! render {
+    ($path:expr, $size:expr, $draw:ident ( $($arg:expr),* )) => {{
+        let path: &std::path::Path = $path;
+        match crate::format_of(path)? {
+            crate::Format::Svg => {
+                let root = plotters::prelude::SVGBackend::new(path, $size).into_drawing_area();
+                $draw(&root, $($arg),*).map_err(|e| crate::draw_err(path, e))?;
+                root.present().map_err(|e| crate::draw_err(path, e))
+            }
+            crate::Format::Png => {
+                let root = plotters::prelude::BitMapBackend::new(path, $size).into_drawing_area();
+                $draw(&root, $($arg),*).map_err(|e| crate::draw_err(path, e))?;
+                root.present().map_err(|e| crate::draw_err(path, e))
+            }
+        }
+    }};
+}
+
 pub mod chart;
 pub mod quantity;
 pub mod signal;
@@ -89,18 +110,7 @@ pub fn stroke_plot(path: &Path, samples: &[Sample], plot: &StrokePlot<'_>) -> Re
         return Err(PlotError::Empty("fewer than two samples"));
     }
     let size = (1200, 700);
-    match format_of(path)? {
-        Format::Svg => {
-            let root = SVGBackend::new(path, size).into_drawing_area();
-            draw_strokes(&root, samples, plot).map_err(|e| draw_err(path, e))?;
-            root.present().map_err(|e| draw_err(path, e))
-        }
-        Format::Png => {
-            let root = BitMapBackend::new(path, size).into_drawing_area();
-            draw_strokes(&root, samples, plot).map_err(|e| draw_err(path, e))?;
-            root.present().map_err(|e| draw_err(path, e))
-        }
-    }
+    render!(path, size, draw_strokes(samples, plot))
 }
 
 type DrawResult<DB> = Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;

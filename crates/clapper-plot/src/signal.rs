@@ -6,7 +6,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use crate::chart::viridis;
-use crate::{draw_err, format_of, Format, PlotError};
+use crate::PlotError;
 
 /// A spectrogram to draw.
 #[derive(Clone, Debug, PartialEq)]
@@ -32,18 +32,7 @@ pub fn spectrogram_plot(path: &Path, p: &SpectrogramPlot<'_>) -> Result<(), Plot
         return Err(PlotError::Empty("spectrogram without frames"));
     }
     let size = (1200, 700);
-    match format_of(path)? {
-        Format::Svg => {
-            let root = SVGBackend::new(path, size).into_drawing_area();
-            draw(&root, p).map_err(|e| draw_err(path, e))?;
-            root.present().map_err(|e| draw_err(path, e))
-        }
-        Format::Png => {
-            let root = BitMapBackend::new(path, size).into_drawing_area();
-            draw(&root, p).map_err(|e| draw_err(path, e))?;
-            root.present().map_err(|e| draw_err(path, e))
-        }
-    }
+    render!(path, size, draw(p))
 }
 
 type DrawResult<DB> = Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;
