@@ -11,7 +11,9 @@ use clapper_plot::chart::Marker;
 use clapper_plot::quantity::{self, Quantity};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use crate::simulate::{contact_model, contact_name, parse_point, ContactArg};
+use clapper_app::simulate::{contact_model, contact_words, ContactName};
+
+use crate::simulate::parse_point;
 
 fn parse_grid(s: &str) -> std::result::Result<(usize, usize), String> {
     let num = |v: &str| {
@@ -84,7 +86,7 @@ pub struct SweepArgs {
     pub phi_max: f64,
     /// Contact model.
     #[arg(long, value_enum)]
-    pub contact: Option<ContactArg>,
+    pub contact: Option<ContactName>,
     /// Penalty stiffness k (N m/rad); implies --contact penalty.
     #[arg(long, value_name = "K", allow_hyphen_values = true)]
     pub stiffness: Option<f64>,
@@ -157,7 +159,7 @@ pub fn settings_words(spec: &ChartSpec) -> String {
         spec.config.theta0.to_degrees(),
         spec.config.restitution,
         spec.construction.phi_max.to_degrees(),
-        contact_name(&spec.config),
+        contact_words(&spec.config),
         spec.nx,
         spec.ny
     )

@@ -7,7 +7,7 @@ use clap::{Args, ValueEnum};
 use clapper_core::prelude::*;
 use clapper_signal::synth::{lab_partials, synthesize, typical_partials, Strike, SynthMode, SynthSpec};
 
-use crate::simulate::{config, load, SimulateArgs};
+use crate::simulate::SimulateArgs;
 
 /// Lead-in before the first sound (s).
 const LEAD_S: f64 = 0.2;
@@ -59,8 +59,10 @@ pub struct SynthArgs {
 }
 
 pub fn run(args: SynthArgs) -> Result<()> {
-    let (name, bell, _) = load(&args.sim)?;
-    let cfg = config(&args.sim)?;
+    let req = args.sim.request();
+    let loaded = req.bell(args.sim.bell_file()?)?;
+    let cfg = req.config()?;
+    let (name, bell) = (loaded.name, loaded.bell);
     if !args.out.extension().is_some_and(|e| e.eq_ignore_ascii_case("wav")) {
         bail!("output {} must end in .wav", args.out.display());
     }
@@ -73,20 +75,10 @@ pub fn run(args: SynthArgs) -> Result<()> {
             bail!("{flag} {v} must be between {lo} and 600");
         }
     }
-    let protocol = match args.sim.protocol {
-        crate::simulate::ProtocolArg::Restart => Protocol::Restart,
-        crate::simulate::ProtocolArg::Free => Protocol::Free,
-    };
+    let protocol: Protocol = args.sim.protocol.into();
     let mut rec = TraceRecorder::new(1e-3);
-    let ringing = ring(
-        &bell,
-        &cfg,
-        args.sim.style.style(),
-        protocol,
-        args.sim.strokes,
-        &mut rec,
-    )
-    .context("simulation failed")?;
+    let ringing =
+        ring(&bell, &cfg, args.sim.style.into(), protocol, args.sim.strokes, &mut rec).context("simulation failed")?;
     // Stroke k (from 0) is heard later by the handstroke gaps before it.
     let offset = |k: usize| LEAD_S + args.gap * (k / 2) as f64;
     let stroke_of = |t: f64| {

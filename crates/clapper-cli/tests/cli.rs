@@ -161,7 +161,7 @@ fn bad_input_gives_one_line_errors() {
         (vec!["simulate", "--theta0", "200"], "theta0_deg"),
         (vec!["simulate", "--restitution", "0"], "restitution"),
         (vec!["simulate", "--chart-point", "1"], "X,Y"),
-        (vec!["simulate", "--strokes", "0"], "--strokes"),
+        (vec!["simulate", "--strokes", "0"], "strokes 0 is out of range"),
         (
             vec!["simulate", "--contact", "impact", "--stiffness", "1e6"],
             "stiffness",

@@ -148,6 +148,11 @@ impl ChartSpec {
     pub fn ys(&self) -> Vec<f64> {
         axis(self.domain.y.0, self.domain.y.1, self.ny)
     }
+
+    /// Strokes in the whole chart: points times styles.
+    pub fn cell_count(&self) -> usize {
+        self.nx.saturating_mul(self.ny).saturating_mul(self.styles.list().len())
+    }
 }
 
 /// What a chart keeps of one stroke.
@@ -238,13 +243,36 @@ impl Chart {
 /// assert_eq!(chart.cells.len(), 3 * 3 * 2);
 /// ```
 pub fn sweep(spec: &ChartSpec, progress: &(dyn Fn(u64) + Sync)) -> Result<Chart, ParamError> {
+    let cells = sweep_cells(spec, 0..spec.cell_count(), progress)?;
+    Ok(Chart { spec: *spec, cells })
+}
+
+/// Sweep part of a chart: the cells whose flat indices (in the order of
+/// [`Chart::cells`]) lie in `range`. A cell depends only on its own point,
+/// so the parts of a chart, swept separately (a row block at a time for a
+/// live view, or as shards on different machines), join to exactly the
+/// cells of one [`sweep`]. `range` is clipped to the chart.
+///
+/// ```
+/// use clapper_core::chart::{sweep, sweep_cells, ChartSpec};
+/// let spec = ChartSpec { nx: 3, ny: 2, ..ChartSpec::default() };
+/// let mut joined = sweep_cells(&spec, 0..5, &|_| {}).unwrap();
+/// joined.extend(sweep_cells(&spec, 5..12, &|_| {}).unwrap());
+/// assert_eq!(joined, sweep(&spec, &|_| {}).unwrap().cells);
+/// ```
+pub fn sweep_cells(
+    spec: &ChartSpec,
+    range: std::ops::Range<usize>,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Vec<ChartCell>, ParamError> {
     spec.validate()?;
     let xs = spec.xs();
     let ys = spec.ys();
     let styles = spec.styles.list();
-    let total = spec.nx * spec.ny * styles.len();
+    let end = range.end.min(spec.cell_count());
+    let start = range.start.min(end);
     let done = AtomicU64::new(0);
-    let cells: Vec<ChartCell> = (0..total)
+    Ok((start..end)
         .into_par_iter()
         .map(|k| {
             let style = styles[k % styles.len()];
@@ -259,8 +287,7 @@ pub fn sweep(spec: &ChartSpec, progress: &(dyn Fn(u64) + Sync)) -> Result<Chart,
             progress(done.fetch_add(1, Ordering::Relaxed) + 1);
             ChartCell { x, y, style, result }
         })
-        .collect();
-    Ok(Chart { spec: *spec, cells })
+        .collect())
 }
 
 #[cfg(test)]

@@ -150,22 +150,37 @@ fn read_csv(path: &Path, channel: usize) -> Result<Signal, SignalFileError> {
 /// Write a mono 16-bit WAV at `rate`, scaled so the largest sample is at
 /// `peak` of full scale (for test signals and synthesis).
 pub fn write_wav(path: &Path, sig: &Signal, peak: f64) -> Result<(), SignalFileError> {
+    let bytes = wav_bytes(sig, peak).map_err(|message| SignalFileError::Read {
+        path: path.display().to_string(),
+        message,
+    })?;
+    std::fs::write(path, bytes).map_err(|e| SignalFileError::Read {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })
+}
+
+/// The bytes of a mono 16-bit WAV file of `sig`, scaled as [`write_wav`]
+/// scales (for serving sound without a file). The error is one line.
+pub fn wav_bytes(sig: &Signal, peak: f64) -> Result<Vec<u8>, String> {
+    if !(sig.rate.is_finite() && sig.rate >= 1.0 && sig.rate <= u32::MAX as f64) {
+        return Err(format!("sample rate {} Hz is out of range", sig.rate));
+    }
     let spec = hound::WavSpec {
         channels: 1,
         sample_rate: sig.rate.round() as u32,
         bits_per_sample: 16,
         sample_format: hound::SampleFormat::Int,
     };
-    let err = |e: hound::Error| SignalFileError::Read {
-        path: path.display().to_string(),
-        message: e.to_string(),
-    };
-    let mut w = hound::WavWriter::create(path, spec).map_err(err)?;
+    let mut cursor = std::io::Cursor::new(Vec::with_capacity(44 + 2 * sig.samples.len()));
+    let err = |e: hound::Error| e.to_string();
+    let mut w = hound::WavWriter::new(&mut cursor, spec).map_err(err)?;
     let max = sig.samples.iter().fold(0.0f64, |m, v| m.max(v.abs())).max(1e-300);
     for v in &sig.samples {
         w.write_sample((v / max * peak * 32767.0).round() as i16).map_err(err)?;
     }
-    w.finalize().map_err(err)
+    w.finalize().map_err(err)?;
+    Ok(cursor.into_inner())
 }
 
 /// Read a modes file: CSV with columns `freq_hz,effective_mass_kg`.

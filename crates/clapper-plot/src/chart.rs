@@ -7,7 +7,7 @@ use std::path::Path;
 use plotters::coord::Shift;
 use plotters::prelude::*;
 
-use crate::{draw_err, PlotError};
+use crate::PlotError;
 
 /// A bell to mark on a chart.
 #[derive(Clone, Debug, PartialEq)]
@@ -141,13 +141,7 @@ pub fn chart_figure_svg(fig: &ChartFigure) -> Result<String, PlotError> {
         return Err(PlotError::Empty("a chart needs at least one panel"));
     }
     let size = (80 + 720 * fig.panels.len() as u32 + 150, 760);
-    let mut out = String::new();
-    {
-        let root = SVGBackend::with_string(&mut out, size).into_drawing_area();
-        draw_chart(&root, fig).map_err(|e| draw_err(Path::new("(svg)"), e))?;
-        root.present().map_err(|e| draw_err(Path::new("(svg)"), e))?;
-    }
-    Ok(out)
+    render_svg!(size, draw_chart(fig))
 }
 
 type DrawResult<DB> = Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;

@@ -27,6 +27,21 @@ macro_rules! render {
     }};
 }
 
+/// Draw as SVG text: `$draw(&root, args..)` on an SVG drawing area that
+/// writes into a string, for pages that embed their plots.
+macro_rules! render_svg {
+    ($size:expr, $draw:ident ( $($arg:expr),* )) => {{
+        let mut out = String::new();
+        {
+            let root = plotters::prelude::SVGBackend::with_string(&mut out, $size).into_drawing_area();
+            let here = std::path::Path::new("(svg)");
+            $draw(&root, $($arg),*).map_err(|e| crate::draw_err(here, e))?;
+            root.present().map_err(|e| crate::draw_err(here, e))?;
+        }
+        Ok(out)
+    }};
+}
+
 pub mod chart;
 pub mod quantity;
 pub mod signal;
@@ -109,8 +124,18 @@ pub fn stroke_plot(path: &Path, samples: &[Sample], plot: &StrokePlot<'_>) -> Re
     if samples.len() < 2 {
         return Err(PlotError::Empty("fewer than two samples"));
     }
-    let size = (1200, 700);
-    render!(path, size, draw_strokes(samples, plot))
+    render!(path, STROKE_PLOT_SIZE, draw_strokes(samples, plot))
+}
+
+/// Size of the stroke plot (px).
+const STROKE_PLOT_SIZE: (u32, u32) = (1200, 700);
+
+/// [`stroke_plot`] as SVG text, to embed in a page.
+pub fn stroke_plot_svg(samples: &[Sample], plot: &StrokePlot<'_>) -> Result<String, PlotError> {
+    if samples.len() < 2 {
+        return Err(PlotError::Empty("fewer than two samples"));
+    }
+    render_svg!(STROKE_PLOT_SIZE, draw_strokes(samples, plot))
 }
 
 type DrawResult<DB> = Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::ErrorType>>;

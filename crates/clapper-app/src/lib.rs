@@ -1,0 +1,64 @@
+//! # clapper-app
+//!
+//! The things clapper does for its users, once, for both front ends: the
+//! command line (`clapper-cli`) and the web server (`clapper-web`). Each
+//! is a request (plain data, `serde`-readable, with the same defaults as
+//! the command line's options) and a function that answers it with a
+//! report (`serde`-writable) or a typed [`AppError`].
+//!
+//! No file, terminal or network I/O happens here: callers read files and
+//! pass their text, and write what they get back.
+//!
+//! ```
+//! use clapper_app::simulate::{simulate, SimulateRequest};
+//! let req: SimulateRequest = serde_json::from_str(r#"{"preset": "lab", "style": "right"}"#).unwrap();
+//! let sim = simulate(&req, None, None).unwrap();
+//! assert!(sim.report.sustained);
+//! ```
+
+#![warn(missing_docs)]
+
+pub mod diagnosis;
+pub mod listening;
+pub mod simulate;
+
+use clapper_core::bell::ParamError;
+use clapper_core::stroke::SimError;
+
+/// Why a request could not be answered. Every message is one line and
+/// names what is wrong.
+#[derive(Debug, thiserror::Error)]
+pub enum AppError {
+    /// The request itself is inconsistent or out of range.
+    #[error("{0}")]
+    Request(String),
+    /// A bell or ring file (given as text) is not usable.
+    #[error(transparent)]
+    BellFile(#[from] clapper_io::BellFileError),
+    /// A listening-test answer sheet is not usable.
+    #[error(transparent)]
+    Answers(#[from] clapper_io::answers::AnswersError),
+    /// A parameter is out of its physical range.
+    #[error(transparent)]
+    Param(#[from] ParamError),
+    /// The simulation failed numerically.
+    #[error("simulation failed: {0}")]
+    Simulation(#[from] SimError),
+    /// A plot could not be drawn.
+    #[error(transparent)]
+    Plot(#[from] clapper_plot::PlotError),
+    /// Sound could not be synthesised or encoded.
+    #[error("sound: {0}")]
+    Sound(String),
+}
+
+impl AppError {
+    /// Whether the fault lies with the request (bad input) rather than
+    /// with the computation: front ends answer these with "bad request".
+    pub fn is_bad_input(&self) -> bool {
+        matches!(
+            self,
+            AppError::Request(_) | AppError::BellFile(_) | AppError::Answers(_) | AppError::Param(_)
+        )
+    }
+}

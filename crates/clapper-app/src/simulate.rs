@@ -1,0 +1,468 @@
+//! Simulate strokes of one bell: the request behind `clapper simulate`
+//! and `POST /api/simulate`, and its report.
+
+use std::fmt::Write as _;
+
+use clapper_core::prelude::*;
+use clapper_core::stroke::Sample;
+use clapper_io::bell_file::{BellSource, LoadedBell};
+use clapper_io::report::{style_name, BellReport, SimulationReport, SimulationSettings};
+use serde::{Deserialize, Serialize};
+
+use crate::AppError;
+
+/// Trace sampling interval (s) for plots and trace files: fine enough to
+/// show each bounce of the clapper (flights of a few ms), coarse enough
+/// for a small file.
+pub const TRACE_INTERVAL_S: f64 = 5e-4;
+/// Default starting angle θ0 (deg): a bell "fully up", as the paper's charts.
+pub const DEFAULT_THETA0_DEG: f64 = 171.0;
+/// Default energy coefficient of restitution R: the paper's middle value
+/// for a clapper on bronze (Section 3.2 measured 0.1 to 0.35).
+pub const DEFAULT_RESTITUTION: f64 = 0.2;
+/// Default number of strokes: a handstroke and a backstroke.
+pub const DEFAULT_STROKES: usize = 2;
+/// Most strokes one request may ask for; a free-protocol history longer
+/// than this has long since decayed.
+pub const MAX_STROKES: usize = 10_000;
+
+/// The bells of the paper's Table 1.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+pub enum Preset {
+    /// The laboratory bell.
+    Lab,
+    /// The old tenor of Great St Mary's, Cambridge.
+    #[serde(alias = "gsm_tenor")]
+    GsmTenor,
+}
+
+impl Preset {
+    /// The bell, named.
+    pub fn loaded(self) -> LoadedBell {
+        let (name, bell) = match self {
+            Preset::Lab => ("lab bell", Bell::lab()),
+            Preset::GsmTenor => ("GSM tenor", Bell::gsm_tenor()),
+        };
+        LoadedBell {
+            name: name.into(),
+            bell,
+            source: BellSource::MassProperties,
+        }
+    }
+
+    /// The name on the command line and in JSON.
+    pub fn name(self) -> &'static str {
+        match self {
+            Preset::Lab => "lab",
+            Preset::GsmTenor => "gsm-tenor",
+        }
+    }
+}
+
+/// How the clapper starts: `right` (on the trailing side) or `wrong`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+pub enum StyleName {
+    /// Ringing right.
+    #[default]
+    Right,
+    /// Ringing wrong.
+    Wrong,
+}
+
+impl From<StyleName> for Style {
+    fn from(s: StyleName) -> Style {
+        match s {
+            StyleName::Right => Style::Right,
+            StyleName::Wrong => Style::Wrong,
+        }
+    }
+}
+
+/// How one stroke leads to the next.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+pub enum ProtocolName {
+    /// Every stroke starts from rest at ±θ0 (the ringer restores the swing).
+    #[default]
+    Restart,
+    /// Strokes follow one another with no energy input.
+    Free,
+}
+
+impl From<ProtocolName> for Protocol {
+    fn from(p: ProtocolName) -> Protocol {
+        match p {
+            ProtocolName::Restart => Protocol::Restart,
+            ProtocolName::Free => Protocol::Free,
+        }
+    }
+}
+
+/// Contact model.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+pub enum ContactName {
+    /// Rigid impacts with restitution (the default).
+    Impact,
+    /// The paper's contact spring.
+    Penalty,
+}
+
+/// The contact model from a contact name and a stiffness k (N m/rad); a
+/// stiffness alone means the penalty model.
+pub fn contact_model(contact: Option<ContactName>, stiffness: Option<f64>) -> Result<ContactModel, AppError> {
+    Ok(match (contact, stiffness) {
+        (Some(ContactName::Impact), Some(_)) => {
+            return Err(AppError::Request(
+                "stiffness applies to the penalty model; drop it or choose contact penalty".into(),
+            ))
+        }
+        (Some(ContactName::Impact), None) | (None, None) => ContactModel::Impact,
+        (_, k) => ContactModel::Penalty {
+            stiffness: k.unwrap_or(clapper_core::stroke::DEFAULT_STIFFNESS),
+        },
+    })
+}
+
+/// Words for a configuration's contact model, for titles.
+pub fn contact_words(cfg: &SimConfig) -> String {
+    match cfg.contact {
+        ContactModel::Impact => "impact".into(),
+        ContactModel::Penalty { stiffness } => format!("penalty (k = {stiffness:e} N m/rad)"),
+    }
+}
+
+fn default_theta0() -> f64 {
+    DEFAULT_THETA0_DEG
+}
+fn default_restitution() -> f64 {
+    DEFAULT_RESTITUTION
+}
+fn default_strokes() -> usize {
+    DEFAULT_STROKES
+}
+
+/// The options of `clapper simulate`, as data. In JSON the keys are the
+/// long options in snake case (`chart_point`, `phi_max`; the kebab-case
+/// spellings are accepted too) and the bell file is given by its text:
+///
+/// ```json
+/// {"preset": "lab", "style": "wrong", "theta0": 171, "restitution": 0.2}
+/// {"chart_point": [0.45, 1.68], "contact": "penalty", "stiffness": 1e6}
+/// {"bell": "name = \"Tenor\"\nbell_period_s = 2.1\nclapper_period_s = 1.6\n..."}
+/// ```
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SimulateRequest {
+    /// A bell of Table 1. At most one of `preset`, `bell`, `chart_point`;
+    /// none means the lab bell.
+    #[serde(default)]
+    pub preset: Option<Preset>,
+    /// The text of a bell file (TOML): mass properties or tower measurements.
+    #[serde(default)]
+    pub bell: Option<String>,
+    /// A bell built as the paper builds chart points: [r/L_c, L_b/L_c].
+    #[serde(default, alias = "chart-point")]
+    pub chart_point: Option<[f64; 2]>,
+    /// Right or wrong.
+    #[serde(default)]
+    pub style: StyleName,
+    /// Starting angle of the bell at rest (deg, 0 < θ0 < 180).
+    #[serde(default = "default_theta0")]
+    pub theta0: f64,
+    /// Stronge's energy coefficient of restitution R (0 < R ≤ 1).
+    #[serde(default = "default_restitution")]
+    pub restitution: f64,
+    /// Override of the bell's contact angle φ_max (deg, 0 < φ_max < 90).
+    #[serde(default, alias = "phi-max")]
+    pub phi_max: Option<f64>,
+    /// Number of strokes (handstroke, backstroke, ...).
+    #[serde(default = "default_strokes")]
+    pub strokes: usize,
+    /// How one stroke leads to the next.
+    #[serde(default)]
+    pub protocol: ProtocolName,
+    /// Contact model (default impact; a stiffness implies penalty).
+    #[serde(default)]
+    pub contact: Option<ContactName>,
+    /// Contact stiffness k of the penalty model (N m/rad).
+    #[serde(default)]
+    pub stiffness: Option<f64>,
+}
+
+impl Default for SimulateRequest {
+    fn default() -> Self {
+        Self {
+            preset: None,
+            bell: None,
+            chart_point: None,
+            style: StyleName::Right,
+            theta0: DEFAULT_THETA0_DEG,
+            restitution: DEFAULT_RESTITUTION,
+            phi_max: None,
+            strokes: DEFAULT_STROKES,
+            protocol: ProtocolName::Restart,
+            contact: None,
+            stiffness: None,
+        }
+    }
+}
+
+impl SimulateRequest {
+    /// The bell the request names, with any φ_max override applied.
+    /// `file` (a bell file already read by the caller) takes the place of
+    /// the request's own bell source.
+    pub fn bell(&self, file: Option<LoadedBell>) -> Result<LoadedBell, AppError> {
+        let given = [
+            self.preset.is_some(),
+            self.bell.is_some(),
+            self.chart_point.is_some(),
+            file.is_some(),
+        ];
+        if given.iter().filter(|g| **g).count() > 1 {
+            return Err(AppError::Request(
+                "give at most one bell: preset, bell (a bell file's text) or chart_point".into(),
+            ));
+        }
+        let mut loaded = match (file, &self.bell, self.chart_point, self.preset) {
+            (Some(f), ..) => f,
+            (_, Some(text), ..) => clapper_io::parse_bell(text, "bell")?,
+            (_, _, Some([x, y]), _) => LoadedBell {
+                name: format!("chart point ({x}, {y})"),
+                bell: ChartConstruction::default().bell(x, y)?,
+                source: BellSource::MassProperties,
+            },
+            (_, _, _, preset) => preset.unwrap_or(Preset::Lab).loaded(),
+        };
+        if let Some(deg) = self.phi_max {
+            loaded.bell = loaded.bell.with_phi_max(deg.to_radians())?;
+        }
+        Ok(loaded)
+    }
+
+    /// The simulation settings, validated.
+    pub fn config(&self) -> Result<SimConfig, AppError> {
+        let cfg = SimConfig {
+            theta0: self.theta0.to_radians(),
+            restitution: self.restitution,
+            contact: contact_model(self.contact, self.stiffness)?,
+            ..SimConfig::default()
+        };
+        cfg.validate()?;
+        if self.strokes == 0 || self.strokes > MAX_STROKES {
+            return Err(AppError::Request(format!(
+                "strokes {} is out of range: 1 to {MAX_STROKES}",
+                self.strokes
+            )));
+        }
+        Ok(cfg)
+    }
+}
+
+/// A simulation's answer: the report (what `clapper simulate --json`
+/// prints), and the trace when one was asked for.
+#[derive(Clone, Debug)]
+pub struct Simulation {
+    /// The report.
+    pub report: SimulationReport,
+    /// Samples every [`TRACE_INTERVAL_S`] and at every jump; empty unless
+    /// a trace was asked for.
+    pub samples: Vec<Sample>,
+    /// A one-line title for plots of this run.
+    pub title: String,
+    /// φ_max of the bell simulated (deg).
+    pub phi_max_deg: f64,
+    /// Times (s) at which the strokes after the first begin.
+    pub stroke_starts: Vec<f64>,
+    /// Warnings about the bell (unusual but allowed values).
+    pub warnings: Vec<String>,
+}
+
+impl Simulation {
+    /// The paper's Fig 9 for this run, as SVG text (needs a trace).
+    pub fn plot_svg(&self) -> Result<String, AppError> {
+        Ok(clapper_plot::stroke_plot_svg(&self.samples, &self.plot())?)
+    }
+
+    /// What the stroke plot shows besides the trace.
+    pub fn plot(&self) -> clapper_plot::StrokePlot<'_> {
+        clapper_plot::StrokePlot {
+            title: &self.title,
+            phi_max_deg: self.phi_max_deg,
+            stroke_starts: self.stroke_starts.clone(),
+        }
+    }
+}
+
+/// Run the request. `file` is a bell file the caller has read (the
+/// command line's `--bell FILE`); `max_strokes` lowers the stroke limit
+/// (a server's per-request bound); `trace` records samples for plots.
+pub fn simulate(
+    req: &SimulateRequest,
+    file: Option<LoadedBell>,
+    max_strokes: Option<usize>,
+) -> Result<Simulation, AppError> {
+    run(req, file, max_strokes, false)
+}
+
+/// [`simulate`], recording a trace for plots and trace files.
+pub fn simulate_traced(
+    req: &SimulateRequest,
+    file: Option<LoadedBell>,
+    max_strokes: Option<usize>,
+) -> Result<Simulation, AppError> {
+    run(req, file, max_strokes, true)
+}
+
+fn run(
+    req: &SimulateRequest,
+    file: Option<LoadedBell>,
+    max_strokes: Option<usize>,
+    trace: bool,
+) -> Result<Simulation, AppError> {
+    let loaded = req.bell(file)?;
+    let cfg = req.config()?;
+    if let Some(m) = max_strokes {
+        if req.strokes > m {
+            return Err(AppError::Request(format!(
+                "strokes {} is more than this server allows ({m})",
+                req.strokes
+            )));
+        }
+    }
+    let style: Style = req.style.into();
+    let protocol: Protocol = req.protocol.into();
+    let bell = &loaded.bell;
+    let mut recorder = TraceRecorder::new(TRACE_INTERVAL_S);
+    let ringing = if trace {
+        ring(bell, &cfg, style, protocol, req.strokes, &mut recorder)
+    } else {
+        ring(bell, &cfg, style, protocol, req.strokes, &mut ())
+    }?;
+    let title = format!(
+        "{}: ringing {} from {:.0} deg, R = {}, {} contact  (r/L_c = {:.3}, L_b/L_c = {:.3})",
+        loaded.name,
+        style_name(style),
+        req.theta0,
+        req.restitution,
+        contact_words(&cfg),
+        bell.r_over_lc(),
+        bell.lb_over_lc()
+    );
+    let report = SimulationReport::new(
+        BellReport::new(&loaded.name, bell, &loaded.source),
+        SimulationSettings::new(&cfg, protocol, req.strokes),
+        &ringing,
+    );
+    Ok(Simulation {
+        report,
+        samples: recorder.samples,
+        title,
+        phi_max_deg: bell.phi_max.to_degrees(),
+        stroke_starts: ringing.strokes.iter().skip(1).map(|s| s.start.t).collect(),
+        warnings: bell.warnings().iter().map(ToString::to_string).collect(),
+    })
+}
+
+fn opt(v: Option<f64>, digits: usize, unit: &str) -> String {
+    match v {
+        Some(x) => format!("{x:.digits$} {unit}"),
+        None => "none".into(),
+    }
+}
+
+/// The short readable summary `clapper simulate` prints by default.
+pub fn summary(r: &SimulationReport) -> String {
+    let b = &r.bell;
+    let s = &r.settings;
+    let mut o = String::new();
+    let _ = writeln!(o, "bell: {}", b.name);
+    let _ = writeln!(
+        o,
+        "  chart position   r/L_c = {:.3}, L_b/L_c = {:.3}",
+        b.r_over_lc, b.lb_over_lc
+    );
+    let _ = writeln!(
+        o,
+        "  pendulum lengths L_b = {:.3} m, L_c = {:.3} m; periods T_b = {:.3} s, T_c = {:.3} s; phi_max = {:.1} deg",
+        b.lb_m, b.lc_m, b.tb_s, b.tc_s, b.phi_max_deg
+    );
+    if !b.assumed.is_empty() {
+        let _ = writeln!(o, "  assumed (not measured): {}", b.assumed.join(", "));
+    }
+    let stiffness = s
+        .stiffness_n_m_per_rad
+        .map(|k| format!(" (k = {k:e} N m/rad)"))
+        .unwrap_or_default();
+    let _ = writeln!(
+        o,
+        "settings: ringing {} from theta0 = {:.1} deg, R = {}, {} contact{stiffness}, {} protocol",
+        r.style, s.theta0_deg, s.restitution, s.contact, s.protocol
+    );
+    for st in &r.strokes {
+        let kind = if st.number % 2 == 1 { "handstroke" } else { "backstroke" };
+        let _ = writeln!(
+            o,
+            "\nstroke {} ({kind}, {} style, from {:+.1} deg)",
+            st.number, st.style, st.start_theta_deg
+        );
+        let _ = writeln!(o, "  lift-off         {}", opt(st.liftoff_theta_deg, 2, "deg"));
+        match &st.first_strike {
+            Some(f) => {
+                let _ = writeln!(
+                    o,
+                    "  first strike     {:.2} deg, {:.3} s into the stroke, clapper rate {:.3} rad/s",
+                    f.theta_deg, f.t_s, f.phidot_rad_s
+                );
+                match (st.second_strike_delay_ms, st.amplitude_ratio) {
+                    (Some(dt), Some(a)) => {
+                        let _ = writeln!(
+                            o,
+                            "  second impact    {dt:.1} ms later, amplitude ratio {a:.3}; double strike index D = {:.2}",
+                            st.double_strike_index.unwrap_or(0.0)
+                        );
+                    }
+                    _ => {
+                        let _ = writeln!(o, "  second impact    none; double strike index D = 0");
+                    }
+                }
+                let _ = writeln!(
+                    o,
+                    "  bouncing         {} impacts; clapper at rest {}",
+                    st.impacts.len(),
+                    match st.bounce_time_s {
+                        Some(t) => format!("{t:.3} s after the first strike"),
+                        None => "only after the stroke ended".into(),
+                    }
+                );
+            }
+            None => {
+                let _ = writeln!(o, "  first strike     none: the clapper never struck the other side");
+            }
+        }
+        let _ = writeln!(
+            o,
+            "  end              {:.2} deg after {:.3} s ({}), clapper {} on side {:+}; next stroke starts {}",
+            st.end_theta_deg, st.duration_s, st.end_reason, st.end_clapper, st.end_side, st.continues_as
+        );
+    }
+    let _ = writeln!(
+        o,
+        "\nverdict: {}",
+        if r.sustained {
+            format!("the bell sustains ringing {} (first stroke, restart protocol)", r.style)
+        } else {
+            format!(
+                "the bell does not sustain ringing {} (first stroke, restart protocol)",
+                r.style
+            )
+        }
+    );
+    o
+}
