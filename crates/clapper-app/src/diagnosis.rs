@@ -19,6 +19,43 @@ use crate::AppError;
 /// Most bells diagnosed at once: a ring of 64 is beyond any tower.
 pub const MAX_BELLS: usize = 64;
 
+/// Which bells to diagnose, given as data (the server's request): a
+/// preset, or the text of a bell or ring file.
+///
+/// ```json
+/// {"preset": "lab"}
+/// {"toml": "name = \"Tenor\"\nbell_period_s = 2.33\nclapper_period_s = 1.76\nr_m = 0.179\nphi_max_deg = 32\n"}
+/// {"csv": "name,bell_period_s,clapper_period_s,r_m,phi_max_deg\nTreble,1.6,1.3,0.08,26\n"}
+/// ```
+#[derive(Clone, Debug, Default, PartialEq, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DiagnoseRequest {
+    /// A bell of Table 1.
+    #[serde(default)]
+    pub preset: Option<crate::simulate::Preset>,
+    /// A bell file, or several bells as `[[bell]]` tables (TOML text).
+    #[serde(default)]
+    pub toml: Option<String>,
+    /// A ring as CSV text: a header of bell-file keys, one bell a row.
+    #[serde(default)]
+    pub csv: Option<String>,
+}
+
+impl DiagnoseRequest {
+    /// The bells, and words saying where they came from.
+    pub fn bells(&self) -> Result<(Vec<LoadedBell>, String), AppError> {
+        match (&self.toml, &self.csv, self.preset) {
+            (Some(t), None, None) => Ok((clapper_io::parse_bells(t, "bell")?, "bells entered".into())),
+            (None, Some(c), None) => Ok((clapper_io::parse_ring_csv(c)?, "ring file (CSV)".into())),
+            (None, None, p) => {
+                let p = p.unwrap_or(crate::simulate::Preset::Lab);
+                Ok((vec![p.loaded()], format!("preset {}", p.name())))
+            }
+            _ => Err(AppError::Request("give one of preset, toml or csv".into())),
+        }
+    }
+}
+
 #[derive(Serialize)]
 /// Double strike index D at three coefficients of restitution.
 pub struct DByR {

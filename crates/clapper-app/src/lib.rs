@@ -18,6 +18,7 @@
 
 #![warn(missing_docs)]
 
+pub mod chart;
 pub mod diagnosis;
 pub mod listening;
 pub mod simulate;

@@ -5,13 +5,14 @@ use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
-use clapper_core::chart::{sweep, Chart, ChartSpec, Domain, Styles};
+use clapper_core::chart::{sweep, Chart, ChartSpec, Styles};
 use clapper_core::prelude::*;
 use clapper_plot::chart::Marker;
 use clapper_plot::quantity::{self, Quantity};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use clapper_app::simulate::{contact_model, contact_words, ContactName};
+use clapper_app::chart::{ChartRequest, StylesName, DEFAULT_PHI_MAX_DEG};
+use clapper_app::simulate::{contact_words, ContactName, DEFAULT_RESTITUTION, DEFAULT_THETA0_DEG};
 
 use crate::simulate::parse_point;
 
@@ -56,13 +57,6 @@ impl QuantityArg {
     }
 }
 
-#[derive(Clone, Copy, Debug, ValueEnum, PartialEq, Eq)]
-pub enum StylesArg {
-    Right,
-    Wrong,
-    Both,
-}
-
 /// Everything that shapes a chart, shared by `chart` and `figures`.
 #[derive(Args, Debug, Clone)]
 pub struct SweepArgs {
@@ -76,13 +70,13 @@ pub struct SweepArgs {
     #[arg(long, value_name = "A,B", value_parser = parse_point, default_value = "0.5,2.5", allow_hyphen_values = true)]
     pub lb_range: (f64, f64),
     /// Starting angle of the bell (deg).
-    #[arg(long, value_name = "DEG", default_value_t = 171.0, allow_hyphen_values = true)]
+    #[arg(long, value_name = "DEG", default_value_t = DEFAULT_THETA0_DEG, allow_hyphen_values = true)]
     pub theta0: f64,
     /// Coefficient of restitution R.
-    #[arg(long, value_name = "R", default_value_t = 0.2, allow_hyphen_values = true)]
+    #[arg(long, value_name = "R", default_value_t = DEFAULT_RESTITUTION, allow_hyphen_values = true)]
     pub restitution: f64,
     /// Contact angle phi_max of every chart bell (deg).
-    #[arg(long, value_name = "DEG", default_value_t = 26.0, allow_hyphen_values = true)]
+    #[arg(long, value_name = "DEG", default_value_t = DEFAULT_PHI_MAX_DEG, allow_hyphen_values = true)]
     pub phi_max: f64,
     /// Contact model.
     #[arg(long, value_enum)]
@@ -96,30 +90,29 @@ pub struct SweepArgs {
 }
 
 impl SweepArgs {
+    /// The options as the request the web API also takes.
+    pub fn request(&self, styles: StylesName) -> ChartRequest {
+        ChartRequest {
+            grid: [self.grid.0, self.grid.1],
+            r_range: [self.r_range.0, self.r_range.1],
+            lb_range: [self.lb_range.0, self.lb_range.1],
+            theta0: self.theta0,
+            restitution: self.restitution,
+            phi_max: self.phi_max,
+            contact: self.contact,
+            stiffness: self.stiffness,
+            style: styles,
+        }
+    }
+
     /// The chart spec these options describe, for `styles`.
     pub fn spec(&self, styles: Styles) -> Result<ChartSpec> {
-        let construction = ChartConstruction {
-            phi_max: self.phi_max.to_radians(),
-            ..ChartConstruction::default()
+        let name = match styles {
+            Styles::Right => StylesName::Right,
+            Styles::Wrong => StylesName::Wrong,
+            Styles::Both => StylesName::Both,
         };
-        let spec = ChartSpec {
-            domain: Domain {
-                x: self.r_range,
-                y: self.lb_range,
-            },
-            nx: self.grid.0,
-            ny: self.grid.1,
-            construction,
-            config: SimConfig {
-                theta0: self.theta0.to_radians(),
-                restitution: self.restitution,
-                contact: contact_model(self.contact, self.stiffness)?,
-                ..SimConfig::default()
-            },
-            styles,
-        };
-        spec.validate()?;
-        Ok(spec)
+        Ok(self.request(name).spec()?)
     }
 
     /// A thread pool of the requested size.
@@ -174,7 +167,7 @@ pub struct ChartArgs {
     pub quantity: QuantityArg,
     /// Which styles to compute and show (style maps need both).
     #[arg(long, value_enum, default_value = "both")]
-    pub style: StylesArg,
+    pub style: StylesName,
     /// Write every point and style as long-form CSV.
     #[arg(long, value_name = "FILE.csv")]
     pub csv: Option<PathBuf>,
@@ -202,11 +195,7 @@ pub fn draw(path: &Path, fig: &clapper_plot::ChartFigure) -> Result<()> {
 
 pub fn run(args: ChartArgs) -> Result<()> {
     let quantity = args.quantity.quantity();
-    let styles = match args.style {
-        StylesArg::Right => Styles::Right,
-        StylesArg::Wrong => Styles::Wrong,
-        StylesArg::Both => Styles::Both,
-    };
+    let styles: Styles = args.style.into();
     if quantity == Quantity::Style && styles != Styles::Both {
         bail!("--quantity style needs --style both (it shows where each style is sustained)");
     }

@@ -6,6 +6,7 @@ mod figures;
 mod files;
 mod listening;
 mod measure;
+mod serve;
 mod simulate;
 mod sound;
 
@@ -55,6 +56,9 @@ enum Command {
     /// The double-strike listening test (Section 4.3): make stimuli and
     /// answer sheets, or analyse the answers.
     ListeningTest(listening::ListeningArgs),
+    /// The web application: chart explorer, diagnosis and listening test in
+    /// a browser, with a JSON API, on a local port.
+    Serve(serve::ServeArgs),
 }
 
 /// Die quietly on a closed pipe (`clapper chart | head`), as Unix tools
@@ -104,6 +108,7 @@ fn main() {
         Command::Impulse(args) => measure::impulse(args),
         Command::Synth(args) => sound::run(args),
         Command::ListeningTest(args) => listening::run(args),
+        Command::Serve(args) => serve::run(args),
     };
     if let Err(e) = result {
         eprintln!("error: {e:#}");

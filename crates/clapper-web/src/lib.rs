@@ -1,1 +1,128 @@
+//! # clapper-web
+//!
+//! The browser front end of clapper: a local HTTP server (axum) that
+//! serves one self-contained page (the chart explorer, bell diagnosis and
+//! the listening test; its HTML, script and style are compiled into the
+//! binary, nothing is fetched at run time) and the JSON API behind it.
+//! The API is described at `/api` on a running server and in
+//! `docs/api.md`.
+//!
+//! Every request is bounded: a body size, a grid size, a stroke count, a
+//! penalty stiffness, a number of computations at once and a time limit
+//! per computation ([`Limits`]). A request beyond a bound gets a 4xx (or
+//! 503 when the server is busy) with a one-line JSON message, never a
+//! crash; computations run on blocking threads so that the server keeps
+//! answering while they work.
+//!
+//! ```no_run
+//! # async fn demo() -> std::io::Result<()> {
+//! let listener = tokio::net::TcpListener::bind("127.0.0.1:8080").await?;
+//! clapper_web::serve(listener, clapper_web::Limits::default(), std::future::pending()).await
+//! # }
+//! ```
 
+#![warn(missing_docs)]
+
+mod api;
+mod assets;
+mod error;
+mod jobs;
+
+use std::future::Future;
+use std::sync::Arc;
+use std::time::Duration;
+
+use axum::extract::DefaultBodyLimit;
+use axum::routing::{get, post};
+use axum::Router;
+
+pub use error::ApiError;
+
+/// Per-request bounds of the server. The defaults keep one request of
+/// each kind under a few seconds on a two-core machine and the server's
+/// memory under a few hundred MB whatever is asked.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits {
+    /// Largest request body (bytes). Default 1 MiB: a ring file of 64
+    /// bells or 100 listeners' answers is a few tens of kB.
+    pub max_body_bytes: usize,
+    /// Most chart points (nx × ny) in one chart request. Default 40,000
+    /// (200 × 200): 80,000 strokes, about 3 s on two cores; larger charts
+    /// belong to `clapper chart`.
+    pub max_chart_points: usize,
+    /// Most strokes in one simulation. Default 100.
+    pub max_strokes: usize,
+    /// Largest penalty stiffness k (N m/rad). Default 1e9: stiffer springs
+    /// need ever smaller steps and add nothing over the impact model.
+    pub max_stiffness: f64,
+    /// Computations running at once; further requests wait. Default 4.
+    pub max_jobs: usize,
+    /// How long a request waits for a free computation slot before it is
+    /// answered 503 "busy". Default 20 s.
+    pub queue_wait: Duration,
+    /// Time limit of one computation. Default 60 s: a chart stops
+    /// streaming and says so; other requests are answered 503.
+    pub job_time: Duration,
+}
+
+impl Default for Limits {
+    fn default() -> Self {
+        Self {
+            max_body_bytes: 1 << 20,
+            max_chart_points: 40_000,
+            max_strokes: 100,
+            max_stiffness: 1e9,
+            max_jobs: 4,
+            queue_wait: Duration::from_secs(20),
+            job_time: Duration::from_secs(60),
+        }
+    }
+}
+
+/// What every handler shares.
+#[derive(Clone)]
+pub(crate) struct AppState {
+    pub limits: Limits,
+    pub jobs: jobs::Jobs,
+    pub stimuli: Arc<tokio::sync::OnceCell<Arc<api::Stimuli>>>,
+}
+
+/// The application: every route of the page and the API.
+pub fn router(limits: Limits) -> Router {
+    let state = AppState {
+        limits,
+        jobs: jobs::Jobs::new(limits),
+        stimuli: Arc::new(tokio::sync::OnceCell::new()),
+    };
+    Router::new()
+        .route("/", get(assets::index))
+        .route("/app.js", get(assets::script))
+        .route("/app.css", get(assets::style))
+        .route("/api", get(assets::api_page))
+        .route("/api/health", get(api::health))
+        .route("/api/presets", get(api::presets))
+        .route("/api/simulate", post(api::simulate))
+        .route("/api/stroke", post(api::stroke))
+        .route("/api/chart", post(api::chart))
+        .route("/api/diagnose", post(api::diagnose))
+        .route("/api/diagnose/report", post(api::diagnose_report))
+        .route("/api/listening/sheet", get(api::listening_sheet))
+        .route("/api/listening/stimulus/{name}", get(api::listening_stimulus))
+        .route("/api/listening/parse", post(api::listening_parse))
+        .route("/api/listening/analyse", post(api::listening_analyse))
+        .fallback(error::not_found)
+        .method_not_allowed_fallback(error::method_not_allowed)
+        .layer(DefaultBodyLimit::max(limits.max_body_bytes))
+        .with_state(state)
+}
+
+/// Serve the application on `listener` until `shutdown` completes.
+pub async fn serve(
+    listener: tokio::net::TcpListener,
+    limits: Limits,
+    shutdown: impl Future<Output = ()> + Send + 'static,
+) -> std::io::Result<()> {
+    axum::serve(listener, router(limits))
+        .with_graceful_shutdown(shutdown)
+        .await
+}

@@ -1,0 +1,158 @@
+//! A clapping chart request: the options of `clapper chart` that shape a
+//! sweep, as data, for the command line and `POST /api/chart`.
+
+use clapper_core::chart::{ChartSpec, Domain, Styles};
+use clapper_core::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use crate::simulate::{contact_model, ContactName, DEFAULT_RESTITUTION, DEFAULT_THETA0_DEG};
+use crate::AppError;
+
+/// Default grid: the paper's 20 x 20.
+pub const DEFAULT_GRID: [usize; 2] = [20, 20];
+/// Default range of r/L_c: the paper's charts.
+pub const DEFAULT_R_RANGE: [f64; 2] = [-0.3, 0.7];
+/// Default range of L_b/L_c: the paper's charts.
+pub const DEFAULT_LB_RANGE: [f64; 2] = [0.5, 2.5];
+/// Default contact angle of every chart bell (deg): the paper's 26 deg.
+pub const DEFAULT_PHI_MAX_DEG: f64 = 26.0;
+
+/// Which styles a chart computes.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+pub enum StylesName {
+    /// Ringing right only.
+    Right,
+    /// Ringing wrong only.
+    Wrong,
+    /// Both (needed to show which styles are sustained).
+    #[default]
+    Both,
+}
+
+impl From<StylesName> for Styles {
+    fn from(s: StylesName) -> Styles {
+        match s {
+            StylesName::Right => Styles::Right,
+            StylesName::Wrong => Styles::Wrong,
+            StylesName::Both => Styles::Both,
+        }
+    }
+}
+
+fn grid() -> [usize; 2] {
+    DEFAULT_GRID
+}
+fn r_range() -> [f64; 2] {
+    DEFAULT_R_RANGE
+}
+fn lb_range() -> [f64; 2] {
+    DEFAULT_LB_RANGE
+}
+fn theta0() -> f64 {
+    DEFAULT_THETA0_DEG
+}
+fn restitution() -> f64 {
+    DEFAULT_RESTITUTION
+}
+fn phi_max() -> f64 {
+    DEFAULT_PHI_MAX_DEG
+}
+
+/// Everything that shapes a chart. JSON keys as the long options of
+/// `clapper chart`, in snake case; ranges and the grid as pairs:
+///
+/// ```
+/// use clapper_app::chart::ChartRequest;
+/// let req: ChartRequest = serde_json::from_str(r#"{"grid": [40, 30], "theta0": 90}"#).unwrap();
+/// let spec = req.spec().unwrap();
+/// assert_eq!((spec.nx, spec.ny), (40, 30));
+/// ```
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ChartRequest {
+    /// Points along r/L_c and along L_b/L_c.
+    #[serde(default = "grid")]
+    pub grid: [usize; 2],
+    /// Range of r/L_c swept.
+    #[serde(default = "r_range", alias = "r-range")]
+    pub r_range: [f64; 2],
+    /// Range of L_b/L_c swept.
+    #[serde(default = "lb_range", alias = "lb-range")]
+    pub lb_range: [f64; 2],
+    /// Starting angle of the bell (deg).
+    #[serde(default = "theta0")]
+    pub theta0: f64,
+    /// Coefficient of restitution R.
+    #[serde(default = "restitution")]
+    pub restitution: f64,
+    /// Contact angle φ_max of every chart bell (deg).
+    #[serde(default = "phi_max", alias = "phi-max")]
+    pub phi_max: f64,
+    /// Contact model (default impact; a stiffness implies penalty).
+    #[serde(default)]
+    pub contact: Option<ContactName>,
+    /// Penalty stiffness k (N m/rad).
+    #[serde(default)]
+    pub stiffness: Option<f64>,
+    /// Which styles.
+    #[serde(default)]
+    pub style: StylesName,
+}
+
+impl Default for ChartRequest {
+    fn default() -> Self {
+        serde_json::from_str("{}").expect("every field has a default")
+    }
+}
+
+impl ChartRequest {
+    /// The chart spec, validated.
+    pub fn spec(&self) -> Result<ChartSpec, AppError> {
+        let spec = ChartSpec {
+            domain: Domain {
+                x: (self.r_range[0], self.r_range[1]),
+                y: (self.lb_range[0], self.lb_range[1]),
+            },
+            nx: self.grid[0],
+            ny: self.grid[1],
+            construction: ChartConstruction {
+                phi_max: self.phi_max.to_radians(),
+                ..ChartConstruction::default()
+            },
+            config: SimConfig {
+                theta0: self.theta0.to_radians(),
+                restitution: self.restitution,
+                contact: contact_model(self.contact, self.stiffness)?,
+                ..SimConfig::default()
+            },
+            styles: self.style.into(),
+        };
+        spec.validate()?;
+        Ok(spec)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn defaults_are_the_papers_chart() {
+        let spec = ChartRequest::default().spec().unwrap();
+        assert_eq!(spec, ChartSpec::default());
+    }
+
+    #[test]
+    fn bad_requests_name_the_field() {
+        let r = ChartRequest {
+            grid: [1000, 1000],
+            lb_range: [-1.0, 2.0],
+            ..ChartRequest::default()
+        };
+        assert!(r.spec().unwrap_err().to_string().contains("lb_over_lc"));
+        let e = serde_json::from_str::<ChartRequest>(r#"{"gird": [3, 3]}"#).unwrap_err();
+        assert!(e.to_string().contains("gird"));
+    }
+}

@@ -1,0 +1,121 @@
+//! `clapper serve` through the built binary and a socket.
+
+mod common;
+
+use std::io::{BufRead, BufReader, Read, Write};
+use std::net::TcpStream;
+use std::process::{Child, Command, Stdio};
+
+use common::json;
+
+struct Server {
+    child: Child,
+    addr: String,
+}
+
+impl Server {
+    fn start() -> Self {
+        let mut child = Command::new(assert_cmd::cargo::cargo_bin("clapper"))
+            .args(["serve", "--port", "0"])
+            .stdout(Stdio::piped())
+            .spawn()
+            .unwrap();
+        let mut line = String::new();
+        BufReader::new(child.stdout.take().unwrap())
+            .read_line(&mut line)
+            .unwrap();
+        let addr = line
+            .split("http://")
+            .nth(1)
+            .and_then(|r| r.split('/').next())
+            .unwrap_or_else(|| panic!("no address in {line:?}"))
+            .to_string();
+        Server { child, addr }
+    }
+
+    /// One HTTP/1.1 request; the status and the body.
+    fn request(&self, method: &str, path: &str, body: &str) -> (u16, String) {
+        let mut s = TcpStream::connect(&self.addr).unwrap();
+        write!(
+            s,
+            "{method} {path} HTTP/1.1\r\nHost: {}\r\nContent-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+            self.addr,
+            body.len()
+        )
+        .unwrap();
+        let mut text = String::new();
+        s.read_to_string(&mut text).unwrap();
+        let status = text[9..12].parse().unwrap();
+        let body = text.split_once("\r\n\r\n").map(|x| x.1.to_string()).unwrap_or_default();
+        (status, body)
+    }
+}
+
+impl Drop for Server {
+    fn drop(&mut self) {
+        let _ = self.child.kill();
+        let _ = self.child.wait();
+    }
+}
+
+#[test]
+fn api_simulate_answers_what_simulate_json_prints() {
+    let server = Server::start();
+    for (body, args) in [
+        (
+            r#"{"preset": "lab", "style": "right"}"#,
+            vec!["simulate", "--preset", "lab", "--style", "right"],
+        ),
+        (
+            r#"{"chart_point": [0.1, 1.2], "style": "wrong", "theta0": 150, "restitution": 0.3, "strokes": 3}"#,
+            vec![
+                "simulate",
+                "--chart-point",
+                "0.1,1.2",
+                "--style",
+                "wrong",
+                "--theta0",
+                "150",
+                "--restitution",
+                "0.3",
+                "--strokes",
+                "3",
+            ],
+        ),
+        (
+            r#"{"preset": "gsm-tenor", "contact": "penalty", "stiffness": 1e6, "protocol": "free"}"#,
+            vec![
+                "simulate",
+                "--preset",
+                "gsm-tenor",
+                "--stiffness",
+                "1e6",
+                "--protocol",
+                "free",
+            ],
+        ),
+    ] {
+        let (status, got) = server.request("POST", "/api/simulate", body);
+        assert_eq!(status, 200, "{body}: {got}");
+        let got: serde_json::Value = serde_json::from_str(&got).unwrap();
+        assert_eq!(got, json(&args), "{body}");
+    }
+}
+
+#[test]
+fn bad_requests_do_not_stop_the_server() {
+    let server = Server::start();
+    for (method, path, body, code) in [
+        ("POST", "/api/simulate", "{not json", 400),
+        ("POST", "/api/chart", r#"{"grid": [1000, 1000]}"#, 400),
+        ("POST", "/api/simulate", r#"{"bell": "bell_mass_kg = -1"}"#, 400),
+        ("GET", "/no/such/route", "", 404),
+    ] {
+        let (status, text) = server.request(method, path, body);
+        assert_eq!(status, code, "{method} {path}: {text}");
+        let v: serde_json::Value = serde_json::from_str(&text).unwrap();
+        assert!(!v["error"].as_str().unwrap().is_empty());
+    }
+    let (status, _) = server.request("GET", "/api/health", "");
+    assert_eq!(status, 200);
+}

@@ -1,0 +1,604 @@
+// clapper's page: chart explorer, bell diagnosis, listening test.
+// Plain JavaScript, no libraries: everything the page needs is served by
+// `clapper serve` itself.
+"use strict";
+
+const $ = (id) => document.getElementById(id);
+const fmt = (v, d) => (v === null || v === undefined || !Number.isFinite(v) ? "–" : v.toFixed(d));
+const esc = (s) => String(s).replace(/[&<>"]/g, (c) => ({ "&": "&amp;", "<": "&lt;", ">": "&gt;", '"': "&quot;" })[c]);
+
+async function postJson(url, body) {
+  const res = await fetch(url, { method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(body) });
+  if (!res.ok) {
+    let msg = res.statusText;
+    try { msg = (await res.json()).error; } catch (_) { /* not JSON */ }
+    throw new Error(msg);
+  }
+  return res;
+}
+
+function showError(el, e) {
+  el.textContent = String(e.message || e);
+  el.classList.add("error");
+}
+function showStatus(el, text) {
+  el.textContent = text;
+  el.classList.remove("error");
+}
+
+// ---------- tabs ----------
+for (const b of document.querySelectorAll("button.tab")) {
+  b.addEventListener("click", () => selectTab(b.dataset.tab));
+}
+function selectTab(name) {
+  for (const b of document.querySelectorAll("button.tab")) b.classList.toggle("active", b.dataset.tab === name);
+  for (const s of document.querySelectorAll("section.panel")) s.hidden = s.id !== "tab-" + name;
+  if (name === "chart" && !chart.cells && !chart.running) drawChart();
+}
+
+// ---------- chart explorer ----------
+const PLOT = { left: 62, right: 12, top: 12, bottom: 48 };
+const QUANTITIES = {
+  style: { label: "styles sustained", index: null },
+  strike: { label: "first strike angle θ (deg)", index: 1, digits: 1 },
+  phidot: { label: "strike velocity φ' (rad/s)", index: 2, digits: 2 },
+  liftoff: { label: "lift-off angle θ (deg)", index: 3, digits: 1 },
+  d: { label: "double strike index D (scale cut at 60)", index: 4, digits: 2, cap: 60 },
+};
+const STYLE_COLOURS = { neither: "#ffffff", right: "#3182bd", wrong: "#e6550d", both: "#74c476", failed: "#999999" };
+const chart = { cells: null, spec: null, running: false, markers: [], controller: null };
+
+// Viridis, by eleven stops.
+const VIRIDIS = [[68, 1, 84], [72, 36, 117], [65, 68, 135], [53, 95, 141], [42, 120, 142], [33, 145, 140], [34, 168, 132], [68, 190, 112], [122, 209, 81], [189, 223, 38], [253, 231, 37]];
+function viridis(t) {
+  t = Math.min(1, Math.max(0, t)) * (VIRIDIS.length - 1);
+  const i = Math.min(VIRIDIS.length - 2, Math.floor(t));
+  const f = t - i;
+  const c = VIRIDIS[i].map((a, k) => Math.round(a + f * (VIRIDIS[i + 1][k] - a)));
+  return `rgb(${c[0]},${c[1]},${c[2]})`;
+}
+
+function num(id) {
+  const v = Number($(id).value);
+  return v;
+}
+
+function chartRequest() {
+  const req = {
+    grid: [num("nx"), num("ny")],
+    r_range: [num("r-lo"), num("r-hi")],
+    lb_range: [num("lb-lo"), num("lb-hi")],
+    theta0: num("theta0"),
+    restitution: num("restitution"),
+    phi_max: num("phi-max"),
+    style: "both",
+  };
+  if ($("contact").value === "penalty") { req.contact = "penalty"; req.stiffness = num("stiffness"); }
+  return req;
+}
+
+async function drawChart() {
+  if (chart.controller) chart.controller.abort();
+  const controller = new AbortController();
+  chart.controller = controller;
+  chart.running = true;
+  const status = $("chart-status");
+  showStatus(status, "Starting the sweep…");
+  const req = chartRequest();
+  const t0 = performance.now();
+  try {
+    const res = await fetch("/api/chart", {
+      method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(req), signal: controller.signal,
+    });
+    if (!res.ok) {
+      let msg = res.statusText;
+      try { msg = (await res.json()).error; } catch (_) { /* not JSON */ }
+      throw new Error(msg);
+    }
+    chart.request = req;
+    const reader = res.body.getReader();
+    const decoder = new TextDecoder();
+    let buf = "";
+    for (;;) {
+      const { value, done } = await reader.read();
+      if (done) break;
+      buf += decoder.decode(value, { stream: true });
+      let nl;
+      while ((nl = buf.indexOf("\n")) >= 0) {
+        const line = buf.slice(0, nl);
+        buf = buf.slice(nl + 1);
+        if (line.trim()) onChartLine(JSON.parse(line), status, t0);
+      }
+    }
+  } catch (e) {
+    if (e.name !== "AbortError") showError(status, e);
+  } finally {
+    if (chart.controller === controller) { chart.running = false; chart.controller = null; }
+  }
+}
+
+function onChartLine(msg, status, t0) {
+  if (msg.type === "start") {
+    chart.spec = msg;
+    chart.cells = new Array(msg.total).fill(null);
+    chart.filled = 0;
+    renderChart();
+  } else if (msg.type === "cells") {
+    msg.cells.forEach((c, k) => { chart.cells[msg.start + k] = c; });
+    chart.filled += msg.cells.length;
+    showStatus(status, `Sweeping: ${chart.filled} of ${chart.spec.total} strokes…`);
+    renderChart();
+  } else if (msg.type === "done") {
+    const secs = (performance.now() - t0) / 1000;
+    showStatus(status, `${msg.strokes} strokes in ${secs.toFixed(2)} s` + (msg.errors ? `, ${msg.errors} failed (grey)` : "") +
+      ". Hover for values; click a point to see its stroke.");
+    $("chart-box").dataset.done = "1";
+  } else if (msg.type === "error") {
+    showError(status, msg.message);
+  }
+}
+
+function cellAt(i, j, style) {
+  const s = chart.spec;
+  const k = s.styles.indexOf(style);
+  if (k < 0) return null;
+  return chart.cells[(j * s.nx + i) * s.styles.length + k];
+}
+
+function plotArea() {
+  const c = $("chart-canvas");
+  return { x: PLOT.left, y: PLOT.top, w: c.width - PLOT.left - PLOT.right, h: c.height - PLOT.top - PLOT.bottom };
+}
+
+function edges(axis) {
+  // Cell edges halfway between grid points.
+  const n = axis.length;
+  if (n === 1) return [axis[0] - 0.5, axis[0] + 0.5];
+  const out = [axis[0] - (axis[1] - axis[0]) / 2];
+  for (let i = 0; i < n - 1; i++) out.push((axis[i] + axis[i + 1]) / 2);
+  out.push(axis[n - 1] + (axis[n - 1] - axis[n - 2]) / 2);
+  return out;
+}
+
+function valueRange(q, style) {
+  let lo = Infinity, hi = -Infinity;
+  const qi = QUANTITIES[q];
+  for (let j = 0; j < chart.spec.ny; j++) for (let i = 0; i < chart.spec.nx; i++) {
+    const c = cellAt(i, j, style);
+    if (!c || c[0] !== 1) continue;
+    let v = c[qi.index];
+    if (v === null) continue;
+    if (qi.cap) v = Math.min(v, qi.cap);
+    lo = Math.min(lo, v); hi = Math.max(hi, v);
+  }
+  if (!Number.isFinite(lo)) return [0, 1];
+  if (qi.cap) lo = 0;
+  if (hi - lo < 1e-9) hi = lo + 1;
+  return [lo, hi];
+}
+
+function cellColour(i, j, q, style, range) {
+  if (q === "style") {
+    const r = cellAt(i, j, "right"), w = cellAt(i, j, "wrong");
+    if (!r && !w) return null;
+    if ((r && r[0] < 0) || (w && w[0] < 0)) return STYLE_COLOURS.failed;
+    const rs = r && r[0] === 1, ws = w && w[0] === 1;
+    return rs && ws ? STYLE_COLOURS.both : rs ? STYLE_COLOURS.right : ws ? STYLE_COLOURS.wrong : STYLE_COLOURS.neither;
+  }
+  const c = cellAt(i, j, style);
+  if (!c) return null;
+  if (c[0] < 0) return STYLE_COLOURS.failed;
+  if (c[0] !== 1) return "#ffffff";
+  const qi = QUANTITIES[q];
+  let v = c[qi.index];
+  if (v === null) return "#ffffff";
+  if (qi.cap) v = Math.min(v, qi.cap);
+  return viridis((v - range[0]) / (range[1] - range[0]));
+}
+
+function toPx(x, y) {
+  const a = plotArea(), s = chart.spec;
+  const xe = edges(s.xs), ye = edges(s.ys);
+  const [x0, x1, y0, y1] = [xe[0], xe[xe.length - 1], ye[0], ye[ye.length - 1]];
+  return [a.x + (x - x0) / (x1 - x0) * a.w, a.y + a.h - (y - y0) / (y1 - y0) * a.h];
+}
+
+function renderChart() {
+  const c = $("chart-canvas"), g = c.getContext("2d"), s = chart.spec;
+  if (!s) return;
+  const q = $("quantity").value, style = $("show-style").value;
+  const a = plotArea();
+  g.fillStyle = "#fff"; g.fillRect(0, 0, c.width, c.height);
+  const xe = edges(s.xs), ye = edges(s.ys);
+  const range = q === "style" ? null : valueRange(q, style);
+  for (let j = 0; j < s.ny; j++) for (let i = 0; i < s.nx; i++) {
+    const col = cellColour(i, j, q, style, range);
+    if (!col) continue;
+    const [px0, py1] = toPx(xe[i], ye[j]);
+    const [px1, py0] = toPx(xe[i + 1], ye[j + 1]);
+    g.fillStyle = col;
+    g.fillRect(px0, py0, px1 - px0 + 0.6, py1 - py0 + 0.6);
+  }
+  // Axes, ticks, labels.
+  g.strokeStyle = "#333"; g.lineWidth = 1; g.strokeRect(a.x, a.y, a.w, a.h);
+  g.fillStyle = "#222"; g.font = "12px sans-serif"; g.textAlign = "center";
+  for (const t of ticks(xe[0], xe[xe.length - 1])) {
+    const [px] = toPx(t, ye[0]);
+    g.beginPath(); g.moveTo(px, a.y + a.h); g.lineTo(px, a.y + a.h + 5); g.stroke();
+    g.fillText(+t.toFixed(3), px, a.y + a.h + 18);
+  }
+  g.fillText("r / L_c  (clapper pivot offset over clapper length)", a.x + a.w / 2, a.y + a.h + 40);
+  g.textAlign = "right";
+  for (const t of ticks(ye[0], ye[ye.length - 1])) {
+    const [, py] = toPx(xe[0], t);
+    g.beginPath(); g.moveTo(a.x - 5, py); g.lineTo(a.x, py); g.stroke();
+    g.fillText(+t.toFixed(3), a.x - 8, py + 4);
+  }
+  g.save(); g.translate(16, a.y + a.h / 2); g.rotate(-Math.PI / 2); g.textAlign = "center";
+  g.fillText("L_b / L_c  (bell over clapper pendulum length)", 0, 0); g.restore();
+  renderScale(q, range);
+  renderMarkers();
+}
+
+function ticks(lo, hi) {
+  const span = hi - lo, raw = span / 6, p = Math.pow(10, Math.floor(Math.log10(raw)));
+  const step = [1, 2, 5, 10].map((m) => m * p).find((s) => span / s <= 7);
+  const out = [];
+  for (let t = Math.ceil(lo / step) * step; t <= hi + 1e-9; t += step) out.push(Math.abs(t) < 1e-12 ? 0 : t);
+  return out;
+}
+
+function renderScale(q, range) {
+  const c = $("colourbar"), g = c.getContext("2d");
+  g.clearRect(0, 0, c.width, c.height);
+  g.font = "12px sans-serif"; g.fillStyle = "#222";
+  if (q === "style") {
+    const items = [["right only", STYLE_COLOURS.right], ["wrong only", STYLE_COLOURS.wrong], ["right and wrong", STYLE_COLOURS.both], ["neither", STYLE_COLOURS.neither], ["failed", STYLE_COLOURS.failed]];
+    g.fillText("styles sustained", 4, PLOT.top + 10);
+    items.forEach(([label, col], k) => {
+      const y = PLOT.top + 24 + k * 24;
+      g.fillStyle = col; g.fillRect(4, y, 18, 16); g.strokeStyle = "#333"; g.strokeRect(4, y, 18, 16);
+      g.fillStyle = "#222"; g.fillText(label, 28, y + 12);
+    });
+    return;
+  }
+  const a = plotArea(), x = 8, w = 22;
+  for (let k = 0; k < a.h; k++) {
+    g.fillStyle = viridis(1 - k / a.h);
+    g.fillRect(x, a.y + k, w, 1.5);
+  }
+  g.strokeStyle = "#333"; g.strokeRect(x, a.y, w, a.h);
+  g.fillStyle = "#222";
+  for (const t of ticks(range[0], range[1])) {
+    const y = a.y + a.h - (t - range[0]) / (range[1] - range[0]) * a.h;
+    g.fillText(+t.toFixed(3), x + w + 5, y + 4);
+  }
+  g.save(); g.translate(c.width - 8, a.y + a.h / 2); g.rotate(-Math.PI / 2); g.textAlign = "center";
+  g.fillText(QUANTITIES[q].label + ", " + $("show-style").value, 0, 0); g.restore();
+}
+
+function renderMarkers() {
+  const box = $("markers");
+  box.innerHTML = "";
+  if (!chart.spec) return;
+  const a = plotArea();
+  for (const m of chart.markers) {
+    const [px, py] = toPx(m.x, m.y);
+    if (px < a.x || px > a.x + a.w || py < a.y || py > a.y + a.h) continue;
+    const d = document.createElement("div");
+    d.className = "marker";
+    d.style.left = px + 1 + "px"; d.style.top = py + 1 + "px";
+    d.title = `${m.label}: r/L_c = ${m.x.toFixed(3)}, L_b/L_c = ${m.y.toFixed(3)}`;
+    d.innerHTML = `<span>${esc(m.label)}</span>`;
+    box.appendChild(d);
+  }
+}
+
+function pointAt(ev) {
+  const s = chart.spec;
+  if (!s) return null;
+  const rect = $("chart-canvas").getBoundingClientRect();
+  const px = ev.clientX - rect.left, py = ev.clientY - rect.top;
+  const a = plotArea();
+  if (px < a.x || px > a.x + a.w || py < a.y || py > a.y + a.h) return null;
+  const i = Math.min(s.nx - 1, Math.floor((px - a.x) / a.w * s.nx));
+  const j = Math.min(s.ny - 1, Math.floor((a.y + a.h - py) / a.h * s.ny));
+  return { i, j, x: s.xs[i], y: s.ys[j], px, py };
+}
+
+function describeCell(c) {
+  if (!c) return "not computed yet";
+  if (c[0] < 0) return "failed to simulate";
+  const parts = [c[0] === 1 ? "sustained" : "not sustained"];
+  if (c[1] !== null) parts.push(`strike ${fmt(c[1], 1)} deg`);
+  if (c[2] !== null) parts.push(`φ' ${fmt(c[2], 2)} rad/s`);
+  if (c[3] !== null) parts.push(`lift-off ${fmt(c[3], 1)} deg`);
+  if (c[4] !== null) parts.push(`D ${fmt(c[4], 2)}`);
+  return parts.join(", ");
+}
+
+$("chart-canvas").addEventListener("mousemove", (ev) => {
+  const p = pointAt(ev), tip = $("tooltip");
+  if (!p) { tip.hidden = true; return; }
+  const lines = [`r/L_c = ${p.x.toFixed(3)}, L_b/L_c = ${p.y.toFixed(3)}`];
+  for (const st of chart.spec.styles) lines.push(`${st}: ${describeCell(cellAt(p.i, p.j, st))}`);
+  tip.textContent = lines.join("\n");
+  tip.hidden = false;
+  tip.style.left = Math.min(p.px + 14, 330) + "px";
+  tip.style.top = p.py + 14 + "px";
+});
+$("chart-canvas").addEventListener("mouseleave", () => { $("tooltip").hidden = true; });
+$("chart-canvas").addEventListener("click", (ev) => {
+  const p = pointAt(ev);
+  if (p) showStroke(p);
+});
+
+async function showStroke(p) {
+  const q = $("quantity").value;
+  let style = $("show-style").value;
+  if (q === "style") {
+    const r = cellAt(p.i, p.j, "right"), w = cellAt(p.i, p.j, "wrong");
+    style = r && r[0] === 1 ? "right" : w && w[0] === 1 ? "wrong" : "right";
+  }
+  const req = chart.request || chartRequest();
+  const body = { chart_point: [p.x, p.y], style, theta0: req.theta0, restitution: req.restitution, phi_max: req.phi_max, strokes: 2 };
+  if (req.contact) { body.contact = req.contact; body.stiffness = req.stiffness; }
+  const panel = $("stroke-panel");
+  panel.hidden = false;
+  $("stroke-title").textContent = `Stroke at r/L_c = ${p.x.toFixed(3)}, L_b/L_c = ${p.y.toFixed(3)}, ringing ${style}: simulating…`;
+  try {
+    const res = await (await postJson("/api/stroke", body)).json();
+    $("stroke-title").textContent = `Stroke at r/L_c = ${p.x.toFixed(3)}, L_b/L_c = ${p.y.toFixed(3)}, ringing ${style}`;
+    $("stroke-numbers").innerHTML = strokeTable(res.report);
+    $("stroke-plot").innerHTML = res.plot_svg;
+  } catch (e) {
+    $("stroke-title").textContent = "Stroke: " + e.message;
+  }
+}
+
+function strokeTable(r) {
+  let h = `<p><b>The bell ${r.sustained ? "sustains" : "does not sustain"} ringing ${esc(r.style)}</b> · T<sub>b</sub> = ${fmt(r.bell.tb_s, 3)} s, T<sub>c</sub> = ${fmt(r.bell.tc_s, 3)} s, φ<sub>max</sub> = ${fmt(r.bell.phi_max_deg, 1)} deg</p>`;
+  h += "<table><tr><th>stroke</th><th>style</th><th>lift-off (deg)</th><th>first strike θ (deg)</th><th>at (s)</th><th>φ' (rad/s)</th><th>2nd impact after (ms)</th><th>amplitude ratio</th><th>D</th><th>impacts</th><th>sustained</th></tr>";
+  for (const s of r.strokes) {
+    const f = s.first_strike || {};
+    h += `<tr><td>${s.number} (${s.number % 2 ? "hand" : "back"})</td><td>${esc(s.style)}</td><td>${fmt(s.liftoff_theta_deg, 1)}</td><td>${fmt(f.theta_deg, 1)}</td><td>${fmt(f.t_s, 3)}</td><td>${fmt(f.phidot_rad_s, 2)}</td><td>${fmt(s.second_strike_delay_ms, 1)}</td><td>${fmt(s.amplitude_ratio, 3)}</td><td>${fmt(s.double_strike_index, 2)}</td><td>${s.impacts.length}</td><td>${s.sustained ? "yes" : "no"}</td></tr>`;
+  }
+  return h + "</table>";
+}
+
+$("draw-chart").addEventListener("click", drawChart);
+$("quantity").addEventListener("change", renderChart);
+$("show-style").addEventListener("change", renderChart);
+
+// ---------- bells ----------
+const ring = { bells: [], text: null, kind: null }; // entered bells, or an uploaded file's text
+
+const LAB = { bell_mass_kg: 45.8, clapper_mass_kg: 1.65, a_m: 0.24, b_m: 0.25, bell_inertia_kg_m2: 4.1, clapper_inertia_kg_m2: 0.093, r_m: 0.1, phi_max_deg: 26 };
+
+function bellKind() { return document.querySelector("input[name=bell-kind]:checked").value; }
+for (const r of document.querySelectorAll("input[name=bell-kind]")) {
+  r.addEventListener("change", () => {
+    $("tower-fields").hidden = bellKind() !== "tower";
+    $("mass-fields").hidden = bellKind() !== "mass";
+  });
+}
+$("fill-lab").addEventListener("click", () => {
+  document.querySelector("input[name=bell-kind][value=mass]").checked = true;
+  $("tower-fields").hidden = true; $("mass-fields").hidden = false;
+  $("bell-name").value = "Lab bell";
+  for (const inp of $("mass-fields").querySelectorAll("input")) inp.value = LAB[inp.dataset.key];
+});
+
+function tomlString(s) { return '"' + String(s).replace(/\\/g, "\\\\").replace(/"/g, '\\"') + '"'; }
+
+$("add-bell").addEventListener("click", () => {
+  const kind = bellKind();
+  const fields = { name: $("bell-name").value.trim() || `bell ${ring.bells.length + 1}` };
+  for (const inp of $(kind === "tower" ? "tower-fields" : "mass-fields").querySelectorAll("input")) {
+    if (inp.value.trim() === "") continue;
+    const v = Number(inp.value);
+    if (!Number.isFinite(v)) { showError($("diagnosis-status"), `${inp.dataset.key}: '${inp.value}' is not a number`); return; }
+    fields[inp.dataset.key] = v;
+  }
+  if (ring.text) { ring.text = null; ring.bells = []; }
+  ring.bells.push({ kind, fields });
+  showStatus($("diagnosis-status"), `${ring.bells.length} bell(s) entered. Press “Diagnose”.`);
+  renderRing();
+});
+
+function ringToml() {
+  return ring.bells.map((b) => "[[bell]]\n" + Object.entries(b.fields).map(([k, v]) => `${k} = ${k === "name" ? tomlString(v) : v}`).join("\n")).join("\n\n") + "\n";
+}
+
+function renderRing() {
+  const body = $("ring-list").querySelector("tbody");
+  body.innerHTML = "";
+  if (ring.text) {
+    body.innerHTML = `<tr><td>${esc(ring.fileName)}</td><td>${ring.kind} file</td><td></td></tr>`;
+    $("ring-toml").textContent = ring.text;
+    return;
+  }
+  ring.bells.forEach((b, k) => {
+    const tr = document.createElement("tr");
+    tr.innerHTML = `<td>${esc(b.fields.name)}</td><td>${b.kind === "tower" ? "tower measurements" : "mass properties"}</td><td><button type="button">remove</button></td>`;
+    tr.querySelector("button").addEventListener("click", () => { ring.bells.splice(k, 1); renderRing(); });
+    body.appendChild(tr);
+  });
+  $("ring-toml").textContent = ring.bells.length ? ringToml() : "";
+}
+
+$("ring-file").addEventListener("change", async (ev) => {
+  const f = ev.target.files[0];
+  if (!f) return;
+  ring.text = await f.text();
+  ring.kind = /\.csv$/i.test(f.name) ? "csv" : "toml";
+  ring.fileName = f.name;
+  ring.bells = [];
+  showStatus($("diagnosis-status"), `Read ${f.name}. Press “Diagnose”.`);
+  renderRing();
+});
+$("clear-bells").addEventListener("click", () => {
+  ring.bells = []; ring.text = null; chart.markers = []; renderRing(); renderMarkers();
+  $("diagnosis").innerHTML = ""; showStatus($("diagnosis-status"), "");
+});
+
+function diagnoseRequest() {
+  if (ring.text) return ring.kind === "csv" ? { csv: ring.text } : { toml: ring.text };
+  if (!ring.bells.length) throw new Error("Enter a bell (and press “Add bell”) or choose a ring file first.");
+  return { toml: ringToml() };
+}
+
+$("diagnose").addEventListener("click", async () => {
+  const status = $("diagnosis-status");
+  try {
+    const req = diagnoseRequest();
+    showStatus(status, "Diagnosing…");
+    const rep = await (await postJson("/api/diagnose", req)).json();
+    chart.markers = rep.bells.map((b) => ({ x: b.r_over_lc, y: b.lb_over_lc, label: b.name }));
+    $("diagnosis").innerHTML = diagnosisHtml(rep);
+    showStatus(status, `${rep.bells.length} bell(s) diagnosed; they are marked on the clapping chart.`);
+    renderMarkers();
+  } catch (e) { showError(status, e); }
+});
+
+$("report").addEventListener("click", async () => {
+  const status = $("diagnosis-status");
+  try {
+    const req = diagnoseRequest();
+    showStatus(status, "Writing the report…");
+    const blob = await (await postJson("/api/diagnose/report", req)).blob();
+    const a = document.createElement("a");
+    a.href = URL.createObjectURL(blob); a.download = "clapper-diagnosis.html";
+    document.body.appendChild(a); a.click(); a.remove();
+    showStatus(status, "Report downloaded (clapper-diagnosis.html).");
+  } catch (e) { showError(status, e); }
+});
+
+function diagnosisHtml(rep) {
+  let h = "<h2>Diagnosis</h2><p>Fully up from 171 deg, R = 0.2 for the verdicts; D at R = 0.05, 0.1 and 0.2.</p>";
+  h += "<table><tr><th>bell</th><th>r/L<sub>c</sub></th><th>L<sub>b</sub>/L<sub>c</sub></th><th>rings</th><th>first strike (deg)</th><th>φ' (rad/s)</th><th>lift-off (deg)</th><th>D, R=0.05</th><th>D, R=0.1</th><th>D, R=0.2</th><th>rings right from (deg)</th></tr>";
+  for (const b of rep.bells) {
+    const d = b.double_strike_index;
+    h += `<tr class="bell-row"><td>${esc(b.name)}</td><td>${fmt(b.r_over_lc, 3)}</td><td>${fmt(b.lb_over_lc, 3)}</td><td>${esc(b.verdict)}</td><td>${fmt(b.first_strike_theta_deg, 1)}</td><td>${fmt(b.strike_phidot_rad_s, 2)}</td><td>${fmt(b.liftoff_theta_deg, 1)}</td><td>${fmt(d["0.05"], 1)}</td><td>${fmt(d["0.1"], 1)}</td><td>${fmt(d["0.2"], 1)}</td><td>${fmt(b.min_theta0_right_deg, 1)}</td></tr>`;
+  }
+  h += "</table>";
+  for (const b of rep.bells) {
+    h += `<div class="bell-detail"><b>${esc(b.name)}</b>: T<sub>b</sub> = ${fmt(b.tb_s, 2)} s, T<sub>c</sub> = ${fmt(b.tc_s, 2)} s, r = ${fmt(b.r_mm, 0)} mm. Rings <b>${esc(b.verdict)}</b> when fully up`;
+    h += b.usual_style ? `, usually ${esc(b.usual_style)}.` : ".";
+    if (b.striking_speed_m_s !== null) h += ` Strikes at ${fmt(b.striking_speed_m_s, 2)} m/s` + (b.strike_energy_j !== null ? ` (${fmt(b.strike_energy_j, 1)} J).` : ".");
+    if (b.assumed.length) h += `<br>Assumed, not measured: ${esc(b.assumed.join(", "))}`;
+    for (const p of b.problems) h += `<br><span class="problem">Problem: ${esc(p)}</span>`;
+    if (b.suggestion) h += `<br><span class="suggestion">Suggestion: ${esc(b.suggestion.words)}</span>`;
+    else if (b.problems.length) h += "<br>No change within 0.4 s of clapper period and 150 mm of r fixes it.";
+    if (b.frame) h += `<br>Frame load over a stroke: horizontal up to ${fmt(b.frame.peak_horizontal_n, 0)} N (${fmt(b.frame.peak_horizontal_over_weight, 2)} × weight), vertical up to ${fmt(b.frame.peak_vertical_down_n, 0)} N (${fmt(b.frame.peak_vertical_over_weight, 2)} × weight).`;
+    for (const s of b.stands_apart) h += `<br><span class="problem">Stands apart: ${esc(s)}</span>`;
+    h += "</div>";
+  }
+  return h;
+}
+
+// ---------- listening test ----------
+const listen = { answers: JSON.parse(localStorage.getItem("clapper-answers") || "[]"), sheet: null, trial: 0, listener: null, audio: null };
+
+function saveAnswers() {
+  localStorage.setItem("clapper-answers", JSON.stringify(listen.answers));
+  const who = new Set(listen.answers.map((a) => a.listener));
+  $("answer-count").textContent = listen.answers.length
+    ? `${listen.answers.length} answer(s) from ${who.size} listener(s).`
+    : "No answers yet.";
+}
+
+function play(url) {
+  if (listen.audio) listen.audio.pause();
+  listen.audio = new Audio(url);
+  listen.audio.play().catch(() => { /* autoplay refused: the listener presses Play */ });
+}
+
+$("start-listener").addEventListener("click", async () => {
+  const name = $("listener-name").value.trim();
+  if (!name) { $("answer-count").textContent = "Give the listener a name."; return; }
+  const names = [...new Set(listen.answers.map((a) => a.listener))];
+  const index = names.includes(name) ? names.indexOf(name) : names.length;
+  const seed = Math.max(0, Math.floor(num("seed")) || 0);
+  try {
+    const res = await fetch(`/api/listening/sheet?listener=${index}&seed=${seed}`);
+    if (!res.ok) throw new Error((await res.json()).error);
+    listen.sheet = await res.json();
+    listen.listener = name;
+    // Carry on where this listener stopped.
+    const done = new Set(listen.answers.filter((a) => a.listener === name).map((a) => a.stimulus));
+    listen.trial = listen.sheet.trials.findIndex((t) => !done.has(t.stimulus));
+    $("trial-box").hidden = false;
+    nextTrial();
+  } catch (e) { showError($("answer-count"), e); }
+});
+
+function nextTrial() {
+  if (listen.trial < 0 || listen.trial >= listen.sheet.trials.length) {
+    $("trial-label").textContent = `${listen.listener} has answered all 100. Next listener, please: change the name and press Start.`;
+    for (const b of document.querySelectorAll("button.answer")) b.disabled = true;
+    return;
+  }
+  for (const b of document.querySelectorAll("button.answer")) b.disabled = false;
+  const t = listen.sheet.trials[listen.trial];
+  $("trial-label").textContent = `${listen.listener}: trial ${listen.trial + 1} of ${listen.sheet.trials.length}. One strike or two?`;
+  play(t.url);
+}
+
+function answer(value) {
+  const t = listen.sheet.trials[listen.trial];
+  listen.answers.push({ listener: listen.listener, trial: t.trial, stimulus: t.stimulus, amplitude_ratio: t.amplitude_ratio, delay_ms: t.delay_ms, answer: value });
+  saveAnswers();
+  listen.trial += 1;
+  nextTrial();
+}
+$("ans-single").addEventListener("click", () => answer(1));
+$("ans-double").addEventListener("click", () => answer(-1));
+$("play").addEventListener("click", () => { if (listen.sheet && listen.trial >= 0 && listen.trial < 100) play(listen.sheet.trials[listen.trial].url); });
+$("play-reference").addEventListener("click", () => play("/api/listening/stimulus/reference.wav"));
+
+$("analyse").addEventListener("click", async () => {
+  const out = $("listen-result");
+  out.innerHTML = "<p class=status>Analysing…</p>";
+  try {
+    const res = await (await postJson("/api/listening/analyse", { answers: listen.answers })).json();
+    const a = res.analysis;
+    let h = `<p>${a.answers} answer(s); used ${a.listeners_used.length} listener(s)`;
+    if (a.excluded.length) h += `; left out ${a.excluded.map((e) => `${esc(e.listener)} (correlation ${fmt(e.correlation, 2)})`).join(", ")}`;
+    h += ".</p>";
+    h += a.fit
+      ? `<p>Zero contour (A − a)(Δt − b) = c: a = ${fmt(a.fit.a, 3)} ± ${fmt(a.fit.sigma_a, 3)}, b = ${fmt(a.fit.b_ms, 1)} ± ${fmt(a.fit.sigma_b_ms, 1)} ms, c = ${fmt(a.fit.c_ms, 2)} ± ${fmt(a.fit.sigma_c_ms, 2)} ms (the paper: a = 0.2, b = 22 ms, c = 2.25 ms).</p>`
+      : "<p>The score map has no clear zero contour to fit yet: more answers are needed.</p>";
+    out.innerHTML = h + res.plot_svg;
+  } catch (e) { out.innerHTML = ""; const p = document.createElement("p"); out.appendChild(p); showError(p, e); }
+});
+
+$("download-answers").addEventListener("click", () => {
+  const rows = ["listener,trial,stimulus,amplitude_ratio,delay_ms,answer"];
+  for (const a of listen.answers) rows.push([JSON.stringify(a.listener), a.trial ?? "", a.stimulus ?? "", a.amplitude_ratio, a.delay_ms, a.answer].join(","));
+  const blob = new Blob([rows.join("\n") + "\n"], { type: "text/csv" });
+  const link = document.createElement("a");
+  link.href = URL.createObjectURL(blob); link.download = "clapper-answers.csv";
+  document.body.appendChild(link); link.click(); link.remove();
+});
+
+$("upload-answers").addEventListener("change", async (ev) => {
+  const f = ev.target.files[0];
+  if (!f) return;
+  try {
+    const res = await (await postJson("/api/listening/parse", { csv: await f.text() })).json();
+    listen.answers.push(...res.answers);
+    saveAnswers();
+  } catch (e) { showError($("answer-count"), e); }
+  ev.target.value = "";
+});
+$("clear-answers").addEventListener("click", () => {
+  if (listen.answers.length && !confirm(`Forget all ${listen.answers.length} answers?`)) return;
+  listen.answers = []; saveAnswers();
+});
+
+// ---------- start ----------
+fetch("/api/health").then((r) => r.json()).then((h) => { $("version").textContent = h.version; }).catch(() => {});
+saveAnswers();
+renderRing();
+selectTab("chart");

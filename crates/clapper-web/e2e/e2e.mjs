@@ -1,0 +1,117 @@
+// End-to-end test of the web application in a real browser: headless
+// Chromium (Debian package) driven over the DevTools protocol by
+// playwright-core. It starts `clapper serve --port 0`, loads the page,
+// enters the lab bell, sees its marker on the chart, clicks a chart point,
+// sees the stroke plot, answers three listening-test stimuli and shows the
+// result, saving a screenshot at each step.
+//
+//   CLAPPER_BIN=target/release/clapper E2E_OUT=target/e2e node crates/clapper-web/e2e/e2e.mjs
+import { spawn } from "node:child_process";
+import { mkdirSync } from "node:fs";
+import { dirname, resolve } from "node:path";
+import { fileURLToPath } from "node:url";
+import { chromium } from "playwright-core";
+
+const root = resolve(dirname(fileURLToPath(import.meta.url)), "../../..");
+const bin = resolve(root, process.env.CLAPPER_BIN || "target/release/clapper");
+const out = resolve(root, process.env.E2E_OUT || "target/e2e");
+const chromiumPath = process.env.CHROMIUM || "/usr/bin/chromium";
+mkdirSync(out, { recursive: true });
+
+function check(cond, what) {
+  if (!cond) throw new Error("check failed: " + what);
+  console.log("ok   " + what);
+}
+
+// Start the server and read its address from the first line it prints.
+const server = spawn(bin, ["serve", "--port", "0"], { stdio: ["ignore", "pipe", "inherit"] });
+const url = await new Promise((ok, fail) => {
+  let text = "";
+  const timer = setTimeout(() => fail(new Error("server did not start within 30 s")), 30000);
+  server.stdout.on("data", (d) => {
+    text += d;
+    const m = text.match(/http:\/\/[0-9.:]+\//);
+    if (m) { clearTimeout(timer); ok(m[0]); }
+  });
+  server.on("exit", (c) => fail(new Error("server exited with " + c)));
+});
+console.log("server at " + url);
+
+const browser = await chromium.launch({
+  executablePath: chromiumPath,
+  args: ["--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage", "--autoplay-policy=no-user-gesture-required",
+    "--disable-quic", "--no-first-run", "--disable-background-networking", "--disable-component-update", "--disable-sync"],
+});
+let failed = false;
+try {
+  const page = await browser.newPage({ viewport: { width: 1400, height: 1000 } });
+  const pageErrors = [];
+  page.on("pageerror", (e) => pageErrors.push(String(e)));
+  const stimuli = [];
+  page.on("response", (r) => { if (r.url().includes("/api/listening/stimulus/")) stimuli.push(r.status()); });
+
+  await page.goto(url);
+  // The chart explorer sweeps its default chart on load, streaming it in.
+  await page.waitForSelector('#chart-box[data-done="1"]', { timeout: 120000 });
+  check((await page.textContent("#chart-status")).includes("strokes in"), "the default chart streams in and finishes");
+  await page.screenshot({ path: `${out}/01-chart.png` });
+
+  // Enter the lab bell by its mass properties (Table 1).
+  await page.click('button[data-tab="bells"]');
+  await page.check('input[name="bell-kind"][value="mass"]');
+  await page.fill("#bell-name", "Lab bell");
+  const lab = { bell_mass_kg: "45.8", clapper_mass_kg: "1.65", a_m: "0.24", b_m: "0.25", bell_inertia_kg_m2: "4.1", clapper_inertia_kg_m2: "0.093", r_m: "0.10", phi_max_deg: "26" };
+  for (const [k, v] of Object.entries(lab)) await page.fill(`#mass-fields input[data-key="${k}"]`, v);
+  await page.click("#add-bell");
+  check((await page.textContent("#ring-toml")).includes("clapper_inertia_kg_m2 = 0.093"), "the form becomes a bell file");
+  await page.click("#diagnose");
+  await page.waitForSelector("tr.bell-row", { timeout: 60000 });
+  const row = await page.textContent("tr.bell-row");
+  check(row.includes("Lab bell") && row.includes("0.444") && row.includes("1.654") && row.includes("both"),
+    "the lab bell is diagnosed at (0.444, 1.654) and rings both ways: " + row.replace(/\s+/g, " "));
+  await page.screenshot({ path: `${out}/02-diagnosis.png`, fullPage: true });
+
+  // Its marker on the chart.
+  await page.click('button[data-tab="chart"]');
+  const marker = page.locator(".marker", { hasText: "Lab bell" });
+  await marker.waitFor({ timeout: 10000 });
+  const mb = await marker.boundingBox();
+  const cb = await page.locator("#chart-canvas").boundingBox();
+  check(mb.x > cb.x && mb.x < cb.x + cb.width && mb.y > cb.y && mb.y < cb.y + cb.height, "the lab bell's marker is on the chart");
+
+  // Hover shows values; a click at the marker shows that bell's stroke.
+  const at = { x: mb.x + mb.width / 2, y: mb.y + mb.height / 2 };
+  await page.mouse.move(at.x, at.y);
+  check((await page.textContent("#tooltip")).includes("r/L_c"), "hovering shows the values at a point");
+  await page.mouse.click(at.x, at.y);
+  await page.waitForSelector("#stroke-plot svg", { timeout: 30000 });
+  const numbers = await page.textContent("#stroke-numbers");
+  check(numbers.includes("first strike") && /sustains|does not sustain/.test(numbers), "the stroke's numbers are shown");
+  await page.locator("#stroke-panel").scrollIntoViewIfNeeded();
+  await page.screenshot({ path: `${out}/03-stroke.png`, fullPage: true });
+
+  // The listening test: three stimuli answered.
+  await page.click('button[data-tab="listen"]');
+  await page.fill("#listener-name", "e2e-listener");
+  await page.click("#start-listener");
+  await page.waitForFunction(() => document.querySelector("#trial-label").textContent.includes("trial 1 of 100"), null, { timeout: 30000 });
+  for (const id of ["#ans-single", "#ans-double", "#ans-single"]) await page.click(id);
+  check((await page.textContent("#trial-label")).includes("trial 4 of 100"), "three answers move on to trial 4");
+  check((await page.textContent("#answer-count")).includes("3 answer(s) from 1 listener(s)"), "three answers are recorded");
+  await page.waitForTimeout(500);
+  check(stimuli.length >= 3 && stimuli.every((s) => s === 200), `the stimuli were fetched (${stimuli.length} WAVs, all 200)`);
+  await page.click("#analyse");
+  await page.waitForSelector("#listen-result svg", { timeout: 30000 });
+  check((await page.textContent("#listen-result")).includes("3 answer(s)"), "the result of the answers so far is shown");
+  await page.screenshot({ path: `${out}/04-listening.png`, fullPage: true });
+
+  check(pageErrors.length === 0, "no script errors in the page" + (pageErrors.length ? ": " + pageErrors.join("; ") : ""));
+  console.log(`screenshots in ${out}`);
+} catch (e) {
+  failed = true;
+  console.error("FAILED: " + e.message);
+} finally {
+  await browser.close();
+  server.kill("SIGINT");
+}
+process.exit(failed ? 1 : 0);

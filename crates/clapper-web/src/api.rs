@@ -1,0 +1,436 @@
+//! The JSON API. Each handler checks its request against [`Limits`],
+//! runs the work of `clapper-app` in a computation slot and answers JSON
+//! (or SVG, HTML, WAV, NDJSON where said).
+
+use std::convert::Infallible;
+use std::time::Instant;
+
+use axum::body::{Body, Bytes};
+use axum::extract::rejection::{JsonRejection, QueryRejection};
+use axum::extract::{Path, Query, State};
+use axum::http::header;
+use axum::response::{IntoResponse, Response};
+use axum::Json;
+use clapper_app::chart::ChartRequest;
+use clapper_app::diagnosis::{diagnose_bells, report_page, DiagnoseRequest};
+use clapper_app::listening::{analyse, figure, StimulusSet, DEFAULT_RATE_HZ};
+use clapper_app::simulate::{simulate_traced, SimulateRequest};
+use clapper_core::chart::sweep_cells;
+use clapper_core::listening::Answer;
+use serde::{Deserialize, Serialize};
+use serde_json::json;
+
+use crate::{ApiError, AppState, Limits};
+
+type Body_<T> = Result<Json<T>, JsonRejection>;
+
+/// The request's JSON, or a 4xx naming what is wrong with it.
+fn body<T>(b: Body_<T>) -> Result<T, ApiError> {
+    Ok(b?.0)
+}
+
+/// `GET /api/health`.
+pub(crate) async fn health() -> Json<serde_json::Value> {
+    Json(json!({"status": "ok", "version": env!("CARGO_PKG_VERSION")}))
+}
+
+/// `GET /api/presets`: the bells of Table 1 and where they sit on the chart.
+pub(crate) async fn presets() -> Json<serde_json::Value> {
+    use clapper_app::simulate::Preset;
+    let list: Vec<_> = [Preset::Lab, Preset::GsmTenor]
+        .into_iter()
+        .map(|p| {
+            let b = p.loaded();
+            json!({
+                "preset": p.name(),
+                "name": b.name,
+                "r_over_lc": b.bell.r_over_lc(),
+                "lb_over_lc": b.bell.lb_over_lc(),
+                "tb_s": b.bell.tb(),
+                "tc_s": b.bell.tc(),
+            })
+        })
+        .collect();
+    Json(json!({ "presets": list }))
+}
+
+fn check_stiffness(limits: &Limits, k: Option<f64>) -> Result<(), ApiError> {
+    match k {
+        Some(k) if k > limits.max_stiffness => Err(ApiError::BadRequest(format!(
+            "stiffness {k:e} N m/rad is above this server's limit of {:e}",
+            limits.max_stiffness
+        ))),
+        _ => Ok(()),
+    }
+}
+
+/// `POST /api/simulate`: the options of `clapper simulate` in, the object
+/// of `clapper simulate --json` out.
+pub(crate) async fn simulate(State(s): State<AppState>, req: Body_<SimulateRequest>) -> Result<Response, ApiError> {
+    let req = body(req)?;
+    check_stiffness(&s.limits, req.stiffness)?;
+    let max = s.limits.max_strokes;
+    let sim = s
+        .jobs
+        .run(move || Ok(clapper_app::simulate::simulate(&req, None, Some(max))?))
+        .await?;
+    Ok(Json(sim.report).into_response())
+}
+
+/// `POST /api/stroke`: as `/api/simulate`, with the Fig 9 plot:
+/// `{"report": {...}, "plot_svg": "<svg ...>"}`.
+pub(crate) async fn stroke(State(s): State<AppState>, req: Body_<SimulateRequest>) -> Result<Response, ApiError> {
+    let req = body(req)?;
+    check_stiffness(&s.limits, req.stiffness)?;
+    let max = s.limits.max_strokes;
+    let (report, svg) = s
+        .jobs
+        .run(move || {
+            let sim = simulate_traced(&req, None, Some(max))?;
+            let svg = sim.plot_svg()?;
+            Ok((sim.report, svg))
+        })
+        .await?;
+    Ok(Json(json!({"report": report, "plot_svg": svg})).into_response())
+}
+
+/// One chart cell as the stream sends it:
+/// `[sustained (1, 0, or -1 for a failed stroke), strike angle (deg),
+/// strike velocity (rad/s), lift-off angle (deg), D]`, `null` where none.
+fn cell_json(c: &clapper_core::chart::ChartCell) -> serde_json::Value {
+    match &c.result {
+        Ok(s) => json!([
+            i32::from(s.sustained),
+            s.strike_theta.map(f64::to_degrees),
+            s.strike_phidot,
+            s.liftoff_theta.map(f64::to_degrees),
+            s.double_strike_index
+        ]),
+        Err(_) => json!([-1, null, null, null, null]),
+    }
+}
+
+fn line(v: &serde_json::Value) -> Result<Bytes, Infallible> {
+    let mut text = v.to_string();
+    text.push('\n');
+    Ok(Bytes::from(text))
+}
+
+/// `POST /api/chart`: sweep a chart and stream it as NDJSON, one line a
+/// block of rows, so that a page can draw it while it is computed:
+///
+/// - `{"type": "start", "nx", "ny", "xs", "ys", "styles", "total"}`
+/// - `{"type": "cells", "start": k, "cells": [[...], ...]}`: cells from flat
+///   index `k`, in the order of `clapper_core::chart::Chart::cells`
+/// - `{"type": "done", "strokes", "errors", "seconds"}`, or
+///   `{"type": "error", "message"}` if it stopped (time limit).
+///
+/// The cells are those of `clapper chart` for the same options.
+pub(crate) async fn chart(State(s): State<AppState>, req: Body_<ChartRequest>) -> Result<Response, ApiError> {
+    let req = body(req)?;
+    check_stiffness(&s.limits, req.stiffness)?;
+    let points = req.grid[0].saturating_mul(req.grid[1]);
+    if points > s.limits.max_chart_points {
+        return Err(ApiError::BadRequest(format!(
+            "grid {} x {} is {points} points, more than this server sweeps in one request ({}); \
+             use `clapper chart` (with --shard for many machines) for larger charts",
+            req.grid[0], req.grid[1], s.limits.max_chart_points
+        )));
+    }
+    let spec = req.spec()?;
+    let permit = s.jobs.slot().await?;
+    let deadline = Instant::now() + s.limits.job_time;
+    let limit_s = s.limits.job_time.as_secs();
+    let (tx, rx) = tokio::sync::mpsc::channel::<Result<Bytes, Infallible>>(4);
+    tokio::task::spawn_blocking(move || {
+        let _slot = permit;
+        let started = Instant::now();
+        let styles: Vec<&str> = spec
+            .styles
+            .list()
+            .iter()
+            .map(|s| clapper_io::report::style_name(*s))
+            .collect();
+        let total = spec.cell_count();
+        let start = json!({
+            "type": "start", "nx": spec.nx, "ny": spec.ny, "xs": spec.xs(), "ys": spec.ys(),
+            "styles": styles, "total": total,
+        });
+        if tx.blocking_send(line(&start)).is_err() {
+            return;
+        }
+        // Blocks of whole rows: big enough to keep both cores busy, small
+        // enough that the page fills in about ten steps.
+        let row = spec.nx * styles.len();
+        let rows = (512usize.div_ceil(row)).min(spec.ny.div_ceil(10)).max(1);
+        let block = rows * row;
+        let (mut k, mut errors) = (0, 0);
+        while k < total {
+            if Instant::now() > deadline {
+                let _ = tx.blocking_send(line(&json!({
+                    "type": "error",
+                    "message": format!("stopped at the server's time limit of {limit_s} s after {k} of {total} strokes"),
+                })));
+                return;
+            }
+            let end = (k + block).min(total);
+            let cells = match sweep_cells(&spec, k..end, &|_| {}) {
+                Ok(c) => c,
+                Err(e) => {
+                    let _ = tx.blocking_send(line(&json!({"type": "error", "message": e.to_string()})));
+                    return;
+                }
+            };
+            errors += cells.iter().filter(|c| c.result.is_err()).count();
+            let out = json!({"type": "cells", "start": k, "cells": cells.iter().map(cell_json).collect::<Vec<_>>()});
+            // The client has gone: stop sweeping.
+            if tx.blocking_send(line(&out)).is_err() {
+                return;
+            }
+            k = end;
+        }
+        let _ = tx.blocking_send(line(&json!({
+            "type": "done", "strokes": total, "errors": errors, "seconds": started.elapsed().as_secs_f64(),
+        })));
+    });
+    let stream = tokio_stream::wrappers::ReceiverStream::new(rx);
+    Ok((
+        [(header::CONTENT_TYPE, "application/x-ndjson")],
+        Body::from_stream(stream),
+    )
+        .into_response())
+}
+
+/// `POST /api/diagnose`: a preset, bell file text or ring CSV in; the
+/// object of `clapper diagnose --json` out.
+pub(crate) async fn diagnose(State(s): State<AppState>, req: Body_<DiagnoseRequest>) -> Result<Response, ApiError> {
+    let req = body(req)?;
+    let (bells, _) = req.bells()?;
+    let rep = s.jobs.run(move || Ok(diagnose_bells(&bells)?)).await?;
+    Ok(Json(rep).into_response())
+}
+
+/// `POST /api/diagnose/report`: the same request; the HTML report of
+/// `clapper diagnose --report` as a download.
+pub(crate) async fn diagnose_report(
+    State(s): State<AppState>,
+    req: Body_<DiagnoseRequest>,
+) -> Result<Response, ApiError> {
+    let req = body(req)?;
+    let (bells, source) = req.bells()?;
+    let html = s
+        .jobs
+        .run(move || {
+            let rep = diagnose_bells(&bells)?;
+            Ok(report_page(&rep, &bells, &source)?)
+        })
+        .await?;
+    Ok((
+        [
+            (header::CONTENT_TYPE, "text/html; charset=utf-8"),
+            (
+                header::CONTENT_DISPOSITION,
+                "attachment; filename=\"clapper-diagnosis.html\"",
+            ),
+        ],
+        html,
+    )
+        .into_response())
+}
+
+/// The listening test's sounds, encoded once: 100 stimuli, then the reference.
+pub(crate) struct Stimuli {
+    wavs: Vec<Bytes>,
+    trials: Vec<(String, f64, f64)>,
+}
+
+async fn stimuli(s: &AppState) -> Result<std::sync::Arc<Stimuli>, ApiError> {
+    let jobs = s.jobs.clone();
+    s.stimuli
+        .get_or_try_init(|| async move {
+            jobs.run(|| {
+                let set = StimulusSet::new(DEFAULT_RATE_HZ)?;
+                let mut wavs = vec![];
+                for st in &set.stimuli {
+                    wavs.push(Bytes::from(set.wav(&st.signal)?));
+                }
+                wavs.push(Bytes::from(set.wav(&set.reference)?));
+                let trials = set
+                    .stimuli
+                    .iter()
+                    .map(|st| (st.name.clone(), st.ratio, st.delay_ms))
+                    .collect();
+                Ok(std::sync::Arc::new(Stimuli { wavs, trials }))
+            })
+            .await
+        })
+        .await
+        .cloned()
+}
+
+/// Query of `GET /api/listening/sheet`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct SheetQuery {
+    /// Listener number, from 0.
+    #[serde(default)]
+    listener: u64,
+    /// Seed of the orders.
+    #[serde(default = "one")]
+    seed: u64,
+}
+
+fn one() -> u64 {
+    1
+}
+
+/// `GET /api/listening/sheet?listener=L&seed=S`: listener L's 100 trials
+/// in a fresh random order (the sheets of `clapper listening-test make`).
+pub(crate) async fn listening_sheet(
+    State(s): State<AppState>,
+    q: Result<Query<SheetQuery>, QueryRejection>,
+) -> Result<Response, ApiError> {
+    let q = q?.0;
+    let st = stimuli(&s).await?;
+    let trials: Vec<_> = clapper_core::listening::order(q.seed, q.listener)
+        .into_iter()
+        .enumerate()
+        .map(|(t, k)| {
+            let (name, ratio, delay) = &st.trials[k];
+            json!({
+                "trial": t + 1, "stimulus": name, "amplitude_ratio": ratio, "delay_ms": delay,
+                "url": format!("/api/listening/stimulus/{name}"),
+            })
+        })
+        .collect();
+    Ok(Json(json!({"listener": q.listener, "seed": q.seed, "reference": "/api/listening/stimulus/reference.wav", "trials": trials})).into_response())
+}
+
+/// `GET /api/listening/stimulus/{name}`: `s000.wav` .. `s099.wav` or
+/// `reference.wav`, 16-bit mono at 44.1 kHz.
+pub(crate) async fn listening_stimulus(
+    State(s): State<AppState>,
+    Path(name): Path<String>,
+) -> Result<Response, ApiError> {
+    let index = if name == "reference.wav" {
+        Some(100)
+    } else {
+        name.strip_prefix('s')
+            .and_then(|r| r.strip_suffix(".wav"))
+            .filter(|d| d.len() == 3)
+            .and_then(|d| d.parse::<usize>().ok())
+            .filter(|k| *k < 100)
+    };
+    let index = index.ok_or_else(|| {
+        ApiError::NotFound(format!(
+            "no stimulus {name}: they are s000.wav to s099.wav and reference.wav"
+        ))
+    })?;
+    let st = stimuli(&s).await?;
+    Ok((
+        [
+            (header::CONTENT_TYPE, "audio/wav"),
+            (header::CACHE_CONTROL, "public, max-age=86400"),
+        ],
+        st.wavs[index].clone(),
+    )
+        .into_response())
+}
+
+/// One answer in JSON.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct AnswerJson {
+    listener: String,
+    amplitude_ratio: f64,
+    delay_ms: f64,
+    /// +1 single strike, -1 double strike.
+    answer: i8,
+    #[serde(default)]
+    trial: Option<usize>,
+    #[serde(default)]
+    stimulus: Option<String>,
+}
+
+/// Most answers in one request: 1000 listeners' full sheets.
+const MAX_ANSWERS: usize = 100_000;
+
+/// Answers given as JSON or as the text of filled answer sheets.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct AnswersRequest {
+    #[serde(default)]
+    answers: Vec<AnswerJson>,
+    #[serde(default)]
+    csv: Option<String>,
+}
+
+impl AnswersRequest {
+    fn answers(self) -> Result<Vec<Answer>, ApiError> {
+        let mut out = vec![];
+        for (k, a) in self.answers.into_iter().enumerate() {
+            if a.answer != 1 && a.answer != -1 {
+                return Err(ApiError::BadRequest(format!(
+                    "answer {}: {} is neither 1 (single strike) nor -1 (double strike)",
+                    k + 1,
+                    a.answer
+                )));
+            }
+            out.push(Answer {
+                listener: a.listener,
+                ratio: a.amplitude_ratio,
+                delay_ms: a.delay_ms,
+                answer: a.answer,
+            });
+        }
+        if let Some(text) = &self.csv {
+            out.extend(
+                clapper_io::answers::parse_answers(text, "answers").map_err(|e| ApiError::BadRequest(e.to_string()))?,
+            );
+        }
+        if out.len() > MAX_ANSWERS {
+            return Err(ApiError::BadRequest(format!(
+                "{} answers: at most {MAX_ANSWERS} in one request",
+                out.len()
+            )));
+        }
+        Ok(out)
+    }
+}
+
+/// `POST /api/listening/parse`: `{"csv": "..."}` (filled answer sheets)
+/// in, `{"answers": [...]}` out: for uploading answers into the page.
+pub(crate) async fn listening_parse(req: Body_<AnswersRequest>) -> Result<Response, ApiError> {
+    let answers = body(req)?.answers()?;
+    let list: Vec<AnswerJson> = answers
+        .into_iter()
+        .map(|a| AnswerJson {
+            listener: a.listener,
+            amplitude_ratio: a.ratio,
+            delay_ms: a.delay_ms,
+            answer: a.answer,
+            trial: None,
+            stimulus: None,
+        })
+        .collect();
+    Ok(Json(json!({ "answers": list })).into_response())
+}
+
+/// `POST /api/listening/analyse`: answers in (JSON list and/or CSV text);
+/// the analysis of `clapper listening-test analyse --json` and the Fig 13
+/// plot out: `{"analysis": {...}, "plot_svg": "<svg ...>"}`.
+pub(crate) async fn listening_analyse(
+    State(s): State<AppState>,
+    req: Body_<AnswersRequest>,
+) -> Result<Response, ApiError> {
+    let answers = body(req)?.answers()?;
+    let (rep, svg) = s
+        .jobs
+        .run(move || {
+            let (an, rep) = analyse(&answers)?;
+            let svg = clapper_plot::chart_figure_svg(&figure(&an)).map_err(clapper_app::AppError::from)?;
+            Ok((rep, svg))
+        })
+        .await?;
+    Ok(Json(json!({"analysis": rep, "plot_svg": svg})).into_response())
+}

@@ -1,0 +1,312 @@
+//! The API through the router, without a socket: answers, bad requests,
+//! limits, streaming.
+
+use std::time::Duration;
+
+use axum::body::Body;
+use axum::http::{Request, StatusCode};
+use clapper_web::{router, Limits};
+use http_body_util::BodyExt;
+use serde_json::Value;
+use tower::ServiceExt;
+
+async fn send(app: &axum::Router, method: &str, uri: &str, body: Option<&str>) -> (StatusCode, Vec<u8>) {
+    let mut req = Request::builder().method(method).uri(uri);
+    if body.is_some() {
+        req = req.header("content-type", "application/json");
+    }
+    let req = req.body(Body::from(body.unwrap_or("").to_string())).unwrap();
+    let res = app.clone().oneshot(req).await.unwrap();
+    let status = res.status();
+    let bytes = res.into_body().collect().await.unwrap().to_bytes().to_vec();
+    (status, bytes)
+}
+
+fn json(bytes: &[u8]) -> Value {
+    serde_json::from_slice(bytes).unwrap_or_else(|e| panic!("not JSON ({e}): {}", String::from_utf8_lossy(bytes)))
+}
+
+#[tokio::test]
+async fn simulate_answers_the_report_of_the_library() {
+    let app = router(Limits::default());
+    let (status, body) = send(
+        &app,
+        "POST",
+        "/api/simulate",
+        Some(r#"{"preset": "lab", "style": "wrong"}"#),
+    )
+    .await;
+    assert_eq!(status, StatusCode::OK);
+    let req = clapper_app::simulate::SimulateRequest {
+        style: clapper_app::simulate::StyleName::Wrong,
+        ..Default::default()
+    };
+    let want = serde_json::to_value(clapper_app::simulate::simulate(&req, None, None).unwrap().report).unwrap();
+    assert_eq!(json(&body), want);
+}
+
+#[tokio::test]
+async fn bad_requests_get_a_4xx_naming_the_problem() {
+    let app = router(Limits::default());
+    let negative = r#"{"toml": "bell_mass_kg = -45.8\nclapper_mass_kg = 1.65\na_m = 0.24\nb_m = 0.25\nbell_inertia_kg_m2 = 4.1\nclapper_inertia_kg_m2 = 0.093\nr_m = 0.1\nphi_max_deg = 26\n"}"#;
+    let huge = "x".repeat(2 << 20);
+    let cases: Vec<(&str, &str, Option<&str>, u16, &str)> = vec![
+        (
+            "POST",
+            "/api/simulate",
+            Some(r#"{"preset": "lab","#),
+            400,
+            "EOF while parsing",
+        ),
+        (
+            "POST",
+            "/api/simulate",
+            Some(r#"{"presett": "lab"}"#),
+            400,
+            "unknown field `presett`",
+        ),
+        ("POST", "/api/simulate", Some(r#"{"theta0": "high"}"#), 400, "theta0"),
+        ("POST", "/api/simulate", Some(r#"{"theta0": 200}"#), 400, "theta0_deg"),
+        ("POST", "/api/simulate", Some(r#"{"strokes": 101}"#), 400, "strokes 101"),
+        (
+            "POST",
+            "/api/simulate",
+            Some(r#"{"stiffness": 1e12}"#),
+            400,
+            "stiffness",
+        ),
+        (
+            "POST",
+            "/api/simulate",
+            Some(r#"{"preset": "lab", "chart_point": [0.1, 1.0]}"#),
+            400,
+            "at most one bell",
+        ),
+        (
+            "POST",
+            "/api/chart",
+            Some(r#"{"grid": [1000, 1000]}"#),
+            400,
+            "1000000 points",
+        ),
+        (
+            "POST",
+            "/api/chart",
+            Some(r#"{"lb_range": [-1, 2]}"#),
+            400,
+            "lb_over_lc",
+        ),
+        ("POST", "/api/diagnose", Some(negative), 400, "bell_mass_kg = -45.8"),
+        ("POST", "/api/diagnose", Some(r#"{"csv": "name\n"}"#), 400, "no rows"),
+        (
+            "POST",
+            "/api/diagnose",
+            Some(r#"{"csv": "a", "toml": "b"}"#),
+            400,
+            "one of",
+        ),
+        (
+            "POST",
+            "/api/listening/analyse",
+            Some(r#"{"answers": []}"#),
+            400,
+            "no answers",
+        ),
+        (
+            "POST",
+            "/api/listening/analyse",
+            Some(r#"{"answers": [{"listener": "a", "amplitude_ratio": 0.5, "delay_ms": 30, "answer": 2}]}"#),
+            400,
+            "neither 1",
+        ),
+        (
+            "POST",
+            "/api/listening/parse",
+            Some(r#"{"csv": "listener,amplitude_ratio\nA,x\n"}"#),
+            400,
+            "row 1",
+        ),
+        ("GET", "/api/listening/sheet?listener=-1", None, 400, "listener"),
+        (
+            "GET",
+            "/api/listening/stimulus/s100.wav",
+            None,
+            404,
+            "s000.wav to s099.wav",
+        ),
+        ("GET", "/api/nothing", None, 404, "no route GET /api/nothing"),
+        ("GET", "/api/simulate", None, 405, "does not take GET"),
+        ("POST", "/api/simulate", Some(&huge), 413, "too large"),
+    ];
+    for (method, uri, body, code, needle) in cases {
+        let (status, bytes) = send(&app, method, uri, body).await;
+        let text = String::from_utf8_lossy(&bytes);
+        assert_eq!(status.as_u16(), code, "{method} {uri}: {text}");
+        let msg = json(&bytes)["error"].as_str().unwrap_or_default().to_string();
+        assert!(
+            msg.contains(needle),
+            "{method} {uri}: {msg:?} should contain {needle:?}"
+        );
+        assert!(!msg.contains('\n'), "{method} {uri}: not one line: {msg:?}");
+    }
+    // Not JSON at all.
+    let req = Request::post("/api/simulate").body(Body::from("{}")).unwrap();
+    let res = app.clone().oneshot(req).await.unwrap();
+    assert_eq!(res.status(), StatusCode::UNSUPPORTED_MEDIA_TYPE);
+    // And the server still answers.
+    let (status, _) = send(&app, "GET", "/api/health", None).await;
+    assert_eq!(status, StatusCode::OK);
+}
+
+fn lines(bytes: &[u8]) -> Vec<Value> {
+    String::from_utf8_lossy(bytes)
+        .lines()
+        .map(|l| json(l.as_bytes()))
+        .collect()
+}
+
+#[tokio::test]
+async fn the_chart_streams_the_cells_of_a_sweep() {
+    let app = router(Limits::default());
+    let (status, bytes) = send(&app, "POST", "/api/chart", Some(r#"{"grid": [7, 30], "theta0": 120}"#)).await;
+    assert_eq!(status, StatusCode::OK);
+    let msgs = lines(&bytes);
+    assert_eq!(msgs[0]["type"], "start");
+    assert_eq!(msgs.last().unwrap()["type"], "done");
+    assert!(msgs.len() > 3, "the chart comes in several blocks: {}", msgs.len());
+    let spec = clapper_app::chart::ChartRequest {
+        grid: [7, 30],
+        theta0: 120.0,
+        ..Default::default()
+    }
+    .spec()
+    .unwrap();
+    let chart = clapper_core::chart::sweep(&spec, &|_| {}).unwrap();
+    let mut got = vec![Value::Null; chart.cells.len()];
+    for m in msgs.iter().filter(|m| m["type"] == "cells") {
+        let start = m["start"].as_u64().unwrap() as usize;
+        for (k, c) in m["cells"].as_array().unwrap().iter().enumerate() {
+            got[start + k] = c.clone();
+        }
+    }
+    for (cell, g) in chart.cells.iter().zip(&got) {
+        let s = cell.result.as_ref().unwrap();
+        assert_eq!(g[0].as_i64().unwrap() == 1, s.sustained);
+        assert_eq!(g[1].as_f64(), s.strike_theta.map(f64::to_degrees));
+        assert_eq!(g[4].as_f64(), s.double_strike_index);
+    }
+}
+
+#[tokio::test]
+async fn a_chart_past_the_time_limit_stops_and_says_so() {
+    let app = router(Limits {
+        job_time: Duration::ZERO,
+        ..Limits::default()
+    });
+    let (status, bytes) = send(&app, "POST", "/api/chart", Some(r#"{"grid": [50, 50]}"#)).await;
+    assert_eq!(status, StatusCode::OK);
+    let last = lines(&bytes).pop().unwrap();
+    assert_eq!(last["type"], "error");
+    assert!(last["message"].as_str().unwrap().contains("time limit"), "{last}");
+    // A diagnosis (hundreds of ms of work) cannot beat a zero time limit.
+    let (status, bytes) = send(&app, "POST", "/api/diagnose", Some(r#"{"preset": "lab"}"#)).await;
+    assert_eq!(
+        status,
+        StatusCode::SERVICE_UNAVAILABLE,
+        "{}",
+        String::from_utf8_lossy(&bytes)
+    );
+    assert!(json(&bytes)["error"].as_str().unwrap().contains("limit"));
+}
+
+#[tokio::test]
+async fn a_busy_server_says_so_and_recovers() {
+    let app = router(Limits {
+        max_jobs: 1,
+        queue_wait: Duration::from_millis(100),
+        ..Limits::default()
+    });
+    // A chart whose stream nobody reads holds the only slot.
+    let req = Request::post("/api/chart")
+        .header("content-type", "application/json")
+        .body(Body::from(r#"{"grid": [200, 200]}"#))
+        .unwrap();
+    let held = app.clone().oneshot(req).await.unwrap();
+    assert_eq!(held.status(), StatusCode::OK);
+    let (status, bytes) = send(&app, "POST", "/api/simulate", Some("{}")).await;
+    assert_eq!(status, StatusCode::SERVICE_UNAVAILABLE);
+    assert!(json(&bytes)["error"].as_str().unwrap().contains("busy"));
+    // The reader goes away: the sweep stops and frees the slot.
+    drop(held);
+    let mut ok = false;
+    for _ in 0..100 {
+        let (status, _) = send(&app, "POST", "/api/simulate", Some("{}")).await;
+        if status == StatusCode::OK {
+            ok = true;
+            break;
+        }
+        tokio::time::sleep(Duration::from_millis(50)).await;
+    }
+    assert!(ok, "the slot was never freed");
+}
+
+#[tokio::test]
+async fn the_page_and_its_parts_are_served() {
+    let app = router(Limits::default());
+    for (uri, needle) in [
+        ("/", "chart-canvas"),
+        ("/app.js", "api/chart"),
+        ("/app.css", "#chart-box"),
+        ("/api", "POST /api/simulate"),
+    ] {
+        let (status, bytes) = send(&app, "GET", uri, None).await;
+        assert_eq!(status, StatusCode::OK, "{uri}");
+        assert!(String::from_utf8_lossy(&bytes).contains(needle), "{uri}");
+    }
+    // Nothing is fetched from elsewhere.
+    let (_, page) = send(&app, "GET", "/", None).await;
+    assert!(
+        !String::from_utf8_lossy(&page).contains("http"),
+        "the page links outside"
+    );
+}
+
+#[tokio::test]
+async fn listening_sheet_stimuli_and_analysis() {
+    let app = router(Limits::default());
+    let (status, bytes) = send(&app, "GET", "/api/listening/sheet?listener=3&seed=7", None).await;
+    assert_eq!(status, StatusCode::OK);
+    let sheet = json(&bytes);
+    let trials = sheet["trials"].as_array().unwrap();
+    assert_eq!(trials.len(), 100);
+    let first = trials[0]["stimulus"].as_str().unwrap();
+    let want = format!("s{:03}.wav", clapper_core::listening::order(7, 3)[0]);
+    assert_eq!(first, want);
+    let (status, wav) = send(&app, "GET", &format!("/api/listening/stimulus/{first}"), None).await;
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(&wav[..4], b"RIFF");
+    // Answers from a known rule, double when D = (A - 0.2)(dt - 22)/2.25
+    // passes each listener's own threshold (so the means vary smoothly).
+    let mut answers = vec![];
+    for (l, threshold) in [0.3, 0.6, 1.0, 1.6, 2.5, 4.0].into_iter().enumerate() {
+        for r in clapper_core::listening::ratios() {
+            for d in clapper_core::listening::delays_ms() {
+                let double = (r - 0.2) * (d - 22.0) / 2.25 > threshold;
+                answers.push(serde_json::json!({
+                    "listener": format!("L{l}"), "amplitude_ratio": r, "delay_ms": d, "answer": if double { -1 } else { 1 }
+                }));
+            }
+        }
+    }
+    let body = serde_json::json!({ "answers": answers }).to_string();
+    let (status, bytes) = send(&app, "POST", "/api/listening/analyse", Some(&body)).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&bytes));
+    let v = json(&bytes);
+    assert_eq!(v["analysis"]["answers"], 600);
+    assert!(
+        v["analysis"]["fit"].is_object(),
+        "a clean rule gives a fit: {}",
+        v["analysis"]
+    );
+    assert!(v["plot_svg"].as_str().unwrap().starts_with("<svg"));
+}
