@@ -34,6 +34,7 @@ pub mod ode;
 pub mod restitution;
 pub mod ringing;
 pub mod stroke;
+pub mod trig;
 pub mod vibration;
 
 /// The names most programs need.
