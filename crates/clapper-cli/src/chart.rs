@@ -13,8 +13,10 @@ use indicatif::{ProgressBar, ProgressStyle};
 
 use clapper_app::chart::{ChartRequest, StylesName, DEFAULT_PHI_MAX_DEG};
 use clapper_app::simulate::{contact_words, ContactName, DEFAULT_RESTITUTION, DEFAULT_THETA0_DEG};
+use clapper_app::sweep::SweepPlan;
 
 use crate::simulate::parse_point;
+use crate::sweep_file::SweepMeta;
 
 fn parse_grid(s: &str) -> std::result::Result<(usize, usize), String> {
     let num = |v: &str| {
@@ -69,15 +71,16 @@ pub struct SweepArgs {
     /// Range of L_b/L_c swept.
     #[arg(long, value_name = "A,B", value_parser = parse_point, default_value = "0.5,2.5", allow_hyphen_values = true)]
     pub lb_range: (f64, f64),
-    /// Starting angle of the bell (deg).
-    #[arg(long, value_name = "DEG", default_value_t = DEFAULT_THETA0_DEG, allow_hyphen_values = true)]
-    pub theta0: f64,
-    /// Coefficient of restitution R.
-    #[arg(long, value_name = "R", default_value_t = DEFAULT_RESTITUTION, allow_hyphen_values = true)]
-    pub restitution: f64,
-    /// Contact angle phi_max of every chart bell (deg).
-    #[arg(long, value_name = "DEG", default_value_t = DEFAULT_PHI_MAX_DEG, allow_hyphen_values = true)]
-    pub phi_max: f64,
+    /// Starting angle of the bell (deg). `chart` takes a list (90,120,171)
+    /// to sweep it as an extra axis.
+    #[arg(long, value_name = "DEG[,DEG..]", value_delimiter = ',', default_values_t = [DEFAULT_THETA0_DEG], allow_hyphen_values = true)]
+    pub theta0: Vec<f64>,
+    /// Coefficient of restitution R (a list sweeps it).
+    #[arg(long, value_name = "R[,R..]", value_delimiter = ',', default_values_t = [DEFAULT_RESTITUTION], allow_hyphen_values = true)]
+    pub restitution: Vec<f64>,
+    /// Contact angle phi_max of every chart bell (deg; a list sweeps it).
+    #[arg(long, value_name = "DEG[,DEG..]", value_delimiter = ',', default_values_t = [DEFAULT_PHI_MAX_DEG], allow_hyphen_values = true)]
+    pub phi_max: Vec<f64>,
     /// Contact model.
     #[arg(long, value_enum)]
     pub contact: Option<ContactName>,
@@ -90,29 +93,40 @@ pub struct SweepArgs {
 }
 
 impl SweepArgs {
-    /// The options as the request the web API also takes.
+    /// The options as the request the web API also takes (the first value
+    /// of each extra axis).
     pub fn request(&self, styles: StylesName) -> ChartRequest {
         ChartRequest {
             grid: [self.grid.0, self.grid.1],
             r_range: [self.r_range.0, self.r_range.1],
             lb_range: [self.lb_range.0, self.lb_range.1],
-            theta0: self.theta0,
-            restitution: self.restitution,
-            phi_max: self.phi_max,
+            theta0: self.theta0[0],
+            restitution: self.restitution[0],
+            phi_max: self.phi_max[0],
             contact: self.contact,
             stiffness: self.stiffness,
             style: styles,
         }
     }
 
-    /// The chart spec these options describe, for `styles`.
+    /// The chart spec these options describe, for `styles` (one value per
+    /// extra axis).
     pub fn spec(&self, styles: Styles) -> Result<ChartSpec> {
-        let name = match styles {
-            Styles::Right => StylesName::Right,
-            Styles::Wrong => StylesName::Wrong,
-            Styles::Both => StylesName::Both,
-        };
-        Ok(self.request(name).spec()?)
+        if self.theta0.len() > 1 || self.restitution.len() > 1 || self.phi_max.len() > 1 {
+            bail!("give one value each of --theta0, --restitution and --phi-max here (lists are for `clapper chart`)");
+        }
+        Ok(self.request(styles_name(styles)).spec()?)
+    }
+
+    /// The sweep these options describe: a chart per combination of the
+    /// extra axes.
+    pub fn plan(&self, styles: Styles) -> Result<SweepPlan> {
+        Ok(SweepPlan::new(
+            &self.request(styles_name(styles)),
+            &self.theta0,
+            &self.restitution,
+            &self.phi_max,
+        )?)
     }
 
     /// A thread pool of the requested size.
@@ -128,10 +142,16 @@ impl SweepArgs {
     }
 }
 
-/// Run a sweep with a progress bar on the terminal (none when stderr is
-/// not one). Returns the chart and the wall time (s).
-pub fn run_sweep(spec: &ChartSpec, pool: &rayon::ThreadPool, what: &str) -> Result<(Chart, f64)> {
-    let total = (spec.nx * spec.ny * spec.styles.list().len()) as u64;
+fn styles_name(styles: Styles) -> StylesName {
+    match styles {
+        Styles::Right => StylesName::Right,
+        Styles::Wrong => StylesName::Wrong,
+        Styles::Both => StylesName::Both,
+    }
+}
+
+/// A progress bar on the terminal (hidden when stderr is not one).
+pub fn progress_bar(total: u64, what: &str) -> ProgressBar {
     let bar = ProgressBar::new(total);
     bar.set_style(
         ProgressStyle::with_template("{msg:>24} [{bar:40}] {pos}/{len} strokes, {per_sec}, eta {eta}")
@@ -139,6 +159,13 @@ pub fn run_sweep(spec: &ChartSpec, pool: &rayon::ThreadPool, what: &str) -> Resu
             .progress_chars("=> "),
     );
     bar.set_message(what.to_string());
+    bar
+}
+
+/// Run a sweep with a progress bar on the terminal (none when stderr is
+/// not one). Returns the chart and the wall time (s).
+pub fn run_sweep(spec: &ChartSpec, pool: &rayon::ThreadPool, what: &str) -> Result<(Chart, f64)> {
+    let bar = progress_bar(spec.cell_count() as u64, what);
     let start = Instant::now();
     let chart = pool.install(|| sweep(spec, &|done| bar.set_position(done)))?;
     bar.finish_and_clear();
@@ -177,6 +204,45 @@ pub struct ChartArgs {
     /// Mark these bells on the chart (a bell file, or [[bell]] tables).
     #[arg(long, value_name = "FILE")]
     pub bells: Option<PathBuf>,
+    /// Compute only shard I of N (1-based) of the sweep, into --csv, for a
+    /// batch scheduler; `clapper merge` joins the shards' CSVs.
+    #[arg(long, value_name = "I/N", value_parser = parse_shard)]
+    pub shard: Option<(usize, usize)>,
+    /// Strokes per checkpoint of a run writing --csv: an interrupted run,
+    /// started again with the same options, resumes from its last checkpoint.
+    #[arg(long, value_name = "N", default_value_t = 20_000)]
+    pub block: usize,
+}
+
+fn parse_shard(s: &str) -> std::result::Result<(usize, usize), String> {
+    let bad = || format!("'{s}' is not a shard: give I/N with 1 <= I <= N, e.g. 3/16");
+    let (i, n) = s.split_once('/').ok_or_else(bad)?;
+    let (i, n): (usize, usize) = (
+        i.trim().parse().map_err(|_| bad())?,
+        n.trim().parse().map_err(|_| bad())?,
+    );
+    if i == 0 || i > n {
+        return Err(bad());
+    }
+    Ok((i - 1, n))
+}
+
+impl ChartArgs {
+    /// What a CSV of this run is part of.
+    fn meta(&self, plan: &SweepPlan, shard: (usize, usize)) -> Result<SweepMeta> {
+        let range = plan.shard(shard.0, shard.1)?;
+        Ok(SweepMeta {
+            format: crate::sweep_file::FORMAT,
+            request: self.sweep.request(self.style),
+            theta0: self.sweep.theta0.clone(),
+            restitution: self.sweep.restitution.clone(),
+            phi_max: self.sweep.phi_max.clone(),
+            key: plan.key(),
+            total: plan.total(),
+            shard: [shard.0, shard.1],
+            range: [range.start, range.end],
+        })
+    }
 }
 
 /// Write a chart CSV atomically.
@@ -196,11 +262,60 @@ pub fn draw(path: &Path, fig: &clapper_plot::ChartFigure) -> Result<()> {
 pub fn run(args: ChartArgs) -> Result<()> {
     let quantity = args.quantity.quantity();
     let styles: Styles = args.style.into();
-    if quantity == Quantity::Style && styles != Styles::Both {
+    // The quantity matters for what is shown, not for a CSV alone.
+    if (args.out.is_some() || args.csv.is_none()) && quantity == Quantity::Style && styles != Styles::Both {
         bail!("--quantity style needs --style both (it shows where each style is sustained)");
     }
     if let Some(p) = &args.out {
         clapper_plot::format_of(p)?;
+    }
+    if args.block == 0 {
+        bail!("--block must be at least 1");
+    }
+    let plan = args.sweep.plan(styles)?;
+    let pool = args.sweep.pool()?;
+    let threads = pool.current_num_threads();
+    if args.shard.is_some() || plan.charts.len() > 1 {
+        let csv = args
+            .csv
+            .as_deref()
+            .context("a shard, or a sweep over several theta0, R or phi_max, is written with --csv FILE")?;
+        if args.out.is_some() {
+            bail!(
+                "--out draws one whole chart: draw a shard's after `clapper merge`, or sweep one theta0, R and phi_max"
+            );
+        }
+        let shard = args.shard.unwrap_or((0, 1));
+        let meta = args.meta(&plan, shard)?;
+        let range = meta.range;
+        let o = crate::sweep_file::run(
+            crate::sweep_file::RunFile {
+                csv,
+                meta,
+                block: args.block,
+            },
+            &plan,
+            &pool,
+        )?;
+        if let Some(from) = o.resumed_from {
+            println!("resumed at stroke {} of {}..{}", from, range[0], range[1]);
+        }
+        println!(
+            "{} chart(s) of {} strokes; {}strokes {}..{} of {}: {} computed in {:.2} s on {threads} threads, written to {}",
+            plan.charts.len(),
+            plan.per_chart(),
+            args.shard.map_or(String::new(), |(i, n)| format!("shard {} of {n}, ", i + 1)),
+            range[0],
+            range[1],
+            plan.total(),
+            o.cells.len(),
+            o.seconds,
+            csv.display()
+        );
+        if args.shard.is_some() {
+            println!("when every shard is done: clapper merge --csv ALL.csv SHARD.csv ...");
+        }
+        return Ok(());
     }
     let markers: Vec<Marker> = match &args.bells {
         Some(p) => clapper_io::load_bells(p)?
@@ -213,37 +328,91 @@ pub fn run(args: ChartArgs) -> Result<()> {
             .collect(),
         None => vec![],
     };
-    let spec = args.sweep.spec(styles)?;
-    let pool = args.sweep.pool()?;
-    let (chart, secs) = run_sweep(&spec, &pool, "chart")?;
-    let strokes = chart.cells.len();
+    let spec = plan.charts[0].1;
+    let (chart, secs, strokes) = match &args.csv {
+        Some(csv) => {
+            let o = crate::sweep_file::run(
+                crate::sweep_file::RunFile {
+                    csv,
+                    meta: args.meta(&plan, (0, 1))?,
+                    block: args.block,
+                },
+                &plan,
+                &pool,
+            )?;
+            let n = o.cells.len();
+            let chart = match o.resumed_from {
+                None => Chart {
+                    spec,
+                    cells: o.cells.into_iter().map(|(_, c)| c).collect(),
+                },
+                Some(from) => {
+                    println!("resumed at stroke {from} of {}", plan.total());
+                    read_chart(csv, spec)?
+                }
+            };
+            (chart, o.seconds, n)
+        }
+        None => {
+            let (chart, secs) = run_sweep(&spec, &pool, "chart")?;
+            let n = chart.cells.len();
+            (chart, secs, n)
+        }
+    };
+    report_chart(&args, quantity, styles, &chart, &markers)?;
+    println!(
+        "  {strokes} strokes in {secs:.2} s on {threads} threads ({:.0} strokes/s)",
+        strokes as f64 / secs.max(1e-9)
+    );
+    Ok(())
+}
 
-    if let Some(path) = &args.csv {
-        write_csv(path, &chart)?;
+/// A chart read back from its CSV (values to the file's six decimals).
+pub fn read_chart(csv: &Path, spec: ChartSpec) -> Result<Chart> {
+    let text = std::fs::read_to_string(csv).with_context(|| format!("cannot read {}", csv.display()))?;
+    let cells: Vec<_> = clapper_io::read_chart_csv(&text, &csv.display().to_string())?
+        .into_iter()
+        .map(|(_, c)| c)
+        .collect();
+    if cells.len() != spec.cell_count() {
+        bail!(
+            "{} has {} rows; the chart has {} strokes",
+            csv.display(),
+            cells.len(),
+            spec.cell_count()
+        );
     }
+    Ok(Chart { spec, cells })
+}
+
+/// The panels that show `quantity`: one map of styles, or one per style.
+fn panels(chart: &Chart, quantity: Quantity) -> Result<Vec<clapper_plot::Panel>> {
+    Ok(if quantity == Quantity::Style {
+        vec![quantity::style_panel(chart, "").context("--quantity style needs both styles")?]
+    } else {
+        chart
+            .spec
+            .styles
+            .list()
+            .iter()
+            .filter_map(|s| quantity::panel(chart, *s, quantity, ""))
+            .collect()
+    })
+}
+
+/// Draw and summarise one chart.
+fn report_chart(args: &ChartArgs, quantity: Quantity, styles: Styles, chart: &Chart, markers: &[Marker]) -> Result<()> {
+    let spec = chart.spec;
     if let Some(path) = &args.out {
-        let panels = if quantity == Quantity::Style {
-            vec![quantity::style_panel(&chart, "").context("chart lacks a style")?]
-        } else {
-            styles
-                .list()
-                .iter()
-                .filter_map(|s| quantity::panel(&chart, *s, quantity, ""))
-                .collect()
-        };
+        let panels = panels(chart, quantity)?;
         let title = format!("Clapping chart: {} ({})", quantity.label(), settings_words(&spec));
-        draw(path, &quantity::figure(title, quantity, panels, markers.clone()))?;
+        draw(path, &quantity::figure(title, quantity, panels, markers.to_vec()))?;
     }
 
     println!("clapping chart, {}", settings_words(&spec));
     println!(
         "  r/L_c {} to {}, L_b/L_c {} to {}",
         spec.domain.x.0, spec.domain.x.1, spec.domain.y.0, spec.domain.y.1
-    );
-    println!(
-        "  {strokes} strokes in {secs:.2} s on {} threads ({:.0} strokes/s)",
-        pool.current_num_threads(),
-        strokes as f64 / secs.max(1e-9)
     );
     for style in styles.list() {
         let n = (0..spec.ny)
@@ -281,8 +450,132 @@ pub fn run(args: ChartArgs) -> Result<()> {
             println!("  {:6.3} {row}", ys[j]);
         }
     }
-    for m in &markers {
+    for m in markers {
         println!("  bell {}: r/L_c = {:.3}, L_b/L_c = {:.3}", m.label, m.x, m.y);
+    }
+    Ok(())
+}
+
+#[derive(Args, Debug)]
+pub struct MergeArgs {
+    /// The shards' CSV files (each with its .shard.json beside it), in any order.
+    #[arg(required = true, value_name = "SHARD.csv")]
+    pub shards: Vec<PathBuf>,
+    /// The joined CSV: the same bytes as one run of the whole sweep.
+    #[arg(long, value_name = "FILE.csv")]
+    pub csv: PathBuf,
+    /// Draw the joined chart (.svg or .png; a sweep of one chart).
+    #[arg(long, value_name = "FILE")]
+    pub out: Option<PathBuf>,
+    /// What the drawing shows.
+    #[arg(long, value_enum, default_value = "style")]
+    pub quantity: QuantityArg,
+}
+
+/// `clapper merge`: join the shards of a sweep.
+pub fn merge(args: MergeArgs) -> Result<()> {
+    if let Some(p) = &args.out {
+        clapper_plot::format_of(p)?;
+    }
+    let mut parts = vec![];
+    for csv in &args.shards {
+        let meta_path = crate::sweep_file::shard_meta_path(csv);
+        let text = std::fs::read_to_string(&meta_path).with_context(|| {
+            format!(
+                "cannot read {} (is {} a finished shard of `clapper chart --shard`?)",
+                meta_path.display(),
+                csv.display()
+            )
+        })?;
+        let meta: SweepMeta = serde_json::from_str(&text)
+            .with_context(|| format!("{} is not a shard description", meta_path.display()))?;
+        if meta.format != crate::sweep_file::FORMAT {
+            bail!(
+                "{} has format {}, this clapper reads {}",
+                meta_path.display(),
+                meta.format,
+                crate::sweep_file::FORMAT
+            );
+        }
+        parts.push((meta, csv));
+    }
+    let first = parts[0].0.clone();
+    for (m, csv) in &parts {
+        if m.key != first.key || m.shard[1] != first.shard[1] {
+            bail!(
+                "{} is a shard of a different sweep than {} (other options or shard count)",
+                csv.display(),
+                parts[0].1.display()
+            );
+        }
+    }
+    parts.sort_by_key(|(m, _)| m.shard[0]);
+    let n = first.shard[1];
+    let have: Vec<usize> = parts.iter().map(|(m, _)| m.shard[0]).collect();
+    let missing: Vec<String> = (0..n)
+        .filter(|i| !have.contains(i))
+        .map(|i| (i + 1).to_string())
+        .collect();
+    if !missing.is_empty() {
+        bail!("shard(s) {} of {n} missing", missing.join(", "));
+    }
+    if let Some(w) = have.windows(2).find(|w| w[0] == w[1]) {
+        bail!("shard {} of {n} given twice", w[0] + 1);
+    }
+    let plan = first.plan()?;
+    let mut at = 0;
+    let mut body = Vec::new();
+    let mut header: Option<String> = None;
+    for (m, csv) in &parts {
+        if m.range[0] != at {
+            bail!("{} starts at stroke {}, expected {at}", csv.display(), m.range[0]);
+        }
+        let text = std::fs::read_to_string(csv).with_context(|| format!("cannot read {}", csv.display()))?;
+        let (head, rows) = text.split_once('\n').unwrap_or((&text, ""));
+        match &header {
+            None => header = Some(head.to_string()),
+            Some(h) if h != head => bail!("{} has another header than the first shard", csv.display()),
+            _ => {}
+        }
+        let count = rows.lines().count();
+        if count != m.range[1] - m.range[0] {
+            bail!(
+                "{} has {count} rows, its shard has {} strokes: unfinished or damaged",
+                csv.display(),
+                m.range[1] - m.range[0]
+            );
+        }
+        body.extend_from_slice(rows.as_bytes());
+        at = m.range[1];
+    }
+    if at != plan.total() {
+        bail!("the shards end at stroke {at} of {}", plan.total());
+    }
+    let header = header.unwrap_or_default();
+    crate::files::write_atomically(&args.csv, |tmp| {
+        let mut f = std::fs::File::create(tmp).with_context(|| format!("cannot create {}", args.csv.display()))?;
+        use std::io::Write as _;
+        f.write_all(header.as_bytes())?;
+        f.write_all(b"\n")?;
+        f.write_all(&body)?;
+        Ok(())
+    })?;
+    println!(
+        "merged {n} shards: {} strokes of {} chart(s) into {}",
+        plan.total(),
+        plan.charts.len(),
+        args.csv.display()
+    );
+    if let Some(path) = &args.out {
+        if plan.charts.len() > 1 {
+            bail!("--out draws one chart; this sweep has {}", plan.charts.len());
+        }
+        let quantity = args.quantity.quantity();
+        let chart = read_chart(&args.csv, plan.charts[0].1)?;
+        let panels = panels(&chart, quantity)?;
+        let title = format!("Clapping chart: {} ({})", quantity.label(), settings_words(&chart.spec));
+        draw(path, &quantity::figure(title, quantity, panels, vec![]))?;
+        println!("drawn to {}", path.display());
     }
     Ok(())
 }

@@ -9,6 +9,7 @@ mod measure;
 mod serve;
 mod simulate;
 mod sound;
+mod sweep_file;
 
 use clap::{Parser, Subcommand};
 
@@ -31,6 +32,9 @@ enum Command {
     /// A clapping chart: sweep the plane of (r/L_c, L_b/L_c) and show where
     /// a bell rings right or wrong and how it strikes.
     Chart(chart::ChartArgs),
+    /// Join the shards of a sweep (`chart --shard I/N`) into one CSV, the
+    /// same bytes as one run of the whole sweep.
+    Merge(chart::MergeArgs),
     /// Reproduce the paper's figures 7, 9-12 and 14-16 into a folder.
     Figures(figures::FiguresArgs),
     /// Diagnose a bell or a ring for the bell-hanger: how it rings, its
@@ -98,6 +102,7 @@ fn main() {
         Command::Simulate(args) => simulate::run(args),
         Command::Liftoff(args) => simulate::liftoff(args),
         Command::Chart(args) => chart::run(args),
+        Command::Merge(args) => chart::merge(args),
         Command::Figures(args) => figures::run(args),
         Command::Diagnose(args) => diagnose::run(args),
         Command::Restitution(args) => measure::restitution(args),

@@ -52,12 +52,23 @@ fn rhs_per_stroke(rtol: f64, h_max: f64) -> f64 {
 
 fn main() {
     let (reference, _) = chart(1e-12, 0.05);
-    println!("rtol     h_max  us/stroke  rhs/stroke  max|d strike| deg  max|d phi'| rad/s  verdicts changed  max|dD|/D");
-    for (rtol, h_max) in [(1e-8, 0.05), (2e-8, 0.05), (3e-8, 0.05), (5e-8, 0.05), (1e-7, 0.05), (1e-6, 0.05)] {
+    println!(
+        "rtol     h_max  us/stroke  rhs/stroke  max|d strike| deg  max|d phi'| rad/s  verdicts changed  max|dD|/D"
+    );
+    for (rtol, h_max) in [
+        (1e-8, 0.05),
+        (2e-8, 0.05),
+        (3e-8, 0.05),
+        (5e-8, 0.05),
+        (1e-7, 0.05),
+        (1e-6, 0.05),
+    ] {
         let (c, secs) = chart(rtol, h_max);
         let (mut da, mut dv, mut changed, mut dd) = (0.0f64, 0.0f64, 0, 0.0f64);
         for (a, b) in c.cells.iter().zip(&reference.cells) {
-            let (Ok(a), Ok(b)) = (&a.result, &b.result) else { continue };
+            let (Ok(a), Ok(b)) = (&a.result, &b.result) else {
+                continue;
+            };
             if a.sustained != b.sustained {
                 changed += 1;
             }

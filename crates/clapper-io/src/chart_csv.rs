@@ -1,8 +1,10 @@
-//! Charts as long-form CSV: one row per point and style.
+//! Charts as long-form CSV: one row per point and style. A sweep over
+//! several θ0, R or φ_max puts those three first on every row.
 
 use std::io::Write;
 
-use clapper_core::chart::Chart;
+use clapper_core::chart::{Chart, ChartCell, StrokeSummary};
+use clapper_core::stroke::Style;
 
 use crate::report::style_name;
 
@@ -18,8 +20,57 @@ pub const CHART_HEADER: [&str; 8] = [
     "double_strike_index",
 ];
 
+/// The leading columns of a sweep over extra axes.
+pub const AXES_HEADER: [&str; 3] = ["theta0_deg", "restitution", "phi_max_deg"];
+
+/// The settings of one chart of a sweep: θ0 (deg), R, φ_max (deg).
+pub type Axes = [f64; 3];
+
 fn cell(v: Option<f64>) -> String {
     v.map(|x| format!("{x:.6}")).unwrap_or_default()
+}
+
+/// The header row; with `axes`, the extra-axes columns first.
+pub fn chart_header(axes: bool) -> Vec<&'static str> {
+    let mut h = if axes { AXES_HEADER.to_vec() } else { vec![] };
+    h.extend(CHART_HEADER);
+    h
+}
+
+fn row(c: &ChartCell, axes: Option<&Axes>) -> Vec<String> {
+    let s = c.result.as_ref().ok();
+    let mut r: Vec<String> = axes.map_or(vec![], |a| a.iter().map(|v| format!("{v}")).collect());
+    r.extend([
+        format!("{:.6}", c.x),
+        format!("{:.6}", c.y),
+        style_name(c.style).to_string(),
+        s.is_some_and(|s| s.sustained).to_string(),
+        cell(s.and_then(|s| s.strike_theta).map(f64::to_degrees)),
+        cell(s.and_then(|s| s.strike_phidot)),
+        cell(s.and_then(|s| s.liftoff_theta).map(f64::to_degrees)),
+        cell(s.and_then(|s| s.double_strike_index)),
+    ]);
+    r
+}
+
+/// Write rows of cells (each with its chart's axes when the sweep has
+/// extra axes), with the header row first if `header`. The text depends
+/// only on the cells, so a chart written in parts, one after another, is
+/// the same bytes as written whole.
+pub fn write_chart_rows<'a, W: Write>(
+    out: W,
+    rows: impl IntoIterator<Item = (Option<&'a Axes>, &'a ChartCell)>,
+    header: Option<bool>,
+) -> Result<(), csv::Error> {
+    let mut w = csv::WriterBuilder::new().flexible(true).from_writer(out);
+    if let Some(axes) = header {
+        w.write_record(chart_header(axes))?;
+    }
+    for (axes, c) in rows {
+        w.write_record(row(c, axes))?;
+    }
+    w.flush()?;
+    Ok(())
 }
 
 /// Write `chart` as CSV: rows in the chart's order (L_b/L_c, then r/L_c,
@@ -27,23 +78,99 @@ fn cell(v: Option<f64>) -> String {
 /// lift-off, or a point that failed to simulate). The text depends only on
 /// the chart, so it is the same for any thread count.
 pub fn write_chart_csv<W: Write>(out: W, chart: &Chart) -> Result<(), csv::Error> {
-    let mut w = csv::Writer::from_writer(out);
-    w.write_record(CHART_HEADER)?;
-    for c in &chart.cells {
-        let s = c.result.as_ref().ok();
-        w.write_record([
-            format!("{:.6}", c.x),
-            format!("{:.6}", c.y),
-            style_name(c.style).to_string(),
-            s.is_some_and(|s| s.sustained).to_string(),
-            cell(s.and_then(|s| s.strike_theta).map(f64::to_degrees)),
-            cell(s.and_then(|s| s.strike_phidot)),
-            cell(s.and_then(|s| s.liftoff_theta).map(f64::to_degrees)),
-            cell(s.and_then(|s| s.double_strike_index)),
-        ])?;
+    write_chart_rows(out, chart.cells.iter().map(|c| (None, c)), Some(false))
+}
+
+/// Why a chart CSV cannot be read back. One line.
+#[derive(Debug, thiserror::Error)]
+#[error("chart CSV {name}: {message}")]
+pub struct ChartCsvError {
+    /// Where the text came from.
+    pub name: String,
+    /// What is wrong.
+    pub message: String,
+}
+
+/// Read a chart CSV back (for plotting and merging): each row's axes (if
+/// the file has them) and cell. Values carry the file's six decimals;
+/// a failed stroke reads back as one that did not sustain, with no values.
+pub fn read_chart_csv(text: &str, name: &str) -> Result<Vec<(Option<Axes>, ChartCell)>, ChartCsvError> {
+    let err = |message: String| ChartCsvError {
+        name: name.to_string(),
+        message,
+    };
+    let mut rdr = csv::ReaderBuilder::new().from_reader(text.as_bytes());
+    let header: Vec<String> = rdr
+        .headers()
+        .map_err(|e| err(e.to_string()))?
+        .iter()
+        .map(str::to_string)
+        .collect();
+    let axes = if header == chart_header(true) {
+        true
+    } else if header == chart_header(false) {
+        false
+    } else {
+        return Err(err(format!("the header is not a chart's: {}", header.join(","))));
+    };
+    let off = if axes { 3 } else { 0 };
+    let mut out = vec![];
+    for (k, rec) in rdr.records().enumerate() {
+        let rec = rec.map_err(|e| err(format!("row {}: {}", k + 1, e.to_string().replace('\n', " "))))?;
+        let num = |i: usize| -> Result<Option<f64>, ChartCsvError> {
+            let f = rec.get(i).unwrap_or("");
+            if f.is_empty() {
+                return Ok(None);
+            }
+            f.parse::<f64>()
+                .map(Some)
+                .map_err(|_| err(format!("row {}: '{f}' in column {} is not a number", k + 1, header[i])))
+        };
+        let need = |i: usize| num(i)?.ok_or_else(|| err(format!("row {}: {} is empty", k + 1, header[i])));
+        let a = if axes {
+            Some([need(0)?, need(1)?, need(2)?])
+        } else {
+            None
+        };
+        let style = match rec.get(off + 2) {
+            Some("right") => Style::Right,
+            Some("wrong") => Style::Wrong,
+            other => {
+                return Err(err(format!(
+                    "row {}: style {other:?} is neither right nor wrong",
+                    k + 1
+                )))
+            }
+        };
+        let sustained = match rec.get(off + 3) {
+            Some("true") => true,
+            Some("false") => false,
+            other => {
+                return Err(err(format!(
+                    "row {}: sustained {other:?} is neither true nor false",
+                    k + 1
+                )))
+            }
+        };
+        out.push((
+            a,
+            ChartCell {
+                x: need(off)?,
+                y: need(off + 1)?,
+                style,
+                result: Ok(StrokeSummary {
+                    sustained,
+                    strike_theta: num(off + 4)?.map(f64::to_radians),
+                    strike_phidot: num(off + 5)?,
+                    liftoff_theta: num(off + 6)?.map(f64::to_radians),
+                    double_strike_index: num(off + 7)?,
+                    second_strike_delay: None,
+                    amplitude_ratio: None,
+                }),
+            },
+        ));
     }
-    w.flush()?;
-    Ok(())
+    Ok(out)
 }
 
 #[cfg(test)]
@@ -67,5 +194,24 @@ mod tests {
         assert_eq!(lines.len(), 1 + 3 * 2 * 2);
         assert!(lines[1].starts_with("-0.300000,0.500000,right,"));
         assert!(lines.iter().skip(1).all(|l| l.split(',').count() == 8));
+        // Written in two parts, the same bytes.
+        let mut parts = Vec::new();
+        write_chart_rows(&mut parts, chart.cells[..5].iter().map(|c| (None, c)), Some(false)).unwrap();
+        write_chart_rows(&mut parts, chart.cells[5..].iter().map(|c| (None, c)), None).unwrap();
+        assert_eq!(parts, text.as_bytes());
+        // And it reads back.
+        let back = read_chart_csv(&text, "t").unwrap();
+        assert_eq!(back.len(), chart.cells.len());
+        for ((_, b), c) in back.iter().zip(&chart.cells) {
+            assert_eq!(b.sustained().is_some(), c.sustained().is_some());
+            let (sb, sc) = (b.result.as_ref().unwrap(), c.result.as_ref().unwrap());
+            if let (Some(x), Some(y)) = (sb.strike_theta, sc.strike_theta) {
+                assert!((x - y).abs() < 1e-7);
+            }
+        }
+        assert!(read_chart_csv("a,b\n1,2\n", "t")
+            .unwrap_err()
+            .to_string()
+            .contains("not a chart's"));
     }
 }

@@ -60,8 +60,11 @@ const MAX_ROOT_ITERS: usize = 200;
 /// mantissa; 2^y from the integer part's bits and a Taylor series.
 #[inline]
 fn pow_approx(x: f64, p: f64) -> f64 {
-    if !(x > 1e-300) {
-        return if x.is_nan() { f64::NAN } else { 0.0 };
+    if x.is_nan() {
+        return f64::NAN;
+    }
+    if x <= 1e-300 {
+        return 0.0;
     }
     if x.is_infinite() {
         return if p > 0.0 { f64::INFINITY } else { 0.0 };

@@ -1,0 +1,172 @@
+//! A sweep: one chart, or a chart for each combination of several θ0, R
+//! and φ_max values (extra axes), as one flat list of strokes that can be
+//! cut into shards and computed in any pieces, anywhere, and joined again.
+
+use std::ops::Range;
+
+use clapper_core::chart::{sweep_cells, ChartCell, ChartSpec};
+
+use crate::chart::ChartRequest;
+use crate::AppError;
+
+/// The most strokes one sweep may hold (all shards together): ten
+/// thousand million, days of work on a large cluster, far more than any
+/// chart needs, small enough that flat indices fit anywhere.
+pub const MAX_SWEEP_STROKES: usize = 10_000_000_000;
+
+/// θ0 (deg), R and φ_max (deg) of one chart of a sweep.
+pub type Axes = [f64; 3];
+
+/// The charts of a sweep, in order: θ0 outermost, then R, then φ_max.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SweepPlan {
+    /// Each chart's axes and spec.
+    pub charts: Vec<(Axes, ChartSpec)>,
+    /// Whether there is more than one value on some extra axis (then the
+    /// CSV carries the axes on every row).
+    pub has_axes: bool,
+}
+
+impl SweepPlan {
+    /// A chart per combination of `theta0s` (deg), `restitutions` and
+    /// `phi_maxes` (deg), each otherwise as `base`.
+    pub fn new(
+        base: &ChartRequest,
+        theta0s: &[f64],
+        restitutions: &[f64],
+        phi_maxes: &[f64],
+    ) -> Result<Self, AppError> {
+        if theta0s.is_empty() || restitutions.is_empty() || phi_maxes.is_empty() {
+            return Err(AppError::Request(
+                "each of theta0, restitution and phi_max needs a value".into(),
+            ));
+        }
+        let mut charts = vec![];
+        for &theta0 in theta0s {
+            for &restitution in restitutions {
+                for &phi_max in phi_maxes {
+                    let req = ChartRequest {
+                        theta0,
+                        restitution,
+                        phi_max,
+                        ..base.clone()
+                    };
+                    charts.push(([theta0, restitution, phi_max], req.spec()?));
+                }
+            }
+        }
+        let plan = Self {
+            has_axes: charts.len() > 1,
+            charts,
+        };
+        if plan
+            .per_chart()
+            .checked_mul(plan.charts.len())
+            .is_none_or(|n| n > MAX_SWEEP_STROKES)
+        {
+            return Err(AppError::Request(format!(
+                "{} charts of {} strokes is more than a sweep may hold ({MAX_SWEEP_STROKES} strokes)",
+                plan.charts.len(),
+                plan.per_chart()
+            )));
+        }
+        Ok(plan)
+    }
+
+    /// Strokes per chart.
+    pub fn per_chart(&self) -> usize {
+        self.charts[0].1.cell_count()
+    }
+
+    /// Strokes in the whole sweep.
+    pub fn total(&self) -> usize {
+        self.per_chart() * self.charts.len()
+    }
+
+    /// The strokes of shard `i` of `n` (from 0): contiguous and as equal as
+    /// can be, together exactly the whole sweep.
+    pub fn shard(&self, i: usize, n: usize) -> Result<Range<usize>, AppError> {
+        if n == 0 || i >= n {
+            return Err(AppError::Request(format!(
+                "shard {} of {n} does not exist: shards are numbered 1 to N",
+                i + 1
+            )));
+        }
+        let t = self.total() as u128;
+        let at = |k: usize| (t * k as u128 / n as u128) as usize;
+        Ok(at(i)..at(i + 1))
+    }
+
+    /// What identifies the sweep: equal for the same charts (every number
+    /// at full precision), different otherwise. Shards and resumed runs
+    /// check it before their parts are joined.
+    pub fn key(&self) -> String {
+        format!("{:?}", self.charts)
+    }
+
+    /// Compute the strokes with flat indices in `range`: each with the
+    /// index of its chart. `progress(done)` counts strokes as they finish.
+    pub fn cells(
+        &self,
+        range: Range<usize>,
+        progress: &(dyn Fn(u64) + Sync),
+    ) -> Result<Vec<(usize, ChartCell)>, AppError> {
+        let per = self.per_chart();
+        let end = range.end.min(self.total());
+        let mut k = range.start.min(end);
+        let mut out = Vec::with_capacity(end - k);
+        let base = std::sync::atomic::AtomicU64::new(0);
+        while k < end {
+            let chart = k / per;
+            let stop = end.min((chart + 1) * per);
+            let before = base.load(std::sync::atomic::Ordering::Relaxed);
+            let cells = sweep_cells(&self.charts[chart].1, k - chart * per..stop - chart * per, &|d| {
+                progress(before + d)
+            })?;
+            base.fetch_add(cells.len() as u64, std::sync::atomic::Ordering::Relaxed);
+            out.extend(cells.into_iter().map(|c| (chart, c)));
+            k = stop;
+        }
+        Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn plan() -> SweepPlan {
+        let base = ChartRequest {
+            grid: [3, 2],
+            ..ChartRequest::default()
+        };
+        SweepPlan::new(&base, &[150.0, 171.0], &[0.2], &[24.0, 26.0]).unwrap()
+    }
+
+    #[test]
+    fn shards_cover_the_sweep_once_and_join_to_it() {
+        let p = plan();
+        assert_eq!(p.total(), 4 * 12);
+        let whole = p.cells(0..p.total(), &|_| {}).unwrap();
+        for n in [1, 2, 5, 7, 48, 50] {
+            let mut joined = vec![];
+            for i in 0..n {
+                joined.extend(p.cells(p.shard(i, n).unwrap(), &|_| {}).unwrap());
+            }
+            assert_eq!(joined, whole, "{n} shards");
+        }
+        assert!(p.shard(3, 3).is_err());
+        // Charts run theta0-major, then R, then phi_max.
+        assert_eq!(p.charts[1].0, [150.0, 0.2, 26.0]);
+        assert_eq!(p.charts[2].0, [171.0, 0.2, 24.0]);
+    }
+
+    #[test]
+    fn keys_tell_sweeps_apart() {
+        let p = plan();
+        let mut q = plan();
+        assert_eq!(p.key(), q.key());
+        q.charts[0].1.config.restitution = 0.2000000001;
+        assert_ne!(p.key(), q.key());
+    }
+}

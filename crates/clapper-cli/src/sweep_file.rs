@@ -1,0 +1,210 @@
+//! Sweeps written to CSV so that no work is lost: rows are appended a
+//! block at a time to `OUT.partial`, and after each block a small journal
+//! (`OUT.partial.json`) records how far the run got and how many bytes are
+//! good. A run killed at any moment is resumed by running the same command
+//! again: the partial file is cut back to the journal's length (dropping a
+//! half-written block) and the sweep goes on from there, so nothing is lost
+//! or repeated. When done, the partial file is renamed into place. A shard
+//! also leaves `OUT.shard.json`, which `clapper merge` reads.
+
+use std::fs::{File, OpenOptions};
+use std::io::Write;
+use std::ops::Range;
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{bail, Context, Result};
+use clapper_app::chart::ChartRequest;
+use clapper_app::sweep::SweepPlan;
+use clapper_core::chart::ChartCell;
+use serde::{Deserialize, Serialize};
+
+/// Version of the journal and shard files.
+pub const FORMAT: u32 = 1;
+
+/// What a sweep file is part of.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SweepMeta {
+    /// Always [`FORMAT`].
+    pub format: u32,
+    /// The chart options (first value of each extra axis).
+    pub request: ChartRequest,
+    /// Every θ0 (deg).
+    pub theta0: Vec<f64>,
+    /// Every R.
+    pub restitution: Vec<f64>,
+    /// Every φ_max (deg).
+    pub phi_max: Vec<f64>,
+    /// `SweepPlan::key` of the sweep.
+    pub key: String,
+    /// Strokes in the whole sweep.
+    pub total: usize,
+    /// This part: shard index from 0, and the number of shards.
+    pub shard: [usize; 2],
+    /// This part's strokes (flat indices).
+    pub range: [usize; 2],
+}
+
+impl SweepMeta {
+    /// The sweep this meta describes, rebuilt and checked against its key.
+    pub fn plan(&self) -> Result<SweepPlan> {
+        let plan = SweepPlan::new(&self.request, &self.theta0, &self.restitution, &self.phi_max)?;
+        if plan.key() != self.key {
+            bail!("the shard's options do not rebuild its sweep (written by another version of clapper?)");
+        }
+        Ok(plan)
+    }
+}
+
+#[derive(Serialize, Deserialize)]
+struct Journal {
+    meta: SweepMeta,
+    /// Strokes done, as a flat index: the next block starts here.
+    done: usize,
+    /// Bytes of the partial file that hold complete rows.
+    bytes: u64,
+}
+
+fn with_suffix(path: &Path, suffix: &str) -> PathBuf {
+    let mut s = path.as_os_str().to_owned();
+    s.push(suffix);
+    PathBuf::from(s)
+}
+
+/// The shard description beside a shard's CSV.
+pub fn shard_meta_path(csv: &Path) -> PathBuf {
+    with_suffix(csv, ".shard.json")
+}
+
+fn write_json_atomically<T: Serialize>(path: &Path, v: &T) -> Result<()> {
+    crate::files::write_atomically(path, |tmp| {
+        let mut f = File::create(tmp).with_context(|| format!("cannot create {}", tmp.display()))?;
+        f.write_all(serde_json::to_string(v)?.as_bytes())?;
+        f.sync_all()?;
+        Ok(())
+    })
+}
+
+/// What a run did.
+pub struct Outcome {
+    /// The strokes computed by this run, with their chart index.
+    pub cells: Vec<(usize, ChartCell)>,
+    /// Where this run started, if it resumed an earlier one.
+    pub resumed_from: Option<usize>,
+    /// Wall time of this run (s).
+    pub seconds: f64,
+}
+
+/// Options of one run.
+pub struct RunFile<'a> {
+    /// The final CSV.
+    pub csv: &'a Path,
+    /// What the sweep is.
+    pub meta: SweepMeta,
+    /// Strokes per block (and journal entry).
+    pub block: usize,
+}
+
+/// Compute `meta.range` of `plan` into `csv`, resuming an interrupted run.
+pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result<Outcome> {
+    let (csv, meta) = (f.csv, f.meta);
+    let partial = with_suffix(csv, ".partial");
+    let journal_path = with_suffix(csv, ".partial.json");
+    let range: Range<usize> = meta.range[0]..meta.range[1];
+    let started = Instant::now();
+
+    let (mut done, mut bytes, resumed_from) = match std::fs::read_to_string(&journal_path) {
+        Ok(text) => {
+            let j: Journal = serde_json::from_str(&text).with_context(|| {
+                format!(
+                    "{} is not a sweep journal; delete it to start afresh",
+                    journal_path.display()
+                )
+            })?;
+            if j.meta != meta {
+                bail!(
+                    "{} holds an unfinished run of different options; run the same command to resume it, or delete {} and {} to start afresh",
+                    journal_path.display(),
+                    journal_path.display(),
+                    partial.display()
+                );
+            }
+            let len = std::fs::metadata(&partial).map(|m| m.len()).unwrap_or(0);
+            if len < j.bytes {
+                bail!(
+                    "{} is shorter than its journal says ({len} < {} bytes); delete it and {} to start afresh",
+                    partial.display(),
+                    j.bytes,
+                    journal_path.display()
+                );
+            }
+            // Drop a block that was being written when the run stopped.
+            OpenOptions::new().write(true).open(&partial)?.set_len(j.bytes)?;
+            (j.done, j.bytes, Some(j.done))
+        }
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
+            let mut head = Vec::new();
+            clapper_io::write_chart_rows(&mut head, std::iter::empty(), Some(plan.has_axes))?;
+            let mut p = File::create(&partial).with_context(|| format!("cannot create {}", partial.display()))?;
+            p.write_all(&head)?;
+            p.sync_all()?;
+            let bytes = head.len() as u64;
+            write_json_atomically(
+                &journal_path,
+                &Journal {
+                    meta: meta.clone(),
+                    done: range.start,
+                    bytes,
+                },
+            )?;
+            (range.start, bytes, None)
+        }
+        Err(e) => return Err(e).with_context(|| format!("cannot read {}", journal_path.display())),
+    };
+
+    let bar = crate::chart::progress_bar((range.end - range.start) as u64, "sweep");
+    bar.set_position((done - range.start) as u64);
+    let mut out = OpenOptions::new()
+        .append(true)
+        .open(&partial)
+        .with_context(|| format!("cannot open {}", partial.display()))?;
+    let mut mine = vec![];
+    while done < range.end {
+        let end = range.end.min(done + f.block.max(1));
+        let base = (done - range.start) as u64;
+        let cells = pool.install(|| plan.cells(done..end, &|d| bar.set_position(base + d)))?;
+        let mut buf = Vec::new();
+        clapper_io::write_chart_rows(
+            &mut buf,
+            cells
+                .iter()
+                .map(|(k, c)| (plan.has_axes.then_some(&plan.charts[*k].0), c)),
+            None,
+        )?;
+        out.write_all(&buf)?;
+        out.sync_data()?;
+        bytes += buf.len() as u64;
+        done = end;
+        write_json_atomically(
+            &journal_path,
+            &Journal {
+                meta: meta.clone(),
+                done,
+                bytes,
+            },
+        )?;
+        mine.extend(cells);
+    }
+    bar.finish_and_clear();
+    drop(out);
+    std::fs::rename(&partial, csv).with_context(|| format!("cannot move the finished sweep to {}", csv.display()))?;
+    if meta.shard[1] > 1 {
+        write_json_atomically(&shard_meta_path(csv), &meta)?;
+    }
+    std::fs::remove_file(&journal_path).ok();
+    Ok(Outcome {
+        cells: mine,
+        resumed_from,
+        seconds: started.elapsed().as_secs_f64(),
+    })
+}
