@@ -5,7 +5,7 @@ use clapper_core::chart::{ChartSpec, Domain, Styles};
 use clapper_core::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::simulate::{contact_model, ContactName, DEFAULT_RESTITUTION, DEFAULT_THETA0_DEG};
+use crate::simulate::{contact_model, with_tolerance, ContactName, DEFAULT_RESTITUTION, DEFAULT_THETA0_DEG};
 use crate::AppError;
 
 /// Default grid: the paper's 20 x 20.
@@ -99,6 +99,9 @@ pub struct ChartRequest {
     /// Which styles.
     #[serde(default)]
     pub style: StylesName,
+    /// Integrator tolerance, relative and absolute (default 3e-8).
+    #[serde(default)]
+    pub rtol: Option<f64>,
 }
 
 impl Default for ChartRequest {
@@ -121,12 +124,15 @@ impl ChartRequest {
                 phi_max: self.phi_max.to_radians(),
                 ..ChartConstruction::default()
             },
-            config: SimConfig {
-                theta0: self.theta0.to_radians(),
-                restitution: self.restitution,
-                contact: contact_model(self.contact, self.stiffness)?,
-                ..SimConfig::default()
-            },
+            config: with_tolerance(
+                SimConfig {
+                    theta0: self.theta0.to_radians(),
+                    restitution: self.restitution,
+                    contact: contact_model(self.contact, self.stiffness)?,
+                    ..SimConfig::default()
+                },
+                self.rtol,
+            )?,
             styles: self.style.into(),
         };
         spec.validate()?;

@@ -194,6 +194,21 @@ pub struct SimulateRequest {
     /// Contact stiffness k of the penalty model (N m/rad).
     #[serde(default)]
     pub stiffness: Option<f64>,
+    /// Integrator tolerance, relative and absolute (default 3e-8).
+    #[serde(default)]
+    pub rtol: Option<f64>,
+}
+
+/// Set the integrator's tolerances to `rtol` (relative and absolute), if given.
+pub fn with_tolerance(mut cfg: SimConfig, rtol: Option<f64>) -> Result<SimConfig, AppError> {
+    if let Some(r) = rtol {
+        if !(r.is_finite() && (1e-14..=1e-2).contains(&r)) {
+            return Err(AppError::Request(format!("rtol {r} is out of range: 1e-14 to 1e-2")));
+        }
+        cfg.ode.rtol = r;
+        cfg.ode.atol = r;
+    }
+    Ok(cfg)
 }
 
 impl Default for SimulateRequest {
@@ -210,6 +225,7 @@ impl Default for SimulateRequest {
             protocol: ProtocolName::Restart,
             contact: None,
             stiffness: None,
+            rtol: None,
         }
     }
 }
@@ -248,12 +264,15 @@ impl SimulateRequest {
 
     /// The simulation settings, validated.
     pub fn config(&self) -> Result<SimConfig, AppError> {
-        let cfg = SimConfig {
-            theta0: self.theta0.to_radians(),
-            restitution: self.restitution,
-            contact: contact_model(self.contact, self.stiffness)?,
-            ..SimConfig::default()
-        };
+        let cfg = with_tolerance(
+            SimConfig {
+                theta0: self.theta0.to_radians(),
+                restitution: self.restitution,
+                contact: contact_model(self.contact, self.stiffness)?,
+                ..SimConfig::default()
+            },
+            self.rtol,
+        )?;
         cfg.validate()?;
         if self.strokes == 0 || self.strokes > MAX_STROKES {
             return Err(AppError::Request(format!(

@@ -87,6 +87,10 @@ pub struct SweepArgs {
     /// Penalty stiffness k (N m/rad); implies --contact penalty.
     #[arg(long, value_name = "K", allow_hyphen_values = true)]
     pub stiffness: Option<f64>,
+    /// Integrator tolerance, relative and absolute (default 3e-8; 1e-12 for
+    /// a reference).
+    #[arg(long, value_name = "TOL")]
+    pub rtol: Option<f64>,
     /// Worker threads (default: one per core). The output does not depend on it.
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
@@ -106,6 +110,7 @@ impl SweepArgs {
             contact: self.contact,
             stiffness: self.stiffness,
             style: styles,
+            rtol: self.rtol,
         }
     }
 

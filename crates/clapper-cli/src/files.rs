@@ -30,3 +30,28 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) ->
     }
     std::fs::rename(&tmp, path).with_context(|| format!("cannot move output into place at {}", path.display()))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_failed_write_leaves_the_old_file_and_no_litter() {
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("chart.csv");
+        std::fs::write(&out, "good\n").unwrap();
+        let r = write_atomically(&out, |tmp| {
+            std::fs::write(tmp, "half a fi")?;
+            anyhow::bail!("disk full")
+        });
+        assert!(r.is_err());
+        assert_eq!(std::fs::read_to_string(&out).unwrap(), "good\n");
+        assert_eq!(
+            std::fs::read_dir(dir.path()).unwrap().count(),
+            1,
+            "temporary file left behind"
+        );
+        write_atomically(&out, |tmp| Ok(std::fs::write(tmp, "new\n")?)).unwrap();
+        assert_eq!(std::fs::read_to_string(&out).unwrap(), "new\n");
+    }
+}

@@ -66,6 +66,9 @@ pub struct SimulateArgs {
     /// Contact stiffness k of the penalty model (N m/rad); implies --contact penalty.
     #[arg(long, value_name = "K", allow_hyphen_values = true)]
     pub stiffness: Option<f64>,
+    /// Integrator tolerance, relative and absolute (default 3e-8).
+    #[arg(long, value_name = "TOL")]
+    pub rtol: Option<f64>,
     /// Print the full result as one JSON object.
     #[arg(long)]
     pub json: bool,
@@ -105,6 +108,7 @@ impl SimulateArgs {
             protocol: self.protocol,
             contact: self.contact,
             stiffness: self.stiffness,
+            rtol: self.rtol,
         }
     }
 

@@ -50,7 +50,53 @@ fn rhs_per_stroke(rtol: f64, h_max: f64) -> f64 {
     evals as f64 / n as f64
 }
 
+/// The bell alone (clapper held at rest) with no events: the smooth part
+/// of a stroke, the least work the tolerance asks for over that time.
+struct Smooth(clapper_core::dynamics::Dynamics);
+
+impl clapper_core::ode::EventSystem<4> for Smooth {
+    fn rhs(&self, _t: f64, y: &[f64; 4]) -> [f64; 4] {
+        self.0.rhs_resting(y)
+    }
+    fn n_events(&self) -> usize {
+        0
+    }
+    fn event(&self, _i: usize, _t: f64, _y: &[f64; 4]) -> f64 {
+        0.0
+    }
+    fn direction(&self, _i: usize) -> clapper_core::ode::Direction {
+        clapper_core::ode::Direction::Either
+    }
+}
+
+/// Right-hand-side calls of the lab bell's strokes, and of the same time
+/// span integrated with no events at all.
+fn budget() {
+    let bell = Bell::lab();
+    let cfg = SimConfig::default();
+    println!("\nlab bell at the default tolerance: rhs calls per stroke, and the least the tolerance needs");
+    for style in [Style::Right, Style::Wrong] {
+        let s = first_stroke(&bell, &cfg, style).unwrap();
+        let mut solver = clapper_core::ode::Dopri5::<4>::new(cfg.ode);
+        let sys = Smooth(clapper_core::dynamics::Dynamics::new(&bell));
+        let y0 = [cfg.theta0, style.side(cfg.theta0).sign() * bell.phi_max, 0.0, 0.0];
+        solver.integrate(&sys, 0.0, y0, s.end.t, &mut |_, _| {}).unwrap();
+        let smooth = solver.stats();
+        println!(
+            "  {style:?}: {} calls ({} steps, {} rejected, {} events); the same {:.3} s with no events: {} calls ({} steps)",
+            s.stats.rhs_evals,
+            s.stats.steps,
+            s.stats.rejected,
+            s.events,
+            s.end.t,
+            smooth.rhs_evals,
+            smooth.steps
+        );
+    }
+}
+
 fn main() {
+    budget();
     let (reference, _) = chart(1e-12, 0.05);
     println!(
         "rtol     h_max  us/stroke  rhs/stroke  max|d strike| deg  max|d phi'| rad/s  verdicts changed  max|dD|/D"

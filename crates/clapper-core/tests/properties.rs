@@ -126,3 +126,61 @@ fn out_of_range_settings_are_typed_errors() {
         Err(SimError::Param(p)) if p.field == "bell_mass_kg"
     ));
 }
+
+/// A fixed, seeded sample over the wide domain, tallied: every case ends
+/// in a result or a typed error within the step and event budgets, and
+/// mirrors. Prints the tally (`-- --nocapture`) for docs/reliability.md.
+#[test]
+fn wide_domain_tally() {
+    use clapper_core::listening::SplitMix64;
+    let mut rng = SplitMix64::new(2026);
+    let mut u = |a: f64, b: f64| a + (b - a) * rng.next_f64();
+    let (mut ok, mut sustained, mut errors) = (0, 0, std::collections::BTreeMap::<String, usize>::new());
+    let (mut max_steps, mut max_events) = (0u64, 0u32);
+    let n_impact = 1000;
+    let n_penalty = 40;
+    for k in 0..n_impact + n_penalty {
+        let (x, y, phi, r, theta0) = (u(-1.0, 2.0), u(0.2, 5.0), u(5.0, 60.0), u(0.001, 1.0), u(1.0, 179.9));
+        let contact = if k < n_impact {
+            ContactModel::Impact
+        } else {
+            ContactModel::Penalty {
+                stiffness: 10f64.powf(u(4.0, 9.0)),
+            }
+        };
+        let c = ChartConstruction {
+            phi_max: phi.to_radians(),
+            ..ChartConstruction::default()
+        };
+        let bell = c.bell(x, y).unwrap();
+        let cfg = config(theta0, r, contact);
+        let side = if k % 2 == 0 { Side::Plus } else { Side::Minus };
+        let outcome = std::panic::catch_unwind(|| mirrored(&bell, &cfg, side));
+        let outcome = outcome.unwrap_or_else(|_| panic!("panicked at x={x} y={y} phi={phi} R={r} theta0={theta0}"));
+        match outcome {
+            Ok((a, b)) => {
+                ok += 1;
+                sustained += a.sustained() as usize;
+                check_mirror(&a, &b).unwrap_or_else(|e| panic!("not mirrored at x={x} y={y}: {e}"));
+                assert!(a.stats.steps + a.stats.rejected <= cfg.ode.max_steps);
+                assert!(a.events <= cfg.max_events);
+                max_steps = max_steps.max(a.stats.steps + a.stats.rejected);
+                max_events = max_events.max(a.events);
+            }
+            Err(e) => {
+                let kind = format!("{e:?}")
+                    .split(['(', ' ', '{'])
+                    .next()
+                    .unwrap_or("?")
+                    .to_string();
+                *errors.entry(kind).or_default() += 1;
+                assert!(!e.to_string().is_empty() && !e.to_string().contains('\n'));
+            }
+        }
+    }
+    println!(
+        "wide domain: {} cases ({n_impact} impact, {n_penalty} penalty), {ok} results ({sustained} sustained), errors {errors:?}; most steps {max_steps}, most events {max_events}",
+        n_impact + n_penalty
+    );
+    assert!(ok > (n_impact + n_penalty) / 2, "most cases give results");
+}

@@ -81,6 +81,17 @@ pub fn write_chart_csv<W: Write>(out: W, chart: &Chart) -> Result<(), csv::Error
     write_chart_rows(out, chart.cells.iter().map(|c| (None, c)), Some(false))
 }
 
+/// A value from the file as an error message shows it: quoted, escaped
+/// (a field may hold newlines) and cut short.
+fn shown(v: &str) -> String {
+    let q = format!("{v:?}");
+    if q.chars().count() > 60 {
+        q.chars().take(57).collect::<String>() + "..."
+    } else {
+        q
+    }
+}
+
 /// Why a chart CSV cannot be read back. One line.
 #[derive(Debug, thiserror::Error)]
 #[error("chart CSV {name}: {message}")]
@@ -111,7 +122,11 @@ pub fn read_chart_csv(text: &str, name: &str) -> Result<Vec<(Option<Axes>, Chart
     } else if header == chart_header(false) {
         false
     } else {
-        return Err(err(format!("the header is not a chart's: {}", header.join(","))));
+        // Quoted and cut short: the header may hold anything, newlines too.
+        return Err(err(format!(
+            "the header is not a chart's: {}",
+            shown(&header.join(","))
+        )));
     };
     let off = if axes { 3 } else { 0 };
     let mut out = vec![];
@@ -122,9 +137,14 @@ pub fn read_chart_csv(text: &str, name: &str) -> Result<Vec<(Option<Axes>, Chart
             if f.is_empty() {
                 return Ok(None);
             }
-            f.parse::<f64>()
-                .map(Some)
-                .map_err(|_| err(format!("row {}: '{f}' in column {} is not a number", k + 1, header[i])))
+            f.parse::<f64>().map(Some).map_err(|_| {
+                err(format!(
+                    "row {}: {} in column {} is not a number",
+                    k + 1,
+                    shown(f),
+                    header[i]
+                ))
+            })
         };
         let need = |i: usize| num(i)?.ok_or_else(|| err(format!("row {}: {} is empty", k + 1, header[i])));
         let a = if axes {

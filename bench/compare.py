@@ -1,0 +1,236 @@
+#!/usr/bin/env python3
+"""clapper against its peers, on the same work, in one run.
+
+Runs clapper (release build), the SciPy peer (impact with restarts, and the
+paper's penalty spring) and the Octave peer (ode45 with an Events function)
+on the paper's 20 x 20 chart of both styles and the lab bell, measures time
+per stroke and the chart's wall time, and the error of the first strike
+angle and strike velocity against clapper at rtol = atol = 1e-12, then
+writes docs/performance.md.
+
+    bash bench/run        # installs the peers' packages, builds, runs this
+"""
+import json
+import os
+import platform
+import re
+import subprocess
+import sys
+import time
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+CLAPPER = os.path.join(ROOT, "target", "release", "clapper")
+PEERS = os.path.join(ROOT, "bench", "peers")
+WORK = os.path.join(ROOT, "target", "bench")
+N = 20  # the paper's chart
+REPEATS = 5
+
+
+def sh(cmd, **kw):
+    return subprocess.run(cmd, check=True, capture_output=True, text=True, **kw).stdout
+
+
+def clapper_chart(extra, csv, threads=1, repeats=REPEATS):
+    """Least wall time (s) of `repeats` runs, as clapper reports it, and the CSV."""
+    best = float("inf")
+    for _ in range(repeats):
+        out = sh([CLAPPER, "chart", "--grid", str(N), "--threads", str(threads), "--csv", csv] + extra)
+        best = min(best, float(re.search(r"strokes in ([0-9.]+) s", out).group(1)))
+    return best
+
+
+def read_csv(path):
+    cells = {}
+    with open(path) as f:
+        next(f)
+        for line in f:
+            x, y, style, sus, th, ph = line.strip().split(",")[:6]
+            cells[(round(float(x), 6), round(float(y), 6), style)] = (
+                sus == "true", float(th) if th else None, float(ph) if ph else None)
+    return cells
+
+
+def errors(ref, got):
+    """Max |d strike angle| (deg), max |d strike velocity| (rad/s), verdicts agreeing, cells compared."""
+    da = dv = 0.0
+    agree = n = 0
+    for key, (sus, th, ph) in got.items():
+        r = ref[key]
+        n += 1
+        agree += r[0] == sus
+        if th is not None and r[1] is not None:
+            da = max(da, abs(th - r[1]))
+            dv = max(dv, abs(ph - r[2]))
+    return da, dv, agree, n
+
+
+def scipy_chart(model, rtol, n=N):
+    out = sh([sys.executable, os.path.join(PEERS, "scipy_peer.py"), "--chart", str(n), "--model", model,
+              "--rtol", str(rtol)])
+    cells, secs, evals = {}, None, []
+    for line in out.splitlines():
+        d = json.loads(line)
+        if "point" in d:
+            x, y = d["point"]
+            cells[(round(x, 6), round(y, 6), d["style"])] = (d["sustained"], d["strike_theta_deg"], d["strike_phidot_rad_s"])
+            evals.append(d["rhs_evals"])
+        else:
+            secs = d["seconds"]
+    return cells, secs, sum(evals) / len(evals)
+
+
+def octave_chart(rtol, n=N):
+    out = sh(["octave-cli", os.path.join(PEERS, "octave_peer.m"), "chart", str(n), str(rtol)], cwd=PEERS)
+    cells, secs = {}, None
+    for line in out.splitlines():
+        p = line.split()
+        if p[0] == "strokes":
+            secs = float(p[3])
+        elif len(p) == 6:
+            th = None if p[4] == "NaN" else float(p[4])
+            ph = None if p[5] == "NaN" else float(p[5])
+            cells[(round(float(p[0]), 6), round(float(p[1]), 6), p[2])] = (p[3] == "1", th, ph)
+    return cells, secs
+
+
+def lab_clapper(rtol=None):
+    """Time per stroke (s) of the lab bell ringing right, in process (examples/lab_stroke.rs)."""
+    exe = os.path.join(ROOT, "target", "release", "examples", "lab_stroke")
+    d = json.loads(sh([exe] + ([str(rtol)] if rtol else [])))
+    return d["seconds_per_stroke"], d["strike_theta_deg"], d["strike_phidot_rad_s"]
+
+
+def lab_scipy(rtol, model="impact"):
+    d = [json.loads(l) for l in sh([sys.executable, os.path.join(PEERS, "scipy_peer.py"), "--bell", "lab",
+                                    "--model", model, "--rtol", str(rtol)]).splitlines()]
+    return d[1]["seconds_per_stroke"], d[0]["strike_theta_deg"], d[0]["strike_phidot_rad_s"]
+
+
+def lab_octave(rtol):
+    lines = sh(["octave-cli", os.path.join(PEERS, "octave_peer.m"), "lab", "right", str(rtol)], cwd=PEERS).splitlines()
+    p = lines[0].split()
+    return float(lines[1].split()[5]), float(p[4]), float(p[5])
+
+
+def main():
+    os.makedirs(WORK, exist_ok=True)
+    rows = []
+    notes = []
+    t_all = time.time()
+
+    # Tight references (impact and penalty), computed by clapper.
+    ref_csv = os.path.join(WORK, "ref-impact.csv")
+    clapper_chart(["--rtol", "1e-12"], ref_csv, threads=2, repeats=1)
+    ref = read_csv(ref_csv)
+    ref_pen_csv = os.path.join(WORK, "ref-penalty.csv")
+    clapper_chart(["--rtol", "1e-12", "--contact", "penalty"], ref_pen_csv, threads=2, repeats=1)
+    ref_pen = read_csv(ref_pen_csv)
+
+    # clapper itself.
+    c_csv = os.path.join(WORK, "clapper.csv")
+    t1 = clapper_chart([], c_csv, threads=1)
+    t2 = clapper_chart([], c_csv, threads=2)
+    e = errors(ref, read_csv(c_csv))
+    strokes = 2 * N * N
+    rows.append(("clapper, impact (default rtol 3e-8)", t1 / strokes, t2, *e))
+    cp_csv = os.path.join(WORK, "clapper-penalty.csv")  # penalty model: clapper only (see notes)
+    t1p = clapper_chart(["--contact", "penalty"], cp_csv, threads=1, repeats=3)
+    t2p = clapper_chart(["--contact", "penalty"], cp_csv, threads=2, repeats=3)
+    ep = errors(ref_pen, read_csv(cp_csv))
+    rows.append(("clapper, penalty k = 1e6 (default rtol 3e-8)", t1p / strokes, t2p, *ep))
+    clapper_per_stroke = t1 / strokes
+
+    # A 1000 x 1000 chart, both styles, both cores.
+    start = time.perf_counter()
+    out = sh([CLAPPER, "chart", "--grid", "1000", "--csv", os.path.join(WORK, "big.csv")])
+    big = time.perf_counter() - start
+    big_reported = float(re.search(r"strokes in ([0-9.]+) s", out).group(1))
+
+    # SciPy and Octave peers on the chart.
+    peer_rows = []
+    for rtol in [1e-8, 1e-10]:
+        cells, secs, evals = scipy_chart("impact", rtol)
+        e = errors(ref, cells)
+        per = secs / len(cells)
+        rows.append((f"SciPy solve_ivp RK45, impact, rtol {rtol:g}", per, secs, *e))
+        peer_rows.append((f"SciPy impact, rtol {rtol:g}, chart", per / clapper_per_stroke, evals))
+    cells, secs = octave_chart(1e-8)
+    e = errors(ref, cells)
+    per = secs / len(cells)
+    rows.append(("Octave ode45 + Events, impact, rtol 1e-08", per, secs, *e))
+    peer_rows.append(("Octave impact, rtol 1e-08, chart", per / clapper_per_stroke, None))
+
+    # The lab bell, one stroke ringing right, at several tolerances.
+    ref_lab = lab_clapper(1e-12)
+    lab = []
+    mine = lab_clapper()
+    lab.append(("clapper (default 3e-8)", *mine))
+    for rtol in [1e-8, 1e-10]:
+        lab.append((f"SciPy impact, rtol {rtol:g}", *lab_scipy(rtol)))
+    for rtol in [1e-8, 1e-10, 1e-12]:
+        lab.append((f"Octave impact, rtol {rtol:g}", *lab_octave(rtol)))
+    lab_rows = [(n, t, abs(th - ref_lab[1]), abs(ph - ref_lab[2]), t / mine[0]) for n, t, th, ph in lab]
+
+    versions = {
+        "machine": f"{platform.machine()}, {os.cpu_count()} cores, " + (
+            re.search(r"model name\s*:\s*(.*)", open("/proc/cpuinfo").read()).group(1)
+            if os.path.exists("/proc/cpuinfo") else "?"),
+        "rustc": sh(["rustc", "--version"]).strip(),
+        "python": platform.python_version(),
+        "scipy": __import__("scipy").__version__,
+        "numpy": __import__("numpy").__version__,
+        "octave": sh(["octave-cli", "--version"]).splitlines()[0],
+    }
+    write_doc(rows, peer_rows, lab_rows, versions, big, big_reported, t_all)
+
+
+def write_doc(rows, peer_rows, lab_rows, versions, big, big_reported, t_all):
+    L = []
+    L.append("# Performance: clapper and its peers\n")
+    L.append("Written by `bash bench/run` (bench/compare.py) in one run on "
+             f"{time.strftime('%Y-%m-%d')}; every number below is from that run. "
+             f"The run took {(time.time() - t_all) / 60:.1f} min.\n")
+    L.append("## Machine and versions\n")
+    for k, v in versions.items():
+        L.append(f"- {k}: {v}")
+    L.append("")
+    L.append("## The work\n")
+    L.append("The paper's clapping chart: 20 x 20 points over r/L_c -0.3..0.7 and L_b/L_c 0.5..2.5, "
+             "both styles (800 strokes), theta0 = 171 deg, R = 0.2, phi_max = 26 deg. Each implementation "
+             "simulates every stroke to its turning point and reports the first strike angle, the clapper "
+             "rate before it and whether the style is sustained. Errors are the largest over the chart, "
+             "against clapper at rtol = atol = 1e-12 (for the penalty rows, the penalty model at 1e-12). "
+             "clapper's times are the least of several runs (the machine is a shared VM whose speed "
+             "varies by +-20 %); the peers ran once.\n")
+    L.append("| implementation | time per stroke (1 thread) | 20 x 20 chart, both styles | max error of first strike angle (deg) | max error of strike velocity (rad/s) | verdicts as the reference |")
+    L.append("|---|---:|---:|---:|---:|---:|")
+    for name, per, chart, da, dv, agree, n in rows:
+        chart_words = f"{chart:.3f} s" if chart < 10 else f"{chart:.1f} s"
+        if name.startswith("clapper"):
+            chart_words += " (2 threads)"
+        L.append(f"| {name} | {per * 1e6:,.0f} us | {chart_words} | {da:.1e} | {dv:.1e} | {agree} of {n} |")
+    L.append("")
+    L.append("## Speed ratios (time per stroke, one thread each)\n")
+    L.append("| peer | peer / clapper | peer's RHS calls per stroke |")
+    L.append("|---|---:|---:|")
+    for name, ratio, evals in peer_rows:
+        L.append(f"| {name} | {ratio:,.0f} x | {'' if evals is None else f'{evals:.0f}'} |")
+    L.append("")
+    L.append("## The lab bell, one stroke ringing right\n")
+    L.append("Errors against clapper at 1e-12; times per stroke, one thread (clapper: the least of five runs "
+             "of 2000 strokes; the peers: one stroke).\n")
+    L.append("| implementation | time per stroke | error of first strike angle (deg) | error of strike velocity (rad/s) | time / clapper's |")
+    L.append("|---|---:|---:|---:|---:|")
+    for name, t, da, dv, ratio in lab_rows:
+        L.append(f"| {name} | {t * 1e6:,.0f} us | {da:.1e} | {dv:.1e} | {ratio:,.0f} x |")
+    L.append("")
+    L.append(f"A 1000 x 1000 chart of both styles (2,000,000 strokes) on both cores: {big_reported:.1f} s "
+             f"of sweeping ({big:.1f} s for the whole process, with writing the CSV).\n")
+    with open(os.path.join(ROOT, "docs", "performance.md"), "w") as f:
+        f.write("\n".join(L) + "\n")
+        f.write(open(os.path.join(ROOT, "bench", "performance-notes.md")).read())
+    print("\n".join(L))
+
+
+if __name__ == "__main__":
+    main()
