@@ -115,6 +115,16 @@ def stroke(bell, theta0, R, style, model="impact", k=1e6, rtol=1e-8, max_steps_t
     def turning(t, y):
         return s0 * y[2]
 
+    def segment(rhs, t, t_end, y, extra, nfev):
+        """Integrate to the first event: (over the top?, t, y, which event or None, rhs calls)."""
+        evs = [event(over_top, 1), event(turning, 1) if bottom_passed else event(bottom, -1)] + extra
+        sol = solve_ivp(rhs, (t, t_end), y, events=evs, **opts)
+        nfev += sol.nfev
+        if sol.status != 1:
+            return False, t, y, None, nfev
+        which = next(i for i, ev in enumerate(sol.t_events) if len(ev))
+        return which == 0, sol.t_events[which][0], list(sol.y_events[which][0]), which, nfev
+
     if model == "penalty":
         # Loading with k, unloading with R k; the contact starts at |phi| = phimax.
         def rhs(t, y):
@@ -134,25 +144,15 @@ def stroke(bell, theta0, R, style, model="impact", k=1e6, rtol=1e-8, max_steps_t
         def hit(t, y):
             return -side * y[1] - bell.phimax  # reaches the far side's spring
         while True:
-            evs = [event(over_top, 1), event(bottom if not bottom_passed else turning, -1 if not bottom_passed else 1)]
-            if first is None:
-                evs.append(event(hit, 1))
-            sol = solve_ivp(rhs, (t, t_end), y, events=evs, **opts)
-            nfev += sol.nfev
-            if sol.status != 1:
-                return first, False, nfev
-            which = next(i for i, e in enumerate(sol.t_events) if len(e))
-            t, y = sol.t_events[which][0], list(sol.y_events[which][0])
-            if which == 0:
+            extra = [event(hit, 1)] if first is None else []
+            done, t, y, which, nfev = segment(rhs, t, t_end, y, extra, nfev)
+            if done or which is None:
                 return first, False, nfev
             if which == 1 and not bottom_passed:
                 bottom_passed = True
                 continue
             if which == 1:
-                # Turning point: which side is the clapper on, relative to the bell?
-                end_side = 1.0 if y[1] >= 0 else -1.0
-                cont = "right" if end_side == (1.0 if y[0] >= 0 else -1.0) else "wrong"
-                return first, first is not None and cont == style, nfev
+                return first, first is not None and continues_as(y, None) == style, nfev
             first = (math.degrees(y[0]), y[3])
 
     e = math.sqrt(R)
@@ -160,30 +160,22 @@ def stroke(bell, theta0, R, style, model="impact", k=1e6, rtol=1e-8, max_steps_t
     clapper = ("rest", side) if side * q0 < 0 else ("fly", None)
     struck = False
     while True:
-        evs = [event(over_top, 1), event(bottom if not bottom_passed else turning, -1 if not bottom_passed else 1)]
         if clapper[0] == "fly":
             rhs = lambda t, y: [y[2], y[3], *accel(bell, y)[:2]]
-            evs.append(event(lambda t, y: y[1] - bell.phimax, 1))
-            evs.append(event(lambda t, y: -y[1] - bell.phimax, 1))
+            extra = [event(lambda t, y: y[1] - bell.phimax, 1), event(lambda t, y: -y[1] - bell.phimax, 1)]
         else:
             s = clapper[1]
             rhs = lambda t, y: [y[2], 0.0, resting(bell, y)[0], 0.0]
-            evs.append(event(lambda t, y, s=s: s * resting(bell, y)[1], 1))
-        sol = solve_ivp(rhs, (t, t_end), y, events=evs, **opts)
-        nfev += sol.nfev
-        if sol.status != 1:
-            return first, False, nfev
-        which = next(i for i, ev in enumerate(sol.t_events) if len(ev))
-        t, y = sol.t_events[which][0], list(sol.y_events[which][0])
-        if which == 0:
+            extra = [event(lambda t, y, s=s: s * resting(bell, y)[1], 1)]
+        done, t, y, which, nfev = segment(rhs, t, t_end, y, extra, nfev)
+        if done or which is None:
             return first, False, nfev
         if which == 1 and not bottom_passed:
             bottom_passed = True
             continue
         if which == 1:
-            end_side = clapper[1] if clapper[0] == "rest" else (1.0 if y[1] >= 0 else -1.0)
-            cont = "right" if end_side == (1.0 if y[0] >= 0 else -1.0) else "wrong"
-            return first, first is not None and cont == style, nfev
+            rest = clapper[1] if clapper[0] == "rest" else None
+            return first, first is not None and continues_as(y, rest) == style, nfev
         if clapper[0] == "rest":
             clapper = ("fly", None)
             continue
@@ -200,6 +192,12 @@ def stroke(bell, theta0, R, style, model="impact", k=1e6, rtol=1e-8, max_steps_t
             y, clapper = stuck, ("rest", s)
         else:
             y = bounced
+
+
+def continues_as(y, rest_side):
+    """The style the next stroke starts in: where the clapper is, relative to the bell."""
+    side = rest_side if rest_side is not None else (1.0 if y[1] >= 0 else -1.0)
+    return "right" if side == (1.0 if y[0] >= 0 else -1.0) else "wrong"
 
 
 def axis(a, b, n):

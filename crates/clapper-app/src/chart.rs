@@ -5,7 +5,7 @@ use clapper_core::chart::{ChartSpec, Domain, Styles};
 use clapper_core::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::simulate::{contact_model, with_tolerance, ContactName, DEFAULT_RESTITUTION, DEFAULT_THETA0_DEG};
+use crate::simulate::{contact_model, default_restitution, default_theta0, with_tolerance, ContactName};
 use crate::AppError;
 
 /// Default grid: the paper's 20 x 20.
@@ -50,12 +50,6 @@ fn r_range() -> [f64; 2] {
 fn lb_range() -> [f64; 2] {
     DEFAULT_LB_RANGE
 }
-fn theta0() -> f64 {
-    DEFAULT_THETA0_DEG
-}
-fn restitution() -> f64 {
-    DEFAULT_RESTITUTION
-}
 fn phi_max() -> f64 {
     DEFAULT_PHI_MAX_DEG
 }
@@ -82,10 +76,10 @@ pub struct ChartRequest {
     #[serde(default = "lb_range", alias = "lb-range")]
     pub lb_range: [f64; 2],
     /// Starting angle of the bell (deg).
-    #[serde(default = "theta0")]
+    #[serde(default = "default_theta0")]
     pub theta0: f64,
     /// Coefficient of restitution R.
-    #[serde(default = "restitution")]
+    #[serde(default = "default_restitution")]
     pub restitution: f64,
     /// Contact angle φ_max of every chart bell (deg).
     #[serde(default = "phi_max", alias = "phi-max")]

@@ -138,10 +138,10 @@ pub fn contact_words(cfg: &SimConfig) -> String {
     }
 }
 
-fn default_theta0() -> f64 {
+pub(crate) fn default_theta0() -> f64 {
     DEFAULT_THETA0_DEG
 }
-fn default_restitution() -> f64 {
+pub(crate) fn default_restitution() -> f64 {
     DEFAULT_RESTITUTION
 }
 fn default_strokes() -> usize {
