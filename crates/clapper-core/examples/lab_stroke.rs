@@ -1,5 +1,5 @@
 //! Time one stroke of the lab bell ringing right, in process: the least of
-//! five runs of 2000 strokes, and the first strike of one. Used by
+//! twenty runs of 2000 strokes, and the first strike of one. Used by
 //! bench/compare.py; prints JSON.
 //!
 //!     cargo run --release -p clapper-core --example lab_stroke -- [RTOL]
@@ -17,7 +17,7 @@ fn main() {
     let bell = Bell::lab();
     let n = 2000;
     let mut best = f64::INFINITY;
-    for _ in 0..5 {
+    for _ in 0..20 {
         let t = Instant::now();
         for _ in 0..n {
             std::hint::black_box(first_stroke(std::hint::black_box(&bell), &cfg, Style::Right).unwrap());
