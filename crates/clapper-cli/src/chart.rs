@@ -12,10 +12,10 @@ use clapper_plot::quantity::{self, Quantity};
 use indicatif::{ProgressBar, ProgressStyle};
 
 use clapper_app::chart::{ChartRequest, StylesName, DEFAULT_PHI_MAX_DEG};
-use clapper_app::simulate::{contact_words, ContactName, DEFAULT_RESTITUTION, DEFAULT_THETA0_DEG};
+use clapper_app::simulate::{contact_words, DEFAULT_RESTITUTION, DEFAULT_THETA0_DEG};
 use clapper_app::sweep::SweepPlan;
 
-use crate::simulate::parse_point;
+use crate::simulate::{parse_point, SolverArgs};
 use crate::sweep_file::SweepMeta;
 
 fn parse_grid(s: &str) -> std::result::Result<(usize, usize), String> {
@@ -81,16 +81,8 @@ pub struct SweepArgs {
     /// Contact angle phi_max of every chart bell (deg; a list sweeps it).
     #[arg(long, value_name = "DEG[,DEG..]", value_delimiter = ',', default_values_t = [DEFAULT_PHI_MAX_DEG], allow_hyphen_values = true)]
     pub phi_max: Vec<f64>,
-    /// Contact model.
-    #[arg(long, value_enum)]
-    pub contact: Option<ContactName>,
-    /// Penalty stiffness k (N m/rad); implies --contact penalty.
-    #[arg(long, value_name = "K", allow_hyphen_values = true)]
-    pub stiffness: Option<f64>,
-    /// Integrator tolerance, relative and absolute (default 3e-8; 1e-12 for
-    /// a reference).
-    #[arg(long, value_name = "TOL")]
-    pub rtol: Option<f64>,
+    #[command(flatten)]
+    pub solver: SolverArgs,
     /// Worker threads (default: one per core). The output does not depend on it.
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
@@ -107,10 +99,10 @@ impl SweepArgs {
             theta0: self.theta0[0],
             restitution: self.restitution[0],
             phi_max: self.phi_max[0],
-            contact: self.contact,
-            stiffness: self.stiffness,
+            contact: self.solver.contact,
+            stiffness: self.solver.stiffness,
             style: styles,
-            rtol: self.rtol,
+            rtol: self.solver.rtol,
         }
     }
 

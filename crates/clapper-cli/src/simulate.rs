@@ -38,6 +38,22 @@ pub struct BellArgs {
     pub chart_point: Option<(f64, f64)>,
 }
 
+/// The contact model and the integrator's tolerance: shared by every
+/// command that simulates.
+#[derive(Args, Debug, Clone)]
+pub struct SolverArgs {
+    /// Contact model.
+    #[arg(long, value_enum)]
+    pub contact: Option<ContactName>,
+    /// Contact stiffness k of the penalty model (N m/rad); implies --contact penalty.
+    #[arg(long, value_name = "K", allow_hyphen_values = true)]
+    pub stiffness: Option<f64>,
+    /// Integrator tolerance, relative and absolute (default 3e-8; 1e-12 for
+    /// a reference).
+    #[arg(long, value_name = "TOL")]
+    pub rtol: Option<f64>,
+}
+
 #[derive(Args, Debug)]
 pub struct SimulateArgs {
     #[command(flatten)]
@@ -60,15 +76,8 @@ pub struct SimulateArgs {
     /// How one stroke leads to the next.
     #[arg(long, value_enum, default_value = "restart")]
     pub protocol: ProtocolName,
-    /// Contact model.
-    #[arg(long, value_enum)]
-    pub contact: Option<ContactName>,
-    /// Contact stiffness k of the penalty model (N m/rad); implies --contact penalty.
-    #[arg(long, value_name = "K", allow_hyphen_values = true)]
-    pub stiffness: Option<f64>,
-    /// Integrator tolerance, relative and absolute (default 3e-8).
-    #[arg(long, value_name = "TOL")]
-    pub rtol: Option<f64>,
+    #[command(flatten)]
+    pub solver: SolverArgs,
     /// Print the full result as one JSON object.
     #[arg(long)]
     pub json: bool,
@@ -106,9 +115,9 @@ impl SimulateArgs {
             phi_max: self.phi_max,
             strokes: self.strokes,
             protocol: self.protocol,
-            contact: self.contact,
-            stiffness: self.stiffness,
-            rtol: self.rtol,
+            contact: self.solver.contact,
+            stiffness: self.solver.stiffness,
+            rtol: self.solver.rtol,
         }
     }
 
