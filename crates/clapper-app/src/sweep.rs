@@ -14,8 +14,8 @@ use crate::AppError;
 /// chart needs, small enough that flat indices fit anywhere.
 pub const MAX_SWEEP_STROKES: usize = 10_000_000_000;
 
-/// θ0 (deg), R and φ_max (deg) of one chart of a sweep.
-pub type Axes = [f64; 3];
+/// θ0 (deg), R and φ_max (deg) of one chart of a sweep, as the CSV writes them.
+pub use clapper_io::chart_csv::Axes;
 
 /// The charts of a sweep, in order: θ0 outermost, then R, then φ_max.
 #[derive(Clone, Debug, PartialEq)]

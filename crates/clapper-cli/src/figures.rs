@@ -213,7 +213,7 @@ pub fn run(args: FiguresArgs) -> Result<()> {
             s(Style::Wrong)
         );
     }
-    std::fs::write(out.join("fig07.csv"), csv)?;
+    crate::files::write_bytes(&out.join("fig07.csv"), csv)?;
     entries.push(Entry {
         name: "fig07".into(),
         title: "Fig 7: lift-off angle at r = 0".into(),
@@ -251,8 +251,10 @@ pub fn run(args: FiguresArgs) -> Result<()> {
             let p = out.join(format!("{name}.{ext}"));
             crate::files::write_atomically(&p, |tmp| Ok(clapper_plot::stroke_plot(tmp, &rec.samples, &plot)?))?;
         }
-        let f = std::fs::File::create(out.join(format!("{name}.csv")))?;
-        clapper_io::write_trace_csv(std::io::BufWriter::new(f), &rec.samples)?;
+        crate::files::write_atomically(&out.join(format!("{name}.csv")), |tmp| {
+            let f = std::fs::File::create(tmp)?;
+            Ok(clapper_io::write_trace_csv(std::io::BufWriter::new(f), &rec.samples)?)
+        })?;
         entries.push(Entry {
             name: name.into(),
             title: title.clone(),
@@ -470,7 +472,7 @@ fn write_index(out: &Path, entries: &[Entry], words: &str, secs: f64) -> Result<
         );
     }
     html.push_str("</body></html>\n");
-    std::fs::write(out.join("index.md"), md)?;
-    std::fs::write(out.join("index.html"), html)?;
+    crate::files::write_bytes(&out.join("index.md"), md)?;
+    crate::files::write_bytes(&out.join("index.html"), html)?;
     Ok(())
 }

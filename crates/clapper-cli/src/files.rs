@@ -31,6 +31,13 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) ->
     std::fs::rename(&tmp, path).with_context(|| format!("cannot move output into place at {}", path.display()))
 }
 
+/// Write `bytes` to `path` atomically.
+pub fn write_bytes(path: &Path, bytes: impl AsRef<[u8]>) -> Result<()> {
+    write_atomically(path, |tmp| {
+        std::fs::write(tmp, bytes.as_ref()).with_context(|| format!("cannot write {}", path.display()))
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -8,6 +8,8 @@ use clap::{Args, Subcommand};
 use clapper_app::listening::{figure, text, Stimulus, StimulusSet};
 use clapper_io::answers::{answer_sheet_csv, SheetRow};
 
+use crate::files::write_bytes;
+
 #[derive(Args, Debug)]
 pub struct ListeningArgs {
     #[command(subcommand)]
@@ -68,12 +70,12 @@ fn make(args: MakeArgs) -> Result<()> {
     let dir = &args.out;
     std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
     let set = StimulusSet::new(args.rate)?;
-    std::fs::write(dir.join("reference.wav"), set.wav(&set.reference)?)?;
+    write_bytes(&dir.join("reference.wav"), set.wav(&set.reference)?)?;
     for s in &set.stimuli {
-        std::fs::write(dir.join(&s.name), set.wav(&s.signal)?)?;
+        write_bytes(&dir.join(&s.name), set.wav(&s.signal)?)?;
     }
     let index: Vec<SheetRow> = set.stimuli.iter().map(|s| sheet_row(None, 0, s)).collect();
-    std::fs::write(dir.join("stimuli.csv"), answer_sheet_csv(&index)?)?;
+    write_bytes(&dir.join("stimuli.csv"), answer_sheet_csv(&index)?)?;
     for l in 0..args.listeners {
         let listener = format!("listener{:02}", l + 1);
         let rows: Vec<SheetRow> = set
@@ -82,7 +84,7 @@ fn make(args: MakeArgs) -> Result<()> {
             .enumerate()
             .map(|(trial, s)| sheet_row(Some(&listener), trial + 1, s))
             .collect();
-        std::fs::write(dir.join(format!("answers-{listener}.csv")), answer_sheet_csv(&rows)?)?;
+        write_bytes(&dir.join(format!("answers-{listener}.csv")), answer_sheet_csv(&rows)?)?;
     }
     println!(
         "wrote 100 stimuli (lab-bell strikes, ratio 0.1 to 1, delay 10 to 100 ms), reference.wav, stimuli.csv and {} \

@@ -85,6 +85,30 @@ fn write_json_atomically<T: Serialize>(path: &Path, v: &T) -> Result<()> {
     })
 }
 
+/// Hold an exclusive lock on `path` (created if missing) for as long as
+/// the returned file lives; the system drops it when the process dies,
+/// so a killed run leaves no stale lock.
+fn lock(path: &Path) -> Result<File> {
+    let f = OpenOptions::new()
+        .create(true)
+        .truncate(false)
+        .write(true)
+        .open(path)
+        .with_context(|| format!("cannot create {}", path.display()))?;
+    #[cfg(unix)]
+    {
+        use std::os::unix::io::AsRawFd;
+        // SAFETY: flock on a descriptor this function owns; no memory is shared.
+        if unsafe { libc::flock(f.as_raw_fd(), libc::LOCK_EX | libc::LOCK_NB) } != 0 {
+            bail!(
+                "another run is writing this sweep ({} is locked); wait for it, or stop it and run again to resume",
+                path.display()
+            );
+        }
+    }
+    Ok(f)
+}
+
 /// What a run did.
 pub struct Outcome {
     /// The strokes computed by this run, with their chart index.
@@ -112,6 +136,9 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
     let journal_path = with_suffix(csv, ".partial.json");
     let range: Range<usize> = meta.range[0]..meta.range[1];
     let started = Instant::now();
+    // Two runs writing one sweep would interleave their blocks.
+    let lock_path = with_suffix(csv, ".lock");
+    let _lock = lock(&lock_path)?;
 
     let (mut done, mut bytes, resumed_from) = match std::fs::read_to_string(&journal_path) {
         Ok(text) => {
@@ -202,6 +229,7 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
         write_json_atomically(&shard_meta_path(csv), &meta)?;
     }
     std::fs::remove_file(&journal_path).ok();
+    std::fs::remove_file(&lock_path).ok();
     Ok(Outcome {
         cells: mine,
         resumed_from,

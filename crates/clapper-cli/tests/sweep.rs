@@ -107,6 +107,11 @@ fn a_killed_run_resumes_to_the_same_bytes() {
         assert!(start.elapsed() < Duration::from_secs(60), "no progress");
         std::thread::sleep(Duration::from_millis(2));
     }
+    // A second run of the same sweep while the first works is refused
+    // (found by hand: two runs interleaved their blocks).
+    let out = clapper().current_dir(d).args(&args).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("another run"), "{err}");
     child.kill().unwrap();
     child.wait().unwrap();
     assert!(!d.join("out.csv").exists(), "no half-finished CSV in place");
