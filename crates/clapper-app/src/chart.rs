@@ -5,7 +5,7 @@ use clapper_core::chart::{ChartSpec, Domain, Styles};
 use clapper_core::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::simulate::{contact_model, default_restitution, default_theta0, with_tolerance, ContactName};
+use crate::simulate::{contact_model, default_restitution, default_theta0, with_solver, ContactName, IntegratorName};
 use crate::AppError;
 
 /// Default grid: the paper's 20 x 20.
@@ -96,6 +96,9 @@ pub struct ChartRequest {
     /// Integrator tolerance, relative and absolute (default 3e-8).
     #[serde(default)]
     pub rtol: Option<f64>,
+    /// Integrator (default Taylor).
+    #[serde(default)]
+    pub integrator: Option<IntegratorName>,
 }
 
 impl Default for ChartRequest {
@@ -118,7 +121,7 @@ impl ChartRequest {
                 phi_max: self.phi_max.to_radians(),
                 ..ChartConstruction::default()
             },
-            config: with_tolerance(
+            config: with_solver(
                 SimConfig {
                     theta0: self.theta0.to_radians(),
                     restitution: self.restitution,
@@ -126,6 +129,7 @@ impl ChartRequest {
                     ..SimConfig::default()
                 },
                 self.rtol,
+                self.integrator,
             )?,
             styles: self.style.into(),
         };

@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 
 use clapper_core::prelude::*;
-use clapper_core::stroke::Sample;
+use clapper_core::stroke::{Integrator, Sample};
 use clapper_io::bell_file::{BellSource, LoadedBell};
 use clapper_io::report::{style_name, BellReport, SimulationReport, SimulationSettings};
 use serde::{Deserialize, Serialize};
@@ -114,6 +114,17 @@ pub enum ContactName {
     Penalty,
 }
 
+/// Integrator.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+pub enum IntegratorName {
+    /// Taylor series of the bell's equations (the default, the fastest).
+    Taylor,
+    /// Dormand–Prince 5(4), general purpose: a cross-check.
+    Dopri5,
+}
+
 /// The contact model from a contact name and a stiffness k (N m/rad); a
 /// stiffness alone means the penalty model.
 pub fn contact_model(contact: Option<ContactName>, stiffness: Option<f64>) -> Result<ContactModel, AppError> {
@@ -197,10 +208,23 @@ pub struct SimulateRequest {
     /// Integrator tolerance, relative and absolute (default 3e-8).
     #[serde(default)]
     pub rtol: Option<f64>,
+    /// Integrator (default Taylor).
+    #[serde(default)]
+    pub integrator: Option<IntegratorName>,
 }
 
-/// Set the integrator's tolerances to `rtol` (relative and absolute), if given.
-pub fn with_tolerance(mut cfg: SimConfig, rtol: Option<f64>) -> Result<SimConfig, AppError> {
+/// Set the integrator's tolerances to `rtol` (relative and absolute) and
+/// the integrator, where given.
+pub fn with_solver(
+    mut cfg: SimConfig,
+    rtol: Option<f64>,
+    integrator: Option<IntegratorName>,
+) -> Result<SimConfig, AppError> {
+    match integrator {
+        Some(IntegratorName::Dopri5) => cfg.integrator = Integrator::Dopri5,
+        Some(IntegratorName::Taylor) => cfg.integrator = Integrator::default(),
+        None => {}
+    }
     if let Some(r) = rtol {
         if !(r.is_finite() && (1e-14..=1e-2).contains(&r)) {
             return Err(AppError::Request(format!("rtol {r} is out of range: 1e-14 to 1e-2")));
@@ -226,6 +250,7 @@ impl Default for SimulateRequest {
             contact: None,
             stiffness: None,
             rtol: None,
+            integrator: None,
         }
     }
 }
@@ -264,7 +289,7 @@ impl SimulateRequest {
 
     /// The simulation settings, validated.
     pub fn config(&self) -> Result<SimConfig, AppError> {
-        let cfg = with_tolerance(
+        let cfg = with_solver(
             SimConfig {
                 theta0: self.theta0.to_radians(),
                 restitution: self.restitution,
@@ -272,6 +297,7 @@ impl SimulateRequest {
                 ..SimConfig::default()
             },
             self.rtol,
+            self.integrator,
         )?;
         cfg.validate()?;
         if self.strokes == 0 || self.strokes > MAX_STROKES {

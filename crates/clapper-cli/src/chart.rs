@@ -103,6 +103,7 @@ impl SweepArgs {
             stiffness: self.solver.stiffness,
             style: styles,
             rtol: self.solver.rtol,
+            integrator: self.solver.integrator,
         }
     }
 
@@ -358,7 +359,8 @@ pub fn run(args: ChartArgs) -> Result<()> {
     };
     report_chart(&args, quantity, styles, &chart, &markers)?;
     println!(
-        "  {strokes} strokes in {secs:.2} s on {threads} threads ({:.0} strokes/s)",
+        "  {strokes} strokes in {secs:.4} s on {threads} thread{} ({:.0} strokes/s)",
+        if threads == 1 { "" } else { "s" },
         strokes as f64 / secs.max(1e-9)
     );
     Ok(())

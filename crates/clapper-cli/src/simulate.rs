@@ -5,8 +5,8 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::Args;
 use clapper_app::simulate::{
-    simulate_traced, summary, ContactName, Preset, ProtocolName, SimulateRequest, StyleName, DEFAULT_RESTITUTION,
-    DEFAULT_STROKES, DEFAULT_THETA0_DEG,
+    simulate_traced, summary, ContactName, IntegratorName, Preset, ProtocolName, SimulateRequest, StyleName,
+    DEFAULT_RESTITUTION, DEFAULT_STROKES, DEFAULT_THETA0_DEG,
 };
 use clapper_core::prelude::*;
 use clapper_io::LoadedBell;
@@ -52,6 +52,10 @@ pub struct SolverArgs {
     /// a reference).
     #[arg(long, value_name = "TOL")]
     pub rtol: Option<f64>,
+    /// Integrator: taylor (default, fastest) or dopri5 (Dormand-Prince, a
+    /// cross-check).
+    #[arg(long, value_enum)]
+    pub integrator: Option<IntegratorName>,
 }
 
 #[derive(Args, Debug)]
@@ -118,6 +122,7 @@ impl SimulateArgs {
             contact: self.solver.contact,
             stiffness: self.solver.stiffness,
             rtol: self.solver.rtol,
+            integrator: self.solver.integrator,
         }
     }
 

@@ -6,6 +6,7 @@
 //! clapper angle relative to the bell's axis (rad), and their rates (rad/s).
 
 use crate::bell::{Bell, G};
+use crate::ode::taylor::{Coeffs, MAX_ORDER};
 
 /// Index of θ in the state.
 pub const THETA: usize = 0;
@@ -154,6 +155,153 @@ impl Dynamics {
         let winv22 = a.w11 / a.det;
         let p = -(1.0 + e) * y[PHI_DOT] / winv22;
         [y[0], y[1], y[2] + winv12 * p, -e * y[PHI_DOT]]
+    }
+
+    /// Taylor coefficients to order `p` of the solution through `y` in
+    /// flight or against a linear spring: contact force Q_φ = −k (φ − φ_s)
+    /// (k in N m/rad, φ_s in rad; k = 0 in free flight). Fills `x[i][0..=p]`
+    /// in powers of time (rad/s^k, rad/s^(k+1)). The recurrences are those
+    /// of [`accel`](Self::accel), term by term, and keep its exact symmetry
+    /// under (θ, φ) → (−θ, −φ).
+    pub fn series_free(&self, y: &State, k: f64, phi_s: f64, p: usize, x: &mut [Coeffs; 4]) {
+        const Z: Coeffs = [0.0; MAX_ORDER + 1];
+        assert!(p < MAX_ORDER);
+        let (mut st, mut ct, mut sp, mut cp, mut sa, mut ca) = (Z, Z, Z, Z, Z, Z);
+        let (mut u, mut e, mut a, mut c, mut tdd, mut pdd) = (Z, Z, Z, Z, Z, Z);
+        let [th, ph, w, v] = x;
+        th[0] = y[THETA];
+        ph[0] = y[PHI];
+        w[0] = y[THETA_DOT];
+        v[0] = y[PHI_DOT];
+        (sp[0], cp[0]) = crate::trig::sin_cos(y[PHI]);
+        (st[0], ct[0]) = crate::trig::sin_cos(y[THETA]);
+        // As in accel: sin and cos of θ + φ from the two pairs.
+        sa[0] = st[0] * cp[0] + ct[0] * sp[0];
+        ca[0] = ct[0] * cp[0] - st[0] * sp[0];
+        // W(t) a(t) = F(t) order by order: W_0 a_n = F_n − Σ_{k≥1} W_k a_{n−k},
+        // where W_k = m r b cos(φ)_k [[2, 1], [1, 0]] for k ≥ 1.
+        let w12 = self.ic + self.mrb * cp[0];
+        let w11 = self.j0 + 2.0 * self.mrb * cp[0];
+        let inv_det = 1.0 / (w11 * self.ic - w12 * w12);
+        for n in 0..p {
+            u[n] = th[n] + ph[n];
+            e[n] = 2.0 * w[n] + v[n];
+            // Every sum of order n at once; the terms at k = 0 and k = n need
+            // this order's trig coefficients and come after.
+            let (mut s_t, mut c_t, mut s_p, mut c_p, mut s_a, mut c_a) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+            let (mut aa, mut cc, mut sb, mut sd, mut s1, mut s2) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+            for j in 1..n {
+                let m = n - j;
+                let kf = j as f64;
+                let (kt, kp, ku) = (kf * th[j], kf * ph[j], kf * u[j]);
+                s_t += kt * ct[m];
+                c_t += kt * st[m];
+                s_p += kp * cp[m];
+                c_p += kp * sp[m];
+                s_a += ku * ca[m];
+                c_a += ku * sa[m];
+                aa += v[j] * e[m];
+                cc += w[j] * w[m];
+                sb += a[j] * sp[m];
+                sd += c[j] * sp[m];
+                s1 += cp[j] * tdd[m];
+                s2 += cp[j] * pdd[m];
+            }
+            if n > 0 {
+                let nf = n as f64;
+                let inv = 1.0 / nf;
+                st[n] = (s_t + nf * th[n] * ct[0]) * inv;
+                ct[n] = -(c_t + nf * th[n] * st[0]) * inv;
+                sp[n] = (s_p + nf * ph[n] * cp[0]) * inv;
+                cp[n] = -(c_p + nf * ph[n] * sp[0]) * inv;
+                sa[n] = (s_a + nf * u[n] * ca[0]) * inv;
+                ca[n] = -(c_a + nf * u[n] * sa[0]) * inv;
+            }
+            a[n] = if n == 0 {
+                v[0] * e[0]
+            } else {
+                aa + v[0] * e[n] + v[n] * e[0]
+            };
+            c[n] = if n == 0 { w[0] * w[0] } else { cc + 2.0 * w[0] * w[n] };
+            let (sb, sd) = if n == 0 {
+                (a[0] * sp[0], c[0] * sp[0])
+            } else {
+                (sb + a[0] * sp[n] + a[n] * sp[0], sd + c[0] * sp[n] + c[n] * sp[0])
+            };
+            let q = -k * (ph[n] - if n == 0 { phi_s } else { 0.0 });
+            let mut f1 = self.mrb * sb - self.gravity_bell * st[n] - self.gravity_clapper * sa[n];
+            let mut f2 = q - self.mrb * sd - self.gravity_clapper * sa[n];
+            if n > 0 {
+                let s1 = s1 + cp[n] * tdd[0];
+                let s2 = s2 + cp[n] * pdd[0];
+                f1 -= self.mrb * (2.0 * s1 + s2);
+                f2 -= self.mrb * s1;
+            }
+            tdd[n] = (self.ic * f1 - w12 * f2) * inv_det;
+            pdd[n] = (w11 * f2 - w12 * f1) * inv_det;
+            let inv = 1.0 / (n + 1) as f64;
+            th[n + 1] = w[n] * inv;
+            ph[n + 1] = v[n] * inv;
+            w[n + 1] = tdd[n] * inv;
+            v[n + 1] = pdd[n] * inv;
+        }
+    }
+
+    /// Taylor coefficients to order `p` of the solution through `y` with
+    /// the clapper resting against the bell (φ fixed at `y[PHI]` = ±φ_max,
+    /// φ' = 0), and in `q` those of the contact force Q_φ (N m) that holds
+    /// it, as in [`resting`](Self::resting).
+    pub fn series_resting(&self, y: &State, p: usize, x: &mut [Coeffs; 4], q: &mut Coeffs) {
+        const Z: Coeffs = [0.0; MAX_ORDER + 1];
+        let (mut st, mut ct, mut sa, mut w2) = (Z, Z, Z, Z);
+        let sp = if y[PHI] < 0.0 {
+            -self.sin_phi_max
+        } else {
+            self.sin_phi_max
+        };
+        let cp = self.cos_phi_max;
+        let (sp, cp) = if y[PHI].abs() == self.bell.phi_max {
+            (sp, cp)
+        } else {
+            crate::trig::sin_cos(y[PHI])
+        };
+        let w11 = self.j0 + 2.0 * self.mrb * cp;
+        let w12 = self.ic + self.mrb * cp;
+        x[THETA][0] = y[THETA];
+        x[PHI][0] = y[PHI];
+        x[THETA_DOT][0] = y[THETA_DOT];
+        x[PHI_DOT][0] = 0.0;
+        (st[0], ct[0]) = crate::trig::sin_cos(y[THETA]);
+        // To order p for the force (an event function), p - 1 for the state's
+        // derivatives.
+        for n in 0..=p {
+            if n > 0 {
+                // sin θ, cos θ and θ'² in one pass over the earlier terms.
+                let (mut s_t, mut c_t, mut w2n) = (0.0, 0.0, 0.0);
+                for j in 1..n {
+                    let kt = j as f64 * x[THETA][j];
+                    s_t += kt * ct[n - j];
+                    c_t += kt * st[n - j];
+                    w2n += x[THETA_DOT][j] * x[THETA_DOT][n - j];
+                }
+                let nf = n as f64;
+                st[n] = (s_t + nf * x[THETA][n] * ct[0]) / nf;
+                ct[n] = -(c_t + nf * x[THETA][n] * st[0]) / nf;
+                w2[n] = w2n + 2.0 * x[THETA_DOT][0] * x[THETA_DOT][n];
+            } else {
+                w2[0] = x[THETA_DOT][0] * x[THETA_DOT][0];
+            }
+            sa[n] = st[n] * cp + ct[n] * sp;
+            let tdd = (-self.gravity_bell * st[n] - self.gravity_clapper * sa[n]) / w11;
+            q[n] = w12 * tdd + self.mrb * w2[n] * sp + self.gravity_clapper * sa[n];
+            if n < p {
+                let inv = 1.0 / (n + 1) as f64;
+                x[THETA][n + 1] = x[THETA_DOT][n] * inv;
+                x[PHI][n + 1] = 0.0;
+                x[THETA_DOT][n + 1] = tdd * inv;
+                x[PHI_DOT][n + 1] = 0.0;
+            }
+        }
     }
 
     /// Kinetic energy (4) (J).

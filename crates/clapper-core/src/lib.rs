@@ -43,7 +43,7 @@ pub mod prelude {
     pub use crate::liftoff::{liftoff_angles, LiftoffAngles};
     pub use crate::ringing::{first_stroke, ring, Protocol, Ringing};
     pub use crate::stroke::{
-        run_stroke, ClapperState, ContactModel, EndReason, Impact, Observer, Side, SimConfig, SimError, Stroke,
-        StrokeStart, Style, TraceRecorder,
+        run_stroke, ClapperState, ContactModel, EndReason, Impact, Integrator, Observer, Side, SimConfig, SimError,
+        Stroke, StrokeStart, Style, TraceRecorder,
     };
 }

@@ -3,7 +3,7 @@
 
 use clapper_core::bell::{Bell, BellWarning};
 use clapper_core::ringing::{Protocol, Ringing};
-use clapper_core::stroke::{ClapperState, ContactModel, EndReason, SimConfig, Stroke, Style};
+use clapper_core::stroke::{ClapperState, ContactModel, EndReason, Integrator, SimConfig, Stroke, Style};
 use serde::Serialize;
 
 use crate::bell_file::BellSource;
@@ -94,6 +94,8 @@ pub struct SimulationSettings {
     pub strokes_requested: usize,
     /// Integrator relative tolerance.
     pub rtol: f64,
+    /// "taylor-N" (a Taylor series of order N) or "dopri5".
+    pub integrator: String,
 }
 
 impl SimulationSettings {
@@ -111,6 +113,10 @@ impl SimulationSettings {
             protocol: protocol_name(protocol).into(),
             strokes_requested: strokes,
             rtol: cfg.ode.rtol,
+            integrator: match cfg.integrator {
+                Integrator::Taylor { order, .. } => format!("taylor-{order}"),
+                Integrator::Dopri5 => "dopri5".into(),
+            },
         }
     }
 }

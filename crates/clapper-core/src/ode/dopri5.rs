@@ -59,7 +59,7 @@ const MAX_ROOT_ITERS: usize = 200;
 /// a chart's time. log2 from the exponent bits and an atanh series for the
 /// mantissa; 2^y from the integer part's bits and a Taylor series.
 #[inline]
-fn pow_approx(x: f64, p: f64) -> f64 {
+pub(super) fn pow_approx(x: f64, p: f64) -> f64 {
     if x.is_nan() {
         return f64::NAN;
     }
@@ -76,7 +76,9 @@ fn pow_approx(x: f64, p: f64) -> f64 {
     let s2 = s * s;
     let ln_m = 2.0 * s * (1.0 + s2 * (1.0 / 3.0 + s2 * (1.0 / 5.0 + s2 * (1.0 / 7.0 + s2 / 9.0))));
     let y = (p * (e as f64 + ln_m * std::f64::consts::LOG2_E)).clamp(-1000.0, 1000.0);
-    let n = y.floor();
+    // floor without the library call (y is within ±1000).
+    let t = y as i64 as f64;
+    let n = if t > y { t - 1.0 } else { t };
     let f = (y - n) * std::f64::consts::LN_2;
     let two_f = 1.0 + f * (1.0 + f * (0.5 + f * (1.0 / 6.0 + f * (1.0 / 24.0 + f * (1.0 / 120.0 + f / 720.0)))));
     // 2^n for |n| ≤ 1000 in two factors, each a normal f64.
@@ -458,7 +460,7 @@ impl<const N: usize> Dopri5<N> {
 /// `sa`, the sign `g` is known to have at `a` (its value `ga` there may be
 /// exactly zero after a restart). Returns a time at which `g` is already on
 /// the far side (or zero), within `tol` of the root.
-fn locate_root<G: Fn(f64) -> f64>(g: G, mut a: f64, ga: f64, sa: i8, mut b: f64, gb: f64, tol: f64) -> f64 {
+pub(super) fn locate_root<G: Fn(f64) -> f64>(g: G, mut a: f64, ga: f64, sa: i8, mut b: f64, gb: f64, tol: f64) -> f64 {
     // Oriented so that the start side is negative.
     let orient = -f64::from(sa);
     let mut fa = ga * orient;

@@ -2,6 +2,10 @@
 //! output, and an event layer that stops integration at the earliest root of
 //! a set of event functions.
 //!
+//! [`Taylor`] is a Taylor-series integrator for systems that expand their
+//! own solution (the bell does, in `stroke`): longer steps and exact dense
+//! output for smooth motion.
+//!
 //! It is small on purpose. The state is a fixed-size array (`[f64; N]`), so a
 //! step allocates nothing; the system is a generic parameter, so the
 //! right-hand side inlines. It is checked against the `ode_solvers` crate and
@@ -26,8 +30,10 @@
 //! ```
 
 mod dopri5;
+pub mod taylor;
 
 pub use dopri5::{Dense, Dopri5, Segment};
+pub use taylor::{SeriesSystem, Taylor};
 
 /// The largest number of event functions one [`EventSystem`] may declare.
 pub const MAX_EVENTS: usize = 8;
