@@ -2,7 +2,7 @@
 //! twenty runs of 2000 strokes, and the first strike of one. Used by
 //! bench/compare.py; prints JSON.
 //!
-//!     cargo run --release -p clapper-core --example lab_stroke -- [RTOL]
+//!     cargo run --release -p clapper-core --example lab_stroke -- [RTOL [taylor|dopri5]]
 
 use std::time::Instant;
 
@@ -13,6 +13,9 @@ fn main() {
     if let Some(r) = std::env::args().nth(1).and_then(|a| a.parse::<f64>().ok()) {
         cfg.ode.rtol = r;
         cfg.ode.atol = r;
+    }
+    if std::env::args().nth(2).as_deref() == Some("dopri5") {
+        cfg.integrator = clapper_core::stroke::Integrator::Dopri5;
     }
     let bell = Bell::lab();
     let n = 2000;

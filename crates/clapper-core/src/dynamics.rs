@@ -377,4 +377,40 @@ mod tests {
         assert_eq!(stuck[3], 0.0);
         assert!(d.kinetic_energy(&stuck) < d.kinetic_energy(&y));
     }
+
+    /// The expansions start as the equations do, and the mirror state
+    /// (θ, φ) → (−θ, −φ) gives exactly the negated series (the chart's
+    /// hand/backstroke symmetry holds bit for bit).
+    #[test]
+    fn series_start_with_the_equations_and_are_exactly_odd() {
+        let d = Dynamics::new(&Bell::lab());
+        let y = [2.1, -0.3, -1.7, 4.2];
+        let (mut x, mut xm) = ([[0.0; MAX_ORDER + 1]; 4], [[0.0; MAX_ORDER + 1]; 4]);
+        d.series_free(&y, 0.0, 0.0, 12, &mut x);
+        let a = d.accel(&y, 0.0);
+        assert_relative_eq!(x[THETA_DOT][1], a.theta, max_relative = 1e-12);
+        assert_relative_eq!(x[PHI_DOT][1], a.phi, max_relative = 1e-12);
+        assert_eq!(x[THETA][1], y[THETA_DOT]);
+        // Second order: d(θ'')/dt by a central difference along the flow.
+        let h = 1e-5;
+        let step = |s: f64| {
+            let yy: State = std::array::from_fn(|i| (0..=12).rev().fold(0.0, |v, k| v * s + x[i][k]));
+            d.accel(&yy, 0.0).theta
+        };
+        assert_relative_eq!(2.0 * x[THETA_DOT][2], (step(h) - step(-h)) / (2.0 * h), max_relative = 1e-6);
+        d.series_free(&y.map(|v| -v), 0.0, 0.0, 12, &mut xm);
+        for i in 0..4 {
+            for k in 0..=12 {
+                assert_eq!(xm[i][k], -x[i][k], "component {i} order {k}");
+            }
+        }
+        // Resting: the holding force's series starts at the resting force.
+        let yr = [2.5, Bell::lab().phi_max, -2.0, 0.0];
+        let mut q = [0.0; MAX_ORDER + 1];
+        d.series_resting(&yr, 10, &mut x, &mut q);
+        let (tdd, q0) = d.resting(&yr);
+        assert_relative_eq!(q[0], q0, max_relative = 1e-12);
+        assert_relative_eq!(x[THETA_DOT][1], tdd, max_relative = 1e-12);
+        assert!(x[PHI][1..=10].iter().all(|&v| v == 0.0));
+    }
 }

@@ -353,3 +353,119 @@ fn agrees_with_ode_solvers_dopri5() {
         assert!((t - 3.0).abs() < 1e-12);
     }
 }
+
+/// The bell in free flight, expanded in Taylor series by its own
+/// recurrences.
+struct FreeSeries(Dynamics);
+impl clapper_core::ode::SeriesSystem<4> for FreeSeries {
+    fn expand(
+        &self,
+        y: &State,
+        p: usize,
+        x: &mut [clapper_core::ode::taylor::Coeffs; 4],
+        _g: &mut [clapper_core::ode::taylor::Coeffs; clapper_core::ode::MAX_EVENTS],
+    ) {
+        self.0.series_free(y, 0.0, 0.0, p, x);
+    }
+    fn n_events(&self) -> usize {
+        0
+    }
+    fn direction(&self, _i: usize) -> Direction {
+        Direction::Either
+    }
+}
+
+/// The Taylor integrator against the `ode_solvers` crate, as the
+/// Dormand–Prince one above: the same free swing, the same states at 0.5 s
+/// steps, and energy kept inside its steps.
+#[test]
+fn taylor_agrees_with_ode_solvers_dopri5() {
+    use clapper_core::ode::Taylor;
+    use ode_solvers::{System, Vector4};
+    struct Peer(Dynamics);
+    impl System<f64, Vector4<f64>> for Peer {
+        fn system(&self, _x: f64, y: &Vector4<f64>, dy: &mut Vector4<f64>) {
+            let d = self.0.rhs_free(&[y[0], y[1], y[2], y[3]]);
+            *dy = Vector4::new(d[0], d[1], d[2], d[3]);
+        }
+    }
+    for bell in [Bell::lab(), Bell::gsm_tenor()] {
+        let d = Dynamics::new(&bell);
+        let y0 = [1.2, 0.2, 0.0, 0.5];
+        let e0 = d.energy(&y0);
+        let mut peer = ode_solvers::Dopri5::new(Peer(d), 0.0, 3.5, 0.5, Vector4::from(y0), 1e-11, 1e-11);
+        peer.integrate().unwrap();
+        let opts = Options {
+            rtol: 1e-11,
+            atol: 1e-11,
+            ..Options::default()
+        };
+        let mut ours = Taylor::new(opts, 14, 0.25);
+        let (mut t, mut y) = (0.0, y0);
+        let mut drift = 0.0f64;
+        for (k, (&xp, yp)) in peer.x_out().iter().zip(peer.y_out()).enumerate().skip(1).take(6) {
+            assert!((xp - 0.5 * k as f64).abs() < 1e-12);
+            let end = ours
+                .integrate(&FreeSeries(d), t, y, xp, &mut |s: &clapper_core::ode::taylor::Series<4>, t1| {
+                    for j in 0..=4 {
+                        let tt = s.t0() + (t1 - s.t0()) * j as f64 / 4.0;
+                        drift = drift.max((d.energy(&s.eval(tt)) - e0).abs() / e0);
+                    }
+                })
+                .unwrap();
+            (t, y) = (end.t, end.y);
+            for i in 0..4 {
+                assert!(
+                    (y[i] - yp[i]).abs() < 1e-8,
+                    "t {xp} component {i}: {} vs {}",
+                    y[i],
+                    yp[i]
+                );
+            }
+        }
+        assert!((t - 3.0).abs() < 1e-12);
+        assert!(drift < 1e-9, "energy drift {drift}");
+        // Far fewer steps than a fifth-order method needs at this tolerance.
+        assert!(ours.stats().steps < 200, "{:?}", ours.stats());
+    }
+}
+
+/// Both integrators give the same strokes, to far below the default
+/// tolerance's error, over a chart of both styles: the Taylor one is
+/// checked against the general-purpose one on every kind of segment.
+#[test]
+fn taylor_and_dormand_prince_give_the_same_strokes() {
+    use clapper_core::stroke::Integrator;
+    let tight = |integrator| SimConfig {
+        ode: Options {
+            rtol: 1e-11,
+            atol: 1e-11,
+            ..Options::default()
+        },
+        integrator,
+        ..SimConfig::default()
+    };
+    let construction = ChartConstruction::default();
+    let (mut worst_angle, mut worst_rate, mut strokes) = (0.0f64, 0.0f64, 0);
+    for i in 0..6 {
+        for j in 0..6 {
+            let bell = construction.bell(-0.3 + 0.2 * i as f64, 0.5 + 0.4 * j as f64).unwrap();
+            for style in [Style::Right, Style::Wrong] {
+                let a = first_stroke(&bell, &tight(Integrator::default()), style).unwrap();
+                let b = first_stroke(&bell, &tight(Integrator::Dopri5), style).unwrap();
+                assert_eq!(a.sustained(), b.sustained());
+                assert_eq!(a.end.reason, b.end.reason);
+                assert_eq!(a.strike_angle().is_some(), b.strike_angle().is_some());
+                if let (Some(x), Some(y)) = (a.strike_angle(), b.strike_angle()) {
+                    worst_angle = worst_angle.max((x - y).abs().to_degrees());
+                    worst_rate = worst_rate.max((a.strike_velocity().unwrap() - b.strike_velocity().unwrap()).abs());
+                    strokes += 1;
+                }
+                assert!((a.end.t - b.end.t).abs() < 1e-7, "{} vs {}", a.end.t, b.end.t);
+            }
+        }
+    }
+    assert!(strokes > 30, "{strokes}");
+    assert!(worst_angle < 1e-6, "strike angles differ by {worst_angle} deg");
+    assert!(worst_rate < 1e-7, "strike rates differ by {worst_rate} rad/s");
+}
