@@ -397,7 +397,11 @@ mod tests {
             let yy: State = std::array::from_fn(|i| (0..=12).rev().fold(0.0, |v, k| v * s + x[i][k]));
             d.accel(&yy, 0.0).theta
         };
-        assert_relative_eq!(2.0 * x[THETA_DOT][2], (step(h) - step(-h)) / (2.0 * h), max_relative = 1e-6);
+        assert_relative_eq!(
+            2.0 * x[THETA_DOT][2],
+            (step(h) - step(-h)) / (2.0 * h),
+            max_relative = 1e-6
+        );
         d.series_free(&y.map(|v| -v), 0.0, 0.0, 12, &mut xm);
         for i in 0..4 {
             for k in 0..=12 {

@@ -786,9 +786,9 @@ impl SeriesSystem<4> for Segment<'_> {
     }
 }
 
-/// A Taylor order for a bounce expected to last `flight` (s): the terms of
-/// a series fall off about as (t / 0.25 s)^n over the bell's motion, so a
-/// short flight needs few of them to reach `rtol`. Only a work estimate:
+/// A Taylor order for a first step of `flight` (s) after a bounce: the terms
+/// of a series fall off about as (t / 0.25 s)^n over the bell's motion, so
+/// a short flight needs few of them to reach `rtol`. Only a work estimate:
 /// the step-size control keeps the accuracy whatever the order.
 fn bounce_order(flight: f64, rtol: f64) -> usize {
     let ratio = flight / 0.25;
@@ -931,7 +931,9 @@ pub fn run_stroke<O: Observer>(
                             clapper = ClapperState::Flying;
                             departed = Some(side);
                             if let (Some(ts), true) = (series.as_mut(), toward > 0.0) {
-                                ts.set_next_order(bounce_order(2.0 * away / toward, cfg.ode.rtol));
+                                // The flight ends near 2 v / a: seek it over a little more.
+                                let span = 3.0 * away / toward;
+                                ts.hint_next(bounce_order(span, cfg.ode.rtol), span);
                             }
                         }
                         if let Some(last) = impacts.last_mut() {

@@ -406,12 +406,18 @@ fn taylor_agrees_with_ode_solvers_dopri5() {
         for (k, (&xp, yp)) in peer.x_out().iter().zip(peer.y_out()).enumerate().skip(1).take(6) {
             assert!((xp - 0.5 * k as f64).abs() < 1e-12);
             let end = ours
-                .integrate(&FreeSeries(d), t, y, xp, &mut |s: &clapper_core::ode::taylor::Series<4>, t1| {
-                    for j in 0..=4 {
-                        let tt = s.t0() + (t1 - s.t0()) * j as f64 / 4.0;
-                        drift = drift.max((d.energy(&s.eval(tt)) - e0).abs() / e0);
-                    }
-                })
+                .integrate(
+                    &FreeSeries(d),
+                    t,
+                    y,
+                    xp,
+                    &mut |s: &clapper_core::ode::taylor::Series<4>, t1| {
+                        for j in 0..=4 {
+                            let tt = s.t0() + (t1 - s.t0()) * j as f64 / 4.0;
+                            drift = drift.max((d.energy(&s.eval(tt)) - e0).abs() / e0);
+                        }
+                    },
+                )
                 .unwrap();
             (t, y) = (end.t, end.y);
             for i in 0..4 {

@@ -59,7 +59,7 @@ const MAX_ROOT_ITERS: usize = 200;
 /// a chart's time. log2 from the exponent bits and an atanh series for the
 /// mantissa; 2^y from the integer part's bits and a Taylor series.
 #[inline]
-pub(super) fn pow_approx(x: f64, p: f64) -> f64 {
+fn pow_approx(x: f64, p: f64) -> f64 {
     if x.is_nan() {
         return f64::NAN;
     }

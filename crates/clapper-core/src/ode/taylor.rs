@@ -13,7 +13,6 @@
 //! the largest `h` with `|x_j| h^j <= atol + rtol |y|` for `j = p - 1, p` in
 //! every component, capped at `h_max`.
 
-use super::dopri5::pow_approx;
 use super::{Direction, OdeError, Options, Segment, Stats, MAX_EVENTS};
 
 /// The highest order an expansion may have.
@@ -63,6 +62,37 @@ fn horner(c: &[f64], p: usize, s: f64) -> f64 {
         odd = odd * s2 + c[ko];
     }
     even + s * odd
+}
+
+/// `m^(-1/j)` for `m > 0`, within about 2e-4 relative: a step size needs
+/// no more. log2 from the exponent bits and a series for the mantissa's
+/// logarithm about 1.5; 2^y from its integer part's bits and a series.
+#[inline]
+fn inv_root(m: f64, j: usize) -> f64 {
+    if !(m.is_finite() && m >= 1e-300) {
+        return if m.is_nan() {
+            f64::NAN
+        } else if m > 1.0 {
+            0.0
+        } else {
+            f64::INFINITY
+        };
+    }
+    let bits = m.to_bits();
+    let e = ((bits >> 52) & 0x7ff) as i64 - 1023;
+    let mant = f64::from_bits((bits & 0x000f_ffff_ffff_ffff) | 0x3ff0_0000_0000_0000);
+    // ln(mant) = ln 1.5 + ln(1 + u), |u| <= 1/3.
+    let u = (mant - 1.5) * (2.0 / 3.0);
+    let ln1p = u * (1.0 + u * (-0.5 + u * (1.0 / 3.0 + u * (-0.25 + u * (0.2 + u * (-1.0 / 6.0 + u / 7.0))))));
+    let log2m = e as f64 + (0.405_465_108_108_164_4 + ln1p) * std::f64::consts::LOG2_E;
+    let y = (-log2m / j as f64).clamp(-1000.0, 1000.0);
+    let t = y as i64 as f64;
+    let n = if t > y { t - 1.0 } else { t };
+    let f = (y - n) * std::f64::consts::LN_2;
+    let two_f = 1.0 + f * (1.0 + f * (0.5 + f * (1.0 / 6.0 + f * (1.0 / 24.0 + f * (1.0 / 120.0 + f / 720.0)))));
+    let half = (n as i64) / 2;
+    let scale = |k: i64| f64::from_bits(((k + 1023) as u64) << 52);
+    two_f * scale(half) * scale(n as i64 - half)
 }
 
 /// Σ |a_k| w_k in four running sums (a bound, so the order of the sum does
@@ -184,6 +214,7 @@ pub struct Taylor<const N: usize> {
     opts: Options,
     order: usize,
     next_order: Option<usize>,
+    next_cap: Option<f64>,
     h_max: f64,
     stats: Stats,
     // Scratch space, kept so that a step allocates nothing.
@@ -218,6 +249,7 @@ impl<const N: usize> Taylor<N> {
             opts,
             order,
             next_order: None,
+            next_cap: None,
             h_max,
             stats: Stats::default(),
             x: [[0.0; MAX_ORDER + 1]; N],
@@ -225,12 +257,15 @@ impl<const N: usize> Taylor<N> {
         }
     }
 
-    /// Use `order` (clamped to 2 ..= the integrator's order) for the next
-    /// [`integrate`](Self::integrate) call only: a caller that knows the
-    /// next segment is short (a small bounce) saves work, while the step
-    /// size control keeps the accuracy whatever the order.
-    pub fn set_next_order(&mut self, order: usize) {
+    /// For the next [`integrate`](Self::integrate) call only: expand to
+    /// `order` (clamped to 2 ..= the integrator's order) and make the first
+    /// step at most `first_step` (s). A caller that knows the next segment
+    /// is short (a small bounce) saves work: a low order, and events sought
+    /// over the short span only. The step-size control keeps the accuracy
+    /// whatever the hint, and a wrong guess only costs another step.
+    pub fn hint_next(&mut self, order: usize, first_step: f64) {
         self.next_order = Some(order.clamp(2, self.order));
+        self.next_cap = (first_step > 0.0).then_some(first_step);
     }
 
     /// Work done so far: every step is one expansion (`steps`); no step is
@@ -264,7 +299,7 @@ impl<const N: usize> Taylor<N> {
         }
         let root = |m: f64, j: usize| {
             if m > 0.0 {
-                pow_approx(m, -1.0 / j as f64)
+                inv_root(m, j)
             } else {
                 f64::INFINITY
             }
@@ -306,7 +341,9 @@ impl<const N: usize> Taylor<N> {
         let eval = |s: f64| horner(r, deg, s);
         let mut a = 0.0;
         let mut ga = r[0];
-        for _ in 0..4 {
+        // A crossing by the step's end is certain: no walk, find the first.
+        let walk = if crossed(dir, s0, sign(eval(h))) { 0 } else { 4 };
+        for _ in 0..walk {
             let next = a + ga.abs() / slope;
             // Also when the slope is zero (next is infinite) or NaN.
             if next.is_nan() || next >= h {
@@ -378,6 +415,7 @@ impl<const N: usize> Taylor<N> {
         }
         let n_ev = sys.n_events().min(MAX_EVENTS);
         let p = self.next_order.take().unwrap_or(self.order);
+        let mut cap = self.next_cap.take().unwrap_or(f64::INFINITY);
         let mut t = t0;
         let mut y = y0;
         loop {
@@ -396,7 +434,8 @@ impl<const N: usize> Taylor<N> {
                 return Err(OdeError::NonFinite { t });
             }
             let remaining = t_end - t;
-            let h = self.step_size(&y, p).min(self.h_max);
+            let h = self.step_size(&y, p).min(self.h_max).min(cap);
+            cap = f64::INFINITY;
             let last = h >= remaining;
             let h = if last { remaining } else { h };
             if h.is_nan() || (h <= 1e-14 * t.abs().max(1.0) && !last) {
@@ -602,6 +641,20 @@ mod tests {
             s.integrate(&Pendulum, 0.0, [1.0, 0.0], 1.0, &mut |_: &_, _| {}),
             Err(OdeError::StepLimit { limit: 3, .. })
         ));
+    }
+
+    #[test]
+    fn inv_root_is_close_enough_for_step_control() {
+        let mut m = 1e-200;
+        while m < 1e200 {
+            for j in [1usize, 2, 5, 11, 12, 24] {
+                let (a, b) = (inv_root(m, j), m.powf(-1.0 / j as f64));
+                assert!((a - b).abs() <= 2e-4 * b, "{m}^(-1/{j}): {a} vs {b}");
+            }
+            m *= 3.7;
+        }
+        assert_eq!(inv_root(f64::INFINITY, 3), 0.0);
+        assert!(inv_root(f64::NAN, 3).is_nan());
     }
 
     #[test]
