@@ -394,3 +394,26 @@ fn diagnose_tower_and_mass_forms_agree_and_report_is_written() {
         assert!(err.contains(needle), "{args:?}: {err}");
     }
 }
+
+/// Both integrators through the command line: the same stroke to within
+/// the default tolerance's error, and the report says which one ran.
+#[test]
+fn both_integrators_give_the_same_stroke() {
+    let taylor = json(&["simulate", "--preset", "lab"]);
+    let dopri = json(&["simulate", "--preset", "lab", "--integrator", "dopri5"]);
+    assert_eq!(taylor["settings"]["integrator"], "taylor-12");
+    assert_eq!(dopri["settings"]["integrator"], "dopri5");
+    let angle = |v: &serde_json::Value| v["strokes"][0]["first_strike"]["theta_deg"].as_f64().unwrap();
+    assert!(
+        (angle(&taylor) - angle(&dopri)).abs() < 1e-3,
+        "{} vs {}",
+        angle(&taylor),
+        angle(&dopri)
+    );
+    assert_eq!(taylor["sustained"], dopri["sustained"]);
+    clapper()
+        .args(["simulate", "--integrator", "rk4"])
+        .assert()
+        .failure()
+        .stderr(predicate::str::contains("rk4"));
+}

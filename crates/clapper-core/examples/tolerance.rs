@@ -81,6 +81,77 @@ fn errors(c: &Chart, reference: &Chart) -> (f64, f64, usize, f64) {
     (da, dv, changed, dd)
 }
 
+/// The bell alone (clapper held at rest) with no events: the smooth part
+/// of a stroke, the least work the tolerance asks for over that time.
+struct Smooth(clapper_core::dynamics::Dynamics);
+
+impl clapper_core::ode::EventSystem<4> for Smooth {
+    fn rhs(&self, _t: f64, y: &[f64; 4]) -> [f64; 4] {
+        self.0.rhs_resting(y)
+    }
+}
+
+impl clapper_core::ode::SeriesSystem<4> for Smooth {
+    fn expand(
+        &self,
+        y: &[f64; 4],
+        p: usize,
+        x: &mut [clapper_core::ode::taylor::Coeffs; 4],
+        _g: &mut [clapper_core::ode::taylor::Coeffs; clapper_core::ode::MAX_EVENTS],
+    ) {
+        let mut q = [0.0; clapper_core::ode::taylor::MAX_ORDER + 1];
+        self.0.series_resting(y, p, x, &mut q);
+    }
+    fn n_events(&self) -> usize {
+        0
+    }
+    fn direction(&self, _i: usize) -> clapper_core::ode::Direction {
+        clapper_core::ode::Direction::Either
+    }
+}
+
+/// Work per stroke of the lab bell, and over the same time span with no
+/// events at all, for both integrators at the default tolerance.
+fn budget() {
+    use clapper_core::ode::{Dopri5, Taylor};
+    let bell = Bell::lab();
+    println!("lab bell at the default tolerance: work per stroke, and the least the tolerance needs");
+    for integrator in [Integrator::default(), Integrator::Dopri5] {
+        let cfg = SimConfig {
+            integrator,
+            ..SimConfig::default()
+        };
+        for style in [Style::Right, Style::Wrong] {
+            let s = first_stroke(&bell, &cfg, style).unwrap();
+            let sys = Smooth(clapper_core::dynamics::Dynamics::new(&bell));
+            let y0 = [cfg.theta0, style.side(cfg.theta0).sign() * bell.phi_max, 0.0, 0.0];
+            let smooth = match integrator {
+                Integrator::Taylor { order, h_max } => {
+                    let mut t = Taylor::<4>::new(cfg.ode, order, h_max);
+                    t.integrate(&sys, 0.0, y0, s.end.t, &mut |_, _| {}).unwrap();
+                    t.stats()
+                }
+                Integrator::Dopri5 => {
+                    let mut d = Dopri5::<4>::new(cfg.ode);
+                    d.integrate(&sys, 0.0, y0, s.end.t, &mut |_, _| {}).unwrap();
+                    d.stats()
+                }
+            };
+            println!(
+                "  {:<26} {style:?}: {} steps ({} rejected, {} rhs calls, {} events); the same {:.3} s with no events: {} steps ({} rhs calls)",
+                name(integrator),
+                s.stats.steps,
+                s.stats.rejected,
+                s.stats.rhs_evals,
+                s.events,
+                s.end.t,
+                smooth.steps,
+                smooth.rhs_evals
+            );
+        }
+    }
+}
+
 fn name(i: Integrator) -> String {
     match i {
         Integrator::Taylor { order, h_max } => format!("taylor {order} (h_max {h_max} s)"),
@@ -90,6 +161,7 @@ fn name(i: Integrator) -> String {
 
 fn main() {
     let runs: usize = std::env::args().nth(1).and_then(|a| a.parse().ok()).unwrap_or(5);
+    budget();
     let (reference, _) = chart(&spec(Integrator::Dopri5, 1e-12), 1);
     println!("reference: dopri5 at rtol 1e-12; times: least of {runs} runs of the 20 x 20 chart, one thread");
     println!(

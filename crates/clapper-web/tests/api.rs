@@ -43,6 +43,19 @@ async fn simulate_answers_the_report_of_the_library() {
     };
     let want = serde_json::to_value(clapper_app::simulate::simulate(&req, None, None).unwrap().report).unwrap();
     assert_eq!(json(&body), want);
+    // The integrator is an option of the request.
+    let (status, body) = send(
+        &app,
+        "POST",
+        "/api/simulate",
+        Some(r#"{"preset": "lab", "integrator": "dopri5"}"#),
+    )
+    .await;
+    assert_eq!(status, StatusCode::OK);
+    assert_eq!(json(&body)["settings"]["integrator"], "dopri5");
+    let (status, body) = send(&app, "POST", "/api/simulate", Some(r#"{"integrator": "rk4"}"#)).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert!(String::from_utf8_lossy(&body).contains("rk4"));
 }
 
 #[tokio::test]
