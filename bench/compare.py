@@ -218,7 +218,8 @@ def write_doc(rows, peer_rows, lab_rows, versions, big, big_reported, t_all):
     L = []
     L.append("# Performance: clapper and its peers\n")
     L.append("Written by `bash bench/run` (bench/compare.py) in one run on "
-             f"{time.strftime('%Y-%m-%d')}; every number below is from that run. "
+             f"{time.strftime('%Y-%m-%d')}; every number in the tables below is from that run (the notes "
+             "after them say where theirs come from). "
              f"The run took {(time.time() - t_all) / 60:.1f} min.\n")
     L.append("## Machine and versions\n")
     for k, v in versions.items():
