@@ -319,24 +319,32 @@ fn quantities_follow_their_definitions() {
 /// equations of a regular bell swing (no stops): the same state at
 /// t = 0.5 s steps up to 3 s, to well within both tolerances. (A wilder
 /// state, clapper whirling, is chaotic: neither solver converges there.)
+/// The free swing from `y0` by the `ode_solvers` crate's Dopri5 at
+/// tolerance `tol`: its outputs every 0.5 s to 3.5 s.
+fn peer_swing(d: Dynamics, y0: State, tol: f64) -> ode_solvers::Dopri5<f64, ode_solvers::Vector4<f64>, PeerFree> {
+    // ode_solvers 0.6.2 returns a wrong state at its own x_end (seen here:
+    // its t = 3 s output differs from the t = 3 s output of the same run
+    // continued to 3.5 s), so it runs past the last compared time.
+    let mut peer = ode_solvers::Dopri5::new(PeerFree(d), 0.0, 3.5, 0.5, ode_solvers::Vector4::from(y0), tol, tol);
+    peer.integrate().unwrap();
+    peer
+}
+
+/// The bell in free flight, as the `ode_solvers` crate takes a system.
+struct PeerFree(Dynamics);
+impl ode_solvers::System<f64, ode_solvers::Vector4<f64>> for PeerFree {
+    fn system(&self, _x: f64, y: &ode_solvers::Vector4<f64>, dy: &mut ode_solvers::Vector4<f64>) {
+        let d = self.0.rhs_free(&[y[0], y[1], y[2], y[3]]);
+        *dy = ode_solvers::Vector4::new(d[0], d[1], d[2], d[3]);
+    }
+}
+
 #[test]
 fn agrees_with_ode_solvers_dopri5() {
-    use ode_solvers::{System, Vector4};
-    struct Peer(Dynamics);
-    impl System<f64, Vector4<f64>> for Peer {
-        fn system(&self, _x: f64, y: &Vector4<f64>, dy: &mut Vector4<f64>) {
-            let d = self.0.rhs_free(&[y[0], y[1], y[2], y[3]]);
-            *dy = Vector4::new(d[0], d[1], d[2], d[3]);
-        }
-    }
     for bell in [Bell::lab(), Bell::gsm_tenor()] {
         let d = Dynamics::new(&bell);
         let y0 = [1.2, 0.2, 0.0, 0.5];
-        // ode_solvers 0.6.2 returns a wrong state at its own x_end (seen
-        // here: its t = 3 s output differs from the t = 3 s output of the
-        // same run continued to 3.5 s), so it runs past the last compared time.
-        let mut peer = ode_solvers::Dopri5::new(Peer(d), 0.0, 3.5, 0.5, Vector4::from(y0), 1e-10, 1e-10);
-        peer.integrate().unwrap();
+        let peer = peer_swing(d, y0, 1e-10);
         let mut ours = Dopri5::new(Options {
             rtol: 1e-10,
             atol: 1e-10,
@@ -387,20 +395,11 @@ impl clapper_core::ode::SeriesSystem<4> for FreeSeries {
 #[test]
 fn taylor_agrees_with_ode_solvers_dopri5() {
     use clapper_core::ode::Taylor;
-    use ode_solvers::{System, Vector4};
-    struct Peer(Dynamics);
-    impl System<f64, Vector4<f64>> for Peer {
-        fn system(&self, _x: f64, y: &Vector4<f64>, dy: &mut Vector4<f64>) {
-            let d = self.0.rhs_free(&[y[0], y[1], y[2], y[3]]);
-            *dy = Vector4::new(d[0], d[1], d[2], d[3]);
-        }
-    }
     for bell in [Bell::lab(), Bell::gsm_tenor()] {
         let d = Dynamics::new(&bell);
         let y0 = [1.2, 0.2, 0.0, 0.5];
         let e0 = d.energy(&y0);
-        let mut peer = ode_solvers::Dopri5::new(Peer(d), 0.0, 3.5, 0.5, Vector4::from(y0), 1e-11, 1e-11);
-        peer.integrate().unwrap();
+        let peer = peer_swing(d, y0, 1e-11);
         let opts = Options {
             rtol: 1e-11,
             atol: 1e-11,

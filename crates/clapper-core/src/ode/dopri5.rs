@@ -2,7 +2,7 @@
 //! output (Hairer, Nørsett & Wanner, *Solving ODEs I*, II.5 and the DOPRI5
 //! code), plus root location of events on the dense output.
 
-use super::{Direction, EventSystem, OdeError, Options, Stats, MAX_EVENTS};
+use super::{check_options, crossed, sign, Direction, EventSystem, OdeError, Options, Stats, MAX_EVENTS};
 
 // Butcher tableau of Dormand & Prince (1980).
 const C2: f64 = 1.0 / 5.0;
@@ -140,16 +140,6 @@ pub struct Dopri5<const N: usize> {
     stats: Stats,
 }
 
-fn sign(x: f64) -> i8 {
-    if x > 0.0 {
-        1
-    } else if x < 0.0 {
-        -1
-    } else {
-        0
-    }
-}
-
 impl<const N: usize> Dopri5<N> {
     /// An integrator with the given options.
     pub fn new(opts: Options) -> Self {
@@ -174,18 +164,6 @@ impl<const N: usize> Dopri5<N> {
     /// right-hand side, the old step size may not fit).
     pub fn reset_step(&mut self) {
         self.h_next = None;
-    }
-
-    fn check_options(&self) -> Result<(), OdeError> {
-        let o = &self.opts;
-        let positive = |x: f64| x.is_finite() && x > 0.0;
-        if !(positive(o.rtol) && positive(o.atol)) {
-            return Err(OdeError::InvalidOptions("tolerances must be positive and finite"));
-        }
-        if !(positive(o.h_max) && positive(o.event_time_tol)) {
-            return Err(OdeError::InvalidOptions("h_max and event_time_tol must be positive"));
-        }
-        Ok(())
     }
 
     #[inline]
@@ -245,7 +223,7 @@ impl<const N: usize> Dopri5<N> {
         S: EventSystem<N>,
         F: FnMut(&Dense<N>, f64),
     {
-        self.check_options()?;
+        check_options(&self.opts, self.opts.h_max)?;
         let n_ev = sys.n_events().min(MAX_EVENTS);
         if !t0.is_finite() {
             return Err(OdeError::NonFinite { t: t0 });
@@ -401,12 +379,7 @@ impl<const N: usize> Dopri5<N> {
                 g_new[i] = g1;
                 let s0 = s_prev[i];
                 let s1 = sign(g1);
-                let crossed = match sys.direction(i) {
-                    Direction::Rising => s0 < 0 && s1 >= 0,
-                    Direction::Falling => s0 > 0 && s1 <= 0,
-                    Direction::Either => s0 != 0 && s1 != s0,
-                };
-                if crossed {
+                if crossed(sys.direction(i), s0, s1) {
                     let root = locate_root(
                         |tt| sys.event(i, tt, &dense.eval(tt)),
                         t_left[i],

@@ -114,6 +114,40 @@ impl Default for Options {
     }
 }
 
+/// The sign of `x`: 1, −1, or 0 for zero (and NaN).
+pub(crate) fn sign(x: f64) -> i8 {
+    if x > 0.0 {
+        1
+    } else if x < 0.0 {
+        -1
+    } else {
+        0
+    }
+}
+
+/// Whether an event function known to be on side `s0` and now on side `s1`
+/// has crossed in direction `dir` (reaching zero counts).
+pub(crate) fn crossed(dir: Direction, s0: i8, s1: i8) -> bool {
+    match dir {
+        Direction::Rising => s0 < 0 && s1 >= 0,
+        Direction::Falling => s0 > 0 && s1 <= 0,
+        Direction::Either => s0 != 0 && s1 != s0,
+    }
+}
+
+/// The checks both integrators make of their options, with their own
+/// largest step `h_max` (s).
+pub(crate) fn check_options(o: &Options, h_max: f64) -> Result<(), OdeError> {
+    let positive = |x: f64| x.is_finite() && x > 0.0;
+    if !(positive(o.rtol) && positive(o.atol)) {
+        return Err(OdeError::InvalidOptions("tolerances must be positive and finite"));
+    }
+    if !(positive(h_max) && positive(o.event_time_tol)) {
+        return Err(OdeError::InvalidOptions("h_max and event_time_tol must be positive"));
+    }
+    Ok(())
+}
+
 /// Work done by an integrator.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
 pub struct Stats {

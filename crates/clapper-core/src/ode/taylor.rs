@@ -13,7 +13,7 @@
 //! the largest `h` with `|x_j| h^j <= atol + rtol |y|` for `j = p - 1, p` in
 //! every component, capped at `h_max`.
 
-use super::{Direction, OdeError, Options, Segment, Stats, MAX_EVENTS};
+use super::{check_options, crossed, sign, Direction, OdeError, Options, Segment, Stats, MAX_EVENTS};
 
 /// The highest order an expansion may have.
 pub const MAX_ORDER: usize = 24;
@@ -222,24 +222,6 @@ pub struct Taylor<const N: usize> {
     g: [Coeffs; MAX_EVENTS],
 }
 
-fn sign(x: f64) -> i8 {
-    if x > 0.0 {
-        1
-    } else if x < 0.0 {
-        -1
-    } else {
-        0
-    }
-}
-
-fn crossed(dir: Direction, s0: i8, s1: i8) -> bool {
-    match dir {
-        Direction::Rising => s0 < 0 && s1 >= 0,
-        Direction::Falling => s0 > 0 && s1 <= 0,
-        Direction::Either => s0 != 0 && s1 != s0,
-    }
-}
-
 impl<const N: usize> Taylor<N> {
     /// An integrator of the given `order` (2 ..= [`MAX_ORDER`]) and largest
     /// step `h_max` (s), with the tolerances, step budget and event time
@@ -275,14 +257,7 @@ impl<const N: usize> Taylor<N> {
     }
 
     fn check_options(&self) -> Result<(), OdeError> {
-        let o = &self.opts;
-        let positive = |x: f64| x.is_finite() && x > 0.0;
-        if !(positive(o.rtol) && positive(o.atol)) {
-            return Err(OdeError::InvalidOptions("tolerances must be positive and finite"));
-        }
-        if !(positive(self.h_max) && positive(o.event_time_tol)) {
-            return Err(OdeError::InvalidOptions("h_max and event_time_tol must be positive"));
-        }
+        check_options(&self.opts, self.h_max)?;
         if !(2..=MAX_ORDER).contains(&self.order) {
             return Err(OdeError::InvalidOptions("Taylor order must be 2 ..= 24"));
         }
