@@ -45,12 +45,12 @@ pub trait SeriesSystem<const N: usize> {
 /// (even and odd terms): half the latency of one chain.
 #[inline]
 fn horner(c: &[f64], p: usize, s: f64) -> f64 {
-    let s2 = s * s;
-    // Highest even and odd indices.
-    let (mut ke, mut ko) = if p % 2 == 0 { (p, p - 1) } else { (p - 1, p) };
     if p == 0 {
         return c[0];
     }
+    let s2 = s * s;
+    // Highest even and odd indices.
+    let (mut ke, mut ko) = if p % 2 == 0 { (p, p - 1) } else { (p - 1, p) };
     let mut even = c[ke];
     let mut odd = c[ko];
     while ke >= 2 {
@@ -246,7 +246,7 @@ impl<const N: usize> Taylor<N> {
     /// over the short span only. The step-size control keeps the accuracy
     /// whatever the hint, and a wrong guess only costs another step.
     pub fn hint_next(&mut self, order: usize, first_step: f64) {
-        self.next_order = Some(order.clamp(2, self.order));
+        self.next_order = Some(order.clamp(2, self.order.max(2)));
         self.next_cap = (first_step > 0.0).then_some(first_step);
     }
 
@@ -616,6 +616,31 @@ mod tests {
             s.integrate(&Pendulum, 0.0, [1.0, 0.0], 1.0, &mut |_: &_, _| {}),
             Err(OdeError::StepLimit { limit: 3, .. })
         ));
+    }
+
+    #[test]
+    fn polynomials_of_every_low_degree_evaluate() {
+        let c: Coeffs = std::array::from_fn(|k| 1.0 + k as f64);
+        for p in 0..=5 {
+            let want: f64 = (0..=p).map(|k| c[k] * 0.5f64.powi(k as i32)).sum();
+            assert!((horner(&c, p, 0.5) - want).abs() < 1e-14, "degree {p}");
+            let dwant: f64 = (1..=p).map(|k| k as f64 * c[k] * 0.5f64.powi(k as i32 - 1)).sum();
+            let (v, d) = horner_d(&c, p, 0.5);
+            assert!(
+                (v - want).abs() < 1e-14 && (d - dwant).abs() < 1e-13,
+                "degree {p}: {v} {d}"
+            );
+        }
+        // An event whose only nonzero term is the last: no panic, and its
+        // root at 0 is the restart point, not a crossing.
+        let mut s = Taylor::<2>::new(Options::default(), 4, 1.0);
+        s.g[0] = [0.0; MAX_ORDER + 1];
+        s.g[0][4] = 1.0;
+        let hk: Coeffs = std::array::from_fn(|k| 0.5f64.powi(k as i32));
+        assert_eq!(s.first_root(0, Direction::Rising, 0.5, &hk, 4), None);
+        // A bad order is refused, and a hint does not panic on it.
+        let mut bad = Taylor::<2>::new(Options::default(), 1, 1.0);
+        bad.hint_next(3, 0.1);
     }
 
     #[test]
