@@ -457,7 +457,9 @@ impl<const N: usize> Taylor<N> {
 
 /// Recurrences for the n-th Taylor coefficient of products, quotients and
 /// trigonometric functions of series whose coefficients `0..=n` (for the
-/// inputs) and `0..n` (for the output) are known.
+/// inputs) and `0..n` (for the output) are known: the building blocks of a
+/// [`SeriesSystem`]. (The bell's own expansions in `dynamics` run the same
+/// recurrences fused into one loop per order, for speed.)
 pub mod rec {
     use super::Coeffs;
 
@@ -465,12 +467,6 @@ pub mod rec {
     #[inline]
     pub fn mul(a: &Coeffs, b: &Coeffs, n: usize) -> f64 {
         a[..=n].iter().zip(b[..=n].iter().rev()).map(|(x, y)| x * y).sum()
-    }
-
-    /// The n-th coefficient of `a b` without its `a_0 b_n` term.
-    #[inline]
-    pub fn mul_tail(a: &Coeffs, b: &Coeffs, n: usize) -> f64 {
-        a[1..=n].iter().zip(b[..n].iter().rev()).map(|(x, y)| x * y).sum()
     }
 
     /// n-th coefficient of `a / b`, given the quotient's earlier ones in `q`.
