@@ -638,6 +638,15 @@ enum Ev {
     OverTop,
 }
 
+/// An event function of a segment (see [`Segment::event_form`]).
+#[derive(Clone, Copy)]
+enum EventForm {
+    /// `scale * y[index] + offset`.
+    Linear { index: usize, scale: f64, offset: f64 },
+    /// `scale * Q_φ`, the force holding a resting clapper.
+    HoldingForce { scale: f64 },
+}
+
 /// The equations and event functions of one integration segment.
 struct Segment<'a> {
     d: &'a Dynamics,
@@ -691,6 +700,25 @@ impl<'a> Segment<'a> {
         }
     }
 
+    /// What event function `e` is, in one place for both integrators: a
+    /// state component scaled and shifted, or the holding force's sign.
+    fn event_form(&self, e: Ev) -> EventForm {
+        let linear = |index, scale, offset| EventForm::Linear { index, scale, offset };
+        match e {
+            // Positive once the clapper is past the stop.
+            Ev::Hit(s) | Ev::Separation(s) => linear(PHI, s.sign(), -self.phi_max),
+            // Positive once the holding force pulls instead of pushes.
+            Ev::LiftOff(s) => EventForm::HoldingForce { scale: s.sign() },
+            // Positive once the clapper moves back out of the spring.
+            Ev::MaxCompression(s) => linear(PHI_DOT, -s.sign(), 0.0),
+            // Positive once it moves into the spring again.
+            Ev::TurnBack(s) => linear(PHI_DOT, s.sign(), 0.0),
+            Ev::Bottom => linear(THETA, self.s0, 0.0),
+            Ev::Turning => linear(THETA_DOT, self.s0, 0.0),
+            Ev::OverTop => linear(THETA, -self.s0, -PI),
+        }
+    }
+
     fn law(&self) -> ForceLaw {
         match self.clapper {
             ClapperState::Flying => ForceLaw::Zero,
@@ -728,18 +756,9 @@ impl EventSystem<4> for Segment<'_> {
 
     #[inline]
     fn event(&self, i: usize, _t: f64, y: &State) -> f64 {
-        match self.events[i] {
-            // Positive once the clapper is past the stop.
-            Ev::Hit(s) | Ev::Separation(s) => s.sign() * y[PHI] - self.phi_max,
-            // Positive once the holding force pulls instead of pushes.
-            Ev::LiftOff(s) => s.sign() * self.d.resting(y).1,
-            // Positive once the clapper moves back out of the spring.
-            Ev::MaxCompression(s) => -s.sign() * y[PHI_DOT],
-            // Positive once it moves into the spring again.
-            Ev::TurnBack(s) => s.sign() * y[PHI_DOT],
-            Ev::Bottom => self.s0 * y[THETA],
-            Ev::Turning => self.s0 * y[THETA_DOT],
-            Ev::OverTop => -self.s0 * y[THETA] - PI,
+        match self.event_form(self.events[i]) {
+            EventForm::Linear { index, scale, offset } => scale * y[index] + offset,
+            EventForm::HoldingForce { scale } => scale * self.d.resting(y).1,
         }
     }
 
@@ -762,14 +781,9 @@ impl SeriesSystem<4> for Segment<'_> {
         }
         // The same functions as `EventSystem::event`, term by term.
         for (e, gi) in self.events[..self.n].iter().zip(g.iter_mut()) {
-            let (src, scale, offset) = match *e {
-                Ev::Hit(s) | Ev::Separation(s) => (&x[PHI], s.sign(), -self.phi_max),
-                Ev::LiftOff(s) => (&q, s.sign(), 0.0),
-                Ev::MaxCompression(s) => (&x[PHI_DOT], -s.sign(), 0.0),
-                Ev::TurnBack(s) => (&x[PHI_DOT], s.sign(), 0.0),
-                Ev::Bottom => (&x[THETA], self.s0, 0.0),
-                Ev::Turning => (&x[THETA_DOT], self.s0, 0.0),
-                Ev::OverTop => (&x[THETA], -self.s0, -PI),
+            let (src, scale, offset) = match self.event_form(*e) {
+                EventForm::Linear { index, scale, offset } => (&x[index], scale, offset),
+                EventForm::HoldingForce { scale } => (&q, scale, 0.0),
             };
             for n in 0..=p {
                 gi[n] = scale * src[n];

@@ -6,11 +6,28 @@ use clapper_core::ode::{Direction, Dopri5, EventSystem, Options};
 use clapper_core::prelude::*;
 use clapper_core::stroke::Sample;
 
-fn tight() -> Options {
+/// Integrator options with rtol = atol = `tol`.
+fn tolerance(tol: f64) -> Options {
     Options {
-        rtol: 1e-12,
-        atol: 1e-12,
+        rtol: tol,
+        atol: tol,
         ..Options::default()
+    }
+}
+
+fn tight() -> Options {
+    tolerance(1e-12)
+}
+
+/// Our state against the `ode_solvers` peer's at time `t` (s), component by component.
+fn assert_same_state(ours: &State, peer: &ode_solvers::Vector4<f64>, tol: f64, t: f64) {
+    for i in 0..4 {
+        assert!(
+            (ours[i] - peer[i]).abs() < tol,
+            "t {t} component {i}: {} vs {}",
+            ours[i],
+            peer[i]
+        );
     }
 }
 
@@ -345,24 +362,13 @@ fn agrees_with_ode_solvers_dopri5() {
         let d = Dynamics::new(&bell);
         let y0 = [1.2, 0.2, 0.0, 0.5];
         let peer = peer_swing(d, y0, 1e-10);
-        let mut ours = Dopri5::new(Options {
-            rtol: 1e-10,
-            atol: 1e-10,
-            ..Options::default()
-        });
+        let mut ours = Dopri5::new(tolerance(1e-10));
         let (mut t, mut y) = (0.0, y0);
         for (k, (&xp, yp)) in peer.x_out().iter().zip(peer.y_out()).enumerate().skip(1).take(6) {
             assert!((xp - 0.5 * k as f64).abs() < 1e-12);
             let end = ours.integrate(&Free(d), t, y, xp, &mut |_: &_, _| {}).unwrap();
             (t, y) = (end.t, end.y);
-            for i in 0..4 {
-                assert!(
-                    (y[i] - yp[i]).abs() < 1e-7,
-                    "t {xp} component {i}: {} vs {}",
-                    y[i],
-                    yp[i]
-                );
-            }
+            assert_same_state(&y, yp, 1e-7, xp);
         }
         assert!((t - 3.0).abs() < 1e-12);
     }
@@ -400,12 +406,7 @@ fn taylor_agrees_with_ode_solvers_dopri5() {
         let y0 = [1.2, 0.2, 0.0, 0.5];
         let e0 = d.energy(&y0);
         let peer = peer_swing(d, y0, 1e-11);
-        let opts = Options {
-            rtol: 1e-11,
-            atol: 1e-11,
-            ..Options::default()
-        };
-        let mut ours = Taylor::new(opts, 14, 0.25);
+        let mut ours = Taylor::new(tolerance(1e-11), 14, 0.25);
         let (mut t, mut y) = (0.0, y0);
         let mut drift = 0.0f64;
         for (k, (&xp, yp)) in peer.x_out().iter().zip(peer.y_out()).enumerate().skip(1).take(6) {
@@ -425,14 +426,7 @@ fn taylor_agrees_with_ode_solvers_dopri5() {
                 )
                 .unwrap();
             (t, y) = (end.t, end.y);
-            for i in 0..4 {
-                assert!(
-                    (y[i] - yp[i]).abs() < 1e-8,
-                    "t {xp} component {i}: {} vs {}",
-                    y[i],
-                    yp[i]
-                );
-            }
+            assert_same_state(&y, yp, 1e-8, xp);
         }
         assert!((t - 3.0).abs() < 1e-12);
         assert!(drift < 1e-9, "energy drift {drift}");
@@ -448,11 +442,7 @@ fn taylor_agrees_with_ode_solvers_dopri5() {
 fn taylor_and_dormand_prince_give_the_same_strokes() {
     use clapper_core::stroke::Integrator;
     let tight = |integrator| SimConfig {
-        ode: Options {
-            rtol: 1e-11,
-            atol: 1e-11,
-            ..Options::default()
-        },
+        ode: tolerance(1e-11),
         integrator,
         ..SimConfig::default()
     };
