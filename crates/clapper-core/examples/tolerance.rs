@@ -97,16 +97,9 @@ impl clapper_core::ode::SeriesSystem<4> for Smooth {
         y: &[f64; 4],
         p: usize,
         x: &mut [clapper_core::ode::taylor::Coeffs; 4],
-        _g: &mut [clapper_core::ode::taylor::Coeffs; clapper_core::ode::MAX_EVENTS],
+        extra: &mut [clapper_core::ode::taylor::Coeffs; clapper_core::ode::taylor::MAX_EXTRA],
     ) {
-        let mut q = [0.0; clapper_core::ode::taylor::MAX_ORDER + 1];
-        self.0.series_resting(y, p, x, &mut q);
-    }
-    fn n_events(&self) -> usize {
-        0
-    }
-    fn direction(&self, _i: usize) -> clapper_core::ode::Direction {
-        clapper_core::ode::Direction::Either
+        self.0.series_resting(y, p, x, &mut extra[0]);
     }
 }
 

@@ -5,7 +5,7 @@ use std::f64::consts::PI;
 
 use crate::bell::{Bell, ParamError};
 use crate::dynamics::{Dynamics, State, PHI, PHI_DOT, THETA, THETA_DOT};
-use crate::ode::taylor::{Coeffs, Series, MAX_ORDER};
+use crate::ode::taylor::{Coeffs, Series, SeriesEvent, Source, MAX_EXTRA};
 use crate::ode::{Dense, Direction, Dopri5, EventSystem, OdeError, Options, SeriesSystem, Stats, Taylor, MAX_EVENTS};
 
 /// One of the two places where the clapper meets the bell: φ = +φ_max
@@ -657,6 +657,8 @@ struct Segment<'a> {
     /// +1 if the stroke starts at positive θ, −1 otherwise.
     s0: f64,
     events: [Ev; MAX_EVENTS],
+    /// The same events as levels on series, for the Taylor integrator.
+    series_events: [SeriesEvent; MAX_EVENTS],
     n: usize,
 }
 
@@ -688,7 +690,7 @@ impl<'a> Segment<'a> {
                 }
             }
         }
-        Self {
+        let mut seg = Self {
             d,
             clapper,
             k,
@@ -696,7 +698,32 @@ impl<'a> Segment<'a> {
             phi_max: d.bell().phi_max,
             s0,
             events,
+            series_events: [SeriesEvent {
+                source: Source::State(0),
+                level: 0.0,
+                direction: Direction::Either,
+            }; MAX_EVENTS],
             n,
+        };
+        for i in 0..n {
+            seg.series_events[i] = seg.series_event(i);
+        }
+        seg
+    }
+
+    /// Event `i` as a level on a series: `scale * x + offset` with scale
+    /// ±1 crosses zero where `x` crosses `-offset * scale`, in the same
+    /// direction if the scale is +1 and the other if it is −1.
+    fn series_event(&self, i: usize) -> SeriesEvent {
+        let (source, scale, offset) = match self.event_form(self.events[i]) {
+            EventForm::Linear { index, scale, offset } => (Source::State(index), scale, offset),
+            EventForm::HoldingForce { scale } => (Source::Extra(0), scale, 0.0),
+        };
+        let direction = EventSystem::direction(self, i);
+        SeriesEvent {
+            source,
+            level: -offset * scale,
+            direction: if scale > 0.0 { direction } else { direction.reversed() },
         }
     }
 
@@ -771,33 +798,18 @@ impl EventSystem<4> for Segment<'_> {
 }
 
 impl SeriesSystem<4> for Segment<'_> {
-    fn expand(&self, y: &State, p: usize, x: &mut [Coeffs; 4], g: &mut [Coeffs; MAX_EVENTS]) {
-        let mut q: Coeffs = [0.0; MAX_ORDER + 1];
+    fn expand(&self, y: &State, p: usize, x: &mut [Coeffs; 4], extra: &mut [Coeffs; MAX_EXTRA]) {
         match self.clapper {
             ClapperState::Flying => self.d.series_free(y, 0.0, 0.0, p, x),
-            ClapperState::Resting(_) => self.d.series_resting(y, p, x, &mut q),
+            // The holding force is extra series 0 (see `series_event`).
+            ClapperState::Resting(_) => self.d.series_resting(y, p, x, &mut extra[0]),
             ClapperState::Compressing(s) => self.d.series_free(y, self.k, s.sign() * self.phi_max, p, x),
             ClapperState::Rebounding { side, .. } => self.d.series_free(y, self.rk, side.sign() * self.phi_max, p, x),
         }
-        // The same functions as `EventSystem::event`, term by term.
-        for (e, gi) in self.events[..self.n].iter().zip(g.iter_mut()) {
-            let (src, scale, offset) = match self.event_form(*e) {
-                EventForm::Linear { index, scale, offset } => (&x[index], scale, offset),
-                EventForm::HoldingForce { scale } => (&q, scale, 0.0),
-            };
-            for n in 0..=p {
-                gi[n] = scale * src[n];
-            }
-            gi[0] += offset;
-        }
     }
 
-    fn n_events(&self) -> usize {
-        self.n
-    }
-
-    fn direction(&self, i: usize) -> Direction {
-        EventSystem::direction(self, i)
+    fn events(&self) -> &[SeriesEvent] {
+        &self.series_events[..self.n]
     }
 }
 

@@ -383,15 +383,9 @@ impl clapper_core::ode::SeriesSystem<4> for FreeSeries {
         y: &State,
         p: usize,
         x: &mut [clapper_core::ode::taylor::Coeffs; 4],
-        _g: &mut [clapper_core::ode::taylor::Coeffs; clapper_core::ode::MAX_EVENTS],
+        _extra: &mut [clapper_core::ode::taylor::Coeffs; clapper_core::ode::taylor::MAX_EXTRA],
     ) {
         self.0.series_free(y, 0.0, 0.0, p, x);
-    }
-    fn n_events(&self) -> usize {
-        0
-    }
-    fn direction(&self, _i: usize) -> Direction {
-        Direction::Either
     }
 }
 

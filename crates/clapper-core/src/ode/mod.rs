@@ -33,7 +33,7 @@ mod dopri5;
 pub mod taylor;
 
 pub use dopri5::{Dense, Dopri5, Segment};
-pub use taylor::{SeriesSystem, Taylor};
+pub use taylor::{SeriesEvent, SeriesSystem, Source, Taylor};
 
 /// The largest number of event functions one [`EventSystem`] may declare.
 pub const MAX_EVENTS: usize = 8;
@@ -47,6 +47,17 @@ pub enum Direction {
     Falling,
     /// Either sign change.
     Either,
+}
+
+impl Direction {
+    /// The direction of the same crossing seen on the function negated.
+    pub fn reversed(self) -> Direction {
+        match self {
+            Direction::Rising => Direction::Falling,
+            Direction::Falling => Direction::Rising,
+            Direction::Either => Direction::Either,
+        }
+    }
 }
 
 /// A system of `N` first-order ODEs with up to [`MAX_EVENTS`] event functions.

@@ -28,17 +28,45 @@ pub type Coeffs = [f64; MAX_ORDER + 1];
 /// can hide between samples, as it could inside a Runge–Kutta step.
 const EVENT_SAMPLES: usize = 16;
 
+/// How many series a [`SeriesSystem`] may compute besides its state: event
+/// functions that are not a state component (the bell needs one, the
+/// force that holds a resting clapper).
+pub const MAX_EXTRA: usize = 2;
+
+/// The series an event function reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Source {
+    /// State component `i` (< `N`).
+    State(usize),
+    /// Extra series `j` (< [`MAX_EXTRA`]) filled by [`SeriesSystem::expand`].
+    Extra(usize),
+}
+
+/// An event function of a [`SeriesSystem`]: the event is where the series
+/// `source` crosses `level` in `direction`. A level on a series, rather
+/// than a series of its own, lets the integrator read the solution's own
+/// coefficients and copy nothing.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SeriesEvent {
+    /// The series the function reads.
+    pub source: Source,
+    /// The level it crosses (units of the series).
+    pub level: f64,
+    /// Which crossing counts: rising means from below the level to above.
+    pub direction: Direction,
+}
+
 /// An autonomous system of `N` first-order ODEs that computes the Taylor
 /// series of its own solution and of its event functions.
 pub trait SeriesSystem<const N: usize> {
     /// Fill `x[i][0..=p]` with the Taylor coefficients of the solution
-    /// through `y` (so `x[i][0] = y[i]`) and `g[j][0..=p]` with those of
-    /// event function `j` along it, for `j < n_events()`.
-    fn expand(&self, y: &[f64; N], p: usize, x: &mut [Coeffs; N], g: &mut [Coeffs; MAX_EVENTS]);
-    /// How many event functions are active (at most [`MAX_EVENTS`]).
-    fn n_events(&self) -> usize;
-    /// The crossing direction of event function `i`.
-    fn direction(&self, i: usize) -> Direction;
+    /// through `y` (so `x[i][0] = y[i]`) and `extra[j][0..=p]` with those
+    /// of every extra series an event reads.
+    fn expand(&self, y: &[f64; N], p: usize, x: &mut [Coeffs; N], extra: &mut [Coeffs; MAX_EXTRA]);
+    /// The active event functions (at most [`MAX_EVENTS`]); none by default.
+    fn events(&self) -> &[SeriesEvent] {
+        &[]
+    }
 }
 
 /// `c_0 + c_1 s + ... + c_p s^p`, as two interleaved Horner chains in s²
@@ -217,9 +245,10 @@ pub struct Taylor<const N: usize> {
     next_cap: Option<f64>,
     h_max: f64,
     stats: Stats,
-    // Scratch space, kept so that a step allocates nothing.
-    x: [Coeffs; N],
-    g: [Coeffs; MAX_EVENTS],
+    // Kept so that a step allocates and copies nothing: the current step's
+    // series (handed to the observer as it is) and the extra series.
+    series: Series<N>,
+    extra: [Coeffs; MAX_EXTRA],
 }
 
 impl<const N: usize> Taylor<N> {
@@ -234,8 +263,13 @@ impl<const N: usize> Taylor<N> {
             next_cap: None,
             h_max,
             stats: Stats::default(),
-            x: [[0.0; MAX_ORDER + 1]; N],
-            g: [[0.0; MAX_ORDER + 1]; MAX_EVENTS],
+            series: Series {
+                t0: 0.0,
+                h: 0.0,
+                p: 0,
+                x: [[0.0; MAX_ORDER + 1]; N],
+            },
+            extra: [[0.0; MAX_ORDER + 1]; MAX_EXTRA],
         }
     }
 
@@ -267,7 +301,7 @@ impl<const N: usize> Taylor<N> {
     /// The step the last two coefficients allow (s), before capping.
     fn step_size(&self, y: &[f64; N], p: usize) -> f64 {
         let (mut m1, mut m2) = (0.0f64, 0.0f64);
-        for (yi, xi) in y.iter().zip(&self.x) {
+        for (yi, xi) in y.iter().zip(&self.series.x) {
             let inv = 1.0 / (self.opts.atol + self.opts.rtol * yi.abs());
             m1 = m1.max(xi[p - 1].abs() * inv);
             m2 = m2.max(xi[p].abs() * inv);
@@ -289,16 +323,20 @@ impl<const N: usize> Taylor<N> {
     }
 
     /// The earliest time in `(0, h]` (as an offset from the expansion
-    /// point) where event `i` crosses in its direction, if any.
-    fn first_root(&self, i: usize, dir: Direction, h: f64, hk: &Coeffs, p: usize) -> Option<f64> {
-        let c = &self.g[i];
+    /// point) where `series - level` crosses zero in direction `dir`, if any.
+    fn first_root(&self, series: &Coeffs, level: f64, dir: Direction, h: f64, hk: &Coeffs, p: usize) -> Option<f64> {
         // Cheapest test first: the constant term outweighs all the others.
-        if c[0] != 0.0 {
-            let bound = abs_dot(&c[1..=p], &hk[1..=p]);
-            if c[0].abs() > bound {
+        let c0 = series[0] - level;
+        if c0 != 0.0 {
+            let bound = abs_dot(&series[1..=p], &hk[1..=p]);
+            if c0.abs() > bound {
                 return None;
             }
         }
+        // Rarely reached: the shifted polynomial, copied.
+        let mut shifted = *series;
+        shifted[0] = c0;
+        let c = &shifted;
         // A function that starts at zero (a restart at its own root) has
         // the roots of c / t in (0, h]: shift out the leading zeros.
         let lead = c[..=p].iter().position(|&v| v != 0.0)?;
@@ -388,7 +426,16 @@ impl<const N: usize> Taylor<N> {
                 event: None,
             });
         }
-        let n_ev = sys.n_events().min(MAX_EVENTS);
+        let events = sys.events();
+        let valid = |e: &SeriesEvent| match e.source {
+            Source::State(i) => i < N,
+            Source::Extra(j) => j < MAX_EXTRA,
+        };
+        if events.len() > MAX_EVENTS || !events.iter().all(valid) {
+            return Err(OdeError::InvalidOptions(
+                "a series event reads a series that does not exist",
+            ));
+        }
         let p = self.next_order.take().unwrap_or(self.order);
         let mut cap = self.next_cap.take().unwrap_or(f64::INFINITY);
         let mut t = t0;
@@ -400,11 +447,11 @@ impl<const N: usize> Taylor<N> {
                     t,
                 });
             }
-            sys.expand(&y, p, &mut self.x, &mut self.g);
+            sys.expand(&y, p, &mut self.series.x, &mut self.extra);
             self.stats.steps += 1;
             // A non-finite term anywhere reaches the last ones, which the
             // step size uses: inf * 0 and NaN * 0 are NaN.
-            let probe: f64 = self.x.iter().map(|c| (c[p - 1] + c[p]) * 0.0).sum();
+            let probe: f64 = self.series.x.iter().map(|c| (c[p - 1] + c[p]) * 0.0).sum();
             if probe.is_nan() {
                 return Err(OdeError::NonFinite { t });
             }
@@ -424,26 +471,30 @@ impl<const N: usize> Taylor<N> {
                 hk[k] = if k == 1 { h } else { hk[k / 2] * hk[k - k / 2] };
             }
             let mut best: Option<(f64, usize)> = None;
-            for i in 0..n_ev {
-                if let Some(s) = self.first_root(i, sys.direction(i), h, &hk, p) {
+            for (i, e) in events.iter().enumerate() {
+                let series = match e.source {
+                    Source::State(k) => &self.series.x[k],
+                    Source::Extra(k) => &self.extra[k],
+                };
+                if let Some(s) = self.first_root(series, e.level, e.direction, h, &hk, p) {
                     if best.is_none_or(|(sb, _)| s < sb) {
                         best = Some((s, i));
                     }
                 }
             }
-            let series = Series { t0: t, h, p, x: self.x };
+            (self.series.t0, self.series.h, self.series.p) = (t, h, p);
             if let Some((s, i)) = best {
                 let t_ev = t + s;
-                observe(&series, t_ev);
+                observe(&self.series, t_ev);
                 return Ok(Segment {
                     t: t_ev,
-                    y: series.eval(t_ev),
+                    y: self.series.eval(t_ev),
                     event: Some(i),
                 });
             }
             let t_new = if last { t_end } else { t + h };
-            observe(&series, t_new);
-            y = std::array::from_fn(|i| horner(&self.x[i], p, h));
+            observe(&self.series, t_new);
+            y = std::array::from_fn(|i| horner(&self.series.x[i], p, h));
             t = t_new;
             if y.iter().any(|v| !v.is_finite()) {
                 return Err(OdeError::NonFinite { t });
@@ -503,30 +554,38 @@ pub mod rec {
 mod tests {
     use super::*;
 
-    /// y'' = -sin y: the pendulum, expanded with the recurrences.
-    struct Pendulum;
+    /// y'' = -sin y: the pendulum, expanded with the recurrences; cos y is
+    /// its extra series, and it watches the events it is given.
+    struct Pendulum(Vec<SeriesEvent>);
+
+    /// The left turning point: y' rising through zero.
+    fn pendulum() -> Pendulum {
+        Pendulum(vec![SeriesEvent {
+            source: Source::State(1),
+            level: 0.0,
+            direction: Direction::Rising,
+        }])
+    }
+
     impl SeriesSystem<2> for Pendulum {
-        fn expand(&self, y: &[f64; 2], p: usize, x: &mut [Coeffs; 2], g: &mut [Coeffs; MAX_EVENTS]) {
+        fn expand(&self, y: &[f64; 2], p: usize, x: &mut [Coeffs; 2], extra: &mut [Coeffs; MAX_EXTRA]) {
             let mut s = [0.0; MAX_ORDER + 1];
-            let mut c = [0.0; MAX_ORDER + 1];
+            let c = &mut extra[0];
             x[0][0] = y[0];
             x[1][0] = y[1];
             (s[0], c[0]) = y[0].sin_cos();
-            for n in 0..p {
+            for n in 0..=p {
                 if n > 0 {
-                    (s[n], c[n]) = rec::sin_cos(&x[0], &s, &c, n);
+                    (s[n], c[n]) = rec::sin_cos(&x[0], &s, c, n);
                 }
-                x[0][n + 1] = x[1][n] / (n + 1) as f64;
-                x[1][n + 1] = -s[n] / (n + 1) as f64;
+                if n < p {
+                    x[0][n + 1] = x[1][n] / (n + 1) as f64;
+                    x[1][n + 1] = -s[n] / (n + 1) as f64;
+                }
             }
-            // Event: y' rising through zero (the left turning point).
-            g[0][..=p].copy_from_slice(&x[1][..=p]);
         }
-        fn n_events(&self) -> usize {
-            1
-        }
-        fn direction(&self, _i: usize) -> Direction {
-            Direction::Rising
+        fn events(&self) -> &[SeriesEvent] {
+            &self.0
         }
     }
 
@@ -556,7 +615,7 @@ mod tests {
         let half = std::f64::consts::PI / (2.0 * a) * 2.0;
         let mut s = solver(1e-12);
         let end = s
-            .integrate(&Pendulum, 0.0, [amp, 0.0], 20.0, &mut |_: &_, _| {})
+            .integrate(&pendulum(), 0.0, [amp, 0.0], 20.0, &mut |_: &_, _| {})
             .unwrap();
         assert_eq!(end.event, Some(0));
         assert!((end.t - half).abs() < 1e-10, "{} vs {half}", end.t);
@@ -565,7 +624,7 @@ mod tests {
         let mut worst = 0.0f64;
         let e0 = 1.0 - amp.cos();
         let mut s = solver(1e-10);
-        s.integrate(&Pendulum, 0.0, [amp, 0.0], 3.0, &mut |ser: &Series<2>, t1| {
+        s.integrate(&pendulum(), 0.0, [amp, 0.0], 3.0, &mut |ser: &Series<2>, t1| {
             for k in 0..=8 {
                 let tt = ser.t0() + (t1 - ser.t0()) * k as f64 / 8.0;
                 let [q, v] = ser.eval(tt);
@@ -577,6 +636,38 @@ mod tests {
         assert!(s.stats().steps < 60, "{:?}", s.stats());
     }
 
+    /// The same crossing read on a state component and on an extra series,
+    /// at a level and in either direction: from 170 deg the pendulum passes
+    /// y = 85 deg (falling) exactly when cos y passes cos 85 deg (rising).
+    #[test]
+    fn events_read_levels_on_state_and_extra_series() {
+        let (amp, half) = (170f64.to_radians(), 85f64.to_radians());
+        let on = |source, level, direction| {
+            Pendulum(vec![SeriesEvent {
+                source,
+                level,
+                direction,
+            }])
+        };
+        let run = |p: Pendulum| solver(1e-12).integrate(&p, 0.0, [amp, 0.0], 20.0, &mut |_: &_, _| {});
+        let a = run(on(Source::State(0), half, Direction::Falling)).unwrap();
+        let b = run(on(Source::Extra(0), half.cos(), Direction::Rising)).unwrap();
+        assert_eq!((a.event, b.event), (Some(0), Some(0)));
+        assert!((a.t - b.t).abs() < 1e-10, "{} vs {}", a.t, b.t);
+        assert!((a.y[0] - half).abs() < 1e-9, "{}", a.y[0]);
+        // The wrong direction is not this crossing: y next rises through
+        // 85 deg on the way back, after the left turning point.
+        let c = run(on(Source::State(0), half, Direction::Rising)).unwrap();
+        assert!(c.t > 2.0 * a.t, "{} vs {}", c.t, a.t);
+        // A source that does not exist is a typed error, not a panic.
+        for source in [Source::State(2), Source::Extra(MAX_EXTRA)] {
+            assert!(matches!(
+                run(on(source, 0.0, Direction::Either)),
+                Err(OdeError::InvalidOptions(_))
+            ));
+        }
+    }
+
     #[test]
     fn restart_at_a_root_does_not_fire_again() {
         // Start exactly at the left turning point, where the event is zero
@@ -584,10 +675,10 @@ mod tests {
         let amp = 1.0f64;
         let mut s = solver(1e-12);
         let first = s
-            .integrate(&Pendulum, 0.0, [amp, 0.0], 50.0, &mut |_: &_, _| {})
+            .integrate(&pendulum(), 0.0, [amp, 0.0], 50.0, &mut |_: &_, _| {})
             .unwrap();
         let second = s
-            .integrate(&Pendulum, first.t, [-amp, 0.0], 50.0, &mut |_: &_, _| {})
+            .integrate(&pendulum(), first.t, [-amp, 0.0], 50.0, &mut |_: &_, _| {})
             .unwrap();
         assert_eq!(second.event, Some(0));
         assert!((second.t - 3.0 * first.t).abs() < 1e-9, "{} {}", first.t, second.t);
@@ -597,7 +688,7 @@ mod tests {
     fn bad_order_and_step_limit_are_typed_errors() {
         let mut s = Taylor::<2>::new(Options::default(), 1, 1.0);
         assert!(matches!(
-            s.integrate(&Pendulum, 0.0, [1.0, 0.0], 1.0, &mut |_: &_, _| {}),
+            s.integrate(&pendulum(), 0.0, [1.0, 0.0], 1.0, &mut |_: &_, _| {}),
             Err(OdeError::InvalidOptions(_))
         ));
         let mut s = Taylor::<2>::new(
@@ -609,7 +700,7 @@ mod tests {
             0.01,
         );
         assert!(matches!(
-            s.integrate(&Pendulum, 0.0, [1.0, 0.0], 1.0, &mut |_: &_, _| {}),
+            s.integrate(&pendulum(), 0.0, [1.0, 0.0], 1.0, &mut |_: &_, _| {}),
             Err(OdeError::StepLimit { limit: 3, .. })
         ));
     }
@@ -629,11 +720,18 @@ mod tests {
         }
         // An event whose only nonzero term is the last: no panic, and its
         // root at 0 is the restart point, not a crossing.
-        let mut s = Taylor::<2>::new(Options::default(), 4, 1.0);
-        s.g[0] = [0.0; MAX_ORDER + 1];
-        s.g[0][4] = 1.0;
+        let s = Taylor::<2>::new(Options::default(), 4, 1.0);
+        let mut c = [0.0; MAX_ORDER + 1];
+        c[4] = 1.0;
         let hk: Coeffs = std::array::from_fn(|k| 0.5f64.powi(k as i32));
-        assert_eq!(s.first_root(0, Direction::Rising, 0.5, &hk, 4), None);
+        assert_eq!(s.first_root(&c, 0.0, Direction::Rising, 0.5, &hk, 4), None);
+        // The same on a level: 3 + s^4 starts at the level 3 (a restart).
+        c[0] = 3.0;
+        assert_eq!(s.first_root(&c, 3.0, Direction::Rising, 0.5, &hk, 4), None);
+        c[4] = 32.0;
+        // 3 + 32 s^4 crosses 5 where s^4 = 1/16: at s = 0.5.
+        let root = s.first_root(&c, 5.0, Direction::Rising, 0.5, &hk, 4).unwrap();
+        assert!((root - 0.5).abs() < 1e-11, "{root}");
         // A bad order is refused, and a hint does not panic on it.
         let mut bad = Taylor::<2>::new(Options::default(), 1, 1.0);
         bad.hint_next(3, 0.1);
