@@ -109,15 +109,18 @@ fn inv_root(m: f64, j: usize) -> f64 {
     let bits = m.to_bits();
     let e = ((bits >> 52) & 0x7ff) as i64 - 1023;
     let mant = f64::from_bits((bits & 0x000f_ffff_ffff_ffff) | 0x3ff0_0000_0000_0000);
-    // ln(mant) = ln 1.5 + ln(1 + u), |u| <= 1/3.
+    // ln(mant) = ln 1.5 + ln(1 + u), |u| <= 1/3. Both series by Estrin's
+    // scheme: a step size waits on this, and Horner's chain is twice as long.
     let u = (mant - 1.5) * (2.0 / 3.0);
-    let ln1p = u * (1.0 + u * (-0.5 + u * (1.0 / 3.0 + u * (-0.25 + u * (0.2 + u * (-1.0 / 6.0 + u / 7.0))))));
+    let u2 = u * u;
+    let ln1p = u * ((1.0 - 0.5 * u) + u2 * (1.0 / 3.0 - 0.25 * u) + u2 * u2 * ((0.2 - u / 6.0) + u2 * (1.0 / 7.0)));
     let log2m = e as f64 + (0.405_465_108_108_164_4 + ln1p) * std::f64::consts::LOG2_E;
     let y = (-log2m / j as f64).clamp(-1000.0, 1000.0);
     let t = y as i64 as f64;
     let n = if t > y { t - 1.0 } else { t };
     let f = (y - n) * std::f64::consts::LN_2;
-    let two_f = 1.0 + f * (1.0 + f * (0.5 + f * (1.0 / 6.0 + f * (1.0 / 24.0 + f * (1.0 / 120.0 + f / 720.0)))));
+    let f2 = f * f;
+    let two_f = (1.0 + f) + f2 * (0.5 + f / 6.0) + f2 * f2 * ((1.0 / 24.0 + f / 120.0) + f2 * (1.0 / 720.0));
     let half = (n as i64) / 2;
     let scale = |k: i64| f64::from_bits(((k + 1023) as u64) << 52);
     two_f * scale(half) * scale(n as i64 - half)
@@ -314,8 +317,9 @@ impl<const N: usize> Taylor<N> {
             }
         };
         // The (p-1)-th term usually allows more: take its root only if not.
+        // With h^p = 1 / m2, m1 h^(p-1) <= 1 reads m1 <= m2 h.
         let h = root(m2, p);
-        if h.is_finite() && m1 * h.powi((p - 1) as i32) <= 1.0 {
+        if h.is_finite() && m1 <= m2 * h {
             h
         } else {
             h.min(root(m1, p - 1))
