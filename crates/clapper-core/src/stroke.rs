@@ -97,6 +97,17 @@ pub enum ContactModel {
     },
 }
 
+impl ContactModel {
+    /// The spring stiffness k (N m/rad); zero for rigid impacts, which
+    /// have no spring.
+    pub fn stiffness(self) -> f64 {
+        match self {
+            ContactModel::Penalty { stiffness } => stiffness,
+            ContactModel::Impact => 0.0,
+        }
+    }
+}
+
 /// Which integrator a stroke uses.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Integrator {
@@ -664,10 +675,7 @@ struct Segment<'a> {
 
 impl<'a> Segment<'a> {
     fn new(d: &'a Dynamics, cfg: &SimConfig, clapper: ClapperState, s0: f64, bottom_passed: bool) -> Self {
-        let k = match cfg.contact {
-            ContactModel::Penalty { stiffness } => stiffness,
-            ContactModel::Impact => 0.0,
-        };
+        let k = cfg.contact.stiffness();
         let mut events = [Ev::OverTop; MAX_EVENTS];
         let mut n = 0;
         let mut push = |e: Ev| {
@@ -747,18 +755,26 @@ impl<'a> Segment<'a> {
     }
 
     fn law(&self) -> ForceLaw {
-        match self.clapper {
+        ForceLaw::of(self.clapper, self.k, self.rk, self.phi_max)
+    }
+}
+
+impl ForceLaw {
+    /// The law for a clapper in `clapper` state, with spring stiffnesses
+    /// `k` (compressing) and `rk` (rebounding) (N m/rad).
+    fn of(clapper: ClapperState, k: f64, rk: f64, phi_max: f64) -> ForceLaw {
+        match clapper {
             ClapperState::Flying => ForceLaw::Zero,
             ClapperState::Resting(_) => ForceLaw::Resting,
             ClapperState::Compressing(s) => ForceLaw::Spring {
                 side: s.sign(),
-                k: self.k,
-                phi_max: self.phi_max,
+                k,
+                phi_max,
             },
             ClapperState::Rebounding { side, .. } => ForceLaw::Spring {
                 side: side.sign(),
-                k: self.rk,
-                phi_max: self.phi_max,
+                k: rk,
+                phi_max,
             },
         }
     }
@@ -853,6 +869,8 @@ pub fn run_stroke<O: Observer>(
         Integrator::Dopri5 => None,
     };
     let e = cfg.restitution.sqrt();
+    let k = cfg.contact.stiffness();
+    let law_of = |clapper| ForceLaw::of(clapper, k, cfg.restitution * k, bell.phi_max);
     let s0 = if start.y[THETA] >= 0.0 { 1.0 } else { -1.0 };
     let start_side = start.side();
     let t_limit = start.t + cfg.max_stroke_periods * bell.tb();
@@ -871,7 +889,7 @@ pub fn run_stroke<O: Observer>(
     let initial = Sample {
         t,
         y,
-        contact_force: Segment::new(&d, cfg, clapper, s0, false).law().force(&d, &y),
+        contact_force: law_of(clapper).force(&d, &y),
     };
     observer.on_jump(&initial, &initial);
     if clapper == ClapperState::Flying && start_side == Side::of(y[PHI]) && (y[PHI].abs() - bell.phi_max).abs() < 1e-12
@@ -1007,7 +1025,7 @@ pub fn run_stroke<O: Observer>(
         if departed == Some(start_side) && !struck {
             liftoff = Some(Moment { t, theta: y[THETA] });
         }
-        let after_law = Segment::new(&d, cfg, clapper, s0, bottom_passed).law();
+        let after_law = law_of(clapper);
         observer.on_jump(
             &before,
             &Sample {
@@ -1017,7 +1035,7 @@ pub fn run_stroke<O: Observer>(
             },
         );
     };
-    let last_law = Segment::new(&d, cfg, clapper, s0, bottom_passed).law();
+    let last_law = law_of(clapper);
     let last = Sample {
         t,
         y,
