@@ -24,19 +24,19 @@ pub type State = [f64; 4];
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Dynamics {
     /// I_b + I_c + m r² (kg m²).
-    j0: f64,
+    pub(crate) j0: f64,
     /// m r b (kg m²).
-    mrb: f64,
+    pub(crate) mrb: f64,
     /// I_c (kg m²).
-    ic: f64,
+    pub(crate) ic: f64,
     /// (M a + m r) g (N m).
-    gravity_bell: f64,
+    pub(crate) gravity_bell: f64,
     /// m b g (N m).
-    gravity_clapper: f64,
+    pub(crate) gravity_clapper: f64,
     /// sin and cos of φ_max: a resting clapper sits at exactly ±φ_max, so
     /// the resting equations need no trig of φ (a tenth of a chart's time).
-    sin_phi_max: f64,
-    cos_phi_max: f64,
+    pub(crate) sin_phi_max: f64,
+    pub(crate) cos_phi_max: f64,
     bell: Bell,
 }
 

@@ -27,6 +27,7 @@ pub mod bell;
 pub mod chart;
 pub mod diagnose;
 pub mod dynamics;
+pub mod elliptic;
 pub mod frame;
 pub mod liftoff;
 pub mod listening;
@@ -34,6 +35,7 @@ pub mod ode;
 pub mod restitution;
 pub mod ringing;
 pub mod stroke;
+pub mod swing;
 pub mod trig;
 pub mod vibration;
 

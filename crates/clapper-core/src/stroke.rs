@@ -7,6 +7,7 @@ use crate::bell::{Bell, ParamError};
 use crate::dynamics::{Dynamics, State, PHI, PHI_DOT, THETA, THETA_DOT};
 use crate::ode::taylor::{Coeffs, Series, SeriesEvent, Source, MAX_EXTRA};
 use crate::ode::{Dense, Direction, Dopri5, EventSystem, OdeError, Options, SeriesSystem, Stats, Taylor, MAX_EVENTS};
+use crate::swing::RestingSwing;
 
 /// One of the two places where the clapper meets the bell: φ = +φ_max
 /// (`Plus`) or φ = −φ_max (`Minus`).
@@ -119,7 +120,10 @@ pub enum Integrator {
     /// tolerance, with a first strike angle eight times closer to the
     /// reference; orders 10 to 16 cost about the same. Every event function
     /// is a polynomial in each step, ruled out by a bound or checked at 16
-    /// points, so `h_max` stays a fraction of a swing.
+    /// points, so `h_max` stays a fraction of a swing. With the impact
+    /// model, a resting phase that starts from rest (the stroke's first) is
+    /// not integrated but solved in closed form ([`crate::swing`]): the
+    /// bell is then a rigid pendulum.
     Taylor {
         /// Order of the expansion.
         order: usize,
@@ -550,6 +554,7 @@ impl StepView<'_> {
         match self.dense {
             DenseRef::Rk(d) => d.t0(),
             DenseRef::Series(d) => d.t0(),
+            DenseRef::Swing { t_from, .. } => t_from,
         }
     }
 
@@ -563,6 +568,7 @@ impl StepView<'_> {
         let y = match self.dense {
             DenseRef::Rk(d) => d.eval(t),
             DenseRef::Series(d) => d.eval(t),
+            DenseRef::Swing { swing, .. } => swing.state_at(t),
         };
         Sample {
             t,
@@ -577,6 +583,11 @@ impl StepView<'_> {
 enum DenseRef<'a> {
     Rk(&'a Dense<4>),
     Series(&'a Series<4>),
+    /// Part of a closed-form resting swing, from `t_from` (s).
+    Swing {
+        swing: &'a RestingSwing,
+        t_from: f64,
+    },
 }
 
 /// Watches a simulation as it runs (argmin-style: the core never prints).
@@ -841,6 +852,48 @@ fn bounce_order(flight: f64, rtol: f64) -> usize {
     (rtol.ln() / ratio.ln()).ceil().max(2.0) as usize + 1
 }
 
+/// The first event of `seg` on the closed-form swing `sw` after the bell's
+/// angle `theta` (rad): its time (s), state, and index among the segment's
+/// events. `None` if the swing's form does not apply (it moves away from
+/// the bottom) or no event comes before the end of the half swing or
+/// `t_limit` (s): the stroke then integrates.
+fn swing_event(
+    sw: &RestingSwing,
+    seg: &Segment,
+    theta: f64,
+    bottom_passed: bool,
+    t_limit: f64,
+) -> Option<(f64, State, usize)> {
+    // Each event below is a level θ crosses going from the s0 side
+    // towards the other, as in the segment's event functions.
+    if sw.theta_direction() != -seg.s0 {
+        return None;
+    }
+    let from = sw.sigma(theta);
+    let end = -sw.amplitude();
+    let mut best: Option<(f64, usize)> = None;
+    for (i, e) in seg.events[..seg.n].iter().enumerate() {
+        let sigma = match *e {
+            Ev::LiftOff(_) => sw.force_zero_after(from),
+            Ev::Bottom => Some(sw.sigma(0.0)),
+            Ev::OverTop => Some(sw.sigma(-seg.s0 * PI)),
+            Ev::Turning => bottom_passed.then_some(end),
+            _ => None,
+        };
+        let Some(sigma) = sigma.filter(|&s| s < from && s >= end) else {
+            continue;
+        };
+        // The first along the swing; on a tie the first listed, as the
+        // integrators do.
+        if best.is_none_or(|(b, _)| sigma > b) {
+            best = Some((sigma, i));
+        }
+    }
+    let (sigma, i) = best?;
+    let t_e = sw.t0() + sw.time_at_sigma(sigma);
+    (t_e <= t_limit).then(|| (t_e, sw.state_at_sigma(sigma), i))
+}
+
 /// Simulate one stroke from `start` until the bell's next turning point.
 ///
 /// ```
@@ -885,6 +938,11 @@ pub fn run_stroke<O: Observer>(
     let mut bottom = None;
     let mut events = 0u32;
     let mut struck = false;
+    // A resting phase from rest is a closed-form swing with the Taylor
+    // integrator (the Dormand–Prince path integrates it, as a check).
+    let closed_form_rest = matches!(cfg.integrator, Integrator::Taylor { .. }) && cfg.contact == ContactModel::Impact;
+    let mut swing: Option<RestingSwing> = None;
+    let mut swing_given_up = false;
 
     let initial = Sample {
         t,
@@ -901,8 +959,34 @@ pub fn run_stroke<O: Observer>(
     let reason = loop {
         let seg = Segment::new(&d, cfg, clapper, s0, bottom_passed);
         let law = seg.law();
-        let stop = match series.as_mut() {
-            Some(ts) => ts.integrate(&seg, t, y, t_limit, &mut |dense: &Series<4>, t_to| {
+        if !matches!(clapper, ClapperState::Resting(_)) {
+            swing = None;
+            swing_given_up = false;
+        } else if swing.is_none() && closed_form_rest && y[THETA_DOT] == 0.0 && !swing_given_up {
+            swing = RestingSwing::from_rest(&d, t, y[THETA], y[PHI]);
+        }
+        let closed = swing.as_ref().and_then(|sw| {
+            let (t_e, y_e, i) = swing_event(sw, &seg, y[THETA], bottom_passed, t_limit)?;
+            observer.on_step(&StepView {
+                dense: DenseRef::Swing { swing: sw, t_from: t },
+                t_to: t_e,
+                law,
+                dynamics: &d,
+            });
+            Some(crate::ode::Segment {
+                t: t_e,
+                y: y_e,
+                event: Some(i),
+            })
+        });
+        if closed.is_none() && swing.is_some() {
+            // Not an event this form finds: integrate the rest of the phase.
+            swing = None;
+            swing_given_up = true;
+        }
+        let stop = match (closed, series.as_mut()) {
+            (Some(stop), _) => stop,
+            (None, Some(ts)) => ts.integrate(&seg, t, y, t_limit, &mut |dense: &Series<4>, t_to| {
                 observer.on_step(&StepView {
                     dense: DenseRef::Series(dense),
                     t_to,
@@ -910,7 +994,7 @@ pub fn run_stroke<O: Observer>(
                     dynamics: &d,
                 })
             })?,
-            None => rk.integrate(&seg, t, y, t_limit, &mut |dense: &Dense<4>, t_to| {
+            (None, None) => rk.integrate(&seg, t, y, t_limit, &mut |dense: &Dense<4>, t_to| {
                 observer.on_step(&StepView {
                     dense: DenseRef::Rk(dense),
                     t_to,

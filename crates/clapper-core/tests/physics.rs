@@ -442,6 +442,7 @@ fn taylor_and_dormand_prince_give_the_same_strokes() {
     };
     let construction = ChartConstruction::default();
     let (mut worst_angle, mut worst_rate, mut strokes) = (0.0f64, 0.0f64, 0);
+    let mut worst_liftoff = 0.0f64;
     for i in 0..6 {
         for j in 0..6 {
             let bell = construction.bell(-0.3 + 0.2 * i as f64, 0.5 + 0.4 * j as f64).unwrap();
@@ -457,10 +458,58 @@ fn taylor_and_dormand_prince_give_the_same_strokes() {
                     strokes += 1;
                 }
                 assert!((a.end.t - b.end.t).abs() < 1e-7, "{} vs {}", a.end.t, b.end.t);
+                // The lift-off: closed form (Taylor path) against integration.
+                if let (Some(x), Some(y)) = (a.liftoff_angle(), b.liftoff_angle()) {
+                    worst_liftoff = worst_liftoff.max((x - y).abs().to_degrees());
+                }
+                assert_eq!(a.liftoff.is_some(), b.liftoff.is_some());
             }
         }
     }
+    assert!(worst_liftoff < 1e-6, "lift-off angles differ by {worst_liftoff} deg");
     assert!(strokes > 30, "{strokes}");
     assert!(worst_angle < 1e-6, "strike angles differ by {worst_angle} deg");
     assert!(worst_rate < 1e-7, "strike rates differ by {worst_rate} rad/s");
+}
+
+/// A trace through the closed-form first phase (Taylor path) and through
+/// integration (Dormand–Prince) gives the same samples: the swing's dense
+/// output is the same motion.
+#[test]
+fn traces_agree_through_the_closed_form_swing() {
+    use clapper_core::stroke::Integrator;
+    let bell = Bell::lab();
+    let trace = |integrator| {
+        let cfg = SimConfig {
+            ode: tolerance(1e-11),
+            integrator,
+            ..SimConfig::default()
+        };
+        let start = StrokeStart::at_rest(&bell, &cfg, 0.0, cfg.theta0, Side::Plus);
+        let mut rec = TraceRecorder::new(0.01);
+        let stroke = run_stroke(&bell, &cfg, start, &mut rec).unwrap();
+        (stroke, rec.samples)
+    };
+    let (a, sa) = trace(Integrator::default());
+    let (_, sb) = trace(Integrator::Dopri5);
+    let lift = a.liftoff.unwrap().t;
+    let mut compared = 0;
+    // The grid samples (events fall at slightly different times).
+    for s in sa.iter().filter(|s| s.t > 0.0 && s.t < lift) {
+        let Some(b) = sb.iter().find(|b| b.t == s.t) else {
+            continue;
+        };
+        for i in 0..4 {
+            assert!(
+                (s.y[i] - b.y[i]).abs() < 1e-8,
+                "t {} component {i}: {} vs {}",
+                s.t,
+                s.y[i],
+                b.y[i]
+            );
+        }
+        assert!((s.contact_force - b.contact_force).abs() < 1e-6);
+        compared += 1;
+    }
+    assert!(compared > 20, "{compared}");
 }
