@@ -35,8 +35,8 @@ pub struct Dynamics {
     pub(crate) gravity_clapper: f64,
     /// sin and cos of φ_max: a resting clapper sits at exactly ±φ_max, so
     /// the resting equations need no trig of φ (a tenth of a chart's time).
-    pub(crate) sin_phi_max: f64,
-    pub(crate) cos_phi_max: f64,
+    sin_phi_max: f64,
+    cos_phi_max: f64,
     bell: Bell,
 }
 
@@ -120,14 +120,7 @@ impl Dynamics {
     #[inline]
     pub fn resting(&self, y: &State) -> (f64, f64) {
         let [th, ph, thd, _] = *y;
-        // Bit for bit what sin_cos(ph) gives, as sin_cos is exactly odd.
-        let (sp, cp) = if ph == self.bell.phi_max {
-            (self.sin_phi_max, self.cos_phi_max)
-        } else if ph == -self.bell.phi_max {
-            (-self.sin_phi_max, self.cos_phi_max)
-        } else {
-            crate::trig::sin_cos(ph)
-        };
+        let (sp, cp) = self.sin_cos_phi(ph);
         let (st, ct) = crate::trig::sin_cos(th);
         let w11 = self.j0 + 2.0 * self.mrb * cp;
         let w12 = self.ic + self.mrb * cp;
@@ -136,6 +129,20 @@ impl Dynamics {
         let theta_dd = f1 / w11;
         let q = w12 * theta_dd + self.mrb * thd * thd * sp + self.gravity_clapper * s_abs;
         (theta_dd, q)
+    }
+
+    /// sin and cos of a clapper angle `ph` (rad): cached at ±φ_max, where a
+    /// resting clapper sits, and bit for bit what `trig::sin_cos` gives
+    /// there, as it is exactly odd.
+    #[inline]
+    pub(crate) fn sin_cos_phi(&self, ph: f64) -> (f64, f64) {
+        if ph == self.bell.phi_max {
+            (self.sin_phi_max, self.cos_phi_max)
+        } else if ph == -self.bell.phi_max {
+            (-self.sin_phi_max, self.cos_phi_max)
+        } else {
+            crate::trig::sin_cos(ph)
+        }
     }
 
     /// dy/dt with the clapper resting against the bell.
@@ -254,17 +261,7 @@ impl Dynamics {
     pub fn series_resting(&self, y: &State, p: usize, x: &mut [Coeffs; 4], q: &mut Coeffs) {
         const Z: Coeffs = [0.0; MAX_ORDER + 1];
         let (mut st, mut ct, mut sa, mut w2) = (Z, Z, Z, Z);
-        let sp = if y[PHI] < 0.0 {
-            -self.sin_phi_max
-        } else {
-            self.sin_phi_max
-        };
-        let cp = self.cos_phi_max;
-        let (sp, cp) = if y[PHI].abs() == self.bell.phi_max {
-            (sp, cp)
-        } else {
-            crate::trig::sin_cos(y[PHI])
-        };
+        let (sp, cp) = self.sin_cos_phi(y[PHI]);
         let w11 = self.j0 + 2.0 * self.mrb * cp;
         let w12 = self.ic + self.mrb * cp;
         x[THETA][0] = y[THETA];

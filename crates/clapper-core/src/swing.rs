@@ -53,11 +53,7 @@ impl RestingSwing {
     /// no swing to describe in this form: at the balance point (|α₀| within
     /// 1e-6 rad of 0 or π) or for a bell with no weight.
     pub fn from_rest(d: &Dynamics, t0: f64, theta0: f64, phi: f64) -> Option<Self> {
-        let (sp, cp) = if phi.abs() == d.bell().phi_max {
-            (phi.signum() * d.sin_phi_max, d.cos_phi_max)
-        } else {
-            crate::trig::sin_cos(phi)
-        };
+        let (sp, cp) = d.sin_cos_phi(phi);
         let j = d.j0 + 2.0 * d.mrb * cp;
         let w12 = d.ic + d.mrb * cp;
         let gc = d.gravity_clapper;
