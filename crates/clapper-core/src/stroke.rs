@@ -116,7 +116,7 @@ pub enum Integrator {
     /// 24) at every step, with steps of at most `h_max` (s). The default:
     /// order 12 and 0.25 s, chosen by measurement
     /// (`cargo run --release -p clapper-core --example tolerance`): on the
-    /// paper's chart about twice as fast as Dormand–Prince at the same
+    /// paper's chart 2.4 times as fast as Dormand–Prince at the same
     /// tolerance, with a first strike angle eight times closer to the
     /// reference; orders 10 to 16 cost about the same. Every event function
     /// is a polynomial in each step, ruled out by a bound or checked at 16

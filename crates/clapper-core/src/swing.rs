@@ -9,7 +9,7 @@
 //! a sinusoid in θ plus a constant. So the lift-off angle is an arcsine for
 //! any r (for r = 0 it is (15), (16)), and the time to reach any angle is
 //! one elliptic integral. A stroke uses this for its first phase instead of
-//! integration steps: exact, and a sixth of a stroke's work saved.
+//! integration steps: exact, and a sixth of a stroke's steps saved.
 //!
 //! Angles along the swing: α = θ + β, released at α₀ (|α₀| < π), and the
 //! path coordinate σ = sign(α₀) α, which falls from |α₀| to −|α₀| over the
