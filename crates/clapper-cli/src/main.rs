@@ -27,7 +27,8 @@ enum Command {
     /// Simulate strokes of one bell and report strikes, lift-off, bounces and
     /// whether the style is sustained.
     Simulate(simulate::SimulateArgs),
-    /// The closed-form lift-off angles for r = 0, equations (15) and (16).
+    /// Lift-off angles in closed form: (15), (16) for r = 0, or exactly for
+    /// any bell released from rest.
     Liftoff(simulate::LiftoffArgs),
     /// A clapping chart: sweep the plane of (r/L_c, L_b/L_c) and show where
     /// a bell rings right or wrong and how it strikes.

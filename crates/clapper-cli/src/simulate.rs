@@ -95,12 +95,20 @@ pub struct SimulateArgs {
 
 #[derive(Args, Debug)]
 pub struct LiftoffArgs {
-    /// L_b/L_c of the bell.
+    /// L_b/L_c of a bell with r = 0: the paper's formula (15), (16).
     #[arg(long, value_name = "X", allow_hyphen_values = true)]
-    pub lb_over_lc: f64,
-    /// Contact angle phi_max (deg).
-    #[arg(long, value_name = "DEG", default_value_t = 26.0, allow_hyphen_values = true)]
-    pub phi_max: f64,
+    pub lb_over_lc: Option<f64>,
+    /// Or a bell of any r, released from rest at --theta0: the exact
+    /// lift-off of the closed-form swing.
+    #[command(flatten)]
+    pub source: BellArgs,
+    /// Angle the bell is released from, at rest (deg; with a bell).
+    #[arg(long, value_name = "DEG", default_value_t = DEFAULT_THETA0_DEG, allow_hyphen_values = true)]
+    pub theta0: f64,
+    /// Contact angle phi_max (deg): 26 for the formula; for a bell, its
+    /// own unless given.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub phi_max: Option<f64>,
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
@@ -165,13 +173,24 @@ pub fn run(args: SimulateArgs) -> Result<()> {
 }
 
 pub fn liftoff(args: LiftoffArgs) -> Result<()> {
-    let a = liftoff_angles(args.lb_over_lc, args.phi_max.to_radians())?;
-    if args.json {
+    let has_bell = args.source.preset.is_some() || args.source.bell.is_some() || args.source.chart_point.is_some();
+    match (args.lb_over_lc, has_bell) {
+        (Some(x), false) => liftoff_formula(x, args.phi_max.unwrap_or(26.0), args.json),
+        (None, true) => liftoff_of_bell(&args),
+        _ => anyhow::bail!(
+            "give either --lb-over-lc (r = 0, the paper's formula) or a bell (--preset, --bell or --chart-point)"
+        ),
+    }
+}
+
+fn liftoff_formula(lb_over_lc: f64, phi_max: f64, json: bool) -> Result<()> {
+    let a = liftoff_angles(lb_over_lc, phi_max.to_radians())?;
+    if json {
         println!(
             "{}",
             serde_json::json!({
-                "lb_over_lc": args.lb_over_lc,
-                "phi_max_deg": args.phi_max,
+                "lb_over_lc": lb_over_lc,
+                "phi_max_deg": phi_max,
                 "right_deg": a.right.to_degrees(),
                 "wrong_deg": a.wrong.to_degrees(),
             })
@@ -179,11 +198,61 @@ pub fn liftoff(args: LiftoffArgs) -> Result<()> {
     } else {
         println!(
             "lift-off for r = 0, L_b/L_c = {}, phi_max = {} deg (equations 15, 16):\n  ringing right  theta_r = {:.2} deg\n  ringing wrong  theta_w = {:.2} deg",
-            args.lb_over_lc,
-            args.phi_max,
+            lb_over_lc,
+            phi_max,
             a.right.to_degrees(),
             a.wrong.to_degrees()
         );
+    }
+    Ok(())
+}
+
+/// The exact lift-off of a bell of any r released from rest, both styles.
+fn liftoff_of_bell(args: &LiftoffArgs) -> Result<()> {
+    let request = SimulateRequest {
+        preset: args.source.preset,
+        chart_point: args.source.chart_point.map(|(x, y)| [x, y]),
+        phi_max: args.phi_max,
+        ..SimulateRequest::default()
+    };
+    let file = match &args.source.bell {
+        Some(path) => Some(clapper_io::load_bell(path)?),
+        None => None,
+    };
+    let loaded = request.bell(file)?;
+    let theta0 = args.theta0.to_radians();
+    let mut found = Vec::new();
+    for style in [Style::Right, Style::Wrong] {
+        let l = liftoff_from_rest(&loaded.bell, theta0, style.side(theta0))?;
+        found.push((style, l));
+    }
+    if args.json {
+        let mut v = serde_json::json!({
+            "bell": loaded.name,
+            "theta0_deg": args.theta0,
+            "phi_max_deg": loaded.bell.phi_max.to_degrees(),
+        });
+        for (style, l) in &found {
+            let name = clapper_io::report::style_name(*style);
+            v[format!("{name}_deg")] = l.map(|l| l.theta.to_degrees()).into();
+            v[format!("{name}_s")] = l.map(|l| l.time).into();
+        }
+        println!("{v}");
+    } else {
+        println!(
+            "lift-off of {}, released from rest at {} deg, phi_max = {:.2} deg (closed form, any r):",
+            loaded.name,
+            args.theta0,
+            loaded.bell.phi_max.to_degrees()
+        );
+        for (style, l) in &found {
+            let words = match l {
+                Some(l) if l.time == 0.0 => "at once: the clapper is not pressed against that side".to_string(),
+                Some(l) => format!("theta = {:.2} deg, {:.3} s after release", l.theta.to_degrees(), l.time),
+                None => "none: the clapper stays on through the half swing".to_string(),
+            };
+            println!("  ringing {:<6} {words}", clapper_io::report::style_name(*style));
+        }
     }
     Ok(())
 }

@@ -134,6 +134,51 @@ fn liftoff_closed_form() {
     assert!((v["wrong_deg"].as_f64().unwrap() - 55.30).abs() < 0.005);
 }
 
+/// A bell of any r: the closed form agrees with (15) at r = 0 and with a
+/// stroke integrated by Dormand-Prince (which does not use it) at r != 0.
+#[test]
+fn liftoff_of_a_bell_from_rest() {
+    let json = |args: &[&str]| -> serde_json::Value {
+        let out = clapper().args(args).output().unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let v = json(&["liftoff", "--chart-point", "0,1.68", "--json"]);
+    assert!((v["right_deg"].as_f64().unwrap() - 124.70).abs() < 0.005);
+    assert!((v["wrong_deg"].as_f64().unwrap() - 55.30).abs() < 0.005);
+    for style in ["right", "wrong"] {
+        let v = json(&["liftoff", "--chart-point", "0.45,1.68", "--theta0", "160", "--json"]);
+        let s = json(&[
+            "simulate",
+            "--chart-point",
+            "0.45,1.68",
+            "--theta0",
+            "160",
+            "--style",
+            style,
+            "--strokes",
+            "1",
+            "--integrator",
+            "dopri5",
+            "--rtol",
+            "1e-12",
+            "--json",
+        ]);
+        let closed = v[format!("{style}_deg")].as_f64().unwrap();
+        let integrated = s["strokes"][0]["liftoff_theta_deg"].as_f64().unwrap();
+        assert!(
+            (closed - integrated).abs() < 1e-6,
+            "{style}: {closed} vs {integrated} deg"
+        );
+        assert!(v[format!("{style}_s")].as_f64().unwrap() > 0.0);
+    }
+    let text = clapper()
+        .args(["liftoff", "--preset", "lab", "--theta0", "60"])
+        .output()
+        .unwrap();
+    assert!(String::from_utf8_lossy(&text.stdout).contains("at once"));
+}
+
 /// Bad input: one line naming the problem, non-zero exit, never a panic.
 #[test]
 fn bad_input_gives_one_line_errors() {
@@ -169,6 +214,9 @@ fn bad_input_gives_one_line_errors() {
         (vec!["simulate", "--stiffness", "-5"], "stiffness"),
         (vec!["simulate", "--plot", "x.jpg"], ".svg or .png"),
         (vec!["liftoff", "--lb-over-lc", "-1"], "lb_over_lc"),
+        (vec!["liftoff"], "--lb-over-lc"),
+        (vec!["liftoff", "--lb-over-lc", "1.5", "--preset", "lab"], "either"),
+        (vec!["liftoff", "--preset", "lab", "--theta0", "190"], "theta0_deg"),
         (
             vec!["simulate", "--preset", "lab", "--bell", "x.toml"],
             "cannot be used with",

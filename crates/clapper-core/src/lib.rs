@@ -42,7 +42,7 @@ pub mod vibration;
 /// The names most programs need.
 pub mod prelude {
     pub use crate::bell::{Bell, BellWarning, ChartConstruction, ParamError, TowerMeasurements};
-    pub use crate::liftoff::{liftoff_angles, LiftoffAngles};
+    pub use crate::liftoff::{liftoff_angles, liftoff_from_rest, LiftoffAngles, LiftoffFromRest};
     pub use crate::ringing::{first_stroke, ring, Protocol, Ringing};
     pub use crate::stroke::{
         run_stroke, ClapperState, ContactModel, EndReason, Impact, Integrator, Observer, Side, SimConfig, SimError,
