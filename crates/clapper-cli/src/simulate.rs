@@ -38,6 +38,21 @@ pub struct BellArgs {
     pub chart_point: Option<(f64, f64)>,
 }
 
+impl BellArgs {
+    /// Whether a bell was named at all.
+    pub fn given(&self) -> bool {
+        self.preset.is_some() || self.bell.is_some() || self.chart_point.is_some()
+    }
+
+    /// The bell file of `--bell`, read.
+    pub fn file(&self) -> Result<Option<LoadedBell>> {
+        Ok(match &self.bell {
+            Some(path) => Some(clapper_io::load_bell(path)?),
+            None => None,
+        })
+    }
+}
+
 /// The contact model and the integrator's tolerance: shared by every
 /// command that simulates.
 #[derive(Args, Debug, Clone)]
@@ -136,10 +151,7 @@ impl SimulateArgs {
 
     /// The bell file of `--bell`, read.
     pub fn bell_file(&self) -> Result<Option<LoadedBell>> {
-        Ok(match &self.source.bell {
-            Some(path) => Some(clapper_io::load_bell(path)?),
-            None => None,
-        })
+        self.source.file()
     }
 }
 
@@ -173,8 +185,7 @@ pub fn run(args: SimulateArgs) -> Result<()> {
 }
 
 pub fn liftoff(args: LiftoffArgs) -> Result<()> {
-    let has_bell = args.source.preset.is_some() || args.source.bell.is_some() || args.source.chart_point.is_some();
-    match (args.lb_over_lc, has_bell) {
+    match (args.lb_over_lc, args.source.given()) {
         (Some(x), false) => liftoff_formula(x, args.phi_max.unwrap_or(26.0), args.json),
         (None, true) => liftoff_of_bell(&args),
         _ => anyhow::bail!(
@@ -215,11 +226,7 @@ fn liftoff_of_bell(args: &LiftoffArgs) -> Result<()> {
         phi_max: args.phi_max,
         ..SimulateRequest::default()
     };
-    let file = match &args.source.bell {
-        Some(path) => Some(clapper_io::load_bell(path)?),
-        None => None,
-    };
-    let loaded = request.bell(file)?;
+    let loaded = request.bell(args.source.file()?)?;
     let theta0 = args.theta0.to_radians();
     let mut found = Vec::new();
     for style in [Style::Right, Style::Wrong] {
