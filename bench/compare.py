@@ -66,6 +66,22 @@ def errors(ref, got):
     return da, dv, agree, n
 
 
+def json_cell(d, cells):
+    """Store a cell printed as JSON (SciPy peer, chart_values) under its key."""
+    x, y = d["point"]
+    cells[(round(x, 6), round(y, 6), d["style"])] = (d["sustained"], d["strike_theta_deg"], d["strike_phidot_rad_s"])
+
+
+def fastest_as_accurate(runs, err, floor):
+    """Of `runs` (label, seconds per stroke, angle error, velocity error), the
+    fastest whose two errors are both no larger than `err`'s: (label, seconds),
+    or (None, None). Below `floor`, the references' own disagreement, errors
+    cannot be ranked and count as equal."""
+    lim = (max(err[0], floor[0]), max(err[1], floor[1]))
+    ok = [(t, label) for label, t, a, v in runs if a <= lim[0] and v <= lim[1]]
+    return min(ok)[::-1] if ok else (None, None)
+
+
 def scipy_chart(model, rtol, n=N):
     out = sh([sys.executable, os.path.join(PEERS, "scipy_peer.py"), "--chart", str(n), "--model", model,
               "--rtol", str(rtol)])
@@ -73,8 +89,7 @@ def scipy_chart(model, rtol, n=N):
     for line in out.splitlines():
         d = json.loads(line)
         if "point" in d:
-            x, y = d["point"]
-            cells[(round(x, 6), round(y, 6), d["style"])] = (d["sustained"], d["strike_theta_deg"], d["strike_phidot_rad_s"])
+            json_cell(d, cells)
             evals.append(d["rhs_evals"])
         else:
             secs = d["seconds"]
@@ -101,9 +116,7 @@ def clapper_values(rtol, integrator="taylor", contact="impact"):
     exe = os.path.join(ROOT, "target", "release", "examples", "chart_values")
     cells = {}
     for line in sh([exe, str(rtol), integrator, contact]).splitlines():
-        d = json.loads(line)
-        x, y = d["point"]
-        cells[(round(x, 6), round(y, 6), d["style"])] = (d["sustained"], d["strike_theta_deg"], d["strike_phidot_rad_s"])
+        json_cell(json.loads(line), cells)
     return cells
 
 
@@ -162,12 +175,8 @@ def main():
     rows.append(("clapper, penalty k = 1e6 (default: Taylor, rtol 3e-8)", t1p, t2p, *ep))
 
     def match(err):
-        """The fastest clapper run whose angle and velocity errors are both
-        no larger than `err`'s: (rtol, seconds per stroke)."""
-        # Below the references' own disagreement, errors cannot be ranked.
-        lim = (max(err[0], floor[0]), max(err[1], floor[1]))
-        ok = [(t, r) for r, t, e in ladder if e[0] <= lim[0] and e[1] <= lim[1]]
-        return min(ok)[::-1] if ok else (None, None)
+        """The fastest clapper run at least as accurate: (rtol, seconds per stroke)."""
+        return fastest_as_accurate([(r, t, e[0], e[1]) for r, t, e in ladder], err, floor)
 
     # A 1000 x 1000 chart, both styles, both cores.
     start = time.perf_counter()
@@ -210,15 +219,9 @@ def main():
     lab_err = [(n, t, abs(th - ref_lab[1]), abs(ph - ref_lab[2])) for n, t, th, ph in lab]
     mine_taylor = [r for r in lab_err if r[0].startswith("clapper") and "Dormand" not in r[0]]
 
-    def lab_match(da, dv):
-        """The fastest Taylor run of the lab bell at least as accurate (s), if any."""
-        lim = (max(da, lab_floor[0]), max(dv, lab_floor[1]))
-        ok = [t for _, t, a, v in mine_taylor if a <= lim[0] and v <= lim[1]]
-        return min(ok) if ok else None
-
     lab_rows = []
     for n, t, da, dv in lab_err:
-        m = None if n.startswith("clapper") else lab_match(da, dv)
+        m = None if n.startswith("clapper") else fastest_as_accurate(mine_taylor, (da, dv), lab_floor)[1]
         lab_rows.append((n, t, da, dv, t / mine[0], t / m if m else None))
 
     versions = {
