@@ -85,7 +85,7 @@ fn errors(c: &Chart, reference: &Chart) -> (f64, f64, usize, f64) {
 /// of a stroke, the least work the tolerance asks for over that time.
 struct Smooth(clapper_core::dynamics::Dynamics);
 
-impl clapper_core::ode::EventSystem<4> for Smooth {
+impl clapper_core::ode::System<4> for Smooth {
     fn rhs(&self, _t: f64, y: &[f64; 4]) -> [f64; 4] {
         self.0.rhs_resting(y)
     }
@@ -97,7 +97,7 @@ impl clapper_core::ode::SeriesSystem<4> for Smooth {
         y: &[f64; 4],
         p: usize,
         x: &mut [clapper_core::ode::taylor::Coeffs; 4],
-        extra: &mut [clapper_core::ode::taylor::Coeffs; clapper_core::ode::taylor::MAX_EXTRA],
+        extra: &mut [clapper_core::ode::taylor::Coeffs; clapper_core::ode::MAX_EXTRA],
     ) {
         self.0.series_resting(y, p, x, &mut extra[0]);
     }
@@ -106,7 +106,7 @@ impl clapper_core::ode::SeriesSystem<4> for Smooth {
 /// Work per stroke of the lab bell, and over the same time span with no
 /// events at all, for both integrators at the default tolerance.
 fn budget() {
-    use clapper_core::ode::{Dopri5, Taylor};
+    use clapper_core::ode::{Dopri5, Stepper, Taylor};
     let bell = Bell::lab();
     println!("lab bell at the default tolerance: work per stroke, and the least the tolerance needs");
     for integrator in [Integrator::default(), Integrator::Dopri5] {

@@ -40,6 +40,41 @@ pub struct Dynamics {
     bell: Bell,
 }
 
+/// A linear spring on the clapper: Q_φ = −k (φ − φ_s), the penalty law's
+/// contact force (12), (13). Written once, here, for the right-hand side
+/// and for the Taylor series.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LinearSpring {
+    /// k (N m/rad).
+    pub k: f64,
+    /// φ_s: where the spring is relaxed (rad).
+    pub phi_s: f64,
+}
+
+impl LinearSpring {
+    /// No spring at all (k = 0): free flight, in the series' terms.
+    pub const NONE: LinearSpring = LinearSpring { k: 0.0, phi_s: 0.0 };
+
+    /// A spring of stiffness `k` (N m/rad) relaxed at `phi_s` (rad).
+    pub fn new(k: f64, phi_s: f64) -> Self {
+        Self { k, phi_s }
+    }
+
+    /// Q_φ (N m) at clapper angle `phi` (rad).
+    #[inline]
+    pub fn force(&self, phi: f64) -> f64 {
+        -self.k * (phi - self.phi_s)
+    }
+
+    /// The n-th Taylor coefficient of Q_φ along a motion whose φ has
+    /// coefficients `phi` (the spring is linear: only φ_s makes the 0th
+    /// term differ).
+    #[inline]
+    fn series_term(&self, phi: &Coeffs, n: usize) -> f64 {
+        -self.k * (phi[n] - if n == 0 { self.phi_s } else { 0.0 })
+    }
+}
+
 /// Accelerations and the mass matrix at one state.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Accel {
@@ -164,15 +199,17 @@ impl Dynamics {
         [y[0], y[1], y[2] + winv12 * p, -e * y[PHI_DOT]]
     }
 
-    /// Taylor coefficients to order `p` of the solution through `y` in
-    /// flight or against a linear spring: contact force Q_φ = −k (φ − φ_s)
-    /// (k in N m/rad, φ_s in rad; k = 0 in free flight). Fills `x[i][0..=p]`
+    /// Taylor coefficients to order `p` (≤ [`MAX_ORDER`]) of the solution
+    /// through `y` in flight or against a linear spring `spring`
+    /// ([`LinearSpring::NONE`] in free flight). Fills `x[i][0..=p]`
     /// in powers of time (rad/s^k, rad/s^(k+1)). The recurrences are those
     /// of [`accel`](Self::accel), term by term, and keep its exact symmetry
     /// under (θ, φ) → (−θ, −φ).
-    pub fn series_free(&self, y: &State, k: f64, phi_s: f64, p: usize, x: &mut [Coeffs; 4]) {
+    pub fn series_free(&self, y: &State, spring: &LinearSpring, p: usize, x: &mut [Coeffs; 4]) {
         const Z: Coeffs = [0.0; MAX_ORDER + 1];
-        assert!(p < MAX_ORDER);
+        // Order p writes terms up to x[..][p]; the integrator checks its
+        // order against MAX_ORDER before it expands.
+        debug_assert!(p <= MAX_ORDER);
         let (mut st, mut ct, mut sp, mut cp, mut sa, mut ca) = (Z, Z, Z, Z, Z, Z);
         let (mut u, mut e, mut a, mut c, mut tdd, mut pdd) = (Z, Z, Z, Z, Z, Z);
         let [th, ph, w, v] = x;
@@ -235,7 +272,7 @@ impl Dynamics {
             } else {
                 (sb + a[0] * sp[n] + a[n] * sp[0], sd + c[0] * sp[n] + c[n] * sp[0])
             };
-            let q = -k * (ph[n] - if n == 0 { phi_s } else { 0.0 });
+            let q = spring.series_term(ph, n);
             let mut f1 = self.mrb * sb - self.gravity_bell * st[n] - self.gravity_clapper * sa[n];
             let mut f2 = q - self.mrb * sd - self.gravity_clapper * sa[n];
             if n > 0 {
@@ -383,7 +420,7 @@ mod tests {
         let d = Dynamics::new(&Bell::lab());
         let y = [2.1, -0.3, -1.7, 4.2];
         let (mut x, mut xm) = ([[0.0; MAX_ORDER + 1]; 4], [[0.0; MAX_ORDER + 1]; 4]);
-        d.series_free(&y, 0.0, 0.0, 12, &mut x);
+        d.series_free(&y, &LinearSpring::NONE, 12, &mut x);
         let a = d.accel(&y, 0.0);
         assert_relative_eq!(x[THETA_DOT][1], a.theta, max_relative = 1e-12);
         assert_relative_eq!(x[PHI_DOT][1], a.phi, max_relative = 1e-12);
@@ -399,7 +436,7 @@ mod tests {
             (step(h) - step(-h)) / (2.0 * h),
             max_relative = 1e-6
         );
-        d.series_free(&y.map(|v| -v), 0.0, 0.0, 12, &mut xm);
+        d.series_free(&y.map(|v| -v), &LinearSpring::NONE, 12, &mut xm);
         for i in 0..4 {
             for k in 0..=12 {
                 assert_eq!(xm[i][k], -x[i][k], "component {i} order {k}");

@@ -25,6 +25,7 @@
 
 pub mod bell;
 pub mod chart;
+pub mod contact;
 pub mod diagnose;
 pub mod dynamics;
 pub mod elliptic;

@@ -17,8 +17,9 @@
 
 use std::f64::consts::PI;
 
-use crate::dynamics::{Dynamics, State};
+use crate::dynamics::{Dynamics, State, THETA, THETA_DOT};
 use crate::elliptic::{carlson_rf, complete_k, jacobi};
+use crate::ode::{DenseOutput, Direction, Event, OdeError, Segment, Source, Span, Stats, Stepper, Stop, System};
 
 /// The half swing of the rigid bell (clapper resting) released from rest.
 #[derive(Clone, Debug, PartialEq)]
@@ -193,14 +194,158 @@ impl RestingSwing {
     }
 }
 
+/// A system the closed-form swing can serve: while the clapper rests in
+/// it, the system says so and gives the bell's equations. Its extra
+/// function 0 must be the holding force Q_φ (N m), so that an event on it
+/// is the lift-off.
+pub trait SwingSystem: System<4> {
+    /// The equations, when the clapper rests against the bell in this
+    /// system (φ fixed at ±φ_max); `None` otherwise.
+    fn resting_dynamics(&self) -> Option<&Dynamics>;
+}
+
+/// Part of a swing as a step's dense output, from `t_from` to `t_to` (s).
+struct SwingPiece<'a> {
+    swing: &'a RestingSwing,
+    span: Span,
+}
+
+impl DenseOutput<4> for SwingPiece<'_> {
+    fn span(&self) -> Span {
+        self.span
+    }
+
+    fn eval(&self, t: f64) -> State {
+        self.swing.state_at(t)
+    }
+}
+
+/// The closed-form swing as a [`Stepper`]: it serves a resting phase that
+/// starts from rest (θ' = 0) and goes on serving the same swing, segment
+/// after segment, while the clapper rests; it declines anything else, and
+/// gives up on a swing (for the rest of that resting phase) as soon as an
+/// event is one it cannot place. Events it places: θ crossing a level, θ'
+/// reaching zero (the end of the half swing) and the holding force
+/// reaching zero (lift-off).
+#[derive(Clone, Debug, Default)]
+pub struct ClosedFormSwing {
+    swing: Option<RestingSwing>,
+    given_up: bool,
+}
+
+impl ClosedFormSwing {
+    /// The first event of `events` after the bell's angle `theta` (rad) on
+    /// `sw`: its time (s), state and index. `None` if the swing's form
+    /// does not apply (it moves away from the events' side) or no event
+    /// comes before the end of the half swing or `t_limit` (s).
+    fn first_event(sw: &RestingSwing, events: &[Event], theta: f64, t_limit: f64) -> Option<(f64, State, usize)> {
+        let moving = if sw.theta_direction() > 0.0 {
+            Direction::Rising
+        } else {
+            Direction::Falling
+        };
+        let from = sw.sigma(theta);
+        let end = -sw.amplitude();
+        let mut best: Option<(f64, usize)> = None;
+        for (i, e) in events.iter().enumerate() {
+            let sigma = match e.source {
+                Source::State(THETA) | Source::State(THETA_DOT) if e.direction != Direction::Either => {
+                    // θ' ends the half swing rising from below zero when θ
+                    // falls: the opposite of θ's own direction.
+                    let along = if e.source == Source::State(THETA) {
+                        e.direction
+                    } else {
+                        e.direction.reversed()
+                    };
+                    if along != moving {
+                        // Every bell event is a crossing towards the far
+                        // side: a swing the other way is not this form's.
+                        return None;
+                    }
+                    match e.source {
+                        Source::State(THETA) => Some(sw.sigma(e.level)),
+                        _ => (e.level == 0.0).then_some(end),
+                    }
+                }
+                Source::Extra(0) if e.level == 0.0 => sw.force_zero_after(from),
+                _ => None,
+            };
+            let Some(sigma) = sigma.filter(|&s| s < from && s >= end) else {
+                continue;
+            };
+            // The first along the swing; on a tie the first listed, as the
+            // integrators do.
+            if best.is_none_or(|(b, _)| sigma > b) {
+                best = Some((sigma, i));
+            }
+        }
+        let (sigma, i) = best?;
+        let t_e = sw.t0() + sw.time_at_sigma(sigma);
+        (t_e <= t_limit).then(|| (t_e, sw.state_at_sigma(sigma), i))
+    }
+}
+
+impl<S: SwingSystem + ?Sized> Stepper<4, S> for ClosedFormSwing {
+    fn integrate<F: FnMut(&dyn DenseOutput<4>, f64)>(
+        &mut self,
+        sys: &S,
+        t0: f64,
+        y0: State,
+        t_end: f64,
+        observe: &mut F,
+    ) -> Result<Segment<4>, OdeError> {
+        let declined = Ok(Segment {
+            t: t0,
+            y: y0,
+            stop: Stop::Declined,
+        });
+        let Some(d) = sys.resting_dynamics() else {
+            (self.swing, self.given_up) = (None, false);
+            return declined;
+        };
+        if self.swing.is_none() && !self.given_up && y0[THETA_DOT] == 0.0 {
+            self.swing = RestingSwing::from_rest(d, t0, y0[THETA], y0[1]);
+        }
+        let Some(sw) = self.swing.as_ref() else {
+            return declined;
+        };
+        match Self::first_event(sw, sys.events(), y0[THETA], t_end) {
+            Some((t, y, i)) => {
+                observe(
+                    &SwingPiece {
+                        swing: sw,
+                        span: Span { t0, h: t - t0 },
+                    },
+                    t,
+                );
+                Ok(Segment {
+                    t,
+                    y,
+                    stop: Stop::Event(i),
+                })
+            }
+            None => {
+                // Not an event this form finds: integrate the rest of the phase.
+                (self.swing, self.given_up) = (None, true);
+                declined
+            }
+        }
+    }
+
+    /// The closed form takes no steps.
+    fn stats(&self) -> Stats {
+        Stats::default()
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::bell::Bell;
-    use crate::ode::{Dopri5, EventSystem, Options};
+    use crate::ode::{Dopri5, Options};
 
     struct Rigid<'a>(&'a Dynamics);
-    impl EventSystem<4> for Rigid<'_> {
+    impl System<4> for Rigid<'_> {
         fn rhs(&self, _t: f64, y: &State) -> State {
             self.0.rhs_resting(y)
         }
@@ -228,7 +373,7 @@ mod tests {
                 let (mut t, mut y) = (0.5, [theta0, phi, 0.0, 0.0]);
                 for step in 1..=10 {
                     let t1 = 0.5 + sw.half_period() * step as f64 / 10.0;
-                    y = rk.integrate(&Rigid(&d), t, y, t1, &mut |_: &_, _| {}).unwrap().y;
+                    y = rk.integrate(&Rigid(&d), t, y, t1, &mut |_, _| {}).unwrap().y;
                     t = t1;
                     let ours = sw.state_at(t);
                     assert!((ours[0] - y[0]).abs() < 1e-9, "{step}: {} vs {}", ours[0], y[0]);

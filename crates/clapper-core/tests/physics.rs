@@ -1,8 +1,9 @@
 //! Acceptance tests of the physics core against analytic cases, the
 //! paper's closed forms, an established ODE crate, and SPEC §7.
 
+use clapper_core::dynamics::LinearSpring;
 use clapper_core::dynamics::{Dynamics, State};
-use clapper_core::ode::{Direction, Dopri5, EventSystem, Options};
+use clapper_core::ode::{DenseOutput, Direction, Dopri5, Event, Options, Source, Stepper, Stop, System, MAX_EXTRA};
 use clapper_core::prelude::*;
 use clapper_core::stroke::Sample;
 
@@ -35,18 +36,17 @@ fn assert_same_state(ours: &State, peer: &ode_solvers::Vector4<f64>, tol: f64, t
 struct Pendulum {
     omega2: f64,
 }
-impl EventSystem<2> for Pendulum {
+const TURNING: [Event; 1] = [Event {
+    source: Source::State(1),
+    level: 0.0,
+    direction: Direction::Rising,
+}];
+impl System<2> for Pendulum {
     fn rhs(&self, _t: f64, y: &[f64; 2]) -> [f64; 2] {
         [y[1], -self.omega2 * y[0].sin()]
     }
-    fn n_events(&self) -> usize {
-        1
-    }
-    fn event(&self, _i: usize, _t: f64, y: &[f64; 2]) -> f64 {
-        y[1]
-    }
-    fn direction(&self, _i: usize) -> Direction {
-        Direction::Rising
+    fn events(&self) -> &[Event] {
+        &TURNING
     }
 }
 
@@ -75,10 +75,10 @@ fn large_amplitude_pendulum_matches_elliptic_integral() {
             0.0,
             [theta0, 0.0],
             10.0,
-            &mut |_: &_, _| {},
+            &mut |_, _| {},
         )
         .unwrap();
-    assert_eq!(end.event, Some(0));
+    assert_eq!(end.stop, Stop::Event(0));
     let rel = (end.t - 2.8776635).abs() / 2.8776635;
     assert!(rel < 1e-6, "half period {} s, rel err {rel:e}", end.t);
     assert!((end.y[0] + theta0).abs() < 1e-9);
@@ -99,7 +99,7 @@ fn large_amplitude_pendulum_matches_elliptic_integral() {
 
 /// The full equations in free flight (no stops at all).
 struct Free(Dynamics);
-impl EventSystem<4> for Free {
+impl System<4> for Free {
     fn rhs(&self, _t: f64, y: &State) -> State {
         self.0.rhs_free(y)
     }
@@ -118,7 +118,7 @@ fn energy_is_conserved_in_free_flight_to_tolerance() {
                 ..Options::default()
             });
             let mut worst = 0.0f64;
-            s.integrate(&Free(d), 0.0, y0, 5.0, &mut |dense: &clapper_core::ode::Dense<4>, t| {
+            s.integrate(&Free(d), 0.0, y0, 5.0, &mut |dense: &dyn DenseOutput<4>, t| {
                 worst = worst.max(((d.energy(&dense.eval(t)) - e0) / e0).abs());
             })
             .unwrap();
@@ -366,7 +366,7 @@ fn agrees_with_ode_solvers_dopri5() {
         let (mut t, mut y) = (0.0, y0);
         for (k, (&xp, yp)) in peer.x_out().iter().zip(peer.y_out()).enumerate().skip(1).take(6) {
             assert!((xp - 0.5 * k as f64).abs() < 1e-12);
-            let end = ours.integrate(&Free(d), t, y, xp, &mut |_: &_, _| {}).unwrap();
+            let end = ours.integrate(&Free(d), t, y, xp, &mut |_, _| {}).unwrap();
             (t, y) = (end.t, end.y);
             assert_same_state(&y, yp, 1e-7, xp);
         }
@@ -377,15 +377,20 @@ fn agrees_with_ode_solvers_dopri5() {
 /// The bell in free flight, expanded in Taylor series by its own
 /// recurrences.
 struct FreeSeries(Dynamics);
+impl System<4> for FreeSeries {
+    fn rhs(&self, _t: f64, y: &State) -> State {
+        self.0.rhs_free(y)
+    }
+}
 impl clapper_core::ode::SeriesSystem<4> for FreeSeries {
     fn expand(
         &self,
         y: &State,
         p: usize,
         x: &mut [clapper_core::ode::taylor::Coeffs; 4],
-        _extra: &mut [clapper_core::ode::taylor::Coeffs; clapper_core::ode::taylor::MAX_EXTRA],
+        _extra: &mut [clapper_core::ode::taylor::Coeffs; MAX_EXTRA],
     ) {
-        self.0.series_free(y, 0.0, 0.0, p, x);
+        self.0.series_free(y, &LinearSpring::NONE, p, x);
     }
 }
 
@@ -406,18 +411,12 @@ fn taylor_agrees_with_ode_solvers_dopri5() {
         for (k, (&xp, yp)) in peer.x_out().iter().zip(peer.y_out()).enumerate().skip(1).take(6) {
             assert!((xp - 0.5 * k as f64).abs() < 1e-12);
             let end = ours
-                .integrate(
-                    &FreeSeries(d),
-                    t,
-                    y,
-                    xp,
-                    &mut |s: &clapper_core::ode::taylor::Series<4>, t1| {
-                        for j in 0..=4 {
-                            let tt = s.t0() + (t1 - s.t0()) * j as f64 / 4.0;
-                            drift = drift.max((d.energy(&s.eval(tt)) - e0).abs() / e0);
-                        }
-                    },
-                )
+                .integrate(&FreeSeries(d), t, y, xp, &mut |s: &dyn DenseOutput<4>, t1| {
+                    for j in 0..=4 {
+                        let tt = s.t0() + (t1 - s.t0()) * j as f64 / 4.0;
+                        drift = drift.max((d.energy(&s.eval(tt)) - e0).abs() / e0);
+                    }
+                })
                 .unwrap();
             (t, y) = (end.t, end.y);
             assert_same_state(&y, yp, 1e-8, xp);

@@ -247,7 +247,7 @@ impl StrokeReport {
             end_theta_deg: s.end.y[0].to_degrees(),
             end_side: side_num(s.end.side()),
             end_clapper: match s.end.clapper {
-                ClapperState::Flying => "flying",
+                ClapperState::Flying { .. } => "flying",
                 ClapperState::Resting(_) | ClapperState::Rebounding { settled: true, .. } => "resting",
                 _ => "in contact",
             }

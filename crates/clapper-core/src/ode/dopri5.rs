@@ -2,7 +2,10 @@
 //! output (Hairer, Nørsett & Wanner, *Solving ODEs I*, II.5 and the DOPRI5
 //! code), plus root location of events on the dense output.
 
-use super::{check_options, crossed, sign, Direction, EventSystem, OdeError, Options, Stats, MAX_EVENTS};
+use super::{
+    check_options, crossed, sign, split_exp2, split_exponent, DenseOutput, Direction, NextSegment, OdeError, Options,
+    Segment, Span, Stats, Stepper, Stop, System, MAX_EVENTS,
+};
 
 // Butcher tableau of Dormand & Prince (1980).
 const C2: f64 = 1.0 / 5.0;
@@ -69,63 +72,36 @@ fn pow_approx(x: f64, p: f64) -> f64 {
     if x.is_infinite() {
         return if p > 0.0 { f64::INFINITY } else { 0.0 };
     }
-    let bits = x.to_bits();
-    let e = ((bits >> 52) & 0x7ff) as i64 - 1023;
-    let m = f64::from_bits((bits & 0x000f_ffff_ffff_ffff) | 0x3ff0_0000_0000_0000);
+    let (e, m) = split_exponent(x);
     let s = (m - 1.0) / (m + 1.0);
     let s2 = s * s;
     let ln_m = 2.0 * s * (1.0 + s2 * (1.0 / 3.0 + s2 * (1.0 / 5.0 + s2 * (1.0 / 7.0 + s2 / 9.0))));
     let y = (p * (e as f64 + ln_m * std::f64::consts::LOG2_E)).clamp(-1000.0, 1000.0);
-    // floor without the library call (y is within ±1000).
-    let t = y as i64 as f64;
-    let n = if t > y { t - 1.0 } else { t };
-    let f = (y - n) * std::f64::consts::LN_2;
+    let (f, two_n) = split_exp2(y);
     let two_f = 1.0 + f * (1.0 + f * (0.5 + f * (1.0 / 6.0 + f * (1.0 / 24.0 + f * (1.0 / 120.0 + f / 720.0)))));
-    // 2^n for |n| ≤ 1000 in two factors, each a normal f64.
-    let half = (n as i64) / 2;
-    let scale = |k: i64| f64::from_bits(((k + 1023) as u64) << 52);
-    two_f * scale(half) * scale(n as i64 - half)
+    two_f * two_n
 }
 
 /// The dense output of one step: a quartic in the step fraction that
 /// interpolates the solution to 4th order anywhere in `[t0, t0 + h]`.
 #[derive(Clone, Copy, Debug)]
 pub struct Dense<const N: usize> {
-    t0: f64,
-    h: f64,
+    span: Span,
     r: [[f64; N]; 5],
 }
 
-impl<const N: usize> Dense<N> {
-    /// Start time of the step (s).
-    pub fn t0(&self) -> f64 {
-        self.t0
+impl<const N: usize> DenseOutput<N> for Dense<N> {
+    fn span(&self) -> Span {
+        self.span
     }
 
-    /// End time of the step (s).
-    pub fn t1(&self) -> f64 {
-        self.t0 + self.h
-    }
-
-    /// The interpolated state at time `t` (s), which should lie in the step.
     #[inline]
-    pub fn eval(&self, t: f64) -> [f64; N] {
-        let s = (t - self.t0) / self.h;
+    fn eval(&self, t: f64) -> [f64; N] {
+        let s = (t - self.span.t0) / self.span.h;
         let s1 = 1.0 - s;
         let r = &self.r;
         std::array::from_fn(|i| r[0][i] + s * (r[1][i] + s1 * (r[2][i] + s * (r[3][i] + s1 * r[4][i]))))
     }
-}
-
-/// Where [`Dopri5::integrate`] stopped.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Segment<const N: usize> {
-    /// Time (s) of the stop.
-    pub t: f64,
-    /// State at the stop.
-    pub y: [f64; N],
-    /// The event that stopped integration, or `None` if `t_end` was reached.
-    pub event: Option<usize>,
 }
 
 /// An adaptive Dormand–Prince 5(4) integrator.
@@ -177,7 +153,7 @@ impl<const N: usize> Dopri5<N> {
         (s / N as f64).sqrt()
     }
 
-    fn initial_step<S: EventSystem<N>>(&mut self, sys: &S, t0: f64, y0: &[f64; N], f0: &[f64; N]) -> f64 {
+    fn initial_step<S: System<N> + ?Sized>(&mut self, sys: &S, t0: f64, y0: &[f64; N], f0: &[f64; N]) -> f64 {
         let mut d0 = 0.0;
         let mut d1 = 0.0;
         for i in 0..N {
@@ -206,25 +182,33 @@ impl<const N: usize> Dopri5<N> {
         };
         (100.0 * h0).min(h1).min(self.opts.h_max)
     }
+}
 
-    /// Integrate `sys` from `(t0, y0)` towards `t_end` (> `t0`), stopping at
-    /// the earliest event. `observe(dense, t_stop)` is called after every
-    /// accepted step with its dense output and the time the step is used up
-    /// to (earlier than the step's end when an event cut it short).
-    pub fn integrate<S, F>(
+impl<const N: usize, S: System<N> + ?Sized> Stepper<N, S> for Dopri5<N> {
+    fn stats(&self) -> Stats {
+        Dopri5::stats(self)
+    }
+
+    fn expect(&mut self, next: NextSegment) {
+        if next == NextSegment::Stiffer {
+            self.reset_step();
+        }
+    }
+
+    fn integrate<F: FnMut(&dyn DenseOutput<N>, f64)>(
         &mut self,
         sys: &S,
         t0: f64,
         y0: [f64; N],
         t_end: f64,
         observe: &mut F,
-    ) -> Result<Segment<N>, OdeError>
-    where
-        S: EventSystem<N>,
-        F: FnMut(&Dense<N>, f64),
-    {
+    ) -> Result<Segment<N>, OdeError> {
         check_options(&self.opts, self.opts.h_max)?;
-        let n_ev = sys.n_events().min(MAX_EVENTS);
+        let events = sys.events();
+        if events.len() > MAX_EVENTS || !events.iter().all(|e| e.valid_for(N)) {
+            return Err(OdeError::InvalidOptions("an event reads a series that does not exist"));
+        }
+        let n_ev = events.len();
         if !t0.is_finite() {
             return Err(OdeError::NonFinite { t: t0 });
         }
@@ -232,7 +216,7 @@ impl<const N: usize> Dopri5<N> {
             return Ok(Segment {
                 t: t0,
                 y: y0,
-                event: None,
+                stop: Stop::EndTime,
             });
         }
 
@@ -242,7 +226,7 @@ impl<const N: usize> Dopri5<N> {
         let mut s_prev = [0i8; MAX_EVENTS];
         let mut at_zero = [false; MAX_EVENTS];
         for i in 0..n_ev {
-            let g = sys.event(i, t0, &y0);
+            let g = sys.event_value(&events[i], t0, &y0);
             g_prev[i] = g;
             s_prev[i] = sign(g);
             at_zero[i] = g == 0.0;
@@ -345,7 +329,10 @@ impl<const N: usize> Dopri5<N> {
                     r[3][i] = ydiff - h * k7[i] - bspl;
                     r[4][i] = h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
                 }
-                Dense { t0: t, h, r }
+                Dense {
+                    span: Span { t0: t, h },
+                    r,
+                }
             };
 
             // An event that starts exactly at zero takes the sign it has just
@@ -359,8 +346,8 @@ impl<const N: usize> Dopri5<N> {
                 let tp = t + (1e-9 * h).max(4.0 * f64::EPSILON * t.abs());
                 for i in 0..n_ev {
                     if at_zero[i] && tp < t_new {
-                        let gp = sys.event(i, tp, &dense.eval(tp));
-                        s_prev[i] = match (sign(gp), sys.direction(i)) {
+                        let gp = sys.event_value(&events[i], tp, &dense.eval(tp));
+                        s_prev[i] = match (sign(gp), events[i].direction) {
                             (0, Direction::Rising) => -1,
                             (0, Direction::Falling) => 1,
                             (s, _) => s,
@@ -375,13 +362,13 @@ impl<const N: usize> Dopri5<N> {
             let mut best: Option<(f64, usize)> = None;
             let mut g_new = [0.0f64; MAX_EVENTS];
             for i in 0..n_ev {
-                let g1 = sys.event(i, t_new, &y_new);
+                let g1 = sys.event_value(&events[i], t_new, &y_new);
                 g_new[i] = g1;
                 let s0 = s_prev[i];
                 let s1 = sign(g1);
-                if crossed(sys.direction(i), s0, s1) {
+                if crossed(events[i].direction, s0, s1) {
                     let root = locate_root(
-                        |tt| sys.event(i, tt, &dense.eval(tt)),
+                        |tt| sys.event_value(&events[i], tt, &dense.eval(tt)),
                         t_left[i],
                         g_prev[i],
                         s0,
@@ -402,7 +389,7 @@ impl<const N: usize> Dopri5<N> {
                 return Ok(Segment {
                     t: t_ev,
                     y: y_ev,
-                    event: Some(i),
+                    stop: Stop::Event(i),
                 });
             }
 
@@ -422,7 +409,11 @@ impl<const N: usize> Dopri5<N> {
             }
             if last {
                 self.h_next = Some(h_new);
-                return Ok(Segment { t, y, event: None });
+                return Ok(Segment {
+                    t,
+                    y,
+                    stop: Stop::EndTime,
+                });
             }
             h = h_new;
         }
@@ -479,34 +470,35 @@ pub(super) fn locate_root<G: Fn(f64) -> f64>(g: G, mut a: f64, ga: f64, sa: i8, 
 mod tests {
     use super::*;
 
+    use crate::ode::{Event, Source};
+
     struct Exp;
-    impl EventSystem<1> for Exp {
+    impl System<1> for Exp {
         fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
             [y[0]]
         }
     }
 
-    struct Osc;
-    impl EventSystem<2> for Osc {
+    /// y0 rising through zero, and y1 crossing zero either way.
+    struct Osc([Event; 2]);
+    const OSC: Osc = Osc([
+        Event {
+            source: Source::State(0),
+            level: 0.0,
+            direction: Direction::Rising,
+        },
+        Event {
+            source: Source::State(1),
+            level: 0.0,
+            direction: Direction::Either,
+        },
+    ]);
+    impl System<2> for Osc {
         fn rhs(&self, _t: f64, y: &[f64; 2]) -> [f64; 2] {
             [y[1], -y[0]]
         }
-        fn n_events(&self) -> usize {
-            2
-        }
-        fn event(&self, i: usize, _t: f64, y: &[f64; 2]) -> f64 {
-            if i == 0 {
-                y[0]
-            } else {
-                y[1]
-            }
-        }
-        fn direction(&self, i: usize) -> Direction {
-            if i == 0 {
-                Direction::Rising
-            } else {
-                Direction::Either
-            }
+        fn events(&self) -> &[Event] {
+            &self.0
         }
     }
 
@@ -517,8 +509,8 @@ mod tests {
             atol: 1e-12,
             ..Options::default()
         });
-        let end = s.integrate(&Exp, 0.0, [1.0], 2.0, &mut |_: &_, _| {}).unwrap();
-        assert_eq!(end.event, None);
+        let end = s.integrate(&Exp, 0.0, [1.0], 2.0, &mut |_, _| {}).unwrap();
+        assert_eq!(end.stop, Stop::EndTime);
         assert!((end.y[0] - 2f64.exp()).abs() / 2f64.exp() < 1e-9, "{}", end.y[0]);
     }
 
@@ -532,7 +524,7 @@ mod tests {
         });
         let mut worst = 0.0f64;
         let mut steps = 0;
-        s.integrate(&Exp, 0.0, [1.0], 3.0, &mut |d: &Dense<1>, t_stop| {
+        s.integrate(&Exp, 0.0, [1.0], 3.0, &mut |d, t_stop| {
             steps += 1;
             for k in 0..=10 {
                 let tt = d.t0() + (t_stop - d.t0()) * k as f64 / 10.0;
@@ -549,21 +541,21 @@ mod tests {
     fn events_fire_in_direction_and_do_not_retrigger_on_restart() {
         let mut s = Dopri5::new(Options::default());
         // y0 = sin t. Rising zero of y0 at 2 pi; the Either event on y1 = cos t at pi/2 comes first.
-        let end = s.integrate(&Osc, 0.0, [0.0, 1.0], 20.0, &mut |_: &_, _| {}).unwrap();
-        assert_eq!(end.event, Some(1));
+        let end = s.integrate(&OSC, 0.0, [0.0, 1.0], 20.0, &mut |_, _| {}).unwrap();
+        assert_eq!(end.stop, Stop::Event(1));
         assert!((end.t - std::f64::consts::FRAC_PI_2).abs() < 1e-10);
         // Restart exactly at a rising zero of y0: it must not fire at the start.
-        let end = s.integrate(&Osc, 0.0, [0.0, 1.0], 20.0, &mut |_: &_, _| {}).unwrap();
+        let end = s.integrate(&OSC, 0.0, [0.0, 1.0], 20.0, &mut |_, _| {}).unwrap();
         assert!(end.t > 1.0);
         let mut t = 0.0;
         let mut y = [0.0, 1.0];
         let mut rising = vec![];
         for _ in 0..10 {
-            let seg = s.integrate(&Osc, t, y, 20.0, &mut |_: &_, _| {}).unwrap();
-            if seg.event.is_none() {
+            let seg = s.integrate(&OSC, t, y, 20.0, &mut |_, _| {}).unwrap();
+            if seg.stop == Stop::EndTime {
                 break;
             }
-            if seg.event == Some(0) {
+            if seg.stop == Stop::Event(0) {
                 rising.push(seg.t);
             }
             t = seg.t;
@@ -583,21 +575,21 @@ mod tests {
             h_max: 1e-3,
             ..Options::default()
         });
-        let err = s.integrate(&Exp, 0.0, [1.0], 1.0, &mut |_: &_, _| {}).unwrap_err();
+        let err = s.integrate(&Exp, 0.0, [1.0], 1.0, &mut |_, _| {}).unwrap_err();
         assert!(matches!(err, OdeError::StepLimit { limit: 5, .. }));
     }
 
     #[test]
     fn blow_up_is_a_typed_error_not_a_hang() {
         struct Blow;
-        impl EventSystem<1> for Blow {
+        impl System<1> for Blow {
             fn rhs(&self, _t: f64, y: &[f64; 1]) -> [f64; 1] {
                 [y[0] * y[0]]
             }
         }
         let mut s = Dopri5::new(Options::default());
         // y' = y^2 from 1 blows up at t = 1.
-        let err = s.integrate(&Blow, 0.0, [1.0], 2.0, &mut |_: &_, _| {}).unwrap_err();
+        let err = s.integrate(&Blow, 0.0, [1.0], 2.0, &mut |_, _| {}).unwrap_err();
         assert!(matches!(
             err,
             OdeError::StepSizeUnderflow { .. } | OdeError::NonFinite { .. } | OdeError::StepLimit { .. }

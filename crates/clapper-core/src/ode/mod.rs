@@ -1,10 +1,16 @@
-//! Our own ODE layer: an adaptive Dormand–Prince 5(4) integrator with dense
-//! output, and an event layer that stops integration at the earliest root of
-//! a set of event functions.
+//! Our own ODE layer: one stepper interface ([`Stepper`]) over three
+//! methods, one way to declare event functions ([`Event`]: a level on a
+//! series), and one dense output ([`DenseOutput`]).
 //!
-//! [`Taylor`] is a Taylor-series integrator for systems that expand their
-//! own solution (the bell does, in `stroke`): longer steps and exact dense
-//! output for smooth motion.
+//! - [`Dopri5`]: adaptive Dormand–Prince 5(4) with dense output, for any
+//!   [`System`]; the general method and the cross-check.
+//! - [`Taylor`]: a Taylor-series integrator for systems that expand their
+//!   own solution ([`SeriesSystem`]; the bell does, in `stroke`): longer
+//!   steps and exact dense output for smooth motion.
+//! - `swing::ClosedFormSwing` (in [`crate::swing`]): the bell released from
+//!   rest with its clapper resting, solved in closed form; it declines
+//!   ([`Stop::Declined`]) whatever it cannot solve, and [`Fallback`] hands
+//!   that on to an integrator.
 //!
 //! It is small on purpose. The state is a fixed-size array (`[f64; N]`), so a
 //! step allocates nothing; the system is a generic parameter, so the
@@ -12,31 +18,35 @@
 //! against analytic cases in the tests.
 //!
 //! ```
-//! use clapper_core::ode::{Direction, Dopri5, EventSystem, Options};
+//! use clapper_core::ode::{Direction, Dopri5, Event, Options, Source, Stepper, Stop, System};
 //!
 //! /// y'' = -y, stopped when y falls through zero.
-//! struct Oscillator;
-//! impl EventSystem<2> for Oscillator {
+//! struct Oscillator([Event; 1]);
+//! impl System<2> for Oscillator {
 //!     fn rhs(&self, _t: f64, y: &[f64; 2]) -> [f64; 2] { [y[1], -y[0]] }
-//!     fn n_events(&self) -> usize { 1 }
-//!     fn event(&self, _i: usize, _t: f64, y: &[f64; 2]) -> f64 { y[0] }
-//!     fn direction(&self, _i: usize) -> Direction { Direction::Falling }
+//!     fn events(&self) -> &[Event] { &self.0 }
 //! }
 //!
+//! let falls = Oscillator([Event { source: Source::State(0), level: 0.0, direction: Direction::Falling }]);
 //! let mut solver = Dopri5::new(Options::default());
-//! let end = solver.integrate(&Oscillator, 0.0, [1.0, 0.0], 10.0, &mut |_: &_, _| {}).unwrap();
-//! assert_eq!(end.event, Some(0));
+//! let end = solver.integrate(&falls, 0.0, [1.0, 0.0], 10.0, &mut |_, _| {}).unwrap();
+//! assert_eq!(end.stop, Stop::Event(0));
 //! assert!((end.t - std::f64::consts::FRAC_PI_2).abs() < 1e-9);
 //! ```
 
 mod dopri5;
 pub mod taylor;
 
-pub use dopri5::{Dense, Dopri5, Segment};
-pub use taylor::{SeriesEvent, SeriesSystem, Source, Taylor};
+pub use dopri5::{Dense, Dopri5};
+pub use taylor::{SeriesSystem, Taylor};
 
-/// The largest number of event functions one [`EventSystem`] may declare.
+/// The largest number of event functions one [`System`] may declare.
 pub const MAX_EVENTS: usize = 8;
+
+/// How many series a system may compute besides its state, for event
+/// functions that are not a state component (the bell needs one: the force
+/// that holds a resting clapper).
+pub const MAX_EXTRA: usize = 2;
 
 /// Which sign change of an event function counts as the event.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -58,31 +68,233 @@ impl Direction {
             Direction::Either => Direction::Either,
         }
     }
+
+    /// This direction for `sign` ≥ 0, reversed for `sign` < 0: the
+    /// crossing of `sign * x` seen on `x`.
+    pub fn signed(self, sign: f64) -> Direction {
+        if sign < 0.0 {
+            self.reversed()
+        } else {
+            self
+        }
+    }
+}
+
+/// The series an event function reads.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Source {
+    /// State component `i` (< `N`).
+    State(usize),
+    /// Extra function `j` (< [`MAX_EXTRA`]): [`System::extra`], and for a
+    /// [`SeriesSystem`] its series filled by [`SeriesSystem::expand`].
+    Extra(usize),
+}
+
+/// An event function: the event is where `source` crosses `level` in
+/// `direction`. Every method reads events this way: a level on a series
+/// lets the Taylor integrator use the solution's own coefficients, and the
+/// closed-form swing solve for the crossing.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Event {
+    /// What the function reads.
+    pub source: Source,
+    /// The level it crosses (units of the source).
+    pub level: f64,
+    /// Which crossing counts: rising means from below the level to above.
+    pub direction: Direction,
+}
+
+impl Event {
+    /// Whether the event reads something a system of `N` states has.
+    pub fn valid_for(&self, n: usize) -> bool {
+        match self.source {
+            Source::State(i) => i < n,
+            Source::Extra(j) => j < MAX_EXTRA,
+        }
+    }
 }
 
 /// A system of `N` first-order ODEs with up to [`MAX_EVENTS`] event functions.
 ///
 /// An event function that is exactly zero where integration starts takes
-/// the sign it has a moment later (1e-9 of the first step, on the dense
-/// output), or if that is still zero, the side its [`Direction`] comes from.
-/// So a caller can restart at the point where an event fired, after
-/// changing the state, without the event firing again there, and an event
-/// that leaves zero and comes back within the first step is still caught.
-pub trait EventSystem<const N: usize> {
+/// the sign it has a moment later, or if that is still zero, the side its
+/// [`Direction`] comes from. So a caller can restart at the point where an
+/// event fired, after changing the state, without the event firing again
+/// there, and an event that leaves zero and comes back within the first
+/// step is still caught.
+pub trait System<const N: usize> {
     /// The derivative dy/dt at time `t` (s) and state `y`.
     fn rhs(&self, t: f64, y: &[f64; N]) -> [f64; N];
-    /// How many event functions are active (at most [`MAX_EVENTS`]).
-    fn n_events(&self) -> usize {
-        0
+    /// The active event functions (at most [`MAX_EVENTS`]); none by default.
+    fn events(&self) -> &[Event] {
+        &[]
     }
-    /// The value of event function `i` at `(t, y)`; the event is a root.
-    fn event(&self, _i: usize, _t: f64, _y: &[f64; N]) -> f64 {
-        0.0
+    /// The value of extra function `j` at `(t, y)`, for events that read
+    /// [`Source::Extra`]; NaN for a system that has none.
+    fn extra(&self, _j: usize, _t: f64, _y: &[f64; N]) -> f64 {
+        f64::NAN
     }
-    /// The crossing direction of event function `i`.
-    fn direction(&self, _i: usize) -> Direction {
-        Direction::Either
+    /// Event `e` at `(t, y)`: the source minus the level; the event is a
+    /// root.
+    #[inline]
+    fn event_value(&self, e: &Event, t: f64, y: &[f64; N]) -> f64 {
+        match e.source {
+            Source::State(i) => y[i] - e.level,
+            Source::Extra(j) => self.extra(j, t, y) - e.level,
+        }
     }
+}
+
+/// Where one step's dense output is valid: `[t0, t0 + h]` (s).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Span {
+    /// Start (s).
+    pub t0: f64,
+    /// Length (s).
+    pub h: f64,
+}
+
+/// The dense output of one step of any method: the state anywhere in the
+/// step.
+pub trait DenseOutput<const N: usize> {
+    /// Where the output is valid.
+    fn span(&self) -> Span;
+    /// The state at time `t` (s), which should lie in the step.
+    fn eval(&self, t: f64) -> [f64; N];
+    /// Start time of the step (s).
+    fn t0(&self) -> f64 {
+        self.span().t0
+    }
+    /// End time of the step (s).
+    fn t1(&self) -> f64 {
+        let s = self.span();
+        s.t0 + s.h
+    }
+}
+
+/// Why a [`Stepper`] stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stop {
+    /// Event function `i` (an index into [`System::events`]) fired.
+    Event(usize),
+    /// The end time was reached with no event.
+    EndTime,
+    /// The method cannot solve this system from this state (the closed-form
+    /// swing outside its case); nothing was advanced. [`Fallback`] hands
+    /// the same call to another method.
+    Declined,
+}
+
+/// Where a [`Stepper`] stopped.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Segment<const N: usize> {
+    /// Time (s) of the stop.
+    pub t: f64,
+    /// State at the stop.
+    pub y: [f64; N],
+    /// Why it stopped.
+    pub stop: Stop,
+}
+
+/// What a caller knows of the segment it is about to integrate, after a
+/// jump: each method uses what helps it and ignores the rest.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum NextSegment {
+    /// A short free flight of about `span` seconds (a small bounce): the
+    /// Taylor method expands to a low order and seeks events over the span.
+    ShortFlight {
+        /// Expected length (s), with a margin.
+        span: f64,
+    },
+    /// The right-hand side has just become much stiffer (a spring contact
+    /// began): Dormand–Prince forgets its step size.
+    Stiffer,
+}
+
+/// One interface over every method: integrate a system from `(t0, y0)`
+/// towards `t_end`, stopping at the earliest event, handing every step's
+/// dense output to `observe(dense, t_used_to)`.
+pub trait Stepper<const N: usize, S: ?Sized> {
+    /// Integrate `sys` from `(t0, y0)` towards `t_end` (> `t0`). `observe`
+    /// is called after every step with its dense output and the time it is
+    /// used up to (earlier than the step's end when an event cut it short).
+    fn integrate<F: FnMut(&dyn DenseOutput<N>, f64)>(
+        &mut self,
+        sys: &S,
+        t0: f64,
+        y0: [f64; N],
+        t_end: f64,
+        observe: &mut F,
+    ) -> Result<Segment<N>, OdeError>;
+    /// Work done so far.
+    fn stats(&self) -> Stats;
+    /// A hint for the next call only (see [`NextSegment`]); none by default.
+    fn expect(&mut self, _next: NextSegment) {}
+}
+
+/// `first` where it applies, `then` where `first` declines: the closed-form
+/// swing with an integrator behind it. Its work is `then`'s (the closed
+/// form takes no steps).
+#[derive(Clone, Debug)]
+pub struct Fallback<A, B> {
+    /// Tried first.
+    pub first: A,
+    /// Used where `first` declines.
+    pub then: B,
+}
+
+impl<const N: usize, S: ?Sized, A: Stepper<N, S>, B: Stepper<N, S>> Stepper<N, S> for Fallback<A, B> {
+    fn integrate<F: FnMut(&dyn DenseOutput<N>, f64)>(
+        &mut self,
+        sys: &S,
+        t0: f64,
+        y0: [f64; N],
+        t_end: f64,
+        observe: &mut F,
+    ) -> Result<Segment<N>, OdeError> {
+        let seg = self.first.integrate(sys, t0, y0, t_end, observe)?;
+        if seg.stop == Stop::Declined {
+            self.then.integrate(sys, t0, y0, t_end, observe)
+        } else {
+            Ok(seg)
+        }
+    }
+
+    fn stats(&self) -> Stats {
+        self.then.stats()
+    }
+
+    fn expect(&mut self, next: NextSegment) {
+        self.first.expect(next);
+        self.then.expect(next);
+    }
+}
+
+/// `x > 0` (finite, normal) split as `2^e * m` with `m` in [1, 2): the
+/// first half of both integrators' fast powers (`dopri5::pow_approx`,
+/// `taylor::inv_root`). Each keeps its own series for ln m and 2^f, so that
+/// results stay what they were to the last bit.
+#[inline]
+pub(crate) fn split_exponent(x: f64) -> (i64, f64) {
+    let bits = x.to_bits();
+    let e = ((bits >> 52) & 0x7ff) as i64 - 1023;
+    (
+        e,
+        f64::from_bits((bits & 0x000f_ffff_ffff_ffff) | 0x3ff0_0000_0000_0000),
+    )
+}
+
+/// `y` (|y| ≤ 1000) split as `n + f / ln 2` with integer `n` = floor(y)
+/// and `f` in [0, ln 2), without the library floor; and `2^n` as two
+/// factors, each a normal f64. The second half of the fast powers.
+#[inline]
+pub(crate) fn split_exp2(y: f64) -> (f64, f64) {
+    let t = y as i64 as f64;
+    let n = if t > y { t - 1.0 } else { t };
+    let f = (y - n) * std::f64::consts::LN_2;
+    let half = (n as i64) / 2;
+    let scale = |k: i64| f64::from_bits(((k + 1023) as u64) << 52);
+    (f, scale(half) * scale(n as i64 - half))
 }
 
 /// Error tolerances and limits of the integrator.

@@ -13,7 +13,10 @@
 //! the largest `h` with `|x_j| h^j <= atol + rtol |y|` for `j = p - 1, p` in
 //! every component, capped at `h_max`.
 
-use super::{check_options, crossed, sign, Direction, OdeError, Options, Segment, Stats, MAX_EVENTS};
+use super::{
+    check_options, crossed, sign, split_exp2, split_exponent, DenseOutput, Direction, NextSegment, OdeError, Options,
+    Segment, Source, Span, Stats, Stepper, Stop, System, MAX_EVENTS, MAX_EXTRA,
+};
 
 /// The highest order an expansion may have.
 pub const MAX_ORDER: usize = 24;
@@ -28,45 +31,14 @@ pub type Coeffs = [f64; MAX_ORDER + 1];
 /// can hide between samples, as it could inside a Runge–Kutta step.
 const EVENT_SAMPLES: usize = 16;
 
-/// How many series a [`SeriesSystem`] may compute besides its state: event
-/// functions that are not a state component (the bell needs one, the
-/// force that holds a resting clapper).
-pub const MAX_EXTRA: usize = 2;
-
-/// The series an event function reads.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Source {
-    /// State component `i` (< `N`).
-    State(usize),
-    /// Extra series `j` (< [`MAX_EXTRA`]) filled by [`SeriesSystem::expand`].
-    Extra(usize),
-}
-
-/// An event function of a [`SeriesSystem`]: the event is where the series
-/// `source` crosses `level` in `direction`. A level on a series, rather
-/// than a series of its own, lets the integrator read the solution's own
-/// coefficients and copy nothing.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct SeriesEvent {
-    /// The series the function reads.
-    pub source: Source,
-    /// The level it crosses (units of the series).
-    pub level: f64,
-    /// Which crossing counts: rising means from below the level to above.
-    pub direction: Direction,
-}
-
 /// An autonomous system of `N` first-order ODEs that computes the Taylor
-/// series of its own solution and of its event functions.
-pub trait SeriesSystem<const N: usize> {
+/// series of its own solution and of its extra functions (those its
+/// events read).
+pub trait SeriesSystem<const N: usize>: System<N> {
     /// Fill `x[i][0..=p]` with the Taylor coefficients of the solution
     /// through `y` (so `x[i][0] = y[i]`) and `extra[j][0..=p]` with those
-    /// of every extra series an event reads.
+    /// of every extra function an event reads.
     fn expand(&self, y: &[f64; N], p: usize, x: &mut [Coeffs; N], extra: &mut [Coeffs; MAX_EXTRA]);
-    /// The active event functions (at most [`MAX_EVENTS`]); none by default.
-    fn events(&self) -> &[SeriesEvent] {
-        &[]
-    }
 }
 
 /// `c_0 + c_1 s + ... + c_p s^p`, as two interleaved Horner chains in s²
@@ -106,9 +78,7 @@ fn inv_root(m: f64, j: usize) -> f64 {
             f64::INFINITY
         };
     }
-    let bits = m.to_bits();
-    let e = ((bits >> 52) & 0x7ff) as i64 - 1023;
-    let mant = f64::from_bits((bits & 0x000f_ffff_ffff_ffff) | 0x3ff0_0000_0000_0000);
+    let (e, mant) = split_exponent(m);
     // ln(mant) = ln 1.5 + ln(1 + u), |u| <= 1/3. Both series by Estrin's
     // scheme: a step size waits on this, and Horner's chain is twice as long.
     let u = (mant - 1.5) * (2.0 / 3.0);
@@ -116,14 +86,10 @@ fn inv_root(m: f64, j: usize) -> f64 {
     let ln1p = u * ((1.0 - 0.5 * u) + u2 * (1.0 / 3.0 - 0.25 * u) + u2 * u2 * ((0.2 - u / 6.0) + u2 * (1.0 / 7.0)));
     let log2m = e as f64 + (0.405_465_108_108_164_4 + ln1p) * std::f64::consts::LOG2_E;
     let y = (-log2m / j as f64).clamp(-1000.0, 1000.0);
-    let t = y as i64 as f64;
-    let n = if t > y { t - 1.0 } else { t };
-    let f = (y - n) * std::f64::consts::LN_2;
+    let (f, two_n) = split_exp2(y);
     let f2 = f * f;
     let two_f = (1.0 + f) + f2 * (0.5 + f / 6.0) + f2 * f2 * ((1.0 / 24.0 + f / 120.0) + f2 * (1.0 / 720.0));
-    let half = (n as i64) / 2;
-    let scale = |k: i64| f64::from_bits(((k + 1023) as u64) << 52);
-    two_f * scale(half) * scale(n as i64 - half)
+    two_f * two_n
 }
 
 /// Σ |a_k| w_k in four running sums (a bound, so the order of the sum does
@@ -214,27 +180,19 @@ fn poly_root(c: &Coeffs, p: usize, mut a: f64, ga: f64, sa: i8, mut b: f64, gb: 
 /// One step's dense output: the truncated series, valid on `[t0, t0 + h]`.
 #[derive(Clone, Debug)]
 pub struct Series<const N: usize> {
-    t0: f64,
-    h: f64,
+    span: Span,
     p: usize,
     x: [Coeffs; N],
 }
 
-impl<const N: usize> Series<N> {
-    /// Start time of the step (s).
-    pub fn t0(&self) -> f64 {
-        self.t0
+impl<const N: usize> DenseOutput<N> for Series<N> {
+    fn span(&self) -> Span {
+        self.span
     }
 
-    /// End time of the step (s).
-    pub fn t1(&self) -> f64 {
-        self.t0 + self.h
-    }
-
-    /// The state at time `t` (s), which should lie in the step.
     #[inline]
-    pub fn eval(&self, t: f64) -> [f64; N] {
-        let s = t - self.t0;
+    fn eval(&self, t: f64) -> [f64; N] {
+        let s = t - self.span.t0;
         std::array::from_fn(|i| horner(&self.x[i], self.p, s))
     }
 }
@@ -267,8 +225,7 @@ impl<const N: usize> Taylor<N> {
             h_max,
             stats: Stats::default(),
             series: Series {
-                t0: 0.0,
-                h: 0.0,
+                span: Span::default(),
                 p: 0,
                 x: [[0.0; MAX_ORDER + 1]; N],
             },
@@ -293,12 +250,20 @@ impl<const N: usize> Taylor<N> {
         self.stats
     }
 
+    /// Whether `order` is one this integrator can expand to: 2 ..=
+    /// [`MAX_ORDER`]. The one statement of the bound; `SimConfig::validate`
+    /// asks it too.
+    pub fn check_order(order: usize) -> Result<(), OdeError> {
+        if (2..=MAX_ORDER).contains(&order) {
+            Ok(())
+        } else {
+            Err(OdeError::InvalidOptions("Taylor order must be 2 ..= 24 (MAX_ORDER)"))
+        }
+    }
+
     fn check_options(&self) -> Result<(), OdeError> {
         check_options(&self.opts, self.h_max)?;
-        if !(2..=MAX_ORDER).contains(&self.order) {
-            return Err(OdeError::InvalidOptions("Taylor order must be 2 ..= 24"));
-        }
-        Ok(())
+        Self::check_order(self.order)
     }
 
     /// The step the last two coefficients allow (s), before capping.
@@ -400,25 +365,41 @@ impl<const N: usize> Taylor<N> {
         }
         None
     }
+}
 
-    /// Integrate `sys` from `(t0, y0)` towards `t_end` (> `t0`), stopping
-    /// at the earliest event. `observe(series, t_stop)` is called after
-    /// every step with its dense output and the time it is used up to.
-    ///
-    /// An event function that is exactly zero at `t0` takes the sign of its
-    /// first nonzero Taylor coefficient: the sign it has just after `t0`.
-    pub fn integrate<S, F>(
+/// A Taylor order for a first step of `flight` (s) after a bounce: the terms
+/// of a series fall off about as (t / 0.25 s)^n over the bell's motion, so
+/// a short flight needs few of them to reach `rtol`. Only a work estimate:
+/// the step-size control keeps the accuracy whatever the order.
+fn bounce_order(flight: f64, rtol: f64) -> usize {
+    let ratio = flight / 0.25;
+    if !(ratio > 0.0 && ratio < 0.5) {
+        return usize::MAX;
+    }
+    (rtol.ln() / ratio.ln()).ceil().max(2.0) as usize + 1
+}
+
+/// An event function that is exactly zero at `t0` takes the sign of its
+/// first nonzero Taylor coefficient: the sign it has just after `t0`.
+impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
+    fn stats(&self) -> Stats {
+        Taylor::stats(self)
+    }
+
+    fn expect(&mut self, next: NextSegment) {
+        if let NextSegment::ShortFlight { span } = next {
+            self.hint_next(bounce_order(span, self.opts.rtol), span);
+        }
+    }
+
+    fn integrate<F: FnMut(&dyn DenseOutput<N>, f64)>(
         &mut self,
         sys: &S,
         t0: f64,
         y0: [f64; N],
         t_end: f64,
         observe: &mut F,
-    ) -> Result<Segment<N>, OdeError>
-    where
-        S: SeriesSystem<N>,
-        F: FnMut(&Series<N>, f64),
-    {
+    ) -> Result<Segment<N>, OdeError> {
         self.check_options()?;
         if !t0.is_finite() || y0.iter().any(|v| !v.is_finite()) {
             return Err(OdeError::NonFinite { t: t0 });
@@ -427,18 +408,12 @@ impl<const N: usize> Taylor<N> {
             return Ok(Segment {
                 t: t0,
                 y: y0,
-                event: None,
+                stop: Stop::EndTime,
             });
         }
         let events = sys.events();
-        let valid = |e: &SeriesEvent| match e.source {
-            Source::State(i) => i < N,
-            Source::Extra(j) => j < MAX_EXTRA,
-        };
-        if events.len() > MAX_EVENTS || !events.iter().all(valid) {
-            return Err(OdeError::InvalidOptions(
-                "a series event reads a series that does not exist",
-            ));
+        if events.len() > MAX_EVENTS || !events.iter().all(|e| e.valid_for(N)) {
+            return Err(OdeError::InvalidOptions("an event reads a series that does not exist"));
         }
         let p = self.next_order.take().unwrap_or(self.order);
         let mut cap = self.next_cap.take().unwrap_or(f64::INFINITY);
@@ -486,14 +461,14 @@ impl<const N: usize> Taylor<N> {
                     }
                 }
             }
-            (self.series.t0, self.series.h, self.series.p) = (t, h, p);
+            (self.series.span, self.series.p) = (Span { t0: t, h }, p);
             if let Some((s, i)) = best {
                 let t_ev = t + s;
                 observe(&self.series, t_ev);
                 return Ok(Segment {
                     t: t_ev,
                     y: self.series.eval(t_ev),
-                    event: Some(i),
+                    stop: Stop::Event(i),
                 });
             }
             let t_new = if last { t_end } else { t + h };
@@ -504,7 +479,11 @@ impl<const N: usize> Taylor<N> {
                 return Err(OdeError::NonFinite { t });
             }
             if last {
-                return Ok(Segment { t, y, event: None });
+                return Ok(Segment {
+                    t,
+                    y,
+                    stop: Stop::EndTime,
+                });
             }
         }
     }
@@ -557,14 +536,15 @@ pub mod rec {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::ode::Event;
 
     /// y'' = -sin y: the pendulum, expanded with the recurrences; cos y is
     /// its extra series, and it watches the events it is given.
-    struct Pendulum(Vec<SeriesEvent>);
+    struct Pendulum(Vec<Event>);
 
     /// The left turning point: y' rising through zero.
     fn pendulum() -> Pendulum {
-        Pendulum(vec![SeriesEvent {
+        Pendulum(vec![Event {
             source: Source::State(1),
             level: 0.0,
             direction: Direction::Rising,
@@ -588,8 +568,17 @@ mod tests {
                 }
             }
         }
-        fn events(&self) -> &[SeriesEvent] {
+    }
+
+    impl System<2> for Pendulum {
+        fn rhs(&self, _t: f64, y: &[f64; 2]) -> [f64; 2] {
+            [y[1], -y[0].sin()]
+        }
+        fn events(&self) -> &[Event] {
             &self.0
+        }
+        fn extra(&self, _j: usize, _t: f64, y: &[f64; 2]) -> f64 {
+            y[0].cos()
         }
     }
 
@@ -618,17 +607,15 @@ mod tests {
         }
         let half = std::f64::consts::PI / (2.0 * a) * 2.0;
         let mut s = solver(1e-12);
-        let end = s
-            .integrate(&pendulum(), 0.0, [amp, 0.0], 20.0, &mut |_: &_, _| {})
-            .unwrap();
-        assert_eq!(end.event, Some(0));
+        let end = s.integrate(&pendulum(), 0.0, [amp, 0.0], 20.0, &mut |_, _| {}).unwrap();
+        assert_eq!(end.stop, Stop::Event(0));
         assert!((end.t - half).abs() < 1e-10, "{} vs {half}", end.t);
         assert!((end.y[0] + amp).abs() < 1e-10, "{}", end.y[0]);
         // Energy along the way, at the step ends and inside steps.
         let mut worst = 0.0f64;
         let e0 = 1.0 - amp.cos();
         let mut s = solver(1e-10);
-        s.integrate(&pendulum(), 0.0, [amp, 0.0], 3.0, &mut |ser: &Series<2>, t1| {
+        s.integrate(&pendulum(), 0.0, [amp, 0.0], 3.0, &mut |ser, t1| {
             for k in 0..=8 {
                 let tt = ser.t0() + (t1 - ser.t0()) * k as f64 / 8.0;
                 let [q, v] = ser.eval(tt);
@@ -647,16 +634,16 @@ mod tests {
     fn events_read_levels_on_state_and_extra_series() {
         let (amp, half) = (170f64.to_radians(), 85f64.to_radians());
         let on = |source, level, direction| {
-            Pendulum(vec![SeriesEvent {
+            Pendulum(vec![Event {
                 source,
                 level,
                 direction,
             }])
         };
-        let run = |p: Pendulum| solver(1e-12).integrate(&p, 0.0, [amp, 0.0], 20.0, &mut |_: &_, _| {});
+        let run = |p: Pendulum| solver(1e-12).integrate(&p, 0.0, [amp, 0.0], 20.0, &mut |_, _| {});
         let a = run(on(Source::State(0), half, Direction::Falling)).unwrap();
         let b = run(on(Source::Extra(0), half.cos(), Direction::Rising)).unwrap();
-        assert_eq!((a.event, b.event), (Some(0), Some(0)));
+        assert_eq!((a.stop, b.stop), (Stop::Event(0), Stop::Event(0)));
         assert!((a.t - b.t).abs() < 1e-10, "{} vs {}", a.t, b.t);
         assert!((a.y[0] - half).abs() < 1e-9, "{}", a.y[0]);
         // The wrong direction is not this crossing: y next rises through
@@ -678,13 +665,11 @@ mod tests {
         // and rising: the next one is a whole period later.
         let amp = 1.0f64;
         let mut s = solver(1e-12);
-        let first = s
-            .integrate(&pendulum(), 0.0, [amp, 0.0], 50.0, &mut |_: &_, _| {})
-            .unwrap();
+        let first = s.integrate(&pendulum(), 0.0, [amp, 0.0], 50.0, &mut |_, _| {}).unwrap();
         let second = s
-            .integrate(&pendulum(), first.t, [-amp, 0.0], 50.0, &mut |_: &_, _| {})
+            .integrate(&pendulum(), first.t, [-amp, 0.0], 50.0, &mut |_, _| {})
             .unwrap();
-        assert_eq!(second.event, Some(0));
+        assert_eq!(second.stop, Stop::Event(0));
         assert!((second.t - 3.0 * first.t).abs() < 1e-9, "{} {}", first.t, second.t);
     }
 
@@ -692,7 +677,7 @@ mod tests {
     fn bad_order_and_step_limit_are_typed_errors() {
         let mut s = Taylor::<2>::new(Options::default(), 1, 1.0);
         assert!(matches!(
-            s.integrate(&pendulum(), 0.0, [1.0, 0.0], 1.0, &mut |_: &_, _| {}),
+            s.integrate(&pendulum(), 0.0, [1.0, 0.0], 1.0, &mut |_, _| {}),
             Err(OdeError::InvalidOptions(_))
         ));
         let mut s = Taylor::<2>::new(
@@ -704,7 +689,7 @@ mod tests {
             0.01,
         );
         assert!(matches!(
-            s.integrate(&pendulum(), 0.0, [1.0, 0.0], 1.0, &mut |_: &_, _| {}),
+            s.integrate(&pendulum(), 0.0, [1.0, 0.0], 1.0, &mut |_, _| {}),
             Err(OdeError::StepLimit { limit: 3, .. })
         ));
     }

@@ -1,0 +1,648 @@
+//! One stroke: from the bell at its start to the bell's next turning point,
+//! with any contact law (docs/model.md §3, §4), and every quantity of a
+//! stroke.
+//!
+//! [`run_stroke`] is a short loop: build the [`segment`] for the clapper's
+//! state, let the stepper run it to its first event, hand a contact event
+//! to the [`ContactLaw`](crate::contact::ContactLaw), and tell the
+//! [`recorder`] what happened.
+
+mod recorder;
+mod segment;
+
+use std::f64::consts::PI;
+
+use crate::bell::{Bell, ParamError};
+pub use crate::contact::{ClapperState, ContactModel, Restitution, Side, DEFAULT_STIFFNESS};
+use crate::contact::{ContactLaw, ForceLaw};
+use crate::dynamics::{Dynamics, State, PHI, THETA};
+use crate::ode::{DenseOutput, Dopri5, Fallback, OdeError, Options, Stats, Stepper, Stop, Taylor};
+use crate::swing::ClosedFormSwing;
+use recorder::StrokeRecorder;
+use segment::{BellEvent, Ev, Segment};
+
+/// How the clapper rests against the bell relative to the bell's swing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Style {
+    /// The clapper rests on the side with the sign of θ (the trailing side)
+    /// and strikes the other, leading, side.
+    Right,
+    /// The opposite.
+    Wrong,
+}
+
+impl Style {
+    /// The style of a clapper on `side` with the bell at angle `theta`.
+    pub fn of(side: Side, theta: f64) -> Style {
+        if side == Side::of(theta) {
+            Style::Right
+        } else {
+            Style::Wrong
+        }
+    }
+
+    /// The side the clapper rests on for this style with the bell at `theta`.
+    pub fn side(self, theta: f64) -> Side {
+        match self {
+            Style::Right => Side::of(theta),
+            Style::Wrong => Side::of(theta).opposite(),
+        }
+    }
+
+    /// The other style.
+    pub fn opposite(self) -> Style {
+        match self {
+            Style::Right => Style::Wrong,
+            Style::Wrong => Style::Right,
+        }
+    }
+}
+
+/// Which integrator a stroke uses.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Integrator {
+    /// Taylor series of the bell's own equations, expanded to `order` (2 ..=
+    /// 24) at every step, with steps of at most `h_max` (s). The default:
+    /// order 12 and 0.25 s, chosen by measurement
+    /// (`cargo run --release -p clapper-core --example tolerance`): on the
+    /// paper's chart 2.4 times as fast as Dormand–Prince at the same
+    /// tolerance, with a first strike angle eight times closer to the
+    /// reference; orders 10 to 16 cost about the same. Every event function
+    /// is a polynomial in each step, ruled out by a bound or checked at 16
+    /// points, so `h_max` stays a fraction of a swing. With the impact
+    /// model, a resting phase that starts from rest (the stroke's first) is
+    /// not integrated but solved in closed form ([`crate::swing`]): the
+    /// bell is then a rigid pendulum.
+    Taylor {
+        /// Order of the expansion.
+        order: usize,
+        /// Largest step (s).
+        h_max: f64,
+    },
+    /// Dormand–Prince 5(4) with the step limit of [`Options::h_max`]: the
+    /// general-purpose method, kept as the check on the Taylor one.
+    Dopri5,
+}
+
+impl Default for Integrator {
+    fn default() -> Self {
+        Integrator::Taylor { order: 12, h_max: 0.25 }
+    }
+}
+
+/// What a stroke simulation needs besides the bell.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SimConfig {
+    /// θ0: the angle the bell starts from, at rest (rad). Default 171 deg,
+    /// the paper's: close to the balance, far enough that the bell falls.
+    pub theta0: f64,
+    /// R: Stronge's energy coefficient of restitution, in (0, 1], of the
+    /// first impact on a side (the strike). Default 0.2, the paper's value
+    /// for its first charts.
+    pub restitution: f64,
+    /// R2: the restitution of every bounce that follows an impact on the
+    /// same side, in (0, 1]; `None` (the default) means R2 = R. The
+    /// paper's drops (Section 3.2, Fig 8) show the first impact losing far
+    /// more than the later ones.
+    pub restitution_later: Option<f64>,
+    /// The contact law. Default [`ContactModel::Impact`].
+    pub contact: ContactModel,
+    /// Impact model: when the next flight of a bouncing clapper would be
+    /// shorter than this (s), it comes to rest. Default 1e-7 s: far below
+    /// anything audible or visible in a trace, and reached after a few tens
+    /// of bounces, so the Zeno sequence costs little.
+    pub rest_flight_time: f64,
+    /// Integrator tolerances and step budget.
+    pub ode: Options,
+    /// Which integrator. Default [`Integrator::Taylor`].
+    pub integrator: Integrator,
+    /// Most events (impacts, lift-offs, contact switches) in one stroke.
+    /// Default 100,000: R = 0.99 needs a few thousand bounces to come to rest.
+    pub max_events: u32,
+    /// Longest stroke, in small-swing periods T_b of the bell. Default 20; a
+    /// full-circle swing from 179.9 deg lasts under 3 T_b.
+    pub max_stroke_periods: f64,
+}
+
+impl Default for SimConfig {
+    fn default() -> Self {
+        Self {
+            theta0: 171f64.to_radians(),
+            restitution: 0.2,
+            restitution_later: None,
+            contact: ContactModel::Impact,
+            rest_flight_time: 1e-7,
+            ode: Options::default(),
+            integrator: Integrator::default(),
+            max_events: 100_000,
+            max_stroke_periods: 20.0,
+        }
+    }
+}
+
+impl SimConfig {
+    /// R and R2 as the contact law takes them.
+    pub fn restitution_pair(&self) -> Restitution {
+        Restitution {
+            first: self.restitution,
+            later: self.restitution_later.unwrap_or(self.restitution),
+        }
+    }
+
+    /// The configured contact law.
+    pub fn contact_law(&self) -> Box<dyn ContactLaw> {
+        self.contact.law(self.restitution_pair(), self.rest_flight_time)
+    }
+
+    /// Check the user-settable fields against SPEC §1 and §3.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        if !(self.theta0.is_finite() && self.theta0 > 0.0 && self.theta0 < PI) {
+            return Err(ParamError {
+                field: "theta0_deg",
+                value: self.theta0.to_degrees(),
+                allowed: "between 0 and 180 deg, exclusive",
+            });
+        }
+        let r = self.restitution_pair();
+        for (field, value) in [("restitution", r.first), ("restitution_later", r.later)] {
+            if !(value.is_finite() && value > 0.0 && value <= 1.0) {
+                return Err(ParamError {
+                    field,
+                    value,
+                    allowed: "greater than 0 and at most 1",
+                });
+            }
+        }
+        self.contact.validate()?;
+        if let Integrator::Taylor { order, .. } = self.integrator {
+            if Taylor::<4>::check_order(order).is_err() {
+                return Err(ParamError {
+                    field: "taylor_order",
+                    value: order as f64,
+                    allowed: "2 to 24 (ode::taylor::MAX_ORDER)",
+                });
+            }
+        }
+        if !(self.rest_flight_time.is_finite() && self.rest_flight_time > 0.0) {
+            return Err(ParamError {
+                field: "rest_flight_time_s",
+                value: self.rest_flight_time,
+                allowed: "a finite number > 0",
+            });
+        }
+        if !(self.max_stroke_periods.is_finite() && self.max_stroke_periods > 0.0) {
+            return Err(ParamError {
+                field: "max_stroke_periods",
+                value: self.max_stroke_periods,
+                allowed: "a finite number > 0",
+            });
+        }
+        Ok(())
+    }
+}
+
+/// A simulation that could not produce a result.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+pub enum SimError {
+    /// A parameter of the bell or the configuration is out of range.
+    #[error(transparent)]
+    Param(#[from] ParamError),
+    /// The integrator failed.
+    #[error(transparent)]
+    Ode(#[from] OdeError),
+    /// More events in one stroke than [`SimConfig::max_events`].
+    #[error("event limit of {limit} reached in one stroke at t = {t} s")]
+    EventLimit {
+        /// The limit.
+        limit: u32,
+        /// Time (s).
+        t: f64,
+    },
+}
+
+/// A time (s) and the bell angle θ then (rad).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Moment {
+    /// Time (s).
+    pub t: f64,
+    /// θ (rad).
+    pub theta: f64,
+}
+
+/// One impact of the clapper on the bell (for the penalty model: the start
+/// of one contact).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Impact {
+    /// Time (s).
+    pub t: f64,
+    /// Bell angle θ (rad).
+    pub theta: f64,
+    /// φ' just before (rad/s).
+    pub phi_dot_before: f64,
+    /// φ' just after (impact model), or at separation (penalty model) (rad/s);
+    /// zero if the clapper came to rest, `None` if it was still in contact
+    /// when the stroke ended.
+    pub phi_dot_after: Option<f64>,
+    /// The side hit.
+    pub side: Side,
+}
+
+/// Why a stroke ended.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EndReason {
+    /// The bell reached its turning point (θ' = 0 after the bottom).
+    TurningPoint,
+    /// The bell went over the balance (|θ| reached 180 deg on the far side).
+    OverTheBalance,
+    /// [`SimConfig::max_stroke_periods`] ran out first.
+    TimeLimit,
+}
+
+/// How a stroke ended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StrokeEnd {
+    /// Time (s).
+    pub t: f64,
+    /// State.
+    pub y: State,
+    /// What the clapper was doing.
+    pub clapper: ClapperState,
+    /// Why the stroke ended.
+    pub reason: EndReason,
+}
+
+impl StrokeEnd {
+    /// The side the clapper was left on: the side it touches, or in flight
+    /// the side it is nearer to.
+    pub fn side(&self) -> Side {
+        self.clapper.contact_side().unwrap_or_else(|| Side::of(self.y[PHI]))
+    }
+}
+
+/// Where and how a stroke begins.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StrokeStart {
+    /// Time (s).
+    pub t: f64,
+    /// State.
+    pub y: State,
+    /// What the clapper is doing.
+    pub clapper: ClapperState,
+}
+
+impl StrokeStart {
+    /// The bell at rest at `theta` (rad) and the clapper at rest against
+    /// `side`: pressed into it if the contact force presses, otherwise in
+    /// flight from it (it will leave at once). For the penalty model the
+    /// clapper starts at the static compression of the R k spring, so that
+    /// it does not ring in the spring from the first instant.
+    pub fn at_rest(bell: &Bell, cfg: &SimConfig, t: f64, theta: f64, side: Side) -> Self {
+        let d = Dynamics::new(bell);
+        let y = [theta, side.sign() * bell.phi_max, 0.0, 0.0];
+        let (_, q) = d.resting(&y);
+        if side.sign() * q >= 0.0 {
+            return Self {
+                t,
+                y,
+                clapper: ClapperState::FLYING,
+            };
+        }
+        let (y, clapper) = cfg.contact_law().at_rest(y, q, side);
+        Self { t, y, clapper }
+    }
+
+    /// The side the clapper starts on (in flight: the nearer side).
+    pub fn side(&self) -> Side {
+        self.clapper.contact_side().unwrap_or_else(|| Side::of(self.y[PHI]))
+    }
+}
+
+/// A simulated stroke and its quantities (SPEC §4).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Stroke {
+    /// How it began.
+    pub start: StrokeStart,
+    /// The clapper's starting side.
+    pub start_side: Side,
+    /// The style it began in.
+    pub style: Style,
+    /// Every impact, in time order.
+    pub impacts: Vec<Impact>,
+    /// When the clapper last left its starting side before the first strike.
+    pub liftoff: Option<Moment>,
+    /// When the clapper first came to rest after the first strike.
+    pub rest_after_strike: Option<Moment>,
+    /// When the bell passed the bottom (θ = 0).
+    pub bottom: Option<Moment>,
+    /// How it ended.
+    pub end: StrokeEnd,
+    /// Integrator work.
+    pub stats: Stats,
+    /// Events handled.
+    pub events: u32,
+}
+
+impl Stroke {
+    /// Index in [`impacts`](Self::impacts) of the first strike: the first
+    /// impact on the side opposite the starting side.
+    pub fn first_strike_index(&self) -> Option<usize> {
+        self.impacts.iter().position(|i| i.side != self.start_side)
+    }
+
+    /// The first strike.
+    pub fn first_strike(&self) -> Option<&Impact> {
+        self.first_strike_index().map(|i| &self.impacts[i])
+    }
+
+    /// The impact after the first strike (the second strike).
+    pub fn second_strike(&self) -> Option<&Impact> {
+        self.first_strike_index().and_then(|i| self.impacts.get(i + 1))
+    }
+
+    /// Every strike: the first strike and every impact after it.
+    pub fn strikes(&self) -> &[Impact] {
+        match self.first_strike_index() {
+            Some(i) => &self.impacts[i..],
+            None => &[],
+        }
+    }
+
+    /// θ at the first strike (rad).
+    pub fn strike_angle(&self) -> Option<f64> {
+        self.first_strike().map(|i| i.theta)
+    }
+
+    /// φ' just before the first strike (rad/s): negative ringing right from
+    /// positive θ0.
+    pub fn strike_velocity(&self) -> Option<f64> {
+        self.first_strike().map(|i| i.phi_dot_before)
+    }
+
+    /// θ when the clapper last left its starting side before the first
+    /// strike (rad).
+    pub fn liftoff_angle(&self) -> Option<f64> {
+        self.liftoff.map(|m| m.theta)
+    }
+
+    /// dt12: time from the first strike to the impact after it (s).
+    pub fn second_strike_delay(&self) -> Option<f64> {
+        Some(self.second_strike()?.t - self.first_strike()?.t)
+    }
+
+    /// A = |φ' at the second impact| / |φ' at the first strike|.
+    pub fn amplitude_ratio(&self) -> Option<f64> {
+        let first = self.first_strike()?.phi_dot_before.abs();
+        let second = self.second_strike()?.phi_dot_before.abs();
+        Some(second / first)
+    }
+
+    /// The double strike index D of (33), clamped (SPEC §4). `None` without
+    /// a first strike; 0 when the first strike has no second impact (the
+    /// clapper stayed on the bell or the stroke ended first: nothing to hear
+    /// as a second strike).
+    pub fn double_strike_index(&self) -> Option<f64> {
+        self.first_strike()?;
+        match (self.amplitude_ratio(), self.second_strike_delay()) {
+            (Some(a), Some(dt)) => Some(double_strike_index(a, dt * 1e3)),
+            _ => Some(0.0),
+        }
+    }
+
+    /// Time from the first strike until the clapper came to rest (s).
+    pub fn bounce_time(&self) -> Option<f64> {
+        Some(self.rest_after_strike?.t - self.first_strike()?.t)
+    }
+
+    /// The style the next stroke starts in: how the clapper was left
+    /// relative to the bell's final angle.
+    pub fn continues_as(&self) -> Style {
+        Style::of(self.end.side(), self.end.y[THETA])
+    }
+
+    /// Whether the stroke sustains its style: it strikes, reaches its
+    /// turning point, and leaves the clapper where the same style goes on.
+    pub fn sustained(&self) -> bool {
+        self.first_strike().is_some() && self.end.reason == EndReason::TurningPoint && self.continues_as() == self.style
+    }
+}
+
+/// D = max(0, A − 0.2) · max(0, dt12 − 22) / 2.25, dt12 in ms (33).
+pub fn double_strike_index(amplitude_ratio: f64, delay_ms: f64) -> f64 {
+    (amplitude_ratio - 0.2).max(0.0) * (delay_ms - 22.0).max(0.0) / 2.25
+}
+
+/// A state sampled during a simulation, with the contact force.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Sample {
+    /// Time (s).
+    pub t: f64,
+    /// State `[θ, φ, θ', φ']` (rad, rad/s).
+    pub y: State,
+    /// Generalised contact force Q_φ on the clapper (N m): the force of a
+    /// resting or compressed contact; zero in flight. Impacts are impulses
+    /// and do not show.
+    pub contact_force: f64,
+}
+
+/// One accepted integration step, for observers: evaluate the state
+/// anywhere in `[t_from, t_to]`.
+pub struct StepView<'a> {
+    dense: &'a dyn DenseOutput<4>,
+    t_to: f64,
+    law: ForceLaw,
+    dynamics: &'a Dynamics,
+}
+
+impl StepView<'_> {
+    /// Start of the step (s).
+    pub fn t_from(&self) -> f64 {
+        self.dense.t0()
+    }
+
+    /// End of the part of the step that was used (s).
+    pub fn t_to(&self) -> f64 {
+        self.t_to
+    }
+
+    /// The state and contact force at `t` (s).
+    pub fn sample(&self, t: f64) -> Sample {
+        let y = self.dense.eval(t);
+        Sample::new(t, y, self.law, self.dynamics)
+    }
+}
+
+impl Sample {
+    fn new(t: f64, y: State, law: ForceLaw, d: &Dynamics) -> Self {
+        Sample {
+            t,
+            y,
+            contact_force: law.force(d, &y),
+        }
+    }
+}
+
+/// Watches a simulation as it runs (argmin-style: the core never prints).
+/// Every method has an empty default, so `()` observes nothing at no cost.
+pub trait Observer {
+    /// After every accepted integration step.
+    fn on_step(&mut self, _step: &StepView<'_>) {}
+    /// At every event and at the start of every stroke: the state just
+    /// before and just after (they differ at an impact or a restart).
+    fn on_jump(&mut self, _before: &Sample, _after: &Sample) {}
+}
+
+impl Observer for () {}
+
+/// Records a trace in memory: samples every `interval` seconds of
+/// simulated time, plus both sides of every jump.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TraceRecorder {
+    /// Sampling interval (s).
+    pub interval: f64,
+    next: u64,
+    /// The samples, in time order.
+    pub samples: Vec<Sample>,
+}
+
+impl TraceRecorder {
+    /// A recorder sampling every `interval` seconds (> 0).
+    pub fn new(interval: f64) -> Self {
+        Self {
+            interval,
+            next: 0,
+            samples: Vec::new(),
+        }
+    }
+}
+
+impl Observer for TraceRecorder {
+    fn on_step(&mut self, step: &StepView<'_>) {
+        // Bounded: at most (t_to - t_from) / interval + 1 samples.
+        loop {
+            let t = self.next as f64 * self.interval;
+            if t > step.t_to() {
+                break;
+            }
+            if t >= step.t_from() {
+                self.samples.push(step.sample(t));
+            }
+            self.next += 1;
+        }
+    }
+
+    fn on_jump(&mut self, before: &Sample, after: &Sample) {
+        for s in [before, after] {
+            if self.samples.last() != Some(s) {
+                self.samples.push(*s);
+            }
+        }
+    }
+}
+
+/// Simulate one stroke from `start` until the bell's next turning point.
+///
+/// ```
+/// use clapper_core::{bell::Bell, stroke::{run_stroke, SimConfig, Side, StrokeStart}};
+///
+/// let bell = Bell::lab();
+/// let cfg = SimConfig::default();
+/// // Ringing right from +171 deg: the clapper rests on the + side.
+/// let start = StrokeStart::at_rest(&bell, &cfg, 0.0, cfg.theta0, Side::Plus);
+/// let stroke = run_stroke(&bell, &cfg, start, &mut ()).unwrap();
+/// assert!(stroke.sustained());
+/// assert!(stroke.strike_velocity().unwrap() < 0.0);
+/// ```
+pub fn run_stroke<O: Observer>(
+    bell: &Bell,
+    cfg: &SimConfig,
+    start: StrokeStart,
+    observer: &mut O,
+) -> Result<Stroke, SimError> {
+    bell.validate()?;
+    cfg.validate()?;
+    match cfg.integrator {
+        // A resting phase from rest is a closed-form swing with the rigid
+        // law (the Dormand–Prince path integrates it, as a check).
+        Integrator::Taylor { order, h_max } if cfg.contact == ContactModel::Impact => {
+            let taylor = Taylor::new(cfg.ode, order, h_max);
+            let stepper = Fallback {
+                first: ClosedFormSwing::default(),
+                then: taylor,
+            };
+            drive(stepper, bell, cfg, start, observer)
+        }
+        Integrator::Taylor { order, h_max } => drive(Taylor::new(cfg.ode, order, h_max), bell, cfg, start, observer),
+        Integrator::Dopri5 => drive(Dopri5::new(cfg.ode), bell, cfg, start, observer),
+    }
+}
+
+/// [`run_stroke`] with one stepper: segments from event to event, each
+/// event handed to the bell (bottom, turning point, over the balance) or
+/// the contact law, and what happened to the recorder.
+fn drive<M, O>(
+    mut stepper: M,
+    bell: &Bell,
+    cfg: &SimConfig,
+    start: StrokeStart,
+    observer: &mut O,
+) -> Result<Stroke, SimError>
+where
+    M: for<'a> Stepper<4, Segment<'a>>,
+    O: Observer,
+{
+    let d = Dynamics::new(bell);
+    let law = cfg.contact_law();
+    let force = |clapper| law.force_law(clapper, bell.phi_max);
+    let s0 = if start.y[THETA] >= 0.0 { 1.0 } else { -1.0 };
+    let t_limit = start.t + cfg.max_stroke_periods * bell.tb();
+    let mut rec = StrokeRecorder::new(start, bell.phi_max);
+    let (mut t, mut y, mut clapper) = (start.t, start.y, start.clapper);
+    let mut bottom_passed = false;
+    let mut events = 0u32;
+    let initial = Sample::new(t, y, force(clapper), &d);
+    observer.on_jump(&initial, &initial);
+    let reason = loop {
+        let seg = Segment::new(&d, law.as_ref(), clapper, s0, bottom_passed);
+        let law_now = seg.force_law();
+        let stop = stepper.integrate(&seg, t, y, t_limit, &mut |dense, t_to| {
+            observer.on_step(&StepView {
+                dense,
+                t_to,
+                law: law_now,
+                dynamics: &d,
+            })
+        })?;
+        (t, y) = (stop.t, stop.y);
+        let Stop::Event(i) = stop.stop else {
+            break EndReason::TimeLimit;
+        };
+        events += 1;
+        if events > cfg.max_events {
+            return Err(SimError::EventLimit {
+                limit: cfg.max_events,
+                t,
+            });
+        }
+        let before = Sample::new(t, y, law_now, &d);
+        match seg.kind(i) {
+            Ev::Bell(BellEvent::OverTop) => break EndReason::OverTheBalance,
+            Ev::Bell(BellEvent::Turning) => break EndReason::TurningPoint,
+            Ev::Bell(BellEvent::Bottom) => {
+                bottom_passed = true;
+                rec.bottom(t, y[THETA]);
+            }
+            Ev::Contact(e) => {
+                let tr = law.transition(&d, e, y, clapper);
+                rec.contact(t, &y, &tr);
+                (y, clapper) = (tr.y, tr.clapper);
+                if let Some(next) = tr.next {
+                    stepper.expect(next);
+                }
+            }
+        }
+        observer.on_jump(&before, &Sample::new(t, y, force(clapper), &d));
+    };
+    let last = Sample::new(t, y, force(clapper), &d);
+    observer.on_jump(&last, &last);
+    Ok(rec.finish(StrokeEnd { t, y, clapper, reason }, stepper.stats(), events))
+}

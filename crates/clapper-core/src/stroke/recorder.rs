@@ -1,0 +1,101 @@
+//! The stroke recorder: turns the stream of events of one stroke (impacts,
+//! rebounds, lift-offs, rest, the bottom) into a [`Stroke`] and its
+//! quantities (docs/model.md §4).
+
+use crate::contact::{Rest, Side, Transition};
+use crate::dynamics::{State, PHI_DOT, THETA};
+use crate::ode::Stats;
+
+use super::{Impact, Moment, Stroke, StrokeEnd, StrokeStart, Style};
+
+/// What a stroke has done so far.
+pub(super) struct StrokeRecorder {
+    start: StrokeStart,
+    start_side: Side,
+    impacts: Vec<Impact>,
+    liftoff: Option<Moment>,
+    rest_after_strike: Option<Moment>,
+    bottom: Option<Moment>,
+    /// Whether the first strike (an impact on the far side) has happened.
+    struck: bool,
+}
+
+impl StrokeRecorder {
+    /// A stroke from `start`, for a bell whose stops are at ±`phi_max` (rad).
+    pub(super) fn new(start: StrokeStart, phi_max: f64) -> Self {
+        let start_side = start.side();
+        let y = start.y;
+        // Against its side but not pressed: it leaves at once.
+        let leaves_at_once =
+            start.clapper.is_flying() && start_side == Side::of(y[1]) && (y[1].abs() - phi_max).abs() < 1e-12;
+        Self {
+            start,
+            start_side,
+            impacts: Vec::with_capacity(32),
+            liftoff: leaves_at_once.then_some(Moment {
+                t: start.t,
+                theta: y[THETA],
+            }),
+            rest_after_strike: None,
+            bottom: None,
+            struck: false,
+        }
+    }
+
+    /// The bell passed the bottom at time `t` (s), angle `theta` (rad).
+    pub(super) fn bottom(&mut self, t: f64, theta: f64) {
+        self.bottom = Some(Moment { t, theta });
+    }
+
+    /// A contact event at time `t` (s) with the state `y` just before it,
+    /// and what the contact law made of it.
+    pub(super) fn contact(&mut self, t: f64, y: &State, tr: &Transition) {
+        let now = Moment { t, theta: y[THETA] };
+        if let Some(side) = tr.impact {
+            self.struck |= side != self.start_side;
+            self.impacts.push(Impact {
+                t,
+                theta: y[THETA],
+                phi_dot_before: y[PHI_DOT],
+                phi_dot_after: None,
+                side,
+            });
+        }
+        if let (Some(v), Some(side)) = (tr.rebound, tr.impact.or(tr.departed)) {
+            if let Some(last) = self
+                .impacts
+                .last_mut()
+                .filter(|l| l.side == side && l.phi_dot_after.is_none())
+            {
+                last.phi_dot_after = Some(v);
+            }
+        }
+        if let (Some(rest), true, None) = (tr.rest, self.struck, self.rest_after_strike) {
+            self.rest_after_strike = match rest {
+                Rest::Now => Some(now),
+                // At rest since the contact it never left.
+                Rest::SinceContactStart => self.impacts.last().map(|l| Moment { t: l.t, theta: l.theta }),
+            };
+        }
+        if tr.departed == Some(self.start_side) && !self.struck {
+            self.liftoff = Some(now);
+        }
+    }
+
+    /// The stroke, ended as `end`, with the stepper's work and the number
+    /// of events handled.
+    pub(super) fn finish(self, end: StrokeEnd, stats: Stats, events: u32) -> Stroke {
+        Stroke {
+            start: self.start,
+            start_side: self.start_side,
+            style: Style::of(self.start_side, self.start.y[THETA]),
+            impacts: self.impacts,
+            liftoff: self.liftoff,
+            rest_after_strike: self.rest_after_strike,
+            bottom: self.bottom,
+            end,
+            stats,
+            events,
+        }
+    }
+}
