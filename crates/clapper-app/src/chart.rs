@@ -5,7 +5,6 @@ use clapper_core::chart::{ChartSpec, Domain, Styles};
 use clapper_core::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use crate::simulate::{contact_model, default_restitution, default_theta0, with_solver, ContactName, IntegratorName};
 use crate::AppError;
 
 /// Default grid: the paper's 20 x 20.
@@ -16,30 +15,6 @@ pub const DEFAULT_R_RANGE: [f64; 2] = [-0.3, 0.7];
 pub const DEFAULT_LB_RANGE: [f64; 2] = [0.5, 2.5];
 /// Default contact angle of every chart bell (deg): the paper's 26 deg.
 pub const DEFAULT_PHI_MAX_DEG: f64 = 26.0;
-
-/// Which styles a chart computes.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
-pub enum StylesName {
-    /// Ringing right only.
-    Right,
-    /// Ringing wrong only.
-    Wrong,
-    /// Both (needed to show which styles are sustained).
-    #[default]
-    Both,
-}
-
-impl From<StylesName> for Styles {
-    fn from(s: StylesName) -> Styles {
-        match s {
-            StylesName::Right => Styles::Right,
-            StylesName::Wrong => Styles::Wrong,
-            StylesName::Both => Styles::Both,
-        }
-    }
-}
 
 fn grid() -> [usize; 2] {
     DEFAULT_GRID
@@ -54,51 +29,35 @@ fn phi_max() -> f64 {
     DEFAULT_PHI_MAX_DEG
 }
 
-/// Everything that shapes a chart. JSON keys as the long options of
-/// `clapper chart`, in snake case; ranges and the grid as pairs:
-///
-/// ```
-/// use clapper_app::chart::ChartRequest;
-/// let req: ChartRequest = serde_json::from_str(r#"{"grid": [40, 30], "theta0": 90}"#).unwrap();
-/// let spec = req.spec().unwrap();
-/// assert_eq!((spec.nx, spec.ny), (40, 30));
-/// ```
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct ChartRequest {
-    /// Points along r/L_c and along L_b/L_c.
-    #[serde(default = "grid")]
-    pub grid: [usize; 2],
-    /// Range of r/L_c swept.
-    #[serde(default = "r_range", alias = "r-range")]
-    pub r_range: [f64; 2],
-    /// Range of L_b/L_c swept.
-    #[serde(default = "lb_range", alias = "lb-range")]
-    pub lb_range: [f64; 2],
-    /// Starting angle of the bell (deg).
-    #[serde(default = "default_theta0")]
-    pub theta0: f64,
-    /// Coefficient of restitution R.
-    #[serde(default = "default_restitution")]
-    pub restitution: f64,
-    /// Contact angle φ_max of every chart bell (deg).
-    #[serde(default = "phi_max", alias = "phi-max")]
-    pub phi_max: f64,
-    /// Contact model (default impact; a stiffness implies penalty).
-    #[serde(default)]
-    pub contact: Option<ContactName>,
-    /// Penalty stiffness k (N m/rad).
-    #[serde(default)]
-    pub stiffness: Option<f64>,
-    /// Which styles.
-    #[serde(default)]
-    pub style: StylesName,
-    /// Integrator tolerance, relative and absolute (default 3e-8).
-    #[serde(default)]
-    pub rtol: Option<f64>,
-    /// Integrator (default Taylor).
-    #[serde(default)]
-    pub integrator: Option<IntegratorName>,
+crate::with_stroke_options! {
+    /// Everything that shapes a chart. JSON keys as the long options of
+    /// `clapper chart`, in snake case; ranges and the grid as pairs:
+    ///
+    /// ```
+    /// use clapper_app::chart::ChartRequest;
+    /// let req: ChartRequest = serde_json::from_str(r#"{"grid": [40, 30], "theta0": 90}"#).unwrap();
+    /// let spec = req.spec().unwrap();
+    /// assert_eq!((spec.nx, spec.ny), (40, 30));
+    /// ```
+    #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+    #[serde(deny_unknown_fields)]
+    pub struct ChartRequest {
+        /// Points along r/L_c and along L_b/L_c.
+        #[serde(default = "grid")]
+        pub grid: [usize; 2],
+        /// Range of r/L_c swept.
+        #[serde(default = "r_range", alias = "r-range")]
+        pub r_range: [f64; 2],
+        /// Range of L_b/L_c swept.
+        #[serde(default = "lb_range", alias = "lb-range")]
+        pub lb_range: [f64; 2],
+        /// Contact angle φ_max of every chart bell (deg).
+        #[serde(default = "phi_max", alias = "phi-max")]
+        pub phi_max: f64,
+        /// Which styles.
+        #[serde(default)]
+        pub style: Styles,
+    }
 }
 
 impl Default for ChartRequest {
@@ -121,17 +80,8 @@ impl ChartRequest {
                 phi_max: self.phi_max.to_radians(),
                 ..ChartConstruction::default()
             },
-            config: with_solver(
-                SimConfig {
-                    theta0: self.theta0.to_radians(),
-                    restitution: self.restitution,
-                    contact: contact_model(self.contact, self.stiffness)?,
-                    ..SimConfig::default()
-                },
-                self.rtol,
-                self.integrator,
-            )?,
-            styles: self.style.into(),
+            config: self.stroke_options().config()?,
+            styles: self.style,
         };
         spec.validate()?;
         Ok(spec)

@@ -22,6 +22,7 @@ pub mod chart;
 pub mod diagnosis;
 pub mod listening;
 pub mod simulate;
+pub mod stroke_options;
 pub mod sweep;
 
 use clapper_core::bell::ParamError;

@@ -4,7 +4,7 @@
 use std::fmt::Write as _;
 
 use clapper_core::prelude::*;
-use clapper_core::stroke::{Integrator, Sample};
+use clapper_core::stroke::Sample;
 use clapper_io::bell_file::{BellSource, LoadedBell};
 use clapper_io::report::{style_name, BellReport, SimulationReport, SimulationSettings};
 use serde::{Deserialize, Serialize};
@@ -15,11 +15,7 @@ use crate::AppError;
 /// show each bounce of the clapper (flights of a few ms), coarse enough
 /// for a small file.
 pub const TRACE_INTERVAL_S: f64 = 5e-4;
-/// Default starting angle θ0 (deg): a bell "fully up", as the paper's charts.
-pub const DEFAULT_THETA0_DEG: f64 = 171.0;
-/// Default energy coefficient of restitution R: the paper's middle value
-/// for a clapper on bronze (Section 3.2 measured 0.1 to 0.35).
-pub const DEFAULT_RESTITUTION: f64 = 0.2;
+pub use crate::stroke_options::{contact_words, DEFAULT_RESTITUTION, DEFAULT_THETA0_DEG};
 /// Default number of strokes: a handstroke and a backstroke.
 pub const DEFAULT_STROKES: usize = 2;
 /// Most strokes one request may ask for; a free-protocol history longer
@@ -61,197 +57,51 @@ impl Preset {
     }
 }
 
-/// How the clapper starts: `right` (on the trailing side) or `wrong`.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
-pub enum StyleName {
-    /// Ringing right.
-    #[default]
-    Right,
-    /// Ringing wrong.
-    Wrong,
-}
-
-impl From<StyleName> for Style {
-    fn from(s: StyleName) -> Style {
-        match s {
-            StyleName::Right => Style::Right,
-            StyleName::Wrong => Style::Wrong,
-        }
-    }
-}
-
-/// How one stroke leads to the next.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
-pub enum ProtocolName {
-    /// Every stroke starts from rest at ±θ0 (the ringer restores the swing).
-    #[default]
-    Restart,
-    /// Strokes follow one another with no energy input.
-    Free,
-}
-
-impl From<ProtocolName> for Protocol {
-    fn from(p: ProtocolName) -> Protocol {
-        match p {
-            ProtocolName::Restart => Protocol::Restart,
-            ProtocolName::Free => Protocol::Free,
-        }
-    }
-}
-
-/// Contact model.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
-pub enum ContactName {
-    /// Rigid impacts with restitution (the default).
-    Impact,
-    /// The paper's contact spring.
-    Penalty,
-}
-
-/// Integrator.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "kebab-case")]
-#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
-pub enum IntegratorName {
-    /// Taylor series of the bell's equations (the default, the fastest).
-    Taylor,
-    /// Dormand–Prince 5(4), general purpose: a cross-check.
-    Dopri5,
-}
-
-/// The contact model from a contact name and a stiffness k (N m/rad); a
-/// stiffness alone means the penalty model.
-pub fn contact_model(contact: Option<ContactName>, stiffness: Option<f64>) -> Result<ContactModel, AppError> {
-    Ok(match (contact, stiffness) {
-        (Some(ContactName::Impact), Some(_)) => {
-            return Err(AppError::Request(
-                "stiffness applies to the penalty model; drop it or choose contact penalty".into(),
-            ))
-        }
-        (Some(ContactName::Impact), None) | (None, None) => ContactModel::Impact,
-        (_, k) => ContactModel::Penalty {
-            stiffness: k.unwrap_or(clapper_core::stroke::DEFAULT_STIFFNESS),
-        },
-    })
-}
-
-/// Words for a configuration's contact model, for titles.
-pub fn contact_words(cfg: &SimConfig) -> String {
-    match cfg.contact {
-        ContactModel::Impact => "impact".into(),
-        ContactModel::Penalty { stiffness } => format!("penalty (k = {stiffness:e} N m/rad)"),
-    }
-}
-
-pub(crate) fn default_theta0() -> f64 {
-    DEFAULT_THETA0_DEG
-}
-pub(crate) fn default_restitution() -> f64 {
-    DEFAULT_RESTITUTION
-}
 fn default_strokes() -> usize {
     DEFAULT_STROKES
 }
 
-/// The options of `clapper simulate`, as data. In JSON the keys are the
-/// long options in snake case (`chart_point`, `phi_max`; the kebab-case
-/// spellings are accepted too) and the bell file is given by its text:
-///
-/// ```json
-/// {"preset": "lab", "style": "wrong", "theta0": 171, "restitution": 0.2}
-/// {"chart_point": [0.45, 1.68], "contact": "penalty", "stiffness": 1e6}
-/// {"bell": "name = \"Tenor\"\nbell_period_s = 2.1\nclapper_period_s = 1.6\n..."}
-/// ```
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct SimulateRequest {
-    /// A bell of Table 1. At most one of `preset`, `bell`, `chart_point`;
-    /// none means the lab bell.
-    #[serde(default)]
-    pub preset: Option<Preset>,
-    /// The text of a bell file (TOML): mass properties or tower measurements.
-    #[serde(default)]
-    pub bell: Option<String>,
-    /// A bell built as the paper builds chart points: [r/L_c, L_b/L_c].
-    #[serde(default, alias = "chart-point")]
-    pub chart_point: Option<[f64; 2]>,
-    /// Right or wrong.
-    #[serde(default)]
-    pub style: StyleName,
-    /// Starting angle of the bell at rest (deg, 0 < θ0 < 180).
-    #[serde(default = "default_theta0")]
-    pub theta0: f64,
-    /// Stronge's energy coefficient of restitution R (0 < R ≤ 1).
-    #[serde(default = "default_restitution")]
-    pub restitution: f64,
-    /// Override of the bell's contact angle φ_max (deg, 0 < φ_max < 90).
-    #[serde(default, alias = "phi-max")]
-    pub phi_max: Option<f64>,
-    /// Number of strokes (handstroke, backstroke, ...).
-    #[serde(default = "default_strokes")]
-    pub strokes: usize,
-    /// How one stroke leads to the next.
-    #[serde(default)]
-    pub protocol: ProtocolName,
-    /// Contact model (default impact; a stiffness implies penalty).
-    #[serde(default)]
-    pub contact: Option<ContactName>,
-    /// Contact stiffness k of the penalty model (N m/rad).
-    #[serde(default)]
-    pub stiffness: Option<f64>,
-    /// Integrator tolerance, relative and absolute (default 3e-8).
-    #[serde(default)]
-    pub rtol: Option<f64>,
-    /// Integrator (default Taylor).
-    #[serde(default)]
-    pub integrator: Option<IntegratorName>,
-}
-
-/// Set the integrator's tolerances to `rtol` (relative and absolute) and
-/// the integrator, where given.
-pub fn with_solver(
-    mut cfg: SimConfig,
-    rtol: Option<f64>,
-    integrator: Option<IntegratorName>,
-) -> Result<SimConfig, AppError> {
-    match integrator {
-        Some(IntegratorName::Dopri5) => cfg.integrator = Integrator::Dopri5,
-        Some(IntegratorName::Taylor) => cfg.integrator = Integrator::default(),
-        None => {}
+crate::with_stroke_options! {
+    /// The options of `clapper simulate`, as data. In JSON the keys are the
+    /// long options in snake case (`chart_point`, `phi_max`; the kebab-case
+    /// spellings are accepted too) and the bell file is given by its text:
+    ///
+    /// ```json
+    /// {"preset": "lab", "style": "wrong", "theta0": 171, "restitution": 0.2}
+    /// {"chart_point": [0.45, 1.68], "contact": "penalty", "stiffness": 1e6}
+    /// {"bell": "name = \"Tenor\"\nbell_period_s = 2.1\nclapper_period_s = 1.6\n..."}
+    /// ```
+    #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+    #[serde(deny_unknown_fields)]
+    pub struct SimulateRequest {
+        /// A bell of Table 1. At most one of `preset`, `bell`, `chart_point`;
+        /// none means the lab bell.
+        #[serde(default)]
+        pub preset: Option<Preset>,
+        /// The text of a bell file (TOML): mass properties or tower measurements.
+        #[serde(default)]
+        pub bell: Option<String>,
+        /// A bell built as the paper builds chart points: [r/L_c, L_b/L_c].
+        #[serde(default, alias = "chart-point")]
+        pub chart_point: Option<[f64; 2]>,
+        /// Right or wrong.
+        #[serde(default)]
+        pub style: Style,
+        /// Override of the bell's contact angle φ_max (deg, 0 < φ_max < 90).
+        #[serde(default, alias = "phi-max")]
+        pub phi_max: Option<f64>,
+        /// Number of strokes (handstroke, backstroke, ...).
+        #[serde(default = "default_strokes")]
+        pub strokes: usize,
+        /// How one stroke leads to the next.
+        #[serde(default)]
+        pub protocol: Protocol,
     }
-    if let Some(r) = rtol {
-        if !(r.is_finite() && (1e-14..=1e-2).contains(&r)) {
-            return Err(AppError::Request(format!("rtol {r} is out of range: 1e-14 to 1e-2")));
-        }
-        cfg.ode.rtol = r;
-        cfg.ode.atol = r;
-    }
-    Ok(cfg)
 }
 
 impl Default for SimulateRequest {
     fn default() -> Self {
-        Self {
-            preset: None,
-            bell: None,
-            chart_point: None,
-            style: StyleName::Right,
-            theta0: DEFAULT_THETA0_DEG,
-            restitution: DEFAULT_RESTITUTION,
-            phi_max: None,
-            strokes: DEFAULT_STROKES,
-            protocol: ProtocolName::Restart,
-            contact: None,
-            stiffness: None,
-            rtol: None,
-            integrator: None,
-        }
+        serde_json::from_str("{}").expect("every field has a default")
     }
 }
 
@@ -289,16 +139,7 @@ impl SimulateRequest {
 
     /// The simulation settings, validated.
     pub fn config(&self) -> Result<SimConfig, AppError> {
-        let cfg = with_solver(
-            SimConfig {
-                theta0: self.theta0.to_radians(),
-                restitution: self.restitution,
-                contact: contact_model(self.contact, self.stiffness)?,
-                ..SimConfig::default()
-            },
-            self.rtol,
-            self.integrator,
-        )?;
+        let cfg = self.stroke_options().config()?;
         cfg.validate()?;
         if self.strokes == 0 || self.strokes > MAX_STROKES {
             return Err(AppError::Request(format!(
@@ -381,8 +222,7 @@ fn run(
             )));
         }
     }
-    let style: Style = req.style.into();
-    let protocol: Protocol = req.protocol.into();
+    let (style, protocol) = (req.style, req.protocol);
     let bell = &loaded.bell;
     let mut recorder = TraceRecorder::new(TRACE_INTERVAL_S);
     let ringing = if trace {

@@ -99,9 +99,14 @@ impl SweepPlan {
 
     /// What identifies the sweep: equal for the same charts (every number
     /// at full precision), different otherwise. Shards and resumed runs
-    /// check it before their parts are joined.
+    /// check it before their parts are joined. It is the charts' settings
+    /// serialized (JSON, shortest round-trip numbers), prefixed `v2:`: a
+    /// setting added later with a neutral default is left out of it while
+    /// at that default (as `restitution_later` is), so keys stay the same
+    /// across versions for the same work.
     pub fn key(&self) -> String {
-        format!("{:?}", self.charts)
+        let charts = serde_json::to_string(&self.charts).expect("chart settings serialize");
+        format!("v2:{charts}")
     }
 
     /// Compute the strokes with flat indices in `range`: each with the
@@ -168,5 +173,10 @@ mod tests {
         assert_eq!(p.key(), q.key());
         q.charts[0].1.config.restitution = 0.2000000001;
         assert_ne!(p.key(), q.key());
+        // R2 = R unset leaves the key as it was; set, it is another sweep.
+        let mut r = plan();
+        r.charts[0].1.config.restitution_later = Some(0.2);
+        assert_ne!(p.key(), r.key());
+        assert!(!p.key().contains("restitution_later"));
     }
 }

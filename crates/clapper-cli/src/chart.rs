@@ -11,7 +11,7 @@ use clapper_plot::chart::Marker;
 use clapper_plot::quantity::{self, Quantity};
 use indicatif::{ProgressBar, ProgressStyle};
 
-use clapper_app::chart::{ChartRequest, StylesName, DEFAULT_PHI_MAX_DEG};
+use clapper_app::chart::{ChartRequest, DEFAULT_PHI_MAX_DEG};
 use clapper_app::simulate::{contact_words, DEFAULT_RESTITUTION, DEFAULT_THETA0_DEG};
 use clapper_app::sweep::SweepPlan;
 
@@ -91,13 +91,14 @@ pub struct SweepArgs {
 impl SweepArgs {
     /// The options as the request the web API also takes (the first value
     /// of each extra axis).
-    pub fn request(&self, styles: StylesName) -> ChartRequest {
+    pub fn request(&self, styles: Styles) -> ChartRequest {
         ChartRequest {
             grid: [self.grid.0, self.grid.1],
             r_range: [self.r_range.0, self.r_range.1],
             lb_range: [self.lb_range.0, self.lb_range.1],
             theta0: self.theta0[0],
             restitution: self.restitution[0],
+            restitution_later: self.solver.restitution_later,
             phi_max: self.phi_max[0],
             contact: self.solver.contact,
             stiffness: self.solver.stiffness,
@@ -113,14 +114,14 @@ impl SweepArgs {
         if self.theta0.len() > 1 || self.restitution.len() > 1 || self.phi_max.len() > 1 {
             bail!("give one value each of --theta0, --restitution and --phi-max here (lists are for `clapper chart`)");
         }
-        Ok(self.request(styles_name(styles)).spec()?)
+        Ok(self.request(styles).spec()?)
     }
 
     /// The sweep these options describe: a chart per combination of the
     /// extra axes.
     pub fn plan(&self, styles: Styles) -> Result<SweepPlan> {
         Ok(SweepPlan::new(
-            &self.request(styles_name(styles)),
+            &self.request(styles),
             &self.theta0,
             &self.restitution,
             &self.phi_max,
@@ -137,14 +138,6 @@ impl SweepArgs {
             b = b.num_threads(n);
         }
         Ok(b.build()?)
-    }
-}
-
-fn styles_name(styles: Styles) -> StylesName {
-    match styles {
-        Styles::Right => StylesName::Right,
-        Styles::Wrong => StylesName::Wrong,
-        Styles::Both => StylesName::Both,
     }
 }
 
@@ -191,8 +184,8 @@ pub struct ChartArgs {
     #[arg(long, value_enum, default_value = "style")]
     pub quantity: QuantityArg,
     /// Which styles to compute and show (style maps need both).
-    #[arg(long, value_enum, default_value = "both")]
-    pub style: StylesName,
+    #[arg(long, value_parser = crate::simulate::choice::<Styles>(), default_value = "both")]
+    pub style: Styles,
     /// Write every point and style as long-form CSV.
     #[arg(long, value_name = "FILE.csv")]
     pub csv: Option<PathBuf>,
@@ -488,19 +481,19 @@ pub fn merge(args: MergeArgs) -> Result<()> {
         })?;
         let meta: SweepMeta = serde_json::from_str(&text)
             .with_context(|| format!("{} is not a shard description", meta_path.display()))?;
-        if meta.format != crate::sweep_file::FORMAT {
+        use crate::sweep_file::{FORMAT, OLDEST_FORMAT};
+        if !(OLDEST_FORMAT..=FORMAT).contains(&meta.format) {
             bail!(
-                "{} has format {}, this clapper reads {}",
+                "{} has format {}, this clapper reads {OLDEST_FORMAT} to {FORMAT}",
                 meta_path.display(),
-                meta.format,
-                crate::sweep_file::FORMAT
+                meta.format
             );
         }
         parts.push((meta, csv));
     }
     let first = parts[0].0.clone();
     for (m, csv) in &parts {
-        if m.key != first.key || m.shard[1] != first.shard[1] {
+        if m.key != first.key || m.shard[1] != first.shard[1] || m.format != first.format {
             bail!(
                 "{} is a shard of a different sweep than {} (other options or shard count)",
                 csv.display(),

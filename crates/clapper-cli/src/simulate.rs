@@ -5,10 +5,10 @@ use std::path::PathBuf;
 use anyhow::{Context, Result};
 use clap::Args;
 use clapper_app::simulate::{
-    simulate_traced, summary, ContactName, IntegratorName, Preset, ProtocolName, SimulateRequest, StyleName,
-    DEFAULT_RESTITUTION, DEFAULT_STROKES, DEFAULT_THETA0_DEG,
+    simulate_traced, summary, Preset, SimulateRequest, DEFAULT_RESTITUTION, DEFAULT_STROKES, DEFAULT_THETA0_DEG,
 };
 use clapper_core::prelude::*;
+use clapper_core::stroke::{ContactModel, Integrator};
 use clapper_io::LoadedBell;
 
 pub fn parse_point(s: &str) -> std::result::Result<(f64, f64), String> {
@@ -21,6 +21,19 @@ pub fn parse_point(s: &str) -> std::result::Result<(f64, f64), String> {
             .map_err(|_| format!("'{v}' in '{s}' is not a number"))
     };
     Ok((num(x)?, num(y)?))
+}
+
+/// A parser for one of clapper-core's named choices: the names it lists
+/// are the choices' own ([`Choice`]), so the command line, files and JSON
+/// spell them alike.
+pub fn choice<T: Choice + Send + Sync>() -> impl clap::builder::TypedValueParser<Value = T> {
+    use clap::builder::TypedValueParser as _;
+    clap::builder::PossibleValuesParser::new(T::ALL.iter().map(|v| v.name())).map(|name| {
+        *T::ALL
+            .iter()
+            .find(|v| v.name() == name)
+            .expect("the parser accepts only the names listed")
+    })
 }
 
 /// Where the bell comes from: exactly one of these (default: the lab preset).
@@ -58,8 +71,8 @@ impl BellArgs {
 #[derive(Args, Debug, Clone)]
 pub struct SolverArgs {
     /// Contact model.
-    #[arg(long, value_enum)]
-    pub contact: Option<ContactName>,
+    #[arg(long, value_parser = choice::<ContactModel>())]
+    pub contact: Option<ContactModel>,
     /// Contact stiffness k of the penalty model (N m/rad); implies --contact penalty.
     #[arg(long, value_name = "K", allow_hyphen_values = true)]
     pub stiffness: Option<f64>,
@@ -69,8 +82,13 @@ pub struct SolverArgs {
     pub rtol: Option<f64>,
     /// Integrator: taylor (default, fastest) or dopri5 (Dormand-Prince, a
     /// cross-check).
-    #[arg(long, value_enum)]
-    pub integrator: Option<IntegratorName>,
+    #[arg(long, value_parser = choice::<Integrator>())]
+    pub integrator: Option<Integrator>,
+    /// Coefficient of restitution R2 of every bounce after the first impact
+    /// on a side (0 < R2 <= 1; default: R). `clapper restitution` measures
+    /// both from clapper drops.
+    #[arg(long, value_name = "R2")]
+    pub restitution_later: Option<f64>,
 }
 
 #[derive(Args, Debug)]
@@ -78,8 +96,8 @@ pub struct SimulateArgs {
     #[command(flatten)]
     pub source: BellArgs,
     /// How the clapper starts: right (on the trailing side) or wrong.
-    #[arg(long, value_enum, default_value = "right")]
-    pub style: StyleName,
+    #[arg(long, value_parser = choice::<Style>(), default_value = "right")]
+    pub style: Style,
     /// Starting angle of the bell, at rest (deg, 0 < theta0 < 180).
     #[arg(long, value_name = "DEG", default_value_t = DEFAULT_THETA0_DEG, allow_hyphen_values = true)]
     pub theta0: f64,
@@ -93,8 +111,8 @@ pub struct SimulateArgs {
     #[arg(long, value_name = "N", default_value_t = DEFAULT_STROKES)]
     pub strokes: usize,
     /// How one stroke leads to the next.
-    #[arg(long, value_enum, default_value = "restart")]
-    pub protocol: ProtocolName,
+    #[arg(long, value_parser = choice::<Protocol>(), default_value = "restart")]
+    pub protocol: Protocol,
     #[command(flatten)]
     pub solver: SolverArgs,
     /// Print the full result as one JSON object.
@@ -139,6 +157,7 @@ impl SimulateArgs {
             style: self.style,
             theta0: self.theta0,
             restitution: self.restitution,
+            restitution_later: self.solver.restitution_later,
             phi_max: self.phi_max,
             strokes: self.strokes,
             protocol: self.protocol,

@@ -19,8 +19,15 @@ use clapper_app::sweep::SweepPlan;
 use clapper_core::chart::ChartCell;
 use serde::{Deserialize, Serialize};
 
-/// Version of the journal and shard files.
-pub const FORMAT: u32 = 1;
+/// Version of the journal and shard files. 2: the sweep key is the
+/// serialized settings (`SweepPlan::key`). Shards of format 1 (a `Debug`
+/// string as key) still merge: their key cannot be rebuilt, so the shards
+/// are checked against each other and the sweep is rebuilt from their
+/// options.
+pub const FORMAT: u32 = 2;
+
+/// The oldest shard format `clapper merge` still reads.
+pub const OLDEST_FORMAT: u32 = 1;
 
 /// What a sweep file is part of.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -49,10 +56,13 @@ impl SweepMeta {
     /// The sweep this meta describes, rebuilt and checked against its key.
     pub fn plan(&self) -> Result<SweepPlan> {
         let plan = SweepPlan::new(&self.request, &self.theta0, &self.restitution, &self.phi_max)?;
-        if plan.key() != self.key {
-            bail!("the shard's options do not rebuild its sweep (written by another version of clapper?)");
+        match self.format {
+            FORMAT if plan.key() != self.key => {
+                bail!("the shard's options do not rebuild its sweep (its settings changed since it was written)")
+            }
+            FORMAT | OLDEST_FORMAT => Ok(plan),
+            f => bail!("shard format {f} is not one this clapper reads ({OLDEST_FORMAT} to {FORMAT})"),
         }
-        Ok(plan)
     }
 }
 
@@ -148,6 +158,15 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
                     journal_path.display()
                 )
             })?;
+            if j.meta.format != meta.format {
+                bail!(
+                    "{} is a journal of another clapper version (format {}, this one writes {}); delete it and {} to start afresh",
+                    journal_path.display(),
+                    j.meta.format,
+                    meta.format,
+                    partial.display()
+                );
+            }
             if j.meta != meta {
                 bail!(
                     "{} holds an unfinished run of different options; run the same command to resume it, or delete {} and {} to start afresh",

@@ -21,7 +21,7 @@ fn main() {
         spec.config.integrator = Integrator::Dopri5;
     }
     if args.get(2).map(String::as_str) == Some("penalty") {
-        spec.config.contact = ContactModel::Penalty { stiffness: 1e6 };
+        spec.config.contact = ContactModel::Penalty;
     }
     let chart = sweep(&spec, &|_| {}).expect("the default chart is valid");
     let num = |v: Option<f64>| v.map_or("null".to_string(), |v| format!("{v:?}"));

@@ -259,6 +259,7 @@ pub fn length_of_period(t: f64) -> f64 {
 /// The paper's recipe for a bell at a point of the clapping chart
 /// (Section 4.2 and SPEC §5). Defaults are the paper's values.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ChartConstruction {
     /// M (kg); default 45.8, the lab bell's.
     pub bell_mass: f64,

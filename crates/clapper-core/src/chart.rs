@@ -17,6 +17,7 @@ pub const MAX_POINTS: usize = 4_000_000;
 
 /// A rectangle of the chart plane.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Domain {
     /// r/L_c from, to.
     pub x: (f64, f64),
@@ -35,13 +36,16 @@ impl Default for Domain {
 }
 
 /// Which styles a chart computes.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum Styles {
     /// Ringing right only.
     Right,
     /// Ringing wrong only.
     Wrong,
-    /// Both.
+    /// Both. The default.
+    #[default]
     Both,
 }
 
@@ -58,6 +62,7 @@ impl Styles {
 
 /// Everything that shapes a chart.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ChartSpec {
     /// The rectangle swept.
     pub domain: Domain,

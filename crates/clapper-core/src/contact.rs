@@ -13,7 +13,6 @@
 
 use std::fmt::Debug;
 
-use crate::bell::ParamError;
 use crate::dynamics::{Dynamics, LinearSpring, State, PHI, PHI_DOT};
 use crate::ode::{Direction, Event, NextSegment, Source};
 
@@ -485,16 +484,18 @@ impl ContactLaw for PenaltySpring {
     }
 }
 
-/// The contact law between clapper and bell (SPEC §3), as configured.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// Which contact law (SPEC §3). Its parameters are fields of
+/// [`SimConfig`](crate::stroke::SimConfig): the restitution for both, the
+/// stiffness for the penalty law.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum ContactModel {
     /// Rigid stops with instantaneous impacts ([`RigidImpact`]). The default.
+    #[default]
     Impact,
     /// The paper's linear spring beyond the stops ([`PenaltySpring`]).
-    Penalty {
-        /// k (N m/rad); the paper's is 1e6 ([`DEFAULT_STIFFNESS`]).
-        stiffness: f64,
-    },
+    Penalty,
 }
 
 /// The paper's contact stiffness (N m/rad), used by the penalty model unless
@@ -502,36 +503,13 @@ pub enum ContactModel {
 pub const DEFAULT_STIFFNESS: f64 = 1e6;
 
 impl ContactModel {
-    /// The spring stiffness k (N m/rad); zero for rigid impacts, which
-    /// have no spring.
-    pub fn stiffness(self) -> f64 {
-        match self {
-            ContactModel::Penalty { stiffness } => stiffness,
-            ContactModel::Impact => 0.0,
-        }
-    }
-
-    /// Check the law's own parameters.
-    pub fn validate(self) -> Result<(), ParamError> {
-        if let ContactModel::Penalty { stiffness } = self {
-            if !(stiffness.is_finite() && stiffness > 0.0) {
-                return Err(ParamError {
-                    field: "stiffness_n_m_per_rad",
-                    value: stiffness,
-                    allowed: "a finite number > 0",
-                });
-            }
-        }
-        Ok(())
-    }
-
-    /// The law, with restitution `r` and, for rigid impacts, the rest
-    /// threshold `rest_flight_time` (s). The one place a new law is
-    /// registered.
-    pub fn law(self, r: Restitution, rest_flight_time: f64) -> Box<dyn ContactLaw> {
+    /// The law with restitution `r`, stiffness `k` (N m/rad; the penalty
+    /// law's) and rest threshold `rest_flight_time` (s; the rigid law's).
+    /// The one place a new law is registered.
+    pub fn law(self, r: Restitution, k: f64, rest_flight_time: f64) -> Box<dyn ContactLaw> {
         match self {
             ContactModel::Impact => Box::new(RigidImpact::new(r, rest_flight_time)),
-            ContactModel::Penalty { stiffness } => Box::new(PenaltySpring::new(stiffness, r)),
+            ContactModel::Penalty => Box::new(PenaltySpring::new(k, r)),
         }
     }
 }

@@ -49,4 +49,42 @@ pub mod prelude {
         run_stroke, ClapperState, ContactModel, EndReason, Impact, Integrator, Observer, Side, SimConfig, SimError,
         Stroke, StrokeStart, Style, TraceRecorder,
     };
+    pub use crate::Choice;
 }
+
+/// A choice among a few named options (a style, a protocol, a contact
+/// law, an integrator): every layer spells it by these names, which are
+/// also its serde form (kebab case).
+pub trait Choice: Copy + Sized + 'static {
+    /// Every option, in order.
+    const ALL: &'static [Self];
+    /// The name of this option, as in files, JSON and command-line options.
+    fn name(self) -> &'static str;
+}
+
+/// [`Choice`] and `Display` for an enum of unit variants.
+macro_rules! named_choice {
+    ($ty:ty { $($variant:ident => $name:literal),+ $(,)? }) => {
+        impl Choice for $ty {
+            const ALL: &'static [$ty] = &[$(<$ty>::$variant),+];
+
+            fn name(self) -> &'static str {
+                match self {
+                    $(<$ty>::$variant => $name,)+
+                }
+            }
+        }
+
+        impl std::fmt::Display for $ty {
+            fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+                f.write_str(self.name())
+            }
+        }
+    };
+}
+
+named_choice!(stroke::Style { Right => "right", Wrong => "wrong" });
+named_choice!(ringing::Protocol { Restart => "restart", Free => "free" });
+named_choice!(contact::ContactModel { Impact => "impact", Penalty => "penalty" });
+named_choice!(stroke::Integrator { Taylor => "taylor", Dopri5 => "dopri5" });
+named_choice!(chart::Styles { Right => "right", Wrong => "wrong", Both => "both" });

@@ -5,11 +5,14 @@ use crate::bell::Bell;
 use crate::stroke::{run_stroke, EndReason, Observer, SimConfig, SimError, Stroke, StrokeStart, Style};
 
 /// How one stroke leads to the next.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum Protocol {
     /// The ringer restores the swing: every stroke starts from rest at ±θ0,
     /// alternating, with the clapper at rest on the side the previous stroke
-    /// left it. Charts and verdicts use this.
+    /// left it. Charts and verdicts use this. The default.
+    #[default]
     Restart,
     /// Strokes follow one another with no energy input; the swing decays
     /// through impact losses. For time histories.

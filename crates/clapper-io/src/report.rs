@@ -82,14 +82,17 @@ impl BellReport {
 pub struct SimulationSettings {
     /// θ0 (deg).
     pub theta0_deg: f64,
-    /// R.
+    /// R: the first impact's on a side (the strike's).
     pub restitution: f64,
+    /// R2: the later bounces', when given apart from R.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub restitution_later: Option<f64>,
     /// "impact" or "penalty".
-    pub contact: String,
+    pub contact: ContactModel,
     /// k (N m/rad) for the penalty model, else null.
     pub stiffness_n_m_per_rad: Option<f64>,
     /// "restart" or "free".
-    pub protocol: String,
+    pub protocol: Protocol,
     /// Strokes asked for.
     pub strokes_requested: usize,
     /// Integrator relative tolerance.
@@ -101,20 +104,17 @@ pub struct SimulationSettings {
 impl SimulationSettings {
     /// The settings of `cfg` under `protocol` for `strokes` strokes.
     pub fn new(cfg: &SimConfig, protocol: Protocol, strokes: usize) -> Self {
-        let (contact, stiffness) = match cfg.contact {
-            ContactModel::Impact => ("impact", None),
-            ContactModel::Penalty { stiffness } => ("penalty", Some(stiffness)),
-        };
         Self {
             theta0_deg: cfg.theta0.to_degrees(),
             restitution: cfg.restitution,
-            contact: contact.into(),
-            stiffness_n_m_per_rad: stiffness,
-            protocol: protocol_name(protocol).into(),
+            restitution_later: cfg.restitution_later,
+            contact: cfg.contact,
+            stiffness_n_m_per_rad: (cfg.contact == ContactModel::Penalty).then_some(cfg.stiffness),
+            protocol,
             strokes_requested: strokes,
             rtol: cfg.ode.rtol,
             integrator: match cfg.integrator {
-                Integrator::Taylor { order, .. } => format!("taylor-{order}"),
+                Integrator::Taylor => format!("taylor-{}", cfg.taylor.order),
                 Integrator::Dopri5 => "dopri5".into(),
             },
         }
@@ -126,13 +126,6 @@ pub fn style_name(s: Style) -> &'static str {
     match s {
         Style::Right => "right",
         Style::Wrong => "wrong",
-    }
-}
-
-fn protocol_name(p: Protocol) -> &'static str {
-    match p {
-        Protocol::Restart => "restart",
-        Protocol::Free => "free",
     }
 }
 

@@ -38,7 +38,7 @@ async fn simulate_answers_the_report_of_the_library() {
     .await;
     assert_eq!(status, StatusCode::OK);
     let req = clapper_app::simulate::SimulateRequest {
-        style: clapper_app::simulate::StyleName::Wrong,
+        style: clapper_core::stroke::Style::Wrong,
         ..Default::default()
     };
     let want = serde_json::to_value(clapper_app::simulate::simulate(&req, None, None).unwrap().report).unwrap();

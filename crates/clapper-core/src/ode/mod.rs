@@ -299,6 +299,7 @@ pub(crate) fn split_exp2(y: f64) -> (f64, f64) {
 
 /// Error tolerances and limits of the integrator.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct Options {
     /// Relative tolerance per step. Default 3e-8, chosen by measurement
     /// (`cargo run --release -p clapper-core --example tolerance`): over the

@@ -22,10 +22,13 @@ use recorder::StrokeRecorder;
 use segment::{BellEvent, Ev, Segment};
 
 /// How the clapper rests against the bell relative to the bell's swing.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum Style {
     /// The clapper rests on the side with the sign of θ (the trailing side)
     /// and strikes the other, leading, side.
+    #[default]
     Right,
     /// The opposite.
     Wrong,
@@ -58,40 +61,49 @@ impl Style {
     }
 }
 
-/// Which integrator a stroke uses.
-#[derive(Clone, Copy, Debug, PartialEq)]
+/// Which integrator a stroke uses; each has its options in [`SimConfig`]
+/// (`taylor`, and `ode` for both).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
 pub enum Integrator {
-    /// Taylor series of the bell's own equations, expanded to `order` (2 ..=
-    /// 24) at every step, with steps of at most `h_max` (s). The default:
-    /// order 12 and 0.25 s, chosen by measurement
-    /// (`cargo run --release -p clapper-core --example tolerance`): on the
-    /// paper's chart 2.4 times as fast as Dormand–Prince at the same
-    /// tolerance, with a first strike angle eight times closer to the
-    /// reference; orders 10 to 16 cost about the same. Every event function
-    /// is a polynomial in each step, ruled out by a bound or checked at 16
-    /// points, so `h_max` stays a fraction of a swing. With the impact
-    /// model, a resting phase that starts from rest (the stroke's first) is
-    /// not integrated but solved in closed form ([`crate::swing`]): the
-    /// bell is then a rigid pendulum.
-    Taylor {
-        /// Order of the expansion.
-        order: usize,
-        /// Largest step (s).
-        h_max: f64,
-    },
+    /// Taylor series of the bell's own equations ([`TaylorOptions`]). The
+    /// default: on the paper's chart 2.4 times as fast as Dormand–Prince at
+    /// the same tolerance, with a first strike angle eight times closer to
+    /// the reference. With the impact law, a resting phase that starts from
+    /// rest (the stroke's first) is not integrated but solved in closed
+    /// form ([`crate::swing`]): the bell is then a rigid pendulum.
+    #[default]
+    Taylor,
     /// Dormand–Prince 5(4) with the step limit of [`Options::h_max`]: the
     /// general-purpose method, kept as the check on the Taylor one.
     Dopri5,
 }
 
-impl Default for Integrator {
+/// Options of the Taylor integrator.
+#[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+pub struct TaylorOptions {
+    /// Order of the expansion, 2 ..= 24 ([`crate::ode::taylor::MAX_ORDER`]).
+    /// Default 12, chosen by measurement (`cargo run --release -p
+    /// clapper-core --example tolerance`): orders 10 to 16 cost about the
+    /// same; lower orders take many more steps.
+    pub order: usize,
+    /// Largest step (s). Default 0.25 s: every event function is a
+    /// polynomial in each step, ruled out by a bound or checked at 16
+    /// points, so a step stays a fraction of a swing.
+    pub h_max: f64,
+}
+
+impl Default for TaylorOptions {
     fn default() -> Self {
-        Integrator::Taylor { order: 12, h_max: 0.25 }
+        Self { order: 12, h_max: 0.25 }
     }
 }
 
 /// What a stroke simulation needs besides the bell.
 #[derive(Clone, Copy, Debug, PartialEq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct SimConfig {
     /// θ0: the angle the bell starts from, at rest (rad). Default 171 deg,
     /// the paper's: close to the balance, far enough that the bell falls.
@@ -104,9 +116,13 @@ pub struct SimConfig {
     /// same side, in (0, 1]; `None` (the default) means R2 = R. The
     /// paper's drops (Section 3.2, Fig 8) show the first impact losing far
     /// more than the later ones.
+    #[cfg_attr(feature = "serde", serde(default, skip_serializing_if = "Option::is_none"))]
     pub restitution_later: Option<f64>,
     /// The contact law. Default [`ContactModel::Impact`].
     pub contact: ContactModel,
+    /// Penalty law: the contact stiffness k (N m/rad). Default
+    /// [`DEFAULT_STIFFNESS`], the paper's 1e6.
+    pub stiffness: f64,
     /// Impact model: when the next flight of a bouncing clapper would be
     /// shorter than this (s), it comes to rest. Default 1e-7 s: far below
     /// anything audible or visible in a trace, and reached after a few tens
@@ -116,6 +132,8 @@ pub struct SimConfig {
     pub ode: Options,
     /// Which integrator. Default [`Integrator::Taylor`].
     pub integrator: Integrator,
+    /// The Taylor integrator's options.
+    pub taylor: TaylorOptions,
     /// Most events (impacts, lift-offs, contact switches) in one stroke.
     /// Default 100,000: R = 0.99 needs a few thousand bounces to come to rest.
     pub max_events: u32,
@@ -131,9 +149,11 @@ impl Default for SimConfig {
             restitution: 0.2,
             restitution_later: None,
             contact: ContactModel::Impact,
+            stiffness: DEFAULT_STIFFNESS,
             rest_flight_time: 1e-7,
             ode: Options::default(),
             integrator: Integrator::default(),
+            taylor: TaylorOptions::default(),
             max_events: 100_000,
             max_stroke_periods: 20.0,
         }
@@ -151,7 +171,8 @@ impl SimConfig {
 
     /// The configured contact law.
     pub fn contact_law(&self) -> Box<dyn ContactLaw> {
-        self.contact.law(self.restitution_pair(), self.rest_flight_time)
+        self.contact
+            .law(self.restitution_pair(), self.stiffness, self.rest_flight_time)
     }
 
     /// Check the user-settable fields against SPEC §1 and §3.
@@ -173,13 +194,26 @@ impl SimConfig {
                 });
             }
         }
-        self.contact.validate()?;
-        if let Integrator::Taylor { order, .. } = self.integrator {
-            if Taylor::<4>::check_order(order).is_err() {
+        if self.contact == ContactModel::Penalty && !(self.stiffness.is_finite() && self.stiffness > 0.0) {
+            return Err(ParamError {
+                field: "stiffness_n_m_per_rad",
+                value: self.stiffness,
+                allowed: "a finite number > 0",
+            });
+        }
+        if self.integrator == Integrator::Taylor {
+            if Taylor::<4>::check_order(self.taylor.order).is_err() {
                 return Err(ParamError {
                     field: "taylor_order",
-                    value: order as f64,
+                    value: self.taylor.order as f64,
                     allowed: "2 to 24 (ode::taylor::MAX_ORDER)",
+                });
+            }
+            if !(self.taylor.h_max.is_finite() && self.taylor.h_max > 0.0) {
+                return Err(ParamError {
+                    field: "taylor_h_max_s",
+                    value: self.taylor.h_max,
+                    allowed: "a finite number > 0",
                 });
             }
         }
@@ -560,10 +594,11 @@ pub fn run_stroke<O: Observer>(
 ) -> Result<Stroke, SimError> {
     bell.validate()?;
     cfg.validate()?;
+    let TaylorOptions { order, h_max } = cfg.taylor;
     match cfg.integrator {
         // A resting phase from rest is a closed-form swing with the rigid
         // law (the Dormand–Prince path integrates it, as a check).
-        Integrator::Taylor { order, h_max } if cfg.contact == ContactModel::Impact => {
+        Integrator::Taylor if cfg.contact == ContactModel::Impact => {
             let taylor = Taylor::new(cfg.ode, order, h_max);
             let stepper = Fallback {
                 first: ClosedFormSwing::default(),
@@ -571,7 +606,7 @@ pub fn run_stroke<O: Observer>(
             };
             drive(stepper, bell, cfg, start, observer)
         }
-        Integrator::Taylor { order, h_max } => drive(Taylor::new(cfg.ode, order, h_max), bell, cfg, start, observer),
+        Integrator::Taylor => drive(Taylor::new(cfg.ode, order, h_max), bell, cfg, start, observer),
         Integrator::Dopri5 => drive(Dopri5::new(cfg.ode), bell, cfg, start, observer),
     }
 }

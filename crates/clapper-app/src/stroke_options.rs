@@ -1,0 +1,139 @@
+//! The options every request that runs strokes takes (`clapper simulate`,
+//! `clapper chart`, their JSON), defined once: θ0, R and R2, the contact
+//! law and its stiffness, the integrator and its tolerance, and their
+//! defaults.
+//!
+//! A request is one flat JSON object that refuses unknown keys, which
+//! serde's `flatten` cannot give; so the shared fields are spliced into
+//! each request by [`with_stroke_options!`], and read back as a
+//! [`SimConfig`] by [`StrokeOptions::config`].
+
+use clapper_core::prelude::*;
+use clapper_core::stroke::DEFAULT_STIFFNESS;
+
+use crate::AppError;
+
+/// Default starting angle θ0 (deg): a bell "fully up", as the paper's charts.
+pub const DEFAULT_THETA0_DEG: f64 = 171.0;
+/// Default energy coefficient of restitution R: the paper's middle value
+/// for a clapper on bronze (Section 3.2 measured 0.1 to 0.35).
+pub const DEFAULT_RESTITUTION: f64 = 0.2;
+
+pub(crate) fn default_theta0() -> f64 {
+    DEFAULT_THETA0_DEG
+}
+pub(crate) fn default_restitution() -> f64 {
+    DEFAULT_RESTITUTION
+}
+
+/// The shared options of a request, borrowed out of it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StrokeOptions {
+    /// θ0 (deg).
+    pub theta0: f64,
+    /// R.
+    pub restitution: f64,
+    /// R2, if given apart from R.
+    pub restitution_later: Option<f64>,
+    /// The contact law, if named.
+    pub contact: Option<ContactModel>,
+    /// The penalty law's stiffness k (N m/rad), if given.
+    pub stiffness: Option<f64>,
+    /// Integrator tolerance, relative and absolute.
+    pub rtol: Option<f64>,
+    /// The integrator, if named.
+    pub integrator: Option<Integrator>,
+}
+
+impl StrokeOptions {
+    /// The simulation settings these options give (not yet validated: the
+    /// caller validates with whatever else it sets). A stiffness alone
+    /// means the penalty law.
+    pub fn config(&self) -> Result<SimConfig, AppError> {
+        let (contact, stiffness) = match (self.contact, self.stiffness) {
+            (Some(ContactModel::Impact), Some(_)) => {
+                return Err(AppError::Request(
+                    "stiffness applies to the penalty model; drop it or choose contact penalty".into(),
+                ))
+            }
+            (Some(ContactModel::Impact), None) | (None, None) => (ContactModel::Impact, DEFAULT_STIFFNESS),
+            (_, k) => (ContactModel::Penalty, k.unwrap_or(DEFAULT_STIFFNESS)),
+        };
+        let mut cfg = SimConfig {
+            theta0: self.theta0.to_radians(),
+            restitution: self.restitution,
+            restitution_later: self.restitution_later,
+            contact,
+            stiffness,
+            integrator: self.integrator.unwrap_or_default(),
+            ..SimConfig::default()
+        };
+        if let Some(r) = self.rtol {
+            if !(r.is_finite() && (1e-14..=1e-2).contains(&r)) {
+                return Err(AppError::Request(format!("rtol {r} is out of range: 1e-14 to 1e-2")));
+            }
+            cfg.ode.rtol = r;
+            cfg.ode.atol = r;
+        }
+        Ok(cfg)
+    }
+}
+
+/// Words for a configuration's contact law, for titles.
+pub fn contact_words(cfg: &SimConfig) -> String {
+    match cfg.contact {
+        ContactModel::Impact => "impact".into(),
+        ContactModel::Penalty => format!("penalty (k = {:e} N m/rad)", cfg.stiffness),
+    }
+}
+
+/// Declares a request struct with the stroke options appended to its own
+/// fields (with their JSON names, defaults and docs), and
+/// `stroke_options()` to read them.
+#[macro_export]
+macro_rules! with_stroke_options {
+    ($(#[$meta:meta])* pub struct $name:ident { $($(#[$fmeta:meta])* pub $field:ident : $ty:ty,)* }) => {
+        $(#[$meta])*
+        pub struct $name {
+            $($(#[$fmeta])* pub $field: $ty,)*
+            /// Starting angle of the bell at rest (deg, 0 < θ0 < 180).
+            #[serde(default = "crate::stroke_options::default_theta0")]
+            pub theta0: f64,
+            /// Stronge's energy coefficient of restitution R (0 < R ≤ 1)
+            /// of the first impact on a side (the strike).
+            #[serde(default = "crate::stroke_options::default_restitution")]
+            pub restitution: f64,
+            /// R2: the restitution of the bounces after the first impact
+            /// on a side (0 < R2 ≤ 1); unset means R2 = R.
+            #[serde(default, skip_serializing_if = "Option::is_none", alias = "restitution-later")]
+            pub restitution_later: Option<f64>,
+            /// Contact model (default impact; a stiffness implies penalty).
+            #[serde(default)]
+            pub contact: Option<clapper_core::stroke::ContactModel>,
+            /// Contact stiffness k of the penalty model (N m/rad).
+            #[serde(default)]
+            pub stiffness: Option<f64>,
+            /// Integrator tolerance, relative and absolute (default 3e-8).
+            #[serde(default)]
+            pub rtol: Option<f64>,
+            /// Integrator (default Taylor).
+            #[serde(default)]
+            pub integrator: Option<clapper_core::stroke::Integrator>,
+        }
+
+        impl $name {
+            /// The options shared by every request that runs strokes.
+            pub fn stroke_options(&self) -> $crate::stroke_options::StrokeOptions {
+                $crate::stroke_options::StrokeOptions {
+                    theta0: self.theta0,
+                    restitution: self.restitution,
+                    restitution_later: self.restitution_later,
+                    contact: self.contact,
+                    stiffness: self.stiffness,
+                    rtol: self.rtol,
+                    integrator: self.integrator,
+                }
+            }
+        }
+    };
+}
