@@ -252,7 +252,7 @@ pub fn draw(path: &Path, fig: &clapper_plot::ChartFigure) -> Result<()> {
 
 pub fn run(args: ChartArgs) -> Result<()> {
     let quantity = args.quantity.quantity();
-    let styles: Styles = args.style.into();
+    let styles = args.style;
     // The quantity matters for what is shown, not for a CSV alone.
     if (args.out.is_some() || args.csv.is_none()) && quantity == Quantity::Style && styles != Styles::Both {
         bail!("--quantity style needs --style both (it shows where each style is sustained)");

@@ -75,10 +75,10 @@ pub fn run(args: SynthArgs) -> Result<()> {
             bail!("{flag} {v} must be between {lo} and 600");
         }
     }
-    let protocol: Protocol = args.sim.protocol.into();
+    let protocol = args.sim.protocol;
     let mut rec = TraceRecorder::new(1e-3);
     let ringing =
-        ring(&bell, &cfg, args.sim.style.into(), protocol, args.sim.strokes, &mut rec).context("simulation failed")?;
+        ring(&bell, &cfg, args.sim.style, protocol, args.sim.strokes, &mut rec).context("simulation failed")?;
     // Stroke k (from 0) is heard later by the handstroke gaps before it.
     let offset = |k: usize| LEAD_S + args.gap * (k / 2) as f64;
     let stroke_of = |t: f64| {
