@@ -21,6 +21,7 @@
 pub mod chart;
 pub mod diagnosis;
 pub mod listening;
+pub mod measure;
 pub mod simulate;
 pub mod stroke_options;
 pub mod sweep;

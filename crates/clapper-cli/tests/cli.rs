@@ -465,3 +465,45 @@ fn both_integrators_give_the_same_stroke() {
         .failure()
         .stderr(predicate::str::contains("rk4"));
 }
+
+/// `clapper restitution` gives R and R2 apart from drops with a third jump,
+/// and its numbers go straight into `simulate`: R2 leaves the first strike
+/// and the second strike's delay as they are and moves the later impacts.
+#[test]
+fn restitution_reports_both_coefficients_and_simulate_takes_them() {
+    // Synthetic drops of known truth: R = 0.05, R2 = 0.3 (v_k = sqrt(R2) v_{k-1}).
+    let (e, e2) = (0.05f64.sqrt(), 0.3f64.sqrt());
+    let mut v = vec![1.0, e];
+    for _ in 0..3 {
+        v.push(e2 * v[v.len() - 1]);
+    }
+    let jumps: Vec<String> = v.windows(2).map(|w| format!("{}", w[0] + w[1])).collect();
+    let r = common::json(&["restitution", "--jumps", &jumps.join(",")]);
+    let (r1, r2) = (r["r_first"].as_f64().unwrap(), r["r_later"].as_f64().unwrap());
+    assert!((r1 - 0.05).abs() < 1e-9 && (r2 - 0.3).abs() < 1e-9, "{r}");
+    let (r1, r2) = (format!("{r1}"), format!("{r2}"));
+    let one = common::json(&["simulate", "--preset", "lab", "--restitution", &r1]);
+    let two = common::json(&[
+        "simulate",
+        "--preset",
+        "lab",
+        "--restitution",
+        &r1,
+        "--restitution-later",
+        &r2,
+    ]);
+    assert_eq!(two["settings"]["restitution_later"].as_f64().unwrap().to_string(), r2);
+    assert!(one["settings"].get("restitution_later").is_none());
+    let (a, b) = (&one["strokes"][0], &two["strokes"][0]);
+    assert_eq!(a["first_strike"], b["first_strike"]);
+    assert_eq!(a["second_strike_delay_ms"], b["second_strike_delay_ms"]);
+    assert_eq!(a["amplitude_ratio"], b["amplitude_ratio"]);
+    assert_ne!(a["impacts"][2]["t_s"], b["impacts"][2]["t_s"]);
+    // Out of range: one line naming the option.
+    let out = common::clapper()
+        .args(["simulate", "--restitution-later", "1.5"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("restitution_later"));
+}

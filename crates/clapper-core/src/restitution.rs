@@ -13,6 +13,46 @@ pub fn r_lossless_later(ratio: f64) -> f64 {
     (ratio / (2.0 - ratio)).powi(2)
 }
 
+/// R (the first impact's) and R2 (the later bounces') from the mean
+/// ratios of adjacent velocity jumps, the two-coefficient reading of
+/// Section 3.2 that `--restitution` and `--restitution-later` take.
+///
+/// With v0 the speed at the first impact, v1 = √R v0 and v_k = √R2 v_{k−1}
+/// after: Δv1 = v0 (1 + √R), Δv2 = v1 (1 + √R2), Δv3 = √R2 Δv2, ... So
+/// √R2 is the mean ratio of the later jumps (Δv3/Δv2 and on), and
+/// Δv2/Δv1 = √R (1 + √R2) / (1 + √R) gives √R = ρ / (1 + √R2 − ρ). The two
+/// limits are (21) (R2 = R) and (23) (R2 = 1). `None` without a ratio
+/// after the first (every drop has two jumps only), or if no R fits.
+///
+/// The paper found the later ratios scattered and often above one (the
+/// bell's own vibration lends or takes energy at each later impact); a
+/// mean above one is clamped to R2 = 1, lossless, and said so.
+pub fn two_coefficients(mean_ratios: &[f64]) -> Option<TwoCoefficients> {
+    let (&rho, later) = mean_ratios.split_first()?;
+    if later.is_empty() {
+        return None;
+    }
+    let mean_later = later.iter().sum::<f64>() / later.len() as f64;
+    let e2 = mean_later.min(1.0);
+    let e1 = rho / (1.0 + e2 - rho);
+    (e1.is_finite() && e1 > 0.0 && e1 <= 1.0 && e2 > 0.0).then_some(TwoCoefficients {
+        first: e1 * e1,
+        later: e2 * e2,
+        later_clamped: mean_later > 1.0,
+    })
+}
+
+/// R and R2 from a set of drops (see [`two_coefficients`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TwoCoefficients {
+    /// R: the first impact's.
+    pub first: f64,
+    /// R2: every later bounce's.
+    pub later: f64,
+    /// Whether the later ratios averaged above one and R2 was set to 1.
+    pub later_clamped: bool,
+}
+
 /// What a set of drops says about R.
 #[derive(Clone, Debug, PartialEq)]
 pub struct RestitutionEstimate {
@@ -24,6 +64,8 @@ pub struct RestitutionEstimate {
     pub r_equal_loss: f64,
     /// R by (23) from the mean Δv2/Δv1.
     pub r_lossless_later: f64,
+    /// R and R2 together, where a drop has a third jump.
+    pub two: Option<TwoCoefficients>,
 }
 
 /// Estimate R from the velocity jumps of one or more drops (each at least
@@ -65,6 +107,7 @@ pub fn estimate(drops: &[Vec<f64>]) -> Result<RestitutionEstimate, ParamError> {
     Ok(RestitutionEstimate {
         r_equal_loss: r_equal_loss(first),
         r_lossless_later: r_lossless_later(first),
+        two: two_coefficients(&mean_ratios),
         ratios,
         mean_ratios,
     })
@@ -95,6 +138,35 @@ mod tests {
             let est = estimate(&[jumps]).unwrap();
             assert!((est.r_lossless_later - r).abs() < 1e-9, "{r}");
         }
+    }
+
+    /// Drops synthesised with a known R and R2 give both back; the two
+    /// limits are (21) and (23).
+    #[test]
+    fn two_coefficients_come_back_from_exact_jumps() {
+        for (r, r2) in [(0.05, 0.3), (0.12, 0.12), (0.2, 0.6), (0.045, 1.0), (0.5, 0.9)] {
+            let (e, e2) = (f64::sqrt(r), f64::sqrt(r2));
+            // v0 = 1, v1 = e, v_k = e2 v_{k-1}; Δv_k = v_{k-1} + v_k.
+            let mut v = vec![1.0, e];
+            for _ in 0..4 {
+                v.push(e2 * v[v.len() - 1]);
+            }
+            let jumps: Vec<f64> = v.windows(2).map(|w| w[0] + w[1]).collect();
+            let two = estimate(&[jumps]).unwrap().two.unwrap();
+            assert!((two.first - r).abs() < 1e-12, "R {r}: {two:?}");
+            assert!((two.later - r2).abs() < 1e-12, "R2 {r2}: {two:?}");
+            assert!(!two.later_clamped);
+        }
+        // R2 = R is (21); R2 = 1 is (23).
+        for rho in [0.2, 0.35, 0.6] {
+            let a = two_coefficients(&[rho, rho]).unwrap();
+            assert!((a.first - r_equal_loss(rho)).abs() < 1e-12);
+            let b = two_coefficients(&[rho, 1.0]).unwrap();
+            assert!((b.first - r_lossless_later(rho)).abs() < 1e-12);
+        }
+        // Later ratios above one: lossless, said so. Two jumps only: unknown.
+        assert!(two_coefficients(&[0.35, 1.3, 1.1]).unwrap().later_clamped);
+        assert_eq!(two_coefficients(&[0.35]), None);
     }
 
     #[test]
