@@ -21,6 +21,9 @@ fn signal_error(what: &str, e: impl std::fmt::Display) -> AppError {
     AppError::Request(format!("{what}: {e}"))
 }
 
+/// Points of a line plot: (x, y).
+pub type Points = Vec<(f64, f64)>;
+
 /// What drops of the clapper say about R and R2 (Section 3.2, Fig 8).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct RestitutionReport {
@@ -104,7 +107,7 @@ impl RestitutionReport {
 
     /// The points of the paper's Fig 8: every ratio (pair index from 1,
     /// ratio), and the mean of each pair.
-    pub fn fig8_points(&self) -> (Vec<(f64, f64)>, Vec<(f64, f64)>) {
+    pub fn fig8_points(&self) -> (Points, Points) {
         let stars = self
             .ratios
             .iter()
