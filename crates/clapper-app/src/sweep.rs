@@ -5,6 +5,7 @@
 use std::ops::Range;
 
 use clapper_core::chart::{sweep_cells, ChartCell, ChartSpec};
+use serde::{Deserialize, Serialize};
 
 use crate::chart::ChartRequest;
 use crate::AppError;
@@ -134,6 +135,134 @@ impl SweepPlan {
         }
         Ok(out)
     }
+}
+
+/// Version of the journal and shard files. 2: the sweep key is the
+/// serialized settings (`SweepPlan::key`). Shards of format 1 (a `Debug`
+/// string as key) still merge: their key cannot be rebuilt, so the shards
+/// are checked against each other and the sweep is rebuilt from their
+/// options.
+pub const FORMAT: u32 = 2;
+
+/// The oldest shard format `clapper merge` still reads.
+pub const OLDEST_FORMAT: u32 = 1;
+
+/// What a sweep file is part of.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SweepMeta {
+    /// Always [`FORMAT`].
+    pub format: u32,
+    /// The chart options (first value of each extra axis).
+    pub request: ChartRequest,
+    /// Every θ0 (deg).
+    pub theta0: Vec<f64>,
+    /// Every R.
+    pub restitution: Vec<f64>,
+    /// Every φ_max (deg).
+    pub phi_max: Vec<f64>,
+    /// `SweepPlan::key` of the sweep.
+    pub key: String,
+    /// Strokes in the whole sweep.
+    pub total: usize,
+    /// This part: shard index from 0, and the number of shards.
+    pub shard: [usize; 2],
+    /// This part's strokes (flat indices).
+    pub range: [usize; 2],
+}
+
+impl SweepMeta {
+    /// The sweep this meta describes, rebuilt and checked against its key.
+    pub fn plan(&self) -> Result<SweepPlan, AppError> {
+        let plan = SweepPlan::new(&self.request, &self.theta0, &self.restitution, &self.phi_max)?;
+        match self.format {
+            FORMAT if plan.key() != self.key => Err(AppError::Request(
+                "the shard's options do not rebuild its sweep (its settings changed since it was written)".into(),
+            )),
+            FORMAT | OLDEST_FORMAT => Ok(plan),
+            f => Err(AppError::Request(format!(
+                "shard format {f} is not one this clapper reads ({OLDEST_FORMAT} to {FORMAT})"
+            ))),
+        }
+    }
+}
+
+/// A finished shard: its description and the text of its CSV.
+pub struct Shard<'a> {
+    /// What it is part of.
+    pub meta: SweepMeta,
+    /// Its CSV (a header and one row per stroke).
+    pub csv: &'a str,
+    /// Its name, for messages.
+    pub name: String,
+}
+
+/// Join the shards of one sweep, given in any order, into the CSV of the
+/// whole sweep (the same bytes as one run) and its plan. Every way the
+/// shards can fail to be one sweep is a one-line error naming the shard.
+pub fn join_shards(mut parts: Vec<Shard<'_>>) -> Result<(SweepPlan, String), AppError> {
+    let bad = |m: String| Err(AppError::Request(m));
+    let Some(first) = parts.first().map(|p| p.meta.clone()) else {
+        return bad("no shards to join".into());
+    };
+    for p in &parts {
+        if !(OLDEST_FORMAT..=FORMAT).contains(&p.meta.format) {
+            return bad(format!(
+                "{} has format {}, this clapper reads {OLDEST_FORMAT} to {FORMAT}",
+                p.name, p.meta.format
+            ));
+        }
+        let m = &p.meta;
+        if m.key != first.key || m.shard[1] != first.shard[1] || m.format != first.format {
+            return bad(format!(
+                "{} is a shard of a different sweep than {} (other options or shard count)",
+                p.name, parts[0].name
+            ));
+        }
+    }
+    parts.sort_by_key(|p| p.meta.shard[0]);
+    let n = first.shard[1];
+    let have: Vec<usize> = parts.iter().map(|p| p.meta.shard[0]).collect();
+    let missing: Vec<String> = (0..n).filter(|i| !have.contains(i)).map(|i| (i + 1).to_string()).collect();
+    if !missing.is_empty() {
+        return bad(format!("shard(s) {} of {n} missing", missing.join(", ")));
+    }
+    if let Some(w) = have.windows(2).find(|w| w[0] == w[1]) {
+        return bad(format!("shard {} of {n} given twice", w[0] + 1));
+    }
+    let plan = first.plan()?;
+    let mut at = 0;
+    let mut header: Option<&str> = None;
+    let mut out = String::new();
+    for p in &parts {
+        let m = &p.meta;
+        if m.range[0] != at {
+            return bad(format!("{} starts at stroke {}, expected {at}", p.name, m.range[0]));
+        }
+        let (head, rows) = p.csv.split_once('\n').unwrap_or((p.csv, ""));
+        match header {
+            None => {
+                header = Some(head);
+                out.push_str(head);
+                out.push('\n');
+            }
+            Some(h) if h != head => return bad(format!("{} has another header than the first shard", p.name)),
+            _ => {}
+        }
+        let count = rows.lines().count();
+        if count != m.range[1] - m.range[0] {
+            return bad(format!(
+                "{} has {count} rows, its shard has {} strokes: unfinished or damaged",
+                p.name,
+                m.range[1] - m.range[0]
+            ));
+        }
+        out.push_str(rows);
+        at = m.range[1];
+    }
+    if at != plan.total() {
+        return bad(format!("the shards end at stroke {at} of {}", plan.total()));
+    }
+    Ok((plan, out))
 }
 
 #[cfg(test)]

@@ -9,14 +9,13 @@ use clapper_core::chart::{sweep, Chart, ChartSpec, Styles};
 use clapper_core::prelude::*;
 use clapper_plot::chart::Marker;
 use clapper_plot::quantity::{self, Quantity};
-use indicatif::{ProgressBar, ProgressStyle};
 
 use clapper_app::chart::{ChartRequest, DEFAULT_PHI_MAX_DEG};
 use clapper_app::simulate::{contact_words, DEFAULT_RESTITUTION, DEFAULT_THETA0_DEG};
 use clapper_app::sweep::SweepPlan;
 
 use crate::simulate::{parse_point, SolverArgs};
-use crate::sweep_file::SweepMeta;
+use clapper_app::sweep::{join_shards, Shard, SweepMeta};
 
 fn parse_grid(s: &str) -> std::result::Result<(usize, usize), String> {
     let num = |v: &str| {
@@ -141,22 +140,10 @@ impl SweepArgs {
     }
 }
 
-/// A progress bar on the terminal (hidden when stderr is not one).
-pub fn progress_bar(total: u64, what: &str) -> ProgressBar {
-    let bar = ProgressBar::new(total);
-    bar.set_style(
-        ProgressStyle::with_template("{msg:>24} [{bar:40}] {pos}/{len} strokes, {per_sec}, eta {eta}")
-            .expect("valid template")
-            .progress_chars("=> "),
-    );
-    bar.set_message(what.to_string());
-    bar
-}
-
 /// Run a sweep with a progress bar on the terminal (none when stderr is
 /// not one). Returns the chart and the wall time (s).
 pub fn run_sweep(spec: &ChartSpec, pool: &rayon::ThreadPool, what: &str) -> Result<(Chart, f64)> {
-    let bar = progress_bar(spec.cell_count() as u64, what);
+    let bar = crate::progress::bar(spec.cell_count() as u64, what);
     let start = Instant::now();
     let chart = pool.install(|| sweep(spec, &|done| bar.set_position(done)))?;
     bar.finish_and_clear();
@@ -223,7 +210,7 @@ impl ChartArgs {
     fn meta(&self, plan: &SweepPlan, shard: (usize, usize)) -> Result<SweepMeta> {
         let range = plan.shard(shard.0, shard.1)?;
         Ok(SweepMeta {
-            format: crate::sweep_file::FORMAT,
+            format: clapper_app::sweep::FORMAT,
             request: self.sweep.request(self.style),
             theta0: self.sweep.theta0.clone(),
             restitution: self.sweep.restitution.clone(),
@@ -469,7 +456,8 @@ pub fn merge(args: MergeArgs) -> Result<()> {
     if let Some(p) = &args.out {
         clapper_plot::format_of(p)?;
     }
-    let mut parts = vec![];
+    let mut metas = vec![];
+    let mut texts = vec![];
     for csv in &args.shards {
         let meta_path = crate::sweep_file::shard_meta_path(csv);
         let text = std::fs::read_to_string(&meta_path).with_context(|| {
@@ -481,76 +469,23 @@ pub fn merge(args: MergeArgs) -> Result<()> {
         })?;
         let meta: SweepMeta = serde_json::from_str(&text)
             .with_context(|| format!("{} is not a shard description", meta_path.display()))?;
-        use crate::sweep_file::{FORMAT, OLDEST_FORMAT};
-        if !(OLDEST_FORMAT..=FORMAT).contains(&meta.format) {
-            bail!(
-                "{} has format {}, this clapper reads {OLDEST_FORMAT} to {FORMAT}",
-                meta_path.display(),
-                meta.format
-            );
-        }
-        parts.push((meta, csv));
+        metas.push(meta);
+        texts.push(std::fs::read_to_string(csv).with_context(|| format!("cannot read {}", csv.display()))?);
     }
-    let first = parts[0].0.clone();
-    for (m, csv) in &parts {
-        if m.key != first.key || m.shard[1] != first.shard[1] || m.format != first.format {
-            bail!(
-                "{} is a shard of a different sweep than {} (other options or shard count)",
-                csv.display(),
-                parts[0].1.display()
-            );
-        }
-    }
-    parts.sort_by_key(|(m, _)| m.shard[0]);
-    let n = first.shard[1];
-    let have: Vec<usize> = parts.iter().map(|(m, _)| m.shard[0]).collect();
-    let missing: Vec<String> = (0..n)
-        .filter(|i| !have.contains(i))
-        .map(|i| (i + 1).to_string())
+    let parts = metas
+        .into_iter()
+        .zip(&texts)
+        .zip(&args.shards)
+        .map(|((meta, csv), path)| Shard {
+            meta,
+            csv,
+            name: path.display().to_string(),
+        })
         .collect();
-    if !missing.is_empty() {
-        bail!("shard(s) {} of {n} missing", missing.join(", "));
-    }
-    if let Some(w) = have.windows(2).find(|w| w[0] == w[1]) {
-        bail!("shard {} of {n} given twice", w[0] + 1);
-    }
-    let plan = first.plan()?;
-    let mut at = 0;
-    let mut body = Vec::new();
-    let mut header: Option<String> = None;
-    for (m, csv) in &parts {
-        if m.range[0] != at {
-            bail!("{} starts at stroke {}, expected {at}", csv.display(), m.range[0]);
-        }
-        let text = std::fs::read_to_string(csv).with_context(|| format!("cannot read {}", csv.display()))?;
-        let (head, rows) = text.split_once('\n').unwrap_or((&text, ""));
-        match &header {
-            None => header = Some(head.to_string()),
-            Some(h) if h != head => bail!("{} has another header than the first shard", csv.display()),
-            _ => {}
-        }
-        let count = rows.lines().count();
-        if count != m.range[1] - m.range[0] {
-            bail!(
-                "{} has {count} rows, its shard has {} strokes: unfinished or damaged",
-                csv.display(),
-                m.range[1] - m.range[0]
-            );
-        }
-        body.extend_from_slice(rows.as_bytes());
-        at = m.range[1];
-    }
-    if at != plan.total() {
-        bail!("the shards end at stroke {at} of {}", plan.total());
-    }
-    let header = header.unwrap_or_default();
+    let (plan, joined) = join_shards(parts)?;
+    let n = args.shards.len();
     crate::files::write_atomically(&args.csv, |tmp| {
-        let mut f = std::fs::File::create(tmp).with_context(|| format!("cannot create {}", args.csv.display()))?;
-        use std::io::Write as _;
-        f.write_all(header.as_bytes())?;
-        f.write_all(b"\n")?;
-        f.write_all(&body)?;
-        Ok(())
+        std::fs::write(tmp, joined.as_bytes()).with_context(|| format!("cannot create {}", args.csv.display()))
     })?;
     println!(
         "merged {n} shards: {} strokes of {} chart(s) into {}",

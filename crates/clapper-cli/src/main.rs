@@ -6,6 +6,7 @@ mod figures;
 mod files;
 mod listening;
 mod measure;
+mod progress;
 mod serve;
 mod simulate;
 mod sound;

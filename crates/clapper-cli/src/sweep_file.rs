@@ -14,57 +14,9 @@ use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
-use clapper_app::chart::ChartRequest;
-use clapper_app::sweep::SweepPlan;
+use clapper_app::sweep::{SweepMeta, SweepPlan};
 use clapper_core::chart::ChartCell;
 use serde::{Deserialize, Serialize};
-
-/// Version of the journal and shard files. 2: the sweep key is the
-/// serialized settings (`SweepPlan::key`). Shards of format 1 (a `Debug`
-/// string as key) still merge: their key cannot be rebuilt, so the shards
-/// are checked against each other and the sweep is rebuilt from their
-/// options.
-pub const FORMAT: u32 = 2;
-
-/// The oldest shard format `clapper merge` still reads.
-pub const OLDEST_FORMAT: u32 = 1;
-
-/// What a sweep file is part of.
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-pub struct SweepMeta {
-    /// Always [`FORMAT`].
-    pub format: u32,
-    /// The chart options (first value of each extra axis).
-    pub request: ChartRequest,
-    /// Every θ0 (deg).
-    pub theta0: Vec<f64>,
-    /// Every R.
-    pub restitution: Vec<f64>,
-    /// Every φ_max (deg).
-    pub phi_max: Vec<f64>,
-    /// `SweepPlan::key` of the sweep.
-    pub key: String,
-    /// Strokes in the whole sweep.
-    pub total: usize,
-    /// This part: shard index from 0, and the number of shards.
-    pub shard: [usize; 2],
-    /// This part's strokes (flat indices).
-    pub range: [usize; 2],
-}
-
-impl SweepMeta {
-    /// The sweep this meta describes, rebuilt and checked against its key.
-    pub fn plan(&self) -> Result<SweepPlan> {
-        let plan = SweepPlan::new(&self.request, &self.theta0, &self.restitution, &self.phi_max)?;
-        match self.format {
-            FORMAT if plan.key() != self.key => {
-                bail!("the shard's options do not rebuild its sweep (its settings changed since it was written)")
-            }
-            FORMAT | OLDEST_FORMAT => Ok(plan),
-            f => bail!("shard format {f} is not one this clapper reads ({OLDEST_FORMAT} to {FORMAT})"),
-        }
-    }
-}
 
 #[derive(Serialize, Deserialize)]
 struct Journal {
@@ -208,7 +160,7 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
         Err(e) => return Err(e).with_context(|| format!("cannot read {}", journal_path.display())),
     };
 
-    let bar = crate::chart::progress_bar((range.end - range.start) as u64, "sweep");
+    let bar = crate::progress::bar((range.end - range.start) as u64, "sweep");
     bar.set_position((done - range.start) as u64);
     let mut out = OpenOptions::new()
         .append(true)
