@@ -7,14 +7,8 @@ use serde::{Deserialize, Serialize};
 
 use crate::AppError;
 
-/// Default grid: the paper's 20 x 20.
-pub const DEFAULT_GRID: [usize; 2] = [20, 20];
-/// Default range of r/L_c: the paper's charts.
-pub const DEFAULT_R_RANGE: [f64; 2] = [-0.3, 0.7];
-/// Default range of L_b/L_c: the paper's charts.
-pub const DEFAULT_LB_RANGE: [f64; 2] = [0.5, 2.5];
-/// Default contact angle of every chart bell (deg): the paper's 26 deg.
-pub const DEFAULT_PHI_MAX_DEG: f64 = 26.0;
+pub use clapper_core::bell::CHART_PHI_MAX_DEG as DEFAULT_PHI_MAX_DEG;
+pub use clapper_core::chart::{DEFAULT_GRID, DEFAULT_LB_RANGE, DEFAULT_R_RANGE};
 
 fn grid() -> [usize; 2] {
     DEFAULT_GRID

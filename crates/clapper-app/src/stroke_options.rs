@@ -13,11 +13,7 @@ use clapper_core::stroke::DEFAULT_STIFFNESS;
 
 use crate::AppError;
 
-/// Default starting angle θ0 (deg): a bell "fully up", as the paper's charts.
-pub const DEFAULT_THETA0_DEG: f64 = 171.0;
-/// Default energy coefficient of restitution R: the paper's middle value
-/// for a clapper on bronze (Section 3.2 measured 0.1 to 0.35).
-pub const DEFAULT_RESTITUTION: f64 = 0.2;
+pub use clapper_core::stroke::{DEFAULT_RESTITUTION, DEFAULT_THETA0_DEG};
 
 pub(crate) fn default_theta0() -> f64 {
     DEFAULT_THETA0_DEG

@@ -222,7 +222,10 @@ pub fn join_shards(mut parts: Vec<Shard<'_>>) -> Result<(SweepPlan, String), App
     parts.sort_by_key(|p| p.meta.shard[0]);
     let n = first.shard[1];
     let have: Vec<usize> = parts.iter().map(|p| p.meta.shard[0]).collect();
-    let missing: Vec<String> = (0..n).filter(|i| !have.contains(i)).map(|i| (i + 1).to_string()).collect();
+    let missing: Vec<String> = (0..n)
+        .filter(|i| !have.contains(i))
+        .map(|i| (i + 1).to_string())
+        .collect();
     if !missing.is_empty() {
         return bad(format!("shard(s) {} of {n} missing", missing.join(", ")));
     }

@@ -10,7 +10,9 @@ use clapper_core::prelude::*;
 use clapper_plot::chart::Marker;
 use clapper_plot::quantity::{self, Quantity};
 
-use clapper_app::chart::{ChartRequest, DEFAULT_PHI_MAX_DEG};
+use std::sync::LazyLock;
+
+use clapper_app::chart::{ChartRequest, DEFAULT_GRID, DEFAULT_LB_RANGE, DEFAULT_PHI_MAX_DEG, DEFAULT_R_RANGE};
 use clapper_app::simulate::{contact_words, DEFAULT_RESTITUTION, DEFAULT_THETA0_DEG};
 use clapper_app::sweep::SweepPlan;
 
@@ -58,17 +60,22 @@ impl QuantityArg {
     }
 }
 
+/// The chart's defaults (clapper-core's) as option text, "A,B" or "N".
+static R_RANGE_TEXT: LazyLock<String> = LazyLock::new(|| format!("{},{}", DEFAULT_R_RANGE[0], DEFAULT_R_RANGE[1]));
+static LB_RANGE_TEXT: LazyLock<String> = LazyLock::new(|| format!("{},{}", DEFAULT_LB_RANGE[0], DEFAULT_LB_RANGE[1]));
+static GRID_TEXT: LazyLock<String> = LazyLock::new(|| format!("{}x{}", DEFAULT_GRID[0], DEFAULT_GRID[1]));
+
 /// Everything that shapes a chart, shared by `chart` and `figures`.
 #[derive(Args, Debug, Clone)]
 pub struct SweepArgs {
     /// Grid: N (N x N) or NXxNY (points along r/L_c x along L_b/L_c).
-    #[arg(long, value_name = "N|NXxNY", value_parser = parse_grid, default_value = "20")]
+    #[arg(long, value_name = "N|NXxNY", value_parser = parse_grid, default_value = GRID_TEXT.as_str())]
     pub grid: (usize, usize),
     /// Range of r/L_c swept.
-    #[arg(long, value_name = "A,B", value_parser = parse_point, default_value = "-0.3,0.7", allow_hyphen_values = true)]
+    #[arg(long, value_name = "A,B", value_parser = parse_point, default_value = R_RANGE_TEXT.as_str(), allow_hyphen_values = true)]
     pub r_range: (f64, f64),
     /// Range of L_b/L_c swept.
-    #[arg(long, value_name = "A,B", value_parser = parse_point, default_value = "0.5,2.5", allow_hyphen_values = true)]
+    #[arg(long, value_name = "A,B", value_parser = parse_point, default_value = LB_RANGE_TEXT.as_str(), allow_hyphen_values = true)]
     pub lb_range: (f64, f64),
     /// Starting angle of the bell (deg). `chart` takes a list (90,120,171)
     /// to sweep it as an extra axis.

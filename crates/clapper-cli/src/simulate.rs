@@ -205,7 +205,11 @@ pub fn run(args: SimulateArgs) -> Result<()> {
 
 pub fn liftoff(args: LiftoffArgs) -> Result<()> {
     match (args.lb_over_lc, args.source.given()) {
-        (Some(x), false) => liftoff_formula(x, args.phi_max.unwrap_or(26.0), args.json),
+        (Some(x), false) => liftoff_formula(
+            x,
+            args.phi_max.unwrap_or(clapper_core::bell::CHART_PHI_MAX_DEG),
+            args.json,
+        ),
         (None, true) => liftoff_of_bell(&args),
         _ => anyhow::bail!(
             "give either --lb-over-lc (r = 0, the paper's formula) or a bell (--preset, --bell or --chart-point)"

@@ -277,6 +277,10 @@ pub struct ChartConstruction {
     pub phi_max: f64,
 }
 
+/// The contact angle φ_max of every chart bell (deg): the paper's 26 deg,
+/// the lab bell's.
+pub const CHART_PHI_MAX_DEG: f64 = 26.0;
+
 impl Default for ChartConstruction {
     fn default() -> Self {
         Self {
@@ -285,7 +289,7 @@ impl Default for ChartConstruction {
             a: 0.24,
             tb: 1.8,
             clapper_inertia: 0.20,
-            phi_max: 26f64.to_radians(),
+            phi_max: CHART_PHI_MAX_DEG.to_radians(),
         }
     }
 }

@@ -25,12 +25,19 @@ pub struct Domain {
     pub y: (f64, f64),
 }
 
+/// The paper's (and King et al.'s) range of r/L_c: -0.3 to 0.7.
+pub const DEFAULT_R_RANGE: [f64; 2] = [-0.3, 0.7];
+/// The paper's range of L_b/L_c: 0.5 to 2.5.
+pub const DEFAULT_LB_RANGE: [f64; 2] = [0.5, 2.5];
+/// The paper's grid: 20 x 20.
+pub const DEFAULT_GRID: [usize; 2] = [20, 20];
+
 impl Default for Domain {
-    /// The paper's (and King et al.'s) range: r/L_c -0.3..0.7, L_b/L_c 0.5..2.5.
+    /// [`DEFAULT_R_RANGE`] by [`DEFAULT_LB_RANGE`].
     fn default() -> Self {
         Self {
-            x: (-0.3, 0.7),
-            y: (0.5, 2.5),
+            x: (DEFAULT_R_RANGE[0], DEFAULT_R_RANGE[1]),
+            y: (DEFAULT_LB_RANGE[0], DEFAULT_LB_RANGE[1]),
         }
     }
 }
@@ -83,8 +90,8 @@ impl Default for ChartSpec {
     fn default() -> Self {
         Self {
             domain: Domain::default(),
-            nx: 20,
-            ny: 20,
+            nx: DEFAULT_GRID[0],
+            ny: DEFAULT_GRID[1],
             construction: ChartConstruction::default(),
             config: SimConfig::default(),
             styles: Styles::Both,

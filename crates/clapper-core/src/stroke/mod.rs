@@ -142,11 +142,18 @@ pub struct SimConfig {
     pub max_stroke_periods: f64,
 }
 
+/// The default starting angle θ0 (deg): a bell "fully up", as the
+/// paper's charts: close to the balance, far enough that the bell falls.
+pub const DEFAULT_THETA0_DEG: f64 = 171.0;
+/// The default energy coefficient of restitution R: the paper's value for
+/// its first charts (Section 3.2 measured 0.05 to 0.12 by (21) and (23)).
+pub const DEFAULT_RESTITUTION: f64 = 0.2;
+
 impl Default for SimConfig {
     fn default() -> Self {
         Self {
-            theta0: 171f64.to_radians(),
-            restitution: 0.2,
+            theta0: DEFAULT_THETA0_DEG.to_radians(),
+            restitution: DEFAULT_RESTITUTION,
             restitution_later: None,
             contact: ContactModel::Impact,
             stiffness: DEFAULT_STIFFNESS,
