@@ -23,6 +23,7 @@ pub mod diagnosis;
 pub mod listening;
 pub mod measure;
 pub mod simulate;
+pub mod sound;
 pub mod stroke_options;
 pub mod sweep;
 

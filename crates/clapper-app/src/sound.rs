@@ -1,0 +1,254 @@
+//! The sound of a bell rung full circle, from the simulation: every impact
+//! gives the bell an impulse, its modes ring, and a resting clapper damps
+//! them (`clapper synth`). The stroke-to-impulse physics lives here; the
+//! caller writes the signal.
+
+use std::fmt::Write as _;
+
+use clapper_core::prelude::*;
+use clapper_core::stroke::Sample;
+use clapper_io::LoadedBell;
+use clapper_signal::synth::{lab_partials, synthesize, typical_partials, Strike, SynthMode, SynthSpec};
+use clapper_signal::Signal;
+use serde::{Deserialize, Serialize};
+
+use crate::simulate::SimulateRequest;
+use crate::AppError;
+
+/// Lead-in before the first sound (s).
+const LEAD_S: f64 = 0.2;
+
+/// Which partials ring.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "kebab-case")]
+#[cfg_attr(feature = "clap", derive(clap::ValueEnum))]
+pub enum Partials {
+    /// The lab bell's three measured partials (624, 981, 1310 Hz).
+    #[default]
+    Lab,
+    /// A typical tuned bell (hum to octave nominal) scaled to the nominal.
+    Typical,
+}
+
+/// What to synthesise besides the simulation.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SynthOptions {
+    /// Sample rate (Hz).
+    pub rate: f64,
+    /// The handstroke gap: an extra pause before each handstroke after the
+    /// first (s). 0.25 s is about one blow in a ring of eight.
+    pub gap: f64,
+    /// Which partials ring.
+    pub partials: Partials,
+    /// Nominal of the typical partials (Hz).
+    pub nominal: f64,
+    /// Contact pulse length (ms); the paper measured 0.2 to 0.5 ms.
+    pub pulse_ms: f64,
+    /// How many times faster the modes decay while the clapper rests.
+    pub rest_damping: f64,
+    /// The bell's acceleration (an accelerometer) instead of its velocity.
+    pub accelerometer: bool,
+    /// A single chimed strike (no bounces, no resting clapper).
+    pub chime: bool,
+    /// Sound after the last stroke (s).
+    pub tail: f64,
+}
+
+/// One impulse, as reported.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct StrikeReport {
+    /// m b |Δφ'| (N s).
+    pub impulse_n_s: f64,
+    /// When it is heard (s).
+    pub t_s: f64,
+}
+
+/// One mode, as reported.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct ModeReport {
+    /// Split of the doublet (Hz).
+    pub doublet_split_hz: f64,
+    /// Frequency (Hz).
+    pub freq_hz: f64,
+    /// Q factor.
+    pub q: f64,
+}
+
+/// What `clapper synth --json` prints (keys alphabetical, as always).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SynthReport {
+    /// The bell's name.
+    pub bell: String,
+    /// Whether it is one chimed strike.
+    pub chime: bool,
+    /// Length of the sound (s).
+    pub duration_s: f64,
+    /// When the first strike is heard (s).
+    pub first_strike_s: Option<f64>,
+    /// The modes that ring.
+    pub modes: Vec<ModeReport>,
+    /// When the clapper comes to rest after each stroke's first strike (s).
+    pub rest_after_first_strike_s: Vec<f64>,
+    /// Intervals with the clapper resting on the bell (s).
+    pub rests: Vec<[f64; 2]>,
+    /// Sample rate (Hz).
+    pub sample_rate_hz: f64,
+    /// Every impulse.
+    pub strikes: Vec<StrikeReport>,
+}
+
+/// A synthesised sound and what it holds.
+pub struct Synthesis {
+    /// The sound.
+    pub signal: Signal,
+    /// The report.
+    pub report: SynthReport,
+    /// Strokes simulated.
+    pub strokes: usize,
+}
+
+impl Synthesis {
+    /// The readable summary, for the output file `out`.
+    pub fn text(&self, out: &str) -> String {
+        let r = &self.report;
+        let mut o = format!(
+            "{}: {} of {}, {} strike(s) over {:.2} s at {} Hz, written to {out}\n",
+            if r.chime { "chimed strike" } else { "rung full circle" },
+            if r.chime { 1 } else { self.strokes },
+            r.bell,
+            r.strikes.len(),
+            r.duration_s,
+            r.sample_rate_hz,
+        );
+        for (k, t) in r.rest_after_first_strike_s.iter().enumerate() {
+            let _ = writeln!(o, "  stroke {}: clapper at rest from {t:.3} s", k + 1);
+        }
+        o
+    }
+}
+
+/// Simulate `req` (with the bell file `file` if the caller read one) and
+/// synthesise its sound.
+pub fn synth(req: &SimulateRequest, file: Option<LoadedBell>, opts: &SynthOptions) -> Result<Synthesis, AppError> {
+    let loaded = req.bell(file)?;
+    let cfg = req.config()?;
+    let (name, bell) = (loaded.name, loaded.bell);
+    for (flag, v) in [
+        ("--gap", opts.gap),
+        ("--pulse-ms", opts.pulse_ms),
+        ("--tail", opts.tail),
+    ] {
+        if !(v.is_finite() && (0.0..=600.0).contains(&v)) {
+            return Err(AppError::Request(format!("{flag} {v} must be between 0 and 600")));
+        }
+    }
+    let mut rec = TraceRecorder::new(1e-3);
+    let ringing = ring(&bell, &cfg, req.style, req.protocol, req.strokes, &mut rec)?;
+    // Stroke k (from 0) is heard later by the handstroke gaps before it.
+    let offset = |k: usize| LEAD_S + opts.gap * (k / 2) as f64;
+    let stroke_of = |t: f64| {
+        ringing
+            .strokes
+            .iter()
+            .rposition(|s| s.start.t <= t + 1e-12)
+            .unwrap_or(0)
+    };
+    let heard = |t: f64| t + offset(stroke_of(t));
+    let pulse = opts.pulse_ms * 1e-3;
+    // The impulse at the strike point: the clapper's momentum change m b |Δφ'|.
+    let strikes: Vec<Strike> = ringing
+        .strokes
+        .iter()
+        .enumerate()
+        .flat_map(|(k, s)| s.impacts.iter().map(move |i| (k, *i)))
+        .map(|(k, i)| Strike {
+            t: i.t + offset(k),
+            impulse: bell.clapper_mass * bell.b * (i.phi_dot_before - i.phi_dot_after.unwrap_or(0.0)).abs(),
+            pulse,
+        })
+        .collect();
+    let first = *strikes
+        .first()
+        .ok_or_else(|| AppError::Request("the clapper never struck the bell: nothing to hear".into()))?;
+    let end = ringing.strokes.last().map_or(0.0, |s| heard(s.end.t));
+    let duration = end + opts.tail;
+    let rests = rests(&rec.samples, heard, duration);
+    let modes: Vec<SynthMode> = match opts.partials {
+        Partials::Lab => lab_partials(),
+        Partials::Typical => typical_partials(opts.nominal, bell.bell_mass),
+    };
+    let (strikes, rests, duration) = if opts.chime {
+        (vec![Strike { t: LEAD_S, ..first }], vec![], LEAD_S + 3.0 + opts.tail)
+    } else {
+        (strikes, rests, duration)
+    };
+    let spec = SynthSpec {
+        rate: opts.rate,
+        duration,
+        modes,
+        strikes,
+        rests,
+        rest_damping: opts.rest_damping,
+        acceleration: opts.accelerometer,
+    };
+    let signal = synthesize(&spec).map_err(|e| AppError::Sound(e.to_string()))?;
+    let rest_after: Vec<f64> = ringing
+        .strokes
+        .iter()
+        .enumerate()
+        .filter_map(|(k, s)| s.rest_after_strike.map(|m| m.t + offset(k)))
+        .collect();
+    let report = SynthReport {
+        bell: name,
+        chime: opts.chime,
+        duration_s: spec.duration,
+        first_strike_s: spec.strikes.first().map(|s| s.t),
+        modes: spec
+            .modes
+            .iter()
+            .map(|m| ModeReport {
+                doublet_split_hz: m.doublet_split_hz,
+                freq_hz: m.freq_hz,
+                q: m.q,
+            })
+            .collect(),
+        rest_after_first_strike_s: if opts.chime { vec![] } else { rest_after },
+        rests: spec.rests.iter().map(|r| [r.0, r.1]).collect(),
+        sample_rate_hz: opts.rate,
+        strikes: spec
+            .strikes
+            .iter()
+            .map(|s| StrikeReport {
+                impulse_n_s: s.impulse,
+                t_s: s.t,
+            })
+            .collect(),
+    };
+    Ok(Synthesis {
+        signal,
+        report,
+        strokes: ringing.strokes.len(),
+    })
+}
+
+/// Runs of trace samples with a holding force (the clapper on the bell), as
+/// heard (`heard` maps simulated time to heard time), closed at `end`.
+fn rests(samples: &[Sample], heard: impl Fn(f64) -> f64, end: f64) -> Vec<(f64, f64)> {
+    let mut rests: Vec<(f64, f64)> = vec![];
+    let mut open: Option<f64> = None;
+    for smp in samples {
+        let t = heard(smp.t);
+        match (smp.contact_force != 0.0, open) {
+            (true, None) => open = Some(t),
+            (false, Some(a)) => {
+                rests.push((a, t));
+                open = None;
+            }
+            _ => {}
+        }
+    }
+    if let Some(a) = open {
+        rests.push((a, end));
+    }
+    rests
+}
