@@ -5,6 +5,7 @@ use clapper_core::chart::{ChartSpec, Domain, Styles};
 use clapper_core::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use crate::stroke_options::contact_words;
 use crate::AppError;
 
 pub use clapper_core::bell::CHART_PHI_MAX_DEG as DEFAULT_PHI_MAX_DEG;
@@ -80,6 +81,19 @@ impl ChartRequest {
         spec.validate()?;
         Ok(spec)
     }
+}
+
+/// Short words for a chart's settings, for titles.
+pub fn settings_words(spec: &ChartSpec) -> String {
+    format!(
+        "theta0 = {:.0} deg, R = {}, phi_max = {:.0} deg, {} contact, {} x {}",
+        spec.config.theta0.to_degrees(),
+        spec.config.restitution,
+        spec.construction.phi_max.to_degrees(),
+        contact_words(&spec.config),
+        spec.nx,
+        spec.ny
+    )
 }
 
 #[cfg(test)]

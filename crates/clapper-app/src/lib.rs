@@ -20,6 +20,7 @@
 
 pub mod chart;
 pub mod diagnosis;
+pub mod figures;
 pub mod listening;
 pub mod measure;
 pub mod simulate;

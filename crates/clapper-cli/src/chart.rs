@@ -12,8 +12,10 @@ use clapper_plot::quantity::{self, Quantity};
 
 use std::sync::LazyLock;
 
-use clapper_app::chart::{ChartRequest, DEFAULT_GRID, DEFAULT_LB_RANGE, DEFAULT_PHI_MAX_DEG, DEFAULT_R_RANGE};
-use clapper_app::simulate::{contact_words, DEFAULT_RESTITUTION, DEFAULT_THETA0_DEG};
+use clapper_app::chart::{
+    settings_words, ChartRequest, DEFAULT_GRID, DEFAULT_LB_RANGE, DEFAULT_PHI_MAX_DEG, DEFAULT_R_RANGE,
+};
+use clapper_app::simulate::{DEFAULT_RESTITUTION, DEFAULT_THETA0_DEG};
 use clapper_app::sweep::SweepPlan;
 
 use crate::simulate::{parse_point, SolverArgs};
@@ -157,19 +159,6 @@ pub fn run_sweep(spec: &ChartSpec, pool: &rayon::ThreadPool, what: &str) -> Resu
     Ok((chart, start.elapsed().as_secs_f64()))
 }
 
-/// Short words for a chart's settings, for titles.
-pub fn settings_words(spec: &ChartSpec) -> String {
-    format!(
-        "theta0 = {:.0} deg, R = {}, phi_max = {:.0} deg, {} contact, {} x {}",
-        spec.config.theta0.to_degrees(),
-        spec.config.restitution,
-        spec.construction.phi_max.to_degrees(),
-        contact_words(&spec.config),
-        spec.nx,
-        spec.ny
-    )
-}
-
 #[derive(Args, Debug)]
 pub struct ChartArgs {
     #[command(flatten)]
@@ -228,15 +217,6 @@ impl ChartArgs {
             range: [range.start, range.end],
         })
     }
-}
-
-/// Write a chart CSV atomically.
-pub fn write_csv(path: &Path, chart: &Chart) -> Result<()> {
-    crate::files::write_atomically(path, |tmp| {
-        let f = std::fs::File::create(tmp).with_context(|| format!("cannot create {}", path.display()))?;
-        clapper_io::write_chart_csv(std::io::BufWriter::new(f), chart)
-            .with_context(|| format!("cannot write {}", path.display()))
-    })
 }
 
 /// Draw a figure atomically.

@@ -1,18 +1,15 @@
 //! `clapper figures`: the paper's figures that the model computes, as SVG
-//! and PNG with their CSV data, and an index page.
+//! and PNG with their CSV data, and an index page (built by
+//! `clapper_app::figures`; drawn and written here).
 
-use std::fmt::Write as _;
-use std::path::{Path, PathBuf};
+use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use clapper_core::chart::{Chart, ChartSpec, Domain, Styles};
-use clapper_core::prelude::*;
-use clapper_plot::chart::{Marker, Series};
-use clapper_plot::quantity::{self, Quantity};
-use clapper_plot::RGBColor;
+use clapper_app::figures::{figures, Drawing};
+use clapper_core::chart::Styles;
 
-use crate::chart::{draw, run_sweep, settings_words, write_csv, SweepArgs};
+use crate::chart::{draw, run_sweep, SweepArgs};
 
 #[derive(Args, Debug)]
 pub struct FiguresArgs {
@@ -24,455 +21,50 @@ pub struct FiguresArgs {
     pub sweep: SweepArgs,
 }
 
-/// One entry of the index.
-struct Entry {
-    name: String,
-    title: String,
-    says: String,
-    data: Vec<String>,
-}
-
-fn fig9_bells() -> Vec<(&'static str, &'static str, Bell, Style)> {
-    let c = ChartConstruction::default();
-    vec![
-        ("fig09a", "lab bell ringing right", Bell::lab(), Style::Right),
-        ("fig09b", "lab bell ringing wrong", Bell::lab(), Style::Wrong),
-        (
-            "fig09c",
-            "bell at (0.458, 0.732) ringing right",
-            c.bell(0.458, 0.732).expect("valid chart point"),
-            Style::Right,
-        ),
-        (
-            "fig09d",
-            "bell at (-0.005, 1.363) ringing right",
-            c.bell(-0.005, 1.363).expect("valid chart point"),
-            Style::Right,
-        ),
-    ]
-}
-
-fn markers() -> Vec<Marker> {
-    let lab = Bell::lab();
-    vec![
-        Marker {
-            x: lab.r_over_lc(),
-            y: lab.lb_over_lc(),
-            label: "lab, 9(a,b)".into(),
-        },
-        Marker {
-            x: 0.458,
-            y: 0.732,
-            label: "9(c)".into(),
-        },
-        Marker {
-            x: -0.005,
-            y: 1.363,
-            label: "9(d)".into(),
-        },
-    ]
-}
-
-/// Points where `style` is sustained, and their mean L_b/L_c.
-fn region_stats(chart: &Chart, style: Style) -> (usize, f64) {
-    let ys = chart.spec.ys();
-    let mut n = 0;
-    let mut sum = 0.0;
-    for (j, y) in ys.iter().enumerate() {
-        for i in 0..chart.spec.nx {
-            if chart.cell(i, j, style).and_then(|c| c.sustained()).is_some() {
-                n += 1;
-                sum += y;
-            }
-        }
-    }
-    (n, if n > 0 { sum / n as f64 } else { f64::NAN })
-}
-
-fn both_ways(out: &Path, name: &str, fig: &clapper_plot::ChartFigure) -> Result<()> {
-    draw(&out.join(format!("{name}.svg")), fig)?;
-    draw(&out.join(format!("{name}.png")), fig)
-}
-
-fn chart_panels(chart: &Chart, q: Quantity) -> Vec<clapper_plot::Panel> {
-    chart
-        .spec
-        .styles
-        .list()
-        .iter()
-        .zip(["(a) ringing right", "(b) ringing wrong"])
-        .filter_map(|(s, t)| {
-            let title = if chart.spec.styles == Styles::Both { t } else { "" };
-            quantity::panel(chart, *s, q, title)
-        })
-        .collect()
-}
-
 pub fn run(args: FiguresArgs) -> Result<()> {
     let out = &args.out;
     std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
     let pool = args.sweep.pool()?;
     let base = args.sweep.spec(Styles::Both)?;
-    let mut entries: Vec<Entry> = vec![];
-
-    // Fig 7: lift-off at r = 0 by (15), (16), with the simulated r = 0 column.
-    let column = ChartSpec {
-        domain: Domain {
-            x: (0.0, 0.0),
-            y: base.domain.y,
-        },
-        nx: 1,
-        ..base
-    };
-    let (col, _) = run_sweep(&column, &pool, "fig 7 (r = 0 column)")?;
-    let phi = base.construction.phi_max;
-    let (y0, y1) = base.domain.y;
-    let formula: Vec<(f64, LiftoffAngles)> = (0..=200)
-        .map(|k| {
-            let y = y0 + (y1 - y0) * k as f64 / 200.0;
-            (y, liftoff_angles(y, phi).expect("positive L_b/L_c"))
-        })
-        .collect();
-    let sim = |style: Style| -> Vec<(f64, f64)> {
-        col.cells
-            .iter()
-            .filter(|c| c.style == style)
-            .filter_map(|c| Some((c.y, c.result.as_ref().ok()?.liftoff_theta?.to_degrees())))
-            .collect()
-    };
-    let (sim_r, sim_w) = (sim(Style::Right), sim(Style::Wrong));
-    let worst = sim_r
-        .iter()
-        .map(|&(y, t)| (t - liftoff_angles(y, phi).expect("valid").right.to_degrees()).abs())
-        .chain(
-            sim_w
-                .iter()
-                .map(|&(y, t)| (t - liftoff_angles(y, phi).expect("valid").wrong.to_degrees()).abs()),
-        )
-        .fold(0.0f64, f64::max);
-    let blue = RGBColor(31, 90, 180);
-    let orange = RGBColor(220, 100, 20);
-    let series = [
-        Series {
-            label: "ringing right, formula (15)".into(),
-            points: formula.iter().map(|(y, a)| (*y, a.right.to_degrees())).collect(),
-            markers: false,
-            colour: blue,
-        },
-        Series {
-            label: "ringing wrong, formula (16)".into(),
-            points: formula.iter().map(|(y, a)| (*y, a.wrong.to_degrees())).collect(),
-            markers: false,
-            colour: orange,
-        },
-        Series {
-            label: "ringing right, simulated".into(),
-            points: sim_r.clone(),
-            markers: true,
-            colour: blue,
-        },
-        Series {
-            label: "ringing wrong, simulated".into(),
-            points: sim_w.clone(),
-            markers: true,
-            colour: orange,
-        },
-    ];
-    let title = format!("Fig 7: lift-off angle for r = 0, phi_max = {:.0} deg", phi.to_degrees());
-    for ext in ["svg", "png"] {
-        let p = out.join(format!("fig07.{ext}"));
-        crate::files::write_atomically(&p, |tmp| {
-            Ok(clapper_plot::line_plot(
-                tmp,
-                &title,
-                "L_b / L_c",
-                "lift-off angle theta (deg)",
-                &series,
-            )?)
-        })?;
-    }
-    let mut csv =
-        String::from("lb_over_lc,formula_right_deg,formula_wrong_deg,simulated_right_deg,simulated_wrong_deg\n");
-    for c in col.cells.iter().filter(|c| c.style == Style::Right) {
-        let a = liftoff_angles(c.y, phi).expect("valid");
-        let s = |st: Style| {
-            col.cells
-                .iter()
-                .find(|d| d.style == st && d.y == c.y)
-                .and_then(|d| d.result.as_ref().ok()?.liftoff_theta)
-                .map(|t| format!("{:.6}", t.to_degrees()))
-                .unwrap_or_default()
-        };
-        let _ = writeln!(
-            csv,
-            "{:.6},{:.6},{:.6},{},{}",
-            c.y,
-            a.right.to_degrees(),
-            a.wrong.to_degrees(),
-            s(Style::Right),
-            s(Style::Wrong)
-        );
-    }
-    crate::files::write_bytes(&out.join("fig07.csv"), csv)?;
-    entries.push(Entry {
-        name: "fig07".into(),
-        title: "Fig 7: lift-off angle at r = 0".into(),
-        says: format!(
-            "Lift-off comes later (higher angle) ringing right and earlier ringing wrong as L_b/L_c grows; \
-             the {} simulated points lie on the curves of (15) and (16) to within {worst:.1e} deg.",
-            sim_r.len() + sim_w.len()
-        ),
-        data: vec!["fig07.csv".into()],
-    });
-
-    // Fig 9: time histories.
-    for (name, what, bell, style) in fig9_bells() {
-        let cfg = SimConfig {
-            theta0: base.config.theta0,
-            restitution: base.config.restitution,
-            contact: base.config.contact,
-            ..SimConfig::default()
-        };
-        let mut rec = TraceRecorder::new(5e-4);
-        let r = ring(&bell, &cfg, style, Protocol::Restart, 2, &mut rec)?;
-        let s = &r.strokes[0];
-        let title = format!(
-            "Fig {}: {what} (r/L_c = {:.3}, L_b/L_c = {:.3})",
-            &name[3..],
-            bell.r_over_lc(),
-            bell.lb_over_lc()
-        );
-        let plot = clapper_plot::StrokePlot {
-            title: &title,
-            phi_max_deg: bell.phi_max.to_degrees(),
-            stroke_starts: r.strokes.iter().skip(1).map(|s| s.start.t).collect(),
-        };
+    let set = figures(&base, &mut |spec, what| {
+        run_sweep(spec, &pool, what).map_err(|e| clapper_app::AppError::Request(format!("{e:#}")))
+    })?;
+    for (name, drawing) in &set.drawings {
         for ext in ["svg", "png"] {
-            let p = out.join(format!("{name}.{ext}"));
-            crate::files::write_atomically(&p, |tmp| Ok(clapper_plot::stroke_plot(tmp, &rec.samples, &plot)?))?;
+            let path = out.join(format!("{name}.{ext}"));
+            match drawing {
+                Drawing::Chart(fig) => draw(&path, fig)?,
+                Drawing::Stroke {
+                    title,
+                    samples,
+                    phi_max_deg,
+                    stroke_starts,
+                } => {
+                    let plot = clapper_plot::StrokePlot {
+                        title,
+                        phi_max_deg: *phi_max_deg,
+                        stroke_starts: stroke_starts.clone(),
+                    };
+                    crate::files::write_atomically(&path, |tmp| Ok(clapper_plot::stroke_plot(tmp, samples, &plot)?))?
+                }
+                Drawing::Lines {
+                    title,
+                    x_label,
+                    y_label,
+                    series,
+                } => crate::files::write_atomically(&path, |tmp| {
+                    Ok(clapper_plot::line_plot(tmp, title, x_label, y_label, series)?)
+                })?,
+            }
         }
-        crate::files::write_atomically(&out.join(format!("{name}.csv")), |tmp| {
-            let f = std::fs::File::create(tmp)?;
-            Ok(clapper_io::write_trace_csv(std::io::BufWriter::new(f), &rec.samples)?)
-        })?;
-        entries.push(Entry {
-            name: name.into(),
-            title: title.clone(),
-            says: match s.first_strike() {
-                Some(fs) => format!(
-                    "{}: lift-off at {:.1} deg, first strike at {:.1} deg with phi' = {:.2} rad/s, {} impacts, \
-                     style {}.",
-                    what,
-                    s.liftoff_angle().map_or(f64::NAN, f64::to_degrees),
-                    fs.theta.to_degrees(),
-                    fs.phi_dot_before,
-                    s.impacts.len(),
-                    if r.sustained() { "sustained" } else { "not sustained" }
-                ),
-                None => format!("{what}: no strike."),
-            },
-            data: vec![format!("{name}.csv")],
-        });
     }
-
-    // Figs 10, 11, 12, 14: one sweep of both styles at the base settings.
-    let (chart, secs) = run_sweep(&base, &pool, "figs 10-12, 14")?;
-    write_csv(&out.join("chart-base.csv"), &chart)?;
-    let (nr, yr) = region_stats(&chart, Style::Right);
-    let (nw, yw) = region_stats(&chart, Style::Wrong);
-    let words = settings_words(&base);
-    let lab = Bell::lab();
-    let lab_cell = |c: &Chart, s: Style| {
-        let xs = c.spec.xs();
-        let ys = c.spec.ys();
-        let near = |v: &[f64], t: f64| {
-            (0..v.len())
-                .min_by(|&a, &b| (v[a] - t).abs().total_cmp(&(v[b] - t).abs()))
-                .unwrap_or(0)
-        };
-        c.cell(near(&xs, lab.r_over_lc()), near(&ys, lab.lb_over_lc()), s)
-            .and_then(|c| c.sustained())
-            .is_some()
-    };
-    for (name, q, title, says) in [
-        (
-            "fig10",
-            Quantity::StrikeAngle,
-            "Fig 10: bell angle at the first strike",
-            format!(
-                "Right is sustained at {nr} points (mean L_b/L_c {yr:.2}), wrong at {nw} (mean {yw:.2}): right \
-                 in the lower part of the chart, wrong in the upper; near the curved left edge of the right \
-                 region the first strike comes late, towards -180 deg. The lab bell's cell rings right: {}, \
-                 wrong: {}.",
-                lab_cell(&chart, Style::Right),
-                lab_cell(&chart, Style::Wrong)
-            ),
-        ),
-        (
-            "fig11",
-            Quantity::StrikeVelocity,
-            "Fig 11: clapper rate at the first strike",
-            "Negative ringing right, positive ringing wrong; its size stands for loudness, and it grows \
-             towards the lower right of the right region (the 9(c) bell strikes much harder than the lab bell)."
-                .to_string(),
-        ),
-        (
-            "fig12",
-            Quantity::Liftoff,
-            "Fig 12: bell angle at lift-off",
-            "Late lift-off ringing right at the bottom of the chart and early at the top, the reverse ringing \
-             wrong; early lift-off marks a style that reverses itself."
-                .to_string(),
-        ),
-        (
-            "fig14",
-            Quantity::DoubleStrike,
-            "Fig 14: double strike index D, R = 0.2",
-            "With R = 0.2 almost every ringable bell has D well above 1, most above 10: an audible double strike."
-                .to_string(),
-        ),
-    ] {
-        let fig = quantity::figure(format!("{title} ({words})"), q, chart_panels(&chart, q), markers());
-        both_ways(out, name, &fig)?;
-        entries.push(Entry {
-            name: name.into(),
-            title: title.into(),
-            says,
-            data: vec!["chart-base.csv".into()],
-        });
+    for (name, text) in &set.files {
+        crate::files::write_bytes(&out.join(name), text)?;
     }
-
-    // Fig 15: D ringing right for R = 0.1 and 0.05.
-    let mut panels = vec![];
-    let mut data = vec![];
-    let mut d_counts = vec![];
-    for (r, title) in [(0.1, "(a) R = 0.1"), (0.05, "(b) R = 0.05")] {
-        let spec = ChartSpec {
-            config: SimConfig {
-                restitution: r,
-                ..base.config
-            },
-            styles: Styles::Right,
-            ..base
-        };
-        let (c, _) = run_sweep(&spec, &pool, &format!("fig 15, R = {r}"))?;
-        let file = format!("chart-right-R{r}.csv");
-        write_csv(&out.join(&file), &c)?;
-        data.push(file);
-        let p = quantity::panel(&c, Style::Right, Quantity::DoubleStrike, title).context("right panel")?;
-        let above = p.values.iter().flatten().filter(|d| **d > 1.0).count();
-        let above10 = p.values.iter().flatten().filter(|d| **d > 10.0).count();
-        let sustained = p.region.iter().filter(|r| **r).count();
-        d_counts.push((r, above, above10, sustained));
-        panels.push(p);
-    }
-    let fig = quantity::figure(
-        format!(
-            "Fig 15: double strike index D ringing right (theta0 = {:.0} deg, {} x {})",
-            base.config.theta0.to_degrees(),
-            base.nx,
-            base.ny
-        ),
-        Quantity::DoubleStrike,
-        panels,
-        markers(),
-    );
-    both_ways(out, "fig15", &fig)?;
-    entries.push(Entry {
-        name: "fig15".into(),
-        title: "Fig 15: double strike index ringing right, R = 0.1 and 0.05".into(),
-        says: d_counts
-            .iter()
-            .map(|(r, above, above10, n)| {
-                format!("R = {r}: D > 1 at {above} and D > 10 at {above10} of {n} right-ringing points")
-            })
-            .collect::<Vec<_>>()
-            .join("; ")
-            + ". The double-strike region shrinks as R falls and what stays is near the lab bell, as the paper                says; but the paper reports D > 1 in only a small region at R = 0.05, where here D stays above 1                over much of the right region (in the 1 to 10 band).",
-        data,
-    });
-
-    // Fig 16: half-up (theta0 = 90 deg).
-    let half = ChartSpec {
-        config: SimConfig {
-            theta0: 90f64.to_radians(),
-            ..base.config
-        },
-        ..base
-    };
-    let (hc, _) = run_sweep(&half, &pool, "fig 16 (theta0 = 90)")?;
-    write_csv(&out.join("chart-theta0-90.csv"), &hc)?;
-    let (hr, hyr) = region_stats(&hc, Style::Right);
-    let (hw, _) = region_stats(&hc, Style::Wrong);
-    let fig = quantity::figure(
-        format!(
-            "Fig 16: bell angle at the first strike, half up ({})",
-            settings_words(&half)
-        ),
-        Quantity::StrikeAngle,
-        chart_panels(&hc, Quantity::StrikeAngle),
-        markers(),
-    );
-    both_ways(out, "fig16", &fig)?;
-    entries.push(Entry {
-        name: "fig16".into(),
-        title: "Fig 16: first strike angle when rung from 90 deg".into(),
-        says: format!(
-            "Half up, right is sustained at {hr} points (mean L_b/L_c {hyr:.2}, against {nr} and {yr:.2} fully \
-             up) and wrong at {hw} (against {nw}): the right region's upper boundary moves down, the wrong \
-             region spreads. The lab bell's cell rings right: {}.",
-            lab_cell(&hc, Style::Right)
-        ),
-        data: vec!["chart-theta0-90.csv".into()],
-    });
-
-    write_index(out, &entries, &words, secs)?;
     println!(
         "wrote {} figures (SVG and PNG, with CSV) and index.md, index.html to {}",
-        entries.len(),
+        set.count,
         out.display()
     );
-    Ok(())
-}
-
-fn write_index(out: &Path, entries: &[Entry], words: &str, secs: f64) -> Result<()> {
-    let mut md = format!(
-        "# Figures of Woodhouse et al. (2012), recomputed by clapper\n\nCharts: {words}. The base chart took \
-         {secs:.2} s. White marks: the Fig 9 bells. Each figure is here as SVG and PNG; its data is the CSV \
-         named below it.\n\n"
-    );
-    let mut html = String::from(
-        "<!doctype html><html><head><meta charset=\"utf-8\"><title>clapper: figures</title>\
-         <style>body{font-family:sans-serif;max-width:1400px;margin:auto}img{max-width:100%;border:1px solid #ccc}</style>\
-         </head><body><h1>Figures of Woodhouse et al. (2012), recomputed by clapper</h1>",
-    );
-    let _ = write!(html, "<p>Charts: {words}. Base chart: {secs:.2} s.</p>");
-    for e in entries {
-        let data = e
-            .data
-            .iter()
-            .map(|d| format!("[{d}]({d})"))
-            .collect::<Vec<_>>()
-            .join(", ");
-        let _ = write!(
-            md,
-            "## {}\n\n{}\n\n![{}]({}.png)\n\nData: {data}; vector: [{}.svg]({}.svg)\n\n",
-            e.title, e.says, e.title, e.name, e.name, e.name
-        );
-        let hdata = e
-            .data
-            .iter()
-            .map(|d| format!("<a href=\"{d}\">{d}</a>"))
-            .collect::<Vec<_>>()
-            .join(", ");
-        let _ = write!(
-            html,
-            "<h2>{}</h2><p>{}</p><img src=\"{}.png\" alt=\"{}\"><p>Data: {hdata}; vector: <a href=\"{}.svg\">{}.svg</a></p>",
-            e.title, e.says, e.name, e.title, e.name, e.name
-        );
-    }
-    html.push_str("</body></html>\n");
-    crate::files::write_bytes(&out.join("index.md"), md)?;
-    crate::files::write_bytes(&out.join("index.html"), html)?;
     Ok(())
 }

@@ -507,3 +507,40 @@ fn restitution_reports_both_coefficients_and_simulate_takes_them() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("restitution_later"));
 }
+
+/// `figures` draws Fig 9 with the solver the charts use: with
+/// `--integrator dopri5 --rtol 1e-10` its trace is `simulate`'s with the
+/// same options, to the byte, and not the default one.
+#[test]
+fn figures_fig9_honours_the_solver_options() {
+    let dir = tempfile::tempdir().unwrap();
+    let figs = dir.path().join("figs");
+    let trace = dir.path().join("lab.csv");
+    let solver = ["--integrator", "dopri5", "--rtol", "1e-10"];
+    common::clapper()
+        .args(["figures", "--grid", "3", "--out"])
+        .arg(&figs)
+        .args(solver)
+        .assert()
+        .success();
+    common::clapper()
+        .args(["simulate", "--preset", "lab", "--trace"])
+        .arg(&trace)
+        .args(solver)
+        .assert()
+        .success();
+    let fig9 = std::fs::read(figs.join("fig09a.csv")).unwrap();
+    assert!(
+        fig9 == std::fs::read(&trace).unwrap(),
+        "fig09a.csv is not simulate's trace"
+    );
+    common::clapper()
+        .args(["simulate", "--preset", "lab", "--trace"])
+        .arg(&trace)
+        .assert()
+        .success();
+    assert!(
+        fig9 != std::fs::read(&trace).unwrap(),
+        "the solver options made no difference"
+    );
+}
