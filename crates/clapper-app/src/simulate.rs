@@ -41,11 +41,7 @@ impl Preset {
             Preset::Lab => ("lab bell", Bell::lab()),
             Preset::GsmTenor => ("GSM tenor", Bell::gsm_tenor()),
         };
-        LoadedBell {
-            name: name.into(),
-            bell,
-            source: BellSource::MassProperties,
-        }
+        LoadedBell::new(name.into(), bell, BellSource::MassProperties)
     }
 
     /// The name on the command line and in JSON.
@@ -124,11 +120,11 @@ impl SimulateRequest {
         let mut loaded = match (file, &self.bell, self.chart_point, self.preset) {
             (Some(f), ..) => f,
             (_, Some(text), ..) => clapper_io::parse_bell(text, "bell")?,
-            (_, _, Some([x, y]), _) => LoadedBell {
-                name: format!("chart point ({x}, {y})"),
-                bell: ChartConstruction::default().bell(x, y)?,
-                source: BellSource::MassProperties,
-            },
+            (_, _, Some([x, y]), _) => LoadedBell::new(
+                format!("chart point ({x}, {y})"),
+                ChartConstruction::default().bell(x, y)?,
+                BellSource::MassProperties,
+            ),
             (_, _, _, preset) => preset.unwrap_or(Preset::Lab).loaded(),
         };
         if let Some(deg) = self.phi_max {
@@ -137,9 +133,13 @@ impl SimulateRequest {
         Ok(loaded)
     }
 
-    /// The simulation settings, validated.
-    pub fn config(&self) -> Result<SimConfig, AppError> {
-        let cfg = self.stroke_options().config()?;
+    /// The simulation settings for `bell`, validated: R and R2 the
+    /// request's, else the bell file's, else R's default and R2 = R.
+    pub fn config_for(&self, bell: &LoadedBell) -> Result<SimConfig, AppError> {
+        let mut opts = self.stroke_options();
+        opts.restitution = opts.restitution.or(bell.restitution);
+        opts.restitution_later = opts.restitution_later.or(bell.restitution_later);
+        let cfg = opts.config()?;
         cfg.validate()?;
         if self.strokes == 0 || self.strokes > MAX_STROKES {
             return Err(AppError::Request(format!(
@@ -213,7 +213,7 @@ fn run(
     trace: bool,
 ) -> Result<Simulation, AppError> {
     let loaded = req.bell(file)?;
-    let cfg = req.config()?;
+    let cfg = req.config_for(&loaded)?;
     if let Some(m) = max_strokes {
         if req.strokes > m {
             return Err(AppError::Request(format!(
@@ -235,7 +235,7 @@ fn run(
         loaded.name,
         style_name(style),
         req.theta0,
-        req.restitution,
+        cfg.restitution,
         contact_words(&cfg),
         bell.r_over_lc(),
         bell.lb_over_lc()

@@ -131,7 +131,7 @@ impl Synthesis {
 /// synthesise its sound.
 pub fn synth(req: &SimulateRequest, file: Option<LoadedBell>, opts: &SynthOptions) -> Result<Synthesis, AppError> {
     let loaded = req.bell(file)?;
-    let cfg = req.config()?;
+    let cfg = req.config_for(&loaded)?;
     let (name, bell) = (loaded.name, loaded.bell);
     for (flag, v) in [
         ("--gap", opts.gap),

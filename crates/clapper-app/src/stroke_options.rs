@@ -18,17 +18,14 @@ pub use clapper_core::stroke::{DEFAULT_RESTITUTION, DEFAULT_THETA0_DEG};
 pub(crate) fn default_theta0() -> f64 {
     DEFAULT_THETA0_DEG
 }
-pub(crate) fn default_restitution() -> f64 {
-    DEFAULT_RESTITUTION
-}
 
 /// The shared options of a request, borrowed out of it.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StrokeOptions {
     /// θ0 (deg).
     pub theta0: f64,
-    /// R.
-    pub restitution: f64,
+    /// R; unset: [`DEFAULT_RESTITUTION`].
+    pub restitution: Option<f64>,
     /// R2, if given apart from R.
     pub restitution_later: Option<f64>,
     /// The contact law, if named.
@@ -57,7 +54,7 @@ impl StrokeOptions {
         };
         let mut cfg = SimConfig {
             theta0: self.theta0.to_radians(),
-            restitution: self.restitution,
+            restitution: self.restitution.unwrap_or(DEFAULT_RESTITUTION),
             restitution_later: self.restitution_later,
             contact,
             stiffness,
@@ -96,9 +93,10 @@ macro_rules! with_stroke_options {
             #[serde(default = "crate::stroke_options::default_theta0")]
             pub theta0: f64,
             /// Stronge's energy coefficient of restitution R (0 < R ≤ 1)
-            /// of the first impact on a side (the strike).
-            #[serde(default = "crate::stroke_options::default_restitution")]
-            pub restitution: f64,
+            /// of the first impact on a side (the strike); unset: the bell
+            /// file's, else 0.2.
+            #[serde(default)]
+            pub restitution: Option<f64>,
             /// R2: the restitution of the bounces after the first impact
             /// on a side (0 < R2 ≤ 1); unset means R2 = R.
             #[serde(default, skip_serializing_if = "Option::is_none", alias = "restitution-later")]
@@ -132,4 +130,50 @@ macro_rules! with_stroke_options {
             }
         }
     };
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clapper_core::chart::Styles;
+
+    fn names_are_serde_forms<T>()
+    where
+        T: Choice + serde::Serialize + serde::de::DeserializeOwned + PartialEq + std::fmt::Debug + std::fmt::Display,
+    {
+        for &v in T::ALL {
+            let json = serde_json::to_string(&v).unwrap();
+            assert_eq!(json, format!("\"{}\"", v.name()));
+            assert_eq!(serde_json::from_str::<T>(&json).unwrap(), v);
+            assert_eq!(v.to_string(), v.name());
+        }
+    }
+
+    /// The command line lists a choice by `name()`, JSON and files spell
+    /// it by serde: they must agree.
+    #[test]
+    fn every_choice_is_spelt_alike_everywhere() {
+        names_are_serde_forms::<Style>();
+        names_are_serde_forms::<Protocol>();
+        names_are_serde_forms::<ContactModel>();
+        names_are_serde_forms::<Integrator>();
+        names_are_serde_forms::<Styles>();
+    }
+
+    #[test]
+    fn a_stiffness_alone_means_the_penalty_law_and_impact_refuses_one() {
+        let opts = |contact, stiffness| StrokeOptions {
+            theta0: 171.0,
+            restitution: None,
+            restitution_later: None,
+            contact,
+            stiffness,
+            rtol: None,
+            integrator: None,
+        };
+        let cfg = opts(None, Some(3e6)).config().unwrap();
+        assert_eq!((cfg.contact, cfg.stiffness), (ContactModel::Penalty, 3e6));
+        assert_eq!(opts(None, None).config().unwrap(), SimConfig::default());
+        assert!(opts(Some(ContactModel::Impact), Some(1e6)).config().is_err());
+    }
 }

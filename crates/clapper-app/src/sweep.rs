@@ -48,7 +48,7 @@ impl SweepPlan {
                 for &phi_max in phi_maxes {
                     let req = ChartRequest {
                         theta0,
-                        restitution,
+                        restitution: Some(restitution),
                         phi_max,
                         ..base.clone()
                     };

@@ -105,7 +105,7 @@ impl SweepArgs {
             r_range: [self.r_range.0, self.r_range.1],
             lb_range: [self.lb_range.0, self.lb_range.1],
             theta0: self.theta0[0],
-            restitution: self.restitution[0],
+            restitution: Some(self.restitution[0]),
             restitution_later: self.solver.restitution_later,
             phi_max: self.phi_max[0],
             contact: self.solver.contact,

@@ -4,9 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use clapper_app::simulate::{
-    simulate_traced, summary, Preset, SimulateRequest, DEFAULT_RESTITUTION, DEFAULT_STROKES, DEFAULT_THETA0_DEG,
-};
+use clapper_app::simulate::{simulate_traced, summary, Preset, SimulateRequest, DEFAULT_STROKES, DEFAULT_THETA0_DEG};
 use clapper_core::prelude::*;
 use clapper_core::stroke::{ContactModel, Integrator};
 use clapper_io::LoadedBell;
@@ -101,9 +99,11 @@ pub struct SimulateArgs {
     /// Starting angle of the bell, at rest (deg, 0 < theta0 < 180).
     #[arg(long, value_name = "DEG", default_value_t = DEFAULT_THETA0_DEG, allow_hyphen_values = true)]
     pub theta0: f64,
-    /// Stronge's energy coefficient of restitution R (0 < R <= 1).
-    #[arg(long, value_name = "R", default_value_t = DEFAULT_RESTITUTION, allow_hyphen_values = true)]
-    pub restitution: f64,
+    /// Stronge's energy coefficient of restitution R (0 < R <= 1) of the
+    /// first impact on a side [default: the bell file's `restitution`, else
+    /// 0.2]
+    #[arg(long, value_name = "R", allow_hyphen_values = true)]
+    pub restitution: Option<f64>,
     /// Override the bell's contact angle phi_max (deg, 0 < phi_max < 90).
     #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
     pub phi_max: Option<f64>,

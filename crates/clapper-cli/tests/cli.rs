@@ -544,3 +544,24 @@ fn figures_fig9_honours_the_solver_options() {
         "the solver options made no difference"
     );
 }
+
+/// A bell file may carry its clapper's R and R2; a request's own R (or
+/// R2) wins over the file's.
+#[test]
+fn a_bell_file_carries_its_restitution() {
+    let dir = tempfile::tempdir().unwrap();
+    let lab = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/lab-tower.toml")).unwrap();
+    let file = dir.path().join("lab.toml");
+    std::fs::write(&file, format!("{lab}\nrestitution = 0.08\nrestitution_later = 0.4\n")).unwrap();
+    let path = file.to_str().unwrap();
+    let from_file = common::json(&["simulate", "--bell", path]);
+    assert_eq!(from_file["settings"]["restitution"], 0.08);
+    assert_eq!(from_file["settings"]["restitution_later"], 0.4);
+    let given = common::json(&["simulate", "--bell", path, "--restitution", "0.2"]);
+    assert_eq!(given["settings"]["restitution"], 0.2);
+    assert_eq!(given["settings"]["restitution_later"], 0.4);
+    std::fs::write(&file, format!("{lab}\nrestitution_later = 1.5\n")).unwrap();
+    let out = common::clapper().args(["simulate", "--bell", path]).output().unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("restitution_later"));
+}

@@ -50,6 +50,10 @@ struct BellFile {
     bell_oscillations_time_s: Option<f64>,
     clapper_oscillations: Option<f64>,
     clapper_oscillations_time_s: Option<f64>,
+    /// The clapper's measured restitution R (first impact on a side) and
+    /// R2 (the bounces after it), e.g. from `clapper restitution`.
+    restitution: Option<f64>,
+    restitution_later: Option<f64>,
 }
 
 /// A period from either `period` or `count` oscillations in `time` seconds.
@@ -104,6 +108,24 @@ pub struct LoadedBell {
     pub bell: Bell,
     /// Which form the file used.
     pub source: BellSource,
+    /// R of this bell's clapper, if the file gives it (0 < R ≤ 1): used
+    /// unless a request sets its own.
+    pub restitution: Option<f64>,
+    /// R2 likewise.
+    pub restitution_later: Option<f64>,
+}
+
+impl LoadedBell {
+    /// A bell with no restitution of its own.
+    pub fn new(name: String, bell: Bell, source: BellSource) -> Self {
+        Self {
+            name,
+            bell,
+            source,
+            restitution: None,
+            restitution_later: None,
+        }
+    }
 }
 
 /// Why a bell file could not be used. Every message is one line.
@@ -240,6 +262,29 @@ pub fn parse_bell(text: &str, default_name: &str) -> Result<LoadedBell, BellFile
 }
 
 fn bell_from_fields(f: BellFile, default_name: &str) -> Result<LoadedBell, BellFileError> {
+    for (field, value) in [
+        ("restitution", f.restitution),
+        ("restitution_later", f.restitution_later),
+    ] {
+        if let Some(v) = value.filter(|v| !(v.is_finite() && *v > 0.0 && *v <= 1.0)) {
+            return Err(ParamError {
+                field,
+                value: v,
+                allowed: "greater than 0 and at most 1",
+            }
+            .into());
+        }
+    }
+    let (restitution, restitution_later) = (f.restitution, f.restitution_later);
+    let loaded = bell_from_measures(f, default_name)?;
+    Ok(LoadedBell {
+        restitution,
+        restitution_later,
+        ..loaded
+    })
+}
+
+fn bell_from_measures(f: BellFile, default_name: &str) -> Result<LoadedBell, BellFileError> {
     let name = f.name.clone().unwrap_or_else(|| default_name.to_string());
     let phi_max = f.phi_max_deg.map(f64::to_radians);
     let f = BellFile {
@@ -285,11 +330,7 @@ fn bell_from_fields(f: BellFile, default_name: &str) -> Result<LoadedBell, BellF
             b: f.b_m,
         };
         let (bell, assumed) = t.bell()?;
-        return Ok(LoadedBell {
-            name,
-            bell,
-            source: BellSource::Tower(assumed),
-        });
+        return Ok(LoadedBell::new(name, bell, BellSource::Tower(assumed)));
     }
     let missing = missing_of(&[
         ("bell_mass_kg", f.bell_mass_kg.is_some()),
@@ -314,11 +355,7 @@ fn bell_from_fields(f: BellFile, default_name: &str) -> Result<LoadedBell, BellF
         f.r_m.unwrap_or_default(),
         phi_max.unwrap_or_default(),
     )?;
-    Ok(LoadedBell {
-        name,
-        bell,
-        source: BellSource::MassProperties,
-    })
+    Ok(LoadedBell::new(name, bell, BellSource::MassProperties))
 }
 
 fn missing_of(keys: &[(&str, bool)]) -> String {

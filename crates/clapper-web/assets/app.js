@@ -74,6 +74,8 @@ function chartRequest() {
     style: "both",
   };
   if ($("contact").value === "penalty") { req.contact = "penalty"; req.stiffness = num("stiffness"); }
+  // R2: left empty, the bounces after the first impact take R too.
+  if ($("restitution-later").value.trim() !== "") req.restitution_later = num("restitution-later");
   return req;
 }
 
@@ -343,6 +345,7 @@ async function showStroke(p) {
   const req = chart.request || chartRequest();
   const body = { chart_point: [p.x, p.y], style, theta0: req.theta0, restitution: req.restitution, phi_max: req.phi_max, strokes: 2 };
   if (req.contact) { body.contact = req.contact; body.stiffness = req.stiffness; }
+  if (req.restitution_later !== undefined) body.restitution_later = req.restitution_later;
   const panel = $("stroke-panel");
   panel.hidden = false;
   $("stroke-title").textContent = `Stroke at r/L_c = ${p.x.toFixed(3)}, L_b/L_c = ${p.y.toFixed(3)}, ringing ${style}: simulating…`;

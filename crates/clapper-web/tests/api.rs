@@ -56,6 +56,26 @@ async fn simulate_answers_the_report_of_the_library() {
     let (status, body) = send(&app, "POST", "/api/simulate", Some(r#"{"integrator": "rk4"}"#)).await;
     assert_eq!(status, StatusCode::BAD_REQUEST);
     assert!(String::from_utf8_lossy(&body).contains("rk4"));
+    // R2 is an option of the request, answered as the library answers it;
+    // a misspelt key is refused, not ignored.
+    let (status, body) = send(
+        &app,
+        "POST",
+        "/api/simulate",
+        Some(r#"{"preset": "lab", "restitution_later": 0.5}"#),
+    )
+    .await;
+    assert_eq!(status, StatusCode::OK);
+    let req = clapper_app::simulate::SimulateRequest {
+        restitution_later: Some(0.5),
+        ..Default::default()
+    };
+    let want = serde_json::to_value(clapper_app::simulate::simulate(&req, None, None).unwrap().report).unwrap();
+    assert_eq!(json(&body), want);
+    assert_eq!(want["settings"]["restitution_later"], 0.5);
+    let (status, body) = send(&app, "POST", "/api/simulate", Some(r#"{"restitution_latter": 0.5}"#)).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert!(String::from_utf8_lossy(&body).contains("restitution_latter"));
 }
 
 #[tokio::test]
