@@ -3,7 +3,7 @@
 % Equations (5), (6) in mass-matrix form; rigid impacts with restitution,
 % restarting ode45 after each impact; the clapper comes to rest when its
 % next flight would be shorter than 1e-7 s and lifts off when the holding
-% force changes sign (SPEC section 3). Prints one line per stroke:
+% force changes sign (docs/model.md section 3). Prints one line per stroke:
 %   x y style sustained strike_theta_deg strike_phidot_rad_s
 % then the time per stroke.
 %

@@ -2,14 +2,14 @@
 """Peer implementation of the clapper model in Python with SciPy.
 
 Written the way a careful researcher would write it from the paper and
-SPEC.md: equations (5) and (6) in mass-matrix form integrated by
+docs/model.md: equations (5) and (6) in mass-matrix form integrated by
 scipy.integrate.solve_ivp (RK45, Dormand-Prince, the method of Matlab's
 ode45 that the paper used) with event functions, and two contact models:
 
   impact   rigid impacts with restitution, restarting the integration after
            each impact; the clapper comes to rest when its next flight
            would be shorter than 1e-7 s, rides with the bell, and lifts off
-           when the holding force changes sign (SPEC section 3);
+           when the holding force changes sign (docs/model.md section 3);
   penalty  the paper's contact spring, stiffness k pressing in and R k
            springing back, one continuous integration.
 

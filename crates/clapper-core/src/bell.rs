@@ -1,7 +1,7 @@
 //! A bell and its clapper: mass properties, validation, derived lengths and
 //! periods, the two bells of the paper's Table 1, and the two other ways of
-//! getting a bell: from a point of the clapping chart (SPEC §5) and from
-//! tower measurements (SPEC §1).
+//! getting a bell: from a point of the clapping chart (docs/model.md §5) and from
+//! tower measurements (docs/model.md §1).
 
 use std::f64::consts::PI;
 
@@ -131,7 +131,7 @@ impl Bell {
         Ok(bell)
     }
 
-    /// Check every field against SPEC §1.
+    /// Check every field against docs/model.md §1.
     pub fn validate(&self) -> Result<(), ParamError> {
         positive("bell_mass_kg", self.bell_mass)?;
         positive("clapper_mass_kg", self.clapper_mass)?;
@@ -213,7 +213,7 @@ impl Bell {
         self.lb() / self.lc()
     }
 
-    /// Physically odd but simulable properties (SPEC §1).
+    /// Physically odd but simulable properties (docs/model.md §1).
     pub fn warnings(&self) -> Vec<BellWarning> {
         let mut w = Vec::new();
         let mb2 = self.clapper_mass * self.b * self.b;
@@ -257,7 +257,7 @@ pub fn length_of_period(t: f64) -> f64 {
 }
 
 /// The paper's recipe for a bell at a point of the clapping chart
-/// (Section 4.2 and SPEC §5). Defaults are the paper's values.
+/// (Section 4.2 and docs/model.md §5). Defaults are the paper's values.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
 pub struct ChartConstruction {
@@ -269,7 +269,7 @@ pub struct ChartConstruction {
     pub a: f64,
     /// T_b (s); default 1.8 s, between the lab bell and the GSM tenor. Fixes
     /// L_b = g T_b²/(4π²) = 0.805 m (the paper prints 0.85 m, which does not
-    /// follow from 1.8 s; SPEC §5 takes the period as the input).
+    /// follow from 1.8 s; docs/model.md §5 takes the period as the input).
     pub tb: f64,
     /// I_c (kg m²); default 0.20.
     pub clapper_inertia: f64,
@@ -322,7 +322,7 @@ impl ChartConstruction {
 }
 
 /// A bell as a tower measures it: two small-swing periods, the pivot offset,
-/// the contact angle, and optionally what else is known (SPEC §1).
+/// the contact angle, and optionally what else is known (docs/model.md §1).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct TowerMeasurements {
     /// Small-swing period of the bell (s).
@@ -420,7 +420,7 @@ mod tests {
     #[test]
     fn table1_lab_derived_values() {
         let b = Bell::lab();
-        // Table 1 prints rounded L values; from the inputs (SPEC §1):
+        // Table 1 prints rounded L values; from the inputs (docs/model.md §1):
         assert_relative_eq!(b.lb(), 4.1 / (45.8 * 0.24), max_relative = 1e-12);
         assert!((b.lb() - 0.376).abs() / 0.376 < 0.01);
         assert!((b.lc() - 0.224).abs() / 0.224 < 0.01);

@@ -1,5 +1,5 @@
 //! Clapping charts: a sweep over the plane of (r/L_c, L_b/L_c) with the
-//! paper's construction of a bell at each point (SPEC §5), both styles, in
+//! paper's construction of a bell at each point (docs/model.md §5), both styles, in
 //! parallel. Results are collected by index, so they are the same whatever
 //! the number of threads.
 

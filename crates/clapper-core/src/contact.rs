@@ -251,9 +251,9 @@ pub trait ContactLaw: Debug + Send + Sync {
     fn transition(&self, d: &Dynamics, event: ContactEvent, y: State, clapper: ClapperState) -> Transition;
 }
 
-/// Rigid stops with instantaneous impacts, φ'⁺ = −√R φ'⁻ (SPEC §3 and
-/// docs/model.md §3.1); bounces accumulate until the next flight would be
-/// shorter than `rest_flight_time`, when the clapper comes to rest.
+/// Rigid stops with instantaneous impacts, φ'⁺ = −√R φ'⁻ (docs/model.md
+/// §3.1); bounces accumulate until the next flight would be shorter than
+/// `rest_flight_time`, when the clapper comes to rest.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RigidImpact {
     /// √R and √R2: velocity restitution of the first and later impacts.
@@ -362,7 +362,7 @@ fn push_hits(phi_max: f64, push: &mut dyn FnMut(ContactEvent, Event)) {
 
 /// The paper's linear spring beyond the stops, (12), (13), with Stronge's
 /// reduced stiffness R k (R2 k for a later bounce) from maximum
-/// compression until separation (SPEC §3, docs/model.md §3.2).
+/// compression until separation (docs/model.md §3.2).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PenaltySpring {
     /// k (N m/rad).
@@ -484,7 +484,7 @@ impl ContactLaw for PenaltySpring {
     }
 }
 
-/// Which contact law (SPEC §3). Its parameters are fields of
+/// Which contact law (docs/model.md §3). Its parameters are fields of
 /// [`SimConfig`](crate::stroke::SimConfig): the restitution for both, the
 /// stiffness for the penalty law.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]

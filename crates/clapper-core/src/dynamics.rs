@@ -1,4 +1,4 @@
-//! Equations of motion (5), (6) in mass-matrix form (SPEC §2), the energy
+//! Equations of motion (5), (6) in mass-matrix form (docs/model.md §2), the energy
 //! (1), (4), and the impulse and contact-force laws that the contact models
 //! build on.
 //!
@@ -189,7 +189,7 @@ impl Dynamics {
 
     /// The state just after an impact at `y` with velocity restitution
     /// `e` = √R: the generalised impulse acts on φ only, φ'⁺ = −e φ'⁻ and θ'
-    /// jumps by (W⁻¹)₁₂ P (SPEC §3). `e = 0` is a perfectly plastic impact.
+    /// jumps by (W⁻¹)₁₂ P (docs/model.md §3). `e = 0` is a perfectly plastic impact.
     pub fn impact(&self, y: &State, e: f64) -> State {
         let a = self.accel(y, 0.0);
         // W^-1 = [[W22, -W12], [-W12, W11]] / det, W22 = I_c.

@@ -6,8 +6,9 @@
 //! spring), strokes and their quantities, and the paper's closed forms.
 //!
 //! This crate does no file, terminal or network I/O; formats, plots and the
-//! command line live in outer crates. The contract it implements is
-//! `SPEC.md`; units are SI inside, radians for angles.
+//! command line live in outer crates. The model it implements is written
+//! up in `docs/model.md`, which the code cites by section; units are SI
+//! inside, radians for angles.
 //!
 //! ```
 //! use clapper_core::prelude::*;
@@ -16,7 +17,7 @@
 //! let cfg = SimConfig::default(); // theta0 171 deg, R 0.2, impact model
 //! let right = first_stroke(&bell, &cfg, Style::Right).unwrap();
 //! let wrong = first_stroke(&bell, &cfg, Style::Wrong).unwrap();
-//! // The lab bell rings both right and wrong when fully up (SPEC §7).
+//! // The lab bell rings both right and wrong when fully up (docs/model.md §7).
 //! assert!(right.sustained() && wrong.sustained());
 //! println!("first strike at {:.1} deg", right.strike_angle().unwrap().to_degrees());
 //! ```

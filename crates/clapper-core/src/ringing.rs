@@ -1,4 +1,4 @@
-//! Strokes in sequence: the restart and free protocols (SPEC §4), and the
+//! Strokes in sequence: the restart and free protocols (docs/model.md §4), and the
 //! verdict of whether a bell sustains a style.
 
 use crate::bell::Bell;

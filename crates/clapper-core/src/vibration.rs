@@ -1,5 +1,5 @@
 //! Energy lost into vibration at an impact, Section 3.3, equations (24) to
-//! (32), with the half-sine pulse of SPEC §6; and the paper's aside on
+//! (32), with the half-sine pulse of docs/model.md §6; and the paper's aside on
 //! choosing an impulse hammer.
 
 use std::f64::consts::PI;

@@ -1,5 +1,5 @@
 //! Acceptance tests of the physics core against analytic cases, the
-//! paper's closed forms, an established ODE crate, and SPEC §7.
+//! paper's closed forms, an established ODE crate, and docs/model.md §7.
 
 use clapper_core::dynamics::LinearSpring;
 use clapper_core::dynamics::{Dynamics, State};
@@ -63,7 +63,7 @@ fn ellip_k(k: f64) -> f64 {
 
 #[test]
 fn large_amplitude_pendulum_matches_elliptic_integral() {
-    // SPEC §7: small-swing period 2 s, swinging through 350 deg (175 to -175).
+    // docs/model.md §7: small-swing period 2 s, swinging through 350 deg (175 to -175).
     let omega = std::f64::consts::PI; // 2 pi / T0, T0 = 2 s
     let theta0 = 175f64.to_radians();
     let exact = 2.0 * ellip_k((theta0 / 2.0).sin()) / omega;
@@ -261,7 +261,7 @@ fn penalty_converges_to_impact_as_stiffness_grows() {
             "not shrinking: {errors:?}"
         );
     }
-    // SPEC §3: at k = 1e6 about 0.002 deg and 1.5 % on the interval.
+    // docs/model.md §3: at k = 1e6 about 0.002 deg and 1.5 % on the interval.
     let (_, ea, _, edt) = errors[1];
     assert!(ea < 0.003, "{errors:?}");
     assert!(edt < 0.02, "{errors:?}");

@@ -8,7 +8,7 @@ use clapper_core::stroke::Style;
 
 use crate::report::style_name;
 
-/// The columns, as SPEC'd for `clapper chart --csv`.
+/// The columns of `clapper chart --csv` (README, "Clapping charts").
 pub const CHART_HEADER: [&str; 8] = [
     "r_over_lc",
     "lb_over_lc",

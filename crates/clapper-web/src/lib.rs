@@ -4,8 +4,8 @@
 //! serves one self-contained page (the chart explorer, bell diagnosis and
 //! the listening test; its HTML, script and style are compiled into the
 //! binary, nothing is fetched at run time) and the JSON API behind it.
-//! The API is described at `/api` on a running server and in
-//! `docs/api.md`.
+//! The API is described at `/api` on a running server (the page is
+//! `assets/api.html`).
 //!
 //! Every request is bounded: a body size, a grid size, a stroke count, a
 //! penalty stiffness, a number of computations at once and a time limit

@@ -182,7 +182,7 @@ impl SimConfig {
             .law(self.restitution_pair(), self.stiffness, self.rest_flight_time)
     }
 
-    /// Check the user-settable fields against SPEC §1 and §3.
+    /// Check the user-settable fields against docs/model.md §1 and §3.
     pub fn validate(&self) -> Result<(), ParamError> {
         if !(self.theta0.is_finite() && self.theta0 > 0.0 && self.theta0 < PI) {
             return Err(ParamError {
@@ -358,7 +358,7 @@ impl StrokeStart {
     }
 }
 
-/// A simulated stroke and its quantities (SPEC §4).
+/// A simulated stroke and its quantities (docs/model.md §4).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Stroke {
     /// How it began.
@@ -437,7 +437,7 @@ impl Stroke {
         Some(second / first)
     }
 
-    /// The double strike index D of (33), clamped (SPEC §4). `None` without
+    /// The double strike index D of (33), clamped (docs/model.md §4). `None` without
     /// a first strike; 0 when the first strike has no second impact (the
     /// clapper stayed on the bell or the stroke ended first: nothing to hear
     /// as a second strike).
