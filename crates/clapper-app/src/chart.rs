@@ -55,12 +55,6 @@ crate::with_stroke_options! {
     }
 }
 
-impl Default for ChartRequest {
-    fn default() -> Self {
-        serde_json::from_str("{}").expect("every field has a default")
-    }
-}
-
 impl ChartRequest {
     /// The chart spec, validated.
     pub fn spec(&self) -> Result<ChartSpec, AppError> {

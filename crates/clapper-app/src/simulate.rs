@@ -95,12 +95,6 @@ crate::with_stroke_options! {
     }
 }
 
-impl Default for SimulateRequest {
-    fn default() -> Self {
-        serde_json::from_str("{}").expect("every field has a default")
-    }
-}
-
 impl SimulateRequest {
     /// The bell the request names, with any φ_max override applied.
     /// `file` (a bell file already read by the caller) takes the place of

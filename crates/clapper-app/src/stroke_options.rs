@@ -81,8 +81,8 @@ pub fn contact_words(cfg: &SimConfig) -> String {
 }
 
 /// Declares a request struct with the stroke options appended to its own
-/// fields (with their JSON names, defaults and docs), and
-/// `stroke_options()` to read them.
+/// fields (with their JSON names, defaults and docs), `stroke_options()` to
+/// read them, and `Default` (every field's serde default: the request `{}`).
 #[macro_export]
 macro_rules! with_stroke_options {
     ($(#[$meta:meta])* pub struct $name:ident { $($(#[$fmeta:meta])* pub $field:ident : $ty:ty,)* }) => {
@@ -113,6 +113,12 @@ macro_rules! with_stroke_options {
             /// Integrator (default Taylor).
             #[serde(default)]
             pub integrator: Option<clapper_core::stroke::Integrator>,
+        }
+
+        impl Default for $name {
+            fn default() -> Self {
+                serde_json::from_str("{}").expect("every field has a default")
+            }
         }
 
         impl $name {

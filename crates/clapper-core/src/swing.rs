@@ -19,7 +19,7 @@ use std::f64::consts::PI;
 
 use crate::dynamics::{Dynamics, State, THETA, THETA_DOT};
 use crate::elliptic::{carlson_rf, complete_k, jacobi};
-use crate::ode::{DenseOutput, Direction, Event, OdeError, Segment, Source, Span, Stats, Stepper, Stop, System};
+use crate::ode::{DenseOutput, Direction, Event, Observe, Run, Segment, Source, Span, Stats, Stepper, Stop, System};
 
 /// The half swing of the rigid bell (clapper resting) released from rest.
 #[derive(Clone, Debug, PartialEq)]
@@ -286,14 +286,7 @@ impl ClosedFormSwing {
 }
 
 impl<S: SwingSystem + ?Sized> Stepper<4, S> for ClosedFormSwing {
-    fn integrate<F: FnMut(&dyn DenseOutput<4>, f64)>(
-        &mut self,
-        sys: &S,
-        t0: f64,
-        y0: State,
-        t_end: f64,
-        observe: &mut F,
-    ) -> Result<Segment<4>, OdeError> {
+    fn integrate(&mut self, sys: &S, t0: f64, y0: State, t_end: f64, observe: Observe<'_, 4>) -> Run<4> {
         let declined = Ok(Segment {
             t: t0,
             y: y0,

@@ -3,8 +3,8 @@
 //! code), plus root location of events on the dense output.
 
 use super::{
-    check_options, crossed, sign, split_exp2, split_exponent, DenseOutput, Direction, NextSegment, OdeError, Options,
-    Segment, Span, Stats, Stepper, Stop, System, MAX_EVENTS,
+    begin, check_options, crossed, sign, split_exp2, split_exponent, DenseOutput, Direction, NextSegment, Observe,
+    OdeError, Options, Run, Segment, Span, Stats, Stepper, Stop, System, MAX_EVENTS,
 };
 
 // Butcher tableau of Dormand & Prince (1980).
@@ -195,30 +195,13 @@ impl<const N: usize, S: System<N> + ?Sized> Stepper<N, S> for Dopri5<N> {
         }
     }
 
-    fn integrate<F: FnMut(&dyn DenseOutput<N>, f64)>(
-        &mut self,
-        sys: &S,
-        t0: f64,
-        y0: [f64; N],
-        t_end: f64,
-        observe: &mut F,
-    ) -> Result<Segment<N>, OdeError> {
+    fn integrate(&mut self, sys: &S, t0: f64, y0: [f64; N], t_end: f64, observe: Observe<'_, N>) -> Run<N> {
         check_options(&self.opts, self.opts.h_max)?;
+        if let Some(done) = begin(sys, t0, y0, t_end)? {
+            return Ok(done);
+        }
         let events = sys.events();
-        if events.len() > MAX_EVENTS || !events.iter().all(|e| e.valid_for(N)) {
-            return Err(OdeError::InvalidOptions("an event reads a series that does not exist"));
-        }
         let n_ev = events.len();
-        if !t0.is_finite() {
-            return Err(OdeError::NonFinite { t: t0 });
-        }
-        if t_end <= t0 || t_end.is_nan() {
-            return Ok(Segment {
-                t: t0,
-                y: y0,
-                stop: Stop::EndTime,
-            });
-        }
 
         // Event bookkeeping: last value, the sign it is known to have, and
         // whether it starts exactly at zero (a restart at its own root).

@@ -172,6 +172,14 @@ pub trait DenseOutput<const N: usize> {
     }
 }
 
+/// What a [`Stepper`] hands every step to: the step's dense output and the
+/// time it is used up to (s).
+pub type Observe<'a, const N: usize> = &'a mut dyn FnMut(&dyn DenseOutput<N>, f64);
+
+/// What [`Stepper::integrate`] answers: where it stopped, or a numerical
+/// failure.
+pub type Run<const N: usize> = Result<Segment<N>, OdeError>;
+
 /// Why a [`Stepper`] stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stop {
@@ -218,14 +226,7 @@ pub trait Stepper<const N: usize, S: ?Sized> {
     /// Integrate `sys` from `(t0, y0)` towards `t_end` (> `t0`). `observe`
     /// is called after every step with its dense output and the time it is
     /// used up to (earlier than the step's end when an event cut it short).
-    fn integrate<F: FnMut(&dyn DenseOutput<N>, f64)>(
-        &mut self,
-        sys: &S,
-        t0: f64,
-        y0: [f64; N],
-        t_end: f64,
-        observe: &mut F,
-    ) -> Result<Segment<N>, OdeError>;
+    fn integrate(&mut self, sys: &S, t0: f64, y0: [f64; N], t_end: f64, observe: Observe<'_, N>) -> Run<N>;
     /// Work done so far.
     fn stats(&self) -> Stats;
     /// A hint for the next call only (see [`NextSegment`]); none by default.
@@ -244,14 +245,7 @@ pub struct Fallback<A, B> {
 }
 
 impl<const N: usize, S: ?Sized, A: Stepper<N, S>, B: Stepper<N, S>> Stepper<N, S> for Fallback<A, B> {
-    fn integrate<F: FnMut(&dyn DenseOutput<N>, f64)>(
-        &mut self,
-        sys: &S,
-        t0: f64,
-        y0: [f64; N],
-        t_end: f64,
-        observe: &mut F,
-    ) -> Result<Segment<N>, OdeError> {
+    fn integrate(&mut self, sys: &S, t0: f64, y0: [f64; N], t_end: f64, observe: Observe<'_, N>) -> Run<N> {
         let seg = self.first.integrate(sys, t0, y0, t_end, observe)?;
         if seg.stop == Stop::Declined {
             self.then.integrate(sys, t0, y0, t_end, observe)
@@ -357,6 +351,29 @@ pub(crate) fn crossed(dir: Direction, s0: i8, s1: i8) -> bool {
         Direction::Falling => s0 > 0 && s1 <= 0,
         Direction::Either => s0 != 0 && s1 != s0,
     }
+}
+
+/// What both integrators check of a call before they start: the events
+/// read series that exist, the start is finite; and an end time not after
+/// the start is reached at once (`Some` segment: nothing to integrate).
+pub(crate) fn begin<const N: usize, S: System<N> + ?Sized>(
+    sys: &S,
+    t0: f64,
+    y0: [f64; N],
+    t_end: f64,
+) -> Result<Option<Segment<N>>, OdeError> {
+    let events = sys.events();
+    if events.len() > MAX_EVENTS || !events.iter().all(|e| e.valid_for(N)) {
+        return Err(OdeError::InvalidOptions("an event reads a series that does not exist"));
+    }
+    if !t0.is_finite() || y0.iter().any(|v| !v.is_finite()) {
+        return Err(OdeError::NonFinite { t: t0 });
+    }
+    Ok((t_end <= t0 || t_end.is_nan()).then_some(Segment {
+        t: t0,
+        y: y0,
+        stop: Stop::EndTime,
+    }))
 }
 
 /// The checks both integrators make of their options, with their own

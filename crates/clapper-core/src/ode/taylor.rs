@@ -14,8 +14,8 @@
 //! every component, capped at `h_max`.
 
 use super::{
-    check_options, crossed, sign, split_exp2, split_exponent, DenseOutput, Direction, NextSegment, OdeError, Options,
-    Segment, Source, Span, Stats, Stepper, Stop, System, MAX_EVENTS, MAX_EXTRA,
+    begin, check_options, crossed, sign, split_exp2, split_exponent, DenseOutput, Direction, NextSegment, Observe,
+    OdeError, Options, Run, Segment, Source, Span, Stats, Stepper, Stop, System, MAX_EXTRA,
 };
 
 /// The highest order an expansion may have.
@@ -392,29 +392,12 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
         }
     }
 
-    fn integrate<F: FnMut(&dyn DenseOutput<N>, f64)>(
-        &mut self,
-        sys: &S,
-        t0: f64,
-        y0: [f64; N],
-        t_end: f64,
-        observe: &mut F,
-    ) -> Result<Segment<N>, OdeError> {
+    fn integrate(&mut self, sys: &S, t0: f64, y0: [f64; N], t_end: f64, observe: Observe<'_, N>) -> Run<N> {
         self.check_options()?;
-        if !t0.is_finite() || y0.iter().any(|v| !v.is_finite()) {
-            return Err(OdeError::NonFinite { t: t0 });
-        }
-        if t_end <= t0 || t_end.is_nan() {
-            return Ok(Segment {
-                t: t0,
-                y: y0,
-                stop: Stop::EndTime,
-            });
+        if let Some(done) = begin(sys, t0, y0, t_end)? {
+            return Ok(done);
         }
         let events = sys.events();
-        if events.len() > MAX_EVENTS || !events.iter().all(|e| e.valid_for(N)) {
-            return Err(OdeError::InvalidOptions("an event reads a series that does not exist"));
-        }
         let p = self.next_order.take().unwrap_or(self.order);
         let mut cap = self.next_cap.take().unwrap_or(f64::INFINITY);
         let mut t = t0;
