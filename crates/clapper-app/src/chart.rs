@@ -80,9 +80,13 @@ impl ChartRequest {
 /// Short words for a chart's settings, for titles.
 pub fn settings_words(spec: &ChartSpec) -> String {
     format!(
-        "theta0 = {:.0} deg, R = {}, phi_max = {:.0} deg, {} contact, {} x {}",
+        "theta0 = {:.0} deg, R = {}{}, phi_max = {:.0} deg, {} contact, {} x {}",
         spec.config.theta0.to_degrees(),
         spec.config.restitution,
+        spec.config
+            .restitution_later
+            .map(|r2| format!(", R2 = {r2}"))
+            .unwrap_or_default(),
         spec.construction.phi_max.to_degrees(),
         contact_words(&spec.config),
         spec.nx,

@@ -279,9 +279,10 @@ pub fn summary(r: &SimulationReport) -> String {
         .stiffness_n_m_per_rad
         .map(|k| format!(" (k = {k:e} N m/rad)"))
         .unwrap_or_default();
+    let later = s.restitution_later.map(|r2| format!(", R2 = {r2}")).unwrap_or_default();
     let _ = writeln!(
         o,
-        "settings: ringing {} from theta0 = {:.1} deg, R = {}, {} contact{stiffness}, {} protocol",
+        "settings: ringing {} from theta0 = {:.1} deg, R = {}{later}, {} contact{stiffness}, {} protocol",
         r.style, s.theta0_deg, s.restitution, s.contact, s.protocol
     );
     for st in &r.strokes {
