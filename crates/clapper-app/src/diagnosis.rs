@@ -8,7 +8,6 @@ use clapper_core::chart::{ChartSpec, Styles};
 use clapper_core::diagnose::{diagnose, ring_outliers, BellDiagnosis, DiagnoseConfig, Problem, StyleOutcome};
 use clapper_core::prelude::*;
 use clapper_io::bell_file::{BellSource, LoadedBell};
-use clapper_io::report::style_name;
 use clapper_plot::chart::Marker;
 use clapper_plot::quantity;
 use rayon::prelude::*;
@@ -301,7 +300,7 @@ fn bell_json(b: &LoadedBell, d: &BellDiagnosis, outlier: &[String]) -> BellDiagn
         rings_right: d.right.sustained,
         rings_wrong: d.wrong.sustained,
         verdict: verdict(d).into(),
-        usual_style: d.usual.map(|s| style_name(s).into()),
+        usual_style: d.usual.map(|s| s.name().into()),
         first_strike_theta_deg: usual.and_then(|o| o.strike_theta).map(f64::to_degrees),
         strike_phidot_rad_s: phidot,
         striking_speed_m_s: phidot.map(|v| v.abs() * bell.lc()),

@@ -21,6 +21,7 @@
 pub mod chart;
 pub mod diagnosis;
 pub mod figures;
+pub mod liftoff;
 pub mod listening;
 pub mod measure;
 pub mod simulate;

@@ -6,7 +6,7 @@ use std::fmt::Write as _;
 use clapper_core::prelude::*;
 use clapper_core::stroke::Sample;
 use clapper_io::bell_file::{BellSource, LoadedBell};
-use clapper_io::report::{style_name, BellReport, SimulationReport, SimulationSettings};
+use clapper_io::report::{BellReport, SimulationReport, SimulationSettings};
 use serde::{Deserialize, Serialize};
 
 use crate::AppError;
@@ -227,7 +227,7 @@ fn run(
     let title = format!(
         "{}: ringing {} from {:.0} deg, R = {}, {} contact  (r/L_c = {:.3}, L_b/L_c = {:.3})",
         loaded.name,
-        style_name(style),
+        style.name(),
         req.theta0,
         cfg.restitution,
         contact_words(&cfg),

@@ -387,7 +387,7 @@ fn report_chart(args: &ChartArgs, quantity: Quantity, styles: Styles, chart: &Ch
             .count();
         println!(
             "  sustains ringing {}: {n} of {} points",
-            clapper_io::report::style_name(*style),
+            style.name(),
             spec.nx * spec.ny
         );
     }

@@ -99,7 +99,7 @@ pub fn restitution(args: RestitutionArgs) -> Result<()> {
 }
 
 /// `--json`: the report; otherwise its text.
-fn print_report<T: serde::Serialize>(report: &T, json: bool, text: impl FnOnce() -> String) -> Result<()> {
+pub fn print_report<T: serde::Serialize>(report: &T, json: bool, text: impl FnOnce() -> String) -> Result<()> {
     if json {
         println!("{}", serde_json::to_string(report)?);
     } else {

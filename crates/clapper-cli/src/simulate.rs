@@ -4,6 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
+use clapper_app::liftoff::{BellLiftoffReport, FormulaReport};
 use clapper_app::simulate::{simulate_traced, summary, Preset, SimulateRequest, DEFAULT_STROKES, DEFAULT_THETA0_DEG};
 use clapper_core::prelude::*;
 use clapper_core::stroke::{ContactModel, Integrator};
@@ -218,27 +219,8 @@ pub fn liftoff(args: LiftoffArgs) -> Result<()> {
 }
 
 fn liftoff_formula(lb_over_lc: f64, phi_max: f64, json: bool) -> Result<()> {
-    let a = liftoff_angles(lb_over_lc, phi_max.to_radians())?;
-    if json {
-        println!(
-            "{}",
-            serde_json::json!({
-                "lb_over_lc": lb_over_lc,
-                "phi_max_deg": phi_max,
-                "right_deg": a.right.to_degrees(),
-                "wrong_deg": a.wrong.to_degrees(),
-            })
-        );
-    } else {
-        println!(
-            "lift-off for r = 0, L_b/L_c = {}, phi_max = {} deg (equations 15, 16):\n  ringing right  theta_r = {:.2} deg\n  ringing wrong  theta_w = {:.2} deg",
-            lb_over_lc,
-            phi_max,
-            a.right.to_degrees(),
-            a.wrong.to_degrees()
-        );
-    }
-    Ok(())
+    let report = FormulaReport::new(lb_over_lc, phi_max)?;
+    crate::measure::print_report(&report, json, || report.text())
 }
 
 /// The exact lift-off of a bell of any r released from rest, both styles.
@@ -250,39 +232,6 @@ fn liftoff_of_bell(args: &LiftoffArgs) -> Result<()> {
         ..SimulateRequest::default()
     };
     let loaded = request.bell(args.source.file()?)?;
-    let theta0 = args.theta0.to_radians();
-    let mut found = Vec::new();
-    for style in [Style::Right, Style::Wrong] {
-        let l = liftoff_from_rest(&loaded.bell, theta0, style.side(theta0))?;
-        found.push((style, l));
-    }
-    if args.json {
-        let mut v = serde_json::json!({
-            "bell": loaded.name,
-            "theta0_deg": args.theta0,
-            "phi_max_deg": loaded.bell.phi_max.to_degrees(),
-        });
-        for (style, l) in &found {
-            let name = clapper_io::report::style_name(*style);
-            v[format!("{name}_deg")] = l.map(|l| l.theta.to_degrees()).into();
-            v[format!("{name}_s")] = l.map(|l| l.time).into();
-        }
-        println!("{v}");
-    } else {
-        println!(
-            "lift-off of {}, released from rest at {} deg, phi_max = {:.2} deg (closed form, any r):",
-            loaded.name,
-            args.theta0,
-            loaded.bell.phi_max.to_degrees()
-        );
-        for (style, l) in &found {
-            let words = match l {
-                Some(l) if l.time == 0.0 => "at once: the clapper is not pressed against that side".to_string(),
-                Some(l) => format!("theta = {:.2} deg, {:.3} s after release", l.theta.to_degrees(), l.time),
-                None => "none: the clapper stays on through the half swing".to_string(),
-            };
-            println!("  ringing {:<6} {words}", clapper_io::report::style_name(*style));
-        }
-    }
-    Ok(())
+    let report = BellLiftoffReport::new(&loaded, args.theta0)?;
+    crate::measure::print_report(&report, args.json, || report.text())
 }

@@ -1,12 +1,11 @@
 //! Charts as long-form CSV: one row per point and style. A sweep over
 //! several θ0, R or φ_max puts those three first on every row.
 
+use clapper_core::Choice;
 use std::io::Write;
 
 use clapper_core::chart::{Chart, ChartCell, StrokeSummary};
 use clapper_core::stroke::Style;
-
-use crate::report::style_name;
 
 /// The columns of `clapper chart --csv` (README, "Clapping charts").
 pub const CHART_HEADER: [&str; 8] = [
@@ -43,7 +42,7 @@ fn row(c: &ChartCell, axes: Option<&Axes>) -> Vec<String> {
     r.extend([
         format!("{:.6}", c.x),
         format!("{:.6}", c.y),
-        style_name(c.style).to_string(),
+        c.style.name().to_string(),
         s.is_some_and(|s| s.sustained).to_string(),
         cell(s.and_then(|s| s.strike_theta).map(f64::to_degrees)),
         cell(s.and_then(|s| s.strike_phidot)),

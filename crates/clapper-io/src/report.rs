@@ -3,7 +3,8 @@
 
 use clapper_core::bell::{Bell, BellWarning};
 use clapper_core::ringing::{Protocol, Ringing};
-use clapper_core::stroke::{ClapperState, ContactModel, EndReason, Integrator, SimConfig, Stroke, Style};
+use clapper_core::stroke::{ClapperState, ContactModel, EndReason, Integrator, SimConfig, Stroke};
+use clapper_core::Choice;
 use serde::Serialize;
 
 use crate::bell_file::BellSource;
@@ -121,14 +122,6 @@ impl SimulationSettings {
     }
 }
 
-/// `right` or `wrong`.
-pub fn style_name(s: Style) -> &'static str {
-    match s {
-        Style::Right => "right",
-        Style::Wrong => "wrong",
-    }
-}
-
 /// The first strike of a stroke.
 #[derive(Clone, Debug, Serialize, PartialEq)]
 pub struct StrikeReport {
@@ -215,7 +208,7 @@ impl StrokeReport {
             start_t_s: t0,
             start_theta_deg: s.start.y[0].to_degrees(),
             start_side: side_num(s.start_side),
-            style: style_name(s.style).into(),
+            style: s.style.name().into(),
             first_strike: s.first_strike().map(|i| StrikeReport {
                 theta_deg: i.theta.to_degrees(),
                 phidot_rad_s: i.phi_dot_before,
@@ -252,7 +245,7 @@ impl StrokeReport {
             }
             .into(),
             duration_s: s.end.t - t0,
-            continues_as: style_name(s.continues_as()).into(),
+            continues_as: s.continues_as().name().into(),
             sustained: s.sustained(),
             steps: s.stats.steps,
             rhs_evals: s.stats.rhs_evals,
@@ -284,10 +277,10 @@ impl SimulationReport {
         Self {
             bell,
             settings,
-            style: style_name(ringing.style).into(),
+            style: ringing.style.name().into(),
             sustained,
             verdict: if sustained {
-                style_name(ringing.style).into()
+                ringing.style.name().into()
             } else {
                 "neither".into()
             },
@@ -310,7 +303,15 @@ mod tests {
     fn report_has_the_documented_keys() {
         let bell = Bell::lab();
         let cfg = SimConfig::default();
-        let r = ring(&bell, &cfg, Style::Right, Protocol::Restart, 2, &mut ()).unwrap();
+        let r = ring(
+            &bell,
+            &cfg,
+            clapper_core::stroke::Style::Right,
+            Protocol::Restart,
+            2,
+            &mut (),
+        )
+        .unwrap();
         let rep = SimulationReport::new(
             BellReport::new("lab", &bell, &BellSource::MassProperties),
             SimulationSettings::new(&cfg, Protocol::Restart, 2),

@@ -2,6 +2,7 @@
 //! runs the work of `clapper-app` in a computation slot and answers JSON
 //! (or SVG, HTML, WAV, NDJSON where said).
 
+use clapper_core::Choice;
 use std::convert::Infallible;
 use std::time::Instant;
 
@@ -145,12 +146,7 @@ pub(crate) async fn chart(State(s): State<AppState>, req: Body_<ChartRequest>) -
     tokio::task::spawn_blocking(move || {
         let _slot = permit;
         let started = Instant::now();
-        let styles: Vec<&str> = spec
-            .styles
-            .list()
-            .iter()
-            .map(|s| clapper_io::report::style_name(*s))
-            .collect();
+        let styles: Vec<&str> = spec.styles.list().iter().map(|s| s.name()).collect();
         let total = spec.cell_count();
         let start = json!({
             "type": "start", "nx": spec.nx, "ny": spec.ny, "xs": spec.xs(), "ys": spec.ys(),
