@@ -166,18 +166,6 @@ pub struct Restitution {
     pub later: f64,
 }
 
-impl Restitution {
-    /// The one for an impact: `later` for a bounce after an impact on the
-    /// same side.
-    pub fn of(self, later: bool) -> f64 {
-        if later {
-            self.later
-        } else {
-            self.first
-        }
-    }
-}
-
 /// How the clapper came to rest (for the stroke's record).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Rest {
