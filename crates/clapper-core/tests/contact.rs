@@ -126,3 +126,68 @@ fn every_taylor_order_up_to_the_bound_runs_and_one_more_is_refused() {
         ));
     }
 }
+
+/// An energy balance, independent of the impulse law's derivation: at each
+/// rigid impact the kinetic energy (equation (4), `Dynamics::energy`) falls
+/// by (1 − R_k) ½ m_eff φ'⁻², m_eff = 1 / (W⁻¹)₂₂ the clapper's effective
+/// inertia at the contact, with R_k = R at the first impact on a side and
+/// R2 after; a clapper coming to rest loses the whole ½ m_eff φ'⁻².
+#[test]
+fn each_impact_loses_the_energy_its_coefficient_says() {
+    use clapper_core::dynamics::{Dynamics, PHI_DOT};
+    use clapper_core::stroke::{Sample, StrokeStart};
+
+    #[derive(Default)]
+    struct Jumps(Vec<(Sample, Sample)>);
+    impl Observer for Jumps {
+        fn on_jump(&mut self, before: &Sample, after: &Sample) {
+            if before.y != after.y {
+                self.0.push((*before, *after));
+            }
+        }
+    }
+
+    let bell = Bell::lab();
+    let d = Dynamics::new(&bell);
+    let r = 0.2;
+    let mut checked = (0, 0, 0);
+    for r2 in [0.05, 0.3, 0.5] {
+        let cfg = SimConfig {
+            restitution: r,
+            restitution_later: Some(r2),
+            ..SimConfig::default()
+        };
+        let start = StrokeStart::at_rest(&bell, &cfg, 0.0, cfg.theta0, Side::Plus);
+        let mut jumps = Jumps::default();
+        let stroke = run_stroke(&bell, &cfg, start, &mut jumps).unwrap();
+        assert_eq!(jumps.0.len(), stroke.impacts.len(), "one jump per impact");
+        for (k, ((before, after), impact)) in jumps.0.iter().zip(&stroke.impacts).enumerate() {
+            let v = before.y[PHI_DOT];
+            assert_eq!(v, impact.phi_dot_before);
+            let a = d.accel(&before.y, 0.0);
+            let m_eff = a.det / a.w11;
+            let later = k > 0 && stroke.impacts[k - 1].side == impact.side;
+            let rk = if after.y[PHI_DOT] == 0.0 {
+                checked.2 += 1;
+                0.0
+            } else if later {
+                checked.1 += 1;
+                r2
+            } else {
+                checked.0 += 1;
+                r
+            };
+            let lost = d.energy(&before.y) - d.energy(&after.y);
+            let want = (1.0 - rk) * 0.5 * m_eff * v * v;
+            assert!(
+                // Differences of a total energy of hundreds of joules: allow
+                // its rounding (1e-13 of it) besides 1e-9 of the loss.
+                (lost - want).abs() <= 1e-9 * want + 1e-13 * d.energy(&before.y).abs(),
+                "R2 = {r2}, impact {k}: lost {lost} J, want {want} J (R_k = {rk})"
+            );
+        }
+    }
+    // Each strike took R, many bounces R2, and a clapper came to rest.
+    assert_eq!(checked.0, 3, "{checked:?}");
+    assert!(checked.1 >= 10 && checked.2 >= 1, "{checked:?}");
+}
