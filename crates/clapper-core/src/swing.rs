@@ -286,7 +286,7 @@ impl ClosedFormSwing {
 }
 
 impl<S: SwingSystem + ?Sized> Stepper<4, S> for ClosedFormSwing {
-    fn integrate(&mut self, sys: &S, t0: f64, y0: State, t_end: f64, observe: Observe<'_, 4>) -> Run<4> {
+    fn integrate<F: Observe<4>>(&mut self, sys: &S, t0: f64, y0: State, t_end: f64, observe: &mut F) -> Run<4> {
         let declined = Ok(Segment {
             t: t0,
             y: y0,

@@ -172,9 +172,12 @@ pub trait DenseOutput<const N: usize> {
     }
 }
 
-/// What a [`Stepper`] hands every step to: the step's dense output and the
-/// time it is used up to (s).
-pub type Observe<'a, const N: usize> = &'a mut dyn FnMut(&dyn DenseOutput<N>, f64);
+/// What a [`Stepper`] hands every step to: a closure of the step's dense
+/// output and the time it is used up to (s). Generic, so that an observer
+/// that does nothing costs nothing.
+pub trait Observe<const N: usize>: FnMut(&dyn DenseOutput<N>, f64) {}
+
+impl<const N: usize, F: FnMut(&dyn DenseOutput<N>, f64)> Observe<N> for F {}
 
 /// What [`Stepper::integrate`] answers: where it stopped, or a numerical
 /// failure.
@@ -226,7 +229,7 @@ pub trait Stepper<const N: usize, S: ?Sized> {
     /// Integrate `sys` from `(t0, y0)` towards `t_end` (> `t0`). `observe`
     /// is called after every step with its dense output and the time it is
     /// used up to (earlier than the step's end when an event cut it short).
-    fn integrate(&mut self, sys: &S, t0: f64, y0: [f64; N], t_end: f64, observe: Observe<'_, N>) -> Run<N>;
+    fn integrate<F: Observe<N>>(&mut self, sys: &S, t0: f64, y0: [f64; N], t_end: f64, observe: &mut F) -> Run<N>;
     /// Work done so far.
     fn stats(&self) -> Stats;
     /// A hint for the next call only (see [`NextSegment`]); none by default.
@@ -245,7 +248,7 @@ pub struct Fallback<A, B> {
 }
 
 impl<const N: usize, S: ?Sized, A: Stepper<N, S>, B: Stepper<N, S>> Stepper<N, S> for Fallback<A, B> {
-    fn integrate(&mut self, sys: &S, t0: f64, y0: [f64; N], t_end: f64, observe: Observe<'_, N>) -> Run<N> {
+    fn integrate<F: Observe<N>>(&mut self, sys: &S, t0: f64, y0: [f64; N], t_end: f64, observe: &mut F) -> Run<N> {
         let seg = self.first.integrate(sys, t0, y0, t_end, observe)?;
         if seg.stop == Stop::Declined {
             self.then.integrate(sys, t0, y0, t_end, observe)

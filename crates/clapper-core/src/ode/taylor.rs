@@ -392,7 +392,7 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
         }
     }
 
-    fn integrate(&mut self, sys: &S, t0: f64, y0: [f64; N], t_end: f64, observe: Observe<'_, N>) -> Run<N> {
+    fn integrate<F: Observe<N>>(&mut self, sys: &S, t0: f64, y0: [f64; N], t_end: f64, observe: &mut F) -> Run<N> {
         self.check_options()?;
         if let Some(done) = begin(sys, t0, y0, t_end)? {
             return Ok(done);
