@@ -24,7 +24,7 @@ fn phi_max() -> f64 {
     DEFAULT_PHI_MAX_DEG
 }
 
-crate::with_stroke_options! {
+crate::stroke_options::with_stroke_options! {
     /// Everything that shapes a chart. JSON keys as the long options of
     /// `clapper chart`, in snake case; ranges and the grid as pairs:
     ///

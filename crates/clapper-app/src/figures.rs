@@ -465,6 +465,11 @@ fn chart_csv(chart: &Chart) -> Result<String, AppError> {
     csv_of(|buf| clapper_io::write_chart_csv(buf, chart))
 }
 
+/// Data file names as links, each written by `link`, comma-separated.
+fn links(data: &[String], link: impl Fn(&str) -> String) -> String {
+    data.iter().map(|d| link(d)).collect::<Vec<_>>().join(", ")
+}
+
 /// The index as Markdown and HTML.
 fn index(entries: &[Entry], words: &str, secs: f64) -> (String, String) {
     let mut md = format!(
@@ -479,23 +484,13 @@ fn index(entries: &[Entry], words: &str, secs: f64) -> (String, String) {
     );
     let _ = write!(html, "<p>Charts: {words}. Base chart: {secs:.2} s.</p>");
     for e in entries {
-        let data = e
-            .data
-            .iter()
-            .map(|d| format!("[{d}]({d})"))
-            .collect::<Vec<_>>()
-            .join(", ");
+        let data = links(&e.data, |d| format!("[{d}]({d})"));
         let _ = write!(
             md,
             "## {}\n\n{}\n\n![{}]({}.png)\n\nData: {data}; vector: [{}.svg]({}.svg)\n\n",
             e.title, e.says, e.title, e.name, e.name, e.name
         );
-        let hdata = e
-            .data
-            .iter()
-            .map(|d| format!("<a href=\"{d}\">{d}</a>"))
-            .collect::<Vec<_>>()
-            .join(", ");
+        let hdata = links(&e.data, |d| format!("<a href=\"{d}\">{d}</a>"));
         let _ = write!(
             html,
             "<h2>{}</h2><p>{}</p><img src=\"{}.png\" alt=\"{}\"><p>Data: {hdata}; vector: <a href=\"{}.svg\">{}.svg</a></p>",

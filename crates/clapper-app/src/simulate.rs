@@ -57,7 +57,7 @@ fn default_strokes() -> usize {
     DEFAULT_STROKES
 }
 
-crate::with_stroke_options! {
+crate::stroke_options::with_stroke_options! {
     /// The options of `clapper simulate`, as data. In JSON the keys are the
     /// long options in snake case (`chart_point`, `phi_max`; the kebab-case
     /// spellings are accepted too) and the bell file is given by its text:

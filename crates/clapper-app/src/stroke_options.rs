@@ -5,7 +5,7 @@
 //!
 //! A request is one flat JSON object that refuses unknown keys, which
 //! serde's `flatten` cannot give; so the shared fields are spliced into
-//! each request by [`with_stroke_options!`], and read back as a
+//! each request by the crate's `with_stroke_options!` macro, and read back as a
 //! [`SimConfig`] by [`StrokeOptions::config`].
 
 use clapper_core::prelude::*;
@@ -137,6 +137,8 @@ macro_rules! with_stroke_options {
         }
     };
 }
+
+pub(crate) use with_stroke_options;
 
 #[cfg(test)]
 mod tests {
