@@ -58,6 +58,19 @@ crate::stroke_options::with_stroke_options! {
 impl ChartRequest {
     /// The chart spec, validated.
     pub fn spec(&self) -> Result<ChartSpec, AppError> {
+        let mut construction = ChartConstruction {
+            phi_max: self.phi_max.to_radians(),
+            ..ChartConstruction::default()
+        };
+        // The hanging as given, on one bell of the chart: every bell of the
+        // chart shares its φ_max, skew, offset and friction.
+        let hanging = self.stroke_options().hanging;
+        let mut shared = clapper_core::hanging::Hanging::default();
+        if !hanging.is_empty() {
+            let template = hanging.apply(construction.bell(self.r_range[0], self.lb_range[0])?)?;
+            construction.phi_max = template.phi_max;
+            shared = template.hanging;
+        }
         let spec = ChartSpec {
             domain: Domain {
                 x: (self.r_range[0], self.r_range[1]),
@@ -65,12 +78,10 @@ impl ChartRequest {
             },
             nx: self.grid[0],
             ny: self.grid[1],
-            construction: ChartConstruction {
-                phi_max: self.phi_max.to_radians(),
-                ..ChartConstruction::default()
-            },
+            construction,
             config: self.stroke_options().config()?,
             styles: self.style,
+            hanging: shared,
         };
         spec.validate()?;
         Ok(spec)
@@ -79,8 +90,24 @@ impl ChartRequest {
 
 /// Short words for a chart's settings, for titles.
 pub fn settings_words(spec: &ChartSpec) -> String {
+    let h = &spec.hanging;
+    let mut extra = String::new();
+    if h.pivot_offset != 0.0 {
+        extra += &format!(", pivot offset {:.1} mm", h.pivot_offset * 1e3);
+    }
+    if h.phi_max_skew != 0.0 {
+        let (hand, back) = clapper_core::hanging::contact_angles(spec.construction.phi_max, h.phi_max_skew);
+        extra += &format!(
+            ", phi_max hand/back {:.2}/{:.2} deg",
+            hand.to_degrees(),
+            back.to_degrees()
+        );
+    }
+    if !h.friction.is_none() {
+        extra += ", with friction";
+    }
     format!(
-        "theta0 = {:.0} deg, R = {}{}, phi_max = {:.0} deg, {} contact, {} x {}",
+        "theta0 = {:.0} deg, R = {}{}, phi_max = {:.0} deg{extra}, {} contact, {} x {}",
         spec.config.theta0.to_degrees(),
         spec.config.restitution,
         spec.config

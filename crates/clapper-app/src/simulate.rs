@@ -122,8 +122,11 @@ impl SimulateRequest {
             (_, _, _, preset) => preset.unwrap_or(Preset::Lab).loaded(),
         };
         if let Some(deg) = self.phi_max {
+            // φ_max sets both sides.
+            loaded.bell.hanging.phi_max_skew = 0.0;
             loaded.bell = loaded.bell.with_phi_max(deg.to_radians())?;
         }
+        loaded.bell = self.stroke_options().hanging.apply(loaded.bell)?;
         Ok(loaded)
     }
 
@@ -234,10 +237,18 @@ fn run(
         bell.r_over_lc(),
         bell.lb_over_lc()
     );
+    // Odd-struckness of the first two strokes, each on its own clock
+    // under the restart protocol (so exactly 0 for a symmetric bell).
+    let odd = match (protocol, &ringing.strokes[..]) {
+        (_, [] | [_]) => None,
+        (Protocol::Restart, _) => clapper_core::ringing::odd_struck(bell, &cfg, style)?.odd_struck(),
+        (Protocol::Free, [hand, back, ..]) => hand.bdc_to_strike().zip(back.bdc_to_strike()).map(|(h, b)| h - b),
+    };
     let report = SimulationReport::new(
         BellReport::new(&loaded.name, bell, &loaded.source),
         SimulationSettings::new(&cfg, protocol, req.strokes),
         &ringing,
+        odd,
     );
     Ok(Simulation {
         report,

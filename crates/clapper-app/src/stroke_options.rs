@@ -12,6 +12,7 @@ use clapper_core::prelude::*;
 use clapper_core::stroke::DEFAULT_STIFFNESS;
 
 use crate::AppError;
+pub use clapper_io::hanging_input::HangingInput;
 
 pub use clapper_core::stroke::{DEFAULT_RESTITUTION, DEFAULT_THETA0_DEG};
 
@@ -36,6 +37,8 @@ pub struct StrokeOptions {
     pub rtol: Option<f64>,
     /// The integrator, if named.
     pub integrator: Option<Integrator>,
+    /// How the bell departs from the ideal, where given.
+    pub hanging: HangingInput,
 }
 
 impl StrokeOptions {
@@ -113,6 +116,37 @@ macro_rules! with_stroke_options {
             /// Integrator (default Taylor).
             #[serde(default)]
             pub integrator: Option<clapper_core::stroke::Integrator>,
+            /// Sideways offset d of the clapper pivot (m), + toward the side
+            /// the clapper rests on before a handstroke; unset: the bell's (0).
+            #[serde(default, skip_serializing_if = "Option::is_none", alias = "pivot-offset")]
+            pub pivot_offset: Option<f64>,
+            /// Contact angle of the side struck at handstroke (deg).
+            #[serde(default, skip_serializing_if = "Option::is_none", alias = "phi-max-hand")]
+            pub phi_max_hand: Option<f64>,
+            /// Contact angle of the side struck at backstroke (deg).
+            #[serde(default, skip_serializing_if = "Option::is_none", alias = "phi-max-back")]
+            pub phi_max_back: Option<f64>,
+            /// Tape reading: ball-to-rim gap on the hand side, bell down (mm).
+            #[serde(default, skip_serializing_if = "Option::is_none", alias = "gap-hand")]
+            pub gap_hand: Option<f64>,
+            /// Tape reading: ball-to-rim gap on the back side (mm).
+            #[serde(default, skip_serializing_if = "Option::is_none", alias = "gap-back")]
+            pub gap_back: Option<f64>,
+            /// The ball's centre below the clapper pivot (m), with the gaps.
+            #[serde(default, skip_serializing_if = "Option::is_none", alias = "ball-below-pivot")]
+            pub ball_below_pivot: Option<f64>,
+            /// Viscous damping at the bell's bearings (N m s/rad).
+            #[serde(default, skip_serializing_if = "Option::is_none", alias = "bell-damping")]
+            pub bell_damping: Option<f64>,
+            /// Coulomb friction torque at the bell's bearings (N m).
+            #[serde(default, skip_serializing_if = "Option::is_none", alias = "bell-friction")]
+            pub bell_friction: Option<f64>,
+            /// Viscous damping at the clapper's pivot (N m s/rad).
+            #[serde(default, skip_serializing_if = "Option::is_none", alias = "clapper-damping")]
+            pub clapper_damping: Option<f64>,
+            /// Coulomb friction torque at the clapper's pivot (N m).
+            #[serde(default, skip_serializing_if = "Option::is_none", alias = "clapper-friction")]
+            pub clapper_friction: Option<f64>,
         }
 
         impl Default for $name {
@@ -132,6 +166,18 @@ macro_rules! with_stroke_options {
                     stiffness: self.stiffness,
                     rtol: self.rtol,
                     integrator: self.integrator,
+                    hanging: $crate::stroke_options::HangingInput {
+                        pivot_offset_m: self.pivot_offset,
+                        phi_max_hand_deg: self.phi_max_hand,
+                        phi_max_back_deg: self.phi_max_back,
+                        gap_hand_mm: self.gap_hand,
+                        gap_back_mm: self.gap_back,
+                        ball_below_pivot_m: self.ball_below_pivot,
+                        bell_damping: self.bell_damping,
+                        bell_friction: self.bell_friction,
+                        clapper_damping: self.clapper_damping,
+                        clapper_friction: self.clapper_friction,
+                    },
                 }
             }
         }
@@ -178,6 +224,7 @@ mod tests {
             stiffness,
             rtol: None,
             integrator: None,
+            hanging: HangingInput::default(),
         };
         let cfg = opts(None, Some(3e6)).config().unwrap();
         assert_eq!((cfg.contact, cfg.stiffness), (ContactModel::Penalty, 3e6));

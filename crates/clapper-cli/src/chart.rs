@@ -91,6 +91,8 @@ pub struct SweepArgs {
     pub phi_max: Vec<f64>,
     #[command(flatten)]
     pub solver: SolverArgs,
+    #[command(flatten)]
+    pub hanging: crate::simulate::HangingArgs,
     /// Worker threads (default: one per core). The output does not depend on it.
     #[arg(long, value_name = "N")]
     pub threads: Option<usize>,
@@ -100,7 +102,7 @@ impl SweepArgs {
     /// The options as the request the web API also takes (the first value
     /// of each extra axis).
     pub fn request(&self, styles: Styles) -> ChartRequest {
-        ChartRequest {
+        let mut req = ChartRequest {
             grid: [self.grid.0, self.grid.1],
             r_range: [self.r_range.0, self.r_range.1],
             lb_range: [self.lb_range.0, self.lb_range.1],
@@ -113,7 +115,10 @@ impl SweepArgs {
             style: styles,
             rtol: self.solver.rtol,
             integrator: self.solver.integrator,
-        }
+            ..ChartRequest::default()
+        };
+        crate::simulate::set_hanging!(req, self.hanging);
+        req
     }
 
     /// The chart spec these options describe, for `styles` (one value per

@@ -90,6 +90,62 @@ pub struct SolverArgs {
     pub restitution_later: Option<f64>,
 }
 
+/// How the bell departs from the ideal: pivot offset, unequal contact
+/// angles (or the tape's gaps), friction. Every option overrides the bell
+/// file's (docs/model.md §10).
+#[derive(Args, Debug, Clone, Default)]
+pub struct HangingArgs {
+    /// Sideways offset d of the clapper pivot (m), positive toward the side
+    /// the clapper rests on before a handstroke.
+    #[arg(long, value_name = "M", allow_hyphen_values = true)]
+    pub pivot_offset: Option<f64>,
+    /// Contact angle of the side struck at handstroke (deg).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub phi_max_hand: Option<f64>,
+    /// Contact angle of the side struck at backstroke (deg).
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub phi_max_back: Option<f64>,
+    /// Tape: ball-to-rim gap on the handstroke side, bell down (mm).
+    #[arg(long, value_name = "MM", allow_hyphen_values = true, requires_all = ["gap_back", "ball_below_pivot"])]
+    pub gap_hand: Option<f64>,
+    /// Tape: ball-to-rim gap on the backstroke side, bell down (mm).
+    #[arg(long, value_name = "MM", allow_hyphen_values = true, requires_all = ["gap_hand", "ball_below_pivot"])]
+    pub gap_back: Option<f64>,
+    /// The ball's centre below the clapper pivot (m), for the gaps.
+    #[arg(long, value_name = "M", allow_hyphen_values = true)]
+    pub ball_below_pivot: Option<f64>,
+    /// Viscous damping at the bell's bearings (N m s/rad).
+    #[arg(long, value_name = "N_M_S", allow_hyphen_values = true)]
+    pub bell_damping: Option<f64>,
+    /// Coulomb friction torque at the bell's bearings (N m).
+    #[arg(long, value_name = "N_M", allow_hyphen_values = true)]
+    pub bell_friction: Option<f64>,
+    /// Viscous damping at the clapper's pivot (N m s/rad).
+    #[arg(long, value_name = "N_M_S", allow_hyphen_values = true)]
+    pub clapper_damping: Option<f64>,
+    /// Coulomb friction torque at the clapper's pivot (N m).
+    #[arg(long, value_name = "N_M", allow_hyphen_values = true)]
+    pub clapper_friction: Option<f64>,
+}
+
+/// Copy `HangingArgs` into a request's flat fields of the same names.
+macro_rules! set_hanging {
+    ($req:expr, $h:expr) => {{
+        let h = &$h;
+        $req.pivot_offset = h.pivot_offset;
+        $req.phi_max_hand = h.phi_max_hand;
+        $req.phi_max_back = h.phi_max_back;
+        $req.gap_hand = h.gap_hand;
+        $req.gap_back = h.gap_back;
+        $req.ball_below_pivot = h.ball_below_pivot;
+        $req.bell_damping = h.bell_damping;
+        $req.bell_friction = h.bell_friction;
+        $req.clapper_damping = h.clapper_damping;
+        $req.clapper_friction = h.clapper_friction;
+    }};
+}
+pub(crate) use set_hanging;
+
 #[derive(Args, Debug)]
 pub struct SimulateArgs {
     #[command(flatten)]
@@ -116,6 +172,8 @@ pub struct SimulateArgs {
     pub protocol: Protocol,
     #[command(flatten)]
     pub solver: SolverArgs,
+    #[command(flatten)]
+    pub hanging: HangingArgs,
     /// Print the full result as one JSON object.
     #[arg(long)]
     pub json: bool,
@@ -151,7 +209,7 @@ pub struct LiftoffArgs {
 impl SimulateArgs {
     /// The options as the request the web API also takes.
     pub fn request(&self) -> SimulateRequest {
-        SimulateRequest {
+        let mut req = SimulateRequest {
             preset: self.source.preset,
             bell: None,
             chart_point: self.source.chart_point.map(|(x, y)| [x, y]),
@@ -166,7 +224,10 @@ impl SimulateArgs {
             stiffness: self.solver.stiffness,
             rtol: self.solver.rtol,
             integrator: self.solver.integrator,
-        }
+            ..SimulateRequest::default()
+        };
+        set_hanging!(req, self.hanging);
+        req
     }
 
     /// The bell file of `--bell`, read.

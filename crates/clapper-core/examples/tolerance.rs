@@ -105,7 +105,7 @@ impl clapper_core::ode::SeriesSystem<4> for Smooth {
         x: &mut [clapper_core::ode::taylor::Coeffs; 4],
         extra: &mut [clapper_core::ode::taylor::Coeffs; clapper_core::ode::MAX_EXTRA],
     ) {
-        self.0.series_resting(y, p, x, &mut extra[0]);
+        self.0.series_resting(y, None, p, x, &mut extra[0]);
     }
 }
 

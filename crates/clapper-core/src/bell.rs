@@ -5,6 +5,8 @@
 
 use std::f64::consts::PI;
 
+use crate::hanging::Hanging;
+
 /// Acceleration due to gravity (m/s²), the value the paper uses.
 pub const G: f64 = 9.81;
 
@@ -88,8 +90,12 @@ pub struct Bell {
     /// r: how far the clapper pivot lies below the bell pivot (m); may be
     /// negative (clapper pivot above the bell's axis).
     pub r: f64,
-    /// φ_max: clapper angle relative to the bell at contact (rad), in (0, π/2).
+    /// φ_max: clapper angle relative to the bell at contact (rad), in (0, π/2);
+    /// the mean of the two sides' when they differ ([`Hanging::phi_max_skew`]).
     pub phi_max: f64,
+    /// How the bell departs from the paper's ideal one: pivot offset,
+    /// unequal contact angles, friction (docs/model.md §10). Default: ideal.
+    pub hanging: Hanging,
 }
 
 fn positive(field: &'static str, value: f64) -> Result<(), ParamError> {
@@ -126,6 +132,7 @@ impl Bell {
             clapper_inertia,
             r,
             phi_max,
+            hanging: Hanging::default(),
         };
         bell.validate()?;
         Ok(bell)
@@ -146,13 +153,38 @@ impl Bell {
                 allowed: "a finite number (may be negative)",
             });
         }
-        check_phi_max(self.phi_max)
+        check_phi_max(self.phi_max)?;
+        self.hanging.validate()?;
+        let (hand, back) = self.contact_angles();
+        for (field, value) in [("phi_max_hand_deg", hand), ("phi_max_back_deg", back)] {
+            if !(value > 0.0 && value < PI / 2.0) {
+                return Err(ParamError {
+                    field,
+                    value: value.to_degrees(),
+                    allowed: "between 0 and 90 deg, exclusive",
+                });
+            }
+        }
+        Ok(())
+    }
+
+    /// The contact angles of the hand side (φ < 0) and the back side
+    /// (φ > 0) (rad, both positive); both φ_max for a symmetric bell.
+    pub fn contact_angles(&self) -> (f64, f64) {
+        crate::hanging::contact_angles(self.phi_max, self.hanging.phi_max_skew)
+    }
+
+    /// The same bell hung as `hanging` says.
+    pub fn with_hanging(self, hanging: Hanging) -> Self {
+        Self { hanging, ..self }
     }
 
     /// The same bell with another contact angle φ_max (rad), validated.
     pub fn with_phi_max(self, phi_max: f64) -> Result<Self, ParamError> {
         check_phi_max(phi_max)?;
-        Ok(Self { phi_max, ..self })
+        let bell = Self { phi_max, ..self };
+        bell.validate()?;
+        Ok(bell)
     }
 
     /// The laboratory bell of Table 1.
@@ -166,6 +198,7 @@ impl Bell {
             clapper_inertia: 0.093,
             r: 0.10,
             phi_max: 26f64.to_radians(),
+            hanging: Hanging::default(),
         }
     }
 
@@ -180,6 +213,7 @@ impl Bell {
             clapper_inertia: 11.0,
             r: 0.179,
             phi_max: 32f64.to_radians(),
+            hanging: Hanging::default(),
         }
     }
 

@@ -8,7 +8,8 @@ use std::sync::atomic::{AtomicU64, Ordering};
 use rayon::prelude::*;
 
 use crate::bell::{ChartConstruction, ParamError};
-use crate::ringing::first_stroke;
+use crate::hanging::Hanging;
+use crate::ringing::{first_stroke, odd_struck};
 use crate::stroke::{SimConfig, SimError, Stroke, Style};
 
 /// The most points one chart may have: 2000 x 2000 (a chart of both styles
@@ -83,6 +84,10 @@ pub struct ChartSpec {
     pub config: SimConfig,
     /// Which styles.
     pub styles: Styles,
+    /// How every chart bell departs from the ideal: pivot offset, unequal
+    /// contact angles, friction (docs/model.md §10). Default: ideal.
+    #[cfg_attr(feature = "serde", serde(default, skip_serializing_if = "Hanging::is_ideal"))]
+    pub hanging: Hanging,
 }
 
 impl Default for ChartSpec {
@@ -95,6 +100,7 @@ impl Default for ChartSpec {
             construction: ChartConstruction::default(),
             config: SimConfig::default(),
             styles: Styles::Both,
+            hanging: Hanging::default(),
         }
     }
 }
@@ -147,7 +153,10 @@ impl ChartSpec {
         }
         self.config.validate()?;
         // The construction at the domain's corners catches a bad phi_max or T_b.
-        self.construction.bell(d.x.0, d.y.0)?;
+        self.construction
+            .bell(d.x.0, d.y.0)?
+            .with_hanging(self.hanging)
+            .validate()?;
         Ok(())
     }
 
@@ -184,11 +193,29 @@ pub struct StrokeSummary {
     pub second_strike_delay: Option<f64>,
     /// A.
     pub amplitude_ratio: Option<f64>,
+    /// Odd-struckness (s): handstroke minus backstroke time from bottom dead
+    /// centre to the strike (docs/model.md §10.3); 0 for a symmetric bell.
+    pub odd_struck: Option<f64>,
+}
+
+impl StrokeSummary {
+    /// The summary of a handstroke and the backstroke after it, for an
+    /// asymmetric bell: sustained only if both are.
+    pub fn of_pair(hand: &Stroke, back: &Stroke) -> Self {
+        Self {
+            sustained: hand.sustained() && back.sustained(),
+            odd_struck: hand.bdc_to_strike().zip(back.bdc_to_strike()).map(|(h, b)| h - b),
+            ..Self::from(hand)
+        }
+    }
 }
 
 impl From<&Stroke> for StrokeSummary {
+    /// The summary of one stroke of a symmetric bell: its backstroke is its
+    /// mirror image (bit for bit), so the odd-struckness is 0 if it strikes.
     fn from(s: &Stroke) -> Self {
         Self {
+            odd_struck: s.bdc_to_strike().map(|_| 0.0),
             sustained: s.sustained(),
             strike_theta: s.strike_angle(),
             strike_phidot: s.strike_velocity(),
@@ -293,9 +320,16 @@ pub fn sweep_cells(
             let result = spec
                 .construction
                 .bell(x, y)
+                .map(|bell| bell.with_hanging(spec.hanging))
                 .map_err(SimError::from)
-                .and_then(|bell| first_stroke(&bell, &spec.config, style))
-                .map(|s| StrokeSummary::from(&s));
+                .and_then(|bell| {
+                    if spec.hanging.is_ideal() {
+                        first_stroke(&bell, &spec.config, style).map(|s| StrokeSummary::from(&s))
+                    } else {
+                        // No mirror symmetry: both strokes.
+                        odd_struck(&bell, &spec.config, style).map(|p| StrokeSummary::of_pair(&p.hand, &p.back))
+                    }
+                });
             progress(done.fetch_add(1, Ordering::Relaxed) + 1);
             ChartCell { x, y, style, result }
         })

@@ -55,6 +55,55 @@ impl Side {
     }
 }
 
+/// Where the two stops are and how hard the clapper's pivot can grip:
+/// what a contact law needs of the bell (docs/model.md §3, §10).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stops {
+    /// Contact angle of the + (back) side (rad, positive).
+    pub plus: f64,
+    /// Contact angle of the − (hand) side (rad, positive).
+    pub minus: f64,
+    /// τ_c: the Coulomb torque of the clapper's pivot (N m), which holds a
+    /// resting clapper at its stop until the torque needed exceeds it.
+    pub grip: f64,
+}
+
+impl Stops {
+    /// Symmetric stops at ±`phi_max` (rad) with no grip: the paper's bell.
+    pub fn symmetric(phi_max: f64) -> Self {
+        Self {
+            plus: phi_max,
+            minus: phi_max,
+            grip: 0.0,
+        }
+    }
+
+    /// The stops of `bell`.
+    pub fn of(bell: &crate::bell::Bell) -> Self {
+        let (hand, back) = bell.contact_angles();
+        Self {
+            plus: back,
+            minus: hand,
+            grip: bell.hanging.friction.clapper_friction,
+        }
+    }
+
+    /// The contact angle of `side` (rad, positive).
+    #[inline]
+    pub fn angle(&self, side: Side) -> f64 {
+        match side {
+            Side::Plus => self.plus,
+            Side::Minus => self.minus,
+        }
+    }
+
+    /// φ at the stop of `side` (rad, signed).
+    #[inline]
+    pub fn at(&self, side: Side) -> f64 {
+        side.sign() * self.angle(side)
+    }
+}
+
 /// What the clapper is doing. Every law uses some of these states.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ClapperState {
@@ -75,6 +124,10 @@ pub enum ClapperState {
         /// same side (then it rebounds with R2 k).
         later: bool,
     },
+    /// Held still relative to the bell by the Coulomb friction of its pivot,
+    /// away from the stops (docs/model.md §10.2); it breaks away when the
+    /// torque needed to hold it exceeds that friction.
+    Stuck,
     /// Penalty law: past maximum compression, stiffness R k (R2 k for a
     /// later bounce) until it separates. `settled` once it has turned back
     /// into the spring without separating: the penalty law's way of coming
@@ -96,7 +149,7 @@ impl ClapperState {
     /// The side the clapper touches, if any.
     pub fn contact_side(self) -> Option<Side> {
         match self {
-            ClapperState::Flying { .. } => None,
+            ClapperState::Flying { .. } | ClapperState::Stuck => None,
             ClapperState::Resting(s) | ClapperState::Compressing { side: s, .. } => Some(s),
             ClapperState::Rebounding { side, .. } => Some(side),
         }
@@ -224,12 +277,13 @@ pub(crate) fn linear_event(source: Source, scale: f64, offset: f64, direction: D
 
 /// Everything about contact between clapper and bell.
 pub trait ContactLaw: Debug + Send + Sync {
-    /// The force on the clapper while in `clapper`, for a bell whose stops
-    /// are at ±`phi_max` (rad).
-    fn force_law(&self, clapper: ClapperState, phi_max: f64) -> ForceLaw;
+    /// The force on the clapper while in `clapper`, for a bell with these
+    /// `stops`. A [`ClapperState::Stuck`] clapper is the stroke's business,
+    /// not the law's.
+    fn force_law(&self, clapper: ClapperState, stops: &Stops) -> ForceLaw;
     /// The events that end `clapper` (at most 4), handed to `push` with
-    /// their functions, for a bell whose stops are at ±`phi_max` (rad).
-    fn events(&self, clapper: ClapperState, phi_max: f64, push: &mut dyn FnMut(ContactEvent, Event));
+    /// their functions, for a bell with these `stops`.
+    fn events(&self, clapper: ClapperState, stops: &Stops, push: &mut dyn FnMut(ContactEvent, Event));
     /// The clapper at rest against `side` at the start of a stroke, pressed
     /// into it with holding force `q` (N m, `side.sign() * q < 0`): its
     /// state and `y` adjusted (a spring law starts at its static
@@ -261,14 +315,15 @@ impl RigidImpact {
 
     fn hit(&self, d: &Dynamics, side: Side, mut y: State, later: bool) -> Transition {
         let s = side.sign();
-        y[PHI] = s * d.bell().phi_max;
+        let stops = Stops::of(d.bell());
+        y[PHI] = stops.at(side);
         let bounced = d.impact(&y, self.e[usize::from(later)]);
         // Would the next flight be shorter than rest_flight_time?
         let toward = s * d.accel(&bounced, 0.0).phi;
         let away = -s * bounced[PHI_DOT];
         let comes_to_rest = toward > 0.0 && 2.0 * away < self.rest_flight_time * toward;
         let stuck = d.impact(&y, 0.0);
-        let mut tr = if comes_to_rest && s * d.resting(&stuck).1 < 0.0 {
+        let mut tr = if comes_to_rest && s * d.resting(&stuck).1 < stops.grip {
             Transition {
                 rest: Some(Rest::Now),
                 ..Transition::to(stuck, ClapperState::Resting(side))
@@ -295,23 +350,26 @@ impl RigidImpact {
 }
 
 impl ContactLaw for RigidImpact {
-    fn force_law(&self, clapper: ClapperState, _phi_max: f64) -> ForceLaw {
+    fn force_law(&self, clapper: ClapperState, _stops: &Stops) -> ForceLaw {
         match clapper {
-            ClapperState::Resting(_) => ForceLaw::Resting,
+            ClapperState::Resting(_) | ClapperState::Stuck => ForceLaw::Resting,
             _ => ForceLaw::Zero,
         }
     }
 
-    fn events(&self, clapper: ClapperState, phi_max: f64, push: &mut dyn FnMut(ContactEvent, Event)) {
+    fn events(&self, clapper: ClapperState, stops: &Stops, push: &mut dyn FnMut(ContactEvent, Event)) {
         match clapper {
             ClapperState::Resting(s) => {
-                // Positive once the holding force pulls instead of pushes.
+                // Positive once the holding force pulls instead of pushes,
+                // by more than the pivot's friction can hold.
+                let offset = if stops.grip > 0.0 { -stops.grip } else { 0.0 };
                 push(
                     ContactEvent::LiftOff(s),
-                    linear_event(Source::Extra(0), s.sign(), 0.0, Direction::Rising),
+                    linear_event(Source::Extra(0), s.sign(), offset, Direction::Rising),
                 )
             }
-            _ => push_hits(phi_max, push),
+            ClapperState::Stuck => {}
+            _ => push_hits(stops, push),
         }
     }
 
@@ -339,11 +397,11 @@ impl ContactLaw for RigidImpact {
 }
 
 /// Hits on either stop: positive once the clapper is past it.
-fn push_hits(phi_max: f64, push: &mut dyn FnMut(ContactEvent, Event)) {
+fn push_hits(stops: &Stops, push: &mut dyn FnMut(ContactEvent, Event)) {
     for side in [Side::Plus, Side::Minus] {
         push(
             ContactEvent::Hit(side),
-            linear_event(Source::State(PHI), side.sign(), -phi_max, Direction::Rising),
+            linear_event(Source::State(PHI), side.sign(), -stops.angle(side), Direction::Rising),
         );
     }
 }
@@ -370,16 +428,17 @@ impl PenaltySpring {
 }
 
 impl ContactLaw for PenaltySpring {
-    fn force_law(&self, clapper: ClapperState, phi_max: f64) -> ForceLaw {
-        let spring = |side: Side, k| ForceLaw::Spring(LinearSpring::new(k, side.sign() * phi_max));
+    fn force_law(&self, clapper: ClapperState, stops: &Stops) -> ForceLaw {
+        let spring = |side: Side, k| ForceLaw::Spring(LinearSpring::new(k, stops.at(side)));
         match clapper {
             ClapperState::Compressing { side, .. } => spring(side, self.k),
             ClapperState::Rebounding { side, later, .. } => spring(side, self.rk[usize::from(later)]),
+            ClapperState::Stuck => ForceLaw::Resting,
             _ => ForceLaw::Zero,
         }
     }
 
-    fn events(&self, clapper: ClapperState, phi_max: f64, push: &mut dyn FnMut(ContactEvent, Event)) {
+    fn events(&self, clapper: ClapperState, stops: &Stops, push: &mut dyn FnMut(ContactEvent, Event)) {
         match clapper {
             ClapperState::Compressing { side: s, .. } => {
                 // Positive once the clapper moves back out of the spring.
@@ -391,7 +450,7 @@ impl ContactLaw for PenaltySpring {
             ClapperState::Rebounding { side, settled, .. } => {
                 push(
                     ContactEvent::Separation(side),
-                    linear_event(Source::State(PHI), side.sign(), -phi_max, Direction::Falling),
+                    linear_event(Source::State(PHI), side.sign(), -stops.angle(side), Direction::Falling),
                 );
                 if !settled {
                     // Positive once it moves into the spring again.
@@ -401,7 +460,8 @@ impl ContactLaw for PenaltySpring {
                     );
                 }
             }
-            _ => push_hits(phi_max, push),
+            ClapperState::Stuck => {}
+            _ => push_hits(stops, push),
         }
     }
 
@@ -419,7 +479,7 @@ impl ContactLaw for PenaltySpring {
         let later = |side| match clapper {
             ClapperState::Flying { bounced_off } => bounced_off == Some(side),
             ClapperState::Compressing { later, .. } | ClapperState::Rebounding { later, .. } => later,
-            ClapperState::Resting(_) => false,
+            ClapperState::Resting(_) | ClapperState::Stuck => false,
         };
         match event {
             ContactEvent::Hit(side) => Transition {
@@ -539,14 +599,15 @@ mod tests {
             .transition(&d, ContactEvent::MaxCompression(Side::Plus), y, comp)
             .clapper;
         let at = |k| ForceLaw::Spring(LinearSpring::new(k, phi_max));
-        assert_eq!(spring.force_law(reb, phi_max), at(0.6e6));
+        let stops = Stops::symmetric(phi_max);
+        assert_eq!(spring.force_law(reb, &stops), at(0.6e6));
         let comp = spring
             .transition(&d, ContactEvent::Hit(Side::Plus), y, ClapperState::FLYING)
             .clapper;
         let reb = spring
             .transition(&d, ContactEvent::MaxCompression(Side::Plus), y, comp)
             .clapper;
-        assert_eq!(spring.force_law(reb, phi_max), at(0.2e6));
+        assert_eq!(spring.force_law(reb, &stops), at(0.2e6));
         // Separating from a settled contact is a lift-off.
         let settled = ClapperState::Rebounding {
             side: Side::Plus,

@@ -23,7 +23,7 @@ pub type State = [f64; 4];
 /// A bell's equations of motion with the constant coefficients computed once.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Dynamics {
-    /// I_b + I_c + m r² (kg m²).
+    /// I_b + I_c + m (r² + d²) (kg m²).
     pub(crate) j0: f64,
     /// m r b (kg m²).
     pub(crate) mrb: f64,
@@ -33,11 +33,64 @@ pub struct Dynamics {
     pub(crate) gravity_bell: f64,
     /// m b g (N m).
     pub(crate) gravity_clapper: f64,
-    /// sin and cos of φ_max: a resting clapper sits at exactly ±φ_max, so
-    /// the resting equations need no trig of φ (a tenth of a chart's time).
-    sin_phi_max: f64,
-    cos_phi_max: f64,
+    /// m b d (kg m²): the pivot offset's share of the coupling.
+    mbd: f64,
+    /// m g d (N m): the offset pivot's gravity torque on the bell.
+    gravity_offset: f64,
+    /// d ≠ 0. A bell with its pivot on the axis runs the paper's equations
+    /// as written, bit for bit and with no extra work (docs/model.md §10).
+    pub(crate) offset: bool,
+    /// The two stops' angles φ (rad; + side, − side) and their sin and cos:
+    /// a resting clapper sits at exactly one of them, so the resting
+    /// equations need no trig of φ (a tenth of a chart's time).
+    stops: [(f64, f64, f64); 2],
     bell: Bell,
+}
+
+/// Friction's generalised forces over one stretch of motion in which the
+/// Coulomb torques keep their signs (docs/model.md §10.2):
+/// Q_θ = −c_b θ' + τ_θ on the bell, Q_φ = −c_c φ' + τ_φ on the clapper.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Load {
+    /// c_b (N m s/rad).
+    pub bell_damping: f64,
+    /// τ_θ (N m), signed: against the bell's motion.
+    pub bell_torque: f64,
+    /// c_c (N m s/rad).
+    pub clapper_damping: f64,
+    /// τ_φ (N m), signed: against the clapper's motion relative to the bell.
+    pub clapper_torque: f64,
+}
+
+impl Load {
+    /// Q_θ (N m) at `y`.
+    #[inline]
+    pub fn theta(&self, y: &State) -> f64 {
+        self.bell_torque - self.bell_damping * y[THETA_DOT]
+    }
+
+    /// The friction part of Q_φ (N m) at `y`.
+    #[inline]
+    pub fn phi(&self, y: &State) -> f64 {
+        self.clapper_torque - self.clapper_damping * y[PHI_DOT]
+    }
+
+    /// Power of these forces (W) at `y`: what friction takes from the bell.
+    pub fn power(&self, y: &State) -> f64 {
+        self.theta(y) * y[THETA_DOT] + self.phi(y) * y[PHI_DOT]
+    }
+
+    /// n-th Taylor coefficients of (Q_θ, Q_φ) along a motion with rates
+    /// `w` (θ') and `v` (φ').
+    #[inline]
+    fn series_term(&self, w: &Coeffs, v: &Coeffs, n: usize) -> (f64, f64) {
+        let (qt, qp) = if n == 0 {
+            (self.bell_torque, self.clapper_torque)
+        } else {
+            (0.0, 0.0)
+        };
+        (qt - self.bell_damping * w[n], qp - self.clapper_damping * v[n])
+    }
 }
 
 /// A linear spring on the clapper: Q_φ = −k (φ − φ_s), the penalty law's
@@ -94,15 +147,27 @@ impl Dynamics {
     /// The equations of motion of `bell` (assumed valid).
     pub fn new(bell: &Bell) -> Self {
         let m = bell.clapper_mass;
-        let (sin_phi_max, cos_phi_max) = crate::trig::sin_cos(bell.phi_max);
+        let d = bell.hanging.pivot_offset;
+        let offset = d != 0.0;
+        let (hand, back) = bell.contact_angles();
+        let stop = |phi: f64| {
+            let (s, c) = crate::trig::sin_cos(phi);
+            (phi, s, c)
+        };
+        let mut j0 = bell.bell_inertia + bell.clapper_inertia + m * bell.r * bell.r;
+        if offset {
+            j0 += m * d * d;
+        }
         Self {
-            j0: bell.bell_inertia + bell.clapper_inertia + m * bell.r * bell.r,
+            j0,
             mrb: m * bell.r * bell.b,
             ic: bell.clapper_inertia,
             gravity_bell: (bell.bell_mass * bell.a + m * bell.r) * G,
             gravity_clapper: m * bell.b * G,
-            sin_phi_max,
-            cos_phi_max,
+            mbd: m * bell.b * d,
+            gravity_offset: m * G * d,
+            offset,
+            stops: [stop(back), stop(-hand)],
             bell: *bell,
         }
     }
@@ -112,19 +177,49 @@ impl Dynamics {
         &self.bell
     }
 
+    /// The coupling m b (r cos φ + d sin φ) and its derivative's negative
+    /// m b (r sin φ − d cos φ) (kg m²), from sin φ and cos φ.
+    #[inline]
+    fn coupling(&self, sp: f64, cp: f64) -> (f64, f64) {
+        if self.offset {
+            (self.mrb * cp + self.mbd * sp, self.mrb * sp - self.mbd * cp)
+        } else {
+            (self.mrb * cp, self.mrb * sp)
+        }
+    }
+
     /// Accelerations with generalised force `q_phi` (N m) on φ, Q_θ = 0.
     #[inline]
     pub fn accel(&self, y: &State, q_phi: f64) -> Accel {
+        self.accel_q(y, 0.0, q_phi)
+    }
+
+    /// Accelerations with generalised forces `q_theta` on θ and `q_phi` on
+    /// φ (N m).
+    #[inline]
+    pub fn accel_q(&self, y: &State, q_theta: f64, q_phi: f64) -> Accel {
         let [th, ph, thd, phd] = *y;
         let (sp, cp) = crate::trig::sin_cos(ph);
         let (st, ct) = crate::trig::sin_cos(th);
-        let w12 = self.ic + self.mrb * cp;
-        let w11 = self.j0 + 2.0 * self.mrb * cp;
         // sin(θ + φ) from the two sin_cos calls: one trig call fewer per step
         // stage, and still exactly odd under (θ, φ) → (−θ, −φ).
         let s_abs = st * cp + ct * sp;
-        let f1 = self.mrb * phd * (2.0 * thd + phd) * sp - self.gravity_bell * st - self.gravity_clapper * s_abs;
-        let f2 = q_phi - self.mrb * thd * thd * sp - self.gravity_clapper * s_abs;
+        let (w11, w12, f1, f2) = if self.offset {
+            let (kc, ks) = self.coupling(sp, cp);
+            let f1 = ks * phd * (2.0 * thd + phd)
+                - self.gravity_bell * st
+                - self.gravity_offset * ct
+                - self.gravity_clapper * s_abs;
+            let f2 = q_phi - ks * thd * thd - self.gravity_clapper * s_abs;
+            (self.j0 + 2.0 * kc, self.ic + kc, f1 + q_theta, f2)
+        } else {
+            // The paper's (5), (6) as written, term for term.
+            let w12 = self.ic + self.mrb * cp;
+            let w11 = self.j0 + 2.0 * self.mrb * cp;
+            let f1 = self.mrb * phd * (2.0 * thd + phd) * sp - self.gravity_bell * st - self.gravity_clapper * s_abs;
+            let f2 = q_phi - self.mrb * thd * thd * sp - self.gravity_clapper * s_abs;
+            (w11, w12, f1 + q_theta, f2)
+        };
         let det = w11 * self.ic - w12 * w12;
         Accel {
             theta: (self.ic * f1 - w12 * f2) / det,
@@ -149,32 +244,71 @@ impl Dynamics {
         [y[2], y[3], a.theta, a.phi]
     }
 
+    /// dy/dt with forces `q_theta`, `q_phi` (N m).
+    #[inline]
+    pub fn rhs_q(&self, y: &State, q_theta: f64, q_phi: f64) -> State {
+        let a = self.accel_q(y, q_theta, q_phi);
+        [y[2], y[3], a.theta, a.phi]
+    }
+
     /// With the clapper held against the bell (φ fixed, φ' = 0): θ'' (rad/s²)
     /// and the generalised contact force Q_φ (N m) that holds it, from (5)
     /// and (6) with φ'' = 0. `y[PHI_DOT]` is taken as zero.
     #[inline]
     pub fn resting(&self, y: &State) -> (f64, f64) {
+        self.resting_q(y, 0.0)
+    }
+
+    /// [`resting`](Self::resting) with a force `q_theta` (N m) on the bell.
+    #[inline]
+    pub fn resting_q(&self, y: &State, q_theta: f64) -> (f64, f64) {
         let [th, ph, thd, _] = *y;
         let (sp, cp) = self.sin_cos_phi(ph);
         let (st, ct) = crate::trig::sin_cos(th);
+        let s_abs = st * cp + ct * sp;
+        if self.offset {
+            let (kc, ks) = self.coupling(sp, cp);
+            let f1 = -self.gravity_bell * st - self.gravity_offset * ct - self.gravity_clapper * s_abs + q_theta;
+            let theta_dd = f1 / (self.j0 + 2.0 * kc);
+            let q = (self.ic + kc) * theta_dd + ks * thd * thd + self.gravity_clapper * s_abs;
+            return (theta_dd, q);
+        }
         let w11 = self.j0 + 2.0 * self.mrb * cp;
         let w12 = self.ic + self.mrb * cp;
-        let s_abs = st * cp + ct * sp;
-        let f1 = -self.gravity_bell * st - self.gravity_clapper * s_abs;
+        let f1 = -self.gravity_bell * st - self.gravity_clapper * s_abs + q_theta;
         let theta_dd = f1 / w11;
         let q = w12 * theta_dd + self.mrb * thd * thd * sp + self.gravity_clapper * s_abs;
         (theta_dd, q)
     }
 
-    /// sin and cos of a clapper angle `ph` (rad): cached at ±φ_max, where a
-    /// resting clapper sits, and bit for bit what `trig::sin_cos` gives
-    /// there, as it is exactly odd.
+    /// The torque on the bell (N m) that would hold it still at `y` (θ' = 0)
+    /// for an instant: with the clapper `resting` (moving with the bell) or
+    /// free. What Coulomb friction at the bearings must exceed to hold it.
+    pub fn bell_holding_torque(&self, y: &State, resting: bool) -> f64 {
+        let y0 = [y[THETA], y[PHI], 0.0, if resting { 0.0 } else { y[PHI_DOT] }];
+        if resting {
+            // J θ'' = f1 + Q with J = W₁₁ at this φ.
+            let (sp, cp) = self.sin_cos_phi(y0[PHI]);
+            let (tdd, _) = self.resting(&y0);
+            -tdd * (self.j0 + 2.0 * self.coupling(sp, cp).0)
+        } else {
+            // θ'' = 0 in W a = F + (Q, 0): I_c φ'' = f2, W12 φ'' = f1 + Q.
+            let a = self.accel(&y0, 0.0);
+            // Q moves θ'' by I_c Q / det: the Q that brings it to zero.
+            -a.theta * a.det / self.ic
+        }
+    }
+
+    /// sin and cos of a clapper angle `ph` (rad): cached at the two stops,
+    /// where a resting clapper sits, and bit for bit what `trig::sin_cos`
+    /// gives there.
     #[inline]
     pub(crate) fn sin_cos_phi(&self, ph: f64) -> (f64, f64) {
-        if ph == self.bell.phi_max {
-            (self.sin_phi_max, self.cos_phi_max)
-        } else if ph == -self.bell.phi_max {
-            (-self.sin_phi_max, self.cos_phi_max)
+        let [(plus, sp, cp), (minus, sm, cm)] = self.stops;
+        if ph == plus {
+            (sp, cp)
+        } else if ph == minus {
+            (sm, cm)
         } else {
             crate::trig::sin_cos(ph)
         }
@@ -184,6 +318,14 @@ impl Dynamics {
     #[inline]
     pub fn rhs_resting(&self, y: &State) -> State {
         let (tdd, _) = self.resting(y);
+        [y[2], 0.0, tdd, 0.0]
+    }
+
+    /// dy/dt with the clapper held against the bell and a force `q_theta`
+    /// (N m) on the bell.
+    #[inline]
+    pub fn rhs_resting_q(&self, y: &State, q_theta: f64) -> State {
+        let (tdd, _) = self.resting_q(y, q_theta);
         [y[2], 0.0, tdd, 0.0]
     }
 
@@ -201,11 +343,29 @@ impl Dynamics {
 
     /// Taylor coefficients to order `p` (≤ [`MAX_ORDER`]) of the solution
     /// through `y` in flight or against a linear spring `spring`
-    /// ([`LinearSpring::NONE`] in free flight). Fills `x[i][0..=p]`
-    /// in powers of time (rad/s^k, rad/s^(k+1)). The recurrences are those
-    /// of [`accel`](Self::accel), term by term, and keep its exact symmetry
-    /// under (θ, φ) → (−θ, −φ).
-    pub fn series_free(&self, y: &State, spring: &LinearSpring, p: usize, x: &mut [Coeffs; 4]) {
+    /// ([`LinearSpring::NONE`] in free flight), with friction `load` if
+    /// any. Fills `x[i][0..=p]` in powers of time (rad/s^k, rad/s^(k+1)).
+    /// The recurrences are those of [`accel_q`](Self::accel_q), term by
+    /// term, and keep its exact symmetry under (θ, φ, d) → (−θ, −φ, −d).
+    pub fn series_free(&self, y: &State, spring: &LinearSpring, load: Option<&Load>, p: usize, x: &mut [Coeffs; 4]) {
+        // The offset's extra sums only where there is an offset: the paper's
+        // bell pays nothing for it.
+        if self.offset {
+            self.series_free_impl::<true>(y, spring, load, p, x)
+        } else {
+            self.series_free_impl::<false>(y, spring, load, p, x)
+        }
+    }
+
+    #[inline(always)]
+    fn series_free_impl<const OFFSET: bool>(
+        &self,
+        y: &State,
+        spring: &LinearSpring,
+        load: Option<&Load>,
+        p: usize,
+        x: &mut [Coeffs; 4],
+    ) {
         const Z: Coeffs = [0.0; MAX_ORDER + 1];
         // Order p writes terms up to x[..][p]; the integrator checks its
         // order against MAX_ORDER before it expands.
@@ -223,9 +383,13 @@ impl Dynamics {
         sa[0] = st[0] * cp[0] + ct[0] * sp[0];
         ca[0] = ct[0] * cp[0] - st[0] * sp[0];
         // W(t) a(t) = F(t) order by order: W_0 a_n = F_n − Σ_{k≥1} W_k a_{n−k},
-        // where W_k = m r b cos(φ)_k [[2, 1], [1, 0]] for k ≥ 1.
-        let w12 = self.ic + self.mrb * cp[0];
-        let w11 = self.j0 + 2.0 * self.mrb * cp[0];
+        // where W_k = m b (r cos φ + d sin φ)_k [[2, 1], [1, 0]] for k ≥ 1.
+        let (w11, w12) = if OFFSET {
+            let (kc, _) = self.coupling(sp[0], cp[0]);
+            (self.j0 + 2.0 * kc, self.ic + kc)
+        } else {
+            (self.j0 + 2.0 * self.mrb * cp[0], self.ic + self.mrb * cp[0])
+        };
         let inv_det = 1.0 / (w11 * self.ic - w12 * w12);
         for n in 0..p {
             u[n] = th[n] + ph[n];
@@ -234,6 +398,8 @@ impl Dynamics {
             // this order's trig coefficients and come after.
             let (mut s_t, mut c_t, mut s_p, mut c_p, mut s_a, mut c_a) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
             let (mut aa, mut cc, mut sb, mut sd, mut s1, mut s2) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+            // The offset's: the same products with sin and cos of φ swapped.
+            let (mut ob, mut od, mut o1, mut o2) = (0.0, 0.0, 0.0, 0.0);
             for j in 1..n {
                 let m = n - j;
                 let kf = j as f64;
@@ -250,6 +416,12 @@ impl Dynamics {
                 sd += c[j] * sp[m];
                 s1 += cp[j] * tdd[m];
                 s2 += cp[j] * pdd[m];
+                if OFFSET {
+                    ob += a[j] * cp[m];
+                    od += c[j] * cp[m];
+                    o1 += sp[j] * tdd[m];
+                    o2 += sp[j] * pdd[m];
+                }
             }
             if n > 0 {
                 let nf = n as f64;
@@ -281,6 +453,26 @@ impl Dynamics {
                 f1 -= self.mrb * (2.0 * s1 + s2);
                 f2 -= self.mrb * s1;
             }
+            if OFFSET {
+                let (ob, od) = if n == 0 {
+                    (a[0] * cp[0], c[0] * cp[0])
+                } else {
+                    (ob + a[0] * cp[n] + a[n] * cp[0], od + c[0] * cp[n] + c[n] * cp[0])
+                };
+                f1 -= self.mbd * ob + self.gravity_offset * ct[n];
+                f2 += self.mbd * od;
+                if n > 0 {
+                    let o1 = o1 + sp[n] * tdd[0];
+                    let o2 = o2 + sp[n] * pdd[0];
+                    f1 -= self.mbd * (2.0 * o1 + o2);
+                    f2 -= self.mbd * o1;
+                }
+            }
+            if let Some(load) = load {
+                let (qt, qp) = load.series_term(w, v, n);
+                f1 += qt;
+                f2 += qp;
+            }
             tdd[n] = (self.ic * f1 - w12 * f2) * inv_det;
             pdd[n] = (w11 * f2 - w12 * f1) * inv_det;
             let inv = 1.0 / (n + 1) as f64;
@@ -292,15 +484,19 @@ impl Dynamics {
     }
 
     /// Taylor coefficients to order `p` of the solution through `y` with
-    /// the clapper resting against the bell (φ fixed at `y[PHI]` = ±φ_max,
-    /// φ' = 0), and in `q` those of the contact force Q_φ (N m) that holds
-    /// it, as in [`resting`](Self::resting).
-    pub fn series_resting(&self, y: &State, p: usize, x: &mut [Coeffs; 4], q: &mut Coeffs) {
+    /// the clapper held against the bell (φ fixed at `y[PHI]`, φ' = 0), and
+    /// in `q` those of the force Q_φ (N m) that holds it, as in
+    /// [`resting_q`](Self::resting_q), with friction `load` on the bell.
+    pub fn series_resting(&self, y: &State, load: Option<&Load>, p: usize, x: &mut [Coeffs; 4], q: &mut Coeffs) {
         const Z: Coeffs = [0.0; MAX_ORDER + 1];
         let (mut st, mut ct, mut sa, mut w2) = (Z, Z, Z, Z);
         let (sp, cp) = self.sin_cos_phi(y[PHI]);
-        let w11 = self.j0 + 2.0 * self.mrb * cp;
-        let w12 = self.ic + self.mrb * cp;
+        let (kc, ks) = self.coupling(sp, cp);
+        let (w11, w12) = if self.offset {
+            (self.j0 + 2.0 * kc, self.ic + kc)
+        } else {
+            (self.j0 + 2.0 * self.mrb * cp, self.ic + self.mrb * cp)
+        };
         x[THETA][0] = y[THETA];
         x[PHI][0] = y[PHI];
         x[THETA_DOT][0] = y[THETA_DOT];
@@ -326,8 +522,19 @@ impl Dynamics {
                 w2[0] = x[THETA_DOT][0] * x[THETA_DOT][0];
             }
             sa[n] = st[n] * cp + ct[n] * sp;
-            let tdd = (-self.gravity_bell * st[n] - self.gravity_clapper * sa[n]) / w11;
-            q[n] = w12 * tdd + self.mrb * w2[n] * sp + self.gravity_clapper * sa[n];
+            let mut f1 = -self.gravity_bell * st[n] - self.gravity_clapper * sa[n];
+            if self.offset {
+                f1 -= self.gravity_offset * ct[n];
+            }
+            if let Some(load) = load {
+                f1 += load.series_term(&x[THETA_DOT], &Z, n).0;
+            }
+            let tdd = f1 / w11;
+            q[n] = if self.offset {
+                w12 * tdd + ks * w2[n] + self.gravity_clapper * sa[n]
+            } else {
+                w12 * tdd + self.mrb * w2[n] * sp + self.gravity_clapper * sa[n]
+            };
             if n < p {
                 let inv = 1.0 / (n + 1) as f64;
                 x[THETA][n + 1] = x[THETA_DOT][n] * inv;
@@ -338,20 +545,32 @@ impl Dynamics {
         }
     }
 
-    /// Kinetic energy (4) (J).
+    /// Kinetic energy (4) (J), with the offset's terms.
     pub fn kinetic_energy(&self, y: &State) -> f64 {
         let [_, ph, thd, phd] = *y;
         let b = &self.bell;
-        0.5 * b.bell_inertia * thd * thd
+        let base = 0.5 * b.bell_inertia * thd * thd
             + 0.5 * b.clapper_inertia * (thd + phd) * (thd + phd)
             + 0.5 * b.clapper_mass * b.r * b.r * thd * thd
-            + self.mrb * (thd * thd + thd * phd) * ph.cos()
+            + self.mrb * (thd * thd + thd * phd) * ph.cos();
+        if self.offset {
+            let d = b.hanging.pivot_offset;
+            base + 0.5 * b.clapper_mass * d * d * thd * thd + self.mbd * (thd * thd + thd * phd) * ph.sin()
+        } else {
+            base
+        }
     }
 
-    /// Potential energy (1) (J), zero with both hanging straight down.
+    /// Potential energy (1) (J), zero with the bell at θ = 0 and the
+    /// clapper hanging straight down.
     pub fn potential_energy(&self, y: &State) -> f64 {
         let [th, ph, _, _] = *y;
-        self.gravity_bell * (1.0 - th.cos()) + self.gravity_clapper * (1.0 - (th + ph).cos())
+        let v = self.gravity_bell * (1.0 - th.cos()) + self.gravity_clapper * (1.0 - (th + ph).cos());
+        if self.offset {
+            v + self.gravity_offset * th.sin()
+        } else {
+            v
+        }
     }
 
     /// Total energy (J).
@@ -420,7 +639,7 @@ mod tests {
         let d = Dynamics::new(&Bell::lab());
         let y = [2.1, -0.3, -1.7, 4.2];
         let (mut x, mut xm) = ([[0.0; MAX_ORDER + 1]; 4], [[0.0; MAX_ORDER + 1]; 4]);
-        d.series_free(&y, &LinearSpring::NONE, 12, &mut x);
+        d.series_free(&y, &LinearSpring::NONE, None, 12, &mut x);
         let a = d.accel(&y, 0.0);
         assert_relative_eq!(x[THETA_DOT][1], a.theta, max_relative = 1e-12);
         assert_relative_eq!(x[PHI_DOT][1], a.phi, max_relative = 1e-12);
@@ -436,7 +655,7 @@ mod tests {
             (step(h) - step(-h)) / (2.0 * h),
             max_relative = 1e-6
         );
-        d.series_free(&y.map(|v| -v), &LinearSpring::NONE, 12, &mut xm);
+        d.series_free(&y.map(|v| -v), &LinearSpring::NONE, None, 12, &mut xm);
         for i in 0..4 {
             for k in 0..=12 {
                 assert_eq!(xm[i][k], -x[i][k], "component {i} order {k}");
@@ -445,7 +664,7 @@ mod tests {
         // Resting: the holding force's series starts at the resting force.
         let yr = [2.5, Bell::lab().phi_max, -2.0, 0.0];
         let mut q = [0.0; MAX_ORDER + 1];
-        d.series_resting(&yr, 10, &mut x, &mut q);
+        d.series_resting(&yr, None, 10, &mut x, &mut q);
         let (tdd, q0) = d.resting(&yr);
         assert_relative_eq!(q[0], q0, max_relative = 1e-12);
         assert_relative_eq!(x[THETA_DOT][1], tdd, max_relative = 1e-12);

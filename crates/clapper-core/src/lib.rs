@@ -31,6 +31,7 @@ pub mod diagnose;
 pub mod dynamics;
 pub mod elliptic;
 pub mod frame;
+pub mod hanging;
 pub mod liftoff;
 pub mod listening;
 pub mod ode;

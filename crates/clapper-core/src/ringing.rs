@@ -46,6 +46,55 @@ pub fn first_stroke(bell: &Bell, cfg: &SimConfig, style: Style) -> Result<Stroke
     run_stroke(bell, cfg, start, &mut ())
 }
 
+/// Odd-struckness: when a bell strikes at handstroke and at backstroke
+/// (docs/model.md §10.3).
+#[derive(Clone, Debug, PartialEq)]
+pub struct OddStruck {
+    /// The handstroke, from rest at +θ0 in `style`.
+    pub hand: Stroke,
+    /// The backstroke, from rest at −θ0 with the clapper where the
+    /// handstroke left it (the restart protocol).
+    pub back: Stroke,
+}
+
+impl OddStruck {
+    /// Time from bottom dead centre to the first strike at handstroke and
+    /// at backstroke (s), if both strike.
+    pub fn bdc_to_strike(&self) -> Option<(f64, f64)> {
+        Some((self.hand.bdc_to_strike()?, self.back.bdc_to_strike()?))
+    }
+
+    /// Odd-struckness (s): handstroke minus backstroke time from bottom dead
+    /// centre to the strike. Positive: the handstroke strikes late.
+    /// Exactly 0 for a symmetric bell, exactly antisymmetric under the
+    /// mirror (d → −d, or the two contact angles swapped).
+    pub fn odd_struck(&self) -> Option<f64> {
+        let (h, b) = self.bdc_to_strike()?;
+        Some(h - b)
+    }
+}
+
+/// The handstroke and backstroke of `bell` in `style` under the restart
+/// protocol, each on its own clock (from t = 0), so that a bell and its
+/// mirror image give the same numbers bit for bit.
+///
+/// ```
+/// use clapper_core::{bell::Bell, hanging::Hanging, ringing::odd_struck, stroke::{SimConfig, Style}};
+///
+/// let cfg = SimConfig::default();
+/// assert_eq!(odd_struck(&Bell::lab(), &cfg, Style::Right).unwrap().odd_struck(), Some(0.0));
+/// // The clapper pivot 3 mm toward the back side.
+/// let bell = Bell::lab().with_hanging(Hanging { pivot_offset: 0.003, ..Hanging::default() });
+/// let odd = odd_struck(&bell, &cfg, Style::Right).unwrap().odd_struck().unwrap();
+/// assert!(odd != 0.0);
+/// ```
+pub fn odd_struck(bell: &Bell, cfg: &SimConfig, style: Style) -> Result<OddStruck, SimError> {
+    let hand = first_stroke(bell, cfg, style)?;
+    let start = StrokeStart::at_rest(bell, cfg, 0.0, -cfg.theta0, hand.end.side());
+    let back = run_stroke(bell, cfg, start, &mut ())?;
+    Ok(OddStruck { hand, back })
+}
+
 /// Ring `n_strokes` strokes (at least one) starting in `style` from +θ0.
 ///
 /// ```

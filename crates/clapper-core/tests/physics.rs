@@ -391,7 +391,7 @@ impl clapper_core::ode::SeriesSystem<4> for FreeSeries {
         x: &mut [clapper_core::ode::taylor::Coeffs; 4],
         _extra: &mut [clapper_core::ode::taylor::Coeffs; MAX_EXTRA],
     ) {
-        self.0.series_free(y, &LinearSpring::NONE, p, x);
+        self.0.series_free(y, &LinearSpring::NONE, None, p, x);
     }
 }
 

@@ -21,6 +21,12 @@
 //! r_m = 0.179
 //! phi_max_deg = 32
 //! ```
+//! Either form may add how the bell departs from the ideal (docs/model.md
+//! §10): `pivot_offset_m`, `phi_max_hand_deg` and `phi_max_back_deg` (or the
+//! tape's `gap_hand_mm`, `gap_back_mm` with `ball_below_pivot_m`), and
+//! friction: `bell_damping_n_m_s`, `bell_friction_n_m`,
+//! `clapper_damping_n_m_s`, `clapper_friction_n_m`.
+//!
 //! Unknown keys are refused, so a misspelt key cannot silently fall back to
 //! a default.
 
@@ -28,6 +34,8 @@ use std::path::Path;
 
 use clapper_core::bell::{Assumed, Bell, ParamError, TowerMeasurements};
 use serde::Deserialize;
+
+use crate::hanging_input::HangingInput;
 
 /// The keys of a bell file, all optional at this stage.
 #[derive(Debug, Default, Deserialize)]
@@ -54,6 +62,33 @@ struct BellFile {
     /// R2 (the bounces after it), e.g. from `clapper restitution`.
     restitution: Option<f64>,
     restitution_later: Option<f64>,
+    pivot_offset_m: Option<f64>,
+    phi_max_hand_deg: Option<f64>,
+    phi_max_back_deg: Option<f64>,
+    gap_hand_mm: Option<f64>,
+    gap_back_mm: Option<f64>,
+    ball_below_pivot_m: Option<f64>,
+    bell_damping_n_m_s: Option<f64>,
+    bell_friction_n_m: Option<f64>,
+    clapper_damping_n_m_s: Option<f64>,
+    clapper_friction_n_m: Option<f64>,
+}
+
+impl BellFile {
+    fn hanging(&self) -> HangingInput {
+        HangingInput {
+            pivot_offset_m: self.pivot_offset_m,
+            phi_max_hand_deg: self.phi_max_hand_deg,
+            phi_max_back_deg: self.phi_max_back_deg,
+            gap_hand_mm: self.gap_hand_mm,
+            gap_back_mm: self.gap_back_mm,
+            ball_below_pivot_m: self.ball_below_pivot_m,
+            bell_damping: self.bell_damping_n_m_s,
+            bell_friction: self.bell_friction_n_m,
+            clapper_damping: self.clapper_damping_n_m_s,
+            clapper_friction: self.clapper_friction_n_m,
+        }
+    }
 }
 
 /// A period from either `period` or `count` oscillations in `time` seconds.
@@ -276,7 +311,9 @@ fn bell_from_fields(f: BellFile, default_name: &str) -> Result<LoadedBell, BellF
         }
     }
     let (restitution, restitution_later) = (f.restitution, f.restitution_later);
-    let loaded = bell_from_measures(f, default_name)?;
+    let hanging = f.hanging();
+    let mut loaded = bell_from_measures(f, default_name)?;
+    loaded.bell = hanging.apply(loaded.bell)?;
     Ok(LoadedBell {
         restitution,
         restitution_later,

@@ -184,6 +184,7 @@ pub fn read_chart_csv(text: &str, name: &str) -> Result<Vec<(Option<Axes>, Chart
                     liftoff_theta: num(off + 6)?.map(f64::to_radians),
                     double_strike_index: num(off + 7)?,
                     second_strike_delay: None,
+                    odd_struck: None,
                     amplitude_ratio: None,
                 }),
             },

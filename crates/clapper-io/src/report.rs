@@ -41,8 +41,20 @@ pub struct BellReport {
     pub clapper_inertia_kg_m2: f64,
     /// r (m).
     pub r_m: f64,
-    /// φ_max (deg).
+    /// φ_max (deg); the mean of the two sides' when they differ.
     pub phi_max_deg: f64,
+    /// The pivot offset d (m), when not zero.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pivot_offset_m: Option<f64>,
+    /// Contact angles of the hand and back sides (deg), when they differ.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub phi_max_hand_deg: Option<f64>,
+    /// The back side's.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub phi_max_back_deg: Option<f64>,
+    /// Friction, when there is any.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub friction: Option<clapper_core::hanging::Friction>,
     /// Mass properties that were assumed, not given (tower measurements).
     pub assumed: Vec<String>,
     /// Physically odd properties that were simulated anyway.
@@ -72,6 +84,10 @@ impl BellReport {
             clapper_inertia_kg_m2: bell.clapper_inertia,
             r_m: bell.r,
             phi_max_deg: bell.phi_max.to_degrees(),
+            pivot_offset_m: Some(bell.hanging.pivot_offset).filter(|d| *d != 0.0),
+            phi_max_hand_deg: (bell.hanging.phi_max_skew != 0.0).then(|| bell.contact_angles().0.to_degrees()),
+            phi_max_back_deg: (bell.hanging.phi_max_skew != 0.0).then(|| bell.contact_angles().1.to_degrees()),
+            friction: Some(bell.hanging.friction).filter(|f| !f.is_none()),
             assumed,
             warnings: bell.warnings().iter().map(BellWarning::to_string).collect(),
         }
@@ -163,6 +179,8 @@ pub struct StrokeReport {
     pub style: String,
     /// The first strike, or null.
     pub first_strike: Option<StrikeReport>,
+    /// Time from bottom dead centre (θ = 0) to the first strike (ms), or null.
+    pub bdc_to_strike_ms: Option<f64>,
     /// θ when the clapper last left its starting side before the first strike (deg).
     pub liftoff_theta_deg: Option<f64>,
     /// dt12 (ms).
@@ -214,6 +232,7 @@ impl StrokeReport {
                 phidot_rad_s: i.phi_dot_before,
                 t_s: i.t - t0,
             }),
+            bdc_to_strike_ms: s.bdc_to_strike().map(|t| t * 1e3),
             liftoff_theta_deg: s.liftoff_angle().map(f64::to_degrees),
             second_strike_delay_ms: s.second_strike_delay().map(|d| d * 1e3),
             amplitude_ratio: s.amplitude_ratio(),
@@ -234,6 +253,7 @@ impl StrokeReport {
             end_side: side_num(s.end.side()),
             end_clapper: match s.end.clapper {
                 ClapperState::Flying { .. } => "flying",
+                ClapperState::Stuck => "stuck",
                 ClapperState::Resting(_) | ClapperState::Rebounding { settled: true, .. } => "resting",
                 _ => "in contact",
             }
@@ -242,6 +262,7 @@ impl StrokeReport {
                 EndReason::TurningPoint => "turning point",
                 EndReason::OverTheBalance => "over the balance",
                 EndReason::TimeLimit => "time limit",
+                EndReason::Held => "held by friction",
             }
             .into(),
             duration_s: s.end.t - t0,
@@ -266,13 +287,19 @@ pub struct SimulationReport {
     pub sustained: bool,
     /// "right", "wrong" or "neither": the style the first stroke sustains.
     pub verdict: String,
+    /// Odd-struckness (ms): handstroke minus backstroke time from bottom dead
+    /// centre to the first strike, of the first two strokes (positive: the
+    /// handstroke strikes late); 0 for a symmetric bell; null unless both
+    /// strike.
+    pub odd_struck_ms: Option<f64>,
     /// The strokes.
     pub strokes: Vec<StrokeReport>,
 }
 
 impl SimulationReport {
-    /// The report of `ringing` of `bell`.
-    pub fn new(bell: BellReport, settings: SimulationSettings, ringing: &Ringing) -> Self {
+    /// The report of `ringing` of `bell`, with the odd-struckness (s) of
+    /// its first two strokes.
+    pub fn new(bell: BellReport, settings: SimulationSettings, ringing: &Ringing, odd_struck: Option<f64>) -> Self {
         let sustained = ringing.sustained();
         Self {
             bell,
@@ -284,6 +311,7 @@ impl SimulationReport {
             } else {
                 "neither".into()
             },
+            odd_struck_ms: odd_struck.map(|t| t * 1e3),
             strokes: ringing
                 .strokes
                 .iter()
@@ -316,6 +344,7 @@ mod tests {
             BellReport::new("lab", &bell, &BellSource::MassProperties),
             SimulationSettings::new(&cfg, Protocol::Restart, 2),
             &r,
+            Some(0.0),
         );
         let v = serde_json::to_value(&rep).unwrap();
         for k in ["r_over_lc", "lb_over_lc", "lb_m", "lc_m", "tb_s", "tc_s"] {

@@ -14,12 +14,12 @@ use std::f64::consts::PI;
 
 use crate::bell::{Bell, ParamError};
 pub use crate::contact::{ClapperState, ContactModel, Restitution, Side, DEFAULT_STIFFNESS};
-use crate::contact::{ContactLaw, ForceLaw};
-use crate::dynamics::{Dynamics, State, PHI, THETA};
+use crate::contact::{ContactLaw, ForceLaw, Stops};
+use crate::dynamics::{Dynamics, Load, State, PHI, PHI_DOT, THETA, THETA_DOT};
 use crate::ode::{DenseOutput, Dopri5, Fallback, OdeError, Options, Stats, Stepper, Stop, Taylor};
 use crate::swing::ClosedFormSwing;
 use recorder::StrokeRecorder;
-use segment::{BellEvent, Ev, Segment};
+use segment::{BellEvent, Ev, FrictionEvent, Segment, StrokeFrame};
 
 /// How the clapper rests against the bell relative to the bell's swing.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -297,6 +297,9 @@ pub enum EndReason {
     OverTheBalance,
     /// [`SimConfig::max_stroke_periods`] ran out first.
     TimeLimit,
+    /// The bell never moved: Coulomb friction at its bearings holds it
+    /// where it started (docs/model.md §10.2).
+    Held,
 }
 
 /// How a stroke ended.
@@ -339,9 +342,11 @@ impl StrokeStart {
     /// it does not ring in the spring from the first instant.
     pub fn at_rest(bell: &Bell, cfg: &SimConfig, t: f64, theta: f64, side: Side) -> Self {
         let d = Dynamics::new(bell);
-        let y = [theta, side.sign() * bell.phi_max, 0.0, 0.0];
+        let stops = Stops::of(bell);
+        let y = [theta, stops.at(side), 0.0, 0.0];
         let (_, q) = d.resting(&y);
-        if side.sign() * q >= 0.0 {
+        // Not pressed, and more than the pivot's friction can hold.
+        if side.sign() * q >= stops.grip {
             return Self {
                 t,
                 y,
@@ -449,6 +454,13 @@ impl Stroke {
         }
     }
 
+    /// Time from bottom dead centre (θ = 0) to the first strike (s), what a
+    /// tower's striking meter reads; negative if the strike came first.
+    /// `None` without a strike or without a bottom (docs/model.md §10.3).
+    pub fn bdc_to_strike(&self) -> Option<f64> {
+        Some(self.first_strike()?.t - self.bottom?.t)
+    }
+
     /// Time from the first strike until the clapper came to rest (s).
     pub fn bounce_time(&self) -> Option<f64> {
         Some(self.rest_after_strike?.t - self.first_strike()?.t)
@@ -491,6 +503,7 @@ pub struct StepView<'a> {
     dense: &'a dyn DenseOutput<4>,
     t_to: f64,
     law: ForceLaw,
+    load: Option<Load>,
     dynamics: &'a Dynamics,
 }
 
@@ -508,17 +521,23 @@ impl StepView<'_> {
     /// The state and contact force at `t` (s).
     pub fn sample(&self, t: f64) -> Sample {
         let y = self.dense.eval(t);
-        Sample::new(t, y, self.law, self.dynamics)
+        Sample::new(t, y, self.law, self.load.as_ref(), self.dynamics)
+    }
+
+    /// The friction acting over this step, if any: its power along the
+    /// step is what friction takes from the bell and clapper.
+    pub fn friction(&self) -> Option<Load> {
+        self.load
     }
 }
 
 impl Sample {
-    fn new(t: f64, y: State, law: ForceLaw, d: &Dynamics) -> Self {
-        Sample {
-            t,
-            y,
-            contact_force: law.force(d, &y),
-        }
+    fn new(t: f64, y: State, law: ForceLaw, load: Option<&Load>, d: &Dynamics) -> Self {
+        let contact_force = match (law, load) {
+            (ForceLaw::Resting, Some(l)) => d.resting_q(&y, l.theta(&y)).1,
+            _ => law.force(d, &y),
+        };
+        Sample { t, y, contact_force }
     }
 }
 
@@ -634,23 +653,54 @@ where
 {
     let d = Dynamics::new(bell);
     let law = cfg.contact_law();
-    let force = |clapper| law.force_law(clapper, bell.phi_max);
+    let stops = Stops::of(bell);
     let s0 = if start.y[THETA] >= 0.0 { 1.0 } else { -1.0 };
     let t_limit = start.t + cfg.max_stroke_periods * bell.tb();
-    let mut rec = StrokeRecorder::new(start, bell.phi_max);
+    let mut rec = StrokeRecorder::new(start, &stops);
     let (mut t, mut y, mut clapper) = (start.t, start.y, start.clapper);
+    let friction = &bell.hanging.friction;
+    // The bearing's Coulomb torque opposes the bell's motion, which keeps
+    // its sign until the stroke's turning point; a bell at rest that the
+    // friction can hold does not move at all.
+    let mut held = false;
+    let frame = StrokeFrame {
+        stops,
+        friction: (!friction.is_none()).then(|| {
+            let tau = friction.bell_friction;
+            let mut dir = y[THETA_DOT].signum();
+            if tau > 0.0 && y[THETA_DOT].abs() < 1e-9 {
+                let hold = d.bell_holding_torque(&y, !clapper.is_flying());
+                held = hold.abs() <= tau;
+                dir = -hold.signum();
+            }
+            Load {
+                bell_damping: friction.bell_damping,
+                bell_torque: if tau > 0.0 { -dir * tau } else { 0.0 },
+                clapper_damping: friction.clapper_damping,
+                clapper_torque: friction.clapper_friction,
+            }
+        }),
+    };
+    let sample = |t, y: State, clapper| {
+        let load = frame.load(&d, clapper, &y);
+        Sample::new(t, y, law.force_law(clapper, &frame.stops), load.as_ref(), &d)
+    };
     let mut bottom_passed = false;
     let mut events = 0u32;
-    let initial = Sample::new(t, y, force(clapper), &d);
+    let initial = sample(t, y, clapper);
     observer.on_jump(&initial, &initial);
     let reason = loop {
-        let seg = Segment::new(&d, law.as_ref(), clapper, s0, bottom_passed);
-        let law_now = seg.force_law();
+        if held {
+            break EndReason::Held;
+        }
+        let seg = Segment::new(&d, law.as_ref(), &frame, clapper, &y, s0, bottom_passed);
+        let (law_now, load_now) = (seg.force_law(), seg.load());
         let stop = stepper.integrate(&seg, t, y, t_limit, &mut |dense, t_to| {
             observer.on_step(&StepView {
                 dense,
                 t_to,
                 law: law_now,
+                load: load_now,
                 dynamics: &d,
             })
         })?;
@@ -665,7 +715,7 @@ where
                 t,
             });
         }
-        let before = Sample::new(t, y, law_now, &d);
+        let before = Sample::new(t, y, law_now, load_now.as_ref(), &d);
         match seg.kind(i) {
             Ev::Bell(BellEvent::OverTop) => break EndReason::OverTheBalance,
             Ev::Bell(BellEvent::Turning) => break EndReason::TurningPoint,
@@ -681,10 +731,27 @@ where
                     stepper.expect(next);
                 }
             }
+            Ev::Friction(e) => {
+                // Relative to the bell the clapper is still, for an instant
+                // (slip stops) or from now on (stuck).
+                y[PHI_DOT] = 0.0;
+                clapper = match e {
+                    FrictionEvent::SlipStops => {
+                        let bell_load = load_now.map_or(0.0, |l| l.theta(&y));
+                        let hold = d.resting_q(&y, bell_load).1;
+                        if hold.abs() <= stops.grip {
+                            ClapperState::Stuck
+                        } else {
+                            clapper
+                        }
+                    }
+                    FrictionEvent::Breakaway => ClapperState::FLYING,
+                };
+            }
         }
-        observer.on_jump(&before, &Sample::new(t, y, force(clapper), &d));
+        observer.on_jump(&before, &sample(t, y, clapper));
     };
-    let last = Sample::new(t, y, force(clapper), &d);
+    let last = sample(t, y, clapper);
     observer.on_jump(&last, &last);
     Ok(rec.finish(StrokeEnd { t, y, clapper, reason }, stepper.stats(), events))
 }

@@ -2,7 +2,7 @@
 //! rebounds, lift-offs, rest, the bottom) into a [`Stroke`] and its
 //! quantities (docs/model.md §4).
 
-use crate::contact::{Rest, Side, Transition};
+use crate::contact::{Rest, Side, Stops, Transition};
 use crate::dynamics::{State, PHI_DOT, THETA};
 use crate::ode::Stats;
 
@@ -21,13 +21,14 @@ pub(super) struct StrokeRecorder {
 }
 
 impl StrokeRecorder {
-    /// A stroke from `start`, for a bell whose stops are at ±`phi_max` (rad).
-    pub(super) fn new(start: StrokeStart, phi_max: f64) -> Self {
+    /// A stroke from `start`, for a bell with these `stops`.
+    pub(super) fn new(start: StrokeStart, stops: &Stops) -> Self {
         let start_side = start.side();
         let y = start.y;
         // Against its side but not pressed: it leaves at once.
-        let leaves_at_once =
-            start.clapper.is_flying() && start_side == Side::of(y[1]) && (y[1].abs() - phi_max).abs() < 1e-12;
+        let leaves_at_once = start.clapper.is_flying()
+            && start_side == Side::of(y[1])
+            && (y[1].abs() - stops.angle(start_side)).abs() < 1e-12;
         Self {
             start,
             start_side,

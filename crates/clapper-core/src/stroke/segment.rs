@@ -5,8 +5,8 @@
 
 use std::f64::consts::PI;
 
-use crate::contact::{linear_event, ClapperState, ContactEvent, ContactLaw, ForceLaw};
-use crate::dynamics::{Dynamics, LinearSpring, State, THETA, THETA_DOT};
+use crate::contact::{linear_event, ClapperState, ContactEvent, ContactLaw, ForceLaw, Stops};
+use crate::dynamics::{Dynamics, LinearSpring, Load, State, PHI, PHI_DOT, THETA, THETA_DOT};
 use crate::ode::taylor::Coeffs;
 use crate::ode::{Direction, Event, SeriesSystem, Source, System, MAX_EVENTS, MAX_EXTRA};
 use crate::swing::SwingSystem;
@@ -22,6 +22,16 @@ pub(super) enum BellEvent {
     OverTop,
 }
 
+/// The events of Coulomb friction at the clapper's pivot (docs/model.md §10.2).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum FrictionEvent {
+    /// A flying clapper's rate relative to the bell passes zero: it sticks
+    /// or turns back.
+    SlipStops,
+    /// The torque needed to hold a stuck clapper exceeds the friction.
+    Breakaway,
+}
+
 /// What an event of a segment is.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub(super) enum Ev {
@@ -29,12 +39,55 @@ pub(super) enum Ev {
     Bell(BellEvent),
     /// The contact law's.
     Contact(ContactEvent),
+    /// Friction's.
+    Friction(FrictionEvent),
+}
+
+/// What stays fixed over a stroke: the stops, and the friction with the
+/// sign of the bearing's Coulomb torque (against the bell's motion, which
+/// keeps its sign from one turning point to the next).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct StrokeFrame {
+    /// The stops and the pivot's grip.
+    pub(super) stops: Stops,
+    /// Friction with τ_θ signed and the clapper's part unsigned
+    /// (`clapper_torque` = τ_c), or `None` without friction.
+    pub(super) friction: Option<Load>,
+}
+
+impl StrokeFrame {
+    /// The load in a segment with the clapper in `clapper` from state `y`.
+    pub(super) fn load(&self, d: &Dynamics, clapper: ClapperState, y: &State) -> Option<Load> {
+        let f = self.friction?;
+        let tau = f.clapper_torque;
+        // The clapper's direction of slip relative to the bell.
+        let dir = match clapper {
+            ClapperState::Flying { .. } if tau > 0.0 => {
+                if y[PHI_DOT] != 0.0 {
+                    y[PHI_DOT].signum()
+                } else {
+                    // From rest relative to the bell: against the torque
+                    // that would hold it.
+                    let hold = d.resting_q(&[y[THETA], y[PHI], y[THETA_DOT], 0.0], f.theta(y)).1;
+                    -hold.signum()
+                }
+            }
+            ClapperState::Compressing { side, .. } => side.sign(),
+            ClapperState::Rebounding { side, .. } => -side.sign(),
+            _ => 0.0,
+        };
+        Some(Load {
+            clapper_torque: -dir * tau,
+            ..f
+        })
+    }
 }
 
 /// The equations and event functions of one integration segment.
 pub(super) struct Segment<'a> {
     d: &'a Dynamics,
     law: ForceLaw,
+    load: Option<Load>,
     kinds: [Ev; MAX_EVENTS],
     events: [Event; MAX_EVENTS],
     n: usize,
@@ -42,11 +95,13 @@ pub(super) struct Segment<'a> {
 
 impl<'a> Segment<'a> {
     /// The segment of a stroke that started at θ of sign `s0` (±1), with
-    /// the clapper in `clapper` under `law`.
+    /// the clapper in `clapper` under `law`, from state `y`.
     pub(super) fn new(
         d: &'a Dynamics,
         law: &dyn ContactLaw,
+        frame: &StrokeFrame,
         clapper: ClapperState,
+        y: &State,
         s0: f64,
         bottom_passed: bool,
     ) -> Self {
@@ -55,9 +110,11 @@ impl<'a> Segment<'a> {
             level: 0.0,
             direction: Direction::Either,
         };
+        let stops = &frame.stops;
         let mut seg = Self {
             d,
-            law: law.force_law(clapper, d.bell().phi_max),
+            law: law.force_law(clapper, stops),
+            load: frame.load(d, clapper, y),
             kinds: [Ev::Bell(BellEvent::OverTop); MAX_EVENTS],
             events: [placeholder; MAX_EVENTS],
             n: 0,
@@ -67,18 +124,44 @@ impl<'a> Segment<'a> {
             Ev::Bell(BellEvent::OverTop),
             linear_event(Source::State(THETA), -s0, -PI, Direction::Rising),
         );
-        if bottom_passed {
+        // Coulomb friction at the bearings may turn the bell back before
+        // the bottom.
+        let early_turn = frame.friction.is_some_and(|f| f.bell_torque != 0.0);
+        if bottom_passed || early_turn {
             seg.push(
                 Ev::Bell(BellEvent::Turning),
                 linear_event(Source::State(THETA_DOT), s0, 0.0, Direction::Rising),
             );
-        } else {
+        }
+        if !bottom_passed {
             seg.push(
                 Ev::Bell(BellEvent::Bottom),
                 linear_event(Source::State(THETA), s0, 0.0, Direction::Falling),
             );
         }
-        law.events(clapper, d.bell().phi_max, &mut |kind, e| seg.push(Ev::Contact(kind), e));
+        law.events(clapper, stops, &mut |kind, e| seg.push(Ev::Contact(kind), e));
+        let grip = stops.grip;
+        if grip > 0.0 {
+            match clapper {
+                ClapperState::Flying { .. } => {
+                    let dir = -seg.load.map_or(0.0, |l| l.clapper_torque).signum();
+                    seg.push(
+                        Ev::Friction(FrictionEvent::SlipStops),
+                        linear_event(Source::State(PHI_DOT), dir, 0.0, Direction::Falling),
+                    );
+                }
+                ClapperState::Stuck => {
+                    // The holding torque (extra 0) leaving [−τ_c, τ_c].
+                    for scale in [1.0, -1.0] {
+                        seg.push(
+                            Ev::Friction(FrictionEvent::Breakaway),
+                            linear_event(Source::Extra(0), scale, -grip, Direction::Rising),
+                        );
+                    }
+                }
+                _ => {}
+            }
+        }
         seg
     }
 
@@ -100,15 +183,23 @@ impl<'a> Segment<'a> {
     pub(super) fn force_law(&self) -> ForceLaw {
         self.law
     }
+
+    /// Friction in this segment.
+    pub(super) fn load(&self) -> Option<Load> {
+        self.load
+    }
 }
 
 impl System<4> for Segment<'_> {
     #[inline]
     fn rhs(&self, _t: f64, y: &State) -> State {
-        match self.law {
-            ForceLaw::Zero => self.d.rhs_free(y),
-            ForceLaw::Resting => self.d.rhs_resting(y),
-            ForceLaw::Spring(spring) => self.d.rhs_forced(y, spring.force(y[1])),
+        match (self.law, &self.load) {
+            (ForceLaw::Zero, None) => self.d.rhs_free(y),
+            (ForceLaw::Resting, None) => self.d.rhs_resting(y),
+            (ForceLaw::Spring(spring), None) => self.d.rhs_forced(y, spring.force(y[PHI])),
+            (ForceLaw::Zero, Some(l)) => self.d.rhs_q(y, l.theta(y), l.phi(y)),
+            (ForceLaw::Resting, Some(l)) => self.d.rhs_resting_q(y, l.theta(y)),
+            (ForceLaw::Spring(spring), Some(l)) => self.d.rhs_q(y, l.theta(y), spring.force(y[PHI]) + l.phi(y)),
         }
     }
 
@@ -119,23 +210,28 @@ impl System<4> for Segment<'_> {
     /// Extra function 0: the force holding a resting clapper.
     #[inline]
     fn extra(&self, _j: usize, _t: f64, y: &State) -> f64 {
-        self.d.resting(y).1
+        match &self.load {
+            None => self.d.resting(y).1,
+            Some(l) => self.d.resting_q(y, l.theta(y)).1,
+        }
     }
 }
 
 impl SeriesSystem<4> for Segment<'_> {
     fn expand(&self, y: &State, p: usize, x: &mut [Coeffs; 4], extra: &mut [Coeffs; MAX_EXTRA]) {
+        let load = self.load.as_ref();
         match self.law {
-            ForceLaw::Zero => self.d.series_free(y, &LinearSpring::NONE, p, x),
+            ForceLaw::Zero => self.d.series_free(y, &LinearSpring::NONE, load, p, x),
             // The holding force is extra series 0.
-            ForceLaw::Resting => self.d.series_resting(y, p, x, &mut extra[0]),
-            ForceLaw::Spring(spring) => self.d.series_free(y, &spring, p, x),
+            ForceLaw::Resting => self.d.series_resting(y, load, p, x, &mut extra[0]),
+            ForceLaw::Spring(spring) => self.d.series_free(y, &spring, load, p, x),
         }
     }
 }
 
 impl SwingSystem for Segment<'_> {
     fn resting_dynamics(&self) -> Option<&Dynamics> {
-        (self.law == ForceLaw::Resting).then_some(self.d)
+        // The closed form is the paper's rigid pendulum: no offset, no friction.
+        (self.law == ForceLaw::Resting && self.load.is_none() && !self.d.offset).then_some(self.d)
     }
 }

@@ -1,0 +1,139 @@
+//! A bell's departures from the ideal (pivot offset, unequal contact
+//! angles, friction) as a user gives them, in a bell file or a request:
+//! the contact angles directly or as a tape measure's ball-to-rim gaps
+//! (docs/model.md §10). Every field is optional; given ones override the
+//! bell's own.
+
+use clapper_core::bell::{Bell, ParamError};
+use clapper_core::hanging::{from_contact_angles, skew_from_gaps};
+
+/// The hanging fields, in the units users give them.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct HangingInput {
+    /// d: sideways offset of the clapper pivot (m), + toward the back side
+    /// (where the clapper rests before a handstroke).
+    pub pivot_offset_m: Option<f64>,
+    /// Contact angle of the hand side, the side struck at handstroke ringing right (deg).
+    pub phi_max_hand_deg: Option<f64>,
+    /// Contact angle of the back side (deg).
+    pub phi_max_back_deg: Option<f64>,
+    /// Ball-to-rim gap on the hand side, bell down, clapper hanging (mm).
+    pub gap_hand_mm: Option<f64>,
+    /// The same on the back side (mm).
+    pub gap_back_mm: Option<f64>,
+    /// Distance of the ball's centre below the clapper pivot (m).
+    pub ball_below_pivot_m: Option<f64>,
+    /// c_b (N m s/rad).
+    pub bell_damping: Option<f64>,
+    /// τ_b (N m).
+    pub bell_friction: Option<f64>,
+    /// c_c (N m s/rad).
+    pub clapper_damping: Option<f64>,
+    /// τ_c (N m).
+    pub clapper_friction: Option<f64>,
+}
+
+impl HangingInput {
+    /// Whether nothing is given.
+    pub fn is_empty(&self) -> bool {
+        *self == HangingInput::default()
+    }
+
+    /// `bell` with the given fields applied, validated.
+    pub fn apply(&self, mut bell: Bell) -> Result<Bell, ParamError> {
+        let mut h = bell.hanging;
+        if let Some(d) = self.pivot_offset_m {
+            h.pivot_offset = d;
+        }
+        let angles = self.phi_max_hand_deg.is_some() || self.phi_max_back_deg.is_some();
+        let gaps = [self.gap_hand_mm, self.gap_back_mm, self.ball_below_pivot_m];
+        if gaps.iter().any(Option::is_some) {
+            if angles {
+                return Err(ParamError {
+                    field: "gap_hand_mm",
+                    value: self.gap_hand_mm.unwrap_or(f64::NAN),
+                    allowed: "either the gaps or phi_max_hand/phi_max_back, not both",
+                });
+            }
+            let [Some(hand), Some(back), Some(ball)] = gaps else {
+                return Err(ParamError {
+                    field: "gap_hand_mm",
+                    value: self.gap_hand_mm.unwrap_or(f64::NAN),
+                    allowed: "given with gap_back_mm and ball_below_pivot_m: all three or none",
+                });
+            };
+            h.phi_max_skew = skew_from_gaps(hand * 1e-3, back * 1e-3, ball, bell.phi_max)?;
+        } else if angles {
+            let (hand0, back0) = bell.contact_angles();
+            let hand = self.phi_max_hand_deg.map_or(hand0, f64::to_radians);
+            let back = self.phi_max_back_deg.map_or(back0, f64::to_radians);
+            for (field, v) in [("phi_max_hand_deg", hand), ("phi_max_back_deg", back)] {
+                if !(v.is_finite() && v > 0.0 && v < std::f64::consts::FRAC_PI_2) {
+                    return Err(ParamError {
+                        field,
+                        value: v.to_degrees(),
+                        allowed: "between 0 and 90 deg, exclusive",
+                    });
+                }
+            }
+            (bell.phi_max, h.phi_max_skew) = from_contact_angles(hand, back);
+            // Equal angles are exactly the symmetric bell.
+            if hand == back {
+                (bell.phi_max, h.phi_max_skew) = (hand, 0.0);
+            }
+        }
+        let f = &mut h.friction;
+        for (given, field) in [
+            (self.bell_damping, &mut f.bell_damping),
+            (self.bell_friction, &mut f.bell_friction),
+            (self.clapper_damping, &mut f.clapper_damping),
+            (self.clapper_friction, &mut f.clapper_friction),
+        ] {
+            if let Some(v) = given {
+                *field = v;
+            }
+        }
+        bell.hanging = h;
+        bell.validate()?;
+        Ok(bell)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn nothing_given_is_the_bell_itself_and_angles_or_gaps_set_the_skew() {
+        let lab = Bell::lab();
+        assert_eq!(HangingInput::default().apply(lab).unwrap(), lab);
+        let b = HangingInput {
+            phi_max_hand_deg: Some(27.0),
+            phi_max_back_deg: Some(25.0),
+            ..Default::default()
+        }
+        .apply(lab)
+        .unwrap();
+        let (h, k) = b.contact_angles();
+        assert!((h.to_degrees() - 27.0).abs() < 1e-12 && (k.to_degrees() - 25.0).abs() < 1e-12);
+        let g = HangingInput {
+            gap_hand_mm: Some(103.0),
+            gap_back_mm: Some(97.0),
+            ball_below_pivot_m: Some(0.3),
+            ..Default::default()
+        }
+        .apply(lab)
+        .unwrap();
+        assert!(g.hanging.phi_max_skew > 0.0 && g.phi_max == lab.phi_max);
+        let half = HangingInput {
+            gap_hand_mm: Some(103.0),
+            ..Default::default()
+        };
+        assert_eq!(half.apply(lab).unwrap_err().field, "gap_hand_mm");
+        let neg = HangingInput {
+            clapper_friction: Some(-1.0),
+            ..Default::default()
+        };
+        assert_eq!(neg.apply(lab).unwrap_err().field, "clapper_friction_n_m");
+    }
+}
