@@ -654,7 +654,9 @@ where
     let d = Dynamics::new(bell);
     let law = cfg.contact_law();
     let stops = Stops::of(bell);
-    let s0 = if start.y[THETA] >= 0.0 { 1.0 } else { -1.0 };
+    // The side of the bottom the bell starts on (±1): it swings toward the
+    // bottom, unless bearing friction says otherwise (below).
+    let mut s0 = if start.y[THETA] >= 0.0 { 1.0 } else { -1.0 };
     let t_limit = start.t + cfg.max_stroke_periods * bell.tb();
     let mut rec = StrokeRecorder::new(start, &stops);
     let (mut t, mut y, mut clapper) = (start.t, start.y, start.clapper);
@@ -672,6 +674,12 @@ where
                 let hold = d.bell_holding_torque(&y, !clapper.is_flying());
                 held = hold.abs() <= tau;
                 dir = -hold.signum();
+            }
+            if tau > 0.0 {
+                // Events are set by the direction the bell actually moves:
+                // from a turning point between the equilibrium and the
+                // bottom it swings away from the bottom.
+                s0 = -dir;
             }
             Load {
                 bell_damping: friction.bell_damping,

@@ -232,6 +232,6 @@ impl SeriesSystem<4> for Segment<'_> {
 impl SwingSystem for Segment<'_> {
     fn resting_dynamics(&self) -> Option<&Dynamics> {
         // The closed form is the paper's rigid pendulum: no offset, no friction.
-        (self.law == ForceLaw::Resting && self.load.is_none() && !self.d.offset).then_some(self.d)
+        (self.law == ForceLaw::Resting && self.load.is_none() && self.d.bell().hanging.is_ideal()).then_some(self.d)
     }
 }

@@ -1,0 +1,377 @@
+//! Asymmetric bells and friction (docs/model.md §10), each checked by a
+//! method independent of the equations' derivation: the mirror symmetry,
+//! the Euler–Lagrange residual of the Lagrangian written from the
+//! positions of the two bodies, the analytic decay of a pendulum with
+//! friction, and the energy balance.
+
+use clapper_core::bell::{Bell, G};
+use clapper_core::hanging::{Friction, Hanging};
+use clapper_core::ringing::{odd_struck, ring, Protocol};
+use clapper_core::stroke::{run_stroke, EndReason, Observer, Side, SimConfig, StepView, StrokeStart, Style};
+
+fn offset(bell: Bell, d: f64) -> Bell {
+    bell.with_hanging(Hanging {
+        pivot_offset: d,
+        ..bell.hanging
+    })
+}
+
+fn skewed(bell: Bell, skew_deg: f64) -> Bell {
+    bell.with_hanging(Hanging {
+        phi_max_skew: skew_deg.to_radians(),
+        ..bell.hanging
+    })
+}
+
+/// Offset d → −d, or the two contact angles swapped, swaps handstroke and
+/// backstroke; odd-struckness is exactly antisymmetric.
+#[test]
+fn mirror_swaps_handstroke_and_backstroke() {
+    let cfg = SimConfig::default();
+    for (plus, minus) in [
+        (offset(Bell::gsm_tenor(), 0.004), offset(Bell::gsm_tenor(), -0.004)),
+        (skewed(Bell::lab(), 0.3), skewed(Bell::lab(), -0.3)),
+        (
+            skewed(offset(Bell::lab(), 0.002), 0.2),
+            skewed(offset(Bell::lab(), -0.002), -0.2),
+        ),
+    ] {
+        for style in [Style::Right, Style::Wrong] {
+            let a = odd_struck(&plus, &cfg, style).unwrap();
+            let b = odd_struck(&minus, &cfg, style).unwrap();
+            for (s, m) in [(&a.hand, &b.back), (&a.back, &b.hand)] {
+                let (ts, tm) = (s.strike_angle().unwrap(), m.strike_angle().unwrap());
+                assert!((ts + tm).abs() < 1e-9, "{ts} vs {tm}");
+                let (vs, vm) = (s.strike_velocity().unwrap(), m.strike_velocity().unwrap());
+                assert!((vs + vm).abs() < 1e-9, "{vs} vs {vm}");
+                let (bs, bm) = (s.bdc_to_strike().unwrap(), m.bdc_to_strike().unwrap());
+                assert!((bs - bm).abs() < 1e-9, "{bs} vs {bm}");
+            }
+            let (oa, ob) = (a.odd_struck().unwrap(), b.odd_struck().unwrap());
+            assert!(oa != 0.0, "an asymmetric bell is odd-struck");
+            assert_eq!(oa, -ob, "exactly antisymmetric");
+        }
+    }
+    // And a symmetric bell is exactly not odd-struck.
+    let sym = odd_struck(&Bell::lab(), &cfg, Style::Right).unwrap();
+    assert_eq!(sym.odd_struck(), Some(0.0));
+}
+
+/// Numbers a + b ε with ε² = 0: derivatives exact to rounding, for the
+/// Lagrangian's partial derivatives.
+#[derive(Clone, Copy, Debug)]
+struct Dual(f64, f64);
+
+impl std::ops::Add for Dual {
+    type Output = Dual;
+    fn add(self, o: Dual) -> Dual {
+        Dual(self.0 + o.0, self.1 + o.1)
+    }
+}
+impl std::ops::Sub for Dual {
+    type Output = Dual;
+    fn sub(self, o: Dual) -> Dual {
+        Dual(self.0 - o.0, self.1 - o.1)
+    }
+}
+impl std::ops::Mul for Dual {
+    type Output = Dual;
+    fn mul(self, o: Dual) -> Dual {
+        Dual(self.0 * o.0, self.0 * o.1 + self.1 * o.0)
+    }
+}
+impl Dual {
+    fn c(v: f64) -> Dual {
+        Dual(v, 0.0)
+    }
+    fn sin(self) -> Dual {
+        Dual(self.0.sin(), self.1 * self.0.cos())
+    }
+    fn cos(self) -> Dual {
+        Dual(self.0.cos(), -self.1 * self.0.sin())
+    }
+}
+
+/// The Lagrangian T − V of the bell and clapper written from positions in
+/// the tower's frame (x across, y up): the bell turns by θ about its
+/// pivot; the clapper pivot sits at r along the bell's axis and d across
+/// it; the clapper's centre of mass at b from its pivot, at θ + φ from the
+/// downward vertical. Velocities are the derivatives of the positions
+/// (chain rule through dual numbers), not a hand-derived kinetic energy.
+fn lagrangian(bell: &Bell, q: [Dual; 2], qd: [Dual; 2]) -> Dual {
+    let (r, d, b) = (Dual::c(bell.r), Dual::c(bell.hanging.pivot_offset), Dual::c(bell.b));
+    let pos = |th: Dual, ph: Dual| {
+        let x = r * th.sin() + d * th.cos() + b * (th + ph).sin();
+        let y = Dual::c(0.0) - r * th.cos() + d * th.sin() - b * (th + ph).cos();
+        (x, y)
+    };
+    // v = ∂G/∂θ θ' + ∂G/∂φ φ', the partials by a fourth-order difference
+    // of the positions (dual-valued, so the outer derivative rides along).
+    let h = 1e-3;
+    let grad = |dt: f64, dp: f64| {
+        let at = |k: f64| pos(q[0] + Dual::c(k * dt), q[1] + Dual::c(k * dp));
+        let (x1, y1) = at(h);
+        let (x2, y2) = at(-h);
+        let (x3, y3) = at(2.0 * h);
+        let (x4, y4) = at(-2.0 * h);
+        let w =
+            |a: Dual, bb: Dual, c3: Dual, c4: Dual| (Dual::c(8.0) * (a - bb) - (c3 - c4)) * Dual::c(1.0 / (12.0 * h));
+        (w(x1, x2, x3, x4), w(y1, y2, y3, y4))
+    };
+    let (gxt, gyt) = grad(1.0, 0.0);
+    let (gxp, gyp) = grad(0.0, 1.0);
+    let vx = gxt * qd[0] + gxp * qd[1];
+    let vy = gyt * qd[0] + gyp * qd[1];
+    let (m, ig) = (
+        Dual::c(bell.clapper_mass),
+        Dual::c(bell.clapper_inertia - bell.clapper_mass * bell.b * bell.b),
+    );
+    let w = qd[0] + qd[1];
+    let half = Dual::c(0.5);
+    let t = half * Dual::c(bell.bell_inertia) * qd[0] * qd[0] + half * m * (vx * vx + vy * vy) + half * ig * w * w;
+    let (_, yg) = pos(q[0], q[1]);
+    let v = Dual::c(bell.bell_mass * G * bell.a) * (Dual::c(0.0) - q[0].cos()) + m * Dual::c(G) * yg;
+    t - v
+}
+
+/// ∂L/∂(component k of z), z = (θ, φ, θ', φ').
+fn partial(bell: &Bell, y: &[f64; 4], k: usize) -> f64 {
+    let z: [Dual; 4] = std::array::from_fn(|i| Dual(y[i], if i == k { 1.0 } else { 0.0 }));
+    lagrangian(bell, [z[0], z[1]], [z[2], z[3]]).1
+}
+
+/// Collects the Euler–Lagrange residual inside every step.
+struct Residual<'a> {
+    bell: &'a Bell,
+    h: f64,
+    worst: f64,
+    checked: usize,
+}
+
+impl Observer for Residual<'_> {
+    fn on_step(&mut self, step: &StepView<'_>) {
+        let h = self.h;
+        let (a, b) = (step.t_from() + 2.0 * h, step.t_to() - 2.0 * h);
+        if b <= a {
+            return;
+        }
+        for k in 0..3 {
+            let t = a + (b - a) * (k as f64 + 0.5) / 3.0;
+            let s = step.sample(t);
+            let load = step.friction().unwrap_or_default();
+            // d/dt ∂L/∂q' by a fourth-order difference along the trajectory.
+            let p = |dt: f64, i: usize| partial(self.bell, &step.sample(t + dt).y, i);
+            for (i, q) in [(2usize, 0usize), (3, 1)] {
+                let dpdt = (8.0 * (p(h, i) - p(-h, i)) - (p(2.0 * h, i) - p(-2.0 * h, i))) / (12.0 * h);
+                let force = if q == 0 {
+                    load.theta(&s.y)
+                } else {
+                    s.contact_force + load.phi(&s.y)
+                };
+                let res = dpdt - partial(self.bell, &s.y, q) - force;
+                self.worst = self.worst.max(res.abs());
+            }
+            self.checked += 1;
+        }
+    }
+}
+
+/// The equations with an offset (and viscous friction) satisfy the
+/// Euler–Lagrange equations of the Lagrangian built from positions, along
+/// a simulated stroke, flight and rest alike.
+#[test]
+fn offset_equations_satisfy_euler_lagrange_along_a_stroke() {
+    let bell = Bell::gsm_tenor().with_hanging(Hanging {
+        pivot_offset: 0.02,
+        phi_max_skew: 0.02,
+        friction: Friction {
+            bell_damping: 3.0,
+            clapper_damping: 0.4,
+            ..Friction::default()
+        },
+    });
+    let mut cfg = SimConfig::default();
+    cfg.ode.rtol = 1e-13;
+    cfg.ode.atol = 1e-13;
+    let start = StrokeStart::at_rest(&bell, &cfg, 0.0, cfg.theta0, Side::Plus);
+    let mut obs = Residual {
+        bell: &bell,
+        h: 2e-3,
+        worst: 0.0,
+        checked: 0,
+    };
+    let stroke = run_stroke(&bell, &cfg, start, &mut obs).unwrap();
+    assert!(stroke.first_strike().is_some());
+    let scale = (bell.bell_mass * bell.a + bell.clapper_mass * bell.r) * G;
+    assert!(obs.checked > 50, "{}", obs.checked);
+    println!(
+        "Euler-Lagrange residual {:.2e} of the gravity scale over {} points",
+        obs.worst / scale,
+        obs.checked
+    );
+    assert!(obs.worst / scale < 1e-8, "residual {} N m of {scale} N m", obs.worst);
+}
+
+/// Amplitudes (rad) about the tied bell's equilibrium at successive
+/// turning points, and their times (s).
+fn tied_swings(bell: &Bell, amplitude: f64, strokes: usize) -> (Vec<f64>, Vec<f64>, f64, f64) {
+    // Tied: the clapper held at its + stop by a pivot no torque can turn.
+    let bell = bell.with_hanging(Hanging {
+        friction: Friction {
+            clapper_friction: 1e9,
+            ..bell.hanging.friction
+        },
+        ..bell.hanging
+    });
+    let phi = bell.phi_max;
+    let (ma, mb) = (
+        bell.bell_mass * bell.a + bell.clapper_mass * bell.r,
+        bell.clapper_mass * bell.b,
+    );
+    // One cosine: V = −K cos(θ − θe).
+    let theta_e = (-mb * phi.sin()).atan2(ma + mb * phi.cos());
+    let k = G * ((ma + mb * phi.cos()).powi(2) + (mb * phi.sin()).powi(2)).sqrt();
+    let j = bell.bell_inertia
+        + bell.clapper_inertia
+        + bell.clapper_mass * bell.r * bell.r
+        + 2.0 * bell.clapper_mass * bell.r * bell.b * phi.cos();
+    let mut cfg = SimConfig {
+        theta0: theta_e + amplitude,
+        ..SimConfig::default()
+    };
+    cfg.ode.rtol = 1e-12;
+    cfg.ode.atol = 1e-12;
+    let r = ring(&bell, &cfg, Style::Right, Protocol::Free, strokes, &mut ()).unwrap();
+    let mut amps = vec![amplitude];
+    let mut times = vec![0.0];
+    for s in &r.strokes {
+        assert!(s.start.clapper.is_at_rest(), "the clapper stays tied");
+        if s.end.reason == EndReason::TurningPoint {
+            amps.push((s.end.y[0] - theta_e).abs());
+            times.push(s.end.t);
+        }
+    }
+    (amps, times, k, j)
+}
+
+/// Viscous damping at the bearings: the tied bell's small swing decays as
+/// exp(−c t / 2J).
+#[test]
+fn viscous_bearing_damping_decays_at_the_analytic_rate() {
+    let c = 0.8;
+    let bell = Bell::lab().with_hanging(Hanging {
+        friction: Friction {
+            bell_damping: c,
+            ..Friction::default()
+        },
+        ..Hanging::default()
+    });
+    let (amps, times, _, j) = tied_swings(&bell, 4f64.to_radians(), 8);
+    assert_eq!(amps.len(), 9);
+    let n = amps.len() - 1;
+    let rate = (amps[0] / amps[n]).ln() / (times[n] - times[0]);
+    let want = c / (2.0 * j);
+    println!(
+        "viscous decay rate {rate:.6} 1/s, analytic {want:.6} 1/s, error {:.2e}",
+        rate / want - 1.0
+    );
+    assert!((rate / want - 1.0).abs() < 0.005, "{rate} vs {want} 1/s");
+}
+
+/// Coulomb friction at the bearings: the tied bell's small swing loses
+/// 2τ/K of amplitude each swing (4τ/K a period), linearly, then stops.
+#[test]
+fn coulomb_bearing_friction_loses_four_tau_over_k_a_period() {
+    let bell0 = Bell::lab();
+    let (_, _, k, _) = tied_swings(&bell0, 0.05, 1);
+    let tau = 0.0015 * k;
+    let bell = bell0.with_hanging(Hanging {
+        friction: Friction {
+            bell_friction: tau,
+            ..Friction::default()
+        },
+        ..Hanging::default()
+    });
+    let (amps, _, k, _) = tied_swings(&bell, 4f64.to_radians(), 8);
+    assert_eq!(amps.len(), 9);
+    for pair in amps.windows(3) {
+        let per_period = pair[0] - pair[2];
+        println!(
+            "Coulomb loss per period / (4 tau/K) - 1 = {:.2e}",
+            per_period / (4.0 * tau / k) - 1.0
+        );
+        assert!(
+            (per_period / (4.0 * tau / k) - 1.0).abs() < 0.005,
+            "{per_period} vs {}",
+            4.0 * tau / k
+        );
+    }
+    // Rung long enough, it stops: held by the friction.
+    let (amps, ..) = tied_swings(&bell, 4f64.to_radians(), 60);
+    assert!(amps.len() < 61 && *amps.last().unwrap() <= 2.0 * tau / k, "{amps:?}");
+}
+
+/// Energy: with R = 1 (no loss at impacts) the energy lost over a free run
+/// equals the work of friction along it, to 1e-6.
+#[test]
+fn energy_lost_is_the_work_of_friction() {
+    struct Work(f64);
+    impl Observer for Work {
+        fn on_step(&mut self, step: &StepView<'_>) {
+            let Some(load) = step.friction() else { return };
+            // Gauss–Legendre, 5 points: exact for the step's smooth power.
+            const X: [f64; 5] = [
+                0.0,
+                -0.538_469_310_105_683,
+                0.538_469_310_105_683,
+                -0.906_179_845_938_664,
+                0.906_179_845_938_664,
+            ];
+            const W: [f64; 5] = [
+                0.568_888_888_888_889,
+                0.478_628_670_499_366,
+                0.478_628_670_499_366,
+                0.236_926_885_056_189,
+                0.236_926_885_056_189,
+            ];
+            let (a, b) = (step.t_from(), step.t_to());
+            let (mid, half) = (0.5 * (a + b), 0.5 * (b - a));
+            for (x, w) in X.iter().zip(W) {
+                self.0 += w * half * load.power(&step.sample(mid + half * x).y);
+            }
+        }
+    }
+    let bell = Bell::gsm_tenor().with_hanging(Hanging {
+        pivot_offset: 0.01,
+        phi_max_skew: 0.01,
+        friction: Friction {
+            bell_damping: 20.0,
+            bell_friction: 15.0,
+            clapper_damping: 0.3,
+            clapper_friction: 2.0,
+        },
+    });
+    let mut cfg = SimConfig {
+        restitution: 1.0,
+        ..SimConfig::default()
+    };
+    cfg.ode.rtol = 1e-11;
+    cfg.ode.atol = 1e-11;
+    let mut work = Work(0.0);
+    let r = ring(&bell, &cfg, Style::Right, Protocol::Free, 3, &mut work).unwrap();
+    // Energy from the same Lagrangian: E = θ' ∂L/∂θ' + φ' ∂L/∂φ' − L.
+    let energy = |y: &[f64; 4]| {
+        let l = lagrangian(&bell, [Dual::c(y[0]), Dual::c(y[1])], [Dual::c(y[2]), Dual::c(y[3])]).0;
+        y[2] * partial(&bell, y, 2) + y[3] * partial(&bell, y, 3) - l
+    };
+    let first = r.strokes.first().unwrap().start.y;
+    let last = r.strokes.last().unwrap().end.y;
+    let lost = energy(&last) - energy(&first);
+    assert!(work.0 < 0.0);
+    println!(
+        "energy change {lost:.9} J, friction work {:.9} J, relative {:.2e}",
+        work.0,
+        (lost - work.0) / work.0
+    );
+    assert!(((lost - work.0) / work.0).abs() < 1e-6, "{lost} J vs {} J", work.0);
+}
