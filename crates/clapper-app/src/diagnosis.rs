@@ -208,6 +208,121 @@ pub struct BellDiagnosisReport {
     pub right: StyleReport,
     /// Ringing wrong.
     pub wrong: StyleReport,
+    /// Odd-struckness and how to cure it, for a bell with a pivot offset or
+    /// unequal contact angles.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub odd_struck: Option<OddStruckReport>,
+}
+
+/// How odd-struck a bell is and what evens it (docs/model.md §10.3).
+#[derive(Serialize, Clone, Debug, PartialEq)]
+pub struct OddStruckReport {
+    /// Handstroke minus backstroke time from bottom dead centre to the
+    /// strike (ms): positive, the handstroke strikes late.
+    pub odd_struck_ms: f64,
+    /// The aim (ms): odd-struckness within ± this.
+    pub tolerance_ms: f64,
+    /// The ball's centre below the clapper pivot used (m).
+    pub ball_below_pivot_m: f64,
+    /// Change per mm the ball moves toward the back side, pivot fixed (ms/mm).
+    pub ms_per_mm_at_ball: f64,
+    /// The ball move toward the back side that evens it (mm), if found.
+    pub ball_move_mm: Option<f64>,
+    /// Odd-struckness after that move, simulated (ms).
+    pub after_ball_move_ms: Option<f64>,
+    /// Change per mm the clapper pivot moves toward the back side (ms/mm).
+    pub ms_per_mm_at_pivot: f64,
+    /// The pivot move toward the back side that evens it (mm), if found.
+    pub pivot_move_mm: Option<f64>,
+    /// Odd-struckness after that move, simulated (ms).
+    pub after_pivot_move_ms: Option<f64>,
+    /// In words.
+    pub words: String,
+}
+
+/// What the odd-struckness part of a diagnosis needs.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OddStruckOptions {
+    /// The ball's centre below the clapper pivot (m); unset: the clapper's
+    /// equivalent pendulum length L_c (its centre of percussion, where a
+    /// ball strikes without jarring the pivot), an estimate.
+    pub ball_below_pivot_m: Option<f64>,
+    /// The aim (ms). Default 1 ms: the tape guidance's 1 mm of gap moves a
+    /// bell's strike by a few ms, and a listener hears 10 to 20 ms.
+    pub tolerance_ms: f64,
+}
+
+impl Default for OddStruckOptions {
+    fn default() -> Self {
+        Self {
+            ball_below_pivot_m: None,
+            tolerance_ms: 1.0,
+        }
+    }
+}
+
+fn odd_struck_report(bell: &Bell, opts: &OddStruckOptions) -> Result<Option<OddStruckReport>, AppError> {
+    let h = &bell.hanging;
+    if h.pivot_offset == 0.0 && h.phi_max_skew == 0.0 {
+        return Ok(None);
+    }
+    let ball = opts.ball_below_pivot_m.unwrap_or_else(|| bell.lc());
+    let cfg = SimConfig::default();
+    let Some(fix) = clapper_core::diagnose::odd_struck_fix(bell, &cfg, ball, opts.tolerance_ms * 1e-3)? else {
+        return Ok(None);
+    };
+    let ms = |s: f64| s * 1e3;
+    let side = |x: f64| {
+        if x > 0.0 {
+            "toward the back side"
+        } else {
+            "toward the hand side"
+        }
+    };
+    let now = ms(fix.odd_struck);
+    let mut words = format!(
+        "odd-struck by {now:+.1} ms ({}); {:+.2} ms per mm at the ball, {:+.2} ms per mm at the pivot",
+        if now > 0.0 {
+            "handstroke late"
+        } else {
+            "backstroke late"
+        },
+        fix.per_ball_shift * 1e-3 * 1e3,
+        fix.per_pivot_shift * 1e-3 * 1e3
+    );
+    if now.abs() <= opts.tolerance_ms {
+        words += &format!("; within {} ms already", opts.tolerance_ms);
+    } else {
+        if let Some((x, after)) = fix.ball_shift {
+            words += &format!(
+                "; move the ball {:.1} mm {} (its gaps change by {:.1} mm each) to bring it to {:+.2} ms",
+                x.abs() * 1e3,
+                side(x),
+                x.abs() * 1e3,
+                ms(after)
+            );
+        }
+        if let Some((p, after)) = fix.pivot_shift {
+            words += &format!(
+                "; or move the clapper pivot {:.1} mm {} ({:+.2} ms)",
+                p.abs() * 1e3,
+                side(p),
+                ms(after)
+            );
+        }
+    }
+    Ok(Some(OddStruckReport {
+        odd_struck_ms: now,
+        tolerance_ms: opts.tolerance_ms,
+        ball_below_pivot_m: ball,
+        ms_per_mm_at_ball: fix.per_ball_shift,
+        ball_move_mm: fix.ball_shift.map(|(x, _)| x * 1e3),
+        after_ball_move_ms: fix.ball_shift.map(|(_, v)| ms(v)),
+        ms_per_mm_at_pivot: fix.per_pivot_shift,
+        pivot_move_mm: fix.pivot_shift.map(|(p, _)| p * 1e3),
+        after_pivot_move_ms: fix.pivot_shift.map(|(_, v)| ms(v)),
+        words,
+    }))
 }
 
 #[derive(Serialize)]
@@ -340,6 +455,7 @@ fn bell_json(b: &LoadedBell, d: &BellDiagnosis, outlier: &[String]) -> BellDiagn
         stands_apart: outlier.to_vec(),
         right: style_json(&d.right),
         wrong: style_json(&d.wrong),
+        odd_struck: None,
     }
 }
 
@@ -404,6 +520,11 @@ pub fn text(rep: &DiagnosisReport, source: &str) -> String {
             c[9],
             opt(b.margin.as_ref().and_then(|m| m.chart_units), 3),
         );
+    }
+    for b in rep.bells.iter().filter(|b| b.odd_struck.is_some()) {
+        if let Some(odd) = &b.odd_struck {
+            let _ = writeln!(o, "\n{}: {}", b.name, odd.words);
+        }
     }
     for b in &rep.bells {
         let _ = writeln!(
@@ -529,6 +650,11 @@ fn report_html(rep: &DiagnosisReport, source: &str, chart_svg: &str) -> String {
 /// Diagnose `bells` (in parallel; the result does not depend on the
 /// thread count).
 pub fn diagnose_bells(bells: &[LoadedBell]) -> Result<DiagnosisReport, AppError> {
+    diagnose_bells_with(bells, &OddStruckOptions::default())
+}
+
+/// [`diagnose_bells`] with the odd-struckness options.
+pub fn diagnose_bells_with(bells: &[LoadedBell], odd: &OddStruckOptions) -> Result<DiagnosisReport, AppError> {
     if bells.is_empty() {
         return Err(AppError::Request("no bells to diagnose".into()));
     }
@@ -558,9 +684,11 @@ pub fn diagnose_bells(bells: &[LoadedBell]) -> Result<DiagnosisReport, AppError>
             if !reasons.is_empty() {
                 out_words.push(format!("{}: {}", b.name, reasons.join("; ")));
             }
-            bell_json(b, d, &reasons)
+            let mut rep = bell_json(b, d, &reasons);
+            rep.odd_struck = odd_struck_report(&b.bell, odd)?;
+            Ok(rep)
         })
-        .collect();
+        .collect::<Result<_, AppError>>()?;
     Ok(DiagnosisReport {
         settings: serde_json::json!({
             "theta0_deg": cfg.sim.theta0.to_degrees(),

@@ -48,6 +48,9 @@ pub enum QuantityArg {
     Liftoff,
     /// Double strike index D, Figs 14 and 15.
     DoubleStrike,
+    /// Odd-struckness (ms), handstroke minus backstroke, with a pivot
+    /// offset or unequal contact angles set.
+    OddStruck,
 }
 
 impl QuantityArg {
@@ -58,6 +61,7 @@ impl QuantityArg {
             QuantityArg::StrikeVelocity => Quantity::StrikeVelocity,
             QuantityArg::Liftoff => Quantity::Liftoff,
             QuantityArg::DoubleStrike => Quantity::DoubleStrike,
+            QuantityArg::OddStruck => Quantity::OddStruck,
         }
     }
 }

@@ -4,9 +4,10 @@ use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use clapper_app::diagnosis::{diagnose_bells, report_page, text};
+use clapper_app::diagnosis::{diagnose_bells_with, report_page, text, OddStruckOptions};
 use clapper_app::simulate::Preset;
 use clapper_io::bell_file::LoadedBell;
+use clapper_io::hanging_input::HangingInput;
 
 #[derive(Args, Debug)]
 pub struct DiagnoseArgs {
@@ -22,6 +23,15 @@ pub struct DiagnoseArgs {
     /// Write a self-contained HTML report (charts embedded).
     #[arg(long, value_name = "FILE.html")]
     pub report: Option<PathBuf>,
+    /// The tower's readings, applied to every bell: pivot offset, contact
+    /// angles or tape gaps, friction. A bell that is then odd-struck gets
+    /// the adjustment that evens it.
+    #[command(flatten)]
+    pub hanging: crate::simulate::HangingArgs,
+    /// Odd-struckness to aim for (ms, handstroke minus backstroke within
+    /// plus or minus this).
+    #[arg(long, value_name = "MS", default_value_t = 1.0)]
+    pub odd_tolerance: f64,
 }
 
 pub fn run(args: DiagnoseArgs) -> Result<()> {
@@ -37,7 +47,33 @@ pub fn run(args: DiagnoseArgs) -> Result<()> {
             bail!("report file {} must end in .html", p.display());
         }
     }
-    let rep = diagnose_bells(&bells)?;
+    let h = &args.hanging;
+    let input = HangingInput {
+        pivot_offset_m: h.pivot_offset,
+        phi_max_hand_deg: h.phi_max_hand,
+        phi_max_back_deg: h.phi_max_back,
+        gap_hand_mm: h.gap_hand,
+        gap_back_mm: h.gap_back,
+        ball_below_pivot_m: h.ball_below_pivot,
+        bell_damping: h.bell_damping,
+        bell_friction: h.bell_friction,
+        clapper_damping: h.clapper_damping,
+        clapper_friction: h.clapper_friction,
+    };
+    let mut bells = bells;
+    for b in &mut bells {
+        b.bell = input
+            .apply(b.bell)
+            .with_context(|| format!("the tower readings for {}", b.name))?;
+    }
+    if !(args.odd_tolerance.is_finite() && args.odd_tolerance > 0.0) {
+        bail!("--odd-tolerance {} must be a time > 0 ms", args.odd_tolerance);
+    }
+    let odd = OddStruckOptions {
+        ball_below_pivot_m: h.ball_below_pivot,
+        tolerance_ms: args.odd_tolerance,
+    };
+    let rep = diagnose_bells_with(&bells, &odd)?;
     if let Some(path) = &args.report {
         let html = report_page(&rep, &bells, &source)?;
         crate::files::write_atomically(path, |tmp| {

@@ -565,3 +565,52 @@ fn a_bell_file_carries_its_restitution() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("restitution_later"));
 }
+
+/// Odd-struckness through the binary: a pivot offset makes the handstroke
+/// and backstroke differ, its mirror gives exactly the opposite, and
+/// `diagnose` with the tape's gaps proposes the ball move that evens them.
+#[test]
+fn odd_struck_bell_from_offset_and_tape() {
+    let odd = |d: &str| -> f64 {
+        let out = clapper()
+            .args(["simulate", "--preset", "lab", "--pivot-offset", d, "--json"])
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        v["odd_struck_ms"].as_f64().unwrap()
+    };
+    let (plus, minus) = (odd("0.003"), odd("-0.003"));
+    assert!(plus.abs() > 1.0, "{plus}");
+    assert_eq!(plus, -minus);
+    assert_eq!(odd("0"), 0.0);
+    let out = clapper()
+        .args([
+            "diagnose",
+            "--preset",
+            "gsm-tenor",
+            "--gap-hand",
+            "253",
+            "--gap-back",
+            "247",
+            "--ball-below-pivot",
+            "0.8",
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let o = &v["bells"][0]["odd_struck"];
+    assert!(o["odd_struck_ms"].as_f64().unwrap() > 1.0);
+    // 3 mm off centre: the move is 3 mm toward the hand side (negative).
+    let mv = o["ball_move_mm"].as_f64().unwrap();
+    assert!((mv + 3.0).abs() < 0.2, "{mv}");
+    assert!(o["after_ball_move_ms"].as_f64().unwrap().abs() <= 1.0);
+    // Half the gaps is refused, naming what is missing.
+    let bad = clapper()
+        .args(["simulate", "--preset", "lab", "--gap-hand", "100", "--json"])
+        .output()
+        .unwrap();
+    assert!(!bad.status.success());
+}

@@ -508,3 +508,89 @@ pub fn ring_outliers(ring: &[BellDiagnosis]) -> Vec<Outlier> {
     }
     out.into_iter().filter(|o| !o.reasons.is_empty()).collect()
 }
+
+/// What brings an odd-struck bell's handstroke and backstroke together
+/// (docs/model.md §10.3): its odd-struckness, how it moves per millimetre
+/// at the ball and at the clapper pivot, and the move of each that brings
+/// it under the tolerance, checked by simulation.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct OddStruckFix {
+    /// Odd-struckness now (s), handstroke minus backstroke.
+    pub odd_struck: f64,
+    /// Its change per metre the ball moves toward the back side with the
+    /// pivot left where it is (s/m): the ball's gaps change, the pivot not.
+    pub per_ball_shift: f64,
+    /// The ball move toward the back side (m) that brings it under the
+    /// tolerance, and the odd-struckness after it (s); `None` if Newton's
+    /// method did not get there in four steps.
+    pub ball_shift: Option<(f64, f64)>,
+    /// Its change per metre the clapper pivot moves toward the back side
+    /// (the ball moves with it, so the gaps change too) (s/m).
+    pub per_pivot_shift: f64,
+    /// The pivot move (m) and the odd-struckness after it (s).
+    pub pivot_shift: Option<(f64, f64)>,
+}
+
+/// Find the moves that make `bell` (ringing right under `cfg`) strike
+/// evenly to within `tolerance` (s), for a ball `ball_below_pivot` (m)
+/// below the clapper pivot. `None` if the bell does not strike at both
+/// strokes.
+pub fn odd_struck_fix(
+    bell: &Bell,
+    cfg: &SimConfig,
+    ball_below_pivot: f64,
+    tolerance: f64,
+) -> Result<Option<OddStruckFix>, SimError> {
+    use crate::hanging::Hanging;
+    use crate::ringing::odd_struck;
+    let per_m_skew = 1.0 / (ball_below_pivot * bell.phi_max.cos());
+    let h0 = bell.hanging;
+    // Odd-struckness (s) after moving the ball by x (m) and the pivot by p (m).
+    let odd = |x: f64, p: f64| -> Result<Option<f64>, SimError> {
+        let moved = bell.with_hanging(Hanging {
+            pivot_offset: h0.pivot_offset + p,
+            phi_max_skew: h0.phi_max_skew + (x + p) * per_m_skew,
+            ..h0
+        });
+        Ok(odd_struck(&moved, cfg, Style::Right)?.odd_struck())
+    };
+    let Some(now) = odd(0.0, 0.0)? else { return Ok(None) };
+    // Sensitivities by central differences over half a millimetre.
+    let step = 5e-4;
+    let slope = |f: &dyn Fn(f64) -> Result<Option<f64>, SimError>| -> Result<Option<f64>, SimError> {
+        Ok(match (f(step)?, f(-step)?) {
+            (Some(a), Some(b)) => Some((a - b) / (2.0 * step)),
+            _ => None,
+        })
+    };
+    let ball = |x: f64| odd(x, 0.0);
+    let pivot = |p: f64| odd(0.0, p);
+    let (Some(per_ball), Some(per_pivot)) = (slope(&ball)?, slope(&pivot)?) else {
+        return Ok(None);
+    };
+    // Newton's method from the sensitivity, at most four steps.
+    let solve = |f: &dyn Fn(f64) -> Result<Option<f64>, SimError>, k: f64| -> Result<Option<(f64, f64)>, SimError> {
+        let (mut x, mut v) = (0.0, now);
+        for _ in 0..4 {
+            if v.abs() <= tolerance {
+                return Ok(Some((x, v)));
+            }
+            if k == 0.0 || !k.is_finite() {
+                return Ok(None);
+            }
+            x -= v / k;
+            match f(x)? {
+                Some(nv) => v = nv,
+                None => return Ok(None),
+            }
+        }
+        Ok((v.abs() <= tolerance).then_some((x, v)))
+    };
+    Ok(Some(OddStruckFix {
+        odd_struck: now,
+        per_ball_shift: per_ball,
+        ball_shift: solve(&ball, per_ball)?,
+        per_pivot_shift: per_pivot,
+        pivot_shift: solve(&pivot, per_pivot)?,
+    }))
+}

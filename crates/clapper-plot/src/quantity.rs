@@ -20,6 +20,9 @@ pub enum Quantity {
     Liftoff,
     /// Double strike index D, Fig 14 and 15 (scale truncated at 60 as in the paper).
     DoubleStrike,
+    /// Odd-struckness (ms): handstroke minus backstroke time from bottom dead
+    /// centre to the strike; 0 everywhere for a symmetric bell.
+    OddStruck,
 }
 
 /// The paper truncates its D scale at 60 so that the charts of different R compare.
@@ -34,6 +37,7 @@ impl Quantity {
             Quantity::StrikeVelocity => s.strike_phidot,
             Quantity::Liftoff => s.liftoff_theta.map(f64::to_degrees),
             Quantity::DoubleStrike => s.double_strike_index,
+            Quantity::OddStruck => s.odd_struck.map(|t| t * 1e3),
         }
     }
 
@@ -45,6 +49,7 @@ impl Quantity {
             Quantity::StrikeVelocity => "strike velocity phi' (rad/s)",
             Quantity::Liftoff => "lift-off angle theta (deg)",
             Quantity::DoubleStrike => "double strike index D (scale cut at 60)",
+            Quantity::OddStruck => "odd-struckness, handstroke minus backstroke (ms)",
         }
     }
 }
@@ -127,6 +132,15 @@ pub fn scale(quantity: Quantity, panels: &[Panel]) -> Scale {
         Quantity::DoubleStrike => (0.0, D_SCALE_MAX),
         Quantity::StrikeVelocity if lo.is_finite() => (lo, hi),
         Quantity::StrikeVelocity => (-1.0, 1.0),
+        // Symmetric about zero, so that the sign reads at a glance.
+        Quantity::OddStruck => {
+            let m = lo.abs().max(hi.abs());
+            if m.is_finite() && m > 0.0 {
+                (-m, m)
+            } else {
+                (-1.0, 1.0)
+            }
+        }
     };
     Scale::Continuous {
         min,

@@ -76,6 +76,10 @@ function chartRequest() {
   if ($("contact").value === "penalty") { req.contact = "penalty"; req.stiffness = num("stiffness"); }
   // R2: left empty, the bounces after the first impact take R too.
   if ($("restitution-later").value.trim() !== "") req.restitution_later = num("restitution-later");
+  // An odd-struck bell: pivot offset (mm here, m in the API) and unequal contact angles.
+  if ($("pivot-offset").value.trim() !== "") req.pivot_offset = num("pivot-offset") / 1000;
+  if ($("phi-max-hand").value.trim() !== "") req.phi_max_hand = num("phi-max-hand");
+  if ($("phi-max-back").value.trim() !== "") req.phi_max_back = num("phi-max-back");
   return req;
 }
 
@@ -346,6 +350,7 @@ async function showStroke(p) {
   const body = { chart_point: [p.x, p.y], style, theta0: req.theta0, restitution: req.restitution, phi_max: req.phi_max, strokes: 2 };
   if (req.contact) { body.contact = req.contact; body.stiffness = req.stiffness; }
   if (req.restitution_later !== undefined) body.restitution_later = req.restitution_later;
+  for (const k of ["pivot_offset", "phi_max_hand", "phi_max_back"]) if (req[k] !== undefined) body[k] = req[k];
   const panel = $("stroke-panel");
   panel.hidden = false;
   $("stroke-title").textContent = `Stroke at r/L_c = ${p.x.toFixed(3)}, L_b/L_c = ${p.y.toFixed(3)}, ringing ${style}: simulating…`;
@@ -360,11 +365,11 @@ async function showStroke(p) {
 }
 
 function strokeTable(r) {
-  let h = `<p><b>The bell ${r.sustained ? "sustains" : "does not sustain"} ringing ${esc(r.style)}</b> · T<sub>b</sub> = ${fmt(r.bell.tb_s, 3)} s, T<sub>c</sub> = ${fmt(r.bell.tc_s, 3)} s, φ<sub>max</sub> = ${fmt(r.bell.phi_max_deg, 1)} deg</p>`;
-  h += "<table><tr><th>stroke</th><th>style</th><th>lift-off (deg)</th><th>first strike θ (deg)</th><th>at (s)</th><th>φ' (rad/s)</th><th>2nd impact after (ms)</th><th>amplitude ratio</th><th>D</th><th>impacts</th><th>sustained</th></tr>";
+  let h = `<p><b>The bell ${r.sustained ? "sustains" : "does not sustain"} ringing ${esc(r.style)}</b> · T<sub>b</sub> = ${fmt(r.bell.tb_s, 3)} s, T<sub>c</sub> = ${fmt(r.bell.tc_s, 3)} s, φ<sub>max</sub> = ${fmt(r.bell.phi_max_deg, 1)} deg · odd-struck ${fmt(r.odd_struck_ms, 1)} ms (handstroke minus backstroke)</p>`;
+  h += "<table><tr><th>stroke</th><th>style</th><th>lift-off (deg)</th><th>first strike θ (deg)</th><th>at (s)</th><th>bottom to strike (ms)</th><th>φ' (rad/s)</th><th>2nd impact after (ms)</th><th>amplitude ratio</th><th>D</th><th>impacts</th><th>sustained</th></tr>";
   for (const s of r.strokes) {
     const f = s.first_strike || {};
-    h += `<tr><td>${s.number} (${s.number % 2 ? "hand" : "back"})</td><td>${esc(s.style)}</td><td>${fmt(s.liftoff_theta_deg, 1)}</td><td>${fmt(f.theta_deg, 1)}</td><td>${fmt(f.t_s, 3)}</td><td>${fmt(f.phidot_rad_s, 2)}</td><td>${fmt(s.second_strike_delay_ms, 1)}</td><td>${fmt(s.amplitude_ratio, 3)}</td><td>${fmt(s.double_strike_index, 2)}</td><td>${s.impacts.length}</td><td>${s.sustained ? "yes" : "no"}</td></tr>`;
+    h += `<tr><td>${s.number} (${s.number % 2 ? "hand" : "back"})</td><td>${esc(s.style)}</td><td>${fmt(s.liftoff_theta_deg, 1)}</td><td>${fmt(f.theta_deg, 1)}</td><td>${fmt(f.t_s, 3)}</td><td>${fmt(s.bdc_to_strike_ms, 1)}</td><td>${fmt(f.phidot_rad_s, 2)}</td><td>${fmt(s.second_strike_delay_ms, 1)}</td><td>${fmt(s.amplitude_ratio, 3)}</td><td>${fmt(s.double_strike_index, 2)}</td><td>${s.impacts.length}</td><td>${s.sustained ? "yes" : "no"}</td></tr>`;
   }
   return h + "</table>";
 }
