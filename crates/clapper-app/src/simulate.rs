@@ -355,5 +355,18 @@ pub fn summary(r: &SimulationReport) -> String {
             )
         }
     );
+    if let Some(odd) = r.odd_struck_ms {
+        let _ = writeln!(
+            o,
+            "odd-struck: {odd:+.1} ms (bottom dead centre to strike, handstroke minus backstroke{})",
+            if odd > 0.0 {
+                "; handstroke late"
+            } else if odd < 0.0 {
+                "; backstroke late"
+            } else {
+                ""
+            }
+        );
+    }
     o
 }

@@ -357,7 +357,7 @@ impl Dynamics {
         }
     }
 
-    #[inline(always)]
+    #[inline(never)]
     fn series_free_impl<const OFFSET: bool>(
         &self,
         y: &State,
