@@ -287,8 +287,9 @@ fn odd_struck_report(bell: &Bell, opts: &OddStruckOptions) -> Result<Option<OddS
         } else {
             "backstroke late"
         },
-        fix.per_ball_shift * 1e-3 * 1e3,
-        fix.per_pivot_shift * 1e-3 * 1e3
+        // s per m is ms per mm.
+        fix.per_ball_shift,
+        fix.per_pivot_shift
     );
     if now.abs() <= opts.tolerance_ms {
         words += &format!("; within {} ms already", opts.tolerance_ms);

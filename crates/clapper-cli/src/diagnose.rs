@@ -7,7 +7,6 @@ use clap::Args;
 use clapper_app::diagnosis::{diagnose_bells_with, report_page, text, OddStruckOptions};
 use clapper_app::simulate::Preset;
 use clapper_io::bell_file::LoadedBell;
-use clapper_io::hanging_input::HangingInput;
 
 #[derive(Args, Debug)]
 pub struct DiagnoseArgs {
@@ -48,18 +47,11 @@ pub fn run(args: DiagnoseArgs) -> Result<()> {
         }
     }
     let h = &args.hanging;
-    let input = HangingInput {
-        pivot_offset_m: h.pivot_offset,
-        phi_max_hand_deg: h.phi_max_hand,
-        phi_max_back_deg: h.phi_max_back,
-        gap_hand_mm: h.gap_hand,
-        gap_back_mm: h.gap_back,
-        ball_below_pivot_m: h.ball_below_pivot,
-        bell_damping: h.bell_damping,
-        bell_friction: h.bell_friction,
-        clapper_damping: h.clapper_damping,
-        clapper_friction: h.clapper_friction,
-    };
+    // The readings as a request's options: one mapping to the model's
+    // hanging, the one simulate and chart use.
+    let mut req = clapper_app::simulate::SimulateRequest::default();
+    crate::simulate::set_hanging!(req, args.hanging);
+    let input = req.stroke_options().hanging;
     let mut bells = bells;
     for b in &mut bells {
         b.bell = input
