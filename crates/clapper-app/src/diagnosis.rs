@@ -686,7 +686,12 @@ pub fn diagnose_bells_with(bells: &[LoadedBell], odd: &OddStruckOptions) -> Resu
                 out_words.push(format!("{}: {}", b.name, reasons.join("; ")));
             }
             let mut rep = bell_json(b, d, &reasons);
-            rep.odd_struck = odd_struck_report(&b.bell, odd)?;
+            // The request's ball depth, else the bell file's own.
+            let odd = OddStruckOptions {
+                ball_below_pivot_m: odd.ball_below_pivot_m.or(b.ball_below_pivot_m),
+                ..*odd
+            };
+            rep.odd_struck = odd_struck_report(&b.bell, &odd)?;
             Ok(rep)
         })
         .collect::<Result<_, AppError>>()?;

@@ -286,6 +286,28 @@ pub fn summary(r: &SimulationReport) -> String {
     if !b.assumed.is_empty() {
         let _ = writeln!(o, "  assumed (not measured): {}", b.assumed.join(", "));
     }
+    let mut hanging = Vec::new();
+    if let Some(d) = b.pivot_offset_m {
+        hanging.push(format!("pivot offset {:+.1} mm", d * 1e3));
+    }
+    if let (Some(h), Some(k)) = (b.phi_max_hand_deg, b.phi_max_back_deg) {
+        hanging.push(format!("phi_max hand/back {h:.2}/{k:.2} deg"));
+    }
+    if let Some(f) = &b.friction {
+        for (v, what) in [
+            (f.bell_damping, "bell damping {} N m s/rad"),
+            (f.bell_friction, "bell friction {} N m"),
+            (f.clapper_damping, "clapper damping {} N m s/rad"),
+            (f.clapper_friction, "clapper friction {} N m"),
+        ] {
+            if v != 0.0 {
+                hanging.push(what.replace("{}", &format!("{v:.4}")));
+            }
+        }
+    }
+    if !hanging.is_empty() {
+        let _ = writeln!(o, "  hanging          {}", hanging.join(", "));
+    }
     let stiffness = s
         .stiffness_n_m_per_rad
         .map(|k| format!(" (k = {k:e} N m/rad)"))

@@ -147,6 +147,19 @@ macro_rules! with_stroke_options {
             /// Coulomb friction torque at the clapper's pivot (N m).
             #[serde(default, skip_serializing_if = "Option::is_none", alias = "clapper-friction")]
             pub clapper_friction: Option<f64>,
+            /// Swings (strokes) for the bell's small swing, clapper tied,
+            /// to halve: sets the bell's damping or friction.
+            #[serde(default, skip_serializing_if = "Option::is_none", alias = "bell-swings-to-halve")]
+            pub bell_swings_to_halve: Option<f64>,
+            /// Swings for the clapper's small swing in a still bell to halve.
+            #[serde(default, skip_serializing_if = "Option::is_none", alias = "clapper-swings-to-halve")]
+            pub clapper_swings_to_halve: Option<f64>,
+            /// What those timings measure: viscous (default) or coulomb.
+            #[serde(default, skip_serializing_if = "Option::is_none", alias = "swing-loss")]
+            pub swing_loss: Option<clapper_core::hanging::SwingLoss>,
+            /// The timed swing's starting amplitude (deg), for coulomb.
+            #[serde(default, skip_serializing_if = "Option::is_none", alias = "swing-amplitude")]
+            pub swing_amplitude: Option<f64>,
         }
 
         impl Default for $name {
@@ -177,6 +190,10 @@ macro_rules! with_stroke_options {
                         bell_friction: self.bell_friction,
                         clapper_damping: self.clapper_damping,
                         clapper_friction: self.clapper_friction,
+                        bell_swings_to_halve: self.bell_swings_to_halve,
+                        clapper_swings_to_halve: self.clapper_swings_to_halve,
+                        swing_loss: self.swing_loss,
+                        swing_amplitude_deg: self.swing_amplitude,
                     },
                 }
             }

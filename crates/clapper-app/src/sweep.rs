@@ -29,6 +29,16 @@ pub struct SweepPlan {
 }
 
 impl SweepPlan {
+    /// The columns of its CSV: the axes when there are several charts'
+    /// worth, the odd-struck column when the bell is not ideal (every chart
+    /// of a sweep shares the bell's hanging).
+    pub fn columns(&self) -> clapper_io::Columns {
+        clapper_io::Columns {
+            axes: self.has_axes,
+            odd_struck: self.charts.iter().any(|(_, spec)| !spec.hanging.is_ideal()),
+        }
+    }
+
     /// A chart per combination of `theta0s` (deg), `restitutions` and
     /// `phi_maxes` (deg), each otherwise as `base`.
     pub fn new(

@@ -6,6 +6,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use clapper_app::liftoff::{BellLiftoffReport, FormulaReport};
 use clapper_app::simulate::{simulate_traced, summary, Preset, SimulateRequest, DEFAULT_STROKES, DEFAULT_THETA0_DEG};
+use clapper_core::hanging::SwingLoss;
 use clapper_core::prelude::*;
 use clapper_core::stroke::{ContactModel, Integrator};
 use clapper_io::LoadedBell;
@@ -126,6 +127,23 @@ pub struct HangingArgs {
     /// Coulomb friction torque at the clapper's pivot (N m).
     #[arg(long, value_name = "N_M", allow_hyphen_values = true)]
     pub clapper_friction: Option<f64>,
+    /// King's timing: swings (strokes) for the bell's small swing, clapper
+    /// tied, to halve; sets the bell's damping (or friction, with
+    /// `--swing-loss coulomb`).
+    #[arg(long, value_name = "N", allow_hyphen_values = true, conflicts_with_all = ["bell_damping", "bell_friction"])]
+    pub bell_swings_to_halve: Option<f64>,
+    /// King's timing: swings for the clapper's small swing in a still bell
+    /// to halve; sets the clapper's damping (or friction).
+    #[arg(long, value_name = "N", allow_hyphen_values = true, conflicts_with_all = ["clapper_damping", "clapper_friction"])]
+    pub clapper_swings_to_halve: Option<f64>,
+    /// What the swing timings measure: viscous damping, or Coulomb friction
+    /// (which needs --swing-amplitude) [default: viscous].
+    #[arg(long, value_parser = choice::<SwingLoss>())]
+    pub swing_loss: Option<SwingLoss>,
+    /// The timed swing's amplitude when the count began (deg), for
+    /// `--swing-loss coulomb`.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub swing_amplitude: Option<f64>,
 }
 
 /// Copy `HangingArgs` into a request's flat fields of the same names.
@@ -142,6 +160,10 @@ macro_rules! set_hanging {
         $req.bell_friction = h.bell_friction;
         $req.clapper_damping = h.clapper_damping;
         $req.clapper_friction = h.clapper_friction;
+        $req.bell_swings_to_halve = h.bell_swings_to_halve;
+        $req.clapper_swings_to_halve = h.clapper_swings_to_halve;
+        $req.swing_loss = h.swing_loss;
+        $req.swing_amplitude = h.swing_amplitude;
     }};
 }
 pub(crate) use set_hanging;

@@ -93,6 +93,7 @@ pub struct RunFile<'a> {
 
 /// Compute `meta.range` of `plan` into `csv`, resuming an interrupted run.
 pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result<Outcome> {
+    let columns = plan.columns();
     let (csv, meta) = (f.csv, f.meta);
     let partial = with_suffix(csv, ".partial");
     let journal_path = with_suffix(csv, ".partial.json");
@@ -142,7 +143,7 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
         }
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
             let mut head = Vec::new();
-            clapper_io::write_chart_rows(&mut head, std::iter::empty(), Some(plan.has_axes))?;
+            clapper_io::write_chart_rows(&mut head, std::iter::empty(), columns, true)?;
             let mut p = File::create(&partial).with_context(|| format!("cannot create {}", partial.display()))?;
             p.write_all(&head)?;
             p.sync_all()?;
@@ -177,7 +178,8 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
             cells
                 .iter()
                 .map(|(k, c)| (plan.has_axes.then_some(&plan.charts[*k].0), c)),
-            None,
+            columns,
+            false,
         )?;
         out.write_all(&buf)?;
         out.sync_data()?;

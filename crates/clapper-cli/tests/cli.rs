@@ -613,4 +613,35 @@ fn odd_struck_bell_from_offset_and_tape() {
         .output()
         .unwrap();
     assert!(!bad.status.success());
+    // A chart of the bell off centre carries the odd-struck column (ms),
+    // and a tower's swing timings become the friction the summary shows.
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("odd.csv");
+    let out = clapper()
+        .args(["chart", "--grid", "4", "--pivot-offset", "0.003", "--csv"])
+        .arg(&csv)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = std::fs::read_to_string(&csv).unwrap();
+    assert!(text
+        .lines()
+        .next()
+        .unwrap()
+        .ends_with(",double_strike_index,odd_struck_ms"));
+    assert!(text
+        .lines()
+        .skip(1)
+        .any(|l| l.starts_with("0.") && l.contains(",right,true,") && !l.ends_with(',')));
+    let out = clapper()
+        .args(["simulate", "--preset", "gsm-tenor", "--bell-swings-to-halve", "40"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(String::from_utf8_lossy(&out.stdout).contains("bell damping 39.6181 N m s/rad"));
+    let clash = clapper()
+        .args(["simulate", "--bell-swings-to-halve", "40", "--bell-damping", "1"])
+        .output()
+        .unwrap();
+    assert!(!clash.status.success());
 }

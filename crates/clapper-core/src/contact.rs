@@ -13,7 +13,7 @@
 
 use std::fmt::Debug;
 
-use crate::dynamics::{Dynamics, LinearSpring, State, PHI, PHI_DOT};
+use crate::dynamics::{Dynamics, LinearSpring, Load, State, PHI, PHI_DOT};
 use crate::ode::{Direction, Event, NextSegment, Source};
 
 /// One of the two places where the clapper meets the bell: φ = +φ_max
@@ -289,8 +289,17 @@ pub trait ContactLaw: Debug + Send + Sync {
     /// state and `y` adjusted (a spring law starts at its static
     /// compression, so that it does not ring from the first instant).
     fn at_rest(&self, y: State, q: f64, side: Side) -> (State, ClapperState);
-    /// What event `event` does to the clapper in `clapper` at `y`.
-    fn transition(&self, d: &Dynamics, event: ContactEvent, y: State, clapper: ClapperState) -> Transition;
+    /// What event `event` does to the clapper in `clapper` at `y`, with the
+    /// stroke's `friction` (its clapper torque the Coulomb magnitude τ_c ≥ 0,
+    /// its bell torque signed for the stroke), if any.
+    fn transition(
+        &self,
+        d: &Dynamics,
+        event: ContactEvent,
+        y: State,
+        clapper: ClapperState,
+        friction: Option<&Load>,
+    ) -> Transition;
 }
 
 /// Rigid stops with instantaneous impacts, φ'⁺ = −√R φ'⁻ (docs/model.md
@@ -313,17 +322,33 @@ impl RigidImpact {
         }
     }
 
-    fn hit(&self, d: &Dynamics, side: Side, mut y: State, later: bool) -> Transition {
+    fn hit(&self, d: &Dynamics, side: Side, mut y: State, later: bool, friction: Option<&Load>) -> Transition {
         let s = side.sign();
         let stops = Stops::of(d.bell());
         y[PHI] = stops.at(side);
         let bounced = d.impact(&y, self.e[usize::from(later)]);
-        // Would the next flight be shorter than rest_flight_time?
-        let toward = s * d.accel(&bounced, 0.0).phi;
+        let stuck = d.impact(&y, 0.0);
+        // Would the next flight be shorter than rest_flight_time? With
+        // friction in it (Coulomb slip away from the stop is resisted by
+        // +s τ_c): the rest must be judged by the forces the clapper will
+        // feel, or a damped bell's bounces never settle.
+        let (accel, hold) = match friction {
+            None => (d.accel(&bounced, 0.0), d.resting(&stuck).1),
+            Some(f) => {
+                let flight = Load {
+                    clapper_torque: s * f.clapper_torque,
+                    ..*f
+                };
+                (
+                    d.accel_q(&bounced, flight.theta(&bounced), flight.phi(&bounced)),
+                    d.resting_q(&stuck, f.theta(&stuck)).1,
+                )
+            }
+        };
+        let toward = s * accel.phi;
         let away = -s * bounced[PHI_DOT];
         let comes_to_rest = toward > 0.0 && 2.0 * away < self.rest_flight_time * toward;
-        let stuck = d.impact(&y, 0.0);
-        let mut tr = if comes_to_rest && s * d.resting(&stuck).1 < stops.grip {
+        let mut tr = if comes_to_rest && s * hold < stops.grip {
             Transition {
                 rest: Some(Rest::Now),
                 ..Transition::to(stuck, ClapperState::Resting(side))
@@ -377,14 +402,21 @@ impl ContactLaw for RigidImpact {
         (y, ClapperState::Resting(side))
     }
 
-    fn transition(&self, d: &Dynamics, event: ContactEvent, y: State, clapper: ClapperState) -> Transition {
+    fn transition(
+        &self,
+        d: &Dynamics,
+        event: ContactEvent,
+        y: State,
+        clapper: ClapperState,
+        friction: Option<&Load>,
+    ) -> Transition {
         match event {
             ContactEvent::Hit(side) => {
                 let later = clapper
                     == ClapperState::Flying {
                         bounced_off: Some(side),
                     };
-                self.hit(d, side, y, later)
+                self.hit(d, side, y, later, friction)
             }
             ContactEvent::LiftOff(side) => Transition {
                 departed: Some(side),
@@ -475,7 +507,14 @@ impl ContactLaw for PenaltySpring {
         (y, resting)
     }
 
-    fn transition(&self, _d: &Dynamics, event: ContactEvent, y: State, clapper: ClapperState) -> Transition {
+    fn transition(
+        &self,
+        _d: &Dynamics,
+        event: ContactEvent,
+        y: State,
+        clapper: ClapperState,
+        _friction: Option<&Load>,
+    ) -> Transition {
         let later = |side| match clapper {
             ClapperState::Flying { bounced_off } => bounced_off == Some(side),
             ClapperState::Compressing { later, .. } | ClapperState::Rebounding { later, .. } => later,
@@ -577,7 +616,7 @@ mod tests {
         let phi_max = d.bell().phi_max;
         let y = [-1.2, phi_max + 1e-12, -2.0, 3.0];
         let ratio = |from: ClapperState| {
-            let tr = law.transition(&d, ContactEvent::Hit(Side::Plus), y, from);
+            let tr = law.transition(&d, ContactEvent::Hit(Side::Plus), y, from, None);
             assert_eq!(tr.impact, Some(Side::Plus));
             -tr.y[PHI_DOT] / y[PHI_DOT]
         };
@@ -593,19 +632,19 @@ mod tests {
         // The penalty law rebounds with R2 k after a bounce on the same side.
         let spring = PenaltySpring::new(1e6, r);
         let comp = spring
-            .transition(&d, ContactEvent::Hit(Side::Plus), y, bounced_plus)
+            .transition(&d, ContactEvent::Hit(Side::Plus), y, bounced_plus, None)
             .clapper;
         let reb = spring
-            .transition(&d, ContactEvent::MaxCompression(Side::Plus), y, comp)
+            .transition(&d, ContactEvent::MaxCompression(Side::Plus), y, comp, None)
             .clapper;
         let at = |k| ForceLaw::Spring(LinearSpring::new(k, phi_max));
         let stops = Stops::symmetric(phi_max);
         assert_eq!(spring.force_law(reb, &stops), at(0.6e6));
         let comp = spring
-            .transition(&d, ContactEvent::Hit(Side::Plus), y, ClapperState::FLYING)
+            .transition(&d, ContactEvent::Hit(Side::Plus), y, ClapperState::FLYING, None)
             .clapper;
         let reb = spring
-            .transition(&d, ContactEvent::MaxCompression(Side::Plus), y, comp)
+            .transition(&d, ContactEvent::MaxCompression(Side::Plus), y, comp, None)
             .clapper;
         assert_eq!(spring.force_law(reb, &stops), at(0.2e6));
         // Separating from a settled contact is a lift-off.
@@ -615,7 +654,7 @@ mod tests {
             later: true,
         };
         let flying = spring
-            .transition(&d, ContactEvent::Separation(Side::Plus), y, settled)
+            .transition(&d, ContactEvent::Separation(Side::Plus), y, settled, None)
             .clapper;
         assert_eq!(flying, ClapperState::FLYING);
     }

@@ -22,11 +22,13 @@ pub struct FrameLoad {
     pub vertical: f64,
 }
 
-/// The load at one sample (its contact force gives the accelerations).
+/// The load at one sample (its contact force and friction give the
+/// accelerations). The clapper pivot sits r along the bell's axis and d
+/// (`pivot_offset`) across it (docs/model.md §10.1).
 pub fn frame_load(d: &Dynamics, s: &Sample) -> FrameLoad {
     let bell = d.bell();
     let y: &State = &s.y;
-    let acc = d.accel(y, s.contact_force);
+    let acc = d.accel_q(y, s.friction[0], s.contact_force + s.friction[1]);
     let [th, ph, thd, phd] = *y;
     let (st, ct) = th.sin_cos();
     let (sa, ca) = (th + ph).sin_cos();
@@ -39,9 +41,12 @@ pub fn frame_load(d: &Dynamics, s: &Sample) -> FrameLoad {
     );
     let w = thd + phd;
     let wd = tdd + pdd;
+    // The offset d: the point (d cos θ, d sin θ), accelerating as
+    // d(−θ'' sin θ − θ'² cos θ, θ'' cos θ − θ'² sin θ).
+    let off = bell.hanging.pivot_offset;
     let clapper_acc = (
-        bell.r * (tdd * ct - thd * thd * st) + bell.b * (wd * ca - w * w * sa),
-        bell.r * (tdd * st + thd * thd * ct) + bell.b * (wd * sa + w * w * ca),
+        bell.r * (tdd * ct - thd * thd * st) + bell.b * (wd * ca - w * w * sa) - off * (tdd * st + thd * thd * ct),
+        bell.r * (tdd * st + thd * thd * ct) + bell.b * (wd * sa + w * w * ca) + off * (tdd * ct - thd * thd * st),
     );
     let (big_m, m) = (bell.bell_mass, bell.clapper_mass);
     FrameLoad {
@@ -161,9 +166,69 @@ mod tests {
             t: 0.0,
             y: [0.0, 0.0, 0.0, 0.0],
             contact_force: 0.0,
+            friction: [0.0; 2],
         };
         let l = frame_load(&d, &s);
         assert!(l.horizontal.abs() < 1e-9);
         assert!((l.vertical - (bell.bell_mass + bell.clapper_mass) * G).abs() < 1e-9);
+    }
+
+    /// An offset pivot and friction: the load equals the weight less the
+    /// rate of change of momentum, the momentum's rate taken by central
+    /// differences of the centres of mass along the simulated trace (not
+    /// from the accelerations the load uses).
+    #[test]
+    fn load_is_the_rate_of_change_of_momentum_with_offset_and_friction() {
+        use crate::hanging::{Friction, Hanging};
+        let bell = Bell::lab().with_hanging(Hanging {
+            pivot_offset: 0.02,
+            phi_max_skew: 0.02,
+            friction: Friction {
+                bell_damping: 0.5,
+                clapper_damping: 0.05,
+                ..Friction::default()
+            },
+        });
+        let mut cfg = SimConfig::default();
+        cfg.ode.rtol = 1e-12;
+        cfg.ode.atol = 1e-12;
+        let h = 1e-3;
+        let mut rec = TraceRecorder::new(h);
+        let start = StrokeStart::at_rest(&bell, &cfg, 0.0, cfg.theta0, Side::Plus);
+        let stroke = run_stroke(&bell, &cfg, start, &mut rec).unwrap();
+        let strike = stroke.first_strike().map_or(stroke.end.t, |f| f.t);
+        let d = Dynamics::new(&bell);
+        let (big_m, m, off) = (bell.bell_mass, bell.clapper_mass, bell.hanging.pivot_offset);
+        let moment = |y: &State| {
+            let [th, ph, ..] = *y;
+            let xb = (bell.a * th.sin(), -bell.a * th.cos());
+            let xc = (
+                bell.r * th.sin() + off * th.cos() + bell.b * (th + ph).sin(),
+                -bell.r * th.cos() + off * th.sin() - bell.b * (th + ph).cos(),
+            );
+            (big_m * xb.0 + m * xc.0, big_m * xb.1 + m * xc.1)
+        };
+        // Evenly spaced samples before the strike (no impact in a triple).
+        let even: Vec<&Sample> = rec.samples.iter().filter(|s| s.t < strike - 2.0 * h).collect();
+        let (mut checked, mut worst) = (0, 0.0f64);
+        for w in even.windows(3) {
+            if (w[1].t - w[0].t - h).abs() > 1e-12 || (w[2].t - w[1].t - h).abs() > 1e-12 {
+                continue;
+            }
+            let (p0, p1, p2) = (moment(&w[0].y), moment(&w[1].y), moment(&w[2].y));
+            let acc = (
+                (p2.0 - 2.0 * p1.0 + p0.0) / (h * h),
+                (p2.1 - 2.0 * p1.1 + p0.1) / (h * h),
+            );
+            let l = frame_load(&d, w[1]);
+            let weight = (big_m + m) * G;
+            worst = worst.max((l.horizontal + acc.0).abs() / weight);
+            worst = worst.max((l.vertical - acc.1 - weight).abs() / weight);
+            checked += 1;
+        }
+        assert!(checked > 500, "{checked}");
+        println!("{checked} samples, worst {worst:.2e} of the weight");
+        assert!(worst < 1e-4, "worst {worst} of the weight");
+        assert!(rec.samples.iter().any(|s| s.friction[0] != 0.0 && s.friction[1] != 0.0));
     }
 }

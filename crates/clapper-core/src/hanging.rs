@@ -158,6 +158,20 @@ pub fn ball_shift_for_skew(d_skew: f64, ball_below_pivot: f64, phi_max: f64) -> 
     d_skew * ball_below_pivot * phi_max.cos()
 }
 
+/// Which kind of friction a swing-decay timing is taken to measure: the
+/// count alone cannot tell them apart (a viscous loss shrinks the swing by
+/// a constant ratio, a Coulomb loss by a constant angle), so the user says.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
+pub enum SwingLoss {
+    /// Viscous damping (oil, grease): the default, as it needs no amplitude.
+    #[default]
+    Viscous,
+    /// Coulomb friction (dry or plain bearings).
+    Coulomb,
+}
+
 /// A pendulum's small swing as the tower times it: `swings_to_halve` swings
 /// (one swing is one stroke, half a period) for the amplitude to halve.
 /// `inertia` (kg m²) and `stiffness` (N m/rad, the gravity torque per radian
@@ -208,6 +222,20 @@ impl SwingDecay {
             });
         }
         Ok(())
+    }
+
+    /// The friction that halves the swing in that many swings, all the loss
+    /// taken as `loss`: c (N m s/rad) for viscous, τ (N m) for Coulomb, which
+    /// needs the swing's starting `amplitude` (rad).
+    pub fn friction(&self, loss: SwingLoss, amplitude: Option<f64>) -> Result<f64, ParamError> {
+        match loss {
+            SwingLoss::Viscous => self.viscous(),
+            SwingLoss::Coulomb => self.coulomb(amplitude.ok_or(ParamError {
+                field: "swing_amplitude_deg",
+                value: f64::NAN,
+                allowed: "given with swing_loss = coulomb: the amplitude the count started at",
+            })?),
+        }
     }
 
     /// The viscous damping (N m s/rad) that halves the swing in that many

@@ -90,3 +90,4 @@ named_choice!(ringing::Protocol { Restart => "restart", Free => "free" });
 named_choice!(contact::ContactModel { Impact => "impact", Penalty => "penalty" });
 named_choice!(stroke::Integrator { Taylor => "taylor", Dopri5 => "dopri5" });
 named_choice!(chart::Styles { Right => "right", Wrong => "wrong", Both => "both" });
+named_choice!(hanging::SwingLoss { Viscous => "viscous", Coulomb => "coulomb" });

@@ -5,7 +5,7 @@
 //! friction, and the energy balance.
 
 use clapper_core::bell::{Bell, G};
-use clapper_core::hanging::{Friction, Hanging};
+use clapper_core::hanging::{Friction, Hanging, SwingDecay, SwingLoss};
 use clapper_core::ringing::{odd_struck, ring, Protocol};
 use clapper_core::stroke::{run_stroke, EndReason, Observer, Side, SimConfig, StepView, StrokeStart, Style};
 
@@ -311,6 +311,53 @@ fn coulomb_bearing_friction_loses_four_tau_over_k_a_period() {
     assert!(amps.len() < 61 && *amps.last().unwrap() <= 2.0 * tau / k, "{amps:?}");
 }
 
+/// King's timings read back: the friction `SwingDecay` gives for "halves in
+/// N swings" does halve the simulated tied bell's swing in N swings, for
+/// either kind of loss; and `bell_tied`'s pendulum is the simulated one.
+#[test]
+fn swings_to_halve_give_the_friction_that_halves_the_swing() {
+    // The tied pendulum of `tied_swings` is tied at φ_max; at a tiny φ_max
+    // it is `bell_tied`'s, tied at φ = 0.
+    let narrow = Bell {
+        phi_max: 1e-7,
+        ..Bell::lab()
+    };
+    let (_, _, k, j) = tied_swings(&narrow, 0.05, 1);
+    let tied = SwingDecay::bell_tied(&narrow, 10.0);
+    assert!((tied.inertia / j - 1.0).abs() < 1e-12 && (tied.stiffness / k - 1.0).abs() < 1e-12);
+
+    let bell0 = Bell::lab();
+    let (_, _, k, j) = tied_swings(&bell0, 0.05, 1);
+    let amplitude = 4f64.to_radians();
+    for (loss, n) in [(SwingLoss::Viscous, 6usize), (SwingLoss::Coulomb, 6)] {
+        let decay = SwingDecay {
+            swings_to_halve: n as f64,
+            inertia: j,
+            stiffness: k,
+        };
+        let v = decay.friction(loss, Some(amplitude)).unwrap();
+        let friction = match loss {
+            SwingLoss::Viscous => Friction {
+                bell_damping: v,
+                ..Friction::default()
+            },
+            SwingLoss::Coulomb => Friction {
+                bell_friction: v,
+                ..Friction::default()
+            },
+        };
+        let bell = bell0.with_hanging(Hanging {
+            friction,
+            ..Hanging::default()
+        });
+        let (amps, ..) = tied_swings(&bell, amplitude, n);
+        let ratio = amps[n] / amps[0];
+        println!("{loss}: after {n} swings the amplitude is {ratio:.5} of the start");
+        assert!((ratio - 0.5).abs() < 0.0025, "{loss}: {ratio}");
+    }
+    assert!(tied.friction(SwingLoss::Coulomb, None).is_err());
+}
+
 /// Energy: with R = 1 (no loss at impacts) the energy lost over a free run
 /// equals the work of friction along it, to 1e-6.
 #[test]
@@ -374,4 +421,64 @@ fn energy_lost_is_the_work_of_friction() {
         (lost - work.0) / work.0
     );
     assert!(((lost - work.0) / work.0).abs() < 1e-6, "{lost} J vs {} J", work.0);
+}
+
+/// Bounces on a damped bell settle: the rest test after each impact judges
+/// the next flight with the friction in it. Without that, at this point of
+/// the paper's chart the backstroke's clapper bounced on its resting side
+/// ever faster (a Zeno sequence) until the event limit. And no point of a
+/// chart with friction of each kind fails to simulate.
+#[test]
+fn bounces_on_a_damped_bell_settle_everywhere_on_the_chart() {
+    use clapper_core::chart::{sweep, ChartSpec};
+    let damped = Hanging {
+        friction: Friction {
+            bell_damping: 0.5,
+            clapper_damping: 0.05,
+            ..Friction::default()
+        },
+        ..Hanging::default()
+    };
+    let spec = ChartSpec {
+        nx: 60,
+        ny: 60,
+        hanging: damped,
+        ..ChartSpec::default()
+    };
+    let bell = spec
+        .construction
+        .bell(spec.xs()[5], spec.ys()[11])
+        .unwrap()
+        .with_hanging(damped);
+    let pair = odd_struck(&bell, &spec.config, Style::Right).unwrap();
+    assert_eq!(pair.back.end.reason, EndReason::TurningPoint);
+    assert!(pair.back.rest_after_strike.is_some() || pair.back.first_strike().is_none());
+    for friction in [
+        damped.friction,
+        Friction {
+            bell_friction: 0.5,
+            clapper_friction: 0.05,
+            ..Friction::default()
+        },
+        Friction {
+            bell_damping: 0.5,
+            bell_friction: 0.5,
+            clapper_damping: 0.05,
+            clapper_friction: 0.05,
+        },
+    ] {
+        let chart = sweep(
+            &ChartSpec {
+                hanging: Hanging {
+                    friction,
+                    ..Hanging::default()
+                },
+                ..spec
+            },
+            &|_| {},
+        )
+        .unwrap();
+        let failed: Vec<_> = chart.cells.iter().filter(|c| c.result.is_err()).collect();
+        assert!(failed.is_empty(), "{friction:?}: {failed:?}");
+    }
 }

@@ -25,7 +25,10 @@
 //! §10): `pivot_offset_m`, `phi_max_hand_deg` and `phi_max_back_deg` (or the
 //! tape's `gap_hand_mm`, `gap_back_mm` with `ball_below_pivot_m`), and
 //! friction: `bell_damping_n_m_s`, `bell_friction_n_m`,
-//! `clapper_damping_n_m_s`, `clapper_friction_n_m`.
+//! `clapper_damping_n_m_s`, `clapper_friction_n_m`, or King's timings of a
+//! small swing: `bell_swings_to_halve` (clapper tied) and
+//! `clapper_swings_to_halve` (bell still), taken as viscous unless
+//! `swing_loss = "coulomb"`, which needs `swing_amplitude_deg`.
 //!
 //! Unknown keys are refused, so a misspelt key cannot silently fall back to
 //! a default.
@@ -72,6 +75,10 @@ struct BellFile {
     bell_friction_n_m: Option<f64>,
     clapper_damping_n_m_s: Option<f64>,
     clapper_friction_n_m: Option<f64>,
+    bell_swings_to_halve: Option<f64>,
+    clapper_swings_to_halve: Option<f64>,
+    swing_loss: Option<clapper_core::hanging::SwingLoss>,
+    swing_amplitude_deg: Option<f64>,
 }
 
 impl BellFile {
@@ -87,6 +94,10 @@ impl BellFile {
             bell_friction: self.bell_friction_n_m,
             clapper_damping: self.clapper_damping_n_m_s,
             clapper_friction: self.clapper_friction_n_m,
+            bell_swings_to_halve: self.bell_swings_to_halve,
+            clapper_swings_to_halve: self.clapper_swings_to_halve,
+            swing_loss: self.swing_loss,
+            swing_amplitude_deg: self.swing_amplitude_deg,
         }
     }
 }
@@ -148,6 +159,9 @@ pub struct LoadedBell {
     pub restitution: Option<f64>,
     /// R2 likewise.
     pub restitution_later: Option<f64>,
+    /// The ball's centre below the clapper pivot (m), if the file gives it
+    /// (with the tape's gaps): where a diagnosis proposes moving the ball.
+    pub ball_below_pivot_m: Option<f64>,
 }
 
 impl LoadedBell {
@@ -159,6 +173,7 @@ impl LoadedBell {
             source,
             restitution: None,
             restitution_later: None,
+            ball_below_pivot_m: None,
         }
     }
 }
@@ -317,6 +332,7 @@ fn bell_from_fields(f: BellFile, default_name: &str) -> Result<LoadedBell, BellF
     Ok(LoadedBell {
         restitution,
         restitution_later,
+        ball_below_pivot_m: hanging.ball_below_pivot_m,
         ..loaded
     })
 }

@@ -4,7 +4,7 @@
 use clapper_core::Choice;
 use std::io::Write;
 
-use clapper_core::chart::{Chart, ChartCell, StrokeSummary};
+use clapper_core::chart::{Chart, ChartCell, ChartSpec, StrokeSummary};
 use clapper_core::stroke::Style;
 
 /// The columns of `clapper chart --csv` (README, "Clapping charts").
@@ -22,21 +22,49 @@ pub const CHART_HEADER: [&str; 8] = [
 /// The leading columns of a sweep over extra axes.
 pub const AXES_HEADER: [&str; 3] = ["theta0_deg", "restitution", "phi_max_deg"];
 
+/// The last column of a chart of a bell that is not ideal (an offset, unequal
+/// contact angles or friction): handstroke minus backstroke, bottom dead
+/// centre to strike (ms). An ideal bell's chart leaves it out, so its CSV is
+/// the same bytes as before the column existed.
+pub const ODD_STRUCK_COLUMN: &str = "odd_struck_ms";
+
 /// The settings of one chart of a sweep: θ0 (deg), R, φ_max (deg).
 pub type Axes = [f64; 3];
+
+/// The columns a chart CSV has beside [`CHART_HEADER`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Columns {
+    /// The extra axes of a sweep first ([`AXES_HEADER`]).
+    pub axes: bool,
+    /// [`ODD_STRUCK_COLUMN`] last.
+    pub odd_struck: bool,
+}
+
+impl Columns {
+    /// The columns of a chart computed as `spec`, with or without `axes`.
+    pub fn of(spec: &ChartSpec, axes: bool) -> Self {
+        Self {
+            axes,
+            odd_struck: !spec.hanging.is_ideal(),
+        }
+    }
+}
 
 fn cell(v: Option<f64>) -> String {
     v.map(|x| format!("{x:.6}")).unwrap_or_default()
 }
 
-/// The header row; with `axes`, the extra-axes columns first.
-pub fn chart_header(axes: bool) -> Vec<&'static str> {
-    let mut h = if axes { AXES_HEADER.to_vec() } else { vec![] };
+/// The header row of a chart with `columns`.
+pub fn chart_header(columns: Columns) -> Vec<&'static str> {
+    let mut h = if columns.axes { AXES_HEADER.to_vec() } else { vec![] };
     h.extend(CHART_HEADER);
+    if columns.odd_struck {
+        h.push(ODD_STRUCK_COLUMN);
+    }
     h
 }
 
-fn row(c: &ChartCell, axes: Option<&Axes>) -> Vec<String> {
+fn row(c: &ChartCell, axes: Option<&Axes>, odd_struck: bool) -> Vec<String> {
     let s = c.result.as_ref().ok();
     let mut r: Vec<String> = axes.map_or(vec![], |a| a.iter().map(|v| format!("{v}")).collect());
     r.extend([
@@ -49,24 +77,28 @@ fn row(c: &ChartCell, axes: Option<&Axes>) -> Vec<String> {
         cell(s.and_then(|s| s.liftoff_theta).map(f64::to_degrees)),
         cell(s.and_then(|s| s.double_strike_index)),
     ]);
+    if odd_struck {
+        r.push(cell(s.and_then(|s| s.odd_struck).map(|t| t * 1e3)));
+    }
     r
 }
 
 /// Write rows of cells (each with its chart's axes when the sweep has
-/// extra axes), with the header row first if `header`. The text depends
-/// only on the cells, so a chart written in parts, one after another, is
-/// the same bytes as written whole.
+/// extra axes) in `columns`, with the header row first if `header`. The
+/// text depends only on the cells, so a chart written in parts, one after
+/// another, is the same bytes as written whole.
 pub fn write_chart_rows<'a, W: Write>(
     out: W,
     rows: impl IntoIterator<Item = (Option<&'a Axes>, &'a ChartCell)>,
-    header: Option<bool>,
+    columns: Columns,
+    header: bool,
 ) -> Result<(), csv::Error> {
     let mut w = csv::WriterBuilder::new().flexible(true).from_writer(out);
-    if let Some(axes) = header {
-        w.write_record(chart_header(axes))?;
+    if header {
+        w.write_record(chart_header(columns))?;
     }
     for (axes, c) in rows {
-        w.write_record(row(c, axes))?;
+        w.write_record(row(c, axes, columns.odd_struck))?;
     }
     w.flush()?;
     Ok(())
@@ -77,7 +109,8 @@ pub fn write_chart_rows<'a, W: Write>(
 /// lift-off, or a point that failed to simulate). The text depends only on
 /// the chart, so it is the same for any thread count.
 pub fn write_chart_csv<W: Write>(out: W, chart: &Chart) -> Result<(), csv::Error> {
-    write_chart_rows(out, chart.cells.iter().map(|c| (None, c)), Some(false))
+    let columns = Columns::of(&chart.spec, false);
+    write_chart_rows(out, chart.cells.iter().map(|c| (None, c)), columns, true)
 }
 
 /// A value from the file as an error message shows it: quoted, escaped
@@ -116,11 +149,10 @@ pub fn read_chart_csv(text: &str, name: &str) -> Result<Vec<(Option<Axes>, Chart
         .iter()
         .map(str::to_string)
         .collect();
-    let axes = if header == chart_header(true) {
-        true
-    } else if header == chart_header(false) {
-        false
-    } else {
+    let known = [false, true]
+        .into_iter()
+        .flat_map(|axes| [false, true].map(|odd_struck| Columns { axes, odd_struck }));
+    let Some(Columns { axes, odd_struck }) = known.into_iter().find(|c| header == chart_header(*c)) else {
         // Quoted and cut short: the header may hold anything, newlines too.
         return Err(err(format!(
             "the header is not a chart's: {}",
@@ -184,7 +216,11 @@ pub fn read_chart_csv(text: &str, name: &str) -> Result<Vec<(Option<Axes>, Chart
                     liftoff_theta: num(off + 6)?.map(f64::to_radians),
                     double_strike_index: num(off + 7)?,
                     second_strike_delay: None,
-                    odd_struck: None,
+                    odd_struck: if odd_struck {
+                        num(off + 8)?.map(|ms| ms * 1e-3)
+                    } else {
+                        None
+                    },
                     amplitude_ratio: None,
                 }),
             },
@@ -216,8 +252,9 @@ mod tests {
         assert!(lines.iter().skip(1).all(|l| l.split(',').count() == 8));
         // Written in two parts, the same bytes.
         let mut parts = Vec::new();
-        write_chart_rows(&mut parts, chart.cells[..5].iter().map(|c| (None, c)), Some(false)).unwrap();
-        write_chart_rows(&mut parts, chart.cells[5..].iter().map(|c| (None, c)), None).unwrap();
+        let cols = Columns::default();
+        write_chart_rows(&mut parts, chart.cells[..5].iter().map(|c| (None, c)), cols, true).unwrap();
+        write_chart_rows(&mut parts, chart.cells[5..].iter().map(|c| (None, c)), cols, false).unwrap();
         assert_eq!(parts, text.as_bytes());
         // And it reads back.
         let back = read_chart_csv(&text, "t").unwrap();
@@ -233,5 +270,53 @@ mod tests {
             .unwrap_err()
             .to_string()
             .contains("not a chart's"));
+    }
+
+    /// A bell off the ideal gets the odd-struck column, in ms, and reads
+    /// it back; its mirror bell's column is the negation.
+    #[test]
+    fn an_odd_struck_bell_has_its_column() {
+        use clapper_core::hanging::Hanging;
+        let csv_of = |d: f64| {
+            let spec = ChartSpec {
+                nx: 3,
+                ny: 2,
+                hanging: Hanging {
+                    pivot_offset: d,
+                    ..Hanging::default()
+                },
+                ..ChartSpec::default()
+            };
+            let chart = sweep(&spec, &|_| {}).unwrap();
+            let mut buf = Vec::new();
+            write_chart_csv(&mut buf, &chart).unwrap();
+            (String::from_utf8(buf).unwrap(), chart)
+        };
+        let (text, chart) = csv_of(0.003);
+        assert_eq!(text.lines().next().unwrap(), CHART_HEADER.join(",") + ",odd_struck_ms");
+        let back = read_chart_csv(&text, "t").unwrap();
+        let mut seen = 0;
+        for ((_, b), c) in back.iter().zip(&chart.cells) {
+            let (b, c) = (b.result.as_ref().unwrap(), c.result.as_ref().unwrap());
+            assert_eq!(b.odd_struck.is_some(), c.odd_struck.is_some());
+            if let (Some(x), Some(y)) = (b.odd_struck, c.odd_struck) {
+                assert!((x - y).abs() < 1e-9, "{x} vs {y} s");
+                seen += 1;
+            }
+        }
+        assert!(seen > 0, "some point strikes at both strokes");
+        // Where the style is sustained the backstroke is the mirror's
+        // handstroke (elsewhere it starts from where a failed handstroke
+        // left the clapper, so no mirror is expected).
+        let (mirror, _) = csv_of(-0.003);
+        let mut mirrored = 0;
+        for (a, b) in text.lines().zip(mirror.lines()).skip(1) {
+            let (a, b): (Vec<_>, Vec<_>) = (a.split(',').collect(), b.split(',').collect());
+            if a[3] == "true" && b[3] == "true" {
+                assert_eq!(a[8].parse::<f64>().unwrap(), -b[8].parse::<f64>().unwrap());
+                mirrored += 1;
+            }
+        }
+        assert!(mirrored >= 4, "{text}");
     }
 }

@@ -5,7 +5,7 @@
 //! bell's own.
 
 use clapper_core::bell::{Bell, ParamError};
-use clapper_core::hanging::{from_contact_angles, skew_from_gaps};
+use clapper_core::hanging::{from_contact_angles, skew_from_gaps, SwingDecay, SwingLoss};
 
 /// The hanging fields, in the units users give them.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -31,6 +31,16 @@ pub struct HangingInput {
     pub clapper_damping: Option<f64>,
     /// τ_c (N m).
     pub clapper_friction: Option<f64>,
+    /// King's first timing: swings (strokes) for a small swing of the bell,
+    /// clapper tied, to halve; sets c_b or τ_b as `swing_loss` says.
+    pub bell_swings_to_halve: Option<f64>,
+    /// King's second: swings for the clapper's small swing in a still bell
+    /// to halve; sets c_c or τ_c.
+    pub clapper_swings_to_halve: Option<f64>,
+    /// What the timings measure (default viscous).
+    pub swing_loss: Option<SwingLoss>,
+    /// The swing's amplitude when the count began (deg); Coulomb needs it.
+    pub swing_amplitude_deg: Option<f64>,
 }
 
 impl HangingInput {
@@ -94,8 +104,67 @@ impl HangingInput {
             }
         }
         bell.hanging = h;
+        self.apply_swing_timings(&mut bell)?;
         bell.validate()?;
         Ok(bell)
+    }
+}
+
+impl HangingInput {
+    /// Friction from the swings-to-halve timings, computed on the bell as
+    /// otherwise given (its inertia and offset); each timing replaces the
+    /// one friction parameter it measures, and may not be given with it.
+    fn apply_swing_timings(&self, bell: &mut Bell) -> Result<(), ParamError> {
+        let loss = self.swing_loss.unwrap_or_default();
+        let timed = self.bell_swings_to_halve.is_some() || self.clapper_swings_to_halve.is_some();
+        if !timed {
+            if self.swing_loss.is_some() || self.swing_amplitude_deg.is_some() {
+                return Err(ParamError {
+                    field: "swing_loss",
+                    value: self.swing_amplitude_deg.unwrap_or(f64::NAN),
+                    allowed: "with bell_swings_to_halve or clapper_swings_to_halve",
+                });
+            }
+            return Ok(());
+        }
+        let amplitude = self.swing_amplitude_deg.map(f64::to_radians);
+        if loss == SwingLoss::Viscous && amplitude.is_some() {
+            return Err(ParamError {
+                field: "swing_amplitude_deg",
+                value: self.swing_amplitude_deg.unwrap_or(f64::NAN),
+                allowed: "only with swing_loss = coulomb (a viscous decay needs no amplitude)",
+            });
+        }
+        let clash = |field, damping: Option<f64>, friction: Option<f64>| {
+            if damping.is_some() || friction.is_some() {
+                Err(ParamError {
+                    field,
+                    value: damping.or(friction).unwrap_or(f64::NAN),
+                    allowed: "not with the swings-to-halve timing of the same joint: give one",
+                })
+            } else {
+                Ok(())
+            }
+        };
+        if let Some(n) = self.bell_swings_to_halve {
+            clash("bell_swings_to_halve", self.bell_damping, self.bell_friction)?;
+            let v = SwingDecay::bell_tied(bell, n).friction(loss, amplitude)?;
+            let f = &mut bell.hanging.friction;
+            match loss {
+                SwingLoss::Viscous => f.bell_damping = v,
+                SwingLoss::Coulomb => f.bell_friction = v,
+            }
+        }
+        if let Some(n) = self.clapper_swings_to_halve {
+            clash("clapper_swings_to_halve", self.clapper_damping, self.clapper_friction)?;
+            let v = SwingDecay::clapper_in_still_bell(bell, n).friction(loss, amplitude)?;
+            let f = &mut bell.hanging.friction;
+            match loss {
+                SwingLoss::Viscous => f.clapper_damping = v,
+                SwingLoss::Coulomb => f.clapper_friction = v,
+            }
+        }
+        Ok(())
     }
 }
 
@@ -135,5 +204,48 @@ mod tests {
             ..Default::default()
         };
         assert_eq!(neg.apply(lab).unwrap_err().field, "clapper_friction_n_m");
+    }
+
+    #[test]
+    fn swing_timings_set_the_friction_they_measure_and_refuse_clashes() {
+        let lab = Bell::lab();
+        let timed = |loss, amplitude| HangingInput {
+            bell_swings_to_halve: Some(30.0),
+            clapper_swings_to_halve: Some(10.0),
+            swing_loss: loss,
+            swing_amplitude_deg: amplitude,
+            ..Default::default()
+        };
+        let v = timed(None, None).apply(lab).unwrap().hanging.friction;
+        assert_eq!(v.bell_damping, SwingDecay::bell_tied(&lab, 30.0).viscous().unwrap());
+        assert_eq!(
+            v.clapper_damping,
+            SwingDecay::clapper_in_still_bell(&lab, 10.0).viscous().unwrap()
+        );
+        assert_eq!((v.bell_friction, v.clapper_friction), (0.0, 0.0));
+        let c = timed(Some(SwingLoss::Coulomb), Some(8.0))
+            .apply(lab)
+            .unwrap()
+            .hanging
+            .friction;
+        let want = SwingDecay::bell_tied(&lab, 30.0).coulomb(8f64.to_radians()).unwrap();
+        assert_eq!((c.bell_friction, c.bell_damping), (want, 0.0));
+        let err = |h: HangingInput| h.apply(lab).unwrap_err().field;
+        assert_eq!(err(timed(Some(SwingLoss::Coulomb), None)), "swing_amplitude_deg");
+        assert_eq!(err(timed(None, Some(8.0))), "swing_amplitude_deg");
+        assert_eq!(
+            err(HangingInput {
+                bell_damping: Some(1.0),
+                ..timed(None, None)
+            }),
+            "bell_swings_to_halve"
+        );
+        assert_eq!(
+            err(HangingInput {
+                swing_loss: Some(SwingLoss::Coulomb),
+                ..Default::default()
+            }),
+            "swing_loss"
+        );
     }
 }

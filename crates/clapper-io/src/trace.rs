@@ -46,6 +46,7 @@ mod tests {
             t: 0.5,
             y: [std::f64::consts::PI, -0.1, 1.0, 2.0],
             contact_force: -3.0,
+            friction: [0.0; 2],
         };
         write_trace_csv(&mut buf, &[s]).unwrap();
         let text = String::from_utf8(buf).unwrap();

@@ -229,6 +229,7 @@ mod tests {
                     t,
                     y: [3.0 * (t * 2.0).cos(), 0.4 * (t * 5.0).sin(), 0.0, (t * 7.0).sin()],
                     contact_force: 0.0,
+                    friction: [0.0; 2],
                 }
             })
             .collect()

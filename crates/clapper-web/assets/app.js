@@ -44,6 +44,7 @@ const QUANTITIES = {
   phidot: { label: "strike velocity φ' (rad/s)", index: 2, digits: 2 },
   liftoff: { label: "lift-off angle θ (deg)", index: 3, digits: 1 },
   d: { label: "double strike index D (scale cut at 60)", index: 4, digits: 2, cap: 60 },
+  odd: { label: "odd-struckness, hand minus back (ms)", index: 5, digits: 1, symmetric: true },
 };
 const STYLE_COLOURS = { neither: "#ffffff", right: "#3182bd", wrong: "#e6550d", both: "#74c476", failed: "#999999" };
 const chart = { cells: null, spec: null, running: false, markers: [], controller: null };
@@ -90,6 +91,7 @@ async function drawChart() {
   chart.running = true;
   const status = $("chart-status");
   showStatus(status, "Starting the sweep…");
+  $("chart-box").dataset.done = "0";
   const req = chartRequest();
   const t0 = performance.now();
   try {
@@ -179,6 +181,8 @@ function valueRange(q, style) {
   }
   if (!Number.isFinite(lo)) return [0, 1];
   if (qi.cap) lo = 0;
+  // Early and late alike: a scale centred on 0.
+  if (qi.symmetric) { hi = Math.max(Math.abs(lo), Math.abs(hi), 1e-3); lo = -hi; }
   if (hi - lo < 1e-9) hi = lo + 1;
   return [lo, hi];
 }
@@ -320,6 +324,8 @@ function describeCell(c) {
   if (c[2] !== null) parts.push(`φ' ${fmt(c[2], 2)} rad/s`);
   if (c[3] !== null) parts.push(`lift-off ${fmt(c[3], 1)} deg`);
   if (c[4] !== null) parts.push(`D ${fmt(c[4], 2)}`);
+  // Only a bell off the ideal is odd-struck; a symmetric bell's 0 is noise here.
+  if (c[5] !== null && c[5] !== undefined && c[5] !== 0) parts.push(`odd-struck ${fmt(c[5], 1)} ms`);
   return parts.join(", ");
 }
 
@@ -402,7 +408,8 @@ function tomlString(s) { return '"' + String(s).replace(/\\/g, "\\\\").replace(/
 $("add-bell").addEventListener("click", () => {
   const kind = bellKind();
   const fields = { name: $("bell-name").value.trim() || `bell ${ring.bells.length + 1}` };
-  for (const inp of $(kind === "tower" ? "tower-fields" : "mass-fields").querySelectorAll("input")) {
+  const inputs = [...$(kind === "tower" ? "tower-fields" : "mass-fields").querySelectorAll("input"), ...$("hanging-fields").querySelectorAll("input")];
+  for (const inp of inputs) {
     if (inp.value.trim() === "") continue;
     const v = Number(inp.value);
     if (!Number.isFinite(v)) { showError($("diagnosis-status"), `${inp.dataset.key}: '${inp.value}' is not a number`); return; }
@@ -495,6 +502,7 @@ function diagnosisHtml(rep) {
     h += b.usual_style ? `, usually ${esc(b.usual_style)}.` : ".";
     if (b.striking_speed_m_s !== null) h += ` Strikes at ${fmt(b.striking_speed_m_s, 2)} m/s` + (b.strike_energy_j !== null ? ` (${fmt(b.strike_energy_j, 1)} J).` : ".");
     if (b.assumed.length) h += `<br>Assumed, not measured: ${esc(b.assumed.join(", "))}`;
+    if (b.odd_struck) h += `<br><span class="${Math.abs(b.odd_struck.odd_struck_ms) > b.odd_struck.tolerance_ms ? "problem" : ""} odd-struck">Odd-struck: ${esc(b.odd_struck.words)}</span>`;
     for (const p of b.problems) h += `<br><span class="problem">Problem: ${esc(p)}</span>`;
     if (b.suggestion) h += `<br><span class="suggestion">Suggestion: ${esc(b.suggestion.words)}</span>`;
     else if (b.problems.length) h += "<br>No change within 0.4 s of clapper period and 150 mm of r fixes it.";

@@ -90,6 +90,41 @@ try {
   await page.locator("#stroke-panel").scrollIntoViewIfNeeded();
   await page.screenshot({ path: `${out}/03-stroke.png`, fullPage: true });
 
+  // The README's odd-struck bell: the tenor by tower measurements with the
+  // tape's gaps (253 and 247 mm, ball 0.8 m below the pivot).
+  await page.click('button[data-tab="bells"]');
+  await page.click("#clear-bells");
+  await page.check('input[name="bell-kind"][value="tower"]');
+  await page.fill("#bell-name", "Odd tenor");
+  const tape = { gap_hand_mm: "253", gap_back_mm: "247", ball_below_pivot_m: "0.8" };
+  for (const [k, v] of Object.entries(tape)) await page.fill(`#hanging-fields input[data-key="${k}"]`, v);
+  await page.click("#add-bell");
+  check((await page.textContent("#ring-toml")).includes("gap_hand_mm = 253"), "the tape readings go into the bell file");
+  await page.click("#diagnose");
+  await page.waitForSelector(".odd-struck", { timeout: 60000 });
+  const odd = await page.textContent(".odd-struck");
+  check(/odd-struck by \+2\d\.\d ms/.test(odd) && /move the ball 3\.\d mm toward the hand side/.test(odd),
+    "the diagnosis gives the odd-struckness and the ball move: " + odd);
+  await page.screenshot({ path: `${out}/05-odd-struck.png`, fullPage: true });
+  for (const k of Object.keys(tape)) await page.fill(`#hanging-fields input[data-key="${k}"]`, "");
+
+  // A chart of a bell with its clapper pivot 3 mm off centre, by odd-struckness.
+  await page.click('button[data-tab="chart"]');
+  await page.fill("#pivot-offset", "3");
+  await page.click("#draw-chart");
+  await page.waitForSelector('#chart-box[data-done="1"]', { timeout: 120000 });
+  await page.selectOption("#quantity", "odd");
+  const cb2 = await page.locator("#chart-canvas").boundingBox();
+  let tipOdd = false;
+  for (let k = 1; k < 10 && !tipOdd; k++) {
+    await page.mouse.move(cb2.x + cb2.width * (0.1 + 0.08 * k), cb2.y + cb2.height * 0.5);
+    tipOdd = (await page.textContent("#tooltip")).includes("odd-struck");
+  }
+  check(tipOdd, "the chart of an off-centre pivot shows odd-struckness at its points");
+  await page.screenshot({ path: `${out}/06-odd-chart.png` });
+  await page.fill("#pivot-offset", "");
+  await page.selectOption("#quantity", "style");
+
   // The listening test: three stimuli answered.
   await page.click('button[data-tab="listen"]');
   await page.fill("#listener-name", "e2e-listener");

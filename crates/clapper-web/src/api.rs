@@ -97,7 +97,9 @@ pub(crate) async fn stroke(State(s): State<AppState>, req: Body_<SimulateRequest
 
 /// One chart cell as the stream sends it:
 /// `[sustained (1, 0, or -1 for a failed stroke), strike angle (deg),
-/// strike velocity (rad/s), lift-off angle (deg), D]`, `null` where none.
+/// strike velocity (rad/s), lift-off angle (deg), D, odd-struckness (ms)]`,
+/// `null` where none. Odd-struckness is last so that readers of the first
+/// five are unaffected; a symmetric bell's is 0 wherever it strikes.
 fn cell_json(c: &clapper_core::chart::ChartCell) -> serde_json::Value {
     match &c.result {
         Ok(s) => json!([
@@ -105,9 +107,10 @@ fn cell_json(c: &clapper_core::chart::ChartCell) -> serde_json::Value {
             s.strike_theta.map(f64::to_degrees),
             s.strike_phidot,
             s.liftoff_theta.map(f64::to_degrees),
-            s.double_strike_index
+            s.double_strike_index,
+            s.odd_struck.map(|t| t * 1e3)
         ]),
-        Err(_) => json!([-1, null, null, null, null]),
+        Err(_) => json!([-1, null, null, null, null, null]),
     }
 }
 

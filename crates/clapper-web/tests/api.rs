@@ -230,6 +230,55 @@ async fn the_chart_streams_the_cells_of_a_sweep() {
     }
 }
 
+/// An odd-struck bell through the API: the tape's gaps give the same
+/// odd-struckness as the command line's request, and a chart of a bell
+/// with its pivot off centre streams each cell's odd-struckness (ms).
+#[tokio::test]
+async fn an_odd_struck_bell_through_the_api() {
+    let app = router(Limits::default());
+    let body = r#"{"preset": "gsm-tenor", "gap_hand": 253, "gap_back": 247, "ball_below_pivot": 0.8}"#;
+    let (status, bytes) = send(&app, "POST", "/api/simulate", Some(body)).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&bytes));
+    let v = json(&bytes);
+    let req: clapper_app::simulate::SimulateRequest = serde_json::from_str(body).unwrap();
+    let want = clapper_app::simulate::simulate(&req, None, None).unwrap().report;
+    assert_eq!(v["odd_struck_ms"].as_f64(), Some(want.odd_struck_ms.unwrap()));
+    assert!(v["odd_struck_ms"].as_f64().unwrap() > 1.0);
+    assert!(v["strokes"][0]["bdc_to_strike_ms"].as_f64().is_some());
+
+    let (status, bytes) = send(
+        &app,
+        "POST",
+        "/api/chart",
+        Some(r#"{"grid": [4, 4], "pivot_offset": 0.003}"#),
+    )
+    .await;
+    assert_eq!(status, StatusCode::OK);
+    let spec = clapper_app::chart::ChartRequest {
+        grid: [4, 4],
+        pivot_offset: Some(0.003),
+        ..Default::default()
+    }
+    .spec()
+    .unwrap();
+    let chart = clapper_core::chart::sweep(&spec, &|_| {}).unwrap();
+    let cells: Vec<Value> = lines(&bytes)
+        .iter()
+        .filter(|m| m["type"] == "cells")
+        .flat_map(|m| m["cells"].as_array().unwrap().clone())
+        .collect();
+    assert_eq!(cells.len(), chart.cells.len());
+    let mut odd = 0;
+    for (cell, g) in chart.cells.iter().zip(&cells) {
+        let s = cell.result.as_ref().unwrap();
+        assert_eq!(g[5].as_f64(), s.odd_struck.map(|t| t * 1e3));
+        odd += usize::from(s.sustained && g[5].as_f64().is_some_and(|v| v != 0.0));
+    }
+    assert!(odd > 0, "some sustained stroke is odd-struck");
+    let (status, _) = send(&app, "POST", "/api/chart", Some(r#"{"grid": [4, 4], "gap_hand": 10}"#)).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+}
+
 #[tokio::test]
 async fn a_chart_past_the_time_limit_stops_and_says_so() {
     let app = router(Limits {

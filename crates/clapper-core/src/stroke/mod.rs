@@ -495,6 +495,10 @@ pub struct Sample {
     /// resting or compressed contact; zero in flight. Impacts are impulses
     /// and do not show.
     pub contact_force: f64,
+    /// Generalised forces of friction (Q_θ, Q_φ) (N m) besides the contact
+    /// force; both zero for a frictionless bell. Q_φ is zero while the
+    /// clapper rests or sticks: the contact force then holds it all.
+    pub friction: [f64; 2],
 }
 
 /// One accepted integration step, for observers: evaluate the state
@@ -533,11 +537,17 @@ impl StepView<'_> {
 
 impl Sample {
     fn new(t: f64, y: State, law: ForceLaw, load: Option<&Load>, d: &Dynamics) -> Self {
-        let contact_force = match (law, load) {
-            (ForceLaw::Resting, Some(l)) => d.resting_q(&y, l.theta(&y)).1,
-            _ => law.force(d, &y),
+        let (contact_force, friction) = match (law, load) {
+            (ForceLaw::Resting, Some(l)) => (d.resting_q(&y, l.theta(&y)).1, [l.theta(&y), 0.0]),
+            (_, Some(l)) => (law.force(d, &y), [l.theta(&y), l.phi(&y)]),
+            (_, None) => (law.force(d, &y), [0.0; 2]),
         };
-        Sample { t, y, contact_force }
+        Sample {
+            t,
+            y,
+            contact_force,
+            friction,
+        }
     }
 }
 
@@ -732,7 +742,7 @@ where
                 rec.bottom(t, y[THETA]);
             }
             Ev::Contact(e) => {
-                let tr = law.transition(&d, e, y, clapper);
+                let tr = law.transition(&d, e, y, clapper, frame.friction.as_ref());
                 rec.contact(t, &y, &tr);
                 (y, clapper) = (tr.y, tr.clapper);
                 if let Some(next) = tr.next {
