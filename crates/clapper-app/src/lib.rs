@@ -24,6 +24,7 @@ pub mod figures;
 pub mod liftoff;
 pub mod listening;
 pub mod measure;
+pub mod ring_up;
 pub mod simulate;
 pub mod sound;
 pub mod stroke_options;

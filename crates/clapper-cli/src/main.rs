@@ -7,6 +7,7 @@ mod files;
 mod listening;
 mod measure;
 mod progress;
+mod ring;
 mod serve;
 mod simulate;
 mod sound;
@@ -28,6 +29,11 @@ enum Command {
     /// Simulate strokes of one bell and report strikes, lift-off, bounces and
     /// whether the style is sustained.
     Simulate(simulate::SimulateArgs),
+    /// Ring a bell up from rest, swing by swing: does it go up right or
+    /// wrong, and at what amplitude does it turn?
+    RingUp(ring::RingArgs),
+    /// Ring a bell down from the stay, swing by swing.
+    RingDown(ring::RingArgs),
     /// Lift-off angles in closed form: (15), (16) for r = 0, or exactly for
     /// any bell released from rest.
     Liftoff(simulate::LiftoffArgs),
@@ -102,6 +108,8 @@ fn main() {
     };
     let result = match cli.command {
         Command::Simulate(args) => simulate::run(args),
+        Command::RingUp(args) => ring::run(args, true),
+        Command::RingDown(args) => ring::run(args, false),
         Command::Liftoff(args) => simulate::liftoff(args),
         Command::Chart(args) => chart::run(args),
         Command::Merge(args) => chart::merge(args),

@@ -36,6 +36,7 @@ pub mod liftoff;
 pub mod listening;
 pub mod ode;
 pub mod restitution;
+pub mod ringer;
 pub mod ringing;
 pub mod stroke;
 pub mod swing;

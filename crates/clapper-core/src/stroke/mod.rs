@@ -17,6 +17,7 @@ pub use crate::contact::{ClapperState, ContactModel, Restitution, Side, DEFAULT_
 use crate::contact::{ContactLaw, ForceLaw, Stops};
 use crate::dynamics::{Dynamics, Load, State, PHI, PHI_DOT, THETA, THETA_DOT};
 use crate::ode::{DenseOutput, Dopri5, Fallback, OdeError, Options, Stats, Stepper, Stop, Taylor};
+use crate::ringer::Pull;
 use crate::swing::ClosedFormSwing;
 use recorder::StrokeRecorder;
 use segment::{BellEvent, Ev, FrictionEvent, Segment, StrokeFrame};
@@ -628,8 +629,23 @@ pub fn run_stroke<O: Observer>(
     start: StrokeStart,
     observer: &mut O,
 ) -> Result<Stroke, SimError> {
+    run_stroke_pulled(bell, cfg, start, None, observer)
+}
+
+/// [`run_stroke`] with a ringer's `pull` on the rope, if any (ringing up
+/// and down, [`crate::ringer`]).
+pub fn run_stroke_pulled<O: Observer>(
+    bell: &Bell,
+    cfg: &SimConfig,
+    start: StrokeStart,
+    pull: Option<Pull>,
+    observer: &mut O,
+) -> Result<Stroke, SimError> {
     bell.validate()?;
     cfg.validate()?;
+    if let Some(p) = pull {
+        p.validate()?;
+    }
     let TaylorOptions { order, h_max } = cfg.taylor;
     match cfg.integrator {
         // A resting phase from rest is a closed-form swing with the rigid
@@ -640,10 +656,10 @@ pub fn run_stroke<O: Observer>(
                 first: ClosedFormSwing::default(),
                 then: taylor,
             };
-            drive(stepper, bell, cfg, start, observer)
+            drive(stepper, bell, cfg, start, pull, observer)
         }
-        Integrator::Taylor => drive(Taylor::new(cfg.ode, order, h_max), bell, cfg, start, observer),
-        Integrator::Dopri5 => drive(Dopri5::new(cfg.ode), bell, cfg, start, observer),
+        Integrator::Taylor => drive(Taylor::new(cfg.ode, order, h_max), bell, cfg, start, pull, observer),
+        Integrator::Dopri5 => drive(Dopri5::new(cfg.ode), bell, cfg, start, pull, observer),
     }
 }
 
@@ -655,6 +671,7 @@ fn drive<M, O>(
     bell: &Bell,
     cfg: &SimConfig,
     start: StrokeStart,
+    pull: Option<Pull>,
     observer: &mut O,
 ) -> Result<Stroke, SimError>
 where
@@ -698,6 +715,7 @@ where
                 clapper_torque: friction.clapper_friction,
             }
         }),
+        pull,
     };
     let sample = |t, y: State, clapper| {
         let load = frame.load(&d, clapper, &y);
@@ -741,8 +759,16 @@ where
                 bottom_passed = true;
                 rec.bottom(t, y[THETA]);
             }
+            // The next segment takes the pull on or off.
+            Ev::Bell(BellEvent::Pull) => {}
             Ev::Contact(e) => {
-                let tr = law.transition(&d, e, y, clapper, frame.friction.as_ref());
+                // The rest after a bounce is judged with the forces of the
+                // flight to come: friction, and the ringer's pull.
+                let judge = load_now.map(|l| Load {
+                    clapper_torque: frame.friction.map_or(0.0, |f| f.clapper_torque),
+                    ..l
+                });
+                let tr = law.transition(&d, e, y, clapper, judge.as_ref());
                 rec.contact(t, &y, &tr);
                 (y, clapper) = (tr.y, tr.clapper);
                 if let Some(next) = tr.next {

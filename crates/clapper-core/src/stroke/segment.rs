@@ -9,6 +9,7 @@ use crate::contact::{linear_event, ClapperState, ContactEvent, ContactLaw, Force
 use crate::dynamics::{Dynamics, LinearSpring, Load, State, PHI, PHI_DOT, THETA, THETA_DOT};
 use crate::ode::taylor::Coeffs;
 use crate::ode::{Direction, Event, SeriesSystem, Source, System, MAX_EVENTS, MAX_EXTRA};
+use crate::ringer::{Pull, PullPhase};
 use crate::swing::SwingSystem;
 
 /// The bell's own events.
@@ -20,6 +21,8 @@ pub(super) enum BellEvent {
     Turning,
     /// |θ| reaches 180 deg on the far side: over the balance.
     OverTop,
+    /// The bell enters or leaves the part of the swing a ringer pulls over.
+    Pull,
 }
 
 /// The events of Coulomb friction at the clapper's pivot (docs/model.md §10.2).
@@ -53,6 +56,8 @@ pub(super) struct StrokeFrame {
     /// Friction with τ_θ signed and the clapper's part unsigned
     /// (`clapper_torque` = τ_c), or `None` without friction.
     pub(super) friction: Option<Load>,
+    /// A ringer's pull on the rope, if any.
+    pub(super) pull: Option<Pull>,
 }
 
 impl StrokeFrame {
@@ -111,10 +116,43 @@ impl<'a> Segment<'a> {
             direction: Direction::Either,
         };
         let stops = &frame.stops;
+        let mut load = frame.load(d, clapper, y);
+        // The ringer's pull (docs/model.md §11), a torque on the bell over a
+        // window of θ: on for this segment or not, and the event at the
+        // window's edge. The bell moves toward −s0 throughout the stroke.
+        let mut pull_edge = None;
+        if let Some(p) = frame.pull {
+            // Slack so that the segment begun at the window's edge counts
+            // as inside (entering) or outside (leaving).
+            const SLACK: f64 = 1e-9;
+            let u = s0 * y[THETA];
+            let torque = match p.phase {
+                PullPhase::Raise if !bottom_passed => {
+                    if u > p.window + SLACK {
+                        pull_edge = Some(linear_event(Source::State(THETA), s0, -p.window, Direction::Falling));
+                        0.0
+                    } else {
+                        -s0 * p.torque
+                    }
+                }
+                PullPhase::Check if bottom_passed && -u < p.window - SLACK => {
+                    pull_edge = Some(linear_event(Source::State(THETA), -s0, -p.window, Direction::Rising));
+                    s0 * p.torque
+                }
+                _ => 0.0,
+            };
+            if torque != 0.0 {
+                let l = load.unwrap_or_default();
+                load = Some(Load {
+                    bell_torque: l.bell_torque + torque,
+                    ..l
+                });
+            }
+        }
         let mut seg = Self {
             d,
             law: law.force_law(clapper, stops),
-            load: frame.load(d, clapper, y),
+            load,
             kinds: [Ev::Bell(BellEvent::OverTop); MAX_EVENTS],
             events: [placeholder; MAX_EVENTS],
             n: 0,
@@ -138,6 +176,9 @@ impl<'a> Segment<'a> {
                 Ev::Bell(BellEvent::Bottom),
                 linear_event(Source::State(THETA), s0, 0.0, Direction::Falling),
             );
+        }
+        if let Some(e) = pull_edge {
+            seg.push(Ev::Bell(BellEvent::Pull), e);
         }
         law.events(clapper, stops, &mut |kind, e| seg.push(Ev::Contact(kind), e));
         let grip = stops.grip;
