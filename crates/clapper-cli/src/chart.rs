@@ -51,6 +51,9 @@ pub enum QuantityArg {
     /// Odd-struckness (ms), handstroke minus backstroke, with a pivot
     /// offset or unequal contact angles set.
     OddStruck,
+    /// Whether the bell goes up right or wrong, rung up from rest (each
+    /// point a whole ring-up), with the CCCBR rule of thumb beside it.
+    GoesUp,
 }
 
 impl QuantityArg {
@@ -62,6 +65,8 @@ impl QuantityArg {
             QuantityArg::Liftoff => Quantity::Liftoff,
             QuantityArg::DoubleStrike => Quantity::DoubleStrike,
             QuantityArg::OddStruck => Quantity::OddStruck,
+            // Not a quantity of one stroke: `run` hands it to goes_up first.
+            QuantityArg::GoesUp => Quantity::Style,
         }
     }
 }
@@ -234,6 +239,9 @@ pub fn draw(path: &Path, fig: &clapper_plot::ChartFigure) -> Result<()> {
 }
 
 pub fn run(args: ChartArgs) -> Result<()> {
+    if args.quantity == QuantityArg::GoesUp {
+        return crate::goes_up::run(&args);
+    }
     let quantity = args.quantity.quantity();
     let styles = args.style;
     // The quantity matters for what is shown, not for a CSV alone.

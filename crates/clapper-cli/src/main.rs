@@ -4,6 +4,7 @@ mod chart;
 mod diagnose;
 mod figures;
 mod files;
+mod goes_up;
 mod listening;
 mod measure;
 mod progress;

@@ -645,3 +645,50 @@ fn odd_struck_bell_from_offset_and_tape() {
         .unwrap();
     assert!(!clash.status.success());
 }
+
+/// Ringing up: the JSON names the verdict and each swing, a bell that rings
+/// right only from high up goes up wrong, and the goes-up chart sets the
+/// CCCBR rule beside the model.
+#[test]
+fn ring_up_and_the_goes_up_chart() {
+    let out = clapper()
+        .args(["ring-up", "--chart-point", "0.1,1.6", "--json"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["goes_up"], "wrong");
+    let swings = v["swings"].as_array().unwrap();
+    assert!(swings.len() >= 20, "{}", swings.len());
+    let last = swings.last().unwrap();
+    assert!(last["amplitude_deg"].as_f64().unwrap() >= 175.0);
+    assert_eq!(last["style"], "wrong");
+    assert!(["+", "-"].contains(&last["struck_side"].as_str().unwrap()));
+    let out = clapper()
+        .args(["ring-down", "--chart-point", "0.4,1.0", "--json"])
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["goes_down"], "right");
+    assert!(v.get("goes_up").is_none());
+
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("up.csv");
+    let out = clapper()
+        .args(["chart", "--quantity", "goes-up", "--grid", "6", "--csv"])
+        .arg(&csv)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("CCCBR rule") && text.contains("agree at"), "{text}");
+    let rows = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(rows.lines().next().unwrap(), "r_over_lc,lb_over_lc,goes_up,cccbr_rule");
+    assert_eq!(rows.lines().count(), 1 + 36);
+    // The bottom right of the plane (long clapper, r large) goes up right.
+    assert!(
+        rows.lines().any(|l| l.starts_with("0.700000,0.500000,right,right")),
+        "{rows}"
+    );
+}

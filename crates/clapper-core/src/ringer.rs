@@ -16,6 +16,7 @@
 use std::f64::consts::PI;
 
 use crate::bell::{Bell, ParamError, G};
+use crate::chart::ChartSpec;
 use crate::contact::ClapperState;
 use crate::stroke::{run_stroke_pulled, EndReason, Observer, Side, SimConfig, SimError, Stroke, StrokeStart, Style};
 
@@ -418,6 +419,53 @@ pub fn ring_down<O: Observer>(
     let start = StrokeStart::at_rest(bell, cfg, 0.0, th, Style::Right.side(th));
     let down = ringer.down;
     ring(bell, cfg, ringer, pull, start, |s| s.amplitude <= down, observer)
+}
+
+/// The CCCBR rule of thumb: a bell goes up right if its clapper's small
+/// swing period is at least 90 % of the bell's, T_c ≥ 0.9 T_b, that is
+/// L_b/L_c ≤ 1/0.81 (periods go as √L).
+pub const CCCBR_LB_OVER_LC: f64 = 1.0 / 0.81;
+
+/// One point of a ringing-up chart.
+#[derive(Clone, Debug, PartialEq)]
+pub struct GoesUpCell {
+    /// r/L_c.
+    pub x: f64,
+    /// L_b/L_c.
+    pub y: f64,
+    /// How the bell built there goes up, or why it could not be simulated.
+    pub result: Result<Settles, SimError>,
+}
+
+/// Ring up the bell at every point of `spec`'s plane (its hanging applied;
+/// its styles ignored): cells row-major, L_b/L_c rows ascending, the same
+/// for any thread count.
+pub fn goes_up_chart(
+    spec: &ChartSpec,
+    ringer: &RingerConfig,
+    progress: &(dyn Fn(u64) + Sync),
+) -> Result<Vec<GoesUpCell>, ParamError> {
+    use rayon::prelude::*;
+    use std::sync::atomic::{AtomicU64, Ordering};
+    spec.validate()?;
+    ringer.validate()?;
+    let (xs, ys) = (spec.xs(), spec.ys());
+    let done = AtomicU64::new(0);
+    Ok((0..spec.nx * spec.ny)
+        .into_par_iter()
+        .map(|k| {
+            let (x, y) = (xs[k % spec.nx], ys[k / spec.nx]);
+            let result = spec
+                .construction
+                .bell(x, y)
+                .map(|b| b.with_hanging(spec.hanging))
+                .map_err(SimError::from)
+                .and_then(|b| ring_up(&b, &spec.config, ringer, &mut ()))
+                .map(|r| r.settles());
+            progress(done.fetch_add(1, Ordering::Relaxed) + 1);
+            GoesUpCell { x, y, result }
+        })
+        .collect())
 }
 
 #[cfg(test)]

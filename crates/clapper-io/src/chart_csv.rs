@@ -113,6 +113,30 @@ pub fn write_chart_csv<W: Write>(out: W, chart: &Chart) -> Result<(), csv::Error
     write_chart_rows(out, chart.cells.iter().map(|c| (None, c)), columns, true)
 }
 
+/// The columns of `clapper chart --quantity goes-up --csv`.
+pub const GOES_UP_HEADER: [&str; 4] = ["r_over_lc", "lb_over_lc", "goes_up", "cccbr_rule"];
+
+/// Write a ringing-up chart: each point, how its bell goes up ("right",
+/// "wrong", "no strike", or "failed") and what the CCCBR rule of thumb
+/// says ("right" where L_b/L_c ≤ 1/0.81).
+pub fn write_goes_up_csv<W: Write>(out: W, cells: &[clapper_core::ringer::GoesUpCell]) -> Result<(), csv::Error> {
+    use clapper_core::ringer::{Settles, CCCBR_LB_OVER_LC};
+    let mut w = csv::Writer::from_writer(out);
+    w.write_record(GOES_UP_HEADER)?;
+    for c in cells {
+        let up = match &c.result {
+            Ok(Settles::Right) => "right",
+            Ok(Settles::Wrong) => "wrong",
+            Ok(Settles::NoStrike) => "no strike",
+            Err(_) => "failed",
+        };
+        let rule = if c.y <= CCCBR_LB_OVER_LC { "right" } else { "wrong" };
+        w.write_record([format!("{:.6}", c.x), format!("{:.6}", c.y), up.into(), rule.into()])?;
+    }
+    w.flush()?;
+    Ok(())
+}
+
 /// A value from the file as an error message shows it: quoted, escaped
 /// (a field may hold newlines) and cut short.
 fn shown(v: &str) -> String {

@@ -18,6 +18,6 @@ pub mod trace;
 pub use bell_file::{
     load_bell, load_bells, parse_bell, parse_bells, parse_ring_csv, BellFileError, BellSource, LoadedBell,
 };
-pub use chart_csv::{read_chart_csv, write_chart_csv, write_chart_rows, Columns};
+pub use chart_csv::{read_chart_csv, write_chart_csv, write_chart_rows, write_goes_up_csv, Columns};
 pub use report::{SimulationReport, SimulationSettings};
 pub use trace::write_trace_csv;
