@@ -74,14 +74,10 @@ impl RingArgs {
             preset: self.source.preset,
             chart_point: self.source.chart_point.map(|(x, y)| [x, y]),
             restitution: self.restitution,
-            restitution_later: self.solver.restitution_later,
             phi_max: self.phi_max,
-            contact: self.solver.contact,
-            stiffness: self.solver.stiffness,
-            rtol: self.solver.rtol,
-            integrator: self.solver.integrator,
             ..SimulateRequest::default()
         };
+        self.solver.set(&mut req);
         set_hanging!(req, self.hanging);
         req
     }

@@ -91,6 +91,17 @@ pub struct SolverArgs {
     pub restitution_later: Option<f64>,
 }
 
+impl SolverArgs {
+    /// Copy these options into a simulate request.
+    pub fn set(&self, req: &mut SimulateRequest) {
+        req.restitution_later = self.restitution_later;
+        req.contact = self.contact;
+        req.stiffness = self.stiffness;
+        req.rtol = self.rtol;
+        req.integrator = self.integrator;
+    }
+}
+
 /// How the bell departs from the ideal: pivot offset, unequal contact
 /// angles (or the tape's gaps), friction. Every option overrides the bell
 /// file's (docs/model.md §10).
@@ -238,16 +249,12 @@ impl SimulateArgs {
             style: self.style,
             theta0: self.theta0,
             restitution: self.restitution,
-            restitution_later: self.solver.restitution_later,
             phi_max: self.phi_max,
             strokes: self.strokes,
             protocol: self.protocol,
-            contact: self.solver.contact,
-            stiffness: self.solver.stiffness,
-            rtol: self.solver.rtol,
-            integrator: self.solver.integrator,
             ..SimulateRequest::default()
         };
+        self.solver.set(&mut req);
         set_hanging!(req, self.hanging);
         req
     }

@@ -139,6 +139,28 @@ impl RingerConfig {
     }
 }
 
+impl RingerConfig {
+    /// The pull for `phase` on `bell`: the given force on the wheel, or the
+    /// one calibrated on the tied bell to take `swings` swings (raising:
+    /// from `start` to `stay`; checking: from `stay` to `down`).
+    pub fn pull(&self, bell: &Bell, phase: PullPhase) -> Result<Pull, ParamError> {
+        self.validate()?;
+        let (from, to) = match phase {
+            PullPhase::Raise => (self.start, self.stay),
+            PullPhase::Check => (self.stay, self.down),
+        };
+        let torque = match self.pull_force {
+            Some(f) => f * self.wheel_radius,
+            None => calibrated_torque(bell, from, to, self.window, phase, self.swings),
+        };
+        Ok(Pull {
+            torque,
+            window: self.window,
+            phase,
+        })
+    }
+}
+
 /// Gravity stiffness of the bell with its clapper tied at φ = 0 (N m/rad):
 /// its energy at amplitude A is K (1 − cos A).
 fn tied_stiffness(bell: &Bell) -> f64 {
@@ -353,23 +375,7 @@ pub fn ring_up<O: Observer>(
     ringer: &RingerConfig,
     observer: &mut O,
 ) -> Result<RingingUpDown, SimError> {
-    ringer.validate()?;
-    let torque = match ringer.pull_force {
-        Some(f) => f * ringer.wheel_radius,
-        None => calibrated_torque(
-            bell,
-            ringer.start,
-            ringer.stay,
-            ringer.window,
-            PullPhase::Raise,
-            ringer.swings,
-        ),
-    };
-    let pull = Pull {
-        torque,
-        window: ringer.window,
-        phase: PullPhase::Raise,
-    };
+    let pull = ringer.pull(bell, PullPhase::Raise)?;
     let th = ringer.start;
     // At rest, the clapper hanging straight down: φ = −θ.
     let start = StrokeStart {
@@ -398,23 +404,7 @@ pub fn ring_down<O: Observer>(
     ringer: &RingerConfig,
     observer: &mut O,
 ) -> Result<RingingUpDown, SimError> {
-    ringer.validate()?;
-    let torque = match ringer.pull_force {
-        Some(f) => f * ringer.wheel_radius,
-        None => calibrated_torque(
-            bell,
-            ringer.stay,
-            ringer.down,
-            ringer.window,
-            PullPhase::Check,
-            ringer.swings,
-        ),
-    };
-    let pull = Pull {
-        torque,
-        window: ringer.window,
-        phase: PullPhase::Check,
-    };
+    let pull = ringer.pull(bell, PullPhase::Check)?;
     let th = ringer.stay;
     let start = StrokeStart::at_rest(bell, cfg, 0.0, th, Style::Right.side(th));
     let down = ringer.down;
