@@ -5,7 +5,7 @@ use std::time::Instant;
 
 use anyhow::{bail, Result};
 use clapper_core::chart::{ChartSpec, Styles};
-use clapper_core::ringer::{goes_up_chart, GoesUpCell, RingerConfig, Settles, CCCBR_LB_OVER_LC};
+use clapper_core::ringer::{goes_up_chart, GoesUpCell, RingerConfig, RuleAgreement, Settles, CCCBR_LB_OVER_LC};
 use clapper_plot::chart::{ChartFigure, Panel, Scale};
 use clapper_plot::RGBColor;
 
@@ -17,36 +17,6 @@ fn code(c: &GoesUpCell) -> (char, f64, &'static str) {
         Ok(Settles::Right) => ('R', 1.0, "right"),
         Ok(Settles::Wrong) => ('W', 2.0, "wrong"),
         Err(_) => ('x', 3.0, "failed"),
-    }
-}
-
-/// Where the model and the rule agree.
-#[derive(Default)]
-struct Agreement {
-    both_right: usize,
-    both_wrong: usize,
-    rule_right_model_not: usize,
-    rule_wrong_model_right: usize,
-}
-
-impl Agreement {
-    fn of(cells: &[GoesUpCell]) -> Self {
-        let mut a = Agreement::default();
-        for c in cells {
-            let Ok(s) = &c.result else { continue };
-            let rule = c.y <= CCCBR_LB_OVER_LC;
-            match (rule, *s == Settles::Right) {
-                (true, true) => a.both_right += 1,
-                (false, false) => a.both_wrong += 1,
-                (true, false) => a.rule_right_model_not += 1,
-                (false, true) => a.rule_wrong_model_right += 1,
-            }
-        }
-        a
-    }
-
-    fn total(&self) -> usize {
-        self.both_right + self.both_wrong + self.rule_right_model_not + self.rule_wrong_model_right
     }
 }
 
@@ -92,20 +62,20 @@ pub fn run(args: &ChartArgs) -> Result<()> {
         }
         println!("   {:>6.3} {row}", ys[j]);
     }
-    let a = Agreement::of(&cells);
+    let a = RuleAgreement::of(&cells);
     let t = a.total().max(1) as f64;
     let pct = |k: usize| 100.0 * k as f64 / t;
     println!(
         "  CCCBR rule (T_c >= 0.9 T_b goes up right) and model agree at {:.1} % of {} points: both right {:.1} %, both not right {:.1} %",
-        pct(a.both_right + a.both_wrong),
+        pct(a.both_right + a.both_not_right),
         a.total(),
         pct(a.both_right),
-        pct(a.both_wrong)
+        pct(a.both_not_right)
     );
     println!(
         "  disagree: rule right, model not {:.1} %; rule not, model right {:.1} %",
         pct(a.rule_right_model_not),
-        pct(a.rule_wrong_model_right)
+        pct(a.rule_not_model_right)
     );
     let failed = cells.iter().filter(|c| c.result.is_err()).count();
     if failed > 0 {

@@ -6,7 +6,7 @@ use anyhow::Result;
 use clap::Args;
 use clapper_app::ring_up::{ring, summary, RingReport};
 use clapper_app::simulate::SimulateRequest;
-use clapper_core::ringer::RingerConfig;
+use clapper_core::ringer::{RingerConfig, DEFAULT_DOWN_DEG, DEFAULT_PULL_WINDOW_DEG, DEFAULT_STAY_DEG};
 use clapper_plot::chart::Series;
 use clapper_plot::RGBColor;
 
@@ -28,14 +28,14 @@ pub struct RingArgs {
     #[arg(long, value_name = "M", default_value_t = RingerConfig::default().wheel_radius)]
     pub wheel_radius: f64,
     /// Half-width of the pulled part of each swing, from the bottom (deg).
-    #[arg(long, value_name = "DEG", default_value_t = 60.0)]
+    #[arg(long, value_name = "DEG", default_value_t = DEFAULT_PULL_WINDOW_DEG)]
     pub pull_window: f64,
     /// Ringing up: the bell is set when a swing reaches this angle (deg);
     /// ringing down: it starts here.
-    #[arg(long, value_name = "DEG", default_value_t = 175.0)]
+    #[arg(long, value_name = "DEG", default_value_t = DEFAULT_STAY_DEG)]
     pub stay: f64,
     /// Ringing down: finished when a swing reaches no further (deg).
-    #[arg(long, value_name = "DEG", default_value_t = 15.0)]
+    #[arg(long, value_name = "DEG", default_value_t = DEFAULT_DOWN_DEG)]
     pub down: f64,
     /// Stronge's energy coefficient of restitution R [default: the bell
     /// file's, else 0.2].

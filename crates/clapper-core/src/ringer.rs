@@ -63,6 +63,14 @@ impl Pull {
     }
 }
 
+/// Default half-width of the pulled part of a swing (deg): a ringer pulls
+/// through the lower part of the swing.
+pub const DEFAULT_PULL_WINDOW_DEG: f64 = 60.0;
+/// Default stay angle (deg): near the balance, where a stay would hold it.
+pub const DEFAULT_STAY_DEG: f64 = 175.0;
+/// Default angle of "down" (deg): the ringer then lets the bell come to rest.
+pub const DEFAULT_DOWN_DEG: f64 = 15.0;
+
 /// How the ringer rings the bell up or down.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -99,10 +107,10 @@ impl Default for RingerConfig {
             swings: 30,
             pull_force: None,
             wheel_radius: 0.6,
-            window: 60f64.to_radians(),
-            stay: 175f64.to_radians(),
+            window: DEFAULT_PULL_WINDOW_DEG.to_radians(),
+            stay: DEFAULT_STAY_DEG.to_radians(),
             start: 5f64.to_radians(),
-            down: 15f64.to_radians(),
+            down: DEFAULT_DOWN_DEG.to_radians(),
         }
     }
 }
@@ -458,6 +466,42 @@ pub fn goes_up_chart(
         .collect())
 }
 
+/// How a goes-up chart and the CCCBR rule compare: counts of the points
+/// that simulated (failed ones are left out).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct RuleAgreement {
+    /// The rule says right (L_b/L_c ≤ 1/0.81) and the bell goes up right.
+    pub both_right: usize,
+    /// The rule says wrong and the bell does not go up right.
+    pub both_not_right: usize,
+    /// The rule says right; the bell goes up wrong or never strikes.
+    pub rule_right_model_not: usize,
+    /// The rule says wrong; the bell goes up right.
+    pub rule_not_model_right: usize,
+}
+
+impl RuleAgreement {
+    /// The counts over `cells`.
+    pub fn of(cells: &[GoesUpCell]) -> Self {
+        let mut a = Self::default();
+        for c in cells {
+            let Ok(s) = &c.result else { continue };
+            match (c.y <= CCCBR_LB_OVER_LC, *s == Settles::Right) {
+                (true, true) => a.both_right += 1,
+                (false, false) => a.both_not_right += 1,
+                (true, false) => a.rule_right_model_not += 1,
+                (false, true) => a.rule_not_model_right += 1,
+            }
+        }
+        a
+    }
+
+    /// Points compared.
+    pub fn total(&self) -> usize {
+        self.both_right + self.both_not_right + self.rule_right_model_not + self.rule_not_model_right
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -480,5 +524,32 @@ mod tests {
         }
         .validate()
         .is_err());
+    }
+
+    #[test]
+    fn the_rule_agreement_counts_each_case() {
+        let cell = |y: f64, s: Settles| GoesUpCell {
+            x: 0.0,
+            y,
+            result: Ok(s),
+        };
+        let cells = [
+            cell(1.0, Settles::Right),
+            cell(1.0, Settles::Wrong),
+            cell(2.0, Settles::NoStrike),
+            cell(2.0, Settles::Right),
+            cell(2.0, Settles::Wrong),
+        ];
+        let a = RuleAgreement::of(&cells);
+        assert_eq!(
+            a,
+            RuleAgreement {
+                both_right: 1,
+                both_not_right: 2,
+                rule_right_model_not: 1,
+                rule_not_model_right: 1,
+            }
+        );
+        assert_eq!(a.total(), 5);
     }
 }
