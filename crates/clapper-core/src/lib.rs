@@ -26,6 +26,7 @@
 
 pub mod bell;
 pub mod chart;
+pub mod clapper_parts;
 pub mod contact;
 pub mod diagnose;
 pub mod dynamics;
@@ -92,3 +93,5 @@ named_choice!(contact::ContactModel { Impact => "impact", Penalty => "penalty" }
 named_choice!(stroke::Integrator { Taylor => "taylor", Dopri5 => "dopri5" });
 named_choice!(chart::Styles { Right => "right", Wrong => "wrong", Both => "both" });
 named_choice!(hanging::SwingLoss { Viscous => "viscous", Coulomb => "coulomb" });
+named_choice!(clapper_parts::Material { WroughtIron => "wrought-iron", SgIron => "sg-iron", Steel => "steel", Ash => "ash" });
+named_choice!(clapper_parts::Adjust { FlightLength => "flight-length", BallPosition => "ball-position" });

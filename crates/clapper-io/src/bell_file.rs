@@ -30,6 +30,11 @@
 //! `clapper_swings_to_halve` (bell still), taken as viscous unless
 //! `swing_loss = "coulomb"`, which needs `swing_amplitude_deg`.
 //!
+//! The clapper may be given by its parts instead of its mass properties or
+//! period: a `[clapper]` table (see [`crate::clapper_input`]) supplies
+//! `clapper_mass_kg`, `b_m` and `clapper_inertia_kg_m2` (mass form) or
+//! `clapper_period_s` (tower form), which are then not given.
+//!
 //! Unknown keys are refused, so a misspelt key cannot silently fall back to
 //! a default.
 
@@ -38,7 +43,9 @@ use std::path::Path;
 use clapper_core::bell::{Assumed, Bell, ParamError, TowerMeasurements};
 use serde::Deserialize;
 
+use crate::clapper_input::ClapperInput;
 use crate::hanging_input::HangingInput;
+use clapper_core::clapper_parts::ClapperParts;
 
 /// The keys of a bell file, all optional at this stage.
 #[derive(Debug, Default, Deserialize)]
@@ -79,6 +86,8 @@ struct BellFile {
     clapper_swings_to_halve: Option<f64>,
     swing_loss: Option<clapper_core::hanging::SwingLoss>,
     swing_amplitude_deg: Option<f64>,
+    /// The clapper by its parts.
+    clapper: Option<ClapperInput>,
 }
 
 impl BellFile {
@@ -162,6 +171,9 @@ pub struct LoadedBell {
     /// The ball's centre below the clapper pivot (m), if the file gives it
     /// (with the tape's gaps): where a diagnosis proposes moving the ball.
     pub ball_below_pivot_m: Option<f64>,
+    /// The clapper's parts, if the file gave them: where a diagnosis
+    /// proposes changes to the flight, the ball or the shaft.
+    pub clapper_parts: Option<ClapperParts>,
 }
 
 impl LoadedBell {
@@ -174,6 +186,7 @@ impl LoadedBell {
             restitution: None,
             restitution_later: None,
             ball_below_pivot_m: None,
+            clapper_parts: None,
         }
     }
 }
@@ -201,6 +214,12 @@ pub enum BellFileError {
     /// A value is out of range.
     #[error("bell file: {0}")]
     Param(#[from] ParamError),
+    /// The clapper given both by its parts and by these keys.
+    #[error("bell file gives the clapper twice: the [clapper] table stands for {0}; leave those out")]
+    ClapperTwice(String),
+    /// The `[clapper]` table cannot be used.
+    #[error("bell file: {0}")]
+    Clapper(#[from] crate::clapper_input::ClapperInputError),
 }
 
 /// The file's text and stem (the default name of an unnamed bell).
@@ -327,14 +346,49 @@ fn bell_from_fields(f: BellFile, default_name: &str) -> Result<LoadedBell, BellF
     }
     let (restitution, restitution_later) = (f.restitution, f.restitution_later);
     let hanging = f.hanging();
+    let (f, clapper_parts) = with_clapper_parts(f)?;
     let mut loaded = bell_from_measures(f, default_name)?;
     loaded.bell = hanging.apply(loaded.bell)?;
     Ok(LoadedBell {
         restitution,
         restitution_later,
         ball_below_pivot_m: hanging.ball_below_pivot_m,
+        clapper_parts,
         ..loaded
     })
+}
+
+/// Put the `[clapper]` table's mass properties in the keys it stands for,
+/// refusing those keys given as well.
+fn with_clapper_parts(f: BellFile) -> Result<(BellFile, Option<ClapperParts>), BellFileError> {
+    let Some(input) = &f.clapper else {
+        return Ok((f, None));
+    };
+    let given: Vec<&str> = [
+        ("clapper_mass_kg", f.clapper_mass_kg.is_some()),
+        ("b_m", f.b_m.is_some()),
+        ("clapper_inertia_kg_m2", f.clapper_inertia_kg_m2.is_some()),
+        ("clapper_period_s", f.clapper_period_s.is_some()),
+        ("clapper_oscillations", f.clapper_oscillations.is_some()),
+    ]
+    .iter()
+    .filter(|(_, present)| *present)
+    .map(|(k, _)| *k)
+    .collect();
+    if !given.is_empty() {
+        return Err(BellFileError::ClapperTwice(given.join(", ")));
+    }
+    let parts = input.parts()?;
+    let c = parts.mass_properties()?;
+    let tower = f.bell_period_s.is_some() || f.bell_oscillations.is_some();
+    let f = BellFile {
+        clapper_mass_kg: Some(c.mass),
+        b_m: Some(c.b),
+        clapper_inertia_kg_m2: (!tower).then_some(c.inertia),
+        clapper_period_s: tower.then(|| c.tc()),
+        ..f
+    };
+    Ok((f, Some(parts)))
 }
 
 fn bell_from_measures(f: BellFile, default_name: &str) -> Result<LoadedBell, BellFileError> {
@@ -490,6 +544,40 @@ mod tests {
         assert_eq!(parse_bells(LAB, "one").unwrap().len(), 1);
         let bad = text.replace("phi_max_deg = 30", "phi_max_deg = \"x\"");
         assert!(parse_bells(&bad, "ring").unwrap_err().to_string().contains("bell 2"));
+    }
+
+    const PARTS: &str = "[clapper]\nshaft_length_m = 0.69\nshaft_diameter_m = 0.05\nball_diameter_m = 0.14\n\
+                         ball_position_m = 0.76\nflight_length_m = 0.2\nflight_diameter_m = 0.05\n";
+
+    #[test]
+    fn a_clapper_by_its_parts_in_either_form() {
+        let tower = parse_bell(
+            &format!("bell_period_s = 2.33\nr_m = 0.179\nphi_max_deg = 32\nbell_mass_kg = 1378\n{PARTS}"),
+            "t",
+        )
+        .unwrap();
+        let c = tower.clapper_parts.unwrap().mass_properties().unwrap();
+        assert!((tower.bell.tc() - c.tc()).abs() < 1e-12);
+        assert!((tower.bell.clapper_mass - c.mass).abs() < 1e-12 && (tower.bell.b - c.b).abs() < 1e-12);
+        let BellSource::Tower(assumed) = &tower.source else {
+            panic!()
+        };
+        assert!(assumed
+            .fields
+            .iter()
+            .all(|(k, _)| !["clapper_mass_kg", "b_m"].contains(k)));
+        let mass_form = LAB
+            .replace("clapper_mass_kg = 1.65\n", "")
+            .replace("b_m = 0.25\n", "")
+            .replace("clapper_inertia_kg_m2 = 0.093\n", "");
+        let b = parse_bell(&format!("{mass_form}{PARTS}"), "x").unwrap();
+        assert!((b.bell.clapper_inertia - c.inertia).abs() < 1e-12);
+        let e = parse_bell(&format!("{LAB}{PARTS}"), "x").unwrap_err().to_string();
+        assert!(e.contains("twice") && e.contains("clapper_mass_kg"), "{e}");
+        let e = parse_bell(&format!("{mass_form}{}", PARTS.replace("0.69", "0.8")), "x")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("shaft_length_m") && !e.contains('\n'), "{e}");
     }
 
     #[test]

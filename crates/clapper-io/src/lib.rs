@@ -10,6 +10,7 @@
 pub mod answers;
 pub mod bell_file;
 pub mod chart_csv;
+pub mod clapper_input;
 pub mod hanging_input;
 pub mod report;
 pub mod signal_file;
