@@ -19,6 +19,7 @@
 #![warn(missing_docs)]
 
 pub mod chart;
+pub mod clapper_design;
 pub mod diagnosis;
 pub mod figures;
 pub mod liftoff;

@@ -1,6 +1,7 @@
 //! `clapper`: the command line of clapper.
 
 mod chart;
+mod design_clapper;
 mod diagnose;
 mod figures;
 mod files;
@@ -35,6 +36,9 @@ enum Command {
     RingUp(ring::RingArgs),
     /// Ring a bell down from the stay, swing by swing.
     RingDown(ring::RingArgs),
+    /// A clapper from its shaft, ball and flight: m, b, I_c, L_c, T_c, its
+    /// place on the chart, and the flight or ball that gives a wanted T_c.
+    DesignClapper(design_clapper::DesignArgs),
     /// Lift-off angles in closed form: (15), (16) for r = 0, or exactly for
     /// any bell released from rest.
     Liftoff(simulate::LiftoffArgs),
@@ -111,6 +115,7 @@ fn main() {
         Command::Simulate(args) => simulate::run(args),
         Command::RingUp(args) => ring::run(args, true),
         Command::RingDown(args) => ring::run(args, false),
+        Command::DesignClapper(args) => design_clapper::run(args),
         Command::Liftoff(args) => simulate::liftoff(args),
         Command::Chart(args) => chart::run(args),
         Command::Merge(args) => chart::merge(args),

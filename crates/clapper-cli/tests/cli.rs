@@ -692,3 +692,62 @@ fn ring_up_and_the_goes_up_chart() {
         "{rows}"
     );
 }
+
+/// A clapper from its parts: the JSON has the documented keys, a target
+/// period is met by the flight, and the file written makes a bell file
+/// whose clapper period is the target.
+#[test]
+fn design_clapper_prints_and_writes_a_clapper_a_bell_file_reads() {
+    let parts = [
+        "design-clapper",
+        "--shaft-length",
+        "0.69",
+        "--shaft-diameter",
+        "0.05",
+        "--ball-diameter",
+        "0.14",
+        "--ball-position",
+        "0.76",
+        "--flight-length",
+        "0.2",
+        "--flight-diameter",
+        "0.05",
+    ];
+    let v = json(&parts);
+    for key in ["m_kg", "b_m", "ic_kg_m2", "lc_m", "tc_s"] {
+        assert!(v[key].as_f64().unwrap() > 0.0, "{key}: {v}");
+    }
+    let m = v["m_kg"].as_f64().unwrap();
+    assert!((m - 24.2).abs() < 0.05 * 24.2, "{m}");
+
+    let dir = tempfile::tempdir().unwrap();
+    let out_file = dir.path().join("clapper.toml");
+    let out = clapper()
+        .args(parts)
+        .args(["--bell-period", "2.33", "--target-period", "2.1", "--out"])
+        .arg(&out_file)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("misses the rule") && text.contains("a flight"), "{text}");
+    let bell = dir.path().join("bell.toml");
+    let clapper_part = std::fs::read_to_string(&out_file).unwrap();
+    std::fs::write(
+        &bell,
+        format!("bell_period_s = 2.33\nr_m = 0.179\nphi_max_deg = 32\n{clapper_part}"),
+    )
+    .unwrap();
+    let sim = json(&["simulate", "--bell", bell.to_str().unwrap()]);
+    let tc = sim["bell"]["tc_s"].as_f64().unwrap();
+    assert!((tc - 2.1).abs() < 1e-6, "{tc}");
+
+    let bad = clapper()
+        .args(["design-clapper", "--shaft-length", "0.8", "--shaft-diameter", "0.05"])
+        .args(["--ball-diameter", "0.14", "--ball-position", "0.76"])
+        .output()
+        .unwrap();
+    assert!(!bad.status.success());
+    let err = String::from_utf8_lossy(&bad.stderr);
+    assert!(err.contains("shaft_length_m") && err.lines().count() == 1, "{err}");
+}
