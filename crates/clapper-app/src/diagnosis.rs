@@ -137,20 +137,28 @@ pub struct SuggestionReport {
 }
 
 #[derive(Serialize)]
-/// Loads on the frame over a stroke.
+/// Loads on the frame over a stroke. In newtons only when the bell's mass
+/// was weighed (given); otherwise null, and only the multiples of the
+/// weight stand, computed with masses assumed at the bell's size.
 pub struct FrameReport {
-    /// Weight of bell and clapper (N).
-    pub weight_n: f64,
-    /// Largest horizontal load (N).
-    pub peak_horizontal_n: f64,
-    /// Largest downward load (N).
-    pub peak_vertical_down_n: f64,
-    /// Least downward load (N).
-    pub least_vertical_n: f64,
+    /// Whether the newton figures rest on a weighed bell.
+    pub bell_mass_measured: bool,
+    /// Weight of bell and clapper (N), when the bell was weighed.
+    pub weight_n: Option<f64>,
+    /// Largest horizontal load (N), when the bell was weighed.
+    pub peak_horizontal_n: Option<f64>,
+    /// Largest downward load (N), when the bell was weighed.
+    pub peak_vertical_down_n: Option<f64>,
+    /// Least downward load (N), when the bell was weighed.
+    pub least_vertical_n: Option<f64>,
     /// Largest horizontal load over the weight.
     pub peak_horizontal_over_weight: f64,
     /// Largest downward load over the weight.
     pub peak_vertical_over_weight: f64,
+    /// Least downward load over the weight (below 0: the bell lifts).
+    pub least_vertical_over_weight: f64,
+    /// The loads in words, as the text report gives them.
+    pub words: String,
 }
 
 #[derive(Serialize)]
@@ -393,6 +401,10 @@ fn suggestion_words(bell: &Bell, s: &clapper_core::diagnose::Suggestion) -> Stri
 fn bell_json(b: &LoadedBell, d: &BellDiagnosis, outlier: &[String]) -> BellDiagnosisReport {
     let bell = &b.bell;
     let usual = d.usual_outcome();
+    let bell_weighed = match &b.source {
+        BellSource::MassProperties => true,
+        BellSource::Tower(a) => !a.fields.iter().any(|(k, _)| *k == "bell_mass_kg"),
+    };
     let (assumed, mass_known) = match &b.source {
         BellSource::MassProperties => (vec![], true),
         BellSource::Tower(a) => (
@@ -445,19 +457,46 @@ fn bell_json(b: &LoadedBell, d: &BellDiagnosis, outlier: &[String]) -> BellDiagn
             predicted_right: style_json(&s.predicted),
             words: suggestion_words(bell, &s),
         }),
-        frame: d.frame.map(|f| FrameReport {
-            weight_n: f.weight,
-            peak_horizontal_n: f.horizontal,
-            peak_vertical_down_n: f.vertical_down,
-            least_vertical_n: f.vertical_min,
-            peak_horizontal_over_weight: f.horizontal_ratio(),
-            peak_vertical_over_weight: f.vertical_ratio(),
+        frame: d.frame.map(|f| {
+            let newtons = |v: f64| bell_weighed.then_some(v);
+            let mut report = FrameReport {
+                bell_mass_measured: bell_weighed,
+                weight_n: newtons(f.weight),
+                peak_horizontal_n: newtons(f.horizontal),
+                peak_vertical_down_n: newtons(f.vertical_down),
+                least_vertical_n: newtons(f.vertical_min),
+                peak_horizontal_over_weight: f.horizontal_ratio(),
+                peak_vertical_over_weight: f.vertical_ratio(),
+                least_vertical_over_weight: f.vertical_min / f.weight,
+                words: String::new(),
+            };
+            report.words = frame_words(&report);
+            report
         }),
         stands_apart: outlier.to_vec(),
         right: style_json(&d.right),
         wrong: style_json(&d.wrong),
         odd_struck: None,
     }
+}
+
+/// The frame loads in words: newtons beside the multiples of the weight
+/// only for a weighed bell.
+fn frame_words(f: &FrameReport) -> String {
+    let load = |n: Option<f64>, ratio: f64| match n {
+        Some(n) => format!("{n:.0} N ({ratio:.2} x weight)"),
+        None => format!("{ratio:.2} x weight"),
+    };
+    format!(
+        "frame load over a stroke: horizontal up to {}, vertical up to {}{}",
+        load(f.peak_horizontal_n, f.peak_horizontal_over_weight),
+        load(f.peak_vertical_down_n, f.peak_vertical_over_weight),
+        if f.bell_mass_measured {
+            ""
+        } else {
+            " (the bell is not weighed: give bell_mass_kg for newtons)"
+        }
+    )
 }
 
 fn opt(v: Option<f64>, digits: usize) -> String {
@@ -582,11 +621,7 @@ pub fn text(rep: &DiagnosisReport, source: &str) -> String {
             }
         }
         if let Some(f) = &b.frame {
-            let _ = writeln!(
-                o,
-                "  frame load over a stroke: horizontal up to {:.0} N ({:.2} x weight), vertical up to {:.0} N ({:.2} x weight)",
-                f.peak_horizontal_n, f.peak_horizontal_over_weight, f.peak_vertical_down_n, f.peak_vertical_over_weight
-            );
+            let _ = writeln!(o, "  {}", f.words);
         }
         for r in &b.stands_apart {
             let _ = writeln!(o, "  stands apart: {r}");

@@ -751,3 +751,31 @@ fn design_clapper_prints_and_writes_a_clapper_a_bell_file_reads() {
     let err = String::from_utf8_lossy(&bad.stderr);
     assert!(err.contains("shaft_length_m") && err.lines().count() == 1, "{err}");
 }
+
+/// Frame loads in newtons come from a weighed bell: the tower file (the
+/// tenor's weight given, a and the clapper assumed at its size) is within
+/// 5 % of the Table 1 preset; without the weight only multiples of it.
+#[test]
+fn frame_loads_in_newtons_only_for_a_weighed_bell_and_scaled_to_it() {
+    let preset = json(&["diagnose", "--preset", "gsm-tenor"]);
+    let tower = json(&["diagnose", "../../examples/gsm-tenor-tower.toml"]);
+    let (p, t) = (&preset["bells"][0]["frame"], &tower["bells"][0]["frame"]);
+    for key in ["peak_horizontal_n", "peak_vertical_down_n"] {
+        let (a, b) = (p[key].as_f64().unwrap(), t[key].as_f64().unwrap());
+        assert!((b / a - 1.0).abs() < 0.05, "{key}: preset {a} N, tower file {b} N");
+        assert!(a > 10_000.0, "{key}: {a} N is not a 1378 kg bell's");
+    }
+    let dir = tempfile::tempdir().unwrap();
+    let unweighed = dir.path().join("unweighed.toml");
+    let text = std::fs::read_to_string("../../examples/gsm-tenor-tower.toml").unwrap();
+    std::fs::write(&unweighed, text.replace("bell_mass_kg = 1378\n", "")).unwrap();
+    let v = json(&["diagnose", unweighed.to_str().unwrap()]);
+    let f = &v["bells"][0]["frame"];
+    assert_eq!(f["bell_mass_measured"], false);
+    assert!(f["peak_horizontal_n"].is_null() && f["weight_n"].is_null(), "{f}");
+    let ratio = f["peak_horizontal_over_weight"].as_f64().unwrap();
+    assert!((1.0..3.0).contains(&ratio), "{ratio}");
+    let out = clapper().args(["diagnose"]).arg(&unweighed).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("x weight") && !text.contains(" N ("), "{text}");
+}

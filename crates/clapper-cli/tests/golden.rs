@@ -86,7 +86,7 @@ fn simulate_json_is_unchanged() {
             &[
                 "simulate",
                 "--bell",
-                "../../examples/gsm-tenor-tower.toml",
+                "tests/golden/inputs/gsm-tenor-tower.toml",
                 "--restitution",
                 "0.05",
                 "--json",
@@ -245,7 +245,7 @@ fn shards_written_before_the_refactor_still_merge() {
 fn diagnosis_and_sound_are_unchanged() {
     let lab = run_stdout(&["diagnose", "--preset", "lab", "--json"]);
     assert_same("diagnose-lab", &read(&golden("other/diagnose-lab.json")), &lab);
-    let ring = run_stdout(&["diagnose", "../../examples/ring-of-eight.csv", "--json"]);
+    let ring = run_stdout(&["diagnose", "tests/golden/inputs/ring-of-eight.csv", "--json"]);
     assert_same("diagnose-ring", &read(&golden("other/diagnose-ring.json")), &ring);
     let dir = tempfile::tempdir().unwrap();
     clapper()

@@ -385,12 +385,28 @@ pub struct Assumed {
 }
 
 impl TowerMeasurements {
-    /// Assumed a/L_b when a is not given: 0.6, so that I_b = 0.6 M L_b² is
-    /// above M a² (a real body). It does not move the chart position.
+    /// Assumed a/L_b when neither a nor M is given: 0.6, so that
+    /// I_b = 0.6 M L_b² is above M a² (a real body). Table 1's bells have
+    /// 0.64 (lab) and 0.52 (GSM tenor). It does not move the chart position.
     pub const A_OVER_LB: f64 = 0.6;
     /// Assumed b/L_c when b is not given: 0.9, so that I_c = 0.9 m L_c² is
     /// above m b². It does not move the chart position.
     pub const B_OVER_LC: f64 = 0.9;
+    /// κ in a ≈ κ M^(1/3) (m kg^(-1/3)), used for a when M is weighed and a
+    /// is not: bells of one family are close to scaled copies, so their
+    /// centre of mass sits at a fixed multiple of the cube root of the mass.
+    /// Table 1 gives 0.0671 (lab bell) and 0.0633 (GSM tenor); 0.065 is
+    /// between them. With no M, M is taken as (0.6 L_b / κ)³, which gives
+    /// 41.8 kg for the lab bell (45.8 weighed) and 1935 kg for the GSM
+    /// tenor (1378).
+    pub const A_PER_CUBE_ROOT_KG: f64 = 0.065;
+    /// The range a/L_b is held to when a comes from κ M^(1/3): around the
+    /// two bells of Table 1 (0.52, 0.64), and below 1 so that I_b > M a².
+    pub const A_OVER_LB_RANGE: (f64, f64) = (0.45, 0.75);
+    /// Assumed m/M when the clapper is not weighed: 0.025. Table 1 gives
+    /// 3.6 % (lab) and 1.76 % (GSM tenor); bell-hangers' rule of thumb is
+    /// 2 to 3 % of the bell.
+    pub const CLAPPER_MASS_RATIO: f64 = 0.025;
 
     /// What a stopwatch, a tape and a protractor give: periods (s), r (m)
     /// and φ_max (rad); nothing weighed.
@@ -407,16 +423,16 @@ impl TowerMeasurements {
         }
     }
 
-    /// A full bell with the measured periods, r and φ_max. Masses not given
-    /// are the chart construction's (45.8 kg, 1.65 kg): the motion depends on
-    /// them only through the small mass ratio, forces scale with them. The
-    /// assumed values are listed.
+    /// A full bell with the measured periods, r and φ_max. What is not
+    /// given is assumed from what is, scaled to this bell (M from L_b, a
+    /// from M, m from M; see the constants above): the motion depends on
+    /// the masses only through the small mass ratio, forces scale with
+    /// them. The assumed values are listed.
     pub fn bell(&self) -> Result<(Bell, Assumed), ParamError> {
         positive("bell_period_s", self.bell_period)?;
         positive("clapper_period_s", self.clapper_period)?;
         let lb = length_of_period(self.bell_period);
         let lc = length_of_period(self.clapper_period);
-        let defaults = ChartConstruction::default();
         let mut assumed = Assumed::default();
         let mut pick = |name: &'static str, given: Option<f64>, default: f64| match given {
             Some(v) => {
@@ -428,9 +444,15 @@ impl TowerMeasurements {
                 Ok(default)
             }
         };
-        let big_m = pick("bell_mass_kg", self.bell_mass, defaults.bell_mass)?;
-        let small_m = pick("clapper_mass_kg", self.clapper_mass, defaults.clapper_mass)?;
-        let a = pick("a_m", self.a, Self::A_OVER_LB * lb)?;
+        let kappa = Self::A_PER_CUBE_ROOT_KG;
+        let big_m = pick("bell_mass_kg", self.bell_mass, (Self::A_OVER_LB * lb / kappa).powi(3))?;
+        let small_m = pick("clapper_mass_kg", self.clapper_mass, Self::CLAPPER_MASS_RATIO * big_m)?;
+        let (lo, hi) = Self::A_OVER_LB_RANGE;
+        let a_default = match self.bell_mass {
+            Some(_) => (kappa * big_m.cbrt()).clamp(lo * lb, hi * lb),
+            None => Self::A_OVER_LB * lb,
+        };
+        let a = pick("a_m", self.a, a_default)?;
         let b = pick("b_m", self.b, Self::B_OVER_LC * lc)?;
         let bell = Bell::new(
             big_m,
@@ -534,6 +556,33 @@ mod tests {
             assert_relative_eq!(tb.lb_over_lc(), bell.lb_over_lc(), max_relative = 1e-12);
             assert_eq!(assumed.fields.len(), 4);
             assert!(tb.warnings().is_empty());
+        }
+    }
+
+    /// What a tower does not weigh is assumed at this bell's size, not the
+    /// lab bell's: the masses of Table 1's two bells, 30 times apart, come
+    /// back within a factor 1.5 from their periods alone, and a from the
+    /// weighed mass within 5 %.
+    #[test]
+    fn assumed_masses_are_scaled_to_the_bell() {
+        for bell in [Bell::lab(), Bell::gsm_tenor()] {
+            let t = TowerMeasurements::new(bell.tb(), bell.tc(), bell.r, bell.phi_max);
+            let (guess, _) = t.bell().unwrap();
+            let ratio = guess.bell_mass / bell.bell_mass;
+            assert!((1.0 / 1.5..1.5).contains(&ratio), "{ratio}");
+            assert_relative_eq!(
+                guess.clapper_mass / guess.bell_mass,
+                TowerMeasurements::CLAPPER_MASS_RATIO
+            );
+            let weighed = TowerMeasurements {
+                bell_mass: Some(bell.bell_mass),
+                ..t
+            };
+            let (b, assumed) = weighed.bell().unwrap();
+            assert_eq!(b.bell_mass, bell.bell_mass);
+            assert!((b.a / bell.a - 1.0).abs() < 0.05, "a {} for {}", b.a, bell.a);
+            assert!(assumed.fields.iter().all(|(k, _)| *k != "bell_mass_kg"));
+            assert_relative_eq!(b.lb_over_lc(), bell.lb_over_lc(), max_relative = 1e-12);
         }
     }
 }

@@ -506,7 +506,7 @@ function diagnosisHtml(rep) {
     for (const p of b.problems) h += `<br><span class="problem">Problem: ${esc(p)}</span>`;
     if (b.suggestion) h += `<br><span class="suggestion">Suggestion: ${esc(b.suggestion.words)}</span>`;
     else if (b.problems.length) h += "<br>No change within 0.4 s of clapper period and 150 mm of r fixes it.";
-    if (b.frame) h += `<br>Frame load over a stroke: horizontal up to ${fmt(b.frame.peak_horizontal_n, 0)} N (${fmt(b.frame.peak_horizontal_over_weight, 2)} × weight), vertical up to ${fmt(b.frame.peak_vertical_down_n, 0)} N (${fmt(b.frame.peak_vertical_over_weight, 2)} × weight).`;
+    if (b.frame) h += `<br>${esc(b.frame.words.charAt(0).toUpperCase() + b.frame.words.slice(1))}.`;
     for (const s of b.stands_apart) h += `<br><span class="problem">Stands apart: ${esc(s)}</span>`;
     h += "</div>";
   }
