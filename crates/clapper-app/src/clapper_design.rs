@@ -24,7 +24,7 @@ pub struct DesignRequest {
     /// chart and check the rule T_c ≥ 0.9 T_b.
     #[serde(default)]
     pub bell_period_s: Option<f64>,
-    /// The clapper pivot's height above the bell's pivot, r (m).
+    /// r (m): the clapper pivot below the bell's pivot, along the bell's axis.
     #[serde(default)]
     pub pivot_m: Option<f64>,
     /// A wanted T_c (s): the clapper is changed to give it.
@@ -284,7 +284,7 @@ pub fn summary(rep: &DesignReport) -> String {
         },
     );
     if let Some(r) = rep.r_m {
-        let _ = writeln!(out, "  pivot r {r:.3} m above the bell's pivot");
+        let _ = writeln!(out, "  pivot r {r:.3} m below the bell's pivot");
     }
     if let Some(b) = &rep.bell {
         let _ = writeln!(
@@ -378,9 +378,9 @@ mod tests {
         let d = rep.design.as_ref().unwrap();
         assert!(d.found);
         assert!((d.clapper.as_ref().unwrap().tc_s - 1.85).abs() < 1e-9);
-        let l = d.flight_length_m.unwrap();
+        let l = (d.flight_length_m.unwrap() * 1e6).round() / 1e6;
         assert!(
-            rep.bell_file_toml.contains(&format!("flight_length_m = {l}")),
+            rep.bell_file_toml.contains(&format!("flight_length_m = {l}\n")),
             "{}",
             rep.bell_file_toml
         );

@@ -5,7 +5,10 @@
 use std::fmt::Write as _;
 
 use clapper_core::chart::{ChartSpec, Styles};
-use clapper_core::diagnose::{diagnose, ring_outliers, BellDiagnosis, DiagnoseConfig, Problem, StyleOutcome};
+use clapper_core::clapper_changes::{ClapperChange, HangerChange};
+use clapper_core::diagnose::{
+    diagnose_with_parts, ring_outliers, BellDiagnosis, DiagnoseConfig, Problem, StyleOutcome,
+};
 use clapper_core::prelude::*;
 use clapper_io::bell_file::{BellSource, LoadedBell};
 use clapper_plot::chart::Marker;
@@ -114,25 +117,54 @@ pub struct MarginReport {
 }
 
 #[derive(Serialize)]
-/// A change that would make the bell ring right and cleanly.
-pub struct SuggestionReport {
-    /// Change of the clapper period (s).
-    pub change_clapper_period_s: f64,
-    /// Change of r (mm).
-    pub change_r_mm: f64,
-    /// The clapper period after the change (s).
-    pub new_clapper_period_s: f64,
-    /// r after the change (mm).
-    pub new_r_mm: f64,
-    /// r/L_c after the change.
-    pub new_r_over_lc: f64,
-    /// L_b/L_c after the change.
-    pub new_lb_over_lc: f64,
-    /// Length of the move on the chart (chart units).
-    pub chart_distance: f64,
-    /// How the changed bell rings right.
+/// A change a bell-hanger can make, with what the model predicts after it.
+pub struct ChangeReport {
+    /// "flight-mass", "flight-length", "ball-position", "wooden-shaft",
+    /// "new-clapper" or "pivot".
+    pub kind: &'static str,
+    /// Whether it cures every problem (else some; `problems_left` says
+    /// which stay).
+    pub fixes_all: bool,
+    /// The problems left after it, in words.
+    pub problems_left: Vec<String>,
+    /// A pivot change: offered only because no change of the clapper cures
+    /// all.
+    pub last_resort: bool,
+    /// Mass added to the flight (kg; negative: taken off), flight-mass.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub flight_mass_change_kg: Option<f64>,
+    /// Where that mass is assumed to go, below the clapper pivot (m).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub flight_depth_m: Option<f64>,
+    /// The flight's length before and after (m), flight-length.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub flight_length_m: Option<[f64; 2]>,
+    /// The ball's centre below the pivot before and after (m), ball-position.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub ball_position_m: Option<[f64; 2]>,
+    /// Change of r (mm), pivot.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pivot_change_mm: Option<f64>,
+    /// The clapper's mass after (kg).
+    pub clapper_mass_kg: f64,
+    /// The clapper's period after (s).
+    pub clapper_period_s: f64,
+    /// Chart position after: r/L_c.
+    pub r_over_lc: f64,
+    /// Chart position after: L_b/L_c.
+    pub lb_over_lc: f64,
+    /// How it rings right after the change (re-simulated).
     pub predicted_right: StyleReport,
-    /// The change in words.
+    /// How it goes up after the change: "right", "wrong" or "no strike".
+    pub goes_up: &'static str,
+    /// Distance on the chart to the edge of ringing right after the change
+    /// (chart units), if within the search.
+    pub margin_chart_units: Option<f64>,
+    /// The clapper's parts after the change, as a bell file's `[clapper]`
+    /// table, when the parts were given.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub clapper_toml: Option<String>,
+    /// The change and its result in words.
     pub words: String,
 }
 
@@ -206,8 +238,13 @@ pub struct BellDiagnosisReport {
     pub margin: Option<MarginReport>,
     /// Problems found, in words.
     pub problems: Vec<String>,
-    /// A suggested change, if a problem was found and a fix exists.
-    pub suggestion: Option<SuggestionReport>,
+    /// How it goes up, rung up from rest by the default ringer: "right",
+    /// "wrong" or "no strike".
+    pub goes_up: &'static str,
+    /// The changes a hanger can make that cure its problems (all or some),
+    /// in the order a hanger would try them; the pivot only as a last
+    /// resort.
+    pub changes: Vec<ChangeReport>,
     /// Frame loads.
     pub frame: Option<FrameReport>,
     /// Why it stands apart from the rest of the ring.
@@ -351,6 +388,7 @@ fn problem_words(p: Problem) -> &'static str {
         Problem::LateStrike => "strikes late, near the top of the swing",
         Problem::Quiet => "strikes softly",
         Problem::DoubleStrike => "likely to double strike (D > 10 at R = 0.1)",
+        Problem::GoesUpWrong => "goes up wrong (rung up from rest, it settles striking wrong)",
     }
 }
 
@@ -363,39 +401,96 @@ fn verdict(d: &BellDiagnosis) -> &'static str {
     }
 }
 
-fn suggestion_words(bell: &Bell, s: &clapper_core::diagnose::Suggestion) -> String {
-    let mut parts = vec![];
-    if s.dtc != 0.0 {
-        parts.push(format!(
-            "{} the clapper's period by {:.2} s (from {:.2} s to {:.2} s: {})",
-            if s.dtc > 0.0 { "lengthen" } else { "shorten" },
-            s.dtc.abs(),
-            bell.tc(),
-            bell.tc() + s.dtc,
-            if s.dtc > 0.0 {
-                "move its mass down, e.g. a heavier flight"
-            } else {
-                "move its mass up, e.g. lighten the flight"
-            }
-        ));
-    }
-    if s.dr != 0.0 {
-        parts.push(format!(
-            "{} the clapper pivot by {:.0} mm (r from {:.0} mm to {:.0} mm)",
-            if s.dr > 0.0 { "lower" } else { "raise" },
-            s.dr.abs() * 1e3,
+/// A change and its predicted result in words.
+fn change_words(bell: &Bell, h: &HangerChange) -> String {
+    let dm = h.bell.clapper_mass - bell.clapper_mass;
+    let what = match h.change {
+        ClapperChange::FlightMass { dm, depth } if dm >= 0.0 => format!(
+            "add {dm:.2} kg to the flight (a heavier or longer flight, its mass about {:.0} mm below the clapper pivot)",
+            depth * 1e3
+        ),
+        ClapperChange::FlightMass { dm, .. } => {
+            format!("take {:.2} kg off the flight (a lighter or shorter flight)", -dm)
+        }
+        ClapperChange::FlightLength { from, to, .. } => format!(
+            "{} the flight from {:.0} mm to {:.0} mm ({dm:+.2} kg)",
+            if to > from { "lengthen" } else { "shorten" },
+            from * 1e3,
+            to * 1e3
+        ),
+        ClapperChange::BallPosition { from, to } => format!(
+            "{} the ball {:.0} mm (its centre from {:.0} mm to {:.0} mm below the clapper pivot)",
+            if to > from { "lower" } else { "raise" },
+            (to - from).abs() * 1e3,
+            from * 1e3,
+            to * 1e3
+        ),
+        ClapperChange::WoodenShaft { from } => {
+            format!("fit an ash shaft in place of the {from} one ({dm:+.2} kg)")
+        }
+        ClapperChange::NewClapper { dtc } => format!(
+            "a new, {} clapper (clapper design-clapper --target-period {:.2} designs one)",
+            if dtc > 0.0 { "longer" } else { "shorter" },
+            bell.tc() + dtc
+        ),
+        ClapperChange::Pivot { dr } => format!(
+            "last resort, a change hangers rarely make: {} the clapper pivot by {:.0} mm (r from {:.0} mm to {:.0} mm)",
+            if dr > 0.0 { "lower" } else { "raise" },
+            dr.abs() * 1e3,
             bell.r * 1e3,
-            (bell.r + s.dr) * 1e3
-        ));
-    }
-    let p = &s.predicted;
-    format!(
-        "{}; then it rings right, first strike at {:.0} deg with phi' = {:.2} rad/s, D = {:.1} at R = 0.1",
-        parts.join(" and "),
+            (bell.r + dr) * 1e3
+        ),
+    };
+    let p = &h.predicted;
+    let mut words = format!(
+        "{what}; T_c {:.3} s -> {:.3} s; then it rings right, first strike at {:.0} deg with phi' = {:.2} rad/s, D = {:.1} at R = 0.1, goes up {}; margin {}",
+        bell.tc(),
+        h.bell.tc(),
         p.strike_theta.map_or(f64::NAN, f64::to_degrees),
         p.strike_phidot.unwrap_or(f64::NAN),
-        p.double_strike_index[1].unwrap_or(f64::NAN)
-    )
+        p.double_strike_index[1].unwrap_or(f64::NAN),
+        crate::ring_up::settles_name(h.goes_up),
+        h.margin.map_or("beyond the search".into(), |m| format!("{m:.3} chart units"))
+    );
+    if !h.fixes_all {
+        let left: Vec<&str> = h.problems_left.iter().map(|p| problem_words(*p)).collect();
+        let _ = write!(words, "; still {}", left.join("; "));
+    }
+    words
+}
+
+fn change_json(bell: &Bell, h: &HangerChange) -> ChangeReport {
+    let (mut mass, mut depth, mut flight, mut ball, mut pivot) = (None, None, None, None, None);
+    match h.change {
+        ClapperChange::FlightMass { dm, depth: z } => (mass, depth) = (Some(dm), Some(z)),
+        ClapperChange::FlightLength { from, to, .. } => flight = Some([from, to]),
+        ClapperChange::BallPosition { from, to } => ball = Some([from, to]),
+        ClapperChange::Pivot { dr } => pivot = Some(dr * 1e3),
+        ClapperChange::WoodenShaft { .. } | ClapperChange::NewClapper { .. } => {}
+    }
+    ChangeReport {
+        kind: h.change.name(),
+        fixes_all: h.fixes_all,
+        problems_left: h.problems_left.iter().map(|p| problem_words(*p).into()).collect(),
+        last_resort: h.last_resort,
+        flight_mass_change_kg: mass,
+        flight_depth_m: depth,
+        flight_length_m: flight,
+        ball_position_m: ball,
+        pivot_change_mm: pivot,
+        clapper_mass_kg: h.bell.clapper_mass,
+        clapper_period_s: h.bell.tc(),
+        r_over_lc: h.bell.r_over_lc(),
+        lb_over_lc: h.bell.lb_over_lc(),
+        predicted_right: style_json(&h.predicted),
+        goes_up: crate::ring_up::settles_name(h.goes_up),
+        margin_chart_units: h.margin,
+        clapper_toml: h
+            .parts
+            .filter(|_| !matches!(h.change, ClapperChange::Pivot { .. }))
+            .map(|p| clapper_io::clapper_input::ClapperInput::of(&p).to_toml()),
+        words: change_words(bell, h),
+    }
 }
 
 fn bell_json(b: &LoadedBell, d: &BellDiagnosis, outlier: &[String]) -> BellDiagnosisReport {
@@ -446,17 +541,8 @@ fn bell_json(b: &LoadedBell, d: &BellDiagnosis, outlier: &[String]) -> BellDiagn
             r_larger_mm: m.r_up.map(|x| x * 1e3),
         }),
         problems: d.problems.iter().map(|p| problem_words(*p).into()).collect(),
-        suggestion: d.suggestion.map(|s| SuggestionReport {
-            change_clapper_period_s: s.dtc,
-            change_r_mm: s.dr * 1e3,
-            new_clapper_period_s: bell.tc() + s.dtc,
-            new_r_mm: (bell.r + s.dr) * 1e3,
-            new_r_over_lc: s.position.0,
-            new_lb_over_lc: s.position.1,
-            chart_distance: s.chart_distance,
-            predicted_right: style_json(&s.predicted),
-            words: suggestion_words(bell, &s),
-        }),
+        goes_up: crate::ring_up::settles_name(d.goes_up),
+        changes: d.changes.iter().map(|h| change_json(bell, h)).collect(),
         frame: d.frame.map(|f| {
             let newtons = |v: f64| bell_weighed.then_some(v);
             let mut report = FrameReport {
@@ -585,6 +671,11 @@ pub fn text(rep: &DiagnosisReport, source: &str) -> String {
                 None => "never rings right".into(),
             }
         );
+        let _ = writeln!(
+            o,
+            "  goes up {} (rung up from rest by the default ringer: clapper ring-up shows each swing)",
+            b.goes_up
+        );
         if let Some(v) = b.striking_speed_m_s {
             let _ = writeln!(
                 o,
@@ -608,15 +699,24 @@ pub fn text(rep: &DiagnosisReport, source: &str) -> String {
         }
         if !b.problems.is_empty() {
             let _ = writeln!(o, "  problems: {}", b.problems.join("; "));
-            match &b.suggestion {
-                Some(s) => {
-                    let _ = writeln!(o, "  suggestion: {}", s.words);
+            if b.changes.is_empty() {
+                let _ = writeln!(
+                    o,
+                    "  changes: nothing within the searches (flight, ball, shaft, a new clapper within 0.4 s, the pivot within 150 mm) cures any of it"
+                );
+            } else {
+                let _ = writeln!(o, "  changes, in the order a hanger would try them:");
+                for (k, c) in b.changes.iter().enumerate() {
+                    let _ = writeln!(o, "    {}. {}", k + 1, c.words);
                 }
-                None => {
-                    let _ = writeln!(
-                        o,
-                        "  suggestion: no change within 0.4 s of clapper period and 150 mm of r fixes it"
-                    );
+                let left: Vec<&str> = b
+                    .problems
+                    .iter()
+                    .filter(|p| b.changes.iter().all(|c| c.problems_left.contains(p)))
+                    .map(String::as_str)
+                    .collect();
+                if !left.is_empty() {
+                    let _ = writeln!(o, "    nothing within the searches cures: {}", left.join("; "));
                 }
             }
         }
@@ -703,7 +803,10 @@ pub fn diagnose_bells_with(bells: &[LoadedBell], odd: &OddStruckOptions) -> Resu
     let cfg = DiagnoseConfig::default();
     let diagnoses: Vec<BellDiagnosis> = bells
         .par_iter()
-        .map(|b| diagnose(&b.bell, &cfg).map_err(|e| AppError::Request(format!("diagnosing {}: {e}", b.name))))
+        .map(|b| {
+            { diagnose_with_parts(&b.bell, b.clapper_parts.as_ref(), &cfg) }
+                .map_err(|e| AppError::Request(format!("diagnosing {}: {e}", b.name)))
+        })
         .collect::<Result<_, _>>()?;
     let outliers = ring_outliers(&diagnoses);
     let mut out_words = vec![];

@@ -81,7 +81,7 @@ fn style_name(s: clapper_core::stroke::Style) -> &'static str {
     }
 }
 
-fn settles_name(s: Settles) -> &'static str {
+pub(crate) fn settles_name(s: Settles) -> &'static str {
     match s {
         Settles::Right => "right",
         Settles::Wrong => "wrong",

@@ -47,8 +47,8 @@ pub struct DesignArgs {
     /// Flight material [default: wrought-iron].
     #[arg(long, value_name = "NAME", value_parser = choice::<Material>())]
     pub flight_material: Option<Material>,
-    /// The clapper pivot's height above the bell's pivot, r (m): the crown
-    /// staple's place in the bell.
+    /// r (m): the clapper pivot (the crown staple's pin) below the bell's
+    /// pivot, along the bell's axis (negative above it).
     #[arg(long, value_name = "M", allow_hyphen_values = true)]
     pub pivot: Option<f64>,
     /// The bell's small-swing period T_b (s): places the clapper on the

@@ -1,13 +1,17 @@
 //! Diagnosis of a bell for a bell-hanger (the paper's conclusions): where
-//! it sits on the chart, how it rings, how close it is to an edge in terms
-//! a hanger can change (clapper period, r), and the smallest change that
-//! fixes a problem. Also the ring-level check for a bell that stands apart.
+//! it sits on the chart, how it rings, whether it goes up right, how close
+//! it is to an edge in terms a hanger can change (clapper period, r), and
+//! the clapper changes that cure its problems ([`crate::clapper_changes`]).
+//! Also the ring-level check for a bell that stands apart.
 
 use rayon::prelude::*;
 
 use crate::bell::{length_of_period, Bell, ParamError};
+use crate::clapper_changes::{goes_up, hanger_changes, HangerChange};
+use crate::clapper_parts::ClapperParts;
 use crate::dynamics::Dynamics;
 use crate::frame::{frame_peaks, FramePeaks};
+use crate::ringer::{RingerConfig, Settles};
 use crate::ringing::first_stroke;
 use crate::stroke::{run_stroke, SimConfig, SimError, StrokeStart, Style, TraceRecorder};
 
@@ -33,6 +37,9 @@ pub struct DiagnoseConfig {
     pub max_dtc: f64,
     /// Largest change of r considered (m). Default 0.15 m.
     pub max_dr: f64,
+    /// The ringer who rings it up, for "goes up right" (the ringer's
+    /// defaults: 30 swings to the stay).
+    pub ringer: RingerConfig,
 }
 
 impl Default for DiagnoseConfig {
@@ -45,13 +52,14 @@ impl Default for DiagnoseConfig {
             double_strike_limit: 10.0,
             max_dtc: 0.4,
             max_dr: 0.15,
+            ringer: RingerConfig::default(),
         }
     }
 }
 
-/// The bell with its clapper period changed by `dtc` (s) and r by `dr` (m),
-/// the two things a hanger can change: the clapper's mass and b are kept,
-/// its inertia follows the new period (I_c = m b L_c).
+/// The bell with its clapper period changed by `dtc` (s) and r by `dr` (m):
+/// the clapper's mass and b are kept, its inertia follows the new period
+/// (I_c = m b L_c); the hanging (offset, angles, friction) is kept.
 pub fn adjusted(bell: &Bell, dtc: f64, dr: f64) -> Result<Bell, ParamError> {
     let tc = bell.tc() + dtc;
     if !(tc.is_finite() && tc > 0.0) {
@@ -72,6 +80,7 @@ pub fn adjusted(bell: &Bell, dtc: f64, dr: f64) -> Result<Bell, ParamError> {
         bell.r + dr,
         bell.phi_max,
     )
+    .map(|b| b.with_hanging(bell.hanging))
 }
 
 /// How a bell strikes in one style.
@@ -100,21 +109,8 @@ pub enum Problem {
     Quiet,
     /// D at R = 0.1 above the limit.
     DoubleStrike,
-}
-
-/// The smallest change found that fixes a bell's problems.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Suggestion {
-    /// Change of clapper period (s).
-    pub dtc: f64,
-    /// Change of r (m).
-    pub dr: f64,
-    /// Chart position after the change.
-    pub position: (f64, f64),
-    /// Distance moved on the chart (chart units).
-    pub chart_distance: f64,
-    /// How it rings right after the change (re-simulated).
-    pub predicted: StyleOutcome,
+    /// Rung up from rest, it settles striking wrong.
+    GoesUpWrong,
 }
 
 /// How far a bell is from losing its usual style, per hanger change.
@@ -150,8 +146,11 @@ pub struct BellDiagnosis {
     pub margin: Option<Margin>,
     /// What is wrong.
     pub problems: Vec<Problem>,
-    /// The smallest fix found, if there are problems and one exists.
-    pub suggestion: Option<Suggestion>,
+    /// How it goes up, rung up from rest by [`DiagnoseConfig::ringer`].
+    pub goes_up: Settles,
+    /// The clapper changes that cure its problems, in the hanger's order
+    /// ([`hanger_changes`]); empty without problems or without a cure.
+    pub changes: Vec<HangerChange>,
     /// Loads on the frame over a stroke of the usual style.
     pub frame: Option<FramePeaks>,
 }
@@ -166,7 +165,7 @@ impl BellDiagnosis {
     }
 }
 
-fn outcome(bell: &Bell, cfg: &DiagnoseConfig, style: Style) -> Result<StyleOutcome, SimError> {
+pub(crate) fn outcome(bell: &Bell, cfg: &DiagnoseConfig, style: Style) -> Result<StyleOutcome, SimError> {
     let s = first_stroke(bell, &cfg.sim, style)?;
     let mut d = [None; 3];
     for (k, r) in cfg.d_restitutions.iter().enumerate() {
@@ -197,7 +196,7 @@ fn r01_index(cfg: &DiagnoseConfig) -> usize {
         .unwrap_or(1)
 }
 
-fn problems_of(bell: &Bell, right: &StyleOutcome, cfg: &DiagnoseConfig) -> Vec<Problem> {
+pub(crate) fn problems_of(bell: &Bell, right: &StyleOutcome, cfg: &DiagnoseConfig) -> Vec<Problem> {
     if !right.sustained {
         return vec![Problem::CannotRingRight];
     }
@@ -316,61 +315,6 @@ pub fn margin(bell: &Bell, cfg: &DiagnoseConfig, style: Style) -> Margin {
     }
 }
 
-/// Whether `o` (ringing right) is free of every problem.
-fn is_good(bell: &Bell, o: &StyleOutcome, cfg: &DiagnoseConfig) -> bool {
-    problems_of(bell, o, cfg).is_empty()
-}
-
-/// Search the hanger's changes (clapper period in 0.02 s steps, r in 5 mm
-/// steps, within the configured ranges) for the one nearest on the chart
-/// that leaves the bell ringing right with none of the problems; failing
-/// that, one that at least fixes those it had.
-pub fn suggest(bell: &Bell, cfg: &DiagnoseConfig, had: &[Problem]) -> Option<Suggestion> {
-    let nt = (cfg.max_dtc / 0.02).round() as i64;
-    let nr = (cfg.max_dr / 0.005).round() as i64;
-    let mut candidates: Vec<(f64, f64, f64)> = (-nt..=nt)
-        .flat_map(|i| (-nr..=nr).map(move |j| (i as f64 * 0.02, j as f64 * 0.005)))
-        .filter(|&(t, r)| t != 0.0 || r != 0.0)
-        .filter_map(|(t, r)| Some((t, r, chart_distance(bell, &adjusted(bell, t, r).ok()?))))
-        .collect();
-    candidates.sort_by(|a, b| a.2.total_cmp(&b.2).then(a.0.abs().total_cmp(&b.0.abs())));
-    // Nearest first: evaluate in chunks and stop at the first chunk with a fix.
-    let fixes = |o: &StyleOutcome, b: &Bell, strict: bool| {
-        if strict {
-            is_good(b, o, cfg)
-        } else {
-            let now = problems_of(b, o, cfg);
-            o.sustained && had.iter().all(|p| !now.contains(p))
-        }
-    };
-    for strict in [true, false] {
-        for chunk in candidates.chunks(64) {
-            let found: Vec<Option<Suggestion>> = chunk
-                .par_iter()
-                .map(|&(dtc, dr, dist)| {
-                    let b = adjusted(bell, dtc, dr).ok()?;
-                    // Cheap test first: one stroke at the verdict settings.
-                    if !sustains(&b, &cfg.sim, Style::Right) {
-                        return None;
-                    }
-                    let o = outcome(&b, cfg, Style::Right).ok()?;
-                    fixes(&o, &b, strict).then_some(Suggestion {
-                        dtc,
-                        dr,
-                        position: (b.r_over_lc(), b.lb_over_lc()),
-                        chart_distance: dist,
-                        predicted: o,
-                    })
-                })
-                .collect();
-            if let Some(s) = found.into_iter().flatten().next() {
-                return Some(s);
-            }
-        }
-    }
-    None
-}
-
 /// Diagnose one bell.
 ///
 /// ```
@@ -380,7 +324,19 @@ pub fn suggest(bell: &Bell, cfg: &DiagnoseConfig, had: &[Problem]) -> Option<Sug
 /// assert_eq!(d.usual, Some(Style::Right));
 /// ```
 pub fn diagnose(bell: &Bell, cfg: &DiagnoseConfig) -> Result<BellDiagnosis, SimError> {
+    diagnose_with_parts(bell, None, cfg)
+}
+
+/// Diagnose one bell whose clapper's parts may be known: then the changes
+/// offered are to its flight's length, its ball's position and its shaft,
+/// not a flight mass at an assumed depth.
+pub fn diagnose_with_parts(
+    bell: &Bell,
+    parts: Option<&ClapperParts>,
+    cfg: &DiagnoseConfig,
+) -> Result<BellDiagnosis, SimError> {
     bell.validate()?;
+    cfg.ringer.validate()?;
     cfg.sim.validate()?;
     let right = outcome(bell, cfg, Style::Right)?;
     let wrong = outcome(bell, cfg, Style::Wrong)?;
@@ -391,12 +347,12 @@ pub fn diagnose(bell: &Bell, cfg: &DiagnoseConfig) -> Result<BellDiagnosis, SimE
     } else {
         None
     };
-    let problems = problems_of(bell, &right, cfg);
-    let suggestion = if problems.is_empty() {
-        None
-    } else {
-        suggest(bell, cfg, &problems)
-    };
+    let mut problems = problems_of(bell, &right, cfg);
+    let goes_up = goes_up(bell, cfg)?;
+    if goes_up == Settles::Wrong {
+        problems.push(Problem::GoesUpWrong);
+    }
+    let changes = hanger_changes(bell, parts, cfg, &problems);
     let frame = {
         let style = usual.unwrap_or(Style::Right);
         let mut rec = TraceRecorder::new(1e-3);
@@ -412,7 +368,8 @@ pub fn diagnose(bell: &Bell, cfg: &DiagnoseConfig) -> Result<BellDiagnosis, SimE
         wrong,
         usual,
         problems,
-        suggestion,
+        goes_up,
+        changes,
         frame,
     })
 }

@@ -26,6 +26,7 @@
 
 pub mod bell;
 pub mod chart;
+pub mod clapper_changes;
 pub mod clapper_parts;
 pub mod contact;
 pub mod diagnose;

@@ -1,8 +1,10 @@
 //! Diagnosis: tower measurements against mass properties, the lab bell's
-//! verdict, suggestions that really work, ring outliers.
+//! verdict, hanger changes that really work, ring outliers.
 
 use clapper_core::bell::TowerMeasurements;
-use clapper_core::diagnose::{adjusted, diagnose, ring_outliers, DiagnoseConfig, Problem};
+use clapper_core::clapper_changes::{with_clapper, ClapperChange, HangerChange};
+use clapper_core::clapper_parts::ClapperParts;
+use clapper_core::diagnose::{diagnose, diagnose_with_parts, ring_outliers, DiagnoseConfig, Problem};
 use clapper_core::prelude::*;
 
 /// Periods as a stopwatch over ten oscillations gives them: to 1 ms.
@@ -51,25 +53,104 @@ fn lab_bell_verdict() {
     );
 }
 
-#[test]
-fn a_suggested_change_really_gives_the_promised_result() {
+/// Each change offered, re-diagnosed from scratch, gives what it promised:
+/// the bell rings right, the problems it says are left are those left (and
+/// fewer than before, none new), the strike and D are as predicted, and it
+/// goes up as predicted. The pivot comes only
+/// when no clapper change cures all, marked as the last resort.
+fn check_changes(bell: &Bell, parts: Option<&ClapperParts>) -> Vec<HangerChange> {
     let cfg = DiagnoseConfig::default();
-    let c = ChartConstruction::default();
-    // The lab bell (double strike), the late-striking Fig 9(d) bell, and one that rings wrong only.
-    for bell in [Bell::lab(), c.bell(-0.005, 1.363).unwrap(), c.bell(0.3, 2.2).unwrap()] {
-        let d = diagnose(&bell, &cfg).unwrap();
-        assert!(!d.problems.is_empty());
-        let s = d.suggestion.expect("a fix within the search range");
-        let changed = adjusted(&bell, s.dtc, s.dr).unwrap();
-        assert!((changed.r_over_lc() - s.position.0).abs() < 1e-12);
-        let after = diagnose(&changed, &cfg).unwrap();
-        assert!(after.right.sustained, "rings right after the change");
-        for p in &d.problems {
-            assert!(!after.problems.contains(p), "{p:?} still there after {s:?}");
+    let d = diagnose_with_parts(bell, parts, &cfg).unwrap();
+    assert!(!d.problems.is_empty());
+    assert!(!d.changes.is_empty(), "a cure within the searches");
+    for h in &d.changes {
+        let after = diagnose_with_parts(&h.bell, h.parts.as_ref(), &cfg).unwrap();
+        assert!(after.right.sustained, "rings right after {:?}", h.change);
+        assert_eq!(after.problems, h.problems_left, "{:?}", h.change);
+        assert_eq!(h.fixes_all, after.problems.is_empty());
+        // It cures some, and brings none unless the bell could not ring
+        // right (which hides the rest).
+        assert!(d.problems.iter().any(|p| !after.problems.contains(p)), "{:?}", h.change);
+        if !d.problems.contains(&Problem::CannotRingRight) {
+            for p in &after.problems {
+                assert!(d.problems.contains(p), "{p:?} new after {:?}", h.change);
+            }
         }
-        assert_eq!(after.right.strike_theta, s.predicted.strike_theta);
-        assert_eq!(after.right.double_strike_index, s.predicted.double_strike_index);
+        assert_eq!(after.right.strike_theta, h.predicted.strike_theta);
+        assert_eq!(after.right.double_strike_index, h.predicted.double_strike_index);
+        assert_eq!(after.goes_up, h.goes_up);
+        assert_eq!(h.bell.hanging, bell.hanging);
+        if let Some(p) = &h.parts {
+            let c = p.mass_properties().unwrap();
+            assert!((h.bell.tc() - c.tc()).abs() < 1e-12);
+        }
     }
+    let pivots: Vec<_> = d.changes.iter().filter(|h| h.last_resort).collect();
+    assert!(pivots.iter().all(|h| matches!(h.change, ClapperChange::Pivot { .. })));
+    if !pivots.is_empty() {
+        assert!(d.changes.iter().all(|h| h.last_resort || !h.fixes_all));
+    }
+    d.changes
+}
+
+#[test]
+fn changes_offered_really_give_the_promised_result() {
+    let c = ChartConstruction::default();
+    // The lab bell (double strike), the late-striking Fig 9(d) bell, one
+    // that rings wrong only, and one that goes up wrong (Fig 16's
+    // threshold above 120 deg).
+    for bell in [
+        Bell::lab(),
+        c.bell(-0.005, 1.363).unwrap(),
+        c.bell(0.3, 2.2).unwrap(),
+        c.bell(0.1, 1.6).unwrap(),
+    ] {
+        let changes = check_changes(&bell, None);
+        let order = |h: &HangerChange| match h.change {
+            ClapperChange::FlightMass { .. } => 0,
+            ClapperChange::NewClapper { .. } => 1,
+            ClapperChange::Pivot { .. } => 2,
+            other => panic!("{other:?} offered without the parts"),
+        };
+        assert!(changes.windows(2).all(|w| order(&w[0]) < order(&w[1])));
+    }
+}
+
+/// With the clapper's parts known the changes are to the flight's length,
+/// the ball and the shaft: the GSM tenor (which goes up wrong) with the
+/// plausible parts of its Table 1 clapper.
+#[test]
+fn with_its_parts_the_changes_are_to_the_flight_ball_and_shaft() {
+    let parts = ClapperParts {
+        shaft_length: 0.69,
+        shaft_diameter: 0.05,
+        ball_diameter: 0.14,
+        ball_position: 0.76,
+        flight_length: 0.2,
+        flight_diameter: 0.05,
+        ..ClapperParts::none()
+    };
+    let bell = with_clapper(&Bell::gsm_tenor(), &parts.mass_properties().unwrap()).unwrap();
+    let changes = check_changes(&bell, Some(&parts));
+    let order = |h: &HangerChange| match h.change {
+        ClapperChange::FlightLength { .. } => 0,
+        ClapperChange::BallPosition { .. } => 1,
+        ClapperChange::WoodenShaft { .. } => 2,
+        ClapperChange::NewClapper { .. } => 3,
+        ClapperChange::Pivot { .. } => 4,
+        ClapperChange::FlightMass { .. } => panic!("a flight mass offered with the parts known"),
+    };
+    assert!(changes.windows(2).all(|w| order(&w[0]) < order(&w[1])));
+    // A longer flight (70 mm) makes it strike harder (no longer quiet);
+    // going up right needs a clapper longer than the searches reach.
+    let flight = changes
+        .iter()
+        .find_map(|h| match h.change {
+            ClapperChange::FlightLength { from, to, .. } => Some((from, to, h)),
+            _ => None,
+        })
+        .expect("a flight change");
+    assert!(flight.1 > flight.0 && flight.2.parts.unwrap().flight_length == flight.1);
 }
 
 #[test]

@@ -125,9 +125,11 @@ impl ClapperInput {
         Ok(parts)
     }
 
-    /// The table that describes `parts` (diameters, every material named).
+    /// The table that describes `parts` (diameters, every material named),
+    /// sizes rounded to the micrometre so that a file does not carry
+    /// arithmetic noise (0.6399999999999999 m); T_c moves by under 1e-6 s.
     pub fn of(parts: &ClapperParts) -> Self {
-        let some = |v: f64| (v > 0.0).then_some(v);
+        let some = |v: f64| (v > 0.0).then_some((v * 1e6).round() / 1e6);
         Self {
             shaft_length_m: some(parts.shaft_length),
             shaft_diameter_m: some(parts.shaft_diameter),
@@ -180,7 +182,7 @@ mod tests {
         let table: toml::Table = toml::from_str(&text).unwrap();
         let back: ClapperInput = table["clapper"].clone().try_into().unwrap();
         let c2 = back.parts().unwrap().mass_properties().unwrap();
-        assert!((c2.tc() - c.tc()).abs() < 1e-12);
+        assert!((c2.tc() - c.tc()).abs() < 1e-6);
     }
 
     #[test]

@@ -415,14 +415,64 @@ $("add-bell").addEventListener("click", () => {
     if (!Number.isFinite(v)) { showError($("diagnosis-status"), `${inp.dataset.key}: '${inp.value}' is not a number`); return; }
     fields[inp.dataset.key] = v;
   }
+  const clapper = clapperParts();
+  if (clapper === null) return;
+  let note = "";
+  if (Object.keys(clapper).length) {
+    // The parts stand for these keys: a bell file refuses both.
+    const replaced = ["clapper_period_s", "clapper_mass_kg", "b_m", "clapper_inertia_kg_m2"].filter((k) => k in fields);
+    for (const k of replaced) delete fields[k];
+    fields.clapper = clapper;
+    if (replaced.length) note = ` The clapper's parts stand for ${replaced.join(", ")}.`;
+  }
   if (ring.text) { ring.text = null; ring.bells = []; }
   ring.bells.push({ kind, fields });
-  showStatus($("diagnosis-status"), `${ring.bells.length} bell(s) entered. Press “Diagnose”.`);
+  showStatus($("diagnosis-status"), `${ring.bells.length} bell(s) entered.${note} Press “Diagnose”.`);
   renderRing();
 });
 
+// The clapper's parts as entered: {} if none, null (and an error shown) if
+// one is not a number.
+function clapperParts() {
+  const parts = {};
+  for (const inp of $("clapper-fields").querySelectorAll("input, select")) {
+    const text = inp.value.trim();
+    if (text === "") continue;
+    if (inp.tagName === "SELECT") { parts[inp.dataset.key] = text; continue; }
+    const v = Number(text);
+    if (!Number.isFinite(v)) { showError($("diagnosis-status"), `${inp.dataset.key}: '${text}' is not a number`); return null; }
+    parts[inp.dataset.key] = v;
+  }
+  return parts;
+}
+
+// What the parts give (m, b, I_c, T_c), as the user types.
+async function showClapperFigures() {
+  const out = $("clapper-figures");
+  const parts = clapperParts();
+  if (!parts || !Object.keys(parts).length) { out.textContent = ""; return; }
+  const tb = Number(document.querySelector('#tower-fields input[data-key="bell_period_s"]').value);
+  const req = { clapper: parts };
+  if (bellKind() === "tower" && tb > 0) req.bell_period_s = tb;
+  try {
+    const r = await (await postJson("/api/design-clapper", req)).json();
+    let t = `m ${fmt(r.m_kg, 2)} kg, b ${fmt(r.b_m, 3)} m, I_c ${fmt(r.ic_kg_m2, 3)} kg m², T_c ${fmt(r.tc_s, 3)} s`;
+    if (r.bell) t += `; T_c/T_b ${fmt(r.bell.period_ratio, 3)} (${r.bell.cccbr_rule_met ? "meets" : "misses"} the 90 % rule)`;
+    out.textContent = t;
+    out.classList.remove("error");
+  } catch (e) { out.textContent = String(e.message || e); out.classList.add("error"); }
+}
+for (const inp of $("clapper-figures").parentElement.querySelectorAll("input, select")) inp.addEventListener("change", showClapperFigures);
+
+function tomlValue(k, v) { return typeof v === "string" ? tomlString(v) : v; }
+
 function ringToml() {
-  return ring.bells.map((b) => "[[bell]]\n" + Object.entries(b.fields).map(([k, v]) => `${k} = ${k === "name" ? tomlString(v) : v}`).join("\n")).join("\n\n") + "\n";
+  return ring.bells.map((b) => {
+    const plain = Object.entries(b.fields).filter(([k]) => k !== "clapper");
+    let t = "[[bell]]\n" + plain.map(([k, v]) => `${k} = ${tomlValue(k, v)}`).join("\n");
+    if (b.fields.clapper) t += "\n\n[bell.clapper]\n" + Object.entries(b.fields.clapper).map(([k, v]) => `${k} = ${tomlValue(k, v)}`).join("\n");
+    return t;
+  }).join("\n\n") + "\n";
 }
 
 function renderRing() {
@@ -491,10 +541,10 @@ $("report").addEventListener("click", async () => {
 
 function diagnosisHtml(rep) {
   let h = "<h2>Diagnosis</h2><p>Fully up from 171 deg, R = 0.2 for the verdicts; D at R = 0.05, 0.1 and 0.2.</p>";
-  h += "<table><tr><th>bell</th><th>r/L<sub>c</sub></th><th>L<sub>b</sub>/L<sub>c</sub></th><th>rings</th><th>first strike (deg)</th><th>φ' (rad/s)</th><th>lift-off (deg)</th><th>D, R=0.05</th><th>D, R=0.1</th><th>D, R=0.2</th><th>rings right from (deg)</th></tr>";
+  h += "<table><tr><th>bell</th><th>r/L<sub>c</sub></th><th>L<sub>b</sub>/L<sub>c</sub></th><th>rings</th><th>first strike (deg)</th><th>φ' (rad/s)</th><th>lift-off (deg)</th><th>D, R=0.05</th><th>D, R=0.1</th><th>D, R=0.2</th><th>rings right from (deg)</th><th>goes up</th></tr>";
   for (const b of rep.bells) {
     const d = b.double_strike_index;
-    h += `<tr class="bell-row"><td>${esc(b.name)}</td><td>${fmt(b.r_over_lc, 3)}</td><td>${fmt(b.lb_over_lc, 3)}</td><td>${esc(b.verdict)}</td><td>${fmt(b.first_strike_theta_deg, 1)}</td><td>${fmt(b.strike_phidot_rad_s, 2)}</td><td>${fmt(b.liftoff_theta_deg, 1)}</td><td>${fmt(d["0.05"], 1)}</td><td>${fmt(d["0.1"], 1)}</td><td>${fmt(d["0.2"], 1)}</td><td>${fmt(b.min_theta0_right_deg, 1)}</td></tr>`;
+    h += `<tr class="bell-row"><td>${esc(b.name)}</td><td>${fmt(b.r_over_lc, 3)}</td><td>${fmt(b.lb_over_lc, 3)}</td><td>${esc(b.verdict)}</td><td>${fmt(b.first_strike_theta_deg, 1)}</td><td>${fmt(b.strike_phidot_rad_s, 2)}</td><td>${fmt(b.liftoff_theta_deg, 1)}</td><td>${fmt(d["0.05"], 1)}</td><td>${fmt(d["0.1"], 1)}</td><td>${fmt(d["0.2"], 1)}</td><td>${fmt(b.min_theta0_right_deg, 1)}</td><td class="goes-up">${esc(b.goes_up)}</td></tr>`;
   }
   h += "</table>";
   for (const b of rep.bells) {
@@ -504,8 +554,16 @@ function diagnosisHtml(rep) {
     if (b.assumed.length) h += `<br>Assumed, not measured: ${esc(b.assumed.join(", "))}`;
     if (b.odd_struck) h += `<br><span class="${Math.abs(b.odd_struck.odd_struck_ms) > b.odd_struck.tolerance_ms ? "problem" : ""} odd-struck">Odd-struck: ${esc(b.odd_struck.words)}</span>`;
     for (const p of b.problems) h += `<br><span class="problem">Problem: ${esc(p)}</span>`;
-    if (b.suggestion) h += `<br><span class="suggestion">Suggestion: ${esc(b.suggestion.words)}</span>`;
-    else if (b.problems.length) h += "<br>No change within 0.4 s of clapper period and 150 mm of r fixes it.";
+    h += `<br>Goes up <b>${esc(b.goes_up)}</b> (rung up from rest).`;
+    if (b.changes.length) {
+      h += `<br>Changes, in the order a hanger would try them:<ol class="changes">`;
+      for (const c of b.changes) {
+        h += `<li class="${c.last_resort ? "last-resort" : ""}">${esc(c.words)}`;
+        if (c.clapper_toml) h += `<details><summary>the changed clapper as a bell file's table</summary><pre>${esc(c.clapper_toml)}</pre></details>`;
+        h += "</li>";
+      }
+      h += "</ol>";
+    } else if (b.problems.length) h += "<br>No change of the flight, ball, shaft, a new clapper or the pivot within the searches cures any of it.";
     if (b.frame) h += `<br>${esc(b.frame.words.charAt(0).toUpperCase() + b.frame.words.slice(1))}.`;
     for (const s of b.stands_apart) h += `<br><span class="problem">Stands apart: ${esc(s)}</span>`;
     h += "</div>";

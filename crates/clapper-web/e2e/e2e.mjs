@@ -108,6 +108,27 @@ try {
   await page.screenshot({ path: `${out}/05-odd-struck.png`, fullPage: true });
   for (const k of Object.keys(tape)) await page.fill(`#hanging-fields input[data-key="${k}"]`, "");
 
+  // The two questions ringers ask: will it go up right, and what clapper
+  // fixes it? The tenor with its clapper given by its parts.
+  await page.click("#clear-bells");
+  await page.fill("#bell-name", "Tenor by parts");
+  const parts = { shaft_length_m: "0.69", shaft_diameter_m: "0.05", ball_diameter_m: "0.14", ball_position_m: "0.76", flight_length_m: "0.2", flight_diameter_m: "0.05" };
+  for (const [k, v] of Object.entries(parts)) await page.fill(`#clapper-fields input[data-key="${k}"]`, v);
+  await page.dispatchEvent('#clapper-fields input[data-key="flight_diameter_m"]', "change");
+  await page.waitForFunction(() => document.querySelector("#clapper-figures").textContent.includes("T_c"), null, { timeout: 30000 });
+  check(/m 24\.\d+ kg/.test(await page.textContent("#clapper-figures")), "the parts give the clapper's mass as typed");
+  await page.click("#add-bell");
+  const toml = await page.textContent("#ring-toml");
+  check(toml.includes("[bell.clapper]") && !toml.includes("clapper_period_s"), "the parts go into the bell file in place of the period: " + toml);
+  await page.click("#diagnose");
+  await page.waitForSelector(".goes-up", { timeout: 60000 });
+  check(["right", "wrong", "no strike"].includes((await page.textContent(".goes-up")).trim()), "the diagnosis says how it goes up");
+  await page.waitForSelector("ol.changes li", { timeout: 60000 });
+  const changes = await page.textContent("ol.changes");
+  check(/flight|ball|shaft|clapper/.test(changes) && changes.includes("goes up"), "the diagnosis offers clapper changes with their going up: " + changes);
+  await page.screenshot({ path: `${out}/05b-clapper-changes.png`, fullPage: true });
+  for (const k of Object.keys(parts)) await page.fill(`#clapper-fields input[data-key="${k}"]`, "");
+
   // A chart of a bell with its clapper pivot 3 mm off centre, by odd-struckness.
   await page.click('button[data-tab="chart"]');
   await page.fill("#pivot-offset", "3");

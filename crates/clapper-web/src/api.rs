@@ -13,6 +13,7 @@ use axum::http::header;
 use axum::response::{IntoResponse, Response};
 use axum::Json;
 use clapper_app::chart::ChartRequest;
+use clapper_app::clapper_design::{design, DesignRequest};
 use clapper_app::diagnosis::{diagnose_bells, report_page, DiagnoseRequest};
 use clapper_app::listening::{analyse, figure, StimulusSet, DEFAULT_RATE_HZ};
 use clapper_app::simulate::{simulate_traced, SimulateRequest};
@@ -207,6 +208,14 @@ pub(crate) async fn diagnose(State(s): State<AppState>, req: Body_<DiagnoseReque
     let (bells, _) = req.bells()?;
     let rep = s.jobs.run(move || Ok(diagnose_bells(&bells)?)).await?;
     Ok(Json(rep).into_response())
+}
+
+/// `POST /api/design-clapper`: `{"clapper": {...the [clapper] keys...},
+/// "bell_period_s", "pivot_m", "target_period_s", "adjust"}` in; the object
+/// of `clapper design-clapper --json` out.
+pub(crate) async fn design_clapper(req: Body_<DesignRequest>) -> Result<Response, ApiError> {
+    let req = body(req)?;
+    Ok(Json(design(&req)?).into_response())
 }
 
 /// `POST /api/diagnose/report`: the same request; the HTML report of

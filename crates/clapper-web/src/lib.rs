@@ -106,6 +106,7 @@ pub fn router(limits: Limits) -> Router {
         .route("/api/chart", post(api::chart))
         .route("/api/diagnose", post(api::diagnose))
         .route("/api/diagnose/report", post(api::diagnose_report))
+        .route("/api/design-clapper", post(api::design_clapper))
         .route("/api/listening/sheet", get(api::listening_sheet))
         .route("/api/listening/stimulus/{name}", get(api::listening_stimulus))
         .route("/api/listening/parse", post(api::listening_parse))

@@ -133,6 +133,22 @@ async fn bad_requests_get_a_4xx_naming_the_problem() {
         ("POST", "/api/diagnose", Some(r#"{"csv": "name\n"}"#), 400, "no rows"),
         (
             "POST",
+            "/api/design-clapper",
+            Some(
+                r#"{"clapper": {"shaft_length_m": 0.9, "shaft_diameter_m": 0.05, "ball_diameter_m": 0.14, "ball_position_m": 0.76}}"#,
+            ),
+            400,
+            "shaft_length_m",
+        ),
+        (
+            "POST",
+            "/api/design-clapper",
+            Some(r#"{"clapper": {"shaft_length": 0.9}}"#),
+            400,
+            "shaft_length",
+        ),
+        (
+            "POST",
             "/api/diagnose",
             Some(r#"{"csv": "a", "toml": "b"}"#),
             400,
@@ -391,4 +407,41 @@ async fn listening_sheet_stimuli_and_analysis() {
         v["analysis"]
     );
     assert!(v["plot_svg"].as_str().unwrap().starts_with("<svg"));
+}
+
+/// The two questions of "Your bells": a clapper's figures from its parts,
+/// and a diagnosis of a bell given by its parts that says how it goes up
+/// and what to change.
+#[tokio::test]
+async fn a_clapper_by_its_parts_is_designed_and_diagnosed() {
+    let app = router(Limits::default());
+    let parts = r#""shaft_length_m": 0.69, "shaft_diameter_m": 0.05, "ball_diameter_m": 0.14, "ball_position_m": 0.76, "flight_length_m": 0.2, "flight_diameter_m": 0.05"#;
+    let req = format!(r#"{{"clapper": {{{parts}}}, "bell_period_s": 2.33, "target_period_s": 1.9}}"#);
+    let (status, bytes) = send(&app, "POST", "/api/design-clapper", Some(&req)).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&bytes));
+    let v = json(&bytes);
+    assert!((v["m_kg"].as_f64().unwrap() - 24.68).abs() < 0.01, "{v}");
+    assert_eq!(v["bell"]["cccbr_rule_met"], false);
+    assert!((v["design"]["clapper"]["tc_s"].as_f64().unwrap() - 1.9).abs() < 1e-9);
+
+    let toml = "[[bell]]\nname = \"T\"\nbell_period_s = 2.33\nr_m = 0.179\nphi_max_deg = 32\n\n[bell.clapper]\nshaft_length_m = 0.69\nshaft_diameter_m = 0.05\nball_diameter_m = 0.14\nball_position_m = 0.76\nflight_length_m = 0.2\nflight_diameter_m = 0.05\n";
+    let req = serde_json::json!({ "toml": toml }).to_string();
+    let (status, bytes) = send(&app, "POST", "/api/diagnose", Some(&req)).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&bytes));
+    let b = &json(&bytes)["bells"][0];
+    assert_eq!(b["goes_up"], "wrong");
+    let kinds: Vec<&str> = b["changes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|c| c["kind"].as_str().unwrap())
+        .collect();
+    assert!(
+        kinds.contains(&"flight-length") && !kinds.contains(&"flight-mass"),
+        "{kinds:?}"
+    );
+    assert!(b["changes"][0]["clapper_toml"]
+        .as_str()
+        .unwrap()
+        .starts_with("[clapper]"));
 }
