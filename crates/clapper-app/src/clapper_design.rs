@@ -158,18 +158,6 @@ pub struct DesignReport {
     pub bell_file_toml: String,
 }
 
-fn positive(field: &'static str, v: f64) -> Result<f64, ParamError> {
-    if v.is_finite() && v > 0.0 {
-        Ok(v)
-    } else {
-        Err(ParamError {
-            field,
-            value: v,
-            allowed: "a finite number > 0",
-        })
-    }
-}
-
 /// Answer a [`DesignRequest`].
 pub fn design(req: &DesignRequest) -> Result<DesignReport, AppError> {
     let parts = req.clapper.parts().map_err(|e| AppError::Request(e.to_string()))?;
@@ -192,7 +180,7 @@ pub fn design(req: &DesignRequest) -> Result<DesignReport, AppError> {
     let bell = match req.bell_period_s {
         None => None,
         Some(tb) => {
-            let tb = positive("bell_period_s", tb)?;
+            let tb = ParamError::positive("bell_period_s", tb)?;
             let lb = length_of_period(tb);
             Some(InBell {
                 tb_s: tb,
@@ -208,7 +196,7 @@ pub fn design(req: &DesignRequest) -> Result<DesignReport, AppError> {
     let design = match req.target_period_s {
         None => None,
         Some(target) => {
-            let target = positive("target_period_s", target)?;
+            let target = ParamError::positive("target_period_s", target)?;
             let adjust = req.adjust.unwrap_or(Adjust::FlightLength);
             Some(match design_for_period(&parts, target, adjust)? {
                 Designed::Found(p, m) => {

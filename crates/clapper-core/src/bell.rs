@@ -98,16 +98,23 @@ pub struct Bell {
     pub hanging: Hanging,
 }
 
-fn positive(field: &'static str, value: f64) -> Result<(), ParamError> {
-    if value.is_finite() && value > 0.0 {
-        Ok(())
-    } else {
-        Err(ParamError {
-            field,
-            value,
-            allowed: "a finite number > 0",
-        })
+impl ParamError {
+    /// `value` if it is a finite number > 0, else the error naming `field`.
+    pub fn positive(field: &'static str, value: f64) -> Result<f64, ParamError> {
+        if value.is_finite() && value > 0.0 {
+            Ok(value)
+        } else {
+            Err(ParamError {
+                field,
+                value,
+                allowed: "a finite number > 0",
+            })
+        }
     }
+}
+
+fn positive(field: &'static str, value: f64) -> Result<(), ParamError> {
+    ParamError::positive(field, value).map(|_| ())
 }
 
 impl Bell {

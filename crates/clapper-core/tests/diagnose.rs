@@ -112,7 +112,7 @@ fn changes_offered_really_give_the_promised_result() {
             ClapperChange::Pivot { .. } => 2,
             other => panic!("{other:?} offered without the parts"),
         };
-        assert!(changes.windows(2).all(|w| order(&w[0]) < order(&w[1])));
+        assert!(changes.windows(2).all(|w| order(&w[0]) <= order(&w[1])));
     }
 }
 
@@ -121,15 +121,7 @@ fn changes_offered_really_give_the_promised_result() {
 /// plausible parts of its Table 1 clapper.
 #[test]
 fn with_its_parts_the_changes_are_to_the_flight_ball_and_shaft() {
-    let parts = ClapperParts {
-        shaft_length: 0.69,
-        shaft_diameter: 0.05,
-        ball_diameter: 0.14,
-        ball_position: 0.76,
-        flight_length: 0.2,
-        flight_diameter: 0.05,
-        ..ClapperParts::none()
-    };
+    let parts = ClapperParts::gsm_tenor();
     let bell = with_clapper(&Bell::gsm_tenor(), &parts.mass_properties().unwrap()).unwrap();
     let changes = check_changes(&bell, Some(&parts));
     let order = |h: &HangerChange| match h.change {
@@ -140,7 +132,7 @@ fn with_its_parts_the_changes_are_to_the_flight_ball_and_shaft() {
         ClapperChange::Pivot { .. } => 4,
         ClapperChange::FlightMass { .. } => panic!("a flight mass offered with the parts known"),
     };
-    assert!(changes.windows(2).all(|w| order(&w[0]) < order(&w[1])));
+    assert!(changes.windows(2).all(|w| order(&w[0]) <= order(&w[1])));
     // A longer flight (70 mm) makes it strike harder (no longer quiet);
     // going up right needs a clapper longer than the searches reach.
     let flight = changes

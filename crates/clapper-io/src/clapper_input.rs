@@ -71,18 +71,6 @@ pub enum ClapperInputError {
     Param(#[from] ParamError),
 }
 
-fn positive(field: &'static str, v: f64) -> Result<f64, ParamError> {
-    if v.is_finite() && v > 0.0 {
-        Ok(v)
-    } else {
-        Err(ParamError {
-            field,
-            value: v,
-            allowed: "a finite number > 0",
-        })
-    }
-}
-
 impl ClapperInput {
     /// The parts, validated; masses turned into diameters by the density.
     pub fn parts(&self) -> Result<ClapperParts, ClapperInputError> {
@@ -92,7 +80,7 @@ impl ClapperInput {
         let ball_diameter = match (self.ball_diameter_m, self.ball_mass_kg) {
             (Some(_), Some(_)) => return Err(ClapperInputError::Both("ball_diameter_m", "ball_mass_kg")),
             (Some(d), None) => d,
-            (None, Some(m)) => ball_material.ball_diameter_for_mass(positive("ball_mass_kg", m)?),
+            (None, Some(m)) => ball_material.ball_diameter_for_mass(ParamError::positive("ball_mass_kg", m)?),
             (None, None) => 0.0,
         };
         let flight_length = self.flight_length_m.unwrap_or(0.0);
@@ -103,7 +91,7 @@ impl ClapperInput {
                 if flight_length <= 0.0 {
                     return Err(ClapperInputError::Needs("flight_mass_kg", "flight_length_m"));
                 }
-                flight_material.bar_diameter_for_mass(positive("flight_mass_kg", m)?, flight_length)
+                flight_material.bar_diameter_for_mass(ParamError::positive("flight_mass_kg", m)?, flight_length)
             }
             (None, None) => 0.0,
         };
