@@ -14,6 +14,7 @@ pub mod contacts;
 pub mod modes;
 pub mod spectrogram;
 pub mod synth;
+pub mod tower;
 
 /// A signal: samples at a fixed rate.
 #[derive(Clone, Debug, PartialEq)]
