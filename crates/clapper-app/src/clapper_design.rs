@@ -132,21 +132,13 @@ pub struct DesignOutcome {
 /// `clapper design-clapper --json`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct DesignReport {
-    /// m (kg).
-    pub m_kg: f64,
-    /// b (m).
-    pub b_m: f64,
-    /// I_c (kg m²).
-    pub ic_kg_m2: f64,
-    /// L_c (m).
-    pub lc_m: f64,
-    /// T_c (s).
-    pub tc_s: f64,
+    /// The clapper as given: `m_kg`, `b_m`, `ic_kg_m2`, `lc_m`, `tc_s` and
+    /// `parts` at the top level of the JSON.
+    #[serde(flatten)]
+    pub clapper: ClapperFigures,
     /// r (m), when given.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub r_m: Option<f64>,
-    /// Each part's share.
-    pub parts: Vec<PartReport>,
     /// The clapper in its bell, when T_b is given.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub bell: Option<InBell>,
@@ -229,13 +221,8 @@ pub fn design(req: &DesignRequest) -> Result<DesignReport, AppError> {
     }
     toml += &ClapperInput::of(&chosen).to_toml();
     Ok(DesignReport {
-        m_kg: figures.m_kg,
-        b_m: figures.b_m,
-        ic_kg_m2: figures.ic_kg_m2,
-        lc_m: figures.lc_m,
-        tc_s: figures.tc_s,
+        clapper: figures,
         r_m: r,
-        parts: figures.parts,
         bell,
         design,
         bell_file_toml: toml,
@@ -260,17 +247,7 @@ fn parts_text(out: &mut String, f: &ClapperFigures) {
 /// The report in words, as `clapper design-clapper` prints it.
 pub fn summary(rep: &DesignReport) -> String {
     let mut out = String::from("clapper from its parts:\n");
-    parts_text(
-        &mut out,
-        &ClapperFigures {
-            m_kg: rep.m_kg,
-            b_m: rep.b_m,
-            ic_kg_m2: rep.ic_kg_m2,
-            lc_m: rep.lc_m,
-            tc_s: rep.tc_s,
-            parts: rep.parts.clone(),
-        },
-    );
+    parts_text(&mut out, &rep.clapper);
     if let Some(r) = rep.r_m {
         let _ = writeln!(out, "  pivot r {r:.3} m below the bell's pivot");
     }
@@ -345,11 +322,11 @@ mod tests {
     fn the_report_places_the_clapper_and_checks_the_rule() {
         let rep = design(&gsm()).unwrap();
         let b = rep.bell.as_ref().unwrap();
-        assert!((b.period_ratio - rep.tc_s / 2.0).abs() < 1e-12);
-        assert_eq!(b.cccbr_rule_met, rep.tc_s >= 1.8);
-        assert!((b.r_over_lc.unwrap() - 0.179 / rep.lc_m).abs() < 1e-12);
-        let sum: f64 = rep.parts.iter().map(|p| p.mass_kg).sum();
-        assert!((sum - rep.m_kg).abs() < 1e-9);
+        assert!((b.period_ratio - rep.clapper.tc_s / 2.0).abs() < 1e-12);
+        assert_eq!(b.cccbr_rule_met, rep.clapper.tc_s >= 1.8);
+        assert!((b.r_over_lc.unwrap() - 0.179 / rep.clapper.lc_m).abs() < 1e-12);
+        let sum: f64 = rep.clapper.parts.iter().map(|p| p.mass_kg).sum();
+        assert!((sum - rep.clapper.m_kg).abs() < 1e-9);
         assert!(
             rep.bell_file_toml.starts_with("r_m = 0.179\n\n[clapper]\n"),
             "{}",

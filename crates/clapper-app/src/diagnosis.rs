@@ -452,7 +452,7 @@ fn change_words(bell: &Bell, h: &HangerChange) -> String {
         crate::ring_up::settles_name(h.goes_up),
         h.margin.map_or("beyond the search".into(), |m| format!("{m:.3} chart units"))
     );
-    if !h.fixes_all {
+    if !h.fixes_all() {
         let left: Vec<&str> = h.problems_left.iter().map(|p| problem_words(*p)).collect();
         let _ = write!(words, "; still {}", left.join("; "));
     }
@@ -470,9 +470,9 @@ fn change_json(bell: &Bell, h: &HangerChange) -> ChangeReport {
     }
     ChangeReport {
         kind: h.change.name(),
-        fixes_all: h.fixes_all,
+        fixes_all: h.fixes_all(),
         problems_left: h.problems_left.iter().map(|p| problem_words(*p).into()).collect(),
-        last_resort: h.last_resort,
+        last_resort: h.last_resort(),
         flight_mass_change_kg: mass,
         flight_depth_m: depth,
         flight_length_m: flight,

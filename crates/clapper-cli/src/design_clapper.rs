@@ -101,7 +101,10 @@ pub fn run(args: DesignArgs) -> Result<()> {
         // The figures of the clapper written: the designed one if found.
         let (m, b, ic, tc) = match report.design.as_ref().and_then(|d| d.clapper.as_ref()) {
             Some(c) => (c.m_kg, c.b_m, c.ic_kg_m2, c.tc_s),
-            None => (report.m_kg, report.b_m, report.ic_kg_m2, report.tc_s),
+            None => {
+                let c = &report.clapper;
+                (c.m_kg, c.b_m, c.ic_kg_m2, c.tc_s)
+            }
         };
         let text = format!(
             "# A clapper by its parts, from clapper design-clapper; paste into a bell file.\n\

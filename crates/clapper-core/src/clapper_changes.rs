@@ -116,10 +116,8 @@ pub struct HangerChange {
     pub bell: Bell,
     /// The clapper's parts after it, when they were known.
     pub parts: Option<ClapperParts>,
-    /// Whether it leaves none of the problems (else it cures some of those
-    /// the bell had, listed in `problems_left` with those it did not).
-    pub fixes_all: bool,
-    /// The problems left after it.
+    /// The problems left after it (some of those the bell had, or, for a
+    /// bell that could not ring right, those that hid).
     pub problems_left: Vec<Problem>,
     /// How it rings right fully up after the change.
     pub predicted: StyleOutcome,
@@ -128,8 +126,18 @@ pub struct HangerChange {
     /// Distance on the chart to the nearest edge of ringing right after
     /// the change (chart units), if within the margin search.
     pub margin: Option<f64>,
-    /// A pivot change: offered only when no clapper change cures all.
-    pub last_resort: bool,
+}
+
+impl HangerChange {
+    /// Whether it leaves none of the problems.
+    pub fn fixes_all(&self) -> bool {
+        self.problems_left.is_empty()
+    }
+
+    /// A pivot change: offered only for problems nothing else cures.
+    pub fn last_resort(&self) -> bool {
+        matches!(self.change, ClapperChange::Pivot { .. })
+    }
 }
 
 /// The bell with its clapper's mass properties replaced, all else kept
@@ -292,12 +300,10 @@ fn evaluate(cand: &Candidate, cfg: &DiagnoseConfig, had: &[Problem]) -> Option<H
         change: *change,
         bell: *bell,
         parts: *parts,
-        fixes_all: left.is_empty(),
         problems_left: left,
         predicted: o,
         goes_up: up,
         margin: None,
-        last_resort: matches!(change, ClapperChange::Pivot { .. }),
     })
 }
 
@@ -316,11 +322,11 @@ fn cures(cands: &[Candidate], cfg: &DiagnoseConfig, had: &[Problem], targets: &[
     for chunk in cands.chunks(16) {
         let found: Vec<Option<HangerChange>> = chunk.par_iter().map(|c| evaluate(c, cfg, had)).collect();
         tried.extend(found.into_iter().flatten());
-        if tried.iter().any(|h| h.fixes_all) {
+        if tried.iter().any(|h| h.fixes_all()) {
             break;
         }
     }
-    let mut chosen: Vec<HangerChange> = match tried.iter().find(|h| h.fixes_all) {
+    let mut chosen: Vec<HangerChange> = match tried.iter().find(|h| h.fixes_all()) {
         Some(h) => vec![h.clone()],
         None => {
             let mut out: Vec<HangerChange> = vec![];
@@ -375,7 +381,7 @@ pub fn hanger_changes(
     let mut found: Vec<HangerChange> = own.iter().flat_map(|c| cures(c, cfg, had, had)).collect();
     for fallback in [period_candidates(bell, cfg), pivot_candidates(bell, cfg, parts)] {
         let left = uncured(had, &found);
-        if found.iter().any(|h| h.fixes_all) || left.is_empty() {
+        if found.iter().any(|h| h.fixes_all()) || left.is_empty() {
             break;
         }
         found.extend(cures(&fallback, cfg, had, &left));

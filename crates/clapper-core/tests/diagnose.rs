@@ -67,7 +67,7 @@ fn check_changes(bell: &Bell, parts: Option<&ClapperParts>) -> Vec<HangerChange>
         let after = diagnose_with_parts(&h.bell, h.parts.as_ref(), &cfg).unwrap();
         assert!(after.right.sustained, "rings right after {:?}", h.change);
         assert_eq!(after.problems, h.problems_left, "{:?}", h.change);
-        assert_eq!(h.fixes_all, after.problems.is_empty());
+        assert_eq!(h.fixes_all(), after.problems.is_empty());
         // It cures some, and brings none unless the bell could not ring
         // right (which hides the rest).
         assert!(d.problems.iter().any(|p| !after.problems.contains(p)), "{:?}", h.change);
@@ -85,10 +85,10 @@ fn check_changes(bell: &Bell, parts: Option<&ClapperParts>) -> Vec<HangerChange>
             assert!((h.bell.tc() - c.tc()).abs() < 1e-12);
         }
     }
-    let pivots: Vec<_> = d.changes.iter().filter(|h| h.last_resort).collect();
+    let pivots: Vec<_> = d.changes.iter().filter(|h| h.last_resort()).collect();
     assert!(pivots.iter().all(|h| matches!(h.change, ClapperChange::Pivot { .. })));
     if !pivots.is_empty() {
-        assert!(d.changes.iter().all(|h| h.last_resort || !h.fixes_all));
+        assert!(d.changes.iter().all(|h| h.last_resort() || !h.fixes_all()));
     }
     d.changes
 }
