@@ -28,6 +28,7 @@ pub mod measure;
 pub mod ring_up;
 pub mod simulate;
 pub mod sound;
+pub mod strikes;
 pub mod stroke_options;
 pub mod sweep;
 

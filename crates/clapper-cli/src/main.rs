@@ -13,6 +13,7 @@ mod ring;
 mod serve;
 mod simulate;
 mod sound;
+mod strikes;
 mod sweep_file;
 
 use clap::{Parser, Subcommand};
@@ -67,6 +68,12 @@ enum Command {
     /// Energy into vibration at an impact (Section 3.3): K, lambda, R, the
     /// shortest clean pulse; and choosing an impulse hammer.
     Impulse(measure::ImpulseArgs),
+    /// Strikes heard in a recording of a ring: each bell's strikes, hand and
+    /// back, double strikes, place errors and odd-struckness (docs/strikes.md).
+    Strikes(strikes::StrikesArgs),
+    /// A synthetic recording of a ring ringing rounds or plain hunt, with its
+    /// truth beside it: striking errors, odd-struck bells, double strikes, a room, noise.
+    SynthRing(strikes::SynthRingArgs),
     /// The sound of the bell rung full circle (or chimed), by modal synthesis
     /// driven by the simulation.
     Synth(sound::SynthArgs),
@@ -126,6 +133,8 @@ fn main() {
         Command::Spectrogram(args) => measure::spectrogram_cmd(args),
         Command::Decay(args) => measure::decay(args),
         Command::Modes(args) => measure::modes(args),
+        Command::Strikes(args) => strikes::strikes(args),
+        Command::SynthRing(args) => strikes::synth_ring(args),
         Command::Impulse(args) => measure::impulse(args),
         Command::Synth(args) => sound::run(args),
         Command::ListeningTest(args) => listening::run(args),

@@ -791,3 +791,124 @@ fn frame_loads_in_newtons_only_for_a_weighed_bell_and_scaled_to_it() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("x weight") && !text.contains(" N ("), "{text}");
 }
+
+#[test]
+fn strikes_hears_a_synthetic_ring_and_writes_json_csv_and_lowndes() {
+    let dir = tempfile::tempdir().unwrap();
+    let wav = dir.path().join("ring.wav");
+    let truth = dir.path().join("truth.csv");
+    let out = clapper()
+        .args([
+            "synth-ring",
+            "--bells",
+            "6",
+            "--rows",
+            "30",
+            "--jitter-ms",
+            "5",
+            "--odd",
+            "3:20",
+            "--double",
+            "2:5:70:0.8",
+            "--snr",
+            "30",
+        ])
+        .arg("--out")
+        .arg(&wav)
+        .arg("--truth")
+        .arg(&truth)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let said = String::from_utf8_lossy(&out.stdout).to_string();
+    let nominals = said.split("--nominals ").nth(1).unwrap().trim().to_string();
+    let (csv, lowndes) = (dir.path().join("s.csv"), dir.path().join("s.txt"));
+    let out = clapper()
+        .arg("strikes")
+        .arg(&wav)
+        .args(["--nominals", &nominals, "--json", "--csv"])
+        .arg(&csv)
+        .arg("--lowndes")
+        .arg(&lowndes)
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(j["bells"], 6);
+    let strikes = j["strikes"].as_array().unwrap();
+    assert!((178..=182).contains(&strikes.len()), "{} strikes of 180", strikes.len());
+    let t: Vec<f64> = strikes.iter().map(|s| s["t_s"].as_f64().unwrap()).collect();
+    assert!(t.windows(2).all(|w| w[0] <= w[1]), "in time order");
+    assert!(strikes.iter().all(|s| s["stroke"] == "hand" || s["stroke"] == "back"));
+    let doubles: Vec<_> = strikes.iter().filter(|s| !s["double"].is_null()).collect();
+    assert_eq!(doubles.len(), 1, "{doubles:?}");
+    assert_eq!(doubles[0]["bell"], 2);
+    let d = &doubles[0]["double"];
+    assert!((d["delay_ms"].as_f64().unwrap() - 70.0).abs() < 5.0);
+    assert!(d["d_index"].as_f64().unwrap() > 0.0);
+    let odd = j["per_bell"][2]["odd_struck_ms"].as_f64().unwrap();
+    assert!((odd - 20.0).abs() < 4.0, "bell 3 odd-struck {odd} ms (planted 20)");
+    assert!(j["summary"]["rms_error_ms"].as_f64().unwrap() > 0.0);
+    let csv = std::fs::read_to_string(&csv).unwrap();
+    assert_eq!(csv.lines().count(), strikes.len() + 1);
+    assert!(csv.starts_with("bell,t_s,stroke"));
+    let low = std::fs::read_to_string(&lowndes).unwrap();
+    assert!(low.starts_with("#. Lowndes: Version 2"));
+    assert_eq!(low.lines().filter(|l| !l.starts_with('#')).count(), strikes.len());
+    // The text report names every bell.
+    let out = clapper()
+        .arg("strikes")
+        .arg(&wav)
+        .args(["--nominals", &nominals])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("odd-struck") && text.contains("handstroke gap"), "{text}");
+}
+
+#[test]
+fn strikes_refuses_what_it_cannot_listen_to() {
+    let dir = tempfile::tempdir().unwrap();
+    let not_wav = dir.path().join("x.wav");
+    std::fs::write(&not_wav, "this is not a wav").unwrap();
+    let out = clapper()
+        .arg("strikes")
+        .arg(&not_wav)
+        .args(["--nominals", "1000"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("not a WAV"));
+    let out = clapper().arg("strikes").arg(&not_wav).output().unwrap();
+    assert!(String::from_utf8_lossy(&out.stderr).contains("--nominals"));
+    let out = clapper()
+        .arg("strikes")
+        .arg(&not_wav)
+        .args(["--nominals", "1000,abc"])
+        .output()
+        .unwrap();
+    assert!(String::from_utf8_lossy(&out.stderr).contains("'abc'"));
+    // Silence: an empty result with warnings, not an error.
+    let silent = dir.path().join("silent.wav");
+    let spec = hound::WavSpec {
+        channels: 2,
+        sample_rate: 16_000,
+        bits_per_sample: 16,
+        sample_format: hound::SampleFormat::Int,
+    };
+    let mut w = hound::WavWriter::create(&silent, spec).unwrap();
+    for _ in 0..16_000 * 6 {
+        w.write_sample(0i16).unwrap();
+    }
+    w.finalize().unwrap();
+    let out = clapper()
+        .arg("strikes")
+        .arg(&silent)
+        .args(["--nominals", "1000,900", "--json"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(j["strikes"].as_array().unwrap().len(), 0);
+    assert!(j["summary"]["warnings"][0].as_str().unwrap().contains("silent"));
+}

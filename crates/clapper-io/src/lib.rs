@@ -14,6 +14,7 @@ pub mod clapper_input;
 pub mod hanging_input;
 pub mod report;
 pub mod signal_file;
+pub mod strike_file;
 pub mod trace;
 
 pub use bell_file::{

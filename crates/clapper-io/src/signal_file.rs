@@ -47,6 +47,33 @@ pub fn read_signal(path: &Path, channel: usize) -> Result<Signal, SignalFileErro
     Ok(sig)
 }
 
+/// Read a recording of a ring: a WAV file (mono or more channels, mixed
+/// to one by their mean; 16- or 24-bit integer or float samples).
+pub fn read_recording(path: &Path) -> Result<Signal, SignalFileError> {
+    let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+    if ext.as_deref() != Some("wav") {
+        return Err(content(path, "a recording must be a .wav file"));
+    }
+    let first = read_wav(path, 0)?;
+    let channels = hound::WavReader::open(path).map(|r| r.spec().channels).unwrap_or(1) as usize;
+    let mut mix = first.samples;
+    for c in 1..channels {
+        let other = read_wav(path, c)?;
+        for (m, v) in mix.iter_mut().zip(&other.samples) {
+            *m += v;
+        }
+    }
+    if channels > 1 {
+        mix.iter_mut().for_each(|m| *m /= channels as f64);
+    }
+    let sig = Signal {
+        rate: first.rate,
+        samples: mix,
+    };
+    sig.validate().map_err(|e| content(path, e.to_string()))?;
+    Ok(sig)
+}
+
 fn read_wav(path: &Path, channel: usize) -> Result<Signal, SignalFileError> {
     std::fs::metadata(path).map_err(|e| SignalFileError::Read {
         path: path.display().to_string(),

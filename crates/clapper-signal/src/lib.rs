@@ -13,6 +13,8 @@ pub mod accel;
 pub mod contacts;
 pub mod modes;
 pub mod spectrogram;
+pub mod strikes;
+pub mod striking;
 pub mod synth;
 pub mod tower;
 

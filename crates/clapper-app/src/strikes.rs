@@ -1,0 +1,351 @@
+//! Strikes from a recording of a ring (`clapper strikes`, docs/strikes.md):
+//! every strike of every bell, its stroke and place, double strikes with
+//! their D (33), and each bell's striking: place errors, odd-struckness,
+//! double-strike rate.
+
+use std::fmt::Write as _;
+
+use clapper_core::stroke::double_strike_index;
+use clapper_signal::strikes::{find_strikes, BellVoice, StrikeOptions};
+use clapper_signal::striking::{mean_sd, rhythm, Timed};
+use clapper_signal::Signal;
+use serde::Serialize;
+
+use crate::AppError;
+
+/// A double strike heard.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct DoubleReport {
+    /// Delay of the second strike after the first (ms).
+    pub delay_ms: f64,
+    /// The second strike's amplitude over the first's.
+    pub amplitude_ratio: f64,
+    /// The double strike index D of (33) at that delay and ratio.
+    pub d_index: f64,
+}
+
+/// One strike heard.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct StrikeReport {
+    /// Bell, counting from 1 (the treble).
+    pub bell: usize,
+    /// Onset (s from the start of the recording).
+    pub t_s: f64,
+    /// "hand" or "back"; null when the rhythm does not say.
+    pub stroke: Option<&'static str>,
+    /// Row, counting from 0.
+    pub row: Option<usize>,
+    /// Place in its row (from 1), in rows holding every bell once.
+    pub place: Option<usize>,
+    /// Onset less its ideal time in the even rhythm of the rest of the row (ms).
+    pub error_ms: Option<f64>,
+    /// The clapper's second strike, if heard.
+    pub double: Option<DoubleReport>,
+}
+
+/// One stroke's striking for a bell.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct StrokeStats {
+    /// Strikes placed.
+    pub n: usize,
+    /// Mean place error (ms): positive is late.
+    pub mean_error_ms: Option<f64>,
+    /// Standard deviation of the place error (ms).
+    pub spread_ms: Option<f64>,
+}
+
+/// A bell's striking.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct BellStriking {
+    /// Bell, counting from 1.
+    pub bell: usize,
+    /// Strikes heard.
+    pub strikes: usize,
+    /// Handstrokes.
+    pub hand: StrokeStats,
+    /// Backstrokes.
+    pub back: StrokeStats,
+    /// Odd-struckness: mean handstroke error less mean backstroke error
+    /// (ms), against the even rhythm of the rest of the ring.
+    pub odd_struck_ms: Option<f64>,
+    /// Standard error of the odd-struckness (ms).
+    pub odd_struck_se_ms: Option<f64>,
+    /// Double strikes heard.
+    pub double_strikes: usize,
+    /// Double strikes over strikes.
+    pub double_rate: f64,
+    /// Mean D of its double strikes.
+    pub mean_d: Option<f64>,
+}
+
+/// The recording as a whole.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct StrikesSummary {
+    /// Length of the recording (s).
+    pub duration_s: f64,
+    /// Strikes heard.
+    pub strikes: usize,
+    /// Rows found, and rows holding every bell once.
+    pub rows: usize,
+    /// Rows holding every bell once.
+    pub full_rows: usize,
+    /// Mean interval between successive bells (ms).
+    pub interval_ms: Option<f64>,
+    /// The handstroke gap (intervals; 1 in good striking).
+    pub handstroke_gap_intervals: Option<f64>,
+    /// The handstroke gap's extra time (ms).
+    pub handstroke_gap_ms: Option<f64>,
+    /// Root-mean-square place error over every placed strike (ms).
+    pub rms_error_ms: Option<f64>,
+    /// Double strikes heard.
+    pub double_strikes: usize,
+    /// Strokes told from the rhythm (the handstroke gap stood out).
+    pub strokes_known: bool,
+    /// What could not be heard or placed, in words.
+    pub warnings: Vec<String>,
+}
+
+/// What `clapper strikes` reports.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct StrikesReport {
+    /// Bells listened for.
+    pub bells: usize,
+    /// Every strike, in time order.
+    pub strikes: Vec<StrikeReport>,
+    /// Each bell's striking, treble first.
+    pub per_bell: Vec<BellStriking>,
+    /// The recording as a whole.
+    pub summary: StrikesSummary,
+}
+
+/// Nominals (Hz) to voices, checked.
+pub fn voices_from_nominals(nominals: &[f64]) -> Result<Vec<BellVoice>, AppError> {
+    if nominals.is_empty() {
+        return Err(AppError::Request("no nominals: give one per bell, treble first".into()));
+    }
+    if nominals.len() > 64 {
+        return Err(AppError::Request(format!("{} nominals: at most 64", nominals.len())));
+    }
+    if let Some((i, f)) = nominals
+        .iter()
+        .enumerate()
+        .find(|(_, f)| !(f.is_finite() && (50.0..=10_000.0).contains(*f)))
+    {
+        return Err(AppError::Request(format!(
+            "nominal of bell {}: {f} Hz; a nominal lies from 50 to 10000 Hz",
+            i + 1
+        )));
+    }
+    Ok(nominals.iter().map(|&f| BellVoice::from_nominal(f)).collect())
+}
+
+fn signal_error(e: clapper_signal::SignalError) -> AppError {
+    AppError::Request(format!("strikes: {e}"))
+}
+
+impl StrikesReport {
+    /// Listen to `sig` for the bells `voices` (treble first).
+    pub fn new(sig: &Signal, voices: &[BellVoice], opts: &StrikeOptions) -> Result<Self, AppError> {
+        let rate = sig.rate;
+        if !(8_000.0..=96_000.0).contains(&rate) {
+            return Err(AppError::Request(format!(
+                "sample rate {rate} Hz: recordings from 8 to 96 kHz"
+            )));
+        }
+        let heard = find_strikes(sig, voices, opts).map_err(signal_error)?;
+        let mut warnings = heard.warnings.clone();
+        let peak = sig.samples.iter().fold(0.0f64, |p, v| p.max(v.abs()));
+        if peak == 0.0 {
+            warnings.insert(0, "the recording is silent".into());
+        }
+        let timed: Vec<Timed> = heard.strikes.iter().map(|s| Timed { bell: s.bell, t: s.t }).collect();
+        let r = rhythm(&timed, voices.len());
+        if !heard.strikes.is_empty() && !r.strokes_known {
+            warnings.push("no handstroke gap stands out: hand and back are a guess".into());
+        }
+        let strikes: Vec<StrikeReport> = heard
+            .strikes
+            .iter()
+            .zip(&r.placed)
+            .map(|(s, p)| StrikeReport {
+                bell: s.bell,
+                t_s: s.t,
+                stroke: p.hand.map(|h| if h { "hand" } else { "back" }),
+                row: p.row,
+                place: p.place,
+                error_ms: p.error.map(|e| e * 1e3),
+                double: s.double.map(|d| DoubleReport {
+                    delay_ms: d.delay_s * 1e3,
+                    amplitude_ratio: d.amplitude_ratio,
+                    d_index: double_strike_index(d.amplitude_ratio, d.delay_s * 1e3),
+                }),
+            })
+            .collect();
+        let per_bell = (1..=voices.len())
+            .map(|bell| {
+                let mine: Vec<&StrikeReport> = strikes.iter().filter(|s| s.bell == bell).collect();
+                let errors = |stroke: &str| -> Vec<f64> {
+                    mine.iter()
+                        .filter(|s| s.stroke == Some(stroke))
+                        .filter_map(|s| s.error_ms)
+                        .collect()
+                };
+                let stats = |v: &[f64]| {
+                    let ms = mean_sd(v);
+                    StrokeStats {
+                        n: v.len(),
+                        mean_error_ms: ms.map(|x| x.0),
+                        spread_ms: ms.map(|x| x.1),
+                    }
+                };
+                let (h, b) = (errors("hand"), errors("back"));
+                let (hs, bs) = (stats(&h), stats(&b));
+                let odd = match (hs.mean_error_ms, bs.mean_error_ms) {
+                    (Some(a), Some(c)) => Some(a - c),
+                    _ => None,
+                };
+                let se = match (hs.spread_ms, bs.spread_ms) {
+                    (Some(a), Some(c)) if h.len() > 1 && b.len() > 1 => {
+                        Some((a * a / h.len() as f64 + c * c / b.len() as f64).sqrt())
+                    }
+                    _ => None,
+                };
+                let ds: Vec<f64> = mine.iter().filter_map(|s| s.double.map(|d| d.d_index)).collect();
+                BellStriking {
+                    bell,
+                    strikes: mine.len(),
+                    hand: hs,
+                    back: bs,
+                    odd_struck_ms: odd,
+                    odd_struck_se_ms: se,
+                    double_strikes: ds.len(),
+                    double_rate: if mine.is_empty() {
+                        0.0
+                    } else {
+                        ds.len() as f64 / mine.len() as f64
+                    },
+                    mean_d: mean_sd(&ds).map(|x| x.0),
+                }
+            })
+            .collect();
+        let errs: Vec<f64> = strikes.iter().filter_map(|s| s.error_ms).collect();
+        let rms = (!errs.is_empty()).then(|| (errs.iter().map(|e| e * e).sum::<f64>() / errs.len() as f64).sqrt());
+        let interval_ms = r.interval.map(|i| i * 1e3);
+        let summary = StrikesSummary {
+            duration_s: sig.duration(),
+            strikes: strikes.len(),
+            rows: r.rows,
+            full_rows: r.full_rows,
+            interval_ms,
+            handstroke_gap_intervals: r.handstroke_gap,
+            handstroke_gap_ms: r.handstroke_gap.zip(interval_ms).map(|(g, i)| g * i),
+            rms_error_ms: rms,
+            double_strikes: strikes.iter().filter(|s| s.double.is_some()).count(),
+            strokes_known: r.strokes_known,
+            warnings,
+        };
+        Ok(StrikesReport {
+            bells: voices.len(),
+            strikes,
+            per_bell,
+            summary,
+        })
+    }
+
+    /// The readable report, for the recording `name`.
+    pub fn text(&self, name: &str) -> String {
+        let s = &self.summary;
+        let mut o = format!(
+            "{name}: {:.1} s, {} bell(s), {} strike(s) heard in {} row(s) ({} full)\n",
+            s.duration_s, self.bells, s.strikes, s.rows, s.full_rows
+        );
+        let opt = |v: Option<f64>, digits: usize| v.map_or("-".to_string(), |x| format!("{x:.digits$}"));
+        let _ = writeln!(
+            o,
+            "interval {} ms, handstroke gap {} interval(s) ({} ms extra), RMS striking error {} ms, double strikes {}",
+            opt(s.interval_ms, 1),
+            opt(s.handstroke_gap_intervals, 2),
+            opt(s.handstroke_gap_ms, 0),
+            opt(s.rms_error_ms, 1),
+            s.double_strikes
+        );
+        let _ = writeln!(
+            o,
+            "  {:>4} {:>7} {:>18} {:>18} {:>14} {:>9} {:>6}",
+            "bell", "strikes", "hand mean±sd (ms)", "back mean±sd (ms)", "odd-struck ms", "doubles", "mean D"
+        );
+        for b in &self.per_bell {
+            let ms = |st: &StrokeStats| match (st.mean_error_ms, st.spread_ms) {
+                (Some(m), Some(sd)) => format!("{m:+.1} ± {sd:.1}"),
+                _ => "-".into(),
+            };
+            let odd = match (b.odd_struck_ms, b.odd_struck_se_ms) {
+                (Some(o), Some(se)) => format!("{o:+.1} ± {se:.1}"),
+                (Some(o), None) => format!("{o:+.1}"),
+                _ => "-".into(),
+            };
+            let _ = writeln!(
+                o,
+                "  {:>4} {:>7} {:>18} {:>18} {:>14} {:>9} {:>6}",
+                b.bell,
+                b.strikes,
+                ms(&b.hand),
+                ms(&b.back),
+                odd,
+                format!("{} ({:.0} %)", b.double_strikes, 100.0 * b.double_rate),
+                opt(b.mean_d, 1)
+            );
+        }
+        for w in &s.warnings {
+            let _ = writeln!(o, "warning: {w}");
+        }
+        o
+    }
+
+    /// The strikes as CSV rows (bell, t_s, stroke, row, place, error_ms,
+    /// double delay_ms, amplitude ratio, D), header first.
+    pub fn csv_rows(&self) -> Vec<[String; 9]> {
+        let f = |v: Option<f64>, d: usize| v.map_or(String::new(), |x| format!("{x:.d$}"));
+        let u = |v: Option<usize>| v.map_or(String::new(), |x| x.to_string());
+        let mut rows = vec![[
+            "bell",
+            "t_s",
+            "stroke",
+            "row",
+            "place",
+            "error_ms",
+            "double_delay_ms",
+            "double_amplitude_ratio",
+            "d_index",
+        ]
+        .map(String::from)];
+        for s in &self.strikes {
+            rows.push([
+                s.bell.to_string(),
+                format!("{:.4}", s.t_s),
+                s.stroke.unwrap_or("").to_string(),
+                u(s.row),
+                u(s.place),
+                f(s.error_ms, 2),
+                f(s.double.map(|d| d.delay_ms), 1),
+                f(s.double.map(|d| d.amplitude_ratio), 3),
+                f(s.double.map(|d| d.d_index), 2),
+            ]);
+        }
+        rows
+    }
+
+    /// The strikes as the Lowndes format's (bell, handstroke, time ms).
+    pub fn lowndes_blows(&self) -> Vec<(usize, bool, f64)> {
+        let mut count = vec![0usize; self.bells + 1];
+        self.strikes
+            .iter()
+            .map(|s| {
+                // Without a stroke from the rhythm, a bell's strikes alternate from hand.
+                let hand = s.stroke.map_or(count[s.bell] % 2 == 0, |x| x == "hand");
+                count[s.bell] += 1;
+                (s.bell, hand, s.t_s * 1e3)
+            })
+            .collect()
+    }
+}

@@ -1,0 +1,258 @@
+//! `clapper strikes`: strikes, strokes, double strikes and odd-struckness
+//! from a recording of a ring; `clapper synth-ring`: a synthetic recording
+//! of a ring with its truth beside it (the test data of docs/strikes.md).
+
+use std::path::PathBuf;
+
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use clapper_app::strikes::{voices_from_nominals, StrikesReport};
+use clapper_io::signal_file::{read_recording, write_wav};
+use clapper_io::strike_file::{csv_text, lowndes};
+use clapper_signal::strikes::{BellVoice, StrikeOptions};
+use clapper_signal::tower::{tower_recording, DoubleStrikeSpec, Method, RingBell, Room, TowerSpec, Variation};
+
+use crate::files::write_bytes;
+use crate::measure::print_report;
+
+/// Nominal frequencies (a newtype, so clap takes the list as one value).
+#[derive(Clone, Debug)]
+pub struct Nominals(pub Vec<f64>);
+
+fn parse_list(s: &str) -> std::result::Result<Nominals, String> {
+    s.split(',')
+        .map(|v| v.trim().parse::<f64>().map_err(|_| format!("'{v}' is not a number")))
+        .collect::<std::result::Result<Vec<f64>, String>>()
+        .map(Nominals)
+}
+
+#[derive(Args, Debug)]
+pub struct StrikesArgs {
+    /// A recording of the ring (.wav: mono or stereo, 8 to 96 kHz).
+    pub file: PathBuf,
+    /// The bells' nominal frequencies (Hz), treble first: bell 1 is the first given.
+    #[arg(long, value_name = "F1,F2,..", value_parser = parse_list, conflicts_with = "templates")]
+    pub nominals: Option<Nominals>,
+    /// A folder of recordings of each bell struck alone, named 1.wav, 2.wav, ...
+    #[arg(long, value_name = "DIR")]
+    pub templates: Option<PathBuf>,
+    /// A second strike at least this loud against the first (amplitude ratio) is a double strike.
+    #[arg(long, default_value_t = 0.3, value_name = "RATIO")]
+    pub double_min_ratio: f64,
+    /// Print JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Write every strike as CSV.
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
+    /// Write the strikes in the Lowndes format that striking-analysis tools read.
+    #[arg(long, value_name = "FILE")]
+    pub lowndes: Option<PathBuf>,
+}
+
+fn template_voices(dir: &std::path::Path) -> Result<Vec<BellVoice>> {
+    let mut voices = vec![];
+    for bell in 1.. {
+        let path = dir.join(format!("{bell}.wav"));
+        if !path.exists() {
+            break;
+        }
+        let sig = read_recording(&path)?;
+        voices.push(BellVoice::from_template(&sig).with_context(|| path.display().to_string())?);
+    }
+    if voices.is_empty() {
+        bail!(
+            "{}: no 1.wav (a recording of bell 1 struck alone) in the folder",
+            dir.display()
+        );
+    }
+    Ok(voices)
+}
+
+pub fn strikes(args: StrikesArgs) -> Result<()> {
+    let voices = match (&args.nominals, &args.templates) {
+        (Some(n), _) => voices_from_nominals(&n.0)?,
+        (None, Some(dir)) => template_voices(dir)?,
+        (None, None) => {
+            bail!("say which bells to listen for: --nominals F1,F2,.. (Hz, treble first) or --templates DIR")
+        }
+    };
+    let sig = read_recording(&args.file)?;
+    let opts = StrikeOptions {
+        double_min_ratio: args.double_min_ratio,
+        ..StrikeOptions::default()
+    };
+    let name = args.file.display().to_string();
+    let report = StrikesReport::new(&sig, &voices, &opts).with_context(|| name.clone())?;
+    if let Some(path) = &args.csv {
+        write_bytes(path, csv_text(&report.csv_rows()).map_err(anyhow::Error::msg)?)?;
+    }
+    if let Some(path) = &args.lowndes {
+        let text = lowndes(&report.lowndes_blows(), &name, report.bells).map_err(anyhow::Error::msg)?;
+        write_bytes(path, text)?;
+    }
+    print_report(&report, args.json, || report.text(&name))
+}
+
+#[derive(Args, Debug)]
+pub struct SynthRingArgs {
+    /// Where to write the recording (.wav, 16-bit).
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+    /// Where to write the truth: every strike's bell, row, place, stroke and time (CSV).
+    #[arg(long, value_name = "FILE")]
+    pub truth: Option<PathBuf>,
+    /// Bells in the ring (tuned to a major scale down from the treble).
+    #[arg(long, default_value_t = 8)]
+    pub bells: usize,
+    /// The treble's nominal (Hz).
+    #[arg(long, default_value_t = 1400.0, value_name = "HZ")]
+    pub treble_hz: f64,
+    /// Rows rung (handstroke first).
+    #[arg(long, default_value_t = 24)]
+    pub rows: usize,
+    /// Plain hunt after two rows of rounds (else rounds throughout).
+    #[arg(long)]
+    pub plain_hunt: bool,
+    /// Time between successive bells (ms).
+    #[arg(long, default_value_t = 220.0, value_name = "MS")]
+    pub interval_ms: f64,
+    /// Handstroke gap (intervals).
+    #[arg(long, default_value_t = 1.0)]
+    pub gap: f64,
+    /// Striking errors: uniform within ± this (ms).
+    #[arg(long, default_value_t = 15.0, value_name = "MS")]
+    pub jitter_ms: f64,
+    /// An odd-struck bell: BELL:MS (handstroke minus backstroke); repeatable.
+    #[arg(long, value_name = "BELL:MS")]
+    pub odd: Vec<String>,
+    /// A double strike: BELL:ROW:DELAY_MS:RATIO; repeatable.
+    #[arg(long, value_name = "B:R:MS:RATIO")]
+    pub double: Vec<String>,
+    /// Reverberation time of the room (s); 0 for none.
+    #[arg(long, default_value_t = 0.0, value_name = "S")]
+    pub rt60: f64,
+    /// Signal-to-noise ratio (dB); omit for no noise.
+    #[arg(long, value_name = "DB")]
+    pub snr: Option<f64>,
+    /// Sample rate (Hz).
+    #[arg(long, default_value_t = 22050.0)]
+    pub rate: f64,
+    /// Seed of the striking errors, voices, room and noise.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+}
+
+fn fields(s: &str, n: usize, what: &str) -> Result<Vec<f64>> {
+    let v: Vec<f64> = s
+        .split(':')
+        .map(|x| x.trim().parse::<f64>())
+        .collect::<std::result::Result<_, _>>()
+        .map_err(|_| anyhow::anyhow!("'{s}': {what}"))?;
+    if v.len() != n {
+        bail!("'{s}': {what}");
+    }
+    Ok(v)
+}
+
+pub fn synth_ring(args: SynthRingArgs) -> Result<()> {
+    if !(1..=16).contains(&args.bells) {
+        bail!("{} bells: 1 to 16", args.bells);
+    }
+    const SCALE: [i32; 16] = [0, 2, 4, 5, 7, 9, 11, 12, 14, 16, 17, 19, 21, 23, 24, 26];
+    let mut bells: Vec<RingBell> = (0..args.bells)
+        .map(|i| RingBell {
+            nominal_hz: args.treble_hz * 2f64.powf(-f64::from(SCALE[i]) / 12.0),
+            // Heavier down the ring: mass grows as the cube of the size.
+            mass_kg: 150.0 * 2f64.powf(f64::from(SCALE[i]) / 4.0),
+            odd_struck_ms: 0.0,
+        })
+        .collect();
+    for o in &args.odd {
+        let v = fields(o, 2, "--odd is BELL:MS")?;
+        let b = v[0] as usize;
+        if !(1..=args.bells).contains(&b) {
+            bail!("--odd {o}: no bell {b}");
+        }
+        bells[b - 1].odd_struck_ms = v[1];
+    }
+    let doubles = args
+        .double
+        .iter()
+        .map(|d| {
+            let v = fields(d, 4, "--double is BELL:ROW:DELAY_MS:RATIO")?;
+            Ok(DoubleStrikeSpec {
+                bell: v[0] as usize,
+                row: v[1] as usize,
+                delay_ms: v[2],
+                amplitude_ratio: v[3],
+            })
+        })
+        .collect::<Result<Vec<_>>>()?;
+    let spec = TowerSpec {
+        rate: args.rate,
+        bells: bells.clone(),
+        rows: args.rows,
+        interval: args.interval_ms * 1e-3,
+        handstroke_gap: args.gap,
+        jitter: args.jitter_ms * 1e-3,
+        seed: args.seed,
+        doubles,
+        lead_in: 1.0,
+        tail: 3.0,
+        method: if args.plain_hunt {
+            Method::PlainHunt
+        } else {
+            Method::Rounds
+        },
+        variation: Variation {
+            detune_cents: 15.0,
+            strength_db: 3.0,
+        },
+        room: (args.rt60 > 0.0).then_some(Room {
+            rt60_s: args.rt60,
+            direct_to_reverb_db: 3.0,
+            predelay_ms: 15.0,
+        }),
+        snr_db: args.snr,
+    };
+    let (sig, truth) = tower_recording(&spec)?;
+    write_wav(&args.out, &sig, 0.9).with_context(|| args.out.display().to_string())?;
+    if let Some(path) = &args.truth {
+        let mut rows = vec![[
+            "bell",
+            "row",
+            "place",
+            "stroke",
+            "t_s",
+            "ideal_t_s",
+            "double_delay_ms",
+            "double_amplitude_ratio",
+        ]
+        .map(String::from)];
+        for s in &truth {
+            rows.push([
+                s.bell.to_string(),
+                s.row.to_string(),
+                s.place.to_string(),
+                if s.hand { "hand" } else { "back" }.to_string(),
+                format!("{:.6}", s.t),
+                format!("{:.6}", s.ideal_t),
+                s.double.map_or(String::new(), |d| format!("{:.1}", d.0 * 1e3)),
+                s.double.map_or(String::new(), |d| format!("{:.3}", d.1)),
+            ]);
+        }
+        write_bytes(path, csv_text(&rows).map_err(anyhow::Error::msg)?)?;
+    }
+    let nominals: Vec<String> = bells.iter().map(|b| format!("{:.1}", b.nominal_hz)).collect();
+    println!(
+        "wrote {} ({:.1} s, {} strikes of {} bells; synthetic). Listen for them with:\n  clapper strikes {} --nominals {}",
+        args.out.display(),
+        sig.duration(),
+        truth.len(),
+        args.bells,
+        args.out.display(),
+        nominals.join(",")
+    );
+    Ok(())
+}

@@ -1,0 +1,352 @@
+//! The rhythm of strikes heard (docs/strikes.md): handstroke and
+//! backstroke, rows, each strike's place and its error against the even
+//! rhythm of the rest of the ring, and each bell's odd-struckness.
+//!
+//! Strokes come from the handstroke gap: a bell's back-to-hand interval is
+//! longer than its hand-to-back interval by the gap, whatever the method
+//! moves it by, so over a run of its strikes the alternating sum of its
+//! intervals says which strikes are handstrokes. Rows are then the runs of
+//! strikes of one stroke in time order. In a row holding every bell once,
+//! the ideal time of a bell's place is the row's even rhythm fitted to the
+//! others (a straight line through their times against their places), so
+//! a bell's own error never moves its ideal.
+
+/// A strike to place: bell (from 1) and onset (s).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Timed {
+    /// Bell, counting from 1.
+    pub bell: usize,
+    /// Onset (s).
+    pub t: f64,
+}
+
+/// A strike placed in the rhythm.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Placed {
+    /// Handstroke (else backstroke); `None` when the rhythm does not say.
+    pub hand: Option<bool>,
+    /// Row, counting from 0, when the strike is in one.
+    pub row: Option<usize>,
+    /// Place in the row (from 1), when the row holds every bell once.
+    pub place: Option<usize>,
+    /// Onset less its ideal time (s), when placed.
+    pub error: Option<f64>,
+}
+
+/// The rhythm of a recording.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Rhythm {
+    /// One per strike given, in the same order.
+    pub placed: Vec<Placed>,
+    /// Rows found.
+    pub rows: usize,
+    /// Rows holding every bell once (the ones placed).
+    pub full_rows: usize,
+    /// The mean interval between successive bells in full rows (s).
+    pub interval: Option<f64>,
+    /// The handstroke gap: the extra time before handstroke rows, in
+    /// intervals (1 in good striking), as the mean over hand rows that
+    /// follow a full back row.
+    pub handstroke_gap: Option<f64>,
+    /// The strokes are known from the rhythm: the handstroke gap stood out
+    /// from the striking errors.
+    pub strokes_known: bool,
+}
+
+/// Place `strikes` (any order) of a ring of `bells` bells.
+pub fn rhythm(strikes: &[Timed], bells: usize) -> Rhythm {
+    let mut order: Vec<usize> = (0..strikes.len()).collect();
+    order.sort_by(|&a, &b| strikes[a].t.total_cmp(&strikes[b].t));
+    let mut hand: Vec<Option<bool>> = vec![None; strikes.len()];
+    let mut votes_strength = 0.0;
+    let mut votes_total = 0.0;
+    // 1. Per bell, in runs without a missing or extra strike.
+    for bell in 1..=bells {
+        let mine: Vec<usize> = order.iter().copied().filter(|&i| strikes[i].bell == bell).collect();
+        if mine.len() < 3 {
+            continue;
+        }
+        let gaps: Vec<f64> = mine.windows(2).map(|w| strikes[w[1]].t - strikes[w[0]].t).collect();
+        let mut sorted = gaps.clone();
+        sorted.sort_by(f64::total_cmp);
+        let typical = sorted[sorted.len() / 2];
+        let mut start = 0;
+        for k in 0..=gaps.len() {
+            let broken = k == gaps.len() || !(0.6 * typical..=1.4 * typical).contains(&gaps[k]);
+            if !broken {
+                continue;
+            }
+            // Strikes mine[start..=k] are a run; its intervals gaps[start..k].
+            let run = &gaps[start..k];
+            if run.len() >= 2 {
+                let mean = run.iter().sum::<f64>() / run.len() as f64;
+                let s: f64 = run
+                    .iter()
+                    .enumerate()
+                    .map(|(j, d)| if j % 2 == 0 { d - mean } else { mean - d })
+                    .sum();
+                // s < 0: the run's first interval is short, hand to back.
+                let first_hand = s < 0.0;
+                for (j, &i) in mine[start..=k].iter().enumerate() {
+                    hand[i] = Some(first_hand == (j % 2 == 0));
+                }
+                votes_strength += s.abs();
+                votes_total += run.len() as f64 * 0.5 * typical;
+            }
+            start = k + 1;
+        }
+    }
+    // 2. Strikes left unlabelled take the stroke most of their neighbours
+    //    in time have (a row's strikes are neighbours).
+    let labelled: Vec<(f64, bool)> = order
+        .iter()
+        .filter_map(|&i| hand[i].map(|h| (strikes[i].t, h)))
+        .collect();
+    let span = typical_row(strikes, bells, &order);
+    for &i in &order {
+        if hand[i].is_none() {
+            let t = strikes[i].t;
+            let (h, b) = labelled
+                .iter()
+                .filter(|x| (x.0 - t).abs() < 0.3 * span)
+                .fold(
+                    (0, 0),
+                    |acc, x| if x.1 { (acc.0 + 1, acc.1) } else { (acc.0, acc.1 + 1) },
+                );
+            if h != b {
+                hand[i] = Some(h > b);
+            }
+        }
+    }
+    // 3. Rows: runs of one stroke in time order, none longer than the ring.
+    let mut row_of: Vec<Option<usize>> = vec![None; strikes.len()];
+    let mut rows: Vec<Vec<usize>> = vec![];
+    let mut last: Option<bool> = None;
+    for &i in &order {
+        let Some(h) = hand[i] else {
+            last = None;
+            continue;
+        };
+        let new = last != Some(h) || rows.last().is_none_or(|r| r.len() >= bells);
+        if new {
+            rows.push(vec![]);
+        }
+        if let Some(r) = rows.last_mut() {
+            r.push(i);
+        }
+        row_of[i] = Some(rows.len() - 1);
+        last = Some(h);
+    }
+    // 4. Places and errors in full rows.
+    let mut place: Vec<Option<usize>> = vec![None; strikes.len()];
+    let mut error: Vec<Option<f64>> = vec![None; strikes.len()];
+    let mut intervals = vec![];
+    let mut full = vec![false; rows.len()];
+    for (r, members) in rows.iter().enumerate() {
+        let mut seen = vec![false; bells + 1];
+        let distinct = members
+            .iter()
+            .all(|&i| !std::mem::replace(&mut seen[strikes[i].bell], true));
+        if members.len() != bells || !distinct || bells < 3 {
+            continue;
+        }
+        full[r] = true;
+        let pts: Vec<(f64, f64)> = members
+            .iter()
+            .enumerate()
+            .map(|(p, &i)| (p as f64, strikes[i].t))
+            .collect();
+        if let Some((_, slope)) = line(&pts) {
+            intervals.push(slope);
+        }
+        for (p, &i) in members.iter().enumerate() {
+            place[i] = Some(p + 1);
+            let others: Vec<(f64, f64)> = pts
+                .iter()
+                .enumerate()
+                .filter(|(q, _)| *q != p)
+                .map(|(_, x)| *x)
+                .collect();
+            if let Some((a, b)) = line(&others) {
+                error[i] = Some(strikes[i].t - (a + b * p as f64));
+            }
+        }
+    }
+    let interval = (!intervals.is_empty()).then(|| intervals.iter().sum::<f64>() / intervals.len() as f64);
+    // The handstroke gap: hand rows after full back rows.
+    let mut gaps = vec![];
+    if let Some(iv) = interval {
+        for r in 1..rows.len() {
+            let (prev, this) = (&rows[r - 1], &rows[r]);
+            let is_hand = this.first().and_then(|&i| hand[i]) == Some(true);
+            if is_hand && full[r] && full[r - 1] {
+                let (Some(&a), Some(&b)) = (prev.last(), this.first()) else {
+                    continue;
+                };
+                gaps.push((strikes[b].t - strikes[a].t) / iv - 1.0);
+            }
+        }
+    }
+    let handstroke_gap = (!gaps.is_empty()).then(|| gaps.iter().sum::<f64>() / gaps.len() as f64);
+    // Known when the alternating sums stood out: the gap is more than a
+    // tenth of the interval on the strikes' average.
+    let strokes_known = votes_total > 0.0 && votes_strength / votes_total > 0.02;
+    let placed = (0..strikes.len())
+        .map(|i| Placed {
+            hand: hand[i],
+            row: row_of[i],
+            place: place[i],
+            error: error[i],
+        })
+        .collect();
+    Rhythm {
+        placed,
+        rows: rows.len(),
+        full_rows: full.iter().filter(|f| **f).count(),
+        interval,
+        handstroke_gap,
+        strokes_known,
+    }
+}
+
+/// The median time between a bell's successive strikes (s): a row's length.
+fn typical_row(strikes: &[Timed], bells: usize, order: &[usize]) -> f64 {
+    let mut gaps = vec![];
+    for bell in 1..=bells {
+        let mine: Vec<f64> = order
+            .iter()
+            .filter(|&&i| strikes[i].bell == bell)
+            .map(|&i| strikes[i].t)
+            .collect();
+        gaps.extend(mine.windows(2).map(|w| w[1] - w[0]));
+    }
+    gaps.sort_by(f64::total_cmp);
+    gaps.get(gaps.len() / 2).copied().unwrap_or(2.0)
+}
+
+/// Least-squares line y = a + b x: (a, b); `None` for fewer than two
+/// distinct x.
+fn line(pts: &[(f64, f64)]) -> Option<(f64, f64)> {
+    let n = pts.len() as f64;
+    if pts.len() < 2 {
+        return None;
+    }
+    let mx = pts.iter().map(|p| p.0).sum::<f64>() / n;
+    let my = pts.iter().map(|p| p.1).sum::<f64>() / n;
+    let sxx: f64 = pts.iter().map(|p| (p.0 - mx).powi(2)).sum();
+    if sxx <= 0.0 {
+        return None;
+    }
+    let b = pts.iter().map(|p| (p.0 - mx) * (p.1 - my)).sum::<f64>() / sxx;
+    Some((my - b * mx, b))
+}
+
+/// Mean and standard deviation (s) of `v`; `None` when empty (sd 0 for one).
+pub fn mean_sd(v: &[f64]) -> Option<(f64, f64)> {
+    if v.is_empty() {
+        return None;
+    }
+    let n = v.len() as f64;
+    let m = v.iter().sum::<f64>() / n;
+    let var = if v.len() > 1 {
+        v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1.0)
+    } else {
+        0.0
+    };
+    Some((m, var.sqrt()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::tower::{tower_strikes, Method, RingBell, TowerSpec, Variation};
+
+    fn spec(method: Method) -> TowerSpec {
+        TowerSpec {
+            rate: 8000.0,
+            bells: (0..6)
+                .map(|i| RingBell {
+                    nominal_hz: 1000.0 - 50.0 * i as f64,
+                    mass_kg: 200.0,
+                    odd_struck_ms: if i == 2 { 20.0 } else { 0.0 },
+                })
+                .collect(),
+            rows: 60,
+            interval: 0.2,
+            handstroke_gap: 1.0,
+            jitter: 0.01,
+            seed: 4,
+            doubles: vec![],
+            lead_in: 0.5,
+            tail: 1.0,
+            method,
+            variation: Variation {
+                detune_cents: 0.0,
+                strength_db: 0.0,
+            },
+            room: None,
+            snr_db: None,
+        }
+    }
+
+    #[test]
+    fn strokes_rows_places_and_odd_struckness_come_back_from_the_times() {
+        for method in [Method::Rounds, Method::PlainHunt] {
+            let truth = tower_strikes(&spec(method)).unwrap();
+            let timed: Vec<Timed> = truth.iter().map(|s| Timed { bell: s.bell, t: s.t }).collect();
+            let r = rhythm(&timed, 6);
+            assert!(r.strokes_known);
+            assert_eq!((r.rows, r.full_rows), (60, 60), "{method:?}");
+            for (s, p) in truth.iter().zip(&r.placed) {
+                assert_eq!(p.hand, Some(s.hand));
+                assert_eq!(p.row, Some(s.row));
+                assert_eq!(p.place, Some(s.place));
+            }
+            assert!((r.interval.unwrap() - 0.2).abs() < 0.002);
+            assert!((r.handstroke_gap.unwrap() - 1.0).abs() < 0.05, "{:?}", r.handstroke_gap);
+            // Bell 3 planted 20 ms odd-struck.
+            let err = |hand: bool| {
+                let v: Vec<f64> = truth
+                    .iter()
+                    .zip(&r.placed)
+                    .filter(|(s, p)| s.bell == 3 && p.hand == Some(hand))
+                    .filter_map(|(_, p)| p.error)
+                    .collect();
+                mean_sd(&v).unwrap().0
+            };
+            let odd = (err(true) - err(false)) * 1e3;
+            assert!((odd - 20.0).abs() < 3.0, "{method:?}: odd-struck {odd} ms");
+        }
+    }
+
+    #[test]
+    fn a_missing_strike_costs_its_row_not_the_labels() {
+        let truth = tower_strikes(&spec(Method::PlainHunt)).unwrap();
+        let mut timed: Vec<Timed> = truth.iter().map(|s| Timed { bell: s.bell, t: s.t }).collect();
+        let gone = timed.remove(100);
+        let r = rhythm(&timed, 6);
+        let kept: Vec<_> = truth
+            .iter()
+            .filter(|s| !(s.bell == gone.bell && s.t == gone.t))
+            .collect();
+        let right = kept
+            .iter()
+            .zip(&r.placed)
+            .filter(|(s, p)| p.hand == Some(s.hand))
+            .count();
+        assert!(right >= kept.len() - 1, "{right} of {}", kept.len());
+        assert_eq!(r.full_rows, 59);
+    }
+
+    #[test]
+    fn no_gap_means_strokes_unknown() {
+        let mut s = spec(Method::Rounds);
+        s.handstroke_gap = 0.0;
+        s.jitter = 0.0;
+        s.bells[2].odd_struck_ms = 0.0;
+        let truth = tower_strikes(&s).unwrap();
+        let timed: Vec<Timed> = truth.iter().map(|s| Timed { bell: s.bell, t: s.t }).collect();
+        assert!(!rhythm(&timed, 6).strokes_known);
+        assert!(rhythm(&[], 6).placed.is_empty());
+    }
+}

@@ -1,0 +1,167 @@
+//! Strikes found in synthetic recordings of known truth (docs/strikes.md):
+//! a short ring for the test suite; the 20-recording benchmark is the
+//! `strike_accuracy` example.
+
+use clapper_signal::strikes::{find_strikes, BellVoice, StrikeOptions};
+use clapper_signal::striking::{mean_sd, rhythm, Timed};
+use clapper_signal::tower::*;
+use clapper_signal::Signal;
+
+fn ring(seed: u64) -> TowerSpec {
+    TowerSpec {
+        rate: 16_000.0,
+        bells: (0..6)
+            .map(|i| RingBell {
+                nominal_hz: 1400.0 * 2f64.powf(-[0, 2, 4, 5, 7, 9][i] as f64 / 12.0),
+                mass_kg: 150.0 * (1.0 + i as f64),
+                odd_struck_ms: if i == 2 { 15.0 } else { 0.0 },
+            })
+            .collect(),
+        rows: 24,
+        interval: 0.22,
+        handstroke_gap: 1.0,
+        jitter: 0.015,
+        seed,
+        doubles: vec![DoubleStrikeSpec {
+            bell: 5,
+            row: 7,
+            delay_ms: 70.0,
+            amplitude_ratio: 0.8,
+        }],
+        lead_in: 1.0,
+        tail: 2.0,
+        method: Method::PlainHunt,
+        variation: Variation {
+            detune_cents: 15.0,
+            strength_db: 3.0,
+        },
+        room: None,
+        snr_db: Some(25.0),
+    }
+}
+
+fn voices(spec: &TowerSpec) -> Vec<BellVoice> {
+    spec.bells
+        .iter()
+        .map(|b| BellVoice::from_nominal(b.nominal_hz))
+        .collect()
+}
+
+#[test]
+fn a_ring_is_heard_strike_by_strike_with_its_double_and_its_odd_struck_bell() {
+    let spec = ring(11);
+    let (sig, truth) = tower_recording(&spec).unwrap();
+    let heard = find_strikes(&sig, &voices(&spec), &StrikeOptions::default()).unwrap();
+    let h: Vec<_> = heard
+        .strikes
+        .iter()
+        .map(|s| (s.bell, s.t, s.double.map(|d| (d.delay_s, d.amplitude_ratio))))
+        .collect();
+    let sc = score(&h, &truth, 0.05);
+    let counts: Vec<usize> = (1..=6)
+        .map(|b| heard.strikes.iter().filter(|s| s.bell == b).count())
+        .collect();
+    assert!(
+        sc.recall() >= 0.98 && sc.precision() >= 0.98,
+        "{counts:?} {:?}",
+        heard.warnings
+    );
+    let mut e: Vec<f64> = sc.onset_errors.iter().map(|v| v.abs()).collect();
+    e.sort_by(f64::total_cmp);
+    assert!(e[e.len() / 2] < 0.002, "median onset error {} s", e[e.len() / 2]);
+    assert_eq!(sc.doubles_found, 1, "{sc:?}");
+    assert!(sc.false_doubles <= 1, "{sc:?}");
+    let (dd, dr) = sc.double_errors[0];
+    assert!(dd.abs() < 0.005 && dr.abs() < 0.35, "double off by {dd} s, ratio {dr}");
+    // Strokes and odd-struckness from the rhythm of what was heard.
+    let timed: Vec<Timed> = heard.strikes.iter().map(|s| Timed { bell: s.bell, t: s.t }).collect();
+    let r = rhythm(&timed, 6);
+    let err = |hand: bool| {
+        let v: Vec<f64> = heard
+            .strikes
+            .iter()
+            .zip(&r.placed)
+            .filter(|(s, p)| s.bell == 3 && p.hand == Some(hand))
+            .filter_map(|(_, p)| p.error)
+            .collect();
+        mean_sd(&v).unwrap().0
+    };
+    let odd = (err(true) - err(false)) * 1e3;
+    assert!((odd - 15.0).abs() < 5.0, "odd-struck {odd} ms");
+}
+
+#[test]
+fn the_same_recording_gives_the_same_strikes() {
+    let spec = ring(3);
+    let (sig, _) = tower_recording(&spec).unwrap();
+    let a = find_strikes(&sig, &voices(&spec), &StrikeOptions::default()).unwrap();
+    let b = find_strikes(&sig, &voices(&spec), &StrikeOptions::default()).unwrap();
+    assert_eq!(a, b);
+}
+
+#[test]
+fn silence_and_strangers_are_heard_as_nothing_with_a_warning() {
+    let spec = ring(5);
+    let silent = Signal {
+        rate: 16_000.0,
+        samples: vec![0.0; 16_000 * 5],
+    };
+    let h = find_strikes(&silent, &voices(&spec), &StrikeOptions::default()).unwrap();
+    assert!(h.strikes.is_empty());
+    assert_eq!(h.warnings.len(), 6, "{:?}", h.warnings);
+    // Nominals a tritone away from every bell: nothing of theirs rings.
+    let (sig, _) = tower_recording(&spec).unwrap();
+    let strangers: Vec<BellVoice> = spec
+        .bells
+        .iter()
+        .map(|b| BellVoice::from_nominal(b.nominal_hz * 2f64.powf(6.5 / 12.0)))
+        .collect();
+    let h = find_strikes(&sig, &strangers, &StrikeOptions::default()).unwrap();
+    assert!(
+        h.strikes.len() < 10,
+        "{} strikes of bells that are not there",
+        h.strikes.len()
+    );
+    // Bad requests are errors, not panics.
+    assert!(find_strikes(&sig, &[], &StrikeOptions::default()).is_err());
+    assert!(find_strikes(&sig, &[BellVoice::from_nominal(50_000.0)], &StrikeOptions::default()).is_err());
+    let bad = StrikeOptions {
+        double_window_ms: (100.0, 50.0),
+        ..StrikeOptions::default()
+    };
+    assert!(find_strikes(&sig, &voices(&spec), &bad).is_err());
+}
+
+#[test]
+fn one_bell_alone_is_heard() {
+    let mut spec = ring(7);
+    spec.bells.truncate(1);
+    spec.doubles.clear();
+    spec.interval = 1.0;
+    let (sig, truth) = tower_recording(&spec).unwrap();
+    let h = find_strikes(&sig, &voices(&spec), &StrikeOptions::default()).unwrap();
+    let heard: Vec<_> = h.strikes.iter().map(|s| (s.bell, s.t, None)).collect();
+    let sc = score(&heard, &truth, 0.01);
+    assert!(sc.recall() >= 0.95 && sc.precision() >= 0.95, "{sc:?}");
+}
+
+#[test]
+fn a_template_gives_the_bells_partials() {
+    let spec = ring(2);
+    let b = spec.bells[0];
+    let mut one = spec.clone();
+    one.bells = vec![b];
+    one.rows = 1;
+    one.doubles.clear();
+    one.snr_db = None;
+    let (sig, _) = tower_recording(&one).unwrap();
+    let v = BellVoice::from_template(&sig).unwrap();
+    // The nominal and the hum (the longest-ringing, so the loudest over two seconds).
+    for f in [b.nominal_hz, 0.25 * b.nominal_hz] {
+        assert!(
+            v.partials.iter().any(|p| (p.freq_hz - f).abs() < 2.0),
+            "{f} Hz not in {v:?}"
+        );
+    }
+    assert!(v.partials.len() >= 5);
+}
