@@ -85,7 +85,7 @@ pub struct StrikesSummary {
     pub duration_s: f64,
     /// Strikes heard.
     pub strikes: usize,
-    /// Rows found, and rows holding every bell once.
+    /// Rows found.
     pub rows: usize,
     /// Rows holding every bell once.
     pub full_rows: usize,
@@ -184,12 +184,8 @@ impl StrikesReport {
         let per_bell = (1..=voices.len())
             .map(|bell| {
                 let mine: Vec<&StrikeReport> = strikes.iter().filter(|s| s.bell == bell).collect();
-                let errors = |stroke: &str| -> Vec<f64> {
-                    mine.iter()
-                        .filter(|s| s.stroke == Some(stroke))
-                        .filter_map(|s| s.error_ms)
-                        .collect()
-                };
+                let errors =
+                    |hand| -> Vec<f64> { r.stroke_errors(&timed, bell, hand).iter().map(|e| e * 1e3).collect() };
                 let stats = |v: &[f64]| {
                     let ms = mean_sd(v);
                     StrokeStats {
@@ -198,7 +194,7 @@ impl StrikesReport {
                         spread_ms: ms.map(|x| x.1),
                     }
                 };
-                let (h, b) = (errors("hand"), errors("back"));
+                let (h, b) = (errors(true), errors(false));
                 let (hs, bs) = (stats(&h), stats(&b));
                 let odd = match (hs.mean_error_ms, bs.mean_error_ms) {
                     (Some(a), Some(c)) => Some(a - c),

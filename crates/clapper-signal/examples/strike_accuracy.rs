@@ -116,18 +116,8 @@ fn main() {
                     }
                 }
             }
-            let err = |hand: bool| {
-                let v: Vec<f64> = heard
-                    .strikes
-                    .iter()
-                    .zip(&r.placed)
-                    .filter(|(s, p)| s.bell == 4 && p.hand == Some(hand))
-                    .filter_map(|(_, p)| p.error)
-                    .collect();
-                mean_sd(&v).map(|x| x.0)
-            };
-            if let (Some(a), Some(b)) = (err(true), err(false)) {
-                odd.push((a - b) * 1e3);
+            if let Some(o) = r.odd_struck(&timed, 4) {
+                odd.push(o * 1e3);
             }
             total.found += sc.found;
             total.missed += sc.missed;

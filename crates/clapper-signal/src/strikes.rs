@@ -1000,3 +1000,63 @@ fn solve(mut g: Vec<Vec<f64>>, mut r: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
     }
     c
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_closed_form_step_is_three_boxes_summed_out() {
+        // Three boxes of 41 samples convolved numerically, then summed: the
+        // step response, against the closed form at the same offsets.
+        let len = 41;
+        let mut k = vec![1.0 / len as f64; len];
+        for _ in 0..2 {
+            let mut next = vec![0.0; k.len() + len - 1];
+            for (i, a) in k.iter().enumerate() {
+                for j in 0..len {
+                    next[i + j] += a / len as f64;
+                }
+            }
+            k = next;
+        }
+        let centre = (k.len() - 1) as f64 / 2.0;
+        let mut sum = 0.0;
+        for (i, v) in k.iter().enumerate() {
+            // Half of this sample's weight lies before its centre.
+            let s = sum + 0.5 * v;
+            sum += v;
+            let closed = step_response(i as f64 - centre, len as f64);
+            assert!((s - closed).abs() < 2e-3, "at {i}: {s} against {closed}");
+        }
+        assert!((sum - 1.0).abs() < 1e-12);
+        assert_eq!(step_response(-1.6, 1.0), 0.0);
+        assert_eq!(step_response(1.6, 1.0), 1.0);
+        assert!((step_response(0.0, 1.0) - 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_band_is_centred_and_reads_a_tone_at_its_amplitude() {
+        // A 1000 Hz tone switched on at 0.5 s: its band holds the tone's
+        // amplitude, and is half-way up at the switch (no delay).
+        let rate = 8000.0;
+        let on = 4000;
+        let samples: Vec<f64> = (0..16_000)
+            .map(|i| {
+                if i >= on {
+                    0.3 * (2.0 * PI * 1000.0 * i as f64 / rate).sin()
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let b = band(&Signal { rate, samples }, 1000.0, 1.0, 81);
+        let at = |t: f64| {
+            let z = b.z[(t * b.rate).round() as usize];
+            z.0.hypot(z.1)
+        };
+        assert!((at(1.5) - 0.3).abs() < 1e-6, "{}", at(1.5));
+        assert!((at(0.5) - 0.15).abs() < 0.3 * 0.02, "{}", at(0.5));
+        assert!(at(0.45) < 1e-9);
+    }
+}

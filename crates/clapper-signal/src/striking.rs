@@ -241,6 +241,26 @@ fn line(pts: &[(f64, f64)]) -> Option<(f64, f64)> {
     Some((my - b * mx, b))
 }
 
+impl Rhythm {
+    /// The place errors (s) of `bell`'s strikes at one stroke; `strikes`
+    /// are the ones this rhythm was found from, in the same order.
+    pub fn stroke_errors(&self, strikes: &[Timed], bell: usize, hand: bool) -> Vec<f64> {
+        strikes
+            .iter()
+            .zip(&self.placed)
+            .filter(|(s, p)| s.bell == bell && p.hand == Some(hand))
+            .filter_map(|(_, p)| p.error)
+            .collect()
+    }
+
+    /// `bell`'s odd-struckness (s): its mean handstroke error less its
+    /// mean backstroke error; `None` without both.
+    pub fn odd_struck(&self, strikes: &[Timed], bell: usize) -> Option<f64> {
+        let mean = |hand| mean_sd(&self.stroke_errors(strikes, bell, hand)).map(|x| x.0);
+        Some(mean(true)? - mean(false)?)
+    }
+}
+
 /// Mean and standard deviation (s) of `v`; `None` when empty (sd 0 for one).
 pub fn mean_sd(v: &[f64]) -> Option<(f64, f64)> {
     if v.is_empty() {
@@ -280,10 +300,7 @@ mod tests {
             lead_in: 0.5,
             tail: 1.0,
             method,
-            variation: Variation {
-                detune_cents: 0.0,
-                strength_db: 0.0,
-            },
+            variation: Variation::NONE,
             room: None,
             snr_db: None,
         }
@@ -305,16 +322,7 @@ mod tests {
             assert!((r.interval.unwrap() - 0.2).abs() < 0.002);
             assert!((r.handstroke_gap.unwrap() - 1.0).abs() < 0.05, "{:?}", r.handstroke_gap);
             // Bell 3 planted 20 ms odd-struck.
-            let err = |hand: bool| {
-                let v: Vec<f64> = truth
-                    .iter()
-                    .zip(&r.placed)
-                    .filter(|(s, p)| s.bell == 3 && p.hand == Some(hand))
-                    .filter_map(|(_, p)| p.error)
-                    .collect();
-                mean_sd(&v).unwrap().0
-            };
-            let odd = (err(true) - err(false)) * 1e3;
+            let odd = r.odd_struck(&timed, 3).unwrap() * 1e3;
             assert!((odd - 20.0).abs() < 3.0, "{method:?}: odd-struck {odd} ms");
         }
     }

@@ -106,6 +106,14 @@ pub struct Variation {
     pub strength_db: f64,
 }
 
+impl Variation {
+    /// Every bell exactly the typical tuned bell.
+    pub const NONE: Variation = Variation {
+        detune_cents: 0.0,
+        strength_db: 0.0,
+    };
+}
+
 /// The room: an impulse response of the direct sound and, after a
 /// pre-delay, exponentially decaying noise.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -549,10 +557,7 @@ mod tests {
             lead_in: 0.5,
             tail: 1.0,
             method: Method::Rounds,
-            variation: Variation {
-                detune_cents: 0.0,
-                strength_db: 0.0,
-            },
+            variation: Variation::NONE,
             room: None,
             snr_db: None,
         }

@@ -3,7 +3,7 @@
 //! `strike_accuracy` example.
 
 use clapper_signal::strikes::{find_strikes, BellVoice, StrikeOptions};
-use clapper_signal::striking::{mean_sd, rhythm, Timed};
+use clapper_signal::striking::{rhythm, Timed};
 use clapper_signal::tower::*;
 use clapper_signal::Signal;
 
@@ -76,17 +76,7 @@ fn a_ring_is_heard_strike_by_strike_with_its_double_and_its_odd_struck_bell() {
     // Strokes and odd-struckness from the rhythm of what was heard.
     let timed: Vec<Timed> = heard.strikes.iter().map(|s| Timed { bell: s.bell, t: s.t }).collect();
     let r = rhythm(&timed, 6);
-    let err = |hand: bool| {
-        let v: Vec<f64> = heard
-            .strikes
-            .iter()
-            .zip(&r.placed)
-            .filter(|(s, p)| s.bell == 3 && p.hand == Some(hand))
-            .filter_map(|(_, p)| p.error)
-            .collect();
-        mean_sd(&v).unwrap().0
-    };
-    let odd = (err(true) - err(false)) * 1e3;
+    let odd = r.odd_struck(&timed, 3).unwrap() * 1e3;
     assert!((odd - 15.0).abs() < 5.0, "odd-struck {odd} ms");
 }
 
