@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use clapper_app::strikes::{voices_from_nominals, StrikesReport};
+use clapper_app::strikes::{voices_from_nominals, StrikesReport, StrikingFigure};
 use clapper_io::signal_file::{read_recording, write_wav};
 use clapper_io::strike_file::{csv_text, lowndes};
 use clapper_signal::strikes::{BellVoice, StrikeOptions};
@@ -48,6 +48,11 @@ pub struct StrikesArgs {
     /// Write the strikes in the Lowndes format that striking-analysis tools read.
     #[arg(long, value_name = "FILE")]
     pub lowndes: Option<PathBuf>,
+    /// Draw the striking diagram (each bell's line through the places, leaning by its
+    /// errors) over a spectrogram strip of the first seconds with the strikes marked
+    /// (.svg or .png).
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
 }
 
 fn template_voices(dir: &std::path::Path) -> Result<Vec<BellVoice>> {
@@ -77,6 +82,9 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
             bail!("say which bells to listen for: --nominals F1,F2,.. (Hz, treble first) or --templates DIR")
         }
     };
+    if let Some(path) = &args.plot {
+        clapper_plot::format_of(path)?;
+    }
     let sig = read_recording(&args.file)?;
     let opts = StrikeOptions {
         double_min_ratio: args.double_min_ratio,
@@ -90,6 +98,16 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
     if let Some(path) = &args.lowndes {
         let text = lowndes(&report.lowndes_blows(), &name, report.bells).map_err(anyhow::Error::msg)?;
         write_bytes(path, text)?;
+    }
+    if let Some(path) = &args.plot {
+        // Up to 1.6 times the highest bell's strongest partial (its nominal).
+        let top = voices
+            .iter()
+            .filter_map(|v| v.partials.iter().max_by(|a, b| a.strength.total_cmp(&b.strength)))
+            .map(|p| p.freq_hz)
+            .fold(0.0, f64::max);
+        let fig = StrikingFigure::new(&report, &sig, &name, 1.6 * top)?;
+        crate::files::write_atomically(path, |tmp| Ok(clapper_plot::striking_plot(tmp, &fig.plot())?))?;
     }
     print_report(&report, args.json, || report.text(&name))
 }

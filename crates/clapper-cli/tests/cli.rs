@@ -855,15 +855,33 @@ fn strikes_hears_a_synthetic_ring_and_writes_json_csv_and_lowndes() {
     let low = std::fs::read_to_string(&lowndes).unwrap();
     assert!(low.starts_with("#. Lowndes: Version 2"));
     assert_eq!(low.lines().filter(|l| !l.starts_with('#')).count(), strikes.len());
-    // The text report names every bell.
+    // The text report names every bell; the plot shows each bell's line
+    // and the double ringed.
+    let (svg, png) = (dir.path().join("s.svg"), dir.path().join("s.png"));
+    for plot in [&svg, &png] {
+        let out = clapper()
+            .arg("strikes")
+            .arg(&wav)
+            .args(["--nominals", &nominals, "--plot"])
+            .arg(plot)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let text = String::from_utf8_lossy(&out.stdout);
+        assert!(text.contains("odd-struck") && text.contains("handstroke gap"), "{text}");
+    }
+    let svg = std::fs::read_to_string(&svg).unwrap();
+    assert!((1..=6).all(|b| svg.contains(&format!("bell {b}"))));
+    assert_eq!(svg.matches("r=\"7\"").count(), 1, "one double ringed");
+    assert!(std::fs::read(&png).unwrap().starts_with(b"\x89PNG"));
     let out = clapper()
         .arg("strikes")
         .arg(&wav)
-        .args(["--nominals", &nominals])
+        .args(["--nominals", &nominals, "--plot", "x.pdf"])
         .output()
         .unwrap();
-    let text = String::from_utf8_lossy(&out.stdout);
-    assert!(text.contains("odd-struck") && text.contains("handstroke gap"), "{text}");
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains(".svg or .png"));
 }
 
 #[test]

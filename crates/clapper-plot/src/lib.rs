@@ -45,11 +45,13 @@ macro_rules! render_svg {
 pub mod chart;
 pub mod quantity;
 pub mod signal;
+pub mod striking;
 
 pub use chart::{chart_figure, chart_figure_svg, line_plot, ChartFigure, Marker, Panel, Scale, Series};
 pub use plotters::style::RGBColor;
 pub use quantity::Quantity;
 pub use signal::{spectrogram_plot, SpectrogramPlot};
+pub use striking::{striking_plot, striking_plot_svg, PlotStrike, StrikingPlot};
 
 use std::path::Path;
 

@@ -39,14 +39,8 @@ type DrawResult<DB> = Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::Er
 
 fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &SpectrogramPlot<'_>) -> DrawResult<DB> {
     root.fill(&WHITE)?;
-    let nb = p.freqs.len();
-    let df = p.freqs[1] - p.freqs[0];
-    let bins = ((p.fmax / df).ceil() as usize + 1).min(nb);
-    let nt = p.times.len();
-    let dt = if nt > 1 { p.times[1] - p.times[0] } else { 1.0 };
-    let (t0, t1) = (p.times[0] - 0.5 * dt, p.times[nt - 1] + 0.5 * dt);
-    let fmax = p.freqs[bins - 1] + 0.5 * df;
-    let (pt, pf) = (nt.div_ceil(900), bins.div_ceil(500));
+    let g = grid(p, 900, 500);
+    let (t0, t1, fmax) = (g.t0, g.t1, g.fmax);
     let (w, _) = root.dim_in_pixel();
     let (main, bar) = root.split_horizontally(w - 130);
     let mut chart = ChartBuilder::on(&main)
@@ -63,24 +57,7 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &SpectrogramPlot<'
         .label_style(("sans-serif", 15))
         .axis_desc_style(("sans-serif", 17))
         .draw()?;
-    let mut cells = vec![];
-    for ft in (0..nt).step_by(pt) {
-        for fb in (0..bins).step_by(pf) {
-            let mut m = f64::NEG_INFINITY;
-            for a in ft..(ft + pt).min(nt) {
-                for b in fb..(fb + pf).min(bins) {
-                    m = m.max(p.db[a * nb + b]);
-                }
-            }
-            let x0 = p.times[ft] - 0.5 * dt;
-            let x1 = p.times[(ft + pt - 1).min(nt - 1)] + 0.5 * dt;
-            let y0 = (p.freqs[fb] - 0.5 * df).max(0.0);
-            let y1 = p.freqs[(fb + pf - 1).min(bins - 1)] + 0.5 * df;
-            let c = viridis((m + p.range_db) / p.range_db);
-            cells.push(Rectangle::new([(x0, y0), (x1, y1)], c.filled()));
-        }
-    }
-    chart.draw_series(cells)?;
+    chart.draw_series(g.cells)?;
     let mut cb = ChartBuilder::on(&bar)
         .margin_top(50)
         .margin_bottom(57)
@@ -99,4 +76,49 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &SpectrogramPlot<'
         Rectangle::new([(0.0, a), (1.0, b)], viridis((k as f64 + 0.5) / 100.0).filled())
     }))?;
     Ok(())
+}
+
+/// A spectrogram's extent and its cells, max-pooled to at most `nx` by
+/// `ny` so that long recordings stay light.
+pub(crate) struct Grid {
+    /// Time range (s).
+    pub t0: f64,
+    pub t1: f64,
+    /// Highest frequency drawn (Hz).
+    pub fmax: f64,
+    /// Coloured cells in (time s, frequency Hz).
+    pub cells: Vec<Rectangle<(f64, f64)>>,
+}
+
+/// The grid of `p` (its frames and bins checked non-empty by the caller).
+pub(crate) fn grid(p: &SpectrogramPlot<'_>, nx: usize, ny: usize) -> Grid {
+    let nb = p.freqs.len();
+    let df = p.freqs[1] - p.freqs[0];
+    let bins = ((p.fmax / df).ceil() as usize + 1).min(nb);
+    let nt = p.times.len();
+    let dt = if nt > 1 { p.times[1] - p.times[0] } else { 1.0 };
+    let (pt, pf) = (nt.div_ceil(nx), bins.div_ceil(ny));
+    let mut cells = vec![];
+    for ft in (0..nt).step_by(pt) {
+        for fb in (0..bins).step_by(pf) {
+            let mut m = f64::NEG_INFINITY;
+            for a in ft..(ft + pt).min(nt) {
+                for b in fb..(fb + pf).min(bins) {
+                    m = m.max(p.db[a * nb + b]);
+                }
+            }
+            let x0 = p.times[ft] - 0.5 * dt;
+            let x1 = p.times[(ft + pt - 1).min(nt - 1)] + 0.5 * dt;
+            let y0 = (p.freqs[fb] - 0.5 * df).max(0.0);
+            let y1 = p.freqs[(fb + pf - 1).min(bins - 1)] + 0.5 * df;
+            let c = viridis((m + p.range_db) / p.range_db);
+            cells.push(Rectangle::new([(x0, y0), (x1, y1)], c.filled()));
+        }
+    }
+    Grid {
+        t0: p.times[0] - 0.5 * dt,
+        t1: p.times[nt - 1] + 0.5 * dt,
+        fmax: p.freqs[bins - 1] + 0.5 * df,
+        cells,
+    }
 }

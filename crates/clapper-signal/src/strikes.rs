@@ -9,10 +9,14 @@
 //! another bell. A strike adds a complex step to each of its bell's bands,
 //! so a bell's onset function is the size of the change in its bands over
 //! the step's rise (3L), the bands weighted by how much of each is the
-//! bell's own. Peaks of it well above the rest are strikes; the onset is
-//! where the change reaches half its size (the smoothing is symmetric, so
-//! that is the start of the sound); a double strike is a second step in
-//! the bands within the double-strike window, fitted beside the first.
+//! bell's own. Peaks of it well above the rest, no closer than a row
+//! allows, are strikes; the onset is where the change reaches half its
+//! size (the smoothing is symmetric, so that is the start of the sound).
+//! Each band's response to one strike of its bell, in this room, is then
+//! learned from all the bell's strikes (their median), and a double strike
+//! is a second copy of that response within the double-strike window,
+//! fitted beside the first: the room's reverberation is in the response,
+//! so it no longer passes for a second strike.
 
 use std::f64::consts::PI;
 
@@ -197,6 +201,17 @@ pub struct Heard {
     pub warnings: Vec<String>,
 }
 
+impl Heard {
+    /// The strikes as (bell, onset s, double (delay s, ratio)), to score
+    /// against a synthetic recording's truth ([`crate::tower::score`]).
+    pub fn times(&self) -> Vec<crate::tower::HeardTimes> {
+        self.strikes
+            .iter()
+            .map(|s| (s.bell, s.t, s.double.map(|d| (d.delay_s, d.amplitude_ratio))))
+            .collect()
+    }
+}
+
 /// The rate the bands are kept at (Hz): onsets are interpolated within it.
 const BAND_RATE: f64 = 1000.0;
 
@@ -302,7 +317,7 @@ pub fn find_strikes(sig: &Signal, voices: &[BellVoice], opts: &StrikeOptions) ->
             ));
             continue;
         }
-        let found = h.strikes(opts);
+        let found = h.strikes(opts, voices.len());
         if found.is_empty() {
             warnings.push(format!("bell {}: no strikes heard", b + 1));
         }
@@ -496,18 +511,27 @@ fn plan_bands(voices: &[BellVoice], rate: f64, spectrum: &(f64, Vec<f64>)) -> Ve
 }
 
 /// The peak of the mean spectrum within `f` ± uncertainty, if it stands
-/// 10 dB above the median there (else the partial is too weak to place).
+/// 10 dB above the median around it (else the partial is too weak to place).
 fn find_peak(f: f64, uncertainty: f64, df: f64, mag: &[f64]) -> Option<f64> {
     let lo = ((f * (1.0 - uncertainty)) / df).floor() as usize;
     let hi = (((f * (1.0 + uncertainty)) / df).ceil() as usize).min(mag.len().saturating_sub(2));
     if lo < 1 || hi <= lo + 2 {
         return None;
     }
-    let k = (lo..=hi).max_by(|&a, &b| mag[a].total_cmp(&mag[b]))?;
-    let mut sorted: Vec<f64> = mag[lo..=hi].to_vec();
+    // The highest peak inside the window (a stronger partial of another
+    // bell just beyond its edge must not hide this one).
+    let k = (lo + 1..hi)
+        .filter(|&k| mag[k] >= mag[k - 1] && mag[k] >= mag[k + 1])
+        .max_by(|&a, &b| mag[a].total_cmp(&mag[b]))?;
+    // The level around it over ±5 % (at least ±20 Hz): a narrower window
+    // is mostly the peak's own main lobe and a neighbour's.
+    let wide = (0.05 * f).max(20.0);
+    let wlo = (((f - wide) / df).floor().max(1.0)) as usize;
+    let whi = (((f + wide) / df).ceil() as usize).min(mag.len() - 1);
+    let mut sorted: Vec<f64> = mag[wlo..=whi].to_vec();
     sorted.sort_by(f64::total_cmp);
     let median = sorted[sorted.len() / 2];
-    if mag[k] < 3.16 * median || k <= lo || k >= hi {
+    if mag[k] < 3.16 * median {
         return None;
     }
     let (a, b, c) = (mag[k - 1], mag[k], mag[k + 1]);
@@ -575,6 +599,8 @@ struct BellHearing {
     changes: Vec<Vec<f64>>,
     rate: f64,
     candidates: Vec<(usize, f64)>,
+    /// The onset function over its typical strike, per band sample.
+    onset: Vec<f64>,
     /// The onset function's median over its typical strike.
     floor: f64,
 }
@@ -600,18 +626,15 @@ fn hear_bell(mut bands: Vec<Band>, opts: &StrikeOptions) -> BellHearing {
         })
         .collect();
     let typical = typical_peak(&onset, sep);
-    let candidates = local_peaks(&onset, sep)
-        .into_iter()
-        .map(|m| (m, onset[m] / typical))
-        .collect();
-    let mut sorted = onset.clone();
-    sorted.sort_by(f64::total_cmp);
-    let floor = sorted.get(sorted.len() / 2).copied().unwrap_or(0.0) / typical;
+    let onset: Vec<f64> = onset.iter().map(|v| v / typical).collect();
+    let candidates = local_peaks(&onset, sep).into_iter().map(|m| (m, onset[m])).collect();
+    let floor = median(onset.clone()).unwrap_or(0.0);
     BellHearing {
         bands,
         changes,
         rate,
         candidates,
+        onset,
         floor,
     }
 }
@@ -626,21 +649,85 @@ fn typical_peak(v: &[f64], sep: usize) -> f64 {
 
 impl BellHearing {
     /// The strikes: (onset s, strength, double strike).
-    fn strikes(&self, opts: &StrikeOptions) -> Vec<(f64, f64, Option<HeardDouble>)> {
+    fn strikes(&self, opts: &StrikeOptions, bells: usize) -> Vec<(f64, f64, Option<HeardDouble>)> {
         let heights: Vec<f64> = self.candidates.iter().map(|c| c.1).collect();
         let Some(threshold) = strike_threshold(&heights, self.floor) else {
             return vec![];
         };
-        self.candidates
-            .iter()
-            .filter(|c| c.1 >= threshold)
-            .filter_map(|&(m, h)| {
-                let t0 = onset_time(&self.bands, &self.changes, m)?;
-                let double = second_strike(&self.bands, t0, opts);
-                Some((t0, h, double))
+        let kept = once_a_row(
+            self.candidates.iter().copied().filter(|c| c.1 >= threshold).collect(),
+            bells,
+        );
+        let firsts: Vec<(f64, f64)> = kept
+            .into_iter()
+            .filter_map(|(m, h)| {
+                let m = self.first_of_double(m, opts);
+                Some((onset_time(&self.bands, &self.changes, m)?, h))
             })
+            .collect();
+        // The bell's own response to a strike in each band, in this room,
+        // learned from all its strikes: a second strike is a second copy of it.
+        let times: Vec<f64> = firsts.iter().map(|f| f.0).collect();
+        let responses: Vec<Option<Response>> = self.bands.iter().map(|b| learn_response(b, &times, opts)).collect();
+        let fits = fitted(&self.bands, &responses, opts);
+        firsts
+            .into_iter()
+            .map(|(t, h)| (t, h, second_strike(&fits, t, opts)))
             .collect()
     }
+
+    /// A peak of the onset function may be the second strike of a double
+    /// (as loud as the first, or louder): the first is an earlier peak
+    /// within the double-strike window at least half as high.
+    fn first_of_double(&self, m: usize, opts: &StrikeOptions) -> usize {
+        let (dmin, dmax) = opts.double_window_ms;
+        let lo = m.saturating_sub((dmax * 1e-3 * self.rate).round() as usize).max(1);
+        let hi = m.saturating_sub((dmin * 1e-3 * self.rate).round() as usize);
+        let v = &self.onset;
+        (lo..hi.min(v.len().saturating_sub(1)))
+            .filter(|&k| {
+                // A peak of its own: the function dips between it and m.
+                let dip = v[k..m].iter().copied().fold(f64::INFINITY, f64::min);
+                v[k] >= v[k - 1] && v[k] > v[k + 1] && v[k] >= 0.5 * v[m] && dip <= 0.7 * v[k]
+            })
+            .max_by(|&a, &b| v[a].total_cmp(&v[b]))
+            .unwrap_or(m)
+    }
+}
+
+/// A bell rung full circle strikes once a row, and moves at most one place
+/// a row: in a ring of `bells`, its interval is at least (bells − 1) places
+/// where its typical one (the median between its strong strikes, those at
+/// least 0.7 of typical) is about bells + ½ (a row and half the handstroke
+/// gap). Of two strikes closer than 0.9 of that shortest interval (0.5 of
+/// typical at least, for the smallest rings), the weaker is not a strike.
+/// Strikes are (band sample, height) in time order; fewer than six strong
+/// ones say too little of the rhythm and are kept as they are.
+fn once_a_row(strikes: Vec<(usize, f64)>, bells: usize) -> Vec<(usize, f64)> {
+    let strong: Vec<usize> = strikes.iter().filter(|s| s.1 >= 0.7).map(|s| s.0).collect();
+    if strong.len() < 6 {
+        return strikes;
+    }
+    let mut gaps: Vec<usize> = strong.windows(2).map(|w| w[1] - w[0]).collect();
+    gaps.sort_unstable();
+    let n = bells as f64;
+    let factor = (0.9 * (n - 1.0) / (n + 0.5)).max(0.5);
+    let sep = (factor * gaps[gaps.len() / 2] as f64) as usize;
+    let mut order: Vec<usize> = (0..strikes.len()).collect();
+    order.sort_by(|&a, &b| strikes[b].1.total_cmp(&strikes[a].1).then(a.cmp(&b)));
+    let mut keep = vec![false; strikes.len()];
+    for i in order {
+        let near = |j: usize| keep[j] && strikes[i].0.abs_diff(strikes[j].0) < sep;
+        if !(0..strikes.len()).any(near) {
+            keep[i] = true;
+        }
+    }
+    strikes
+        .into_iter()
+        .zip(keep)
+        .filter(|(_, k)| *k)
+        .map(|(s, _)| s)
+        .collect()
 }
 
 /// The band's change across a rise at each sample: the mean of `z` over
@@ -690,42 +777,55 @@ fn change(b: &Band) -> Vec<f64> {
 type C = (f64, f64);
 
 fn decay_ratio(pairs: &[(C, C)]) -> C {
-    let mut level: Vec<f64> = pairs.iter().map(|p| p.1 .0.hypot(p.1 .1)).collect();
-    level.sort_by(f64::total_cmp);
-    let floor = level.get(level.len() / 2).copied().unwrap_or(0.0);
-    let (mut re, mut im): (Vec<f64>, Vec<f64>) = pairs
+    // Squared levels: the same order as levels, without a square root each.
+    let level2 = |p: &(C, C)| p.1 .0 * p.1 .0 + p.1 .1 * p.1 .1;
+    let floor = median(pairs.iter().map(level2).collect()).unwrap_or(0.0);
+    let (re, im): (Vec<f64>, Vec<f64>) = pairs
         .iter()
-        .filter(|p| p.1 .0.hypot(p.1 .1) > floor && floor > 0.0)
+        .filter(|p| level2(p) > floor && floor > 0.0)
         .map(|&(a, b)| {
             let d = b.0 * b.0 + b.1 * b.1;
             ((a.0 * b.0 + a.1 * b.1) / d, (a.1 * b.0 - a.0 * b.1) / d)
         })
         .unzip();
-    if re.is_empty() {
-        return (1.0, 0.0);
+    match (median(re), median(im)) {
+        (Some(re), Some(im)) => (re, im),
+        _ => (1.0, 0.0),
     }
-    re.sort_by(f64::total_cmp);
-    im.sort_by(f64::total_cmp);
-    (re[re.len() / 2], im[im.len() / 2])
+}
+
+/// The median of `v` (the upper of the middle two), found in linear time.
+fn median(mut v: Vec<f64>) -> Option<f64> {
+    if v.is_empty() {
+        return None;
+    }
+    let k = v.len() / 2;
+    Some(*v.select_nth_unstable_by(k, f64::total_cmp).1)
 }
 
 /// Indices of the local maxima of `v` that are the largest within `sep`
 /// either side (ties to the earliest).
 fn local_peaks(v: &[f64], sep: usize) -> Vec<usize> {
-    let mut out = vec![];
-    let mut m = 0;
-    while m < v.len() {
-        let lo = m.saturating_sub(sep);
-        let hi = (m + sep + 1).min(v.len());
-        // The maximum of the window: if it is m, m is a peak; else jump to it.
-        let best = (lo..hi).fold(lo, |b, k| if v[k] > v[b] { k } else { b });
-        if best == m && v[m] > 0.0 {
+    let n = v.len();
+    let mut out: Vec<usize> = vec![];
+    // The window [m − sep, m + sep]'s first maximum, by a deque of indices
+    // whose values fall (an earlier equal value stays in front): linear time.
+    let mut dq: std::collections::VecDeque<usize> = std::collections::VecDeque::new();
+    let mut next = 0;
+    for m in 0..n {
+        while next < n && next <= m + sep {
+            while dq.back().is_some_and(|&b| v[b] < v[next]) {
+                dq.pop_back();
+            }
+            dq.push_back(next);
+            next += 1;
+        }
+        while dq.front().is_some_and(|&f| f + sep < m) {
+            dq.pop_front();
+        }
+        let after_last = out.last().is_none_or(|&p| m > p + sep);
+        if dq.front() == Some(&m) && v[m] > 0.0 && after_last {
             out.push(m);
-            m += sep + 1;
-        } else if best > m {
-            m = best;
-        } else {
-            m += 1;
         }
     }
     out
@@ -826,142 +926,298 @@ fn weighted_median(v: &mut [(f64, f64)]) -> Option<f64> {
     v.last().map(|p| p.0)
 }
 
-/// The smoothing's step response `dt` (s) after the step, for three
-/// boxes of `box_s` (s).
-fn step_response(dt: f64, box_s: f64) -> f64 {
-    // Three boxes make a quadratic B-spline kernel over ±1.5 box lengths;
-    // its integral in closed form.
-    let u = dt / box_s + 1.5;
-    if u <= 0.0 {
-        0.0
-    } else if u < 1.0 {
-        u.powi(3) / 6.0
-    } else if u < 2.0 {
-        (-2.0 * u.powi(3) + 9.0 * u * u - 9.0 * u + 3.0) / 6.0
-    } else if u < 3.0 {
-        1.0 - (3.0 - u).powi(3) / 6.0
-    } else {
-        1.0
-    }
+/// A band's response to one strike of its bell, learned from all its
+/// strikes: `z` at `t0 + (k − lead)/rate` less its level before, over its
+/// size, the median over strikes (component by component, so a double
+/// strike or another bell's strike in a few of them does not count).
+struct Response {
+    /// Samples before the onset.
+    lead: usize,
+    /// The response, one per band sample from `t0 − lead/rate`.
+    r: Vec<C>,
 }
 
-/// A second strike within the double-strike window after `t0` (s): in
-/// each band whose steps are short enough, the change fitted as a level,
-/// a first step (with a slope for its decay) and a second step, scanned
-/// over the window; the second step's size over the first's, its median
-/// over the bands, must reach the option's ratio, with the fit's error
-/// halved or better.
-fn second_strike(bands: &[Band], t0: f64, opts: &StrikeOptions) -> Option<HeardDouble> {
-    let (dmin, dmax) = (opts.double_window_ms.0 * 1e-3, opts.double_window_ms.1 * 1e-3);
-    let rate = bands.first()?.rate;
-    let m0 = t0 * rate;
-    let steps = ((dmax - dmin) * rate).round() as usize + 1;
-    // Per delay tried (band-sample steps), per band heard at it: (error
-    // with one step, error with two, second step over first).
-    let mut per_delay: Vec<Vec<(f64, f64, f64, f64)>> = vec![vec![]; steps];
-    // Only bands mostly the bell's own: a shared band hears the next bell.
-    let wmax = bands.iter().map(|b| b.weight).fold(0.0, f64::max);
-    for b in bands.iter().filter(|b| b.weight >= 0.3 * wmax) {
-        // A second step is told from the first once the first has risen (3 boxes).
-        let first_delay = 3.0 * b.box_s;
-        if first_delay > dmax {
-            continue;
-        }
-        let lo = (m0 - 1.5 * b.box_s * rate).floor().max(0.0) as usize;
-        let hi = ((m0 + (dmax + 1.5 * b.box_s) * rate).ceil() as usize).min(b.z.len().saturating_sub(1));
-        if hi <= lo + 8 {
-            continue;
-        }
-        let zs = &b.z[lo..=hi];
-        let ones = vec![1.0; zs.len()];
-        // The first step where it fits best, within a band sample of t0.
-        let first = [-1.0, 0.0, 1.0]
-            .iter()
-            .map(|shift| {
-                let ts: Vec<f64> = (lo..=hi).map(|k| (k as f64 - shift) / rate - t0).collect();
-                let s1: Vec<f64> = ts.iter().map(|&t| step_response(t, b.box_s)).collect();
-                let ramp: Vec<f64> = ts.iter().zip(&s1).map(|(t, v)| v * t.max(0.0)).collect();
-                let (e1, c1) = fit(&[&ones, &s1, &ramp], zs);
-                (e1, c1[1].0.hypot(c1[1].1), ts, s1, ramp)
-            })
-            .min_by(|a, b| a.0.total_cmp(&b.0));
-        let Some((e1, a1, ts, s1, ramp)) = first else {
+/// The window a strike's response is learned and fitted over (band
+/// samples before and after the onset): from before the rise to past the
+/// latest second strike's rise.
+fn response_window(b: &Band, opts: &StrikeOptions) -> (usize, usize) {
+    let lead = ((1.5 * b.box_s + 0.01) * b.rate).ceil() as usize;
+    let tail = ((opts.double_window_ms.1 * 1e-3 + 1.5 * b.box_s + 0.02) * b.rate).ceil() as usize;
+    (lead, tail)
+}
+
+/// `z` at fractional band sample `x` (linear between samples).
+fn z_at(z: &[C], x: f64) -> Option<C> {
+    if x < 0.0 {
+        return None;
+    }
+    let i = x.floor() as usize;
+    let f = x - i as f64;
+    let (a, b) = (*z.get(i)?, *z.get(i + 1)?);
+    Some((a.0 + f * (b.0 - a.0), a.1 + f * (b.1 - a.1)))
+}
+
+/// Band `b` around onset `t0` (s): `lead + tail` samples, or None near
+/// the recording's ends.
+fn segment(b: &Band, t0: f64, lead: usize, tail: usize) -> Option<Vec<C>> {
+    let x0 = t0 * b.rate - lead as f64;
+    (0..lead + tail).map(|k| z_at(&b.z, x0 + k as f64)).collect()
+}
+
+/// Band `b`'s [`Response`] from the strikes at `times` (s), or None from
+/// fewer than five strikes clear of the recording's ends.
+fn learn_response(b: &Band, times: &[f64], opts: &StrikeOptions) -> Option<Response> {
+    let (lead, tail) = response_window(b, opts);
+    // The level before: the last few ms before the rise can start.
+    let before = ((0.01 * b.rate).round() as usize).max(1);
+    let rise_end = lead + (1.5 * b.box_s * b.rate).ceil() as usize;
+    let mut norm: Vec<Vec<C>> = vec![];
+    let mut sizes = vec![];
+    for &t0 in times {
+        let Some(seg) = segment(b, t0, lead, tail) else {
             continue;
         };
-        if a1 <= 0.0 {
+        let base = seg[..before].iter().fold((0.0, 0.0), |a, z| (a.0 + z.0, a.1 + z.1));
+        let base = (base.0 / before as f64, base.1 / before as f64);
+        let top = seg[rise_end.min(seg.len() - 1)];
+        let a = (top.0 - base.0, top.1 - base.1);
+        let d = a.0 * a.0 + a.1 * a.1;
+        if d <= 0.0 {
             continue;
         }
-        for (j, slot) in per_delay.iter_mut().enumerate() {
-            let d = dmin + j as f64 / rate;
-            if d < first_delay {
-                continue;
-            }
-            let s2: Vec<f64> = ts.iter().map(|&t| step_response(t - d, b.box_s)).collect();
-            let (e2, c2) = fit(&[&ones, &s1, &ramp, &s2], zs);
-            // The same rise spread over three times as long: a room's
-            // reverberation builds up so; a clapper's second strike does not.
-            let slow: Vec<f64> = ts.iter().map(|&t| step_response(t - d, 3.0 * b.box_s)).collect();
-            let (e_slow, _) = fit(&[&ones, &s1, &ramp, &slow], zs);
-            let a1b = c2[1].0.hypot(c2[1].1);
-            let ratio = if a1b > 0.0 { c2[3].0.hypot(c2[3].1) / a1b } else { 0.0 };
-            slot.push((e1 / (a1 * a1), e2 / (a1 * a1), ratio, e_slow / (a1 * a1)));
-        }
+        sizes.push(d.sqrt());
+        norm.push(
+            seg.iter()
+                .map(|z| {
+                    let (x, y) = (z.0 - base.0, z.1 - base.1);
+                    ((x * a.0 + y * a.1) / d, (y * a.0 - x * a.1) / d)
+                })
+                .collect(),
+        );
     }
-    // The delay where a second step explains most of what one step leaves.
-    let (j, gain) = per_delay
+    // Weak strikes are mostly noise: only those at least a third of the median.
+    let mut s = sizes.clone();
+    s.sort_by(f64::total_cmp);
+    let cut = s.get(s.len() / 2).copied().unwrap_or(0.0) / 3.0;
+    let used: Vec<&Vec<C>> = norm
         .iter()
-        .enumerate()
-        .filter(|(_, v)| !v.is_empty())
-        .map(|(j, v)| {
-            let e1: f64 = v.iter().map(|x| x.0).sum();
-            let e2: f64 = v.iter().map(|x| x.1).sum();
-            (j, if e1 > 0.0 { 1.0 - e2 / e1 } else { 0.0 })
+        .zip(&sizes)
+        .filter(|(_, &a)| a >= cut)
+        .map(|(n, _)| n)
+        .collect();
+    if used.len() < 5 {
+        return None;
+    }
+    let r = (0..lead + tail)
+        .map(|k| {
+            let mut re: Vec<f64> = used.iter().map(|n| n[k].0).collect();
+            let mut im: Vec<f64> = used.iter().map(|n| n[k].1).collect();
+            re.sort_by(f64::total_cmp);
+            im.sort_by(f64::total_cmp);
+            (re[re.len() / 2], im[im.len() / 2])
         })
-        .max_by(|a, b| a.1.total_cmp(&b.1))?;
-    let e2: f64 = per_delay[j].iter().map(|x| x.1).sum();
-    let e_slow: f64 = per_delay[j].iter().map(|x| x.3).sum();
-    // A sharp step must explain clearly more than a slow rise.
-    let sharp = e2 < e_slow;
-    let mut r: Vec<f64> = per_delay[j].iter().map(|x| x.2).collect();
-    r.sort_by(f64::total_cmp);
-    let ratio = r[r.len() / 2];
-    (ratio >= opts.double_min_ratio && gain >= 0.5 && sharp).then_some(HeardDouble {
-        delay_s: dmin + j as f64 / rate,
-        amplitude_ratio: ratio,
+        .collect();
+    Some(Response { lead, r })
+}
+
+/// Σ conj(a)·b.
+fn dot(a: &[C], b: &[C]) -> C {
+    a.iter().zip(b).fold((0.0, 0.0), |s, (x, y)| {
+        (s.0 + x.0 * y.0 + x.1 * y.1, s.1 + x.0 * y.1 - x.1 * y.0)
     })
 }
 
-/// Least squares of complex data on real basis functions: (squared
-/// error, coefficients).
-fn fit(basis: &[&Vec<f64>], z: &[(f64, f64)]) -> (f64, Vec<(f64, f64)>) {
-    let k = basis.len();
-    let mut g = vec![vec![0.0; k]; k];
-    let mut r = vec![(0.0, 0.0); k];
+fn conj(a: C) -> C {
+    (a.0, -a.1)
+}
+
+/// Least squares of data `z` on complex shapes with complex coefficients,
+/// from the normal equations: the Gram matrix `g` (g[i][j] = Σ conj(b_i)
+/// b_j), `r` (r[i] = Σ conj(b_i) z) and Σ|z|². Returns (squared error,
+/// coefficients).
+fn fit_gram(g: &[Vec<C>], r: &[C], zz: f64) -> (f64, Vec<C>) {
+    let k = r.len();
+    // As a real system of twice the size: [Re G, −Im G; Im G, Re G].
+    let mut m = vec![vec![0.0; 2 * k]; 2 * k];
+    let mut rhs = vec![(0.0, 0.0); 2 * k];
     for i in 0..k {
-        for j in 0..=i {
-            let v: f64 = basis[i].iter().zip(basis[j].iter()).map(|(a, b)| a * b).sum();
-            g[i][j] = v;
-            g[j][i] = v;
+        for j in 0..k {
+            m[i][j] = g[i][j].0;
+            m[i][k + j] = -g[i][j].1;
+            m[k + i][j] = g[i][j].1;
+            m[k + i][k + j] = g[i][j].0;
         }
-        r[i] = basis[i]
-            .iter()
-            .zip(z)
-            .fold((0.0, 0.0), |acc, (a, zz)| (acc.0 + a * zz.0, acc.1 + a * zz.1));
+        rhs[i] = (r[i].0, 0.0);
+        rhs[k + i] = (r[i].1, 0.0);
     }
-    let c = solve(g, r);
-    let err = z
-        .iter()
-        .enumerate()
-        .map(|(n, zz)| {
-            let (mut re, mut im) = *zz;
-            for (i, ci) in c.iter().enumerate() {
-                re -= basis[i][n] * ci.0;
-                im -= basis[i][n] * ci.1;
+    let sol = solve(m, rhs);
+    let c: Vec<C> = (0..k).map(|i| (sol[i].0, sol[k + i].0)).collect();
+    // |z − Bc|² = Σ|z|² − Re Σ conj(c_i) r_i at the solution.
+    let explained: f64 = c.iter().zip(r).map(|(c, r)| c.0 * r.0 + c.1 * r.1).sum();
+    ((zz - explained).max(0.0), c)
+}
+
+/// One strike's window in a band, with its Gram terms for the basis
+/// [1, R]: (window, g, r, Σ|z|²).
+type Single = (Vec<C>, Vec<Vec<C>>, Vec<C>, f64);
+
+/// The response a delay later, on the window's samples, with its Gram
+/// terms against the constant, the response and itself: the same for
+/// every strike, so found once per band.
+struct Shifted {
+    /// Delay (s).
+    d: f64,
+    r2: Vec<C>,
+    sum: C,
+    r1_r2: C,
+    r2_r2: C,
+}
+
+/// A band with its learned response, as a strike is fitted in it.
+struct Fitted<'a> {
+    band: &'a Band,
+    resp: &'a Response,
+    tail: usize,
+    /// The response at each delay of the double-strike window it can tell
+    /// (the first has risen: 3 boxes).
+    shifted: Vec<Shifted>,
+}
+
+/// The response `r` shifted `shift` band samples later (0 before it
+/// starts, its last value after it ends).
+fn shift_response(r: &[C], shift: f64) -> Vec<C> {
+    (0..r.len())
+        .map(|k| {
+            let x = k as f64 - shift;
+            if x < 0.0 {
+                (0.0, 0.0)
+            } else {
+                z_at(r, x).unwrap_or(*r.last().unwrap_or(&(0.0, 0.0)))
             }
-            re * re + im * im
         })
-        .sum();
-    (err, c)
+        .collect()
+}
+
+impl Fitted<'_> {
+    /// The band's window for a strike at `t` (s) and its Gram terms with
+    /// a constant and the response.
+    fn single(&self, t: f64) -> Option<Single> {
+        let z = segment(self.band, t, self.resp.lead, self.tail)?;
+        let r1 = &self.resp.r;
+        let sum_r1: C = r1.iter().fold((0.0, 0.0), |s, v| (s.0 + v.0, s.1 + v.1));
+        let g = vec![vec![(z.len() as f64, 0.0), sum_r1], vec![conj(sum_r1), dot(r1, r1)]];
+        let sum_z: C = z.iter().fold((0.0, 0.0), |s, v| (s.0 + v.0, s.1 + v.1));
+        let r = vec![sum_z, dot(r1, &z)];
+        let zz = z.iter().map(|v| v.0 * v.0 + v.1 * v.1).sum();
+        Some((z, g, r, zz))
+    }
+
+    /// The strike fitted alone (error `e1`) and with a second copy
+    /// later: (error alone, error with both, first's size, second's size).
+    fn pair(&self, sh: &Shifted, single: &Single, e1: f64) -> (f64, f64, f64, f64) {
+        let (z, g, r, zz) = single;
+        let g3 = vec![
+            vec![g[0][0], g[0][1], sh.sum],
+            vec![g[1][0], g[1][1], sh.r1_r2],
+            vec![conj(sh.sum), conj(sh.r1_r2), sh.r2_r2],
+        ];
+        let r3 = vec![r[0], r[1], dot(&sh.r2, z)];
+        let (e2, c) = fit_gram(&g3, &r3, *zz);
+        (e1, e2, c[1].0.hypot(c[1].1), c[2].0.hypot(c[2].1))
+    }
+}
+
+/// The bands a strike is timed and fitted in: those whose response was
+/// learned and that are mostly the bell's own (a shared band hears the
+/// next bell).
+fn fitted<'a>(bands: &'a [Band], responses: &'a [Option<Response>], opts: &StrikeOptions) -> Vec<Fitted<'a>> {
+    let wmax = bands.iter().map(|b| b.weight).fold(0.0, f64::max);
+    bands
+        .iter()
+        .zip(responses)
+        .filter(|(b, _)| b.weight >= 0.3 * wmax)
+        .filter_map(|(b, r)| {
+            let resp = r.as_ref()?;
+            let shifted = delays(opts, b.rate)
+                .filter(|&d| d >= 3.0 * b.box_s)
+                .map(|d| {
+                    let r2 = shift_response(&resp.r, d * b.rate);
+                    Shifted {
+                        d,
+                        sum: r2.iter().fold((0.0, 0.0), |s, v| (s.0 + v.0, s.1 + v.1)),
+                        r1_r2: dot(&resp.r, &r2),
+                        r2_r2: dot(&r2, &r2),
+                        r2,
+                    }
+                })
+                .collect();
+            Some(Fitted {
+                band: b,
+                resp,
+                tail: response_window(b, opts).1,
+                shifted,
+            })
+        })
+        .collect()
+}
+
+/// The delays of the double-strike window, one per band sample (s).
+fn delays(opts: &StrikeOptions, rate: f64) -> impl Iterator<Item = f64> {
+    let (dmin, dmax) = (opts.double_window_ms.0 * 1e-3, opts.double_window_ms.1 * 1e-3);
+    let steps = ((dmax - dmin) * rate).round() as usize + 1;
+    (0..steps).map(move |j| dmin + j as f64 / rate)
+}
+
+/// The best second copy of the response after a strike at `t` (s)
+/// within the double-strike window, over the bands that can tell it at
+/// each delay: kept if it halves the one-copy error (summed over the
+/// bands, each over its first copy's size squared) and its size over the
+/// first's (the median over the bands) is at least the option's ratio.
+fn second_strike(fits: &[Fitted], t: f64, opts: &StrikeOptions) -> Option<HeardDouble> {
+    let rate = fits.first()?.band.rate;
+    let singles: Vec<Option<(Single, f64)>> = fits
+        .iter()
+        .map(|f| {
+            f.single(t).map(|s| {
+                let e1 = fit_gram(&s.1, &s.2, s.3).0;
+                (s, e1)
+            })
+        })
+        .collect();
+    let all = delays(opts, rate).count();
+    let mut best: Option<(f64, f64, f64)> = None;
+    for (j, d) in delays(opts, rate).enumerate() {
+        let (mut e1, mut e2, mut ratios) = (0.0, 0.0, vec![]);
+        for (f, single) in fits.iter().zip(&singles) {
+            let Some((single, one)) = single else { continue };
+            // The band's delays are the window's from its first it can tell.
+            let skipped = all - f.shifted.len();
+            let Some(sh) = j.checked_sub(skipped).and_then(|k| f.shifted.get(k)) else {
+                continue;
+            };
+            debug_assert!((sh.d - d).abs() < 1e-9);
+            let (a, b, s1, s2) = f.pair(sh, single, *one);
+            if s1 <= 0.0 {
+                continue;
+            }
+            e1 += a / (s1 * s1);
+            e2 += b / (s1 * s1);
+            ratios.push(s2 / s1);
+        }
+        if ratios.is_empty() || e1 <= 0.0 {
+            continue;
+        }
+        ratios.sort_by(f64::total_cmp);
+        let gain = 1.0 - e2 / e1;
+        if best.is_none_or(|b| gain > b.1) {
+            best = Some((d, gain, ratios[ratios.len() / 2]));
+        }
+    }
+    best.filter(|&(_, gain, ratio)| gain >= 0.5 && ratio >= opts.double_min_ratio)
+        .map(|(d, _, ratio)| HeardDouble {
+            delay_s: d,
+            amplitude_ratio: ratio,
+        })
 }
 
 /// Solve G c = r (G symmetric, small) by Gaussian elimination with
@@ -1006,33 +1262,63 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_closed_form_step_is_three_boxes_summed_out() {
-        // Three boxes of 41 samples convolved numerically, then summed: the
-        // step response, against the closed form at the same offsets.
-        let len = 41;
-        let mut k = vec![1.0 / len as f64; len];
-        for _ in 0..2 {
-            let mut next = vec![0.0; k.len() + len - 1];
-            for (i, a) in k.iter().enumerate() {
-                for j in 0..len {
-                    next[i + j] += a / len as f64;
+    fn a_bell_strikes_once_a_row() {
+        // Eight bells: strikes every 2 s (band samples at 1 kHz), one
+        // missing (a gap of 4 s), with a weak impostor 0.7 s after one; the
+        // shortest true interval is 7/8.5 of typical.
+        let mut s: Vec<(usize, f64)> = (0..10).filter(|&k| k != 5).map(|k| (2000 * k, 1.0)).collect();
+        s.push((4700, 0.45));
+        s.sort_by_key(|x| x.0);
+        let kept = once_a_row(s.clone(), 8);
+        assert!(!kept.contains(&(4700, 0.45)), "{kept:?}");
+        assert_eq!(kept.len(), 9);
+        // Too few strong strikes to know the rhythm: all kept.
+        let few = vec![(0, 1.0), (700, 0.5), (2000, 1.0)];
+        assert_eq!(once_a_row(few.clone(), 8), few);
+    }
+
+    #[test]
+    fn the_gram_fit_matches_its_residual() {
+        // Complex data on a constant and two complex shapes: the error
+        // from the normal equations is the residual summed directly.
+        let n = 50;
+        let a: Vec<C> = (0..n)
+            .map(|k| ((k as f64 * 0.3).sin(), (k as f64 * 0.1).cos()))
+            .collect();
+        let b: Vec<C> = (0..n)
+            .map(|k| ((k as f64 * 0.05).exp() * 0.1, -(k as f64) * 0.02))
+            .collect();
+        let one: Vec<C> = vec![(1.0, 0.0); n];
+        let z: Vec<C> = (0..n)
+            .map(|k| {
+                let noise = ((k * 7919 % 101) as f64 / 101.0 - 0.5) * 0.1;
+                (
+                    0.5 + 2.0 * a[k].0 - 0.7 * a[k].1 + 0.3 * b[k].0 + noise,
+                    -1.0 + 2.0 * a[k].1 + 0.7 * a[k].0 + 0.3 * b[k].1,
+                )
+            })
+            .collect();
+        let basis = [&one, &a, &b];
+        let g: Vec<Vec<C>> = basis
+            .iter()
+            .map(|x| basis.iter().map(|y| dot(x, y)).collect())
+            .collect();
+        let r: Vec<C> = basis.iter().map(|x| dot(x, &z)).collect();
+        let zz: f64 = z.iter().map(|v| v.0 * v.0 + v.1 * v.1).sum();
+        let (e, c) = fit_gram(&g, &r, zz);
+        let direct: f64 = (0..n)
+            .map(|k| {
+                let (mut re, mut im) = z[k];
+                for (x, ci) in basis.iter().zip(&c) {
+                    re -= x[k].0 * ci.0 - x[k].1 * ci.1;
+                    im -= x[k].0 * ci.1 + x[k].1 * ci.0;
                 }
-            }
-            k = next;
-        }
-        let centre = (k.len() - 1) as f64 / 2.0;
-        let mut sum = 0.0;
-        for (i, v) in k.iter().enumerate() {
-            // Half of this sample's weight lies before its centre.
-            let s = sum + 0.5 * v;
-            sum += v;
-            let closed = step_response(i as f64 - centre, len as f64);
-            assert!((s - closed).abs() < 2e-3, "at {i}: {s} against {closed}");
-        }
-        assert!((sum - 1.0).abs() < 1e-12);
-        assert_eq!(step_response(-1.6, 1.0), 0.0);
-        assert_eq!(step_response(1.6, 1.0), 1.0);
-        assert!((step_response(0.0, 1.0) - 0.5).abs() < 1e-12);
+                re * re + im * im
+            })
+            .sum();
+        assert!((e - direct).abs() < 1e-9 * zz, "{e} against {direct}");
+        // The coefficient on `a` is 2 + 0.7i, as put in.
+        assert!((c[1].0 - 2.0).abs() < 0.05 && (c[1].1 - 0.7).abs() < 0.05, "{c:?}");
     }
 
     #[test]

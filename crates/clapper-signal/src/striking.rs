@@ -70,9 +70,16 @@ pub fn rhythm(strikes: &[Timed], bells: usize) -> Rhythm {
         let mut sorted = gaps.clone();
         sorted.sort_by(f64::total_cmp);
         let typical = sorted[sorted.len() / 2];
+        // A bell moves at most a place a row: its interval runs from
+        // (bells − 1) to (bells + 2) places (one more place and the
+        // handstroke gap), its typical one about bells + ½; a little
+        // beyond that is a missing or extra strike.
+        let n = bells as f64;
+        let lo = (0.9 * (n - 1.0) / (n + 0.5)).max(0.5) * typical;
+        let hi = (1.1 * (n + 2.0) / (n + 0.5)).min(2.0) * typical;
         let mut start = 0;
         for k in 0..=gaps.len() {
-            let broken = k == gaps.len() || !(0.6 * typical..=1.4 * typical).contains(&gaps[k]);
+            let broken = k == gaps.len() || !(lo..=hi).contains(&gaps[k]);
             if !broken {
                 continue;
             }

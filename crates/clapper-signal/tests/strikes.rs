@@ -52,17 +52,13 @@ fn a_ring_is_heard_strike_by_strike_with_its_double_and_its_odd_struck_bell() {
     let spec = ring(11);
     let (sig, truth) = tower_recording(&spec).unwrap();
     let heard = find_strikes(&sig, &voices(&spec), &StrikeOptions::default()).unwrap();
-    let h: Vec<_> = heard
-        .strikes
-        .iter()
-        .map(|s| (s.bell, s.t, s.double.map(|d| (d.delay_s, d.amplitude_ratio))))
-        .collect();
+    let h = heard.times();
     let sc = score(&h, &truth, 0.05);
     let counts: Vec<usize> = (1..=6)
         .map(|b| heard.strikes.iter().filter(|s| s.bell == b).count())
         .collect();
     assert!(
-        sc.recall() >= 0.98 && sc.precision() >= 0.98,
+        sc.recall() >= 0.99 && sc.precision() >= 0.99,
         "{counts:?} {:?}",
         heard.warnings
     );
@@ -78,6 +74,44 @@ fn a_ring_is_heard_strike_by_strike_with_its_double_and_its_odd_struck_bell() {
     let r = rhythm(&timed, 6);
     let odd = r.odd_struck(&timed, 3).unwrap() * 1e3;
     assert!((odd - 15.0).abs() < 5.0, "odd-struck {odd} ms");
+    // Against what the true times give (the planted 15 ms blurred by this
+    // ring's striking errors): the listener adds under 3 ms.
+    let true_timed: Vec<Timed> = truth.iter().map(|s| Timed { bell: s.bell, t: s.t }).collect();
+    let own = rhythm(&true_timed, 6).odd_struck(&true_timed, 3).unwrap() * 1e3;
+    assert!(
+        (odd - own).abs() < 3.0,
+        "odd-struck {odd} ms heard, {own} ms in the true times"
+    );
+    // Every strike's stroke is right.
+    for (s, p) in heard.strikes.iter().zip(&r.placed) {
+        if let Some(x) = truth.iter().find(|x| x.bell == s.bell && (x.t - s.t).abs() <= 0.05) {
+            assert_eq!(p.hand, Some(x.hand), "bell {} at {} s", s.bell, s.t);
+        }
+    }
+}
+
+#[test]
+fn a_reverberant_tower_does_not_pass_for_double_strikes() {
+    // RT60 1.2 s: the room's build-up is in each bell's learned response,
+    // so it is not heard as a second strike, and the planted one still is.
+    let mut spec = ring(4);
+    spec.room = Some(Room {
+        rt60_s: 1.2,
+        direct_to_reverb_db: 3.0,
+        predelay_ms: 15.0,
+    });
+    let (sig, truth) = tower_recording(&spec).unwrap();
+    let heard = find_strikes(&sig, &voices(&spec), &StrikeOptions::default()).unwrap();
+    let h = heard.times();
+    let sc = score(&h, &truth, 0.05);
+    assert!(sc.recall() >= 0.97 && sc.precision() >= 0.97, "{sc:?}");
+    assert!(
+        sc.false_doubles <= 2,
+        "{} false doubles in {} strikes",
+        sc.false_doubles,
+        sc.found
+    );
+    assert_eq!(sc.doubles_found, 1, "{sc:?}");
 }
 
 #[test]

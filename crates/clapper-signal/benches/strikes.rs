@@ -1,0 +1,66 @@
+//! Issue 19's speed check: strikes found in ten minutes of a synthetic
+//! 8-bell ring (plain hunt, 25 dB SNR, RT60 1.2 s) at 22.05 and 44.1 kHz.
+//! The recording is made once, outside the timing; criterion runs on the
+//! one thread the finder uses (it is not parallel).
+//!
+//! cargo bench -p clapper-signal --bench strikes
+use clapper_signal::strikes::{find_strikes, BellVoice, StrikeOptions};
+use clapper_signal::tower::*;
+use criterion::{criterion_group, criterion_main, Criterion};
+use std::hint::black_box;
+
+/// Ten minutes of ringing: 8 bells, 0.22 s apart, 17 strikes a row pair
+/// with the handstroke gap, so 326 rows.
+fn ten_minutes(rate: f64) -> TowerSpec {
+    TowerSpec {
+        rate,
+        bells: (0..8)
+            .map(|i| RingBell {
+                nominal_hz: 1400.0 * 2f64.powf(-[0, 2, 4, 5, 7, 9, 11, 12][i] as f64 / 12.0),
+                mass_kg: 150.0 * (1.0 + i as f64),
+                odd_struck_ms: 0.0,
+            })
+            .collect(),
+        rows: 326,
+        interval: 0.22,
+        handstroke_gap: 1.0,
+        jitter: 0.02,
+        seed: 1,
+        doubles: vec![],
+        lead_in: 1.0,
+        tail: 2.0,
+        method: Method::PlainHunt,
+        variation: Variation {
+            detune_cents: 15.0,
+            strength_db: 3.0,
+        },
+        room: Some(Room {
+            rt60_s: 1.2,
+            direct_to_reverb_db: 3.0,
+            predelay_ms: 15.0,
+        }),
+        snr_db: Some(25.0),
+    }
+}
+
+fn strikes(c: &mut Criterion) {
+    let mut g = c.benchmark_group("strikes in 10 minutes of 8 bells");
+    g.sample_size(10);
+    for rate in [22_050.0, 44_100.0] {
+        let spec = ten_minutes(rate);
+        let (sig, _) = tower_recording(&spec).expect("a valid spec");
+        assert!(sig.duration() >= 600.0, "{} s", sig.duration());
+        let voices: Vec<BellVoice> = spec
+            .bells
+            .iter()
+            .map(|b| BellVoice::from_nominal(b.nominal_hz))
+            .collect();
+        g.bench_function(format!("{} kHz", rate / 1000.0), |b| {
+            b.iter(|| find_strikes(black_box(&sig), black_box(&voices), &StrikeOptions::default()).unwrap())
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, strikes);
+criterion_main!(benches);
