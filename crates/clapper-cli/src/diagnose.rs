@@ -6,7 +6,9 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use clapper_app::diagnosis::{diagnose_bells_with, report_page, text, OddStruckOptions};
 use clapper_app::simulate::Preset;
+use clapper_app::strikes::{beside, voices_from_nominals, StrikesReport};
 use clapper_io::bell_file::LoadedBell;
+use clapper_signal::strikes::StrikeOptions;
 
 #[derive(Args, Debug)]
 pub struct DiagnoseArgs {
@@ -31,6 +33,17 @@ pub struct DiagnoseArgs {
     /// plus or minus this).
     #[arg(long, value_name = "MS", default_value_t = 1.0)]
     pub odd_tolerance: f64,
+    /// A recording of the ring (.wav): its odd-struckness and double strikes
+    /// heard (as `clapper strikes`), set beside the model's, bell by bell in
+    /// the ring file's order. Needs --nominals or --templates.
+    #[arg(long, value_name = "REC.wav")]
+    pub recording: Option<PathBuf>,
+    /// The bells' nominals (Hz), treble first, to hear them in the recording.
+    #[arg(long, value_name = "F1,F2,..", value_parser = crate::strikes::parse_list, requires = "recording", conflicts_with = "templates")]
+    pub nominals: Option<crate::strikes::Nominals>,
+    /// A folder of each bell struck alone (1.wav, 2.wav, ...), to hear them in the recording.
+    #[arg(long, value_name = "DIR", requires = "recording")]
+    pub templates: Option<PathBuf>,
 }
 
 pub fn run(args: DiagnoseArgs) -> Result<()> {
@@ -65,7 +78,25 @@ pub fn run(args: DiagnoseArgs) -> Result<()> {
         ball_below_pivot_m: h.ball_below_pivot,
         tolerance_ms: args.odd_tolerance,
     };
+    // The recording is heard first: a bad file fails before the simulations.
+    let heard = match &args.recording {
+        Some(rec) => {
+            let voices = match (&args.nominals, &args.templates) {
+                (Some(n), _) => voices_from_nominals(&n.0)?,
+                (None, Some(dir)) => crate::strikes::template_voices(dir)?,
+                (None, None) => bail!(
+                    "--recording needs the bells' voices: --nominals F1,F2,.. (Hz, treble first) or --templates DIR"
+                ),
+            };
+            let sig = clapper_io::signal_file::read_recording(rec)?;
+            let name = rec.display().to_string();
+            let report = StrikesReport::new(&sig, &voices, &StrikeOptions::default()).with_context(|| name.clone())?;
+            Some((report, name))
+        }
+        None => None,
+    };
     let rep = diagnose_bells_with(&bells, &odd)?;
+    let recording = heard.map(|(h, name)| beside(&rep, &h, &name));
     if let Some(path) = &args.report {
         let html = report_page(&rep, &bells, &source)?;
         crate::files::write_atomically(path, |tmp| {
@@ -73,9 +104,16 @@ pub fn run(args: DiagnoseArgs) -> Result<()> {
         })?;
     }
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&rep)?);
+        let mut v = serde_json::to_value(&rep)?;
+        if let (Some(r), Some(map)) = (&recording, v.as_object_mut()) {
+            map.insert("recording".into(), serde_json::to_value(r)?);
+        }
+        println!("{}", serde_json::to_string_pretty(&v)?);
     } else {
         print!("{}", text(&rep, &source));
+        if let Some(r) = &recording {
+            print!("{}", r.text());
+        }
         if let Some(p) = &args.report {
             println!("\nreport written to {}", p.display());
         }

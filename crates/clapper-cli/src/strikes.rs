@@ -19,7 +19,7 @@ use crate::measure::print_report;
 #[derive(Clone, Debug)]
 pub struct Nominals(pub Vec<f64>);
 
-fn parse_list(s: &str) -> std::result::Result<Nominals, String> {
+pub(crate) fn parse_list(s: &str) -> std::result::Result<Nominals, String> {
     s.split(',')
         .map(|v| v.trim().parse::<f64>().map_err(|_| format!("'{v}' is not a number")))
         .collect::<std::result::Result<Vec<f64>, String>>()
@@ -55,7 +55,7 @@ pub struct StrikesArgs {
     pub plot: Option<PathBuf>,
 }
 
-fn template_voices(dir: &std::path::Path) -> Result<Vec<BellVoice>> {
+pub(crate) fn template_voices(dir: &std::path::Path) -> Result<Vec<BellVoice>> {
     let mut voices = vec![];
     for bell in 1.. {
         let path = dir.join(format!("{bell}.wav"));

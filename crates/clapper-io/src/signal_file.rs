@@ -54,23 +54,47 @@ pub fn read_recording(path: &Path) -> Result<Signal, SignalFileError> {
     if ext.as_deref() != Some("wav") {
         return Err(content(path, "a recording must be a .wav file"));
     }
-    let first = read_wav(path, 0)?;
-    let channels = hound::WavReader::open(path).map(|r| r.spec().channels).unwrap_or(1) as usize;
-    let mut mix = first.samples;
-    for c in 1..channels {
-        let other = read_wav(path, c)?;
-        for (m, v) in mix.iter_mut().zip(&other.samples) {
-            *m += v;
+    let bytes = std::fs::read(path).map_err(|e| SignalFileError::Read {
+        path: path.display().to_string(),
+        message: e.to_string(),
+    })?;
+    recording_from_bytes(&bytes, &path.display().to_string())
+}
+
+/// A recording of a ring from the bytes of a WAV file (an upload, say),
+/// as [`read_recording`]; `name` is how errors name it.
+pub fn recording_from_bytes(bytes: &[u8], name: &str) -> Result<Signal, SignalFileError> {
+    let here = Path::new(name);
+    let mut r = hound::WavReader::new(std::io::Cursor::new(bytes))
+        .map_err(|e| content(here, format!("not a WAV file this reads ({e})")))?;
+    let spec = r.spec();
+    let nch = usize::from(spec.channels.max(1));
+    let all: Vec<f64> = match spec.sample_format {
+        hound::SampleFormat::Float => r
+            .samples::<f32>()
+            .map(|s| s.map(f64::from))
+            .collect::<Result<_, _>>()
+            .map_err(|e| content(here, e.to_string()))?,
+        hound::SampleFormat::Int => {
+            let scale = 2f64.powi(spec.bits_per_sample as i32 - 1);
+            r.samples::<i32>()
+                .map(|s| s.map(|v| f64::from(v) / scale))
+                .collect::<Result<_, _>>()
+                .map_err(|e| content(here, e.to_string()))?
         }
-    }
-    if channels > 1 {
-        mix.iter_mut().for_each(|m| *m /= channels as f64);
+    };
+    let samples: Vec<f64> = all
+        .chunks_exact(nch)
+        .map(|f| f.iter().sum::<f64>() / nch as f64)
+        .collect();
+    if samples.is_empty() {
+        return Err(content(here, "no samples"));
     }
     let sig = Signal {
-        rate: first.rate,
-        samples: mix,
+        rate: f64::from(spec.sample_rate),
+        samples,
     };
-    sig.validate().map_err(|e| content(path, e.to_string()))?;
+    sig.validate().map_err(|e| content(here, e.to_string()))?;
     Ok(sig)
 }
 

@@ -519,6 +519,7 @@ $("diagnose").addEventListener("click", async () => {
     const req = diagnoseRequest();
     showStatus(status, "Diagnosing…");
     const rep = await (await postJson("/api/diagnose", req)).json();
+    lastDiagnosis = rep;
     chart.markers = rep.bells.map((b) => ({ x: b.r_over_lc, y: b.lb_over_lc, label: b.name }));
     $("diagnosis").innerHTML = diagnosisHtml(rep);
     showStatus(status, `${rep.bells.length} bell(s) diagnosed; they are marked on the clapping chart.`);
@@ -676,3 +677,68 @@ fetch("/api/health").then((r) => r.json()).then((h) => { $("version").textConten
 saveAnswers();
 renderRing();
 selectTab("chart");
+
+// ---------- strikes from a recording ----------
+let lastDiagnosis = null;
+let lastStrikes = null;
+
+function download(name, type, text) {
+  const a = document.createElement("a");
+  a.href = URL.createObjectURL(new Blob([text], { type }));
+  a.download = name;
+  document.body.appendChild(a); a.click(); a.remove();
+}
+
+$("listen-recording").addEventListener("click", async () => {
+  const status = $("strikes-status");
+  try {
+    const file = $("recording").files[0];
+    if (!file) throw new Error("choose a recording (.wav) first");
+    const nominals = $("nominals").value.split(/[,\s]+/).filter((v) => v !== "");
+    if (nominals.length === 0) throw new Error("give the bells' nominals (Hz), treble first");
+    const q = new URLSearchParams({ nominals: nominals.join(","), double_min_ratio: $("double-min-ratio").value });
+    showStatus(status, `Listening to ${file.name}…`);
+    const res = await fetch("/api/strikes?" + q, { method: "POST", headers: { "Content-Type": "audio/wav" }, body: file });
+    if (!res.ok) {
+      let msg = res.statusText;
+      try { msg = (await res.json()).error; } catch (_) { /* not JSON */ }
+      throw new Error(msg);
+    }
+    lastStrikes = await res.json();
+    $("strikes-result").innerHTML = strikesHtml(lastStrikes.report);
+    $("download-strikes-json").addEventListener("click", () =>
+      download("strikes.json", "application/json", JSON.stringify(lastStrikes.report, null, 2)));
+    $("download-strikes-csv").addEventListener("click", () => download("strikes.csv", "text/csv", lastStrikes.csv));
+    const s = lastStrikes.report.summary;
+    showStatus(status, `${s.strikes} strike(s) heard in ${fmt(s.duration_s, 1)} s.` + (s.warnings.length ? " " + s.warnings.join("; ") : ""));
+  } catch (e) { showError(status, e); }
+});
+
+function strikesHtml(r) {
+  const s = r.summary;
+  const beside = lastDiagnosis && lastDiagnosis.bells.length > 0;
+  let h = `<h2>Striking</h2><p>${s.strikes} strikes in ${s.rows} rows (${s.full_rows} full); interval ${fmt(s.interval_ms, 1)} ms,
+    handstroke gap ${fmt(s.handstroke_gap_intervals, 2)} interval(s), RMS striking error ${fmt(s.rms_error_ms, 1)} ms,
+    ${s.double_strikes} double strike(s).
+    <button type="button" id="download-strikes-json">Download JSON</button>
+    <button type="button" id="download-strikes-csv">Download CSV</button></p>`;
+  h += "<table id=\"strikes-table\"><tr><th>bell</th><th>strikes</th><th>hand mean ± sd (ms)</th><th>back mean ± sd (ms)</th><th>odd-struck (ms)</th><th>double strikes</th><th>mean D</th>";
+  if (beside) h += "<th>bell diagnosed</th><th>odd-struck, model (ms)</th><th>D, model (R = 0.1)</th>";
+  h += "</tr>";
+  const ms = (st) => (st.mean_error_ms === null ? "–" : `${fmt(st.mean_error_ms, 1)} ± ${fmt(st.spread_ms, 1)}`);
+  for (const b of r.per_bell) {
+    h += `<tr><td>${b.bell}</td><td>${b.strikes}</td><td>${ms(b.hand)}</td><td>${ms(b.back)}</td>
+      <td>${b.odd_struck_ms === null ? "–" : fmt(b.odd_struck_ms, 1) + (b.odd_struck_se_ms === null ? "" : " ± " + fmt(b.odd_struck_se_ms, 1))}</td>
+      <td>${b.double_strikes} (${fmt(100 * b.double_rate, 0)} %)</td><td>${fmt(b.mean_d, 1)}</td>`;
+    if (beside) {
+      const d = lastDiagnosis.bells[b.bell - 1];
+      h += d
+        ? `<td>${esc(d.name)}</td><td>${fmt(d.odd_struck ? d.odd_struck.odd_struck_ms : 0, 1)}</td><td>${fmt(d.double_strike_index["0.1"], 1)}</td>`
+        : "<td>–</td><td>–</td><td>–</td>";
+    }
+    h += "</tr>";
+  }
+  h += "</table>";
+  h += `<div class="plot">${lastStrikes.plot_svg}</div>`;
+  return h;
+}

@@ -3,10 +3,11 @@
 // playwright-core. It starts `clapper serve --port 0`, loads the page,
 // enters the lab bell, sees its marker on the chart, clicks a chart point,
 // sees the stroke plot, answers three listening-test stimuli and shows the
-// result, saving a screenshot at each step.
+// result, uploads a synthetic recording of a ring and sees its striking,
+// saving a screenshot at each step.
 //
 //   CLAPPER_BIN=target/release/clapper E2E_OUT=target/e2e node crates/clapper-web/e2e/e2e.mjs
-import { spawn } from "node:child_process";
+import { spawn, spawnSync } from "node:child_process";
 import { mkdirSync } from "node:fs";
 import { dirname, resolve } from "node:path";
 import { fileURLToPath } from "node:url";
@@ -160,6 +161,24 @@ try {
   await page.waitForSelector("#listen-result svg", { timeout: 30000 });
   check((await page.textContent("#listen-result")).includes("3 answer(s)"), "the result of the answers so far is shown");
   await page.screenshot({ path: `${out}/04-listening.png`, fullPage: true });
+
+  // Strikes from a recording: a synthetic ring of six (bell 3 planted 20 ms
+  // odd-struck) made by the binary, uploaded, its striking shown.
+  const ringWav = `${out}/ring.wav`;
+  const made = spawnSync(bin, ["synth-ring", "--bells", "6", "--rows", "20", "--jitter-ms", "5", "--odd", "3:20", "--out", ringWav], { encoding: "utf8" });
+  check(made.status === 0, "synth-ring makes a recording");
+  const nominals = made.stdout.split("--nominals ")[1].trim();
+  await page.click('button[data-tab="strikes"]');
+  await page.setInputFiles("#recording", ringWav);
+  await page.fill("#nominals", nominals);
+  await page.click("#listen-recording");
+  await page.waitForSelector("#strikes-table", { timeout: 60000 });
+  const rows = await page.locator("#strikes-table tr").count();
+  check(rows === 7, `the per-bell table has the six bells (${rows - 1} rows)`);
+  check((await page.textContent("#strikes-status")).includes("120 strike(s)"), "all 120 strikes are heard");
+  check((await page.textContent("#strikes-table")).includes("model"), "the bells diagnosed stand beside what is heard");
+  check(await page.locator("#strikes-result svg").count() === 1, "the striking diagram is drawn");
+  await page.screenshot({ path: `${out}/07-strikes.png`, fullPage: true });
 
   check(pageErrors.length === 0, "no script errors in the page" + (pageErrors.length ? ": " + pageErrors.join("; ") : ""));
   console.log(`screenshots in ${out}`);

@@ -442,3 +442,72 @@ pub(crate) async fn listening_analyse(
         .await?;
     Ok(Json(json!({"analysis": rep, "plot_svg": svg})).into_response())
 }
+
+/// `POST /api/strikes?nominals=F1,F2,..[&double_min_ratio=R]`: a recording
+/// of a ring (the body: a WAV file, mono or stereo, 8 to 96 kHz) heard as
+/// `clapper strikes` hears it: `{"report": {...}, "csv": "...",
+/// "plot_svg": "<svg ..."}`, the report as `clapper strikes --json`, the
+/// CSV as `--csv`, the plot as `--plot`.
+pub(crate) async fn strikes(
+    State(s): State<AppState>,
+    q: Result<Query<StrikesQuery>, QueryRejection>,
+    wav: Result<Bytes, axum::extract::rejection::BytesRejection>,
+) -> Result<Response, ApiError> {
+    let q = q?.0;
+    let wav = wav.map_err(|r| {
+        let status = r.status();
+        if status == axum::http::StatusCode::PAYLOAD_TOO_LARGE {
+            ApiError::Limit(
+                status,
+                format!(
+                    "recording too large: at most {} MiB here; longer ones belong to clapper strikes",
+                    s.limits.max_recording_bytes >> 20
+                ),
+            )
+        } else {
+            ApiError::BadRequest(r.body_text())
+        }
+    })?;
+    let nominals: Vec<f64> = q
+        .nominals
+        .split(',')
+        .map(|v| {
+            v.trim()
+                .parse::<f64>()
+                .map_err(|_| ApiError::BadRequest(format!("nominals: '{v}' is not a number (Hz)")))
+        })
+        .collect::<Result<_, _>>()?;
+    let voices = clapper_app::strikes::voices_from_nominals(&nominals)?;
+    if wav.is_empty() {
+        return Err(ApiError::BadRequest(
+            "no recording: send the WAV file as the request's body".into(),
+        ));
+    }
+    let opts = clapper_signal::strikes::StrikeOptions {
+        double_min_ratio: q.double_min_ratio.unwrap_or(0.3),
+        ..Default::default()
+    };
+    let out = s
+        .jobs
+        .run(move || {
+            let sig = clapper_io::signal_file::recording_from_bytes(&wav, "the recording")
+                .map_err(|e| clapper_app::AppError::Request(e.to_string()))?;
+            let report = clapper_app::strikes::StrikesReport::new(&sig, &voices, &opts)?;
+            let csv = clapper_io::strike_file::csv_text(&report.csv_rows()).map_err(clapper_app::AppError::Request)?;
+            let top = nominals.iter().copied().fold(0.0, f64::max);
+            let fig = clapper_app::strikes::StrikingFigure::new(&report, &sig, "the recording", 1.6 * top)?;
+            let svg = clapper_plot::striking_plot_svg(&fig.plot()).map_err(clapper_app::AppError::from)?;
+            Ok(json!({ "report": report, "csv": csv, "plot_svg": svg }))
+        })
+        .await?;
+    Ok(Json(out).into_response())
+}
+
+/// The query of `POST /api/strikes`.
+#[derive(Deserialize)]
+pub(crate) struct StrikesQuery {
+    /// Nominals (Hz), treble first, comma-separated.
+    nominals: String,
+    /// The double strike's least amplitude ratio (default 0.3).
+    double_min_ratio: Option<f64>,
+}

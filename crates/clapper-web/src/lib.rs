@@ -46,6 +46,10 @@ pub struct Limits {
     /// Largest request body (bytes). Default 1 MiB: a ring file of 64
     /// bells or 100 listeners' answers is a few tens of kB.
     pub max_body_bytes: usize,
+    /// Largest recording uploaded to `/api/strikes` (bytes). Default 64 MiB:
+    /// twelve minutes of mono 16-bit sound at 44.1 kHz (a phone's WAV of a
+    /// touch); longer recordings belong to `clapper strikes`.
+    pub max_recording_bytes: usize,
     /// Most chart points (nx × ny) in one chart request. Default 40,000
     /// (200 × 200): 80,000 strokes, about 3 s on two cores; larger charts
     /// belong to `clapper chart`.
@@ -69,6 +73,7 @@ impl Default for Limits {
     fn default() -> Self {
         Self {
             max_body_bytes: 1 << 20,
+            max_recording_bytes: 64 << 20,
             max_chart_points: 40_000,
             max_strokes: 100,
             max_stiffness: 1e9,
@@ -111,6 +116,10 @@ pub fn router(limits: Limits) -> Router {
         .route("/api/listening/stimulus/{name}", get(api::listening_stimulus))
         .route("/api/listening/parse", post(api::listening_parse))
         .route("/api/listening/analyse", post(api::listening_analyse))
+        .route(
+            "/api/strikes",
+            post(api::strikes).layer(DefaultBodyLimit::max(limits.max_recording_bytes)),
+        )
         .fallback(error::not_found)
         .method_not_allowed_fallback(error::method_not_allowed)
         .layer(DefaultBodyLimit::max(limits.max_body_bytes))

@@ -445,3 +445,87 @@ async fn a_clapper_by_its_parts_is_designed_and_diagnosed() {
         .unwrap()
         .starts_with("[clapper]"));
 }
+
+async fn send_wav(app: &axum::Router, uri: &str, wav: Vec<u8>) -> (StatusCode, Vec<u8>) {
+    let req = Request::builder()
+        .method("POST")
+        .uri(uri)
+        .header("content-type", "audio/wav")
+        .body(Body::from(wav))
+        .unwrap();
+    let res = app.clone().oneshot(req).await.unwrap();
+    let status = res.status();
+    (status, res.into_body().collect().await.unwrap().to_bytes().to_vec())
+}
+
+#[tokio::test]
+async fn a_recording_is_heard_through_the_api() {
+    use clapper_signal::tower::*;
+    // A synthetic ring of six, bell 3 planted 20 ms odd-struck, bell 2
+    // double striking in row 5.
+    let spec = TowerSpec {
+        rate: 16_000.0,
+        bells: (0..6)
+            .map(|i| RingBell {
+                nominal_hz: 1400.0 * 2f64.powf(-[0, 2, 4, 5, 7, 9][i] as f64 / 12.0),
+                mass_kg: 150.0 * (1.0 + i as f64),
+                odd_struck_ms: if i == 2 { 20.0 } else { 0.0 },
+            })
+            .collect(),
+        rows: 20,
+        interval: 0.22,
+        handstroke_gap: 1.0,
+        jitter: 0.005,
+        seed: 3,
+        doubles: vec![DoubleStrikeSpec {
+            bell: 2,
+            row: 5,
+            delay_ms: 70.0,
+            amplitude_ratio: 0.8,
+        }],
+        lead_in: 1.0,
+        tail: 2.0,
+        method: Method::Rounds,
+        variation: Variation::NONE,
+        room: None,
+        snr_db: Some(30.0),
+    };
+    let (sig, _) = tower_recording(&spec).unwrap();
+    let wav = clapper_io::signal_file::wav_bytes(&sig, 0.5).unwrap();
+    let nominals: Vec<String> = spec.bells.iter().map(|b| format!("{:.2}", b.nominal_hz)).collect();
+    let uri = format!("/api/strikes?nominals={}", nominals.join(","));
+    let app = router(Limits::default());
+    let (status, body) = send_wav(&app, &uri, wav.clone()).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let v = json(&body);
+    let report = &v["report"];
+    assert_eq!(report["bells"], 6);
+    assert_eq!(report["strikes"].as_array().unwrap().len(), 120);
+    let odd = report["per_bell"][2]["odd_struck_ms"].as_f64().unwrap();
+    assert!((odd - 20.0).abs() < 4.0, "bell 3 odd-struck {odd} ms (planted 20)");
+    assert_eq!(report["per_bell"][1]["double_strikes"], 1);
+    assert!(v["csv"].as_str().unwrap().starts_with("bell,t_s,stroke"));
+    assert!(v["plot_svg"].as_str().unwrap().starts_with("<svg"));
+    // Bad requests: no nominals, a bad one, not a WAV, nothing, too large.
+    let (status, body) = send_wav(&app, "/api/strikes", wav.clone()).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST, "{}", String::from_utf8_lossy(&body));
+    let (status, body) = send_wav(&app, "/api/strikes?nominals=1400,abc", wav.clone()).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert!(String::from_utf8_lossy(&body).contains("'abc'"));
+    let (status, body) = send_wav(&app, &uri, b"RIFF but not really".to_vec()).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert!(
+        String::from_utf8_lossy(&body).contains("not a WAV"),
+        "{}",
+        String::from_utf8_lossy(&body)
+    );
+    let (status, _) = send_wav(&app, &uri, vec![]).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    let small = router(Limits {
+        max_recording_bytes: 1000,
+        ..Limits::default()
+    });
+    let (status, body) = send_wav(&small, &uri, wav).await;
+    assert_eq!(status, StatusCode::PAYLOAD_TOO_LARGE);
+    assert!(String::from_utf8_lossy(&body).contains("clapper strikes"));
+}
