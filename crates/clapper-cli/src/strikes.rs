@@ -10,7 +10,7 @@ use clapper_app::strikes::{voices_from_nominals, StrikesReport, StrikingFigure};
 use clapper_io::signal_file::{read_recording, write_wav};
 use clapper_io::strike_file::{csv_text, lowndes};
 use clapper_signal::strikes::{BellVoice, StrikeOptions};
-use clapper_signal::tower::{tower_recording, DoubleStrikeSpec, Method, RingBell, Room, TowerSpec, Variation};
+use clapper_signal::tower::{major_scale, tower_recording, DoubleStrikeSpec, Method, Room, TowerSpec, Variation};
 
 use crate::files::write_bytes;
 use crate::measure::print_report;
@@ -177,15 +177,9 @@ pub fn synth_ring(args: SynthRingArgs) -> Result<()> {
     if !(1..=16).contains(&args.bells) {
         bail!("{} bells: 1 to 16", args.bells);
     }
-    const SCALE: [i32; 16] = [0, 2, 4, 5, 7, 9, 11, 12, 14, 16, 17, 19, 21, 23, 24, 26];
-    let mut bells: Vec<RingBell> = (0..args.bells)
-        .map(|i| RingBell {
-            nominal_hz: args.treble_hz * 2f64.powf(-f64::from(SCALE[i]) / 12.0),
-            // Heavier down the ring: mass grows as the cube of the size.
-            mass_kg: 150.0 * 2f64.powf(f64::from(SCALE[i]) / 4.0),
-            odd_struck_ms: 0.0,
-        })
-        .collect();
+    let Some(mut bells) = major_scale(args.bells, args.treble_hz) else {
+        bail!("{} bells: 1 to 16", args.bells);
+    };
     for o in &args.odd {
         let v = fields(o, 2, "--odd is BELL:MS")?;
         let b = v[0] as usize;

@@ -14,13 +14,7 @@ use std::hint::black_box;
 fn ten_minutes(rate: f64) -> TowerSpec {
     TowerSpec {
         rate,
-        bells: (0..8)
-            .map(|i| RingBell {
-                nominal_hz: 1400.0 * 2f64.powf(-[0, 2, 4, 5, 7, 9, 11, 12][i] as f64 / 12.0),
-                mass_kg: 150.0 * (1.0 + i as f64),
-                odd_struck_ms: 0.0,
-            })
-            .collect(),
+        bells: major_scale(8, 1400.0).expect("at most 16 bells"),
         rows: 326,
         interval: 0.22,
         handstroke_gap: 1.0,
@@ -30,10 +24,7 @@ fn ten_minutes(rate: f64) -> TowerSpec {
         lead_in: 1.0,
         tail: 2.0,
         method: Method::PlainHunt,
-        variation: Variation {
-            detune_cents: 15.0,
-            strength_db: 3.0,
-        },
+        variation: Variation::TUNED,
         room: Some(Room {
             rt60_s: 1.2,
             direct_to_reverb_db: 3.0,

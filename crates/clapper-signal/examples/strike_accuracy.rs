@@ -14,13 +14,11 @@ fn spec(seed: u64, snr: f64, room: Option<Room>) -> TowerSpec {
     let n = 8;
     TowerSpec {
         rate: 22050.0,
-        bells: (0..n)
-            .map(|i| RingBell {
-                nominal_hz: 1400.0 * 2f64.powf(-[0, 2, 4, 5, 7, 9, 11, 12][i] as f64 / 12.0),
-                mass_kg: 150.0 * (1.0 + i as f64),
-                odd_struck_ms: if i == 3 { 15.0 } else { 0.0 },
-            })
-            .collect(),
+        bells: {
+            let mut b = major_scale(n, 1400.0).expect("at most 16 bells");
+            b[3].odd_struck_ms = 15.0;
+            b
+        },
         rows: 40,
         interval: 0.22,
         handstroke_gap: 1.0,
@@ -37,10 +35,7 @@ fn spec(seed: u64, snr: f64, room: Option<Room>) -> TowerSpec {
         lead_in: 1.0,
         tail: 2.0,
         method: Method::PlainHunt,
-        variation: Variation {
-            detune_cents: 15.0,
-            strength_db: 3.0,
-        },
+        variation: Variation::TUNED,
         room,
         snr_db: Some(snr),
     }

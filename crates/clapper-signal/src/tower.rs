@@ -112,6 +112,30 @@ impl Variation {
         detune_cents: 0.0,
         strength_db: 0.0,
     };
+    /// As real tuned bells stray: partials within ±15 cents (a tuner's
+    /// tolerance on the lower partials) and ±3 dB.
+    pub const TUNED: Variation = Variation {
+        detune_cents: 15.0,
+        strength_db: 3.0,
+    };
+}
+
+/// A ring of `bells` (1 to 16) tuned to a major scale down from the
+/// treble's nominal `treble_hz` (Hz), heavier down the ring (mass as the
+/// cube of size, 150 kg for the treble); none odd-struck. `None` for more
+/// than 16 bells.
+pub fn major_scale(bells: usize, treble_hz: f64) -> Option<Vec<RingBell>> {
+    const SCALE: [i32; 16] = [0, 2, 4, 5, 7, 9, 11, 12, 14, 16, 17, 19, 21, 23, 24, 26];
+    (bells <= SCALE.len()).then(|| {
+        SCALE[..bells]
+            .iter()
+            .map(|&s| RingBell {
+                nominal_hz: treble_hz * 2f64.powf(-f64::from(s) / 12.0),
+                mass_kg: 150.0 * 2f64.powf(f64::from(s) / 4.0),
+                odd_struck_ms: 0.0,
+            })
+            .collect()
+    })
 }
 
 /// The room: an impulse response of the direct sound and, after a

@@ -10,13 +10,11 @@ use clapper_signal::Signal;
 fn ring(seed: u64) -> TowerSpec {
     TowerSpec {
         rate: 16_000.0,
-        bells: (0..6)
-            .map(|i| RingBell {
-                nominal_hz: 1400.0 * 2f64.powf(-[0, 2, 4, 5, 7, 9][i] as f64 / 12.0),
-                mass_kg: 150.0 * (1.0 + i as f64),
-                odd_struck_ms: if i == 2 { 15.0 } else { 0.0 },
-            })
-            .collect(),
+        bells: {
+            let mut b = major_scale(6, 1400.0).expect("at most 16 bells");
+            b[2].odd_struck_ms = 15.0;
+            b
+        },
         rows: 24,
         interval: 0.22,
         handstroke_gap: 1.0,
@@ -31,10 +29,7 @@ fn ring(seed: u64) -> TowerSpec {
         lead_in: 1.0,
         tail: 2.0,
         method: Method::PlainHunt,
-        variation: Variation {
-            detune_cents: 15.0,
-            strength_db: 3.0,
-        },
+        variation: Variation::TUNED,
         room: None,
         snr_db: Some(25.0),
     }

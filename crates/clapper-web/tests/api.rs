@@ -465,13 +465,11 @@ async fn a_recording_is_heard_through_the_api() {
     // double striking in row 5.
     let spec = TowerSpec {
         rate: 16_000.0,
-        bells: (0..6)
-            .map(|i| RingBell {
-                nominal_hz: 1400.0 * 2f64.powf(-[0, 2, 4, 5, 7, 9][i] as f64 / 12.0),
-                mass_kg: 150.0 * (1.0 + i as f64),
-                odd_struck_ms: if i == 2 { 20.0 } else { 0.0 },
-            })
-            .collect(),
+        bells: {
+            let mut b = major_scale(6, 1400.0).expect("at most 16 bells");
+            b[2].odd_struck_ms = 20.0;
+            b
+        },
         rows: 20,
         interval: 0.22,
         handstroke_gap: 1.0,
