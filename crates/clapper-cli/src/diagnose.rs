@@ -104,11 +104,20 @@ pub fn run(args: DiagnoseArgs) -> Result<()> {
         })?;
     }
     if args.json {
-        let mut v = serde_json::to_value(&rep)?;
-        if let (Some(r), Some(map)) = (&recording, v.as_object_mut()) {
-            map.insert("recording".into(), serde_json::to_value(r)?);
+        // The diagnosis as ever (its keys in their order), the recording
+        // after it when one was heard.
+        #[derive(serde::Serialize)]
+        struct WithRecording<'a> {
+            #[serde(flatten)]
+            diagnosis: &'a clapper_app::diagnosis::DiagnosisReport,
+            #[serde(skip_serializing_if = "Option::is_none")]
+            recording: Option<&'a clapper_app::strikes::RecordingBeside>,
         }
-        println!("{}", serde_json::to_string_pretty(&v)?);
+        let out = WithRecording {
+            diagnosis: &rep,
+            recording: recording.as_ref(),
+        };
+        println!("{}", serde_json::to_string_pretty(&out)?);
     } else {
         print!("{}", text(&rep, &source));
         if let Some(r) = &recording {
