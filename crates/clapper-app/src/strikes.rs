@@ -139,6 +139,21 @@ pub fn voices_from_nominals(nominals: &[f64]) -> Result<Vec<BellVoice>, AppError
     Ok(nominals.iter().map(|&f| BellVoice::from_nominal(f)).collect())
 }
 
+/// The strike finder's options with the double strike's least amplitude
+/// ratio `double_min_ratio` (0.3 is the default: below it the paper's
+/// listeners heard no double strike), checked.
+pub fn strike_options(double_min_ratio: f64) -> Result<StrikeOptions, AppError> {
+    if !(double_min_ratio.is_finite() && double_min_ratio > 0.0 && double_min_ratio <= 2.0) {
+        return Err(AppError::Request(format!(
+            "double-strike ratio {double_min_ratio}: an amplitude ratio above 0 and at most 2"
+        )));
+    }
+    Ok(StrikeOptions {
+        double_min_ratio,
+        ..StrikeOptions::default()
+    })
+}
+
 fn signal_error(e: clapper_signal::SignalError) -> AppError {
     AppError::Request(format!("strikes: {e}"))
 }
@@ -364,10 +379,17 @@ pub struct StrikingFigure {
 }
 
 impl StrikingFigure {
-    /// The figure of `report` heard in `sig` (the recording `name`), the
-    /// strip drawn up to `fmax_hz` (about 1.6 times the treble's nominal
-    /// shows every bell's strongest partials).
-    pub fn new(report: &StrikesReport, sig: &Signal, name: &str, fmax_hz: f64) -> Result<Self, AppError> {
+    /// The figure of `report` heard in `sig` (the recording `name`) for the
+    /// bells `voices`; the strip is drawn up to 1.6 times the highest bell's
+    /// strongest partial (its nominal), which shows every bell's strongest
+    /// partials.
+    pub fn new(report: &StrikesReport, sig: &Signal, name: &str, voices: &[BellVoice]) -> Result<Self, AppError> {
+        let fmax_hz = 1.6
+            * voices
+                .iter()
+                .filter_map(|v| v.partials.iter().max_by(|a, b| a.strength.total_cmp(&b.strength)))
+                .map(|p| p.freq_hz)
+                .fold(0.0, f64::max);
         let end = ((STRIP_S * sig.rate) as usize).min(sig.samples.len());
         let opening = Signal {
             rate: sig.rate,

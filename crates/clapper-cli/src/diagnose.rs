@@ -6,9 +6,8 @@ use anyhow::{bail, Context, Result};
 use clap::Args;
 use clapper_app::diagnosis::{diagnose_bells_with, report_page, text, OddStruckOptions};
 use clapper_app::simulate::Preset;
-use clapper_app::strikes::{beside, voices_from_nominals, StrikesReport};
+use clapper_app::strikes::{beside, strike_options, voices_from_nominals, StrikesReport};
 use clapper_io::bell_file::LoadedBell;
-use clapper_signal::strikes::StrikeOptions;
 
 #[derive(Args, Debug)]
 pub struct DiagnoseArgs {
@@ -90,7 +89,7 @@ pub fn run(args: DiagnoseArgs) -> Result<()> {
             };
             let sig = clapper_io::signal_file::read_recording(rec)?;
             let name = rec.display().to_string();
-            let report = StrikesReport::new(&sig, &voices, &StrikeOptions::default()).with_context(|| name.clone())?;
+            let report = StrikesReport::new(&sig, &voices, &strike_options(0.3)?).with_context(|| name.clone())?;
             Some((report, name))
         }
         None => None,

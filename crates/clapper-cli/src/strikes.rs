@@ -6,11 +6,11 @@ use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use clapper_app::strikes::{voices_from_nominals, StrikesReport, StrikingFigure};
+use clapper_app::strikes::{strike_options, voices_from_nominals, StrikesReport, StrikingFigure};
 use clapper_io::signal_file::{read_recording, write_wav};
 use clapper_io::strike_file::{csv_text, lowndes};
-use clapper_signal::strikes::{BellVoice, StrikeOptions};
-use clapper_signal::tower::{major_scale, tower_recording, DoubleStrikeSpec, Method, Room, TowerSpec, Variation};
+use clapper_signal::strikes::BellVoice;
+use clapper_signal::tower::{major_scale, tower_recording, DoubleStrikeSpec, Method, Room, TowerSpec};
 
 use crate::files::write_bytes;
 use crate::measure::print_report;
@@ -85,11 +85,8 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
     if let Some(path) = &args.plot {
         clapper_plot::format_of(path)?;
     }
+    let opts = strike_options(args.double_min_ratio)?;
     let sig = read_recording(&args.file)?;
-    let opts = StrikeOptions {
-        double_min_ratio: args.double_min_ratio,
-        ..StrikeOptions::default()
-    };
     let name = args.file.display().to_string();
     let report = StrikesReport::new(&sig, &voices, &opts).with_context(|| name.clone())?;
     if let Some(path) = &args.csv {
@@ -100,13 +97,7 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         write_bytes(path, text)?;
     }
     if let Some(path) = &args.plot {
-        // Up to 1.6 times the highest bell's strongest partial (its nominal).
-        let top = voices
-            .iter()
-            .filter_map(|v| v.partials.iter().max_by(|a, b| a.strength.total_cmp(&b.strength)))
-            .map(|p| p.freq_hz)
-            .fold(0.0, f64::max);
-        let fig = StrikingFigure::new(&report, &sig, &name, 1.6 * top)?;
+        let fig = StrikingFigure::new(&report, &sig, &name, &voices)?;
         crate::files::write_atomically(path, |tmp| Ok(clapper_plot::striking_plot(tmp, &fig.plot())?))?;
     }
     print_report(&report, args.json, || report.text(&name))
@@ -203,30 +194,21 @@ pub fn synth_ring(args: SynthRingArgs) -> Result<()> {
         .collect::<Result<Vec<_>>>()?;
     let spec = TowerSpec {
         rate: args.rate,
-        bells: bells.clone(),
         rows: args.rows,
         interval: args.interval_ms * 1e-3,
         handstroke_gap: args.gap,
         jitter: args.jitter_ms * 1e-3,
         seed: args.seed,
         doubles,
-        lead_in: 1.0,
         tail: 3.0,
         method: if args.plain_hunt {
             Method::PlainHunt
         } else {
             Method::Rounds
         },
-        variation: Variation {
-            detune_cents: 15.0,
-            strength_db: 3.0,
-        },
-        room: (args.rt60 > 0.0).then_some(Room {
-            rt60_s: args.rt60,
-            direct_to_reverb_db: 3.0,
-            predelay_ms: 15.0,
-        }),
+        room: (args.rt60 > 0.0).then_some(Room::chamber(args.rt60)),
         snr_db: args.snr,
+        ..TowerSpec::new(bells.clone())
     };
     let (sig, truth) = tower_recording(&spec)?;
     write_wav(&args.out, &sig, 0.9).with_context(|| args.out.display().to_string())?;

@@ -906,6 +906,13 @@ fn strikes_refuses_what_it_cannot_listen_to() {
         .output()
         .unwrap();
     assert!(String::from_utf8_lossy(&out.stderr).contains("'abc'"));
+    let out = clapper()
+        .arg("strikes")
+        .arg(&not_wav)
+        .args(["--nominals", "1000", "--double-min-ratio", "0"])
+        .output()
+        .unwrap();
+    assert!(String::from_utf8_lossy(&out.stderr).contains("double-strike ratio"));
     // Silence: an empty result with warnings, not an error.
     let silent = dir.path().join("silent.wav");
     let spec = hound::WavSpec {

@@ -14,23 +14,12 @@ use std::hint::black_box;
 fn ten_minutes(rate: f64) -> TowerSpec {
     TowerSpec {
         rate,
-        bells: major_scale(8, 1400.0).expect("at most 16 bells"),
         rows: 326,
-        interval: 0.22,
-        handstroke_gap: 1.0,
         jitter: 0.02,
-        seed: 1,
-        doubles: vec![],
-        lead_in: 1.0,
-        tail: 2.0,
         method: Method::PlainHunt,
-        variation: Variation::TUNED,
-        room: Some(Room {
-            rt60_s: 1.2,
-            direct_to_reverb_db: 3.0,
-            predelay_ms: 15.0,
-        }),
+        room: Some(Room::chamber(1.2)),
         snr_db: Some(25.0),
+        ..TowerSpec::new(major_scale(8, 1400.0).expect("at most 16 bells"))
     }
 }
 

@@ -12,16 +12,10 @@ use clapper_signal::tower::*;
 
 fn spec(seed: u64, snr: f64, room: Option<Room>) -> TowerSpec {
     let n = 8;
+    let mut bells = major_scale(n, 1400.0).expect("at most 16 bells");
+    bells[3].odd_struck_ms = 15.0;
     TowerSpec {
-        rate: 22050.0,
-        bells: {
-            let mut b = major_scale(n, 1400.0).expect("at most 16 bells");
-            b[3].odd_struck_ms = 15.0;
-            b
-        },
         rows: 40,
-        interval: 0.22,
-        handstroke_gap: 1.0,
         jitter: 0.02,
         seed,
         doubles: (0..6)
@@ -32,12 +26,10 @@ fn spec(seed: u64, snr: f64, room: Option<Room>) -> TowerSpec {
                 amplitude_ratio: 0.5 + 0.1 * k as f64,
             })
             .collect(),
-        lead_in: 1.0,
-        tail: 2.0,
         method: Method::PlainHunt,
-        variation: Variation::TUNED,
         room,
         snr_db: Some(snr),
+        ..TowerSpec::new(bells)
     }
 }
 
@@ -50,33 +42,9 @@ fn main() {
     let recordings: u64 = std::env::args().nth(1).and_then(|s| s.parse().ok()).unwrap_or(20);
     let conditions: [(&str, f64, Option<Room>); 4] = [
         ("25 dB, no room", 25.0, None),
-        (
-            "25 dB, RT60 0.6 s",
-            25.0,
-            Some(Room {
-                rt60_s: 0.6,
-                direct_to_reverb_db: 3.0,
-                predelay_ms: 15.0,
-            }),
-        ),
-        (
-            "25 dB, RT60 1.2 s",
-            25.0,
-            Some(Room {
-                rt60_s: 1.2,
-                direct_to_reverb_db: 3.0,
-                predelay_ms: 15.0,
-            }),
-        ),
-        (
-            "15 dB, RT60 1.2 s",
-            15.0,
-            Some(Room {
-                rt60_s: 1.2,
-                direct_to_reverb_db: 3.0,
-                predelay_ms: 15.0,
-            }),
-        ),
+        ("25 dB, RT60 0.6 s", 25.0, Some(Room::chamber(0.6))),
+        ("25 dB, RT60 1.2 s", 25.0, Some(Room::chamber(1.2))),
+        ("15 dB, RT60 1.2 s", 15.0, Some(Room::chamber(1.2))),
     ];
     println!("| condition | recordings | strikes | recall | precision | bell labels right | onset error median / p95 (ms) | hand/back right | doubles flagged | false doubles | odd-struck bell 4 (planted 15 ms) | heard against the true times, worst | listening time per minute |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");

@@ -8,17 +8,10 @@ use clapper_signal::tower::*;
 use clapper_signal::Signal;
 
 fn ring(seed: u64) -> TowerSpec {
+    let mut bells = major_scale(6, 1400.0).expect("at most 16 bells");
+    bells[2].odd_struck_ms = 15.0;
     TowerSpec {
         rate: 16_000.0,
-        bells: {
-            let mut b = major_scale(6, 1400.0).expect("at most 16 bells");
-            b[2].odd_struck_ms = 15.0;
-            b
-        },
-        rows: 24,
-        interval: 0.22,
-        handstroke_gap: 1.0,
-        jitter: 0.015,
         seed,
         doubles: vec![DoubleStrikeSpec {
             bell: 5,
@@ -26,12 +19,9 @@ fn ring(seed: u64) -> TowerSpec {
             delay_ms: 70.0,
             amplitude_ratio: 0.8,
         }],
-        lead_in: 1.0,
-        tail: 2.0,
         method: Method::PlainHunt,
-        variation: Variation::TUNED,
-        room: None,
         snr_db: Some(25.0),
+        ..TowerSpec::new(bells)
     }
 }
 
@@ -90,11 +80,7 @@ fn a_reverberant_tower_does_not_pass_for_double_strikes() {
     // RT60 1.2 s: the room's build-up is in each bell's learned response,
     // so it is not heard as a second strike, and the planted one still is.
     let mut spec = ring(4);
-    spec.room = Some(Room {
-        rt60_s: 1.2,
-        direct_to_reverb_db: 3.0,
-        predelay_ms: 15.0,
-    });
+    spec.room = Some(Room::chamber(1.2));
     let (sig, truth) = tower_recording(&spec).unwrap();
     let heard = find_strikes(&sig, &voices(&spec), &StrikeOptions::default()).unwrap();
     let h = heard.times();

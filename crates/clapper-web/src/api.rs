@@ -483,10 +483,7 @@ pub(crate) async fn strikes(
             "no recording: send the WAV file as the request's body".into(),
         ));
     }
-    let opts = clapper_signal::strikes::StrikeOptions {
-        double_min_ratio: q.double_min_ratio.unwrap_or(0.3),
-        ..Default::default()
-    };
+    let opts = clapper_app::strikes::strike_options(q.double_min_ratio.unwrap_or(0.3))?;
     let out = s
         .jobs
         .run(move || {
@@ -494,8 +491,7 @@ pub(crate) async fn strikes(
                 .map_err(|e| clapper_app::AppError::Request(e.to_string()))?;
             let report = clapper_app::strikes::StrikesReport::new(&sig, &voices, &opts)?;
             let csv = clapper_io::strike_file::csv_text(&report.csv_rows()).map_err(clapper_app::AppError::Request)?;
-            let top = nominals.iter().copied().fold(0.0, f64::max);
-            let fig = clapper_app::strikes::StrikingFigure::new(&report, &sig, "the recording", 1.6 * top)?;
+            let fig = clapper_app::strikes::StrikingFigure::new(&report, &sig, "the recording", &voices)?;
             let svg = clapper_plot::striking_plot_svg(&fig.plot()).map_err(clapper_app::AppError::from)?;
             Ok(json!({ "report": report, "csv": csv, "plot_svg": svg }))
         })

@@ -463,16 +463,11 @@ async fn a_recording_is_heard_through_the_api() {
     use clapper_signal::tower::*;
     // A synthetic ring of six, bell 3 planted 20 ms odd-struck, bell 2
     // double striking in row 5.
+    let mut bells = major_scale(6, 1400.0).expect("at most 16 bells");
+    bells[2].odd_struck_ms = 20.0;
     let spec = TowerSpec {
         rate: 16_000.0,
-        bells: {
-            let mut b = major_scale(6, 1400.0).expect("at most 16 bells");
-            b[2].odd_struck_ms = 20.0;
-            b
-        },
         rows: 20,
-        interval: 0.22,
-        handstroke_gap: 1.0,
         jitter: 0.005,
         seed: 3,
         doubles: vec![DoubleStrikeSpec {
@@ -481,12 +476,9 @@ async fn a_recording_is_heard_through_the_api() {
             delay_ms: 70.0,
             amplitude_ratio: 0.8,
         }],
-        lead_in: 1.0,
-        tail: 2.0,
-        method: Method::Rounds,
         variation: Variation::NONE,
-        room: None,
         snr_db: Some(30.0),
+        ..TowerSpec::new(bells)
     };
     let (sig, _) = tower_recording(&spec).unwrap();
     let wav = clapper_io::signal_file::wav_bytes(&sig, 0.5).unwrap();
@@ -519,6 +511,9 @@ async fn a_recording_is_heard_through_the_api() {
     );
     let (status, _) = send_wav(&app, &uri, vec![]).await;
     assert_eq!(status, StatusCode::BAD_REQUEST);
+    let (status, body) = send_wav(&app, &format!("{uri}&double_min_ratio=0"), wav.clone()).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert!(String::from_utf8_lossy(&body).contains("double-strike ratio"));
     let small = router(Limits {
         max_recording_bytes: 1000,
         ..Limits::default()
