@@ -26,6 +26,7 @@ pub mod liftoff;
 pub mod listening;
 pub mod measure;
 pub mod ring_up;
+pub mod sample_data;
 pub mod simulate;
 pub mod sound;
 pub mod strikes;

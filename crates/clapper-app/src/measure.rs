@@ -142,15 +142,19 @@ pub struct ContactsReport {
     pub bounces: usize,
     /// Every contact.
     pub contacts: Vec<ContactReport>,
-    /// When the clapper left the bell at the end (s).
+    /// When the resting clapper lifted off (s): from the rest the
+    /// recording starts with, else from the rest after the strike.
     pub liftoff_s: Option<f64>,
     /// Sample rate (Hz).
     pub sample_rate_hz: f64,
-    /// From the first contact to rest (s).
+    /// From the strike (the first contact after any starting rest) to rest (s).
     pub time_to_rest_s: Option<f64>,
     /// Which contact is the one at rest (from 0).
     #[serde(skip)]
     pub rest: Option<usize>,
+    /// Whether the recording starts with the clapper resting (a whole
+    /// stroke), the lift-off then being from that first contact.
+    pub starts_at_rest: bool,
 }
 
 impl ContactsReport {
@@ -182,6 +186,7 @@ impl ContactsReport {
             sample_rate_hz: sig.rate,
             time_to_rest_s: c.time_to_rest(),
             rest: c.rest,
+            starts_at_rest: c.starts_at_rest,
         })
     }
 
@@ -195,7 +200,13 @@ impl ContactsReport {
             self.sample_rate_hz
         );
         for (k, c) in self.contacts.iter().enumerate() {
-            let tag = if Some(k) == self.rest { "  <- at rest" } else { "" };
+            let tag = if Some(k) == self.rest {
+                "  <- at rest"
+            } else if k == 0 && self.starts_at_rest {
+                "  <- resting, lifts off"
+            } else {
+                ""
+            };
             let sep = c
                 .separation_s
                 .map_or("end of recording".into(), |t| format!("{t:.5} s"));
@@ -209,7 +220,10 @@ impl ContactsReport {
         }
         let _ = writeln!(o, "bounces before rest: {}", self.bounces);
         let _ = match self.time_to_rest_s {
-            Some(r) => writeln!(o, "time to rest: {r:.4} s after the first contact"),
+            Some(r) => writeln!(
+                o,
+                "time to rest: {r:.4} s after the strike (the first contact after lift-off)"
+            ),
             None => writeln!(o, "time to rest: the clapper did not come to rest"),
         };
         if let Some(l) = self.liftoff_s {

@@ -10,6 +10,7 @@ mod listening;
 mod measure;
 mod progress;
 mod ring;
+mod sample_data;
 mod serve;
 mod simulate;
 mod sound;
@@ -80,6 +81,10 @@ enum Command {
     /// The double-strike listening test (Section 4.3): make stimuli and
     /// answer sheets, or analyse the answers.
     ListeningTest(listening::ListeningArgs),
+    /// Write the synthetic sample recordings that README's measurement
+    /// commands read (examples/data): a strike, a modes file, a contact
+    /// detector, clapper drops, a ring in a tower, with their truth.
+    SampleData(sample_data::SampleDataArgs),
     /// The web application: chart explorer, diagnosis and listening test in
     /// a browser, with a JSON API, on a local port.
     Serve(serve::ServeArgs),
@@ -138,6 +143,7 @@ fn main() {
         Command::Impulse(args) => measure::impulse(args),
         Command::Synth(args) => sound::run(args),
         Command::ListeningTest(args) => listening::run(args),
+        Command::SampleData(args) => sample_data::run(args),
         Command::Serve(args) => serve::run(args),
     };
     if let Err(e) = result {

@@ -1006,3 +1006,27 @@ fn diagnose_sets_a_recording_beside_the_model() {
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("--nominals"));
 }
+
+#[test]
+fn the_binary_carries_its_font_and_links_no_font_libraries() {
+    let bin = env!("CARGO_BIN_EXE_clapper");
+    if let Ok(out) = std::process::Command::new("ldd").arg(bin).output() {
+        let libs = String::from_utf8_lossy(&out.stdout);
+        for lib in ["fontconfig", "freetype", "expat"] {
+            assert!(!libs.contains(lib), "links {lib}:\n{libs}");
+        }
+    }
+    // A PNG with text, on a machine that offers no fonts at all.
+    let dir = tempfile::tempdir().unwrap();
+    let png = dir.path().join("lab.png");
+    let out = clapper()
+        .args(["simulate", "--preset", "lab", "--plot"])
+        .arg(&png)
+        .env("FONTCONFIG_FILE", "/dev/null")
+        .env("FONTCONFIG_PATH", "/nonexistent")
+        .env("XDG_DATA_HOME", "/nonexistent")
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert_eq!(&std::fs::read(&png).unwrap()[1..4], b"PNG");
+}

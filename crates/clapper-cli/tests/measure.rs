@@ -211,3 +211,26 @@ fn bad_recordings_are_refused() {
         assert!(err.contains(needle), "{args:?}: {err}");
     }
 }
+
+#[test]
+fn the_shipped_sample_data_is_what_sample_data_writes() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = clapper()
+        .args(["sample-data", "--out"])
+        .arg(dir.path())
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let shipped = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../examples/data");
+    let mut names: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    names.sort();
+    assert!(names.len() >= 8);
+    for name in names {
+        let made = std::fs::read(dir.path().join(&name)).unwrap();
+        let committed = std::fs::read(shipped.join(&name)).unwrap_or_default();
+        assert!(made == committed, "examples/data/{name:?} differs from what sample-data writes: run `clapper sample-data --out examples/data`");
+    }
+}

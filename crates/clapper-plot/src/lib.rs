@@ -1,8 +1,8 @@
 //! # clapper-plot
 //!
 //! Plots for people who would rather look than read. The file type follows
-//! the extension: `.svg` or `.png`. PNG text needs a system font (fontconfig;
-//! DejaVu Sans on Debian).
+//! the extension: `.svg` or `.png`. Text is set in DejaVu Sans, carried
+//! inside the binary (`src/fonts.rs`): no system font or fontconfig needed.
 
 #![warn(missing_docs)]
 
@@ -12,6 +12,7 @@
 macro_rules! render {
     ($path:expr, $size:expr, $draw:ident ( $($arg:expr),* )) => {{
         let path: &std::path::Path = $path;
+        crate::fonts::ensure();
         match crate::format_of(path)? {
             crate::Format::Svg => {
                 let root = plotters::prelude::SVGBackend::new(path, $size).into_drawing_area();
@@ -32,6 +33,7 @@ macro_rules! render {
 macro_rules! render_svg {
     ($size:expr, $draw:ident ( $($arg:expr),* )) => {{
         let mut out = String::new();
+        crate::fonts::ensure();
         {
             let root = plotters::prelude::SVGBackend::with_string(&mut out, $size).into_drawing_area();
             let here = std::path::Path::new("(svg)");
@@ -43,6 +45,7 @@ macro_rules! render_svg {
 }
 
 pub mod chart;
+mod fonts;
 pub mod quantity;
 pub mod signal;
 pub mod striking;

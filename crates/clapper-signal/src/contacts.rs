@@ -36,8 +36,13 @@ pub struct Contacts {
     /// Contacts as sample ranges: first sample in contact, first sample out
     /// again (or the signal's length if still in contact).
     pub intervals: Vec<(usize, usize)>,
-    /// Index in `intervals` of the contact where the clapper came to rest.
+    /// Index in `intervals` of the contact where the clapper came to rest
+    /// after striking.
     pub rest: Option<usize>,
+    /// Whether the recording starts with the clapper resting (a whole
+    /// stroke: rest, lift-off, strike, bounces, rest): that first contact
+    /// is where it lifts off from, not where it comes to rest.
+    pub starts_at_rest: bool,
 }
 
 impl Contacts {
@@ -46,23 +51,32 @@ impl Contacts {
         i as f64 / self.rate
     }
 
-    /// Time from the first contact until the clapper came to rest (s).
+    /// Index of the first contact of the strike (after a starting rest).
+    fn first_strike(&self) -> usize {
+        usize::from(self.starts_at_rest)
+    }
+
+    /// Time from the strike (the first contact after any starting rest)
+    /// until the clapper came to rest (s).
     pub fn time_to_rest(&self) -> Option<f64> {
-        let first = self.intervals.first()?;
+        let first = self.intervals.get(self.first_strike())?;
         Some(self.time(self.intervals[self.rest?].0 - first.0))
     }
 
-    /// When the resting clapper lifted off again (s), if it did.
+    /// When the resting clapper lifted off (s), if it did: from the rest
+    /// the recording starts with, else from the rest after the strike.
     pub fn liftoff(&self, len: usize) -> Option<f64> {
-        let (_, end) = self.intervals[self.rest?];
+        let k = if self.starts_at_rest { 0 } else { self.rest? };
+        let (_, end) = self.intervals[k];
         (end < len).then(|| self.time(end))
     }
 
-    /// The bounces: contacts from the first until rest (or all).
+    /// The bounces: contacts from the strike until rest (or all).
     pub fn bounces(&self) -> &[(usize, usize)] {
+        let from = self.first_strike().min(self.intervals.len());
         match self.rest {
-            Some(r) => &self.intervals[..r],
-            None => &self.intervals,
+            Some(r) => &self.intervals[from..r],
+            None => &self.intervals[from..],
         }
     }
 }
@@ -118,16 +132,48 @@ pub fn detect(sig: &Signal, opts: &ContactOptions) -> Result<Contacts, SignalErr
         }
     }
     let rest_len = (opts.rest_s * sig.rate).round() as usize;
-    let rest = merged.iter().position(|&(a, b)| b - a >= rest_len);
+    let long = |&(a, b): &(usize, usize)| b - a >= rest_len;
+    // A long contact from the first sample, with more after it, is the
+    // rest the stroke started from.
+    let starts_at_rest = merged.len() > 1 && merged[0].0 == 0 && long(&merged[0]);
+    let rest = merged
+        .iter()
+        .enumerate()
+        .skip(usize::from(starts_at_rest))
+        .find(|(_, c)| long(c))
+        .map(|(k, _)| k);
     Ok(Contacts {
         rate: sig.rate,
         intervals: merged,
         rest,
+        starts_at_rest,
     })
 }
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn a_whole_stroke_lifts_off_from_its_starting_rest_and_comes_to_rest_after_bouncing() {
+        let rate = 1000.0;
+        // Resting to 200, lift-off; strike at 500, two bounces, rest from 620.
+        let contacts = [(0, 200), (500, 502), (560, 563), (600, 602), (620, 1000)];
+        let samples = (0..1000)
+            .map(|i| {
+                if contacts.iter().any(|&(a, b)| i >= a && i < b) {
+                    0.0
+                } else {
+                    1.0
+                }
+            })
+            .collect();
+        let c = detect(&Signal { rate, samples }, &ContactOptions::default()).unwrap();
+        assert!(c.starts_at_rest);
+        assert_eq!(c.rest, Some(4));
+        assert_eq!(c.bounces().len(), 3);
+        assert!((c.liftoff(1000).unwrap() - 0.2).abs() < 1e-12);
+        assert!((c.time_to_rest().unwrap() - 0.12).abs() < 1e-12);
+    }
+
     use super::*;
 
     fn lcg(seed: &mut u64) -> f64 {

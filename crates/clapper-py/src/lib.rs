@@ -1,0 +1,281 @@
+//! # clapper-py
+//!
+//! The native half of the Python package `clapper` (`clapper._clapper`).
+//! It is thin on purpose: every request arrives as the JSON the web API
+//! and `clapper-app` already read (the same keys as the command line's
+//! long options, in snake case), every report leaves as the JSON the CLI's
+//! `--json` prints, and arrays cross as little-endian `f64` bytes that the
+//! Python half wraps with `numpy.frombuffer`. So the Python package adds
+//! no model of its own: what it returns is what `clapper` prints.
+//!
+//! The GIL is released while a stroke, a chart, a diagnosis or an analysis
+//! runs, so other Python threads go on.
+//!
+//! Errors: bad input (a request out of range, a bell file that does not
+//! parse) raises `ValueError`; a numerical failure raises `RuntimeError`;
+//! both carry the library's one-line message.
+
+use clapper_app::chart::ChartRequest;
+use clapper_app::diagnosis::{self, DiagnoseRequest};
+use clapper_app::liftoff::{BellLiftoffReport, FormulaReport};
+use clapper_app::measure::{ModesReport, RestitutionReport};
+use clapper_app::simulate::{self as sim_app, SimulateRequest};
+use clapper_app::strikes::{strike_options, voices_from_nominals, StrikesReport};
+use clapper_app::AppError;
+use clapper_core::chart::{sweep, ChartCell};
+use clapper_core::Choice;
+use clapper_io::report::BellReport;
+use clapper_signal::Signal;
+use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::prelude::*;
+use pyo3::types::{PyBytes, PyDict};
+
+/// The Python exception for an error of the library.
+fn py_err(e: AppError) -> PyErr {
+    if e.is_bad_input() {
+        PyValueError::new_err(e.to_string())
+    } else {
+        PyRuntimeError::new_err(e.to_string())
+    }
+}
+
+/// A request read from its JSON text; a key the request does not know is
+/// named in the error, as the web API names it.
+fn request<T: serde::de::DeserializeOwned>(json: &str, what: &str) -> PyResult<T> {
+    serde_json::from_str(json).map_err(|e| PyValueError::new_err(format!("{what}: {e}")))
+}
+
+fn to_json<T: serde::Serialize>(v: &T) -> PyResult<String> {
+    serde_json::to_string(v).map_err(|e| PyRuntimeError::new_err(e.to_string()))
+}
+
+/// `values` as little-endian f64 bytes (numpy's `<f8`).
+fn f64_bytes<'py>(py: Python<'py>, values: impl IntoIterator<Item = f64>) -> Bound<'py, PyBytes> {
+    let bytes: Vec<u8> = values.into_iter().flat_map(f64::to_le_bytes).collect();
+    PyBytes::new(py, &bytes)
+}
+
+/// Little-endian f64 bytes back to values.
+fn f64s(bytes: &[u8], what: &str) -> PyResult<Vec<f64>> {
+    if bytes.len() % 8 != 0 {
+        return Err(PyValueError::new_err(format!(
+            "{what}: {} bytes is not a whole number of float64 values",
+            bytes.len()
+        )));
+    }
+    Ok(bytes
+        .chunks_exact(8)
+        .map(|c| f64::from_le_bytes(c.try_into().unwrap_or([0; 8])))
+        .collect())
+}
+
+/// The bell a simulate request names, described: its chart position,
+/// lengths, periods (s), masses (kg) and contact angle (deg), as JSON.
+#[pyfunction]
+fn describe_bell(py: Python<'_>, request_json: &str) -> PyResult<String> {
+    let req: SimulateRequest = request(request_json, "bell")?;
+    let loaded = py.detach(|| req.bell(None)).map_err(py_err)?;
+    to_json(&BellReport::new(&loaded.name, &loaded.bell, &loaded.source))
+}
+
+/// What [`simulate`] returns to Python: report JSON, summary text,
+/// warnings, and the trace's columns.
+type Simulated<'py> = (String, String, Vec<String>, Option<Bound<'py, PyDict>>);
+
+/// Reads one quantity of a chart cell.
+type CellReader = fn(&ChartCell) -> Option<f64>;
+
+/// Simulate strokes: returns (report JSON, summary text, warnings, trace),
+/// where the trace is None or a dict of f64 byte columns: t (s), theta,
+/// phi (rad), theta_dot, phi_dot (rad/s), contact_force (N m).
+#[pyfunction]
+fn simulate<'py>(py: Python<'py>, request_json: &str, trace: bool) -> PyResult<Simulated<'py>> {
+    let req: SimulateRequest = request(request_json, "simulate")?;
+    let sim = py
+        .detach(|| {
+            if trace {
+                sim_app::simulate_traced(&req, None, None)
+            } else {
+                sim_app::simulate(&req, None, None)
+            }
+        })
+        .map_err(py_err)?;
+    let columns = if trace {
+        let d = PyDict::new(py);
+        let s = &sim.samples;
+        d.set_item("t", f64_bytes(py, s.iter().map(|x| x.t)))?;
+        d.set_item("theta", f64_bytes(py, s.iter().map(|x| x.y[0])))?;
+        d.set_item("phi", f64_bytes(py, s.iter().map(|x| x.y[1])))?;
+        d.set_item("theta_dot", f64_bytes(py, s.iter().map(|x| x.y[2])))?;
+        d.set_item("phi_dot", f64_bytes(py, s.iter().map(|x| x.y[3])))?;
+        d.set_item("contact_force", f64_bytes(py, s.iter().map(|x| x.contact_force)))?;
+        Some(d)
+    } else {
+        None
+    };
+    Ok((
+        to_json(&sim.report)?,
+        sim_app::summary(&sim.report),
+        sim.warnings,
+        columns,
+    ))
+}
+
+/// The quantities a chart holds per point and style, in the order of
+/// [`chart`]'s arrays: name, and how to read it from a cell (NaN where a
+/// stroke did not sustain its style or has no such quantity).
+const CHART_QUANTITIES: [(&str, CellReader); 8] = [
+    ("sustained", |c| {
+        Some(match &c.result {
+            Ok(s) if s.sustained => 1.0,
+            Ok(_) => 0.0,
+            Err(_) => f64::NAN,
+        })
+    }),
+    ("strike_angle_deg", |c| c.sustained()?.strike_theta.map(f64::to_degrees)),
+    ("strike_velocity_rad_s", |c| c.sustained()?.strike_phidot),
+    ("liftoff_angle_deg", |c| {
+        c.sustained()?.liftoff_theta.map(f64::to_degrees)
+    }),
+    ("double_strike_index", |c| c.sustained()?.double_strike_index),
+    ("second_strike_delay_ms", |c| {
+        c.sustained()?.second_strike_delay.map(|t| t * 1e3)
+    }),
+    ("amplitude_ratio", |c| c.sustained()?.amplitude_ratio),
+    ("odd_struck_ms", |c| c.sustained()?.odd_struck.map(|t| t * 1e3)),
+];
+
+/// Sweep a clapping chart (in parallel, the GIL released). Returns a dict:
+/// `r_over_lc` (nx), `lb_over_lc` (ny) as f64 bytes, `styles` (names), and
+/// for each style a dict of quantity -> f64 bytes of ny x nx values, rows
+/// by L_b/L_c ascending (NaN where the style is not sustained).
+#[pyfunction]
+fn chart<'py>(py: Python<'py>, request_json: &str) -> PyResult<Bound<'py, PyDict>> {
+    let req: ChartRequest = request(request_json, "chart")?;
+    let spec = req.spec().map_err(py_err)?;
+    let chart = py
+        .detach(|| sweep(&spec, &|_| {}))
+        .map_err(|e| py_err(AppError::Param(e)))?;
+    let out = PyDict::new(py);
+    out.set_item("r_over_lc", f64_bytes(py, spec.xs()))?;
+    out.set_item("lb_over_lc", f64_bytes(py, spec.ys()))?;
+    out.set_item("errors", chart.errors())?;
+    let styles = spec.styles.list();
+    let names: Vec<&str> = styles.iter().map(|s| s.name()).collect();
+    out.set_item("styles", names.clone())?;
+    for (k, name) in names.iter().enumerate() {
+        let per = PyDict::new(py);
+        for (q, read) in CHART_QUANTITIES {
+            let values = chart
+                .cells
+                .iter()
+                .skip(k)
+                .step_by(styles.len())
+                .map(|c| read(c).unwrap_or(f64::NAN));
+            per.set_item(q, f64_bytes(py, values))?;
+        }
+        out.set_item(*name, per)?;
+    }
+    Ok(out)
+}
+
+/// Diagnose a bell or a ring (`{"preset": ..}`, `{"toml": ..}` or
+/// `{"csv": ..}`): returns (report JSON, the CLI's text).
+#[pyfunction]
+fn diagnose(py: Python<'_>, request_json: &str) -> PyResult<(String, String)> {
+    let req: DiagnoseRequest = request(request_json, "diagnose")?;
+    let (bells, source) = req.bells().map_err(py_err)?;
+    let rep = py.detach(|| diagnosis::diagnose_bells(&bells)).map_err(py_err)?;
+    Ok((to_json(&rep)?, diagnosis::text(&rep, &source)))
+}
+
+/// The closed-form lift-off angles of (15), (16) for r = 0: returns
+/// (report JSON, text).
+#[pyfunction]
+fn liftoff_formula(lb_over_lc: f64, phi_max_deg: f64) -> PyResult<(String, String)> {
+    let r = FormulaReport::new(lb_over_lc, phi_max_deg).map_err(py_err)?;
+    Ok((to_json(&r)?, r.text()))
+}
+
+/// The exact lift-off of the bell a simulate request names, released from
+/// rest at `theta0_deg`: returns (report JSON, text).
+#[pyfunction]
+fn liftoff_bell(py: Python<'_>, request_json: &str, theta0_deg: f64) -> PyResult<(String, String)> {
+    let req: SimulateRequest = request(request_json, "liftoff")?;
+    let r = py
+        .detach(|| {
+            let loaded = req.bell(None)?;
+            BellLiftoffReport::new(&loaded, theta0_deg)
+        })
+        .map_err(py_err)?;
+    Ok((to_json(&r)?, r.text()))
+}
+
+/// R and R2 from the clapper's velocity jumps of each drop (Section 3.2):
+/// returns (report JSON, text).
+#[pyfunction]
+fn restitution(drops: Vec<Vec<f64>>) -> PyResult<(String, String)> {
+    let r = RestitutionReport::new(drops, None).map_err(py_err)?;
+    Ok((to_json(&r)?, r.text()))
+}
+
+/// The partials of a single strike, `samples` (f64 bytes) at `rate_hz`,
+/// within `range_db` of the strongest: returns (report JSON, text).
+#[pyfunction]
+fn modes(py: Python<'_>, samples: &[u8], rate_hz: f64, range_db: f64, name: &str) -> PyResult<(String, String)> {
+    let sig = Signal {
+        rate: rate_hz,
+        samples: f64s(samples, "signal")?,
+    };
+    let r = py.detach(|| ModesReport::new(&sig, range_db)).map_err(py_err)?;
+    Ok((to_json(&r)?, r.text(name)))
+}
+
+/// Every strike of every bell in a recording, `samples` (f64 bytes) at
+/// `rate_hz`, the bells given by their nominals (Hz, treble first):
+/// returns (report JSON, text).
+#[pyfunction]
+fn strikes(
+    py: Python<'_>,
+    samples: &[u8],
+    rate_hz: f64,
+    nominals_hz: Vec<f64>,
+    double_min_ratio: f64,
+    name: &str,
+) -> PyResult<(String, String)> {
+    let sig = Signal {
+        rate: rate_hz,
+        samples: f64s(samples, "recording")?,
+    };
+    let voices = voices_from_nominals(&nominals_hz).map_err(py_err)?;
+    let opts = strike_options(double_min_ratio).map_err(py_err)?;
+    let r = py.detach(|| StrikesReport::new(&sig, &voices, &opts)).map_err(py_err)?;
+    Ok((to_json(&r)?, r.text(name)))
+}
+
+/// A WAV recording read as the CLI reads one (channels mixed to mono):
+/// returns (samples as f64 bytes, rate in Hz).
+#[pyfunction]
+fn read_wav<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<(Bound<'py, PyBytes>, f64)> {
+    let sig = clapper_io::signal_file::read_recording(&path).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    Ok((f64_bytes(py, sig.samples.iter().copied()), sig.rate))
+}
+
+/// The native module `clapper._clapper`.
+#[pymodule]
+fn _clapper(m: &Bound<'_, PyModule>) -> PyResult<()> {
+    m.add("__version__", env!("CARGO_PKG_VERSION"))?;
+    m.add("DEFAULT_THETA0_DEG", clapper_core::stroke::DEFAULT_THETA0_DEG)?;
+    m.add("DEFAULT_RESTITUTION", clapper_core::stroke::DEFAULT_RESTITUTION)?;
+    m.add_function(wrap_pyfunction!(describe_bell, m)?)?;
+    m.add_function(wrap_pyfunction!(simulate, m)?)?;
+    m.add_function(wrap_pyfunction!(chart, m)?)?;
+    m.add_function(wrap_pyfunction!(diagnose, m)?)?;
+    m.add_function(wrap_pyfunction!(liftoff_formula, m)?)?;
+    m.add_function(wrap_pyfunction!(liftoff_bell, m)?)?;
+    m.add_function(wrap_pyfunction!(restitution, m)?)?;
+    m.add_function(wrap_pyfunction!(modes, m)?)?;
+    m.add_function(wrap_pyfunction!(strikes, m)?)?;
+    m.add_function(wrap_pyfunction!(read_wav, m)?)?;
+    Ok(())
+}

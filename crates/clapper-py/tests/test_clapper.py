@@ -1,0 +1,203 @@
+"""Tests of the Python package: each checks the Python face against the
+library by a second route (the command line, a chart against single
+strokes, synthetic signals with known answers, the bell's mirror symmetry)."""
+
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import threading
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import clapper
+
+ROOT = Path(__file__).resolve().parents[3]
+
+
+def cli():
+    """The command-line binary built beside the package, if there is one."""
+    for p in (os.environ.get("CLAPPER_BIN"), ROOT / "target/release/clapper", shutil.which("clapper")):
+        if p and Path(p).is_file():
+            return str(p)
+    pytest.skip("no clapper binary built (cargo build --release)")
+
+
+def test_print_shows_the_command_lines_summary_and_the_json_is_the_same():
+    sim = clapper.simulate(clapper.preset("lab"))
+    text = subprocess.run([cli(), "simulate", "--preset", "lab"], capture_output=True, text=True, check=True).stdout
+    assert str(sim).strip() == text.strip()
+    assert "first strike     -94.95 deg" in str(sim)
+    out = subprocess.run(
+        [cli(), "simulate", "--preset", "lab", "--json"], capture_output=True, text=True, check=True
+    ).stdout
+    assert sim.data == json.loads(out)
+
+
+def test_quantities_and_trace():
+    sim = clapper.simulate(clapper.preset("lab"), theta0=171)
+    assert sim.verdict == "right" and sim.sustained
+    assert sim.first_strike_angle_deg == pytest.approx(-94.95, abs=0.01)
+    tr = sim.trace
+    assert len(tr) > 1000 and np.all(np.diff(tr.t) >= 0)
+    assert tr.theta_deg[0] == pytest.approx(171.0)
+    # The clapper stays within the bell's contact angle (phi_max 26 deg).
+    assert np.max(np.abs(tr.phi_deg)) <= 26.0 + 1e-6
+    # Mirror symmetry: the backstroke is the handstroke reflected.
+    hand, back = sim.strokes
+    assert back["first_strike"]["theta_deg"] == pytest.approx(-hand["first_strike"]["theta_deg"], abs=1e-9)
+    assert clapper.simulate(trace=False).trace is None
+
+
+def test_a_chart_cell_is_the_stroke_simulated_at_that_point():
+    c = clapper.chart(grid=(12, 9), r_range=(0.0, 0.6), lb_range=(1.0, 2.0))
+    assert c.right["strike_angle_deg"].shape == (9, 12)
+    assert set(c.styles) == {"right", "wrong"}
+    checked = 0
+    for j in (2, 5, 8):
+        for i in (1, 6, 10):
+            x, y = c.r_over_lc[i], c.lb_over_lc[j]
+            sim = clapper.simulate(clapper.Bell.chart_point(x, y), strokes=1, trace=False)
+            sustained = c.right["sustained"][j, i] == 1.0
+            assert sim.sustained == sustained, (x, y)
+            if sustained:
+                assert c.right["strike_angle_deg"][j, i] == pytest.approx(sim.first_strike_angle_deg, abs=1e-9)
+                checked += 1
+            else:
+                assert math.isnan(c.right["strike_angle_deg"][j, i])
+    assert checked > 0
+
+
+def test_the_gil_is_released_during_a_sweep():
+    done = threading.Event()
+    result = {}
+
+    def sweep():
+        result["chart"] = clapper.chart(grid=150)
+        done.set()
+
+    t = threading.Thread(target=sweep)
+    t.start()
+    ticks = 0
+    while not done.is_set():
+        ticks += 1
+        time.sleep(0.001)
+    t.join()
+    # Held, the GIL would stop this thread for the whole sweep.
+    assert ticks > 20, ticks
+    assert result["chart"].right["sustained"].shape == (150, 150)
+
+
+def test_pandas_and_xarray_when_installed():
+    c = clapper.chart(grid=5)
+    pd = pytest.importorskip("pandas")
+    df = c.to_pandas()
+    assert isinstance(df, pd.DataFrame) and len(df) == 5 * 5 * 2
+    assert list(df.columns[:3]) == ["r_over_lc", "lb_over_lc", "style"]
+    xr = pytest.importorskip("xarray")
+    ds = c.to_xarray()
+    assert isinstance(ds, xr.Dataset) and ds["strike_angle_deg"].shape == (2, 5, 5)
+
+
+def test_errors_carry_the_librarys_message():
+    with pytest.raises(ValueError, match="restitution = 2 is out of range"):
+        clapper.simulate(restitution=2)
+    with pytest.raises(ValueError, match="unknown field `bogus`"):
+        clapper.simulate(bogus=1)
+    with pytest.raises(ValueError, match="unknown preset"):
+        clapper.preset("tenor")
+    with pytest.raises(ValueError):
+        clapper.Bell(bell_period_s=-2.0, clapper_period_s=1.6, r_m=0.1, phi_max_deg=26)
+
+
+def test_a_bell_from_its_fields_and_from_its_file():
+    b = clapper.Bell(name="Tenor", bell_period_s=2.1, clapper_period_s=1.6, r_m=0.1, phi_max_deg=26)
+    assert b.tb_s == pytest.approx(2.1) and b.tc_s == pytest.approx(1.6) and b.name == "Tenor"
+    f = clapper.Bell.from_file(ROOT / "examples/lab-tower.toml")
+    assert f.tb_s == pytest.approx(1.225)
+    assert "lab bell (tower)" in repr(f)
+
+
+def test_liftoff_closed_form_and_exact():
+    r = clapper.liftoff(lb_over_lc=1.68, phi_max_deg=26)
+    assert r["right_deg"] == pytest.approx(124.70, abs=0.01)
+    # For r = 0 the two styles' lift-off angles are supplementary.
+    assert r["right_deg"] + r["wrong_deg"] == pytest.approx(180.0, abs=1e-9)
+    lab = clapper.liftoff(clapper.preset("lab"))
+    sim = clapper.simulate(clapper.preset("lab"), trace=False)
+    assert lab.data["right_deg"] == pytest.approx(sim.strokes[0]["liftoff_theta_deg"], abs=1e-3)
+
+
+def test_restitution_recovers_r_and_r2_from_synthetic_drops():
+    R, R2 = 0.1, 0.3
+    v, jumps = 1.0, []
+    e = math.sqrt(R)
+    for k in range(5):
+        jumps.append(v * (1 + e))
+        v *= e
+        e = math.sqrt(R2)
+    rep = clapper.restitution([jumps, [2 * j for j in jumps]])
+    assert rep["r_first"] == pytest.approx(R, rel=1e-9)
+    assert rep["r_later"] == pytest.approx(R2, rel=1e-9)
+    with pytest.raises(ValueError):
+        clapper.restitution([[1.0]])
+
+
+def test_modes_finds_synthetic_partials():
+    rate = 22050.0
+    t = np.arange(int(rate * 2)) / rate
+    sig = np.sin(2 * np.pi * 440 * t) * np.exp(-t / 0.8) + 0.5 * np.sin(2 * np.pi * 1047 * t) * np.exp(-t / 0.5)
+    rep = clapper.modes(sig, rate)
+    freqs = sorted(m["freq_hz"] for m in rep["modes"])
+    assert any(abs(f - 440) < 1 for f in freqs) and any(abs(f - 1047) < 1 for f in freqs)
+    with pytest.raises(ValueError, match="one-dimensional"):
+        clapper.modes(np.zeros((3, 3)), rate)
+
+
+def test_strikes_in_the_shipped_synthetic_tower_recording():
+    wav = ROOT / "examples/data/tower.wav"
+    truth = ROOT / "examples/data/tower-truth.csv"
+    if not wav.is_file():
+        pytest.skip("examples/data not generated")
+    samples, rate = clapper.read_wav(wav)
+    nominals = json.loads((ROOT / "examples/data/tower-nominals.json").read_text())
+    rep = clapper.strikes(samples, rate, nominals)
+    true_times = np.loadtxt(truth, delimiter=",", skiprows=1, usecols=1)
+    found = np.array([s["t_s"] for s in rep["strikes"]])
+    assert len(found) == len(true_times)
+    assert np.median(np.abs(np.sort(found) - np.sort(true_times))) < 0.003
+    assert "strikes" in str(rep)
+
+
+def test_diagnose_a_preset_and_a_ring_file():
+    rep = clapper.diagnose(clapper.preset("lab"))
+    text = subprocess.run([cli(), "diagnose", "--preset", "lab"], capture_output=True, text=True, check=True).stdout
+    assert str(rep).strip() == text.strip()
+    ring = clapper.diagnose(ROOT / "examples/ring-of-eight.csv")
+    assert len(ring["bells"]) == 8
+
+
+def readme_python_blocks():
+    text = (ROOT / "README.md").read_text()
+    return [b.split("```")[0] for b in text.split("```python\n")[1:]]
+
+
+def test_readmes_python_blocks_run_and_the_fig10_block_is_the_example_file(tmp_path, monkeypatch):
+    blocks = readme_python_blocks()
+    assert len(blocks) >= 2
+    fig10 = (ROOT / "examples/python/fig10.py").read_text()
+    assert fig10 in blocks, "README's Fig 10 block differs from examples/python/fig10.py"
+    monkeypatch.chdir(ROOT)
+    for b in blocks:
+        if b == fig10:
+            continue
+        exec(compile(b, "README.md", "exec"), {})
+    pytest.importorskip("matplotlib")
+    out = tmp_path / "fig10.png"
+    subprocess.run([sys.executable, str(ROOT / "examples/python/fig10.py"), str(out)], check=True)
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out.stat().st_size > 20_000
