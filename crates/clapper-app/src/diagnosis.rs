@@ -443,14 +443,14 @@ fn change_words(bell: &Bell, h: &HangerChange) -> String {
     };
     let p = &h.predicted;
     let mut words = format!(
-        "{what}; T_c {:.3} s -> {:.3} s; then it rings right, first strike at {:.0} deg with phi' = {:.2} rad/s, D = {:.1} at R = 0.1, goes up {}; margin {}",
+        "{what}; T_c {:.3} s -> {:.3} s; then it rings right, first strike at {:.0} deg with phi' = {:.2} rad/s, D = {:.1} at R = 0.1, goes up {}; {}",
         bell.tc(),
         h.bell.tc(),
         p.strike_theta.map_or(f64::NAN, f64::to_degrees),
         p.strike_phidot.unwrap_or(f64::NAN),
         p.double_strike_index[1].unwrap_or(f64::NAN),
         crate::ring_up::settles_name(h.goes_up),
-        h.margin.map_or("beyond the search".into(), |m| format!("{m:.3} chart units"))
+        h.margin.map_or("no edge within the search".into(), |m| format!("margin {m:.3} chart units"))
     );
     if !h.fixes_all() {
         let left: Vec<&str> = h.problems_left.iter().map(|p| problem_words(*p)).collect();
@@ -685,16 +685,28 @@ pub fn text(rep: &DiagnosisReport, source: &str) -> String {
             );
         }
         if let Some(m) = &b.margin {
-            let edge = |v: Option<f64>, unit: &str, k: f64| {
-                v.map_or("beyond the search".into(), |x| format!("{:.0}{unit}", x * k))
+            // "60 ms shorter or 80 ms longer"; a side with no edge in the
+            // search is said once, in words.
+            let edges = |less: Option<f64>, more: Option<f64>, unit: &str, k: f64, words: [&str; 2]| {
+                let f = |x: f64, w: &str| format!("{:.0}{unit} {w}", x * k);
+                match (less, more) {
+                    (Some(a), Some(b)) => format!("{} or {}", f(a, words[0]), f(b, words[1])),
+                    (Some(a), None) => format!("{} (no edge {} within the search)", f(a, words[0]), words[1]),
+                    (None, Some(b)) => format!("{} (no edge {} within the search)", f(b, words[1]), words[0]),
+                    (None, None) => "no edge either way within the search".into(),
+                }
             };
             let _ = writeln!(
                 o,
-                "  margin: clapper period {} shorter / {} longer, r {} smaller / {} larger before it stops ringing {usual}",
-                edge(m.clapper_period_shorter_s, " ms", 1e3),
-                edge(m.clapper_period_longer_s, " ms", 1e3),
-                edge(m.r_smaller_mm, " mm", 1.0),
-                edge(m.r_larger_mm, " mm", 1.0)
+                "  margin before it stops ringing {usual}: clapper period {}; r {}",
+                edges(
+                    m.clapper_period_shorter_s,
+                    m.clapper_period_longer_s,
+                    " ms",
+                    1e3,
+                    ["shorter", "longer"]
+                ),
+                edges(m.r_smaller_mm, m.r_larger_mm, " mm", 1.0, ["smaller", "larger"])
             );
         }
         if !b.problems.is_empty() {

@@ -220,7 +220,7 @@ pub fn figures(base: &ChartSpec, run_chart: &mut ChartRunner<'_>) -> Result<Figu
         Drawing::Lines {
             title,
             x_label: "L_b / L_c".into(),
-            y_label: "lift-off angle theta (deg)".into(),
+            y_label: "lift-off angle θ (deg)".into(),
             series: series.to_vec(),
         },
     ));

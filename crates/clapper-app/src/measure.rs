@@ -283,16 +283,33 @@ impl DecayReport {
 
     /// The readable report: CSV of time and level, with a comment.
     pub fn text(&self) -> String {
-        let mut o = format!("t_s,level_db  # bin {:.2} Hz\n", self.bin_hz);
+        let mut o = format!("level of the {:.2} Hz bin: {} frame(s)", self.bin_hz, self.points.len());
+        if let (Some(first), Some(last)) = (self.points.first(), self.points.last()) {
+            let _ = write!(o, " from {:.3} s to {:.3} s", first[0], last[0]);
+        }
+        o.push('\n');
+        if let Some(peak) = self.points.iter().max_by(|a, b| a[1].total_cmp(&b[1])) {
+            let _ = writeln!(o, "  loudest   {:.1} dB at {:.3} s", peak[1], peak[0]);
+        }
+        match self.rate_change {
+            Some(c) => {
+                let _ = writeln!(
+                    o,
+                    "  the decay changes most at {:.3} s: from {:.1} to {:.1} dB/s",
+                    c.t_s, c.before_db_per_s, c.after_db_per_s
+                );
+            }
+            None => o.push_str("  no change of decay rate found\n"),
+        }
+        o.push_str("  (the level against time: --csv FILE, or --csv - for standard output; --plot FILE)\n");
+        o
+    }
+
+    /// The level against time as CSV: `t_s,level_db`, one frame a row.
+    pub fn csv(&self) -> String {
+        let mut o = String::from("t_s,level_db\n");
         for [t, l] in &self.points {
             let _ = writeln!(o, "{t:.5},{l:.2}");
-        }
-        if let Some(c) = self.rate_change {
-            let _ = writeln!(
-                o,
-                "# the decay changes most at {:.3} s: from {:.1} to {:.1} dB/s",
-                c.t_s, c.before_db_per_s, c.after_db_per_s
-            );
         }
         o
     }

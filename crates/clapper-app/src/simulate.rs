@@ -365,17 +365,17 @@ pub fn summary(r: &SimulationReport) -> String {
             st.end_theta_deg, st.duration_s, st.end_reason, st.end_clapper, st.end_side, st.continues_as
         );
     }
+    // The verdict is the first stroke's; under the free protocol the
+    // later strokes decay and may change style, which each stroke shows.
+    let basis = match r.settings.protocol {
+        Protocol::Restart => "first stroke, restart protocol",
+        Protocol::Free => "first stroke; free protocol: later strokes decay, see each stroke's style",
+    };
     let _ = writeln!(
         o,
-        "\nverdict: {}",
-        if r.sustained {
-            format!("the bell sustains ringing {} (first stroke, restart protocol)", r.style)
-        } else {
-            format!(
-                "the bell does not sustain ringing {} (first stroke, restart protocol)",
-                r.style
-            )
-        }
+        "\nverdict: the bell {} ringing {} ({basis})",
+        if r.sustained { "sustains" } else { "does not sustain" },
+        r.style
     );
     if let Some(odd) = r.odd_struck_ms {
         let _ = writeln!(

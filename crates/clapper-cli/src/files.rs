@@ -21,12 +21,22 @@ fn extension(path: &Path) -> String {
 }
 
 /// Run `write` on a temporary file beside `path`, then move it into place.
+/// Errors name `path`, the file asked for, never the temporary one.
 pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        if !dir.is_dir() {
+            anyhow::bail!(
+                "cannot write {}: the folder {} does not exist",
+                path.display(),
+                dir.display()
+            );
+        }
+    }
     let tmp = temp_beside(path);
-    let outcome = write(&tmp);
-    if outcome.is_err() {
+    if let Err(e) = write(&tmp) {
         let _ = std::fs::remove_file(&tmp);
-        return outcome;
+        let message = format!("{e:#}").replace(&tmp.display().to_string(), &path.display().to_string());
+        return Err(anyhow::anyhow!(message));
     }
     std::fs::rename(&tmp, path).with_context(|| format!("cannot move output into place at {}", path.display()))
 }
@@ -41,6 +51,18 @@ pub fn write_bytes(path: &Path, bytes: impl AsRef<[u8]>) -> Result<()> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn errors_name_the_file_asked_for_and_a_missing_folder() {
+        let e = write_bytes(Path::new("/nope/out.png"), b"x").unwrap_err().to_string();
+        assert_eq!(e, "cannot write /nope/out.png: the folder /nope does not exist");
+        let dir = tempfile::tempdir().unwrap();
+        let out = dir.path().join("x.svg");
+        let e = write_atomically(&out, |tmp| anyhow::bail!("backend failed on {}", tmp.display()))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains(&out.display().to_string()) && !e.contains("partial"), "{e}");
+    }
 
     #[test]
     fn a_failed_write_leaves_the_old_file_and_no_litter() {

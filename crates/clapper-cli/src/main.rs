@@ -17,7 +17,7 @@ mod sound;
 mod strikes;
 mod sweep_file;
 
-use clap::{Parser, Subcommand};
+use clap::{CommandFactory, Parser, Subcommand};
 
 /// Dynamics of church bells rung full circle: a bell and its clapper as
 /// coupled pendulums, after Woodhouse, Swallowe, Bumpus & Smith (2012).
@@ -101,24 +101,36 @@ fn restore_sigpipe() {
     }
 }
 
+/// clap's error as one line: the error and its tips ("a similar argument
+/// exists: '--strokes'"), pointing at the help of the subcommand given.
+fn one_line_error(text: &str, subcommand: Option<&str>) -> String {
+    let mut parts = vec![];
+    for line in text.lines().map(str::trim) {
+        if line.starts_with("Usage:") || line.starts_with("For more information") {
+            break;
+        }
+        if !line.is_empty() {
+            parts.push(line.strip_prefix("tip: ").unwrap_or(line));
+        }
+    }
+    let message = if parts.is_empty() {
+        "invalid arguments".to_string()
+    } else {
+        parts.join("; ")
+    };
+    let help = match subcommand {
+        Some(sub) if Cli::command().find_subcommand(sub).is_some() => format!("clapper {sub} --help"),
+        _ => "clapper --help".into(),
+    };
+    format!("{message} (see {help})")
+}
+
 fn main() {
     restore_sigpipe();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) if e.use_stderr() => {
-            // One line naming the problem, not clap's three.
-            let text = e.to_string();
-            let message: Vec<&str> = text
-                .lines()
-                .take_while(|l| !l.trim().is_empty() && !l.starts_with("Usage:"))
-                .map(str::trim)
-                .collect();
-            let message = if message.is_empty() {
-                "invalid arguments".to_string()
-            } else {
-                message.join(" ")
-            };
-            eprintln!("{message} (see clapper --help)");
+            eprintln!("{}", one_line_error(&e.to_string(), std::env::args().nth(1).as_deref()));
             std::process::exit(2);
         }
         Err(e) => e.exit(),
@@ -149,5 +161,21 @@ fn main() {
     if let Err(e) = result {
         eprintln!("error: {e:#}");
         std::process::exit(1);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn clap_errors_keep_their_tip_and_name_the_subcommands_help() {
+        let e = Cli::try_parse_from(["clapper", "simulate", "--stroke", "3"]).unwrap_err();
+        let line = one_line_error(&e.to_string(), Some("simulate"));
+        assert!(line.contains("'--stroke'") && line.contains("'--strokes'"), "{line}");
+        assert!(line.ends_with("(see clapper simulate --help)"), "{line}");
+        assert!(!line.contains('\n'));
+        let e = Cli::try_parse_from(["clapper", "simulat"]).unwrap_err();
+        assert!(one_line_error(&e.to_string(), Some("simulat")).ends_with("(see clapper --help)"));
     }
 }

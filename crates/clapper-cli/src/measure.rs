@@ -204,6 +204,10 @@ pub struct DecayArgs {
     /// Plot the level against time (.svg or .png).
     #[arg(long, value_name = "FILE")]
     pub plot: Option<PathBuf>,
+    /// Write the level against time as CSV (`t_s,level_db`); `-` is
+    /// standard output.
+    #[arg(long, value_name = "FILE")]
+    pub csv: Option<PathBuf>,
     /// WAV channel or CSV value column.
     #[arg(long, default_value_t = 0)]
     pub channel: usize,
@@ -230,6 +234,14 @@ pub fn decay(args: DecayArgs) -> Result<()> {
                 colour: RGBColor(31, 90, 180),
             }],
         )?;
+    }
+    if let Some(p) = &args.csv {
+        if p.as_os_str() == "-" {
+            // The CSV alone on standard output, for a pipe.
+            print!("{}", report.csv());
+            return Ok(());
+        }
+        crate::files::write_bytes(p, report.csv())?;
     }
     print_report(&report, args.json, || report.text())
 }

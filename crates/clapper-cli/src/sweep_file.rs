@@ -99,6 +99,15 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
     let journal_path = with_suffix(csv, ".partial.json");
     let range: Range<usize> = meta.range[0]..meta.range[1];
     let started = Instant::now();
+    if let Some(dir) = csv.parent().filter(|d| !d.as_os_str().is_empty()) {
+        if !dir.is_dir() {
+            bail!(
+                "cannot write {}: the folder {} does not exist",
+                csv.display(),
+                dir.display()
+            );
+        }
+    }
     // Two runs writing one sweep would interleave their blocks.
     let lock_path = with_suffix(csv, ".lock");
     let _lock = lock(&lock_path)?;
@@ -161,6 +170,13 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
         Err(e) => return Err(e).with_context(|| format!("cannot read {}", journal_path.display())),
     };
 
+    if std::io::IsTerminal::is_terminal(&std::io::stderr()) && done < range.end {
+        // Said before any Ctrl-C, so the files it leaves are no surprise.
+        eprintln!(
+            "checkpointing to {} as it goes: if this run is stopped, the same command resumes it",
+            partial.display()
+        );
+    }
     let bar = crate::progress::bar((range.end - range.start) as u64, "sweep");
     bar.set_position((done - range.start) as u64);
     let mut out = OpenOptions::new()

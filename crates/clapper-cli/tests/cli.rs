@@ -1030,3 +1030,70 @@ fn the_binary_carries_its_font_and_links_no_font_libraries() {
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     assert_eq!(&std::fs::read(&png).unwrap()[1..4], b"PNG");
 }
+
+#[test]
+fn first_hour_stumbles_give_one_clear_line() {
+    let dir = tempfile::tempdir().unwrap();
+    let neg = dir.path().join("neg.toml");
+    let lab = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/lab.toml")).unwrap();
+    let neg_text: String = lab
+        .lines()
+        .map(|l| {
+            if l.starts_with("bell_mass_kg") {
+                "bell_mass_kg = -5".into()
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    std::fs::write(&neg, neg_text).unwrap();
+    let ring = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/table1-bells.toml");
+    for (args, want) in [
+        (
+            vec!["simulate", "--stroke", "3"],
+            "a similar argument exists: '--strokes' (see clapper simulate --help)",
+        ),
+        (
+            vec!["simulate", "--plot", "/nope/out.png"],
+            "cannot write /nope/out.png: the folder /nope does not exist",
+        ),
+        (
+            vec!["synth", "--out", "/nope/x.wav"],
+            "cannot write /nope/x.wav: the folder /nope does not exist",
+        ),
+        (
+            vec!["chart", "--grid", "3", "--csv", "/nope/c.csv"],
+            "cannot write /nope/c.csv: the folder /nope does not exist",
+        ),
+        (vec!["simulate", "--bell", ring], "a ring of 2 bell(s)"),
+        (
+            vec!["simulate", "--bell", neg.to_str().unwrap()],
+            "bell_mass_kg = -5 is out of range",
+        ),
+        (
+            vec!["simulate", "--bell", "/nope/bell.toml"],
+            "cannot read bell file /nope/bell.toml",
+        ),
+    ] {
+        let out = clapper().args(&args).output().unwrap();
+        assert!(!out.status.success(), "{args:?}");
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(err.contains(want), "{args:?}: {err}");
+        assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+        assert!(!err.contains("partial") && !err.contains(".lock"), "{args:?}: {err}");
+        // No message said twice ("x: y: y").
+        let line = err.trim();
+        let tail = line.rsplit(": ").next().unwrap();
+        assert_eq!(line.matches(tail).count(), 1, "{args:?}: said twice: {line}");
+    }
+    let free = clapper()
+        .args(["simulate", "--protocol", "free", "--strokes", "3"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&free.stdout);
+    assert!(
+        text.contains("free protocol") && !text.contains("restart protocol"),
+        "{text}"
+    );
+}

@@ -195,12 +195,13 @@ impl LoadedBell {
 #[derive(Debug, thiserror::Error)]
 pub enum BellFileError {
     /// The file could not be read.
-    #[error("cannot read bell file {path}: {source}")]
+    #[error("cannot read bell file {path}: {reason}")]
     Read {
         /// The path.
         path: String,
-        /// The I/O error.
-        source: std::io::Error,
+        /// The I/O error (in the message, so not also a source: the
+        /// command line would say it twice).
+        reason: std::io::Error,
     },
     /// Not valid TOML, an unknown key, or a value of the wrong type.
     #[error("{0}")]
@@ -211,22 +212,36 @@ pub enum BellFileError {
     /// Keys of the two forms are mixed.
     #[error("bell file mixes forms: {0} cannot be combined with bell_period_s / clapper_period_s")]
     Mixed(String),
-    /// A value is out of range.
+    /// A value is out of range (its message in this one's, not a source).
     #[error("bell file: {0}")]
-    Param(#[from] ParamError),
+    Param(ParamError),
     /// The clapper given both by its parts and by these keys.
     #[error("bell file gives the clapper twice: the [clapper] table stands for {0}; leave those out")]
     ClapperTwice(String),
     /// The `[clapper]` table cannot be used.
     #[error("bell file: {0}")]
-    Clapper(#[from] crate::clapper_input::ClapperInputError),
+    Clapper(crate::clapper_input::ClapperInputError),
+}
+
+// By hand, not `#[from]`: that would make the inner error a source too,
+// and error chains (anyhow's `{:#}`) would print its message twice.
+impl From<ParamError> for BellFileError {
+    fn from(e: ParamError) -> Self {
+        Self::Param(e)
+    }
+}
+
+impl From<crate::clapper_input::ClapperInputError> for BellFileError {
+    fn from(e: crate::clapper_input::ClapperInputError) -> Self {
+        Self::Clapper(e)
+    }
 }
 
 /// The file's text and stem (the default name of an unnamed bell).
 fn read_text(path: &Path) -> Result<(String, String), BellFileError> {
-    let text = std::fs::read_to_string(path).map_err(|source| BellFileError::Read {
+    let text = std::fs::read_to_string(path).map_err(|reason| BellFileError::Read {
         path: path.display().to_string(),
-        source,
+        reason,
     })?;
     let stem = path
         .file_stem()
@@ -326,6 +341,17 @@ fn one_line(text: &str, err: &toml::de::Error) -> String {
 
 /// Parse a bell file's text; `default_name` names a bell without `name`.
 pub fn parse_bell(text: &str, default_name: &str) -> Result<LoadedBell, BellFileError> {
+    // A ring ([[bell]] tables) where one bell is wanted: say so, rather
+    // than "unknown field `bell`".
+    if let Ok(toml::Value::Table(t)) = toml::from_str::<toml::Value>(text) {
+        if let Some(toml::Value::Array(bells)) = t.get("bell") {
+            return Err(BellFileError::Syntax(format!(
+                "this file holds a ring of {} bell(s) ([[bell]] tables), where one bell is wanted: \
+                 give one bell's file, or diagnose the ring (clapper diagnose FILE)",
+                bells.len()
+            )));
+        }
+    }
     let f: BellFile = toml::from_str(text).map_err(|e| BellFileError::Syntax(one_line(text, &e)))?;
     bell_from_fields(f, default_name)
 }
@@ -476,6 +502,16 @@ fn missing_of(keys: &[(&str, bool)]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_ring_where_one_bell_is_wanted_says_so() {
+        let ring = "[[bell]]\nbell_period_s = 2\nclapper_period_s = 1.6\nr_m = 0.1\nphi_max_deg = 26\n[[bell]]\nbell_period_s = 2.1\nclapper_period_s = 1.6\nr_m = 0.1\nphi_max_deg = 26\n";
+        let e = parse_bell(ring, "x").unwrap_err().to_string();
+        assert!(
+            e.contains("a ring of 2 bell(s)") && e.contains("clapper diagnose"),
+            "{e}"
+        );
+    }
 
     const LAB: &str = "name = \"Lab bell\"\nbell_mass_kg = 45.8\nclapper_mass_kg = 1.65\na_m = 0.24\nb_m = 0.25\n\
                        bell_inertia_kg_m2 = 4.1\nclapper_inertia_kg_m2 = 0.093\nr_m = 0.10\nphi_max_deg = 26\n";

@@ -17,6 +17,14 @@ pub enum SignalFileError {
         /// Why.
         message: String,
     },
+    /// Not writable.
+    #[error("cannot write {path}: {message}")]
+    Write {
+        /// The file.
+        path: String,
+        /// Why.
+        message: String,
+    },
     /// Readable but not a usable signal.
     #[error("{path}: {message}")]
     Content {
@@ -201,11 +209,11 @@ fn read_csv(path: &Path, channel: usize) -> Result<Signal, SignalFileError> {
 /// Write a mono 16-bit WAV at `rate`, scaled so the largest sample is at
 /// `peak` of full scale (for test signals and synthesis).
 pub fn write_wav(path: &Path, sig: &Signal, peak: f64) -> Result<(), SignalFileError> {
-    let bytes = wav_bytes(sig, peak).map_err(|message| SignalFileError::Read {
+    let bytes = wav_bytes(sig, peak).map_err(|message| SignalFileError::Write {
         path: path.display().to_string(),
         message,
     })?;
-    std::fs::write(path, bytes).map_err(|e| SignalFileError::Read {
+    std::fs::write(path, bytes).map_err(|e| SignalFileError::Write {
         path: path.display().to_string(),
         message: e.to_string(),
     })

@@ -190,6 +190,8 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel, fig:
         .disable_mesh()
         .x_desc(fig.axes.0.as_str())
         .y_desc(fig.axes.1.as_str())
+        .x_label_formatter(&crate::tick)
+        .y_label_formatter(&crate::tick)
         .label_style(("sans-serif", 15))
         .axis_desc_style(("sans-serif", 17))
         .draw()?;
@@ -362,6 +364,8 @@ fn draw_lines<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, spec: &LineSpec
         .configure_mesh()
         .x_desc(spec.x_label)
         .y_desc(spec.y_label)
+        .x_label_formatter(&crate::tick)
+        .y_label_formatter(&crate::tick)
         .light_line_style(RGBColor(235, 235, 235))
         .label_style(("sans-serif", 15))
         .axis_desc_style(("sans-serif", 17))

@@ -6,6 +6,17 @@
 
 #![warn(missing_docs)]
 
+/// A tick label: the shortest decimal of the value rounded to 1e-6 ("150",
+/// "0.25", "0", never "150.0" or "-0.0").
+pub(crate) fn tick(v: &f64) -> String {
+    let r = (v * 1e6).round() / 1e6;
+    if r == 0.0 {
+        "0".into()
+    } else {
+        format!("{r}")
+    }
+}
+
 /// Draw to `path` as SVG or PNG by its extension: `$draw(&root, args..)` is
 /// called on a drawing area of either backend, then presented. A macro
 /// because the two backends are different types.
@@ -167,13 +178,16 @@ fn draw_strokes<DB: DrawingBackend>(
         .x_desc("time (s)")
         .y_desc("angle (deg)")
         .y_labels(9)
+        .x_label_formatter(&tick)
+        .y_label_formatter(&tick)
         .light_line_style(RGBColor(235, 235, 235))
         .label_style(("sans-serif", 15))
         .axis_desc_style(("sans-serif", 17))
         .draw()?;
     chart
         .configure_secondary_axes()
-        .y_desc("clapper rate phi' (rad/s)")
+        .y_desc("clapper rate φ' (rad/s)")
+        .y_label_formatter(&tick)
         .label_style(("sans-serif", 15))
         .axis_desc_style(("sans-serif", 17))
         .draw()?;
@@ -196,21 +210,21 @@ fn draw_strokes<DB: DrawingBackend>(
             5,
             blue.stroke_width(2),
         ))?
-        .label("bell angle theta (deg)")
+        .label("bell angle θ (deg)")
         .legend(move |(x, y)| PathElement::new([(x, y), (x + 25, y)], blue.stroke_width(2)));
     chart
         .draw_series(LineSeries::new(
             samples.iter().map(|s| (s.t, s.y[1].to_degrees())),
             green.stroke_width(2),
         ))?
-        .label("clapper angle phi (deg)")
+        .label("clapper angle φ (deg)")
         .legend(move |(x, y)| PathElement::new([(x, y), (x + 25, y)], green.stroke_width(2)));
     chart
         .draw_secondary_series(LineSeries::new(
             samples.iter().map(|s| (s.t, s.y[3])),
             red.stroke_width(1),
         ))?
-        .label("clapper rate phi' (rad/s, right axis)")
+        .label("clapper rate φ' (rad/s, right axis)")
         .legend(move |(x, y)| PathElement::new([(x, y), (x + 25, y)], red.stroke_width(2)));
     chart
         .configure_series_labels()
@@ -269,5 +283,16 @@ mod tests {
             stroke_plot(Path::new("x.svg"), &[], &p),
             Err(PlotError::Empty(_))
         ));
+    }
+}
+
+#[cfg(test)]
+mod tick_tests {
+    #[test]
+    fn ticks_are_short_and_never_negative_zero() {
+        assert_eq!(super::tick(&150.0), "150");
+        assert_eq!(super::tick(&-0.0), "0");
+        assert_eq!(super::tick(&(0.1 + 0.2)), "0.3");
+        assert_eq!(super::tick(&-2.5), "-2.5");
     }
 }

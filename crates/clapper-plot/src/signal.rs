@@ -54,6 +54,8 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &SpectrogramPlot<'
         .disable_mesh()
         .x_desc("time (s)")
         .y_desc("frequency (Hz)")
+        .x_label_formatter(&crate::tick)
+        .y_label_formatter(&crate::tick)
         .label_style(("sans-serif", 15))
         .axis_desc_style(("sans-serif", 17))
         .draw()?;
