@@ -42,12 +42,17 @@ fn check_mirror(a: &Stroke, b: &Stroke) -> Result<(), TestCaseError> {
     prop_assert_eq!(a.impacts.len(), b.impacts.len());
     prop_assert_eq!(a.end.reason, b.end.reason);
     prop_assert_eq!(a.sustained(), b.sustained());
-    for (p, q) in a.impacts.iter().zip(&b.impacts) {
-        prop_assert!((p.theta + q.theta).abs() < 1e-9, "{} {}", p.theta, q.theta);
-        prop_assert!((p.phi_dot_before + q.phi_dot_before).abs() < 1e-9 * (1.0 + p.phi_dot_before.abs()));
-        prop_assert!((p.t - q.t).abs() < 1e-9);
+    // Mirror images to round-off, which each bounce amplifies: at phi_max
+    // 53 deg, L_b/L_c 4.9 (far off the chart; the seed is kept in
+    // properties.proptest-regressions) the first impact agreed to 1.1e-9
+    // rad and a later bounce to 3.5e-8. A real asymmetry is degrees.
+    for (k, (p, q)) in a.impacts.iter().zip(&b.impacts).enumerate() {
+        let tol = if k == 0 { 1e-8 } else { 1e-6 };
+        prop_assert!((p.theta + q.theta).abs() < tol, "{} {}", p.theta, q.theta);
+        prop_assert!((p.phi_dot_before + q.phi_dot_before).abs() < tol * (1.0 + p.phi_dot_before.abs()));
+        prop_assert!((p.t - q.t).abs() < tol);
     }
-    prop_assert!((a.end.y[0] + b.end.y[0]).abs() < 1e-9);
+    prop_assert!((a.end.y[0] + b.end.y[0]).abs() < 1e-6);
     Ok(())
 }
 
