@@ -328,6 +328,8 @@ pub struct PartialReport {
     pub q: Option<f64>,
 }
 
+pub use clapper_signal::modes::DEFAULT_RANGE_DB as DEFAULT_MODES_RANGE_DB;
+
 /// The partials of a single strike (Figs 3, 4).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct ModesReport {

@@ -15,7 +15,7 @@ use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 
 use crate::simulate::{Preset, SimulateRequest};
-use crate::sound::{synth, Partials, SynthOptions};
+use crate::sound::{synth, SynthOptions};
 use crate::AppError;
 
 /// One file of the sample set: its name in the folder and its bytes.
@@ -33,11 +33,30 @@ pub const DROP_R: (f64, f64) = (0.1, 0.3);
 /// Nominals (Hz) of the ring in `tower.wav`: a major scale of eight from
 /// 1400 Hz, as `clapper synth-ring` rings by default.
 pub fn tower_nominals() -> Vec<f64> {
-    major_scale(8, 1400.0)
-        .unwrap_or_default()
-        .iter()
-        .map(|b| b.nominal_hz)
-        .collect()
+    tower_spec().bells.iter().map(|b| b.nominal_hz).collect()
+}
+
+/// The ring of `tower.wav`: eight bells ringing six rows of plain hunt in
+/// a 0.6 s room at 25 dB SNR, bell 4 planted 15 ms odd-struck and one
+/// double strike of bell 6, at 16 kHz.
+fn tower_spec() -> TowerSpec {
+    let mut bells = major_scale(8, 1400.0).unwrap_or_default();
+    bells[3].odd_struck_ms = 15.0;
+    TowerSpec {
+        rate: 16_000.0,
+        rows: 6,
+        method: Method::PlainHunt,
+        doubles: vec![DoubleStrikeSpec {
+            bell: 6,
+            row: 3,
+            delay_ms: 60.0,
+            amplitude_ratio: 0.7,
+        }],
+        room: Some(Room::chamber(0.6)),
+        snr_db: Some(25.0),
+        seed: 7,
+        ..TowerSpec::new(bells)
+    }
 }
 
 /// Every sample file, in the order README lists them.
@@ -95,21 +114,15 @@ fn strike() -> Result<Vec<u8>, AppError> {
     };
     let opts = SynthOptions {
         rate: 22050.0,
-        gap: 0.25,
-        partials: Partials::Lab,
-        nominal: 1310.0,
-        pulse_ms: 0.3,
-        rest_damping: 8.0,
-        accelerometer: false,
         chime: true,
         tail: 3.0,
+        ..SynthOptions::default()
     };
     wav(&synth(&req, None, &opts)?.signal)
 }
 
 /// The lab bell's three partials with the paper's effective-mass estimate
-/// (a third of its 45.8 kg), and the pendulum mode, as `impulse --modes`
-/// reads them.
+/// (a third of its 45.8 kg), as `impulse --modes` reads them.
 fn modes_csv() -> Vec<u8> {
     let mut o = String::from("freq_hz,effective_mass_kg\n");
     for m in clapper_signal::synth::lab_partials() {
@@ -182,27 +195,9 @@ fn drop_wav() -> Result<Vec<u8>, AppError> {
     wav(&Signal { rate, samples })
 }
 
-/// Eight bells ringing six rows of plain hunt in a 0.6 s room at 25 dB
-/// SNR, bell 4 planted 15 ms odd-struck and one double strike of bell 6,
-/// 16 kHz; with the true strike times.
+/// The recording of [`tower_spec`], with the true strike times.
 fn tower() -> Result<(Vec<u8>, Vec<u8>), AppError> {
-    let mut bells = major_scale(8, 1400.0).unwrap_or_default();
-    bells[3].odd_struck_ms = 15.0;
-    let spec = TowerSpec {
-        rate: 16_000.0,
-        rows: 6,
-        method: Method::PlainHunt,
-        doubles: vec![DoubleStrikeSpec {
-            bell: 6,
-            row: 3,
-            delay_ms: 60.0,
-            amplitude_ratio: 0.7,
-        }],
-        room: Some(Room::chamber(0.6)),
-        snr_db: Some(25.0),
-        seed: 7,
-        ..TowerSpec::new(bells)
-    };
+    let spec = tower_spec();
     let (sig, truth) = tower_recording(&spec).map_err(|e| AppError::Sound(e.to_string()))?;
     let mut o = String::from("bell,t_s,row,place,stroke,double_delay_ms,double_ratio\n");
     for s in &truth {
@@ -246,6 +241,19 @@ fn listening_answers() -> Vec<u8> {
 }
 
 fn readme() -> String {
+    let partials = clapper_signal::synth::lab_partials();
+    let list =
+        |f: &dyn Fn(&clapper_signal::synth::SynthMode) -> String| partials.iter().map(f).collect::<Vec<_>>().join(", ");
+    let t = tower_spec();
+    let odd: Vec<String> = (t.bells.iter().enumerate())
+        .filter(|(_, b)| b.odd_struck_ms != 0.0)
+        .map(|(k, b)| format!("bell {} {} ms odd-struck", k + 1, b.odd_struck_ms))
+        .collect();
+    let doubles: Vec<String> = t
+        .doubles
+        .iter()
+        .map(|d| format!("bell {} double-strikes in row {}", d.bell, d.row))
+        .collect();
     let nominals: Vec<String> = tower_nominals().iter().map(|f| format!("{f:.1}")).collect();
     format!(
         "# Sample data (synthetic)\n\
@@ -260,15 +268,29 @@ fn readme() -> String {
          \n\
          | file | what | truth |\n\
          |---|---|---|\n\
-         | `strike.wav` | the lab bell chimed once: its three partials 624, 981, 1310 Hz (22.05 kHz, 3 s) | Q 1300, 1000, 2000 |\n\
-         | `modes.csv` | those partials with effective masses, for `impulse --modes` | a third of 45.8 kg each |\n\
-         | `contact.csv` | a contact detector on the lab clapper through one handstroke (penalty contact, k = 1e6 N m/rad; 5 kHz) | the simulated stroke: lift-off, strike near 0.97 s, bounces, rest |\n\
+         | `strike.wav` | the lab bell chimed once: its partials {freqs} Hz (22.05 kHz) | Q {qs} |\n\
+         | `modes.csv` | those partials with effective masses, for `impulse --modes` | {masses} kg |\n\
+         | `contact.csv` | a contact detector on the lab clapper through one handstroke (penalty contact, k = 1e6 N m/rad; 5 kHz) | the simulated stroke: lift-off, strike, bounces, rest |\n\
          | `drop.wav` | an accelerometer while the clapper is dropped onto the bell and bounces (50 kHz) | R = {r1}, R2 = {r2} |\n\
-         | `tower.wav` | eight bells, six rows of plain hunt, 0.6 s room, 25 dB SNR (16 kHz) | `tower-truth.csv`: every strike; bell 4 15 ms odd-struck; bell 6 double-strikes once |\n\
-         | `tower-nominals.json` | the eight nominals (Hz), treble first: {n} | |\n\
+         | `tower.wav` | {nb} bells, {rows} rows of {method}, {rt60} s room, {snr} dB SNR ({rate} Hz) | `tower-truth.csv`: every strike; {odd}; {doubles} |\n\
+         | `tower-nominals.json` | the nominals (Hz), treble first: {n} | |\n\
          | `listening-answers.csv` | twenty listeners' answers to the double-strike listening test | heard double across (A - {la})(dt - {lb} ms) = {lc} ms |\n",
+        freqs = list(&|m| format!("{}", m.freq_hz)),
+        qs = list(&|m| format!("{}", m.q)),
+        masses = list(&|m| format!("{:.2}", m.effective_mass)),
         r1 = DROP_R.0,
         r2 = DROP_R.1,
+        nb = t.bells.len(),
+        rows = t.rows,
+        method = match t.method {
+            Method::PlainHunt => "plain hunt",
+            Method::Rounds => "rounds",
+        },
+        rt60 = t.room.map_or(0.0, |r| r.rt60_s),
+        snr = t.snr_db.unwrap_or(f64::INFINITY),
+        rate = t.rate,
+        odd = odd.join(", "),
+        doubles = doubles.join(", "),
         n = nominals.join(", "),
         la = LISTENING_TRUTH.0,
         lb = LISTENING_TRUTH.1,

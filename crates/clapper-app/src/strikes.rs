@@ -139,9 +139,11 @@ pub fn voices_from_nominals(nominals: &[f64]) -> Result<Vec<BellVoice>, AppError
     Ok(nominals.iter().map(|&f| BellVoice::from_nominal(f)).collect())
 }
 
+pub use clapper_signal::strikes::DEFAULT_DOUBLE_MIN_RATIO;
+
 /// The strike finder's options with the double strike's least amplitude
-/// ratio `double_min_ratio` (0.3 is the default: below it the paper's
-/// listeners heard no double strike), checked.
+/// ratio `double_min_ratio` ([`DEFAULT_DOUBLE_MIN_RATIO`] unless asked:
+/// below it the paper's listeners heard no double strike), checked.
 pub fn strike_options(double_min_ratio: f64) -> Result<StrikeOptions, AppError> {
     if !(double_min_ratio.is_finite() && double_min_ratio > 0.0 && double_min_ratio <= 2.0) {
         return Err(AppError::Request(format!(

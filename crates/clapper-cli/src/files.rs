@@ -20,9 +20,9 @@ fn extension(path: &Path) -> String {
         .unwrap_or_default()
 }
 
-/// Run `write` on a temporary file beside `path`, then move it into place.
-/// Errors name `path`, the file asked for, never the temporary one.
-pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+/// Refuse, naming `path`, an output whose folder does not exist (before
+/// any file beside it, temporary or lock, is tried and named instead).
+pub fn ensure_folder(path: &Path) -> Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         if !dir.is_dir() {
             anyhow::bail!(
@@ -32,6 +32,13 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) ->
             );
         }
     }
+    Ok(())
+}
+
+/// Run `write` on a temporary file beside `path`, then move it into place.
+/// Errors name `path`, the file asked for, never the temporary one.
+pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    ensure_folder(path)?;
     let tmp = temp_beside(path);
     if let Err(e) = write(&tmp) {
         let _ = std::fs::remove_file(&tmp);

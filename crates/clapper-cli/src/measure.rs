@@ -237,6 +237,9 @@ pub fn decay(args: DecayArgs) -> Result<()> {
     }
     if let Some(p) = &args.csv {
         if p.as_os_str() == "-" {
+            if args.json {
+                anyhow::bail!("--csv - and --json both want standard output: give --csv a file name");
+            }
             // The CSV alone on standard output, for a pipe.
             print!("{}", report.csv());
             return Ok(());
@@ -251,7 +254,7 @@ pub struct ModesArgs {
     /// A recording of a single strike (.wav or .csv).
     pub file: PathBuf,
     /// Report partials within this many dB of the strongest.
-    #[arg(long, default_value_t = 30.0)]
+    #[arg(long, default_value_t = clapper_app::measure::DEFAULT_MODES_RANGE_DB)]
     pub range_db: f64,
     /// Print JSON.
     #[arg(long)]

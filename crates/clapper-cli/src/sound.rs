@@ -17,23 +17,23 @@ pub struct SynthArgs {
     #[arg(long, value_name = "FILE.wav")]
     pub out: PathBuf,
     /// Sample rate (Hz).
-    #[arg(long, default_value_t = 44100.0)]
+    #[arg(long, default_value_t = SynthOptions::default().rate)]
     pub rate: f64,
     /// The handstroke gap: an extra pause before each handstroke after the
     /// first (s). Default 0.25 s, about one blow in a ring of eight.
-    #[arg(long, default_value_t = 0.25)]
+    #[arg(long, default_value_t = SynthOptions::default().gap)]
     pub gap: f64,
     /// Which partials ring.
     #[arg(long, value_enum, default_value = "lab")]
     pub partials: Partials,
     /// Nominal of the typical partials (Hz).
-    #[arg(long, default_value_t = 1310.0)]
+    #[arg(long, default_value_t = SynthOptions::default().nominal)]
     pub nominal: f64,
     /// Contact pulse length (ms). Default 0.3 ms: the paper measured 0.2 to 0.5 ms.
-    #[arg(long, default_value_t = 0.3)]
+    #[arg(long, default_value_t = SynthOptions::default().pulse_ms)]
     pub pulse_ms: f64,
     /// How many times faster the bell's modes decay while the clapper rests on it.
-    #[arg(long, default_value_t = 8.0)]
+    #[arg(long, default_value_t = SynthOptions::default().rest_damping)]
     pub rest_damping: f64,
     /// Output the bell's acceleration (like an accelerometer) instead of its velocity.
     #[arg(long)]
@@ -42,7 +42,7 @@ pub struct SynthArgs {
     #[arg(long)]
     pub chime: bool,
     /// Sound after the last stroke (s).
-    #[arg(long, default_value_t = 2.0)]
+    #[arg(long, default_value_t = SynthOptions::default().tail)]
     pub tail: f64,
 }
 

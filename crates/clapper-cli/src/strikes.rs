@@ -37,7 +37,7 @@ pub struct StrikesArgs {
     #[arg(long, value_name = "DIR")]
     pub templates: Option<PathBuf>,
     /// A second strike at least this loud against the first (amplitude ratio) is a double strike.
-    #[arg(long, default_value_t = 0.3, value_name = "RATIO")]
+    #[arg(long, default_value_t = clapper_app::strikes::DEFAULT_DOUBLE_MIN_RATIO, value_name = "RATIO")]
     pub double_min_ratio: f64,
     /// Print JSON.
     #[arg(long)]

@@ -99,15 +99,7 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
     let journal_path = with_suffix(csv, ".partial.json");
     let range: Range<usize> = meta.range[0]..meta.range[1];
     let started = Instant::now();
-    if let Some(dir) = csv.parent().filter(|d| !d.as_os_str().is_empty()) {
-        if !dir.is_dir() {
-            bail!(
-                "cannot write {}: the folder {} does not exist",
-                csv.display(),
-                dir.display()
-            );
-        }
-    }
+    crate::files::ensure_folder(csv)?;
     // Two runs writing one sweep would interleave their blocks.
     let lock_path = with_suffix(csv, ".lock");
     let _lock = lock(&lock_path)?;

@@ -133,6 +133,12 @@ fn modes_spectrogram_and_decay_of_a_strike() {
     let text = String::from_utf8(out.stdout).unwrap();
     // Plain CSV that any reader takes: a header, then numbers only.
     assert_eq!(text.lines().next(), Some("t_s,level_db"));
+    let both = clapper()
+        .args(["decay", wav.to_str().unwrap(), "--freq", "624", "--csv", "-", "--json"])
+        .output()
+        .unwrap();
+    assert!(!both.status.success());
+    assert!(String::from_utf8_lossy(&both.stderr).contains("both want standard output"));
     let rows: Vec<(f64, f64)> = text
         .lines()
         .skip(1)

@@ -276,6 +276,7 @@ fn draw_colour_bar<DB: DrawingBackend>(
         .disable_mesh()
         .disable_x_axis()
         .y_desc(label)
+        .y_label_formatter(&crate::tick)
         .label_style(("sans-serif", 14))
         .axis_desc_style(("sans-serif", 16))
         .draw()?;

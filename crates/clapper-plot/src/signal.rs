@@ -39,27 +39,9 @@ type DrawResult<DB> = Result<(), DrawingAreaErrorKind<<DB as DrawingBackend>::Er
 
 fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &SpectrogramPlot<'_>) -> DrawResult<DB> {
     root.fill(&WHITE)?;
-    let g = grid(p, 900, 500);
-    let (t0, t1, fmax) = (g.t0, g.t1, g.fmax);
     let (w, _) = root.dim_in_pixel();
     let (main, bar) = root.split_horizontally(w - 130);
-    let mut chart = ChartBuilder::on(&main)
-        .caption(p.title, ("sans-serif", 20))
-        .margin(12)
-        .x_label_area_size(45)
-        .y_label_area_size(70)
-        .build_cartesian_2d(t0..t1, 0.0..fmax)?;
-    chart
-        .configure_mesh()
-        .disable_mesh()
-        .x_desc("time (s)")
-        .y_desc("frequency (Hz)")
-        .x_label_formatter(&crate::tick)
-        .y_label_formatter(&crate::tick)
-        .label_style(("sans-serif", 15))
-        .axis_desc_style(("sans-serif", 17))
-        .draw()?;
-    chart.draw_series(g.cells)?;
+    frame(&main, p, (900, 500), 20)?;
     let mut cb = ChartBuilder::on(&bar)
         .margin_top(50)
         .margin_bottom(57)
@@ -70,6 +52,7 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &SpectrogramPlot<'
         .disable_mesh()
         .disable_x_axis()
         .y_desc("level (dB re max)")
+        .y_label_formatter(&crate::tick)
         .label_style(("sans-serif", 14))
         .draw()?;
     cb.draw_series((0..100).map(|k| {
@@ -90,6 +73,41 @@ pub(crate) struct Grid {
     pub fmax: f64,
     /// Coloured cells in (time s, frequency Hz).
     pub cells: Vec<Rectangle<(f64, f64)>>,
+}
+
+/// A chart over time (s) and frequency (Hz).
+pub(crate) type TimeFrequency<'a, DB> =
+    ChartContext<'a, DB, Cartesian2d<plotters::coord::types::RangedCoordf64, plotters::coord::types::RangedCoordf64>>;
+
+/// The spectrogram `p` drawn on `area`, max-pooled to at most `cells`
+/// (time x frequency), with its title at `caption_px`: axes, labels and
+/// cells, the one frame of both the spectrogram and the striking
+/// diagram's strip. Returns the chart, to draw on.
+pub(crate) fn frame<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    p: &SpectrogramPlot<'_>,
+    cells: (usize, usize),
+    caption_px: u32,
+) -> Result<TimeFrequency<'a, DB>, DrawingAreaErrorKind<DB::ErrorType>> {
+    let g = grid(p, cells.0, cells.1);
+    let mut chart = ChartBuilder::on(area)
+        .caption(p.title, ("sans-serif", caption_px))
+        .margin(12)
+        .x_label_area_size(45)
+        .y_label_area_size(70)
+        .build_cartesian_2d(g.t0..g.t1, 0.0..g.fmax)?;
+    chart
+        .configure_mesh()
+        .disable_mesh()
+        .x_desc("time (s)")
+        .y_desc("frequency (Hz)")
+        .x_label_formatter(&crate::tick)
+        .y_label_formatter(&crate::tick)
+        .label_style(("sans-serif", 15))
+        .axis_desc_style(("sans-serif", 17))
+        .draw()?;
+    chart.draw_series(g.cells)?;
+    Ok(chart)
 }
 
 /// The grid of `p` (its frames and bins checked non-empty by the caller).

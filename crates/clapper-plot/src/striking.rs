@@ -175,24 +175,9 @@ fn diagram<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &StrikingPlot<'
 /// The opening seconds' spectrogram with each strike heard marked at its
 /// onset (its bell's colour; doubles dashed to the second strike).
 fn strip<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &StrikingPlot<'_>) -> DrawResult<DB> {
-    let s = &p.spectrogram;
-    let g = crate::signal::grid(s, 1100, 300);
-    let (t0, t1, fmax) = (g.t0, g.t1, g.fmax);
-    let mut chart = ChartBuilder::on(area)
-        .caption(s.title, ("sans-serif", 17))
-        .margin(12)
-        .x_label_area_size(45)
-        .y_label_area_size(60)
-        .build_cartesian_2d(t0..t1, 0.0..fmax)?;
-    chart
-        .configure_mesh()
-        .disable_mesh()
-        .x_desc("time (s)")
-        .y_desc("frequency (Hz)")
-        .label_style(("sans-serif", 15))
-        .axis_desc_style(("sans-serif", 16))
-        .draw()?;
-    chart.draw_series(g.cells)?;
+    let mut chart = crate::signal::frame(area, &p.spectrogram, (1100, 300), 17)?;
+    let (x, y) = (chart.x_range(), chart.y_range());
+    let (t0, t1, fmax) = (x.start, x.end, y.end);
     for st in p.strikes.iter().filter(|st| st.t_s >= t0 && st.t_s <= t1) {
         let colour = bell_colour(st.bell, p.bells);
         chart.draw_series(std::iter::once(PathElement::new(

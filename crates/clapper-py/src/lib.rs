@@ -267,6 +267,12 @@ fn _clapper(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     m.add("DEFAULT_THETA0_DEG", clapper_core::stroke::DEFAULT_THETA0_DEG)?;
     m.add("DEFAULT_RESTITUTION", clapper_core::stroke::DEFAULT_RESTITUTION)?;
+    m.add(
+        "DEFAULT_DOUBLE_MIN_RATIO",
+        clapper_app::strikes::DEFAULT_DOUBLE_MIN_RATIO,
+    )?;
+    m.add("DEFAULT_MODES_RANGE_DB", clapper_app::measure::DEFAULT_MODES_RANGE_DB)?;
+    m.add("CHART_QUANTITIES", CHART_QUANTITIES.map(|(name, _)| name).to_vec())?;
     m.add_function(wrap_pyfunction!(describe_bell, m)?)?;
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(chart, m)?)?;

@@ -42,10 +42,14 @@ pub struct ModeOptions {
     pub doublet_fraction: f64,
 }
 
+/// The default [`ModeOptions::range_db`] (see there why), for front ends'
+/// option defaults.
+pub const DEFAULT_RANGE_DB: f64 = 30.0;
+
 impl Default for ModeOptions {
     fn default() -> Self {
         Self {
-            range_db: 30.0,
+            range_db: DEFAULT_RANGE_DB,
             max_modes: 12,
             decay_window_s: 0.1,
             decay_fit_db: 40.0,

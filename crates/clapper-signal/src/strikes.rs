@@ -160,12 +160,16 @@ pub struct StrikeOptions {
     pub double_min_ratio: f64,
 }
 
+/// The default [`StrikeOptions::double_min_ratio`] (see there why), for
+/// front ends' option defaults.
+pub const DEFAULT_DOUBLE_MIN_RATIO: f64 = 0.3;
+
 impl Default for StrikeOptions {
     fn default() -> Self {
         StrikeOptions {
             min_separation_s: 0.5,
             double_window_ms: (10.0, 150.0),
-            double_min_ratio: 0.3,
+            double_min_ratio: DEFAULT_DOUBLE_MIN_RATIO,
         }
     }
 }

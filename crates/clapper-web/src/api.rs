@@ -483,7 +483,10 @@ pub(crate) async fn strikes(
             "no recording: send the WAV file as the request's body".into(),
         ));
     }
-    let opts = clapper_app::strikes::strike_options(q.double_min_ratio.unwrap_or(0.3))?;
+    let opts = clapper_app::strikes::strike_options(
+        q.double_min_ratio
+            .unwrap_or(clapper_app::strikes::DEFAULT_DOUBLE_MIN_RATIO),
+    )?;
     let out = s
         .jobs
         .run(move || {

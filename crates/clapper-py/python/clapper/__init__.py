@@ -39,6 +39,10 @@ PRESETS: Tuple[str, ...] = ("lab", "gsm-tenor")
 DEFAULT_THETA0_DEG: float = _clapper.DEFAULT_THETA0_DEG
 #: The coefficient of restitution R of a strike, unless told.
 DEFAULT_RESTITUTION: float = _clapper.DEFAULT_RESTITUTION
+#: The least amplitude ratio of a second strike heard as a double strike.
+DEFAULT_DOUBLE_MIN_RATIO: float = _clapper.DEFAULT_DOUBLE_MIN_RATIO
+#: Partials within this many dB of the strongest are reported by :func:`modes`.
+DEFAULT_MODES_RANGE_DB: float = _clapper.DEFAULT_MODES_RANGE_DB
 
 __all__ = [
     "Bell",
@@ -281,17 +285,9 @@ def simulate(
     return Simulation(json.loads(data), text, warnings, None if columns is None else Trace(columns))
 
 
-#: The quantities a :class:`Chart` holds for each style.
-CHART_QUANTITIES: Tuple[str, ...] = (
-    "sustained",
-    "strike_angle_deg",
-    "strike_velocity_rad_s",
-    "liftoff_angle_deg",
-    "double_strike_index",
-    "second_strike_delay_ms",
-    "amplitude_ratio",
-    "odd_struck_ms",
-)
+#: The quantities a :class:`Chart` holds for each style (the native
+#: module's list: "sustained", "strike_angle_deg", ...).
+CHART_QUANTITIES: Tuple[str, ...] = tuple(_clapper.CHART_QUANTITIES)
 
 
 class Chart:
@@ -418,7 +414,9 @@ def restitution(jumps: Sequence[Sequence[float]]) -> Report:
     return Report(json.loads(data), text)
 
 
-def modes(signal: Any, rate_hz: float, *, range_db: float = 30.0, name: str = "signal") -> Report:
+def modes(
+    signal: Any, rate_hz: float, *, range_db: float = DEFAULT_MODES_RANGE_DB, name: str = "signal"
+) -> Report:
     """The partials of one strike of a bell, ``signal`` (a 1-D array) sampled
     at ``rate_hz``: frequency (Hz), level (dB) and Q of each within
     ``range_db`` of the strongest, in ``report["modes"]``."""
@@ -431,7 +429,7 @@ def strikes(
     rate_hz: float,
     nominals_hz: Sequence[float],
     *,
-    double_min_ratio: float = 0.3,
+    double_min_ratio: float = DEFAULT_DOUBLE_MIN_RATIO,
     name: str = "recording",
 ) -> Report:
     """Every strike of every bell in a recording of ringing (a 1-D array at

@@ -6,6 +6,9 @@ from typing import Dict, List, Optional, Tuple
 __version__: str
 DEFAULT_THETA0_DEG: float
 DEFAULT_RESTITUTION: float
+DEFAULT_DOUBLE_MIN_RATIO: float
+DEFAULT_MODES_RANGE_DB: float
+CHART_QUANTITIES: List[str]
 
 def describe_bell(request_json: str) -> str: ...
 def simulate(request_json: str, trace: bool) -> Tuple[str, str, List[str], Optional[Dict[str, bytes]]]: ...
