@@ -56,6 +56,24 @@ impl DiagnoseRequest {
             _ => Err(AppError::Request("give one of preset, toml or csv".into())),
         }
     }
+
+    /// Each bell of the request as the bell source of a
+    /// [`crate::simulate::SimulateRequest`], in the order of [`Self::bells`]:
+    /// `{"bell": "...its own bell file..."}` or `{"preset": "lab"}`. A page
+    /// that diagnosed a ring simulates one of its bells with these.
+    pub fn one_bell_sources(&self) -> Result<Vec<serde_json::Value>, AppError> {
+        Ok(match (&self.toml, &self.csv) {
+            (Some(t), None) => clapper_io::bell_texts(t, false, "bell")?,
+            (None, Some(c)) => clapper_io::bell_texts(c, true, "bell")?,
+            _ => {
+                let p = self.preset.unwrap_or(crate::simulate::Preset::Lab);
+                return Ok(vec![serde_json::json!({ "preset": p.name() })]);
+            }
+        }
+        .into_iter()
+        .map(|text| serde_json::json!({ "bell": text }))
+        .collect())
+    }
 }
 
 #[derive(Serialize)]

@@ -326,6 +326,52 @@ pub fn parse_bells(text: &str, default_name: &str) -> Result<Vec<LoadedBell>, Be
     }
 }
 
+/// Each bell of a ring as a bell file of its own (TOML text), in the
+/// ring's order: the `[[bell]]` tables of a TOML ring or the rows of a CSV
+/// one (`csv`), or the one bell of a bell file. A bell without a `name`
+/// gets the one [`parse_bells`] / [`parse_ring_csv`] would give it, so
+/// that [`parse_bell`] of the k-th text is the k-th bell of the ring. A
+/// page uses these to simulate one bell of a ring it diagnosed.
+pub fn bell_texts(text: &str, csv: bool, default_name: &str) -> Result<Vec<String>, BellFileError> {
+    let named = |mut t: toml::Table, name: String| {
+        t.entry("name").or_insert(toml::Value::String(name));
+        toml::to_string(&t).map_err(|e| BellFileError::Syntax(e.to_string()))
+    };
+    if csv {
+        let mut rdr = csv::ReaderBuilder::new()
+            .trim(csv::Trim::All)
+            .from_reader(text.as_bytes());
+        let header = rdr.headers().map_err(|e| BellFileError::Syntax(e.to_string()))?.clone();
+        let mut out = vec![];
+        for (k, row) in rdr.records().enumerate() {
+            let row = row.map_err(|e| BellFileError::Syntax(format!("row {}: {e}", k + 1)))?;
+            let mut t = toml::Table::new();
+            for (key, cell) in header.iter().zip(row.iter()).filter(|(_, c)| !c.is_empty()) {
+                // A number where it reads as one, except the name.
+                let v = match cell.parse::<f64>() {
+                    Ok(x) if key != "name" => toml::Value::Float(x),
+                    _ => toml::Value::String(cell.to_string()),
+                };
+                t.insert(key.to_string(), v);
+            }
+            out.push(named(t, format!("bell {}", k + 1))?);
+        }
+        return Ok(out);
+    }
+    let table: toml::Table = toml::from_str(text).map_err(|e| BellFileError::Syntax(one_line(text, &e)))?;
+    match table.get("bell") {
+        Some(toml::Value::Array(list)) => list
+            .iter()
+            .enumerate()
+            .map(|(k, v)| match v {
+                toml::Value::Table(t) => named(t.clone(), format!("{default_name} {}", k + 1)),
+                _ => Err(BellFileError::Syntax(format!("bell {}: not a table", k + 1))),
+            })
+            .collect(),
+        _ => Ok(vec![named(table, default_name.to_string())?]),
+    }
+}
+
 /// One line from a TOML error: where, which key, and what is wrong.
 fn one_line(text: &str, err: &toml::de::Error) -> String {
     let msg = err.message().replace('\n', " ");
@@ -511,6 +557,29 @@ mod tests {
             e.contains("a ring of 2 bell(s)") && e.contains("clapper diagnose"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn each_bell_of_a_ring_stands_alone_as_the_same_bell() {
+        let toml_ring = "[[bell]]\nname = \"Treble\"\nbell_period_s = 1.6\nclapper_period_s = 1.3\nr_m = 0.08\nphi_max_deg = 26\n\
+                         [[bell]]\nbell_period_s = 2.33\nr_m = 0.179\nphi_max_deg = 32\n\
+                         gap_hand_mm = 253\ngap_back_mm = 247\nball_below_pivot_m = 0.8\n\
+                         [bell.clapper]\nshaft_length_m = 0.69\nshaft_diameter_m = 0.05\nball_diameter_m = 0.14\nball_position_m = 0.76\n";
+        let csv_ring =
+            "name,bell_period_s,clapper_period_s,r_m,phi_max_deg,swing_loss,bell_swings_to_halve,swing_amplitude_deg\n\
+                        1,1.6,1.3,0.08,26,,,\n,2.33,1.76,0.179,32,coulomb,40,10\n";
+        for (text, csv) in [(toml_ring, false), (csv_ring, true), (LAB, false)] {
+            let ring = if csv {
+                parse_ring_csv(text).unwrap()
+            } else {
+                parse_bells(text, "bell").unwrap()
+            };
+            let alone = bell_texts(text, csv, "bell").unwrap();
+            assert_eq!(alone.len(), ring.len());
+            for (t, b) in alone.iter().zip(&ring) {
+                assert_eq!(&parse_bell(t, "other").unwrap(), b, "{t}");
+            }
+        }
     }
 
     const LAB: &str = "name = \"Lab bell\"\nbell_mass_kg = 45.8\nclapper_mass_kg = 1.65\na_m = 0.24\nb_m = 0.25\n\

@@ -18,7 +18,7 @@ pub mod strike_file;
 pub mod trace;
 
 pub use bell_file::{
-    load_bell, load_bells, parse_bell, parse_bells, parse_ring_csv, BellFileError, BellSource, LoadedBell,
+    bell_texts, load_bell, load_bells, parse_bell, parse_bells, parse_ring_csv, BellFileError, BellSource, LoadedBell,
 };
 pub use chart_csv::{read_chart_csv, write_chart_csv, write_chart_rows, write_goes_up_csv, Columns};
 pub use report::{SimulationReport, SimulationSettings};

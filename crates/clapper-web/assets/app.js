@@ -47,7 +47,11 @@ const QUANTITIES = {
   odd: { label: "odd-struckness, hand minus back (ms)", index: 5, digits: 1, symmetric: true },
 };
 const STYLE_COLOURS = { neither: "#ffffff", right: "#3182bd", wrong: "#e6550d", both: "#74c476", failed: "#999999" };
-const chart = { cells: null, spec: null, running: false, markers: [], controller: null };
+// pending: blocks of cells arrived and not yet drawn, as [start, count];
+// drawn together DRAW_EVERY_MS later, only they (the whole canvas only when
+// a quantity's colour scale widens).
+const DRAW_EVERY_MS = 150;
+const chart = { cells: null, spec: null, running: false, markers: [], controller: null, pending: [], frame: 0, drawnRange: null };
 
 // Viridis, by eleven stops.
 const VIRIDIS = [[68, 1, 84], [72, 36, 117], [65, 68, 135], [53, 95, 141], [42, 120, 142], [33, 145, 140], [34, 168, 132], [68, 190, 112], [122, 209, 81], [189, 223, 38], [253, 231, 37]];
@@ -127,23 +131,72 @@ async function drawChart() {
 
 function onChartLine(msg, status, t0) {
   if (msg.type === "start") {
+    if (chart.frame) clearTimeout(chart.frame);
     chart.spec = msg;
+    // The cells' edges, once: every point drawn needs them.
+    msg.xe = edges(msg.xs);
+    msg.ye = edges(msg.ys);
     chart.cells = new Array(msg.total).fill(null);
     chart.filled = 0;
+    chart.pending = [];
+    chart.frame = 0;
     renderChart();
   } else if (msg.type === "cells") {
     msg.cells.forEach((c, k) => { chart.cells[msg.start + k] = c; });
     chart.filled += msg.cells.length;
-    showStatus(status, `Sweeping: ${chart.filled} of ${chart.spec.total} strokes…`);
-    renderChart();
+    chart.pending.push([msg.start, msg.cells.length]);
+    // A few draws a second: each repaints the page, which on a machine
+    // without a GPU costs the cores the server sweeps on.
+    if (!chart.frame) chart.frame = setTimeout(drawPending, DRAW_EVERY_MS);
   } else if (msg.type === "done") {
+    // What is still to draw, drawn now: the time shown is the time until
+    // the whole chart is on the page, not the server's computing alone.
+    if (chart.frame) { clearTimeout(chart.frame); drawPending(); }
     const secs = (performance.now() - t0) / 1000;
-    showStatus(status, `${msg.strokes} strokes in ${secs.toFixed(2)} s` + (msg.errors ? `, ${msg.errors} failed (grey)` : "") +
-      ". Hover for values; click a point to see its stroke.");
-    $("chart-box").dataset.done = "1";
+    showStatus(status, `${msg.strokes} strokes in ${secs.toFixed(2)} s (computed in ${msg.seconds.toFixed(2)} s, the rest sending and drawing)` +
+      (msg.errors ? `, ${msg.errors} failed (grey)` : "") + ". Hover for values; click a point to see its stroke.");
+    const box = $("chart-box");
+    box.dataset.seconds = secs.toFixed(3);
+    box.dataset.serverSeconds = msg.seconds.toFixed(3);
+    box.dataset.done = "1";
   } else if (msg.type === "error") {
     showError(status, msg.message);
   }
+}
+
+// Draw the cells that arrived since the last draw: only their points,
+// unless the colour scale of the quantity shown has widened, which
+// recolours every point.
+function drawPending() {
+  chart.frame = 0;
+  const blocks = chart.pending;
+  chart.pending = [];
+  const s = chart.spec;
+  if (!s || !blocks.length) return;
+  showStatus($("chart-status"), `Sweeping: ${chart.filled} of ${s.total} strokes…`);
+  const q = $("quantity").value, style = $("show-style").value;
+  const range = q === "style" ? null : valueRange(q, style);
+  if (range && !(chart.drawnRange && range[0] === chart.drawnRange[0] && range[1] === chart.drawnRange[1])) {
+    renderChart();
+    return;
+  }
+  const g = $("chart-canvas").getContext("2d");
+  const xe = s.xe, ye = s.ye, ns = s.styles.length;
+  for (const [start, count] of blocks) {
+    const p1 = Math.floor((start + count - 1) / ns);
+    for (let p = Math.floor(start / ns); p <= p1; p++) drawCell(g, p % s.nx, Math.floor(p / s.nx), q, style, range, xe, ye);
+  }
+  const a = plotArea();
+  g.strokeStyle = "#333"; g.lineWidth = 1; g.strokeRect(a.x, a.y, a.w, a.h);
+}
+
+function drawCell(g, i, j, q, style, range, xe, ye) {
+  const col = cellColour(i, j, q, style, range);
+  if (!col) return;
+  const [px0, py1] = toPx(xe[i], ye[j]);
+  const [px1, py0] = toPx(xe[i + 1], ye[j + 1]);
+  g.fillStyle = col;
+  g.fillRect(px0, py0, px1 - px0 + 0.6, py1 - py0 + 0.6);
 }
 
 function cellAt(i, j, style) {
@@ -208,7 +261,7 @@ function cellColour(i, j, q, style, range) {
 
 function toPx(x, y) {
   const a = plotArea(), s = chart.spec;
-  const xe = edges(s.xs), ye = edges(s.ys);
+  const xe = s.xe, ye = s.ye;
   const [x0, x1, y0, y1] = [xe[0], xe[xe.length - 1], ye[0], ye[ye.length - 1]];
   return [a.x + (x - x0) / (x1 - x0) * a.w, a.y + a.h - (y - y0) / (y1 - y0) * a.h];
 }
@@ -219,16 +272,10 @@ function renderChart() {
   const q = $("quantity").value, style = $("show-style").value;
   const a = plotArea();
   g.fillStyle = "#fff"; g.fillRect(0, 0, c.width, c.height);
-  const xe = edges(s.xs), ye = edges(s.ys);
+  const xe = s.xe, ye = s.ye;
   const range = q === "style" ? null : valueRange(q, style);
-  for (let j = 0; j < s.ny; j++) for (let i = 0; i < s.nx; i++) {
-    const col = cellColour(i, j, q, style, range);
-    if (!col) continue;
-    const [px0, py1] = toPx(xe[i], ye[j]);
-    const [px1, py0] = toPx(xe[i + 1], ye[j + 1]);
-    g.fillStyle = col;
-    g.fillRect(px0, py0, px1 - px0 + 0.6, py1 - py0 + 0.6);
-  }
+  chart.drawnRange = range;
+  for (let j = 0; j < s.ny; j++) for (let i = 0; i < s.nx; i++) drawCell(g, i, j, q, style, range, xe, ye);
   // Axes, ticks, labels.
   g.strokeStyle = "#333"; g.lineWidth = 1; g.strokeRect(a.x, a.y, a.w, a.h);
   g.fillStyle = "#222"; g.font = "12px sans-serif"; g.textAlign = "center";
@@ -292,16 +339,17 @@ function renderMarkers() {
   box.innerHTML = "";
   if (!chart.spec) return;
   const a = plotArea();
-  for (const m of chart.markers) {
+  chart.markers.forEach((m, k) => {
     const [px, py] = toPx(m.x, m.y);
-    if (px < a.x || px > a.x + a.w || py < a.y || py > a.y + a.h) continue;
+    if (px < a.x || px > a.x + a.w || py < a.y || py > a.y + a.h) return;
     const d = document.createElement("div");
     d.className = "marker";
+    d.dataset.index = k;
     d.style.left = px + 1 + "px"; d.style.top = py + 1 + "px";
-    d.title = `${m.label}: r/L_c = ${m.x.toFixed(3)}, L_b/L_c = ${m.y.toFixed(3)}`;
+    d.title = `${m.label}: r/L_c = ${m.x.toFixed(3)}, L_b/L_c = ${m.y.toFixed(3)}; click for its stroke`;
     d.innerHTML = `<span>${esc(m.label)}</span>`;
     box.appendChild(d);
-  }
+  });
 }
 
 function pointAt(ev) {
@@ -329,7 +377,8 @@ function describeCell(c) {
   return parts.join(", ");
 }
 
-$("chart-canvas").addEventListener("mousemove", (ev) => {
+// On #chart-box, not the canvas, so that the markers above it answer too.
+$("chart-box").addEventListener("mousemove", (ev) => {
   const p = pointAt(ev), tip = $("tooltip");
   if (!p) { tip.hidden = true; return; }
   const lines = [`r/L_c = ${p.x.toFixed(3)}, L_b/L_c = ${p.y.toFixed(3)}`];
@@ -339,11 +388,36 @@ $("chart-canvas").addEventListener("mousemove", (ev) => {
   tip.style.left = Math.min(p.px + 14, 330) + "px";
   tip.style.top = p.py + 14 + "px";
 });
-$("chart-canvas").addEventListener("mouseleave", () => { $("tooltip").hidden = true; });
-$("chart-canvas").addEventListener("click", (ev) => {
+$("chart-box").addEventListener("mouseleave", () => { $("tooltip").hidden = true; });
+$("chart-box").addEventListener("click", (ev) => {
+  // A bell's marker shows that bell's stroke; elsewhere, the chart point's.
+  const m = ev.target.closest(".marker");
+  if (m) { showBellStroke(chart.markers[Number(m.dataset.index)]); return; }
   const p = pointAt(ev);
   if (p) showStroke(p);
 });
+
+// A diagnosed bell's own stroke (its mass properties or tower
+// measurements, its own R), ringing the way it usually rings.
+async function showBellStroke(m) {
+  if (!m.source) return;
+  const body = { ...m.source, style: m.style, strokes: 2 };
+  const title = `Stroke of ${m.label} (r/L_c = ${m.x.toFixed(3)}, L_b/L_c = ${m.y.toFixed(3)}), ringing ${m.style}`;
+  await simulateStroke(body, title);
+}
+
+async function simulateStroke(body, title) {
+  $("stroke-panel").hidden = false;
+  $("stroke-title").textContent = title + ": simulating…";
+  try {
+    const res = await (await postJson("/api/stroke", body)).json();
+    $("stroke-title").textContent = title;
+    $("stroke-numbers").innerHTML = strokeTable(res.report);
+    $("stroke-plot").innerHTML = res.plot_svg;
+  } catch (e) {
+    $("stroke-title").textContent = "Stroke: " + e.message;
+  }
+}
 
 async function showStroke(p) {
   const q = $("quantity").value;
@@ -357,17 +431,7 @@ async function showStroke(p) {
   if (req.contact) { body.contact = req.contact; body.stiffness = req.stiffness; }
   if (req.restitution_later !== undefined) body.restitution_later = req.restitution_later;
   for (const k of ["pivot_offset", "phi_max_hand", "phi_max_back"]) if (req[k] !== undefined) body[k] = req[k];
-  const panel = $("stroke-panel");
-  panel.hidden = false;
-  $("stroke-title").textContent = `Stroke at r/L_c = ${p.x.toFixed(3)}, L_b/L_c = ${p.y.toFixed(3)}, ringing ${style}: simulating…`;
-  try {
-    const res = await (await postJson("/api/stroke", body)).json();
-    $("stroke-title").textContent = `Stroke at r/L_c = ${p.x.toFixed(3)}, L_b/L_c = ${p.y.toFixed(3)}, ringing ${style}`;
-    $("stroke-numbers").innerHTML = strokeTable(res.report);
-    $("stroke-plot").innerHTML = res.plot_svg;
-  } catch (e) {
-    $("stroke-title").textContent = "Stroke: " + e.message;
-  }
+  await simulateStroke(body, `Stroke at r/L_c = ${p.x.toFixed(3)}, L_b/L_c = ${p.y.toFixed(3)} (the chart's bell), ringing ${style}`);
 }
 
 function strokeTable(r) {
@@ -520,7 +584,9 @@ $("diagnose").addEventListener("click", async () => {
     showStatus(status, "Diagnosing…");
     const rep = await (await postJson("/api/diagnose", req)).json();
     lastDiagnosis = rep;
-    chart.markers = rep.bells.map((b) => ({ x: b.r_over_lc, y: b.lb_over_lc, label: b.name }));
+    chart.markers = rep.bells.map((b, k) => ({
+      x: b.r_over_lc, y: b.lb_over_lc, label: b.name, source: rep.simulate[k], style: b.usual_style || "right",
+    }));
     $("diagnosis").innerHTML = diagnosisHtml(rep);
     showStatus(status, `${rep.bells.length} bell(s) diagnosed; they are marked on the clapping chart.`);
     renderMarkers();
@@ -573,7 +639,17 @@ function diagnosisHtml(rep) {
 }
 
 // ---------- listening test ----------
-const listen = { answers: JSON.parse(localStorage.getItem("clapper-answers") || "[]"), sheet: null, trial: 0, listener: null, audio: null };
+const listen = { answers: JSON.parse(localStorage.getItem("clapper-answers") || "[]"), sheet: null, trial: 0, listener: null, audio: null, active: false };
+
+// While a listener is answering, the results are out of sight: seeing the
+// score map (or others' answers) would bias the answers still to come.
+function setListening(active) {
+  listen.active = active;
+  $("trial-box").hidden = !active;
+  for (const id of ["analyse", "download-answers", "upload-answers", "clear-answers"]) $(id).disabled = active;
+  $("results-controls").title = active ? "End this listener's turn to see the results" : "";
+  if (active) $("listen-result").innerHTML = "";
+}
 
 function saveAnswers() {
   localStorage.setItem("clapper-answers", JSON.stringify(listen.answers));
@@ -603,15 +679,15 @@ $("start-listener").addEventListener("click", async () => {
     // Carry on where this listener stopped.
     const done = new Set(listen.answers.filter((a) => a.listener === name).map((a) => a.stimulus));
     listen.trial = listen.sheet.trials.findIndex((t) => !done.has(t.stimulus));
-    $("trial-box").hidden = false;
+    setListening(true);
     nextTrial();
   } catch (e) { showError($("answer-count"), e); }
 });
 
 function nextTrial() {
   if (listen.trial < 0 || listen.trial >= listen.sheet.trials.length) {
-    $("trial-label").textContent = `${listen.listener} has answered all 100. Next listener, please: change the name and press Start.`;
-    for (const b of document.querySelectorAll("button.answer")) b.disabled = true;
+    setListening(false);
+    $("answer-count").textContent = `${listen.listener} has answered all 100. Next listener, please: change the name and press Start.`;
     return;
   }
   for (const b of document.querySelectorAll("button.answer")) b.disabled = false;
@@ -628,6 +704,11 @@ function answer(value) {
   nextTrial();
 }
 $("ans-single").addEventListener("click", () => answer(1));
+$("finish-listener").addEventListener("click", () => {
+  if (listen.audio) listen.audio.pause();
+  setListening(false);
+  saveAnswers();
+});
 $("ans-double").addEventListener("click", () => answer(-1));
 $("play").addEventListener("click", () => { if (listen.sheet && listen.trial >= 0 && listen.trial < 100) play(listen.sheet.trials[listen.trial].url); });
 $("play-reference").addEventListener("click", () => play("/api/listening/stimulus/reference.wav"));

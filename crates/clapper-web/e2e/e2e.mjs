@@ -1,8 +1,9 @@
 // End-to-end test of the web application in a real browser: headless
 // Chromium (Debian package) driven over the DevTools protocol by
 // playwright-core. It starts `clapper serve --port 0`, loads the page,
-// enters the lab bell, sees its marker on the chart, clicks a chart point,
-// sees the stroke plot, answers three listening-test stimuli and shows the
+// times a 200 x 200 chart drawn in the page against the same chart from the
+// API, enters the lab bell, sees its marker on the chart, clicks it and sees
+// the lab bell's stroke, answers three listening-test stimuli and shows the
 // result, uploads a synthetic recording of a ring and sees its striking,
 // saving a screenshot at each step.
 //
@@ -57,6 +58,37 @@ try {
   check((await page.textContent("#chart-status")).includes("strokes in"), "the default chart streams in and finishes");
   await page.screenshot({ path: `${out}/01-chart.png` });
 
+  // A 200 x 200 chart: from the API alone (the whole stream read), then
+  // drawn in the page (request to the last cell drawn), then the API again.
+  const big = { grid: [200, 200], r_range: [-0.3, 0.7], lb_range: [0.5, 2.5], theta0: 171, restitution: 0.2, phi_max: 26, style: "both" };
+  const apiSeconds = async () => {
+    const t0 = performance.now();
+    const res = await fetch(url + "api/chart", { method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(big) });
+    const text = await res.text();
+    const secs = (performance.now() - t0) / 1000;
+    const done = JSON.parse(text.trimEnd().split("\n").pop());
+    check(res.ok && done.type === "done", `the API streams the 200 x 200 chart to its end (${secs.toFixed(2)} s, computing ${done.seconds.toFixed(2)} s)`);
+    return secs;
+  };
+  const api1 = await apiSeconds();
+  await page.fill("#nx", "200");
+  await page.fill("#ny", "200");
+  await page.click("#draw-chart");
+  await page.waitForSelector('#chart-box[data-done="1"]', { timeout: 120000 });
+  const drawn = Number(await page.getAttribute("#chart-box", "data-seconds"));
+  const computed = Number(await page.getAttribute("#chart-box", "data-server-seconds"));
+  const api2 = await apiSeconds();
+  const api = (api1 + api2) / 2;
+  console.log(`     200 x 200 chart: API ${api1.toFixed(2)} s and ${api2.toFixed(2)} s; page ${drawn.toFixed(2)} s to the last cell drawn ` +
+    `(server computing ${computed.toFixed(2)} s of it); page / API = ${(drawn / api).toFixed(2)}`);
+  check(drawn <= 1.5 * api, `the page draws the 200 x 200 chart within 1.5x of the API's time (${(drawn / api).toFixed(2)}x)`);
+  check((await page.textContent("#chart-status")).includes("computed in"), "the page says how much of its time was computing");
+  await page.screenshot({ path: `${out}/01b-chart-200.png` });
+  await page.fill("#nx", "40");
+  await page.fill("#ny", "40");
+  await page.click("#draw-chart");
+  await page.waitForSelector('#chart-box[data-done="1"]', { timeout: 120000 });
+
   // Enter the lab bell by its mass properties (Table 1).
   await page.click('button[data-tab="bells"]');
   await page.check('input[name="bell-kind"][value="mass"]');
@@ -80,14 +112,19 @@ try {
   const cb = await page.locator("#chart-canvas").boundingBox();
   check(mb.x > cb.x && mb.x < cb.x + cb.width && mb.y > cb.y && mb.y < cb.y + cb.height, "the lab bell's marker is on the chart");
 
-  // Hover shows values; a click at the marker shows that bell's stroke.
+  // Hover shows values; a click at the marker shows that bell's stroke
+  // (the lab bell's own, not the chart's generic bell at that point).
   const at = { x: mb.x + mb.width / 2, y: mb.y + mb.height / 2 };
   await page.mouse.move(at.x, at.y);
   check((await page.textContent("#tooltip")).includes("r/L_c"), "hovering shows the values at a point");
   await page.mouse.click(at.x, at.y);
+  await page.waitForFunction(() => !document.querySelector("#stroke-title").textContent.includes("simulating"), null, { timeout: 30000 });
   await page.waitForSelector("#stroke-plot svg", { timeout: 30000 });
   const numbers = await page.textContent("#stroke-numbers");
   check(numbers.includes("first strike") && /sustains|does not sustain/.test(numbers), "the stroke's numbers are shown");
+  const labTb = (await (await fetch(url + "api/simulate", { method: "POST", headers: { "Content-Type": "application/json" }, body: '{"preset": "lab"}' })).json()).bell.tb_s;
+  check((await page.textContent("#stroke-title")).includes("Lab bell") && numbers.includes(`= ${labTb.toFixed(3)} s`),
+    `the marker's click simulates the lab bell itself (T_b ${labTb.toFixed(3)} s): ` + numbers.slice(0, 90));
   await page.locator("#stroke-panel").scrollIntoViewIfNeeded();
   await page.screenshot({ path: `${out}/03-stroke.png`, fullPage: true });
 
@@ -155,6 +192,9 @@ try {
   for (const id of ["#ans-single", "#ans-double", "#ans-single"]) await page.click(id);
   check((await page.textContent("#trial-label")).includes("trial 4 of 100"), "three answers move on to trial 4");
   check((await page.textContent("#answer-count")).includes("3 answer(s) from 1 listener(s)"), "three answers are recorded");
+  check(await page.isDisabled("#analyse"), "the results are out of reach while a listener is answering");
+  await page.click("#finish-listener");
+  check(await page.isHidden("#trial-box") && !(await page.isDisabled("#analyse")), "ending the turn brings the results back");
   await page.waitForTimeout(500);
   check(stimuli.length >= 3 && stimuli.every((s) => s === 200), `the stimuli were fetched (${stimuli.length} WAVs, all 200)`);
   await page.click("#analyse");

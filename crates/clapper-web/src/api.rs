@@ -202,12 +202,17 @@ pub(crate) async fn chart(State(s): State<AppState>, req: Body_<ChartRequest>) -
 }
 
 /// `POST /api/diagnose`: a preset, bell file text or ring CSV in; the
-/// object of `clapper diagnose --json` out.
+/// object of `clapper diagnose --json` out, with `simulate`: each bell's
+/// source for `/api/simulate` (`{"bell": its own file}` or `{"preset"}`).
 pub(crate) async fn diagnose(State(s): State<AppState>, req: Body_<DiagnoseRequest>) -> Result<Response, ApiError> {
     let req = body(req)?;
     let (bells, _) = req.bells()?;
+    let sources = req.one_bell_sources()?;
     let rep = s.jobs.run(move || Ok(diagnose_bells(&bells)?)).await?;
-    Ok(Json(rep).into_response())
+    // The page simulates a bell it marked on the chart with these.
+    let mut out = serde_json::to_value(rep).map_err(|e| ApiError::Internal(e.to_string()))?;
+    out["simulate"] = serde_json::Value::Array(sources);
+    Ok(Json(out).into_response())
 }
 
 /// `POST /api/design-clapper`: `{"clapper": {...the [clapper] keys...},

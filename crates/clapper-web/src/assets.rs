@@ -1,6 +1,6 @@
 //! The page, compiled into the binary.
 
-use axum::http::header;
+use axum::http::{header, HeaderMap};
 use axum::response::{Html, IntoResponse};
 
 /// `GET /`: the application page.
@@ -24,7 +24,18 @@ pub(crate) async fn style() -> impl IntoResponse {
     )
 }
 
-/// `GET /api`: the API, described with examples.
-pub(crate) async fn api_page() -> Html<&'static str> {
-    Html(include_str!("../assets/api.html"))
+/// `GET /api`: the API, described with examples. The examples name the
+/// host and port the page was asked for (the server may run on any port),
+/// `localhost:8080` when the request does not say or names an odd host.
+pub(crate) async fn api_page(headers: HeaderMap) -> Html<String> {
+    const PAGE: &str = include_str!("../assets/api.html");
+    let host = headers
+        .get(header::HOST)
+        .and_then(|h| h.to_str().ok())
+        // The host goes into HTML and shell lines: only what a host and port are made of.
+        .filter(|h| {
+            !h.is_empty() && h.len() <= 255 && h.bytes().all(|b| b.is_ascii_alphanumeric() || b".-:[]".contains(&b))
+        })
+        .unwrap_or("localhost:8080");
+    Html(PAGE.replace("localhost:8080", host))
 }

@@ -413,6 +413,67 @@ async fn listening_sheet_stimuli_and_analysis() {
 /// and a diagnosis of a bell given by its parts that says how it goes up
 /// and what to change.
 #[tokio::test]
+async fn the_api_page_names_the_port_it_was_asked_on() {
+    let app = router(Limits::default());
+    let page = |host: &'static str| {
+        let app = app.clone();
+        async move {
+            let req = Request::builder()
+                .uri("/api")
+                .header("host", host)
+                .body(Body::empty())
+                .unwrap();
+            let res = app.oneshot(req).await.unwrap();
+            String::from_utf8(res.into_body().collect().await.unwrap().to_bytes().to_vec()).unwrap()
+        }
+    };
+    let text = page("127.0.0.1:43117").await;
+    assert!(text.contains("curl -s -X POST 127.0.0.1:43117/api/simulate"));
+    assert!(!text.contains("8080"));
+    // A host that is not a host does not reach the page.
+    let text = page("x\"><script>").await;
+    assert!(!text.contains("<script>") && text.contains("localhost:8080/api/simulate"));
+}
+
+#[tokio::test]
+async fn a_diagnosed_bell_is_simulated_as_itself() {
+    // The lab bell in a ring of two: the source the diagnosis gives for it
+    // simulates the lab bell, not the chart point it sits on.
+    let app = router(Limits::default());
+    let lab = "name = \"Lab bell\"\nbell_mass_kg = 45.8\nclapper_mass_kg = 1.65\na_m = 0.24\nb_m = 0.25\n\
+               bell_inertia_kg_m2 = 4.1\nclapper_inertia_kg_m2 = 0.093\nr_m = 0.10\nphi_max_deg = 26\n";
+    let ring = format!(
+        "[[bell]]\nname = \"Tenor\"\nbell_period_s = 2.33\nclapper_period_s = 1.76\nr_m = 0.179\nphi_max_deg = 32\n\n[[bell]]\n{lab}"
+    );
+    for req in [
+        serde_json::json!({ "toml": ring }),
+        serde_json::json!({ "csv": format!("name,bell_period_s,clapper_period_s,r_m,phi_max_deg\nTenor,2.33,1.76,0.179,32\n") }),
+        serde_json::json!({ "preset": "lab" }),
+    ] {
+        let (status, bytes) = send(&app, "POST", "/api/diagnose", Some(&req.to_string())).await;
+        assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&bytes));
+        let rep = json(&bytes);
+        let sources = rep["simulate"].as_array().unwrap();
+        assert_eq!(sources.len(), rep["bells"].as_array().unwrap().len());
+        for (src, bell) in sources.iter().zip(rep["bells"].as_array().unwrap()) {
+            let (status, bytes) = send(&app, "POST", "/api/simulate", Some(&src.to_string())).await;
+            assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&bytes));
+            let sim = json(&bytes);
+            for (a, b) in [("tb_s", "tb_s"), ("tc_s", "tc_s")] {
+                let (x, y) = (sim["bell"][a].as_f64().unwrap(), bell[b].as_f64().unwrap());
+                assert!((x - y).abs() < 1e-12, "{a}: {x} against {y} ({src})");
+            }
+        }
+    }
+    let (_, bytes) = send(&app, "POST", "/api/simulate", Some(r#"{"preset": "lab"}"#)).await;
+    let lab_tb = json(&bytes)["bell"]["tb_s"].as_f64().unwrap();
+    assert!(
+        (lab_tb - 1.8).abs() > 0.05,
+        "the lab bell is not the chart's generic bell"
+    );
+}
+
+#[tokio::test]
 async fn a_clapper_by_its_parts_is_designed_and_diagnosed() {
     let app = router(Limits::default());
     let parts = r#""shaft_length_m": 0.69, "shaft_diameter_m": 0.05, "ball_diameter_m": 0.14, "ball_position_m": 0.76, "flight_length_m": 0.2, "flight_diameter_m": 0.05"#;
