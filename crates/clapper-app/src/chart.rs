@@ -121,6 +121,71 @@ pub fn settings_words(spec: &ChartSpec) -> String {
     )
 }
 
+/// A chart as JSON (`clapper chart --json`): its settings in words, the
+/// axes, the number of strokes that failed, and every point and style in
+/// the order of `clapper chart --csv`, keyed by the CSV's column names
+/// (angles in deg, φ' in rad/s, odd-struckness in ms), to full precision;
+/// `null` where the CSV leaves a cell empty, and `sustained` `null` where
+/// the stroke failed to simulate. One line, keys in this order.
+pub fn chart_json(chart: &clapper_core::chart::Chart) -> String {
+    #[derive(Serialize)]
+    struct Point {
+        r_over_lc: f64,
+        lb_over_lc: f64,
+        style: &'static str,
+        sustained: Option<bool>,
+        strike_theta_deg: Option<f64>,
+        strike_phidot_rad_s: Option<f64>,
+        liftoff_theta_deg: Option<f64>,
+        double_strike_index: Option<f64>,
+        // Only a bell off the ideal has it, as only its CSV has the column.
+        #[serde(skip_serializing_if = "Option::is_none")]
+        odd_struck_ms: Option<Option<f64>>,
+    }
+    #[derive(Serialize)]
+    struct ChartJson {
+        settings: String,
+        nx: usize,
+        ny: usize,
+        r_over_lc: Vec<f64>,
+        lb_over_lc: Vec<f64>,
+        styles: Vec<&'static str>,
+        errors: usize,
+        points: Vec<Point>,
+    }
+    let spec = &chart.spec;
+    let ideal = spec.hanging.is_ideal();
+    let points = chart
+        .cells
+        .iter()
+        .map(|c| {
+            let s = c.result.as_ref().ok();
+            Point {
+                r_over_lc: c.x,
+                lb_over_lc: c.y,
+                style: c.style.name(),
+                sustained: s.map(|s| s.sustained),
+                strike_theta_deg: s.and_then(|s| s.strike_theta).map(f64::to_degrees),
+                strike_phidot_rad_s: s.and_then(|s| s.strike_phidot),
+                liftoff_theta_deg: s.and_then(|s| s.liftoff_theta).map(f64::to_degrees),
+                double_strike_index: s.and_then(|s| s.double_strike_index),
+                odd_struck_ms: (!ideal).then(|| s.and_then(|s| s.odd_struck).map(|t| t * 1e3)),
+            }
+        })
+        .collect();
+    serde_json::to_string(&ChartJson {
+        settings: settings_words(spec),
+        nx: spec.nx,
+        ny: spec.ny,
+        r_over_lc: spec.xs(),
+        lb_over_lc: spec.ys(),
+        styles: spec.styles.list().iter().map(|s| s.name()).collect(),
+        errors: chart.errors(),
+        points,
+    })
+    .unwrap_or_default()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

@@ -244,6 +244,11 @@ pub struct RateChange {
     pub t_s: f64,
 }
 
+/// How far below its loudest a decay is followed (dB): 120 dB is below
+/// the noise of any recording (16 bits reach 96 dB), so the floor is met
+/// only in digital silence.
+pub const DECAY_FLOOR_DB: f64 = 120.0;
+
 /// The level of one frequency against time (Fig 4).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct DecayReport {
@@ -251,6 +256,9 @@ pub struct DecayReport {
     pub bin_hz: f64,
     /// (time s, level dB below the spectrogram's maximum).
     pub points: Vec<[f64; 2]>,
+    /// The spectrogram's floor (dB, [`DECAY_FLOOR_DB`] below its maximum):
+    /// a point at it is that quiet or quieter (silence before a strike).
+    pub floor_db: f64,
     /// Where the decay rate changes most after the loudest frame: where a
     /// resting clapper starts to damp the bell.
     pub rate_change: Option<RateChange>,
@@ -266,13 +274,14 @@ impl DecayReport {
                 sig.rate / 2.0
             )));
         }
-        let s = spectrogram(sig, window, overlap, 120.0).map_err(|e| signal_error("spectrogram", e))?;
+        let s = spectrogram(sig, window, overlap, DECAY_FLOOR_DB).map_err(|e| signal_error("spectrogram", e))?;
         let d = s.decay(freq);
         let loudest = d.iter().max_by(|a, b| a.1.total_cmp(&b.1)).map_or(0.0, |p| p.0);
         let change = clapper_signal::synth::decay_change(&d, loudest);
         Ok(Self {
             bin_hz: s.freqs[s.bin_of(freq)],
             points: d.iter().map(|p| [p.0, p.1]).collect(),
+            floor_db: -DECAY_FLOOR_DB,
             rate_change: change.map(|(t, a, b)| RateChange {
                 after_db_per_s: b,
                 before_db_per_s: a,
@@ -454,13 +463,14 @@ impl ImpulseReport {
         })
     }
 
-    /// K against pulse length for a plot: (log10 of the pulse in ms, from
-    /// 1 µs to 10 ms; K, capped at 10).
+    /// K against pulse length for a plot on a log axis: (the half-sine
+    /// pulse in ms, 401 lengths evenly spaced in its log from 1 µs to
+    /// 10 ms; K, capped at 10).
     pub fn k_curve(modes: &[Mode], mass_kg: f64) -> Vec<(f64, f64)> {
         (0..=400)
             .map(|i| {
-                let lg = -3.0 + 4.0 * i as f64 / 400.0;
-                (lg, vibration::k_factor(modes, mass_kg, 10f64.powf(lg) * 1e-3).min(10.0))
+                let ms = 10f64.powf(-3.0 + 4.0 * i as f64 / 400.0);
+                (ms, vibration::k_factor(modes, mass_kg, ms * 1e-3).min(10.0))
             })
             .collect()
     }

@@ -183,9 +183,14 @@ pub struct ChartArgs {
     /// Which styles to compute and show (style maps need both).
     #[arg(long, value_parser = crate::simulate::choice::<Styles>(), default_value = "both")]
     pub style: Styles,
-    /// Write every point and style as long-form CSV.
+    /// Write every point and style as long-form CSV; `-` is standard
+    /// output (the summary then goes to standard error).
     #[arg(long, value_name = "FILE.csv")]
     pub csv: Option<PathBuf>,
+    /// Print the chart as JSON in place of the summary: the settings, the
+    /// axes and every point and style with the values of --csv's columns.
+    #[arg(long)]
+    pub json: bool,
     /// Draw the chart (.svg or .png).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
@@ -239,7 +244,11 @@ pub fn draw(path: &Path, fig: &clapper_plot::ChartFigure) -> Result<()> {
 }
 
 pub fn run(args: ChartArgs) -> Result<()> {
+    crate::files::claim_stdout(&[("--csv", args.csv.as_deref())], args.json)?;
     if args.quantity == QuantityArg::GoesUp {
+        if args.json {
+            bail!("--json prints a clapping chart's strokes; --quantity goes-up writes its CSV with --csv");
+        }
         return crate::goes_up::run(&args);
     }
     let quantity = args.quantity.quantity();
@@ -262,6 +271,12 @@ pub fn run(args: ChartArgs) -> Result<()> {
             .csv
             .as_deref()
             .context("a shard, or a sweep over several theta0, R or phi_max, is written with --csv FILE")?;
+        if crate::files::is_stdout(csv) || args.json {
+            bail!(
+                "a shard, or a sweep over several theta0, R or phi_max, is written to a file it can resume \
+                 (give --csv a file name, without --json); `clapper merge --csv -` prints the whole"
+            );
+        }
         if args.out.is_some() {
             bail!(
                 "--out draws one whole chart: draw a shard's after `clapper merge`, or sweep one theta0, R and phi_max"
@@ -280,9 +295,9 @@ pub fn run(args: ChartArgs) -> Result<()> {
             &pool,
         )?;
         if let Some(from) = o.resumed_from {
-            println!("resumed at stroke {} of {}..{}", from, range[0], range[1]);
+            crate::say!("resumed at stroke {} of {}..{}", from, range[0], range[1]);
         }
-        println!(
+        crate::say!(
             "{} chart(s) of {} strokes; {}strokes {}..{} of {}: {} computed in {:.2} s on {threads} threads, written to {}",
             plan.charts.len(),
             plan.per_chart(),
@@ -295,7 +310,7 @@ pub fn run(args: ChartArgs) -> Result<()> {
             csv.display()
         );
         if args.shard.is_some() {
-            println!("when every shard is done: clapper merge --csv ALL.csv SHARD.csv ...");
+            crate::say!("when every shard is done: clapper merge --csv ALL.csv SHARD.csv ...");
         }
         return Ok(());
     }
@@ -311,7 +326,7 @@ pub fn run(args: ChartArgs) -> Result<()> {
         None => vec![],
     };
     let spec = plan.charts[0].1;
-    let (chart, secs, strokes) = match &args.csv {
+    let (chart, secs, strokes) = match args.csv.as_deref().filter(|p| !crate::files::is_stdout(p)) {
         Some(csv) => {
             let o = crate::sweep_file::run(
                 crate::sweep_file::RunFile {
@@ -329,7 +344,7 @@ pub fn run(args: ChartArgs) -> Result<()> {
                     cells: o.cells.into_iter().map(|(_, c)| c).collect(),
                 },
                 Some(from) => {
-                    println!("resumed at stroke {from} of {}", plan.total());
+                    crate::say!("resumed at stroke {from} of {}", plan.total());
                     read_chart(csv, spec)?
                 }
             };
@@ -338,11 +353,23 @@ pub fn run(args: ChartArgs) -> Result<()> {
         None => {
             let (chart, secs) = run_sweep(&spec, &pool, "chart")?;
             let n = chart.cells.len();
+            if let Some(dash) = &args.csv {
+                let mut text = vec![];
+                clapper_io::write_chart_csv(&mut text, &chart)?;
+                crate::files::write_bytes(dash, text)?;
+            }
             (chart, secs, n)
         }
     };
+    if args.json {
+        if let Some(path) = &args.out {
+            draw_chart(quantity, &chart, &markers, path)?;
+        }
+        println!("{}", clapper_app::chart::chart_json(&chart));
+        return Ok(());
+    }
     report_chart(&args, quantity, styles, &chart, &markers)?;
-    println!(
+    crate::say!(
         "  {strokes} strokes in {secs:.4} s on {threads} thread{} ({:.0} strokes/s)",
         if threads == 1 { "" } else { "s" },
         strokes as f64 / secs.max(1e-9)
@@ -353,14 +380,18 @@ pub fn run(args: ChartArgs) -> Result<()> {
 /// A chart read back from its CSV (values to the file's six decimals).
 pub fn read_chart(csv: &Path, spec: ChartSpec) -> Result<Chart> {
     let text = std::fs::read_to_string(csv).with_context(|| format!("cannot read {}", csv.display()))?;
-    let cells: Vec<_> = clapper_io::read_chart_csv(&text, &csv.display().to_string())?
+    chart_of_csv(&text, &csv.display().to_string(), spec)
+}
+
+/// A chart from the text of its CSV, `name` naming it in errors.
+fn chart_of_csv(text: &str, name: &str, spec: ChartSpec) -> Result<Chart> {
+    let cells: Vec<_> = clapper_io::read_chart_csv(text, name)?
         .into_iter()
         .map(|(_, c)| c)
         .collect();
     if cells.len() != spec.cell_count() {
         bail!(
-            "{} has {} rows; the chart has {} strokes",
-            csv.display(),
+            "{name} has {} rows; the chart has {} strokes",
             cells.len(),
             spec.cell_count()
         );
@@ -383,26 +414,34 @@ fn panels(chart: &Chart, quantity: Quantity) -> Result<Vec<clapper_plot::Panel>>
     })
 }
 
+/// Draw one chart as `--quantity` asks.
+fn draw_chart(quantity: Quantity, chart: &Chart, markers: &[Marker], path: &Path) -> Result<()> {
+    let panels = panels(chart, quantity)?;
+    let title = format!("Clapping chart: {} ({})", quantity.label(), settings_words(&chart.spec));
+    draw(path, &quantity::figure(title, quantity, panels, markers.to_vec()))
+}
+
 /// Draw and summarise one chart.
 fn report_chart(args: &ChartArgs, quantity: Quantity, styles: Styles, chart: &Chart, markers: &[Marker]) -> Result<()> {
     let spec = chart.spec;
     if let Some(path) = &args.out {
-        let panels = panels(chart, quantity)?;
-        let title = format!("Clapping chart: {} ({})", quantity.label(), settings_words(&spec));
-        draw(path, &quantity::figure(title, quantity, panels, markers.to_vec()))?;
+        draw_chart(quantity, chart, markers, path)?;
     }
 
-    println!("clapping chart, {}", settings_words(&spec));
-    println!(
+    crate::say!("clapping chart, {}", settings_words(&spec));
+    crate::say!(
         "  r/L_c {} to {}, L_b/L_c {} to {}",
-        spec.domain.x.0, spec.domain.x.1, spec.domain.y.0, spec.domain.y.1
+        spec.domain.x.0,
+        spec.domain.x.1,
+        spec.domain.y.0,
+        spec.domain.y.1
     );
     for style in styles.list() {
         let n = (0..spec.ny)
             .flat_map(|j| (0..spec.nx).map(move |i| (i, j)))
             .filter(|&(i, j)| chart.cell(i, j, *style).and_then(|c| c.sustained()).is_some())
             .count();
-        println!(
+        crate::say!(
             "  sustains ringing {}: {n} of {} points",
             style.name(),
             spec.nx * spec.ny
@@ -415,7 +454,7 @@ fn report_chart(args: &ChartArgs, quantity: Quantity, styles: Styles, chart: &Ch
         );
     }
     if styles == Styles::Both && spec.nx <= 60 {
-        println!("  map (R right only, W wrong only, B both, . neither; L_b/L_c up, r/L_c across):");
+        crate::say!("  map (R right only, W wrong only, B both, . neither; L_b/L_c up, r/L_c across):");
         let ys = spec.ys();
         for j in (0..spec.ny).rev() {
             let row: String = (0..spec.nx)
@@ -430,11 +469,11 @@ fn report_chart(args: &ChartArgs, quantity: Quantity, styles: Styles, chart: &Ch
                     }
                 })
                 .collect();
-            println!("  {:6.3} {row}", ys[j]);
+            crate::say!("  {:6.3} {row}", ys[j]);
         }
     }
     for m in markers {
-        println!("  bell {}: r/L_c = {:.3}, L_b/L_c = {:.3}", m.label, m.x, m.y);
+        crate::say!("  bell {}: r/L_c = {:.3}, L_b/L_c = {:.3}", m.label, m.x, m.y);
     }
     Ok(())
 }
@@ -444,7 +483,8 @@ pub struct MergeArgs {
     /// The shards' CSV files (each with its .shard.json beside it), in any order.
     #[arg(required = true, value_name = "SHARD.csv")]
     pub shards: Vec<PathBuf>,
-    /// The joined CSV: the same bytes as one run of the whole sweep.
+    /// The joined CSV: the same bytes as one run of the whole sweep; `-`
+    /// is standard output.
     #[arg(long, value_name = "FILE.csv")]
     pub csv: PathBuf,
     /// Draw the joined chart (.svg or .png; a sweep of one chart).
@@ -457,6 +497,7 @@ pub struct MergeArgs {
 
 /// `clapper merge`: join the shards of a sweep.
 pub fn merge(args: MergeArgs) -> Result<()> {
+    crate::files::claim_stdout(&[("--csv", Some(&args.csv))], false)?;
     if let Some(p) = &args.out {
         clapper_plot::format_of(p)?;
     }
@@ -491,7 +532,7 @@ pub fn merge(args: MergeArgs) -> Result<()> {
     crate::files::write_atomically(&args.csv, |tmp| {
         std::fs::write(tmp, joined.as_bytes()).with_context(|| format!("cannot create {}", args.csv.display()))
     })?;
-    println!(
+    crate::say!(
         "merged {n} shards: {} strokes of {} chart(s) into {}",
         plan.total(),
         plan.charts.len(),
@@ -502,11 +543,11 @@ pub fn merge(args: MergeArgs) -> Result<()> {
             bail!("--out draws one chart; this sweep has {}", plan.charts.len());
         }
         let quantity = args.quantity.quantity();
-        let chart = read_chart(&args.csv, plan.charts[0].1)?;
+        let chart = chart_of_csv(&joined, &args.csv.display().to_string(), plan.charts[0].1)?;
         let panels = panels(&chart, quantity)?;
         let title = format!("Clapping chart: {} ({})", quantity.label(), settings_words(&chart.spec));
         draw(path, &quantity::figure(title, quantity, panels, vec![]))?;
-        println!("drawn to {}", path.display());
+        crate::say!("drawn to {}", path.display());
     }
     Ok(())
 }

@@ -65,7 +65,7 @@ pub struct DesignArgs {
     #[arg(long)]
     pub json: bool,
     /// Write the clapper part of a bell file (the designed clapper when a
-    /// target is met) to this TOML file.
+    /// target is met) to this TOML file; `-` is standard output.
     #[arg(long, value_name = "FILE.toml")]
     pub out: Option<PathBuf>,
 }
@@ -96,6 +96,7 @@ impl DesignArgs {
 
 /// `clapper design-clapper`.
 pub fn run(args: DesignArgs) -> Result<()> {
+    crate::files::claim_stdout(&[("--out", args.out.as_deref())], args.json)?;
     let report = design(&args.request())?;
     if let Some(path) = &args.out {
         // The figures of the clapper written: the designed one if found.
@@ -114,11 +115,11 @@ pub fn run(args: DesignArgs) -> Result<()> {
         crate::files::write_bytes(path, text)?;
     }
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&report)?);
+        crate::say!("{}", serde_json::to_string_pretty(&report)?);
     } else {
-        print!("{}", summary(&report));
-        if let Some(path) = &args.out {
-            println!("wrote {}", path.display());
+        crate::say_text!("{}", summary(&report));
+        if let Some(path) = args.out.as_deref().filter(|p| !crate::files::is_stdout(p)) {
+            crate::say!("wrote {}", path.display());
         }
     }
     Ok(())

@@ -20,7 +20,8 @@ pub struct DiagnoseArgs {
     /// Print every number as one JSON object.
     #[arg(long)]
     pub json: bool,
-    /// Write a self-contained HTML report (charts embedded).
+    /// Write a self-contained HTML report (charts embedded); `-` is
+    /// standard output.
     #[arg(long, value_name = "FILE.html")]
     pub report: Option<PathBuf>,
     /// The tower's readings, applied to every bell: pivot offset, contact
@@ -46,6 +47,7 @@ pub struct DiagnoseArgs {
 }
 
 pub fn run(args: DiagnoseArgs) -> Result<()> {
+    crate::files::claim_stdout(&[("--report", args.report.as_deref())], args.json)?;
     let (bells, source): (Vec<LoadedBell>, String) = match (&args.file, args.preset) {
         (Some(p), _) => (clapper_io::load_bells(p)?, p.display().to_string()),
         (None, preset) => {
@@ -116,14 +118,14 @@ pub fn run(args: DiagnoseArgs) -> Result<()> {
             diagnosis: &rep,
             recording: recording.as_ref(),
         };
-        println!("{}", serde_json::to_string_pretty(&out)?);
+        crate::say!("{}", serde_json::to_string_pretty(&out)?);
     } else {
-        print!("{}", text(&rep, &source));
+        crate::say_text!("{}", text(&rep, &source));
         if let Some(r) = &recording {
-            print!("{}", r.text());
+            crate::say_text!("{}", r.text());
         }
-        if let Some(p) = &args.report {
-            println!("\nreport written to {}", p.display());
+        if let Some(p) = args.report.as_deref().filter(|p| !crate::files::is_stdout(p)) {
+            crate::say!("\nreport written to {}", p.display());
         }
     }
     Ok(())

@@ -1,9 +1,48 @@
 //! Writing output files so that a failure never leaves half a file where a
 //! good one was: write beside it, then rename.
 
+use std::io::Write;
 use std::path::{Path, PathBuf};
+use std::sync::atomic::{AtomicBool, Ordering};
 
 use anyhow::{Context, Result};
+
+/// Set when an output file is `-`: standard output then carries that
+/// output's bytes, and the command's summary goes to standard error.
+static STDOUT_IS_DATA: AtomicBool = AtomicBool::new(false);
+
+/// Whether `path` is `-`, standard output.
+pub fn is_stdout(path: &Path) -> bool {
+    path.as_os_str() == "-"
+}
+
+/// Whether standard output carries an output's bytes (so a summary goes
+/// to standard error: see [`crate::say`]).
+pub fn stdout_is_data() -> bool {
+    STDOUT_IS_DATA.load(Ordering::Relaxed)
+}
+
+/// Give standard output to the one output among `outputs` (option name,
+/// path) that is `-`, before anything is printed; refuse two, or one with
+/// `--json` (which prints to standard output too).
+pub fn claim_stdout(outputs: &[(&str, Option<&Path>)], json: bool) -> Result<()> {
+    let dashes: Vec<&str> = outputs
+        .iter()
+        .filter(|(_, p)| p.is_some_and(is_stdout))
+        .map(|(name, _)| *name)
+        .collect();
+    match dashes[..] {
+        [] => {}
+        [one] if json => anyhow::bail!("{one} - and --json both want standard output: give {one} a file name"),
+        [_] => STDOUT_IS_DATA.store(true, Ordering::Relaxed),
+        [a, b] => anyhow::bail!("{a} - and {b} - both want standard output: give one of them a file name"),
+        _ => anyhow::bail!(
+            "{} all want standard output (-): give all but one a file name",
+            dashes.join(", ")
+        ),
+    }
+    Ok(())
+}
 
 /// A temporary path beside `path` with the same extension.
 fn temp_beside(path: &Path) -> PathBuf {
@@ -18,6 +57,13 @@ fn extension(path: &Path) -> String {
     path.extension()
         .map(|e| e.to_string_lossy().into_owned())
         .unwrap_or_default()
+}
+
+/// A recording's name for a plot's title: its file name, not the folder it
+/// happens to sit in (often a temporary one).
+pub fn title_name(path: &Path) -> String {
+    path.file_name()
+        .map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
 }
 
 /// Refuse, naming `path`, an output whose folder does not exist (before
@@ -37,7 +83,20 @@ pub fn ensure_folder(path: &Path) -> Result<()> {
 
 /// Run `write` on a temporary file beside `path`, then move it into place.
 /// Errors name `path`, the file asked for, never the temporary one.
+/// `-` writes to standard output instead (through a temporary file, so
+/// that a failure prints nothing).
 pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) -> Result<()> {
+    if is_stdout(path) {
+        let dir = tempfile::tempdir().context("cannot make a temporary folder")?;
+        let tmp = dir.path().join("stdout");
+        write(&tmp).map_err(|e| anyhow::anyhow!(format!("{e:#}").replace(&tmp.display().to_string(), "-")))?;
+        let bytes = std::fs::read(&tmp).context("cannot read back the output")?;
+        let mut out = std::io::stdout().lock();
+        out.write_all(&bytes)
+            .and_then(|()| out.flush())
+            .context("cannot write to standard output")?;
+        return Ok(());
+    }
     ensure_folder(path)?;
     let tmp = temp_beside(path);
     if let Err(e) = write(&tmp) {

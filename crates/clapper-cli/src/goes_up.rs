@@ -43,7 +43,7 @@ pub fn run(args: &ChartArgs) -> Result<()> {
     let secs = start.elapsed().as_secs_f64();
 
     let (xs, ys) = (spec.xs(), spec.ys());
-    println!(
+    crate::say!(
         "ringing-up chart: {} x {} bells rung up from rest in {} swings ({:.0} deg each side of the bottom pulled), R = {}, phi_max = {:.0} deg",
         spec.nx,
         spec.ny,
@@ -52,27 +52,27 @@ pub fn run(args: &ChartArgs) -> Result<()> {
         spec.config.restitution,
         spec.construction.phi_max.to_degrees()
     );
-    println!("  map (R goes up right, W wrong, . no strike, x failed; '-' marks the CCCBR line L_b/L_c = 1/0.81):");
+    crate::say!("  map (R goes up right, W wrong, . no strike, x failed; '-' marks the CCCBR line L_b/L_c = 1/0.81):");
     let mut rule_drawn = false;
     for j in (0..spec.ny).rev() {
         let row: String = (0..spec.nx).map(|i| code(&cells[j * spec.nx + i]).0).collect();
         if !rule_drawn && ys[j] <= CCCBR_LB_OVER_LC {
-            println!("   {:>6.3} {}", CCCBR_LB_OVER_LC, "-".repeat(spec.nx));
+            crate::say!("   {:>6.3} {}", CCCBR_LB_OVER_LC, "-".repeat(spec.nx));
             rule_drawn = true;
         }
-        println!("   {:>6.3} {row}", ys[j]);
+        crate::say!("   {:>6.3} {row}", ys[j]);
     }
     let a = RuleAgreement::of(&cells);
     let t = a.total().max(1) as f64;
     let pct = |k: usize| 100.0 * k as f64 / t;
-    println!(
+    crate::say!(
         "  CCCBR rule (T_c >= 0.9 T_b goes up right) and model agree at {:.1} % of {} points: both right {:.1} %, both not right {:.1} %",
         pct(a.both_right + a.both_not_right),
         a.total(),
         pct(a.both_right),
         pct(a.both_not_right)
     );
-    println!(
+    crate::say!(
         "  disagree: rule right, model not {:.1} %; rule not, model right {:.1} %",
         pct(a.rule_right_model_not),
         pct(a.rule_not_model_right)
@@ -118,7 +118,7 @@ pub fn run(args: &ChartArgs) -> Result<()> {
         };
         crate::chart::draw(path, &fig)?;
     }
-    println!(
+    crate::say!(
         "  {n} ring-ups in {secs:.2} s on {} threads",
         pool.current_num_threads()
     );

@@ -1,5 +1,31 @@
 //! `clapper`: the command line of clapper.
 
+/// `println!` for a command's summary: to standard output, or to standard
+/// error when an output file is `-` and standard output carries its bytes
+/// (`clapper strikes rec.wav --csv - | ...`).
+#[macro_export]
+macro_rules! say {
+    ($($arg:tt)*) => {
+        if $crate::files::stdout_is_data() {
+            eprintln!($($arg)*)
+        } else {
+            println!($($arg)*)
+        }
+    };
+}
+
+/// `print!` likewise.
+#[macro_export]
+macro_rules! say_text {
+    ($($arg:tt)*) => {
+        if $crate::files::stdout_is_data() {
+            eprint!($($arg)*)
+        } else {
+            print!($($arg)*)
+        }
+    };
+}
+
 mod chart;
 mod design_clapper;
 mod diagnose;

@@ -101,9 +101,9 @@ pub fn restitution(args: RestitutionArgs) -> Result<()> {
 /// `--json`: the report; otherwise its text.
 pub fn print_report<T: serde::Serialize>(report: &T, json: bool, text: impl FnOnce() -> String) -> Result<()> {
     if json {
-        println!("{}", serde_json::to_string(report)?);
+        crate::say!("{}", serde_json::to_string(report)?);
     } else {
-        print!("{}", text());
+        crate::say_text!("{}", text());
     }
     Ok(())
 }
@@ -163,7 +163,7 @@ pub fn spectrogram_cmd(args: SpectrogramArgs) -> Result<()> {
     let s = spectrogram(&sig, args.window, args.overlap, args.range_db)?;
     let title = format!(
         "{}: {} sample windows, {:.0} % overlap, {} dB",
-        args.file.display(),
+        crate::files::title_name(&args.file),
         args.window,
         args.overlap * 100.0,
         args.range_db
@@ -177,7 +177,7 @@ pub fn spectrogram_cmd(args: SpectrogramArgs) -> Result<()> {
         range_db: args.range_db,
     };
     crate::files::write_atomically(&args.out, |tmp| Ok(clapper_plot::spectrogram_plot(tmp, &p)?))?;
-    println!(
+    crate::say!(
         "{} frames x {} bins ({:.1} Hz, {:.1} ms per frame) written to {}",
         s.times.len(),
         s.freqs.len(),
@@ -218,6 +218,7 @@ pub struct DecayArgs {
 }
 
 pub fn decay(args: DecayArgs) -> Result<()> {
+    crate::files::claim_stdout(&[("--csv", args.csv.as_deref())], args.json)?;
     let sig = read_signal(&args.file, args.channel)?;
     let report = DecayReport::new(&sig, args.freq, args.window, args.overlap)?;
     if let Some(p) = &args.plot {
@@ -229,21 +230,18 @@ pub fn decay(args: DecayArgs) -> Result<()> {
             "level (dB re spectrogram maximum)",
             &[Series {
                 label: format!("{bin:.1} Hz"),
-                points: report.points.iter().map(|p| (p[0], p[1])).collect(),
+                // Below the floor is silence, not a level: a gap, not a line at the floor.
+                points: report
+                    .points
+                    .iter()
+                    .map(|p| (p[0], if p[1] > report.floor_db { p[1] } else { f64::NAN }))
+                    .collect(),
                 markers: false,
                 colour: RGBColor(31, 90, 180),
             }],
         )?;
     }
     if let Some(p) = &args.csv {
-        if p.as_os_str() == "-" {
-            if args.json {
-                anyhow::bail!("--csv - and --json both want standard output: give --csv a file name");
-            }
-            // The CSV alone on standard output, for a pipe.
-            print!("{}", report.csv());
-            return Ok(());
-        }
         crate::files::write_bytes(p, report.csv())?;
     }
     print_report(&report, args.json, || report.text())
@@ -297,29 +295,30 @@ pub fn impulse(args: ImpulseArgs) -> Result<()> {
     let m = args.clapper_mass;
     let report = ImpulseReport::new(&modes, m, args.pulse_ms, args.hammer_fmax)?;
     if let Some(p) = &args.plot {
-        // Log axis by hand: x is log10 of the pulse length in ms, 1 µs to 10 ms.
         let pts = ImpulseReport::k_curve(&modes, m);
         let (x0, x1) = (pts[0].0, pts[pts.len() - 1].0);
-        line_plot(
-            p,
-            &format!("K against pulse length, striker {m} kg ({} modes)", modes.len()),
-            "log10 of the half-sine pulse length in ms (-3 = 1 us, 0 = 1 ms)",
-            "K = sum of m/M_n |F|^2 (clean rebound needs K < 1)",
-            &[
-                Series {
-                    label: "K".into(),
-                    points: pts,
-                    markers: false,
-                    colour: RGBColor(31, 90, 180),
-                },
-                Series {
-                    label: "K = 1".into(),
-                    points: vec![(x0, 1.0), (x1, 1.0)],
-                    markers: false,
-                    colour: RGBColor(210, 40, 40),
-                },
-            ],
-        )?;
+        let (title, x, y) = (
+            format!("K against pulse length, striker {m} kg ({} modes)", modes.len()),
+            "half-sine pulse length (ms, log scale)",
+            "K = Σ m/Mₙ |F|² (a clean rebound needs K < 1)",
+        );
+        let series = [
+            Series {
+                label: "K".into(),
+                points: pts,
+                markers: false,
+                colour: RGBColor(31, 90, 180),
+            },
+            Series {
+                label: "K = 1".into(),
+                points: vec![(x0, 1.0), (x1, 1.0)],
+                markers: false,
+                colour: RGBColor(210, 40, 40),
+            },
+        ];
+        crate::files::write_atomically(p, |tmp| {
+            Ok(clapper_plot::line_plot_scaled(tmp, &title, x, y, &series, true)?)
+        })?;
     }
     print_report(&report, args.json, || report.text())
 }

@@ -210,7 +210,8 @@ pub struct SimulateArgs {
     /// Print the full result as one JSON object.
     #[arg(long)]
     pub json: bool,
-    /// Write a trace (t, theta, phi, theta', phi', contact force) as CSV.
+    /// Write a trace (t, theta, phi, theta', phi', contact force) as CSV;
+    /// `-` is standard output (the summary then goes to standard error).
     #[arg(long, value_name = "FILE.csv")]
     pub trace: Option<PathBuf>,
     /// Plot theta, phi and phi' against time (the paper's Fig 9), .svg or .png.
@@ -266,6 +267,7 @@ impl SimulateArgs {
 }
 
 pub fn run(args: SimulateArgs) -> Result<()> {
+    crate::files::claim_stdout(&[("--trace", args.trace.as_deref())], args.json)?;
     if let Some(p) = &args.plot {
         clapper_plot::format_of(p)?;
     }
@@ -284,12 +286,12 @@ pub fn run(args: SimulateArgs) -> Result<()> {
         })?;
     }
     if args.json {
-        println!("{}", serde_json::to_string_pretty(&sim.report)?);
+        crate::say!("{}", serde_json::to_string_pretty(&sim.report)?);
     } else {
         for w in &sim.warnings {
             eprintln!("warning: {w}");
         }
-        print!("{}", summary(&sim.report));
+        crate::say_text!("{}", summary(&sim.report));
     }
     Ok(())
 }

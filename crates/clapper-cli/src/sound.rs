@@ -13,7 +13,7 @@ pub struct SynthArgs {
     /// The bell and its ringing: every option of `clapper simulate`.
     #[command(flatten)]
     pub sim: SimulateArgs,
-    /// Output WAV (16-bit mono).
+    /// Output WAV (16-bit mono); `-` is standard output (`| aplay`).
     #[arg(long, value_name = "FILE.wav")]
     pub out: PathBuf,
     /// Sample rate (Hz).
@@ -47,8 +47,12 @@ pub struct SynthArgs {
 }
 
 pub fn run(args: SynthArgs) -> Result<()> {
-    if !args.out.extension().is_some_and(|e| e.eq_ignore_ascii_case("wav")) {
-        bail!("output {} must end in .wav", args.out.display());
+    crate::files::claim_stdout(&[("--out", Some(&args.out))], args.sim.json)?;
+    if !crate::files::is_stdout(&args.out) && !args.out.extension().is_some_and(|e| e.eq_ignore_ascii_case("wav")) {
+        bail!(
+            "output {} must end in .wav (or be -, standard output)",
+            args.out.display()
+        );
     }
     let opts = SynthOptions {
         rate: args.rate,
@@ -67,9 +71,9 @@ pub fn run(args: SynthArgs) -> Result<()> {
         Ok(clapper_io::signal_file::write_wav(tmp, &sound.signal, 0.9)?)
     })?;
     if args.sim.json {
-        println!("{}", serde_json::to_string(&sound.report)?);
+        crate::say!("{}", serde_json::to_string(&sound.report)?);
     } else {
-        print!("{}", sound.text(&out.display().to_string()));
+        crate::say_text!("{}", sound.text(&out.display().to_string()));
     }
     Ok(())
 }

@@ -42,10 +42,11 @@ pub struct StrikesArgs {
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
-    /// Write every strike as CSV.
+    /// Write every strike as CSV; `-` is standard output.
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
-    /// Write the strikes in the Lowndes format that striking-analysis tools read.
+    /// Write the strikes in the Lowndes format that striking-analysis tools
+    /// read; `-` is standard output.
     #[arg(long, value_name = "FILE")]
     pub lowndes: Option<PathBuf>,
     /// Draw the striking diagram (each bell's line through the places, leaning by its
@@ -75,6 +76,10 @@ pub(crate) fn template_voices(dir: &std::path::Path) -> Result<Vec<BellVoice>> {
 }
 
 pub fn strikes(args: StrikesArgs) -> Result<()> {
+    crate::files::claim_stdout(
+        &[("--csv", args.csv.as_deref()), ("--lowndes", args.lowndes.as_deref())],
+        args.json,
+    )?;
     let voices = match (&args.nominals, &args.templates) {
         (Some(n), _) => voices_from_nominals(&n.0)?,
         (None, Some(dir)) => template_voices(dir)?,
@@ -87,8 +92,8 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
     }
     let opts = strike_options(args.double_min_ratio)?;
     let sig = read_recording(&args.file)?;
-    let name = args.file.display().to_string();
-    let report = StrikesReport::new(&sig, &voices, &opts).with_context(|| name.clone())?;
+    let report = StrikesReport::new(&sig, &voices, &opts).with_context(|| args.file.display().to_string())?;
+    let name = crate::files::title_name(&args.file);
     if let Some(path) = &args.csv {
         write_bytes(path, csv_text(&report.csv_rows()).map_err(anyhow::Error::msg)?)?;
     }
@@ -100,15 +105,16 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         let fig = StrikingFigure::new(&report, &sig, &name, &voices)?;
         crate::files::write_atomically(path, |tmp| Ok(clapper_plot::striking_plot(tmp, &fig.plot())?))?;
     }
-    print_report(&report, args.json, || report.text(&name))
+    print_report(&report, args.json, || report.text(&args.file.display().to_string()))
 }
 
 #[derive(Args, Debug)]
 pub struct SynthRingArgs {
-    /// Where to write the recording (.wav, 16-bit).
+    /// Where to write the recording (.wav, 16-bit); `-` is standard output.
     #[arg(long, value_name = "FILE")]
     pub out: PathBuf,
-    /// Where to write the truth: every strike's bell, row, place, stroke and time (CSV).
+    /// Where to write the truth: every strike's bell, row, place, stroke and
+    /// time (CSV); `-` is standard output.
     #[arg(long, value_name = "FILE")]
     pub truth: Option<PathBuf>,
     /// Bells in the ring (tuned to a major scale down from the treble).
@@ -165,6 +171,7 @@ fn fields(s: &str, n: usize, what: &str) -> Result<Vec<f64>> {
 }
 
 pub fn synth_ring(args: SynthRingArgs) -> Result<()> {
+    crate::files::claim_stdout(&[("--out", Some(&args.out)), ("--truth", args.truth.as_deref())], false)?;
     if !(1..=16).contains(&args.bells) {
         bail!("{} bells: 1 to 16", args.bells);
     }
@@ -211,7 +218,9 @@ pub fn synth_ring(args: SynthRingArgs) -> Result<()> {
         ..TowerSpec::new(bells.clone())
     };
     let (sig, truth) = tower_recording(&spec)?;
-    write_wav(&args.out, &sig, 0.9).with_context(|| args.out.display().to_string())?;
+    crate::files::write_atomically(&args.out, |tmp| {
+        write_wav(tmp, &sig, 0.9).with_context(|| args.out.display().to_string())
+    })?;
     if let Some(path) = &args.truth {
         let mut rows = vec![[
             "bell",
@@ -239,7 +248,7 @@ pub fn synth_ring(args: SynthRingArgs) -> Result<()> {
         write_bytes(path, csv_text(&rows).map_err(anyhow::Error::msg)?)?;
     }
     let nominals: Vec<String> = bells.iter().map(|b| format!("{:.1}", b.nominal_hz)).collect();
-    println!(
+    crate::say!(
         "wrote {} ({:.1} s, {} strikes of {} bells; synthetic). Listen for them with:\n  clapper strikes {} --nominals {}",
         args.out.display(),
         sig.duration(),

@@ -1097,3 +1097,154 @@ fn first_hour_stumbles_give_one_clear_line() {
         "{text}"
     );
 }
+
+#[test]
+fn a_dash_is_standard_output_for_every_text_or_sound_output() {
+    let dir = tempfile::tempdir().unwrap();
+    let run = |args: &[&str]| {
+        let out = clapper().current_dir(dir.path()).args(args).output().unwrap();
+        assert!(
+            out.status.success(),
+            "{args:?}: {}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        (out.stdout, String::from_utf8_lossy(&out.stderr).into_owned())
+    };
+    let file = |name: &str| std::fs::read(dir.path().join(name)).unwrap();
+    // The bytes on standard output are the file's bytes; the summary goes
+    // to standard error.
+    for (to_file, to_stdout, name, summary) in [
+        (
+            vec!["simulate", "--preset", "lab", "--trace", "t.csv"],
+            vec!["simulate", "--preset", "lab", "--trace", "-"],
+            "t.csv",
+            "first strike",
+        ),
+        (
+            vec!["chart", "--grid", "5", "--csv", "c.csv"],
+            vec!["chart", "--grid", "5", "--csv", "-"],
+            "c.csv",
+            "sustains ringing right",
+        ),
+        (
+            vec!["synth", "--preset", "lab", "--strokes", "1", "--out", "s.wav"],
+            vec!["synth", "--preset", "lab", "--strokes", "1", "--out", "-"],
+            "s.wav",
+            "",
+        ),
+        (
+            vec![
+                "design-clapper",
+                "--shaft-length",
+                "0.69",
+                "--shaft-diameter",
+                "0.05",
+                "--ball-diameter",
+                "0.14",
+                "--ball-position",
+                "0.76",
+                "--out",
+                "d.toml",
+            ],
+            vec![
+                "design-clapper",
+                "--shaft-length",
+                "0.69",
+                "--shaft-diameter",
+                "0.05",
+                "--ball-diameter",
+                "0.14",
+                "--ball-position",
+                "0.76",
+                "--out",
+                "-",
+            ],
+            "d.toml",
+            "T_c",
+        ),
+        (
+            vec![
+                "synth-ring",
+                "--bells",
+                "4",
+                "--rows",
+                "2",
+                "--out",
+                "r.wav",
+                "--truth",
+                "r.csv",
+            ],
+            vec![
+                "synth-ring",
+                "--bells",
+                "4",
+                "--rows",
+                "2",
+                "--out",
+                "r2.wav",
+                "--truth",
+                "-",
+            ],
+            "r.csv",
+            "wrote r2.wav",
+        ),
+    ] {
+        run(&to_file);
+        let (bytes, err) = run(&to_stdout);
+        assert!(
+            !bytes.is_empty() && bytes == file(name),
+            "{to_stdout:?}: standard output is not {name}'s bytes"
+        );
+        assert!(
+            err.contains(summary),
+            "{to_stdout:?}: the summary is not on standard error: {err}"
+        );
+    }
+    assert!(!dir.path().join("-").exists(), "a file named - was written");
+    // The chart as JSON: every point and style, the CSV's values.
+    let (json, _) = run(&["chart", "--grid", "5", "--json"]);
+    let v: serde_json::Value = serde_json::from_slice(&json).unwrap();
+    let points = v["points"].as_array().unwrap();
+    let csv = String::from_utf8(file("c.csv")).unwrap();
+    let rows: Vec<&str> = csv.lines().skip(1).collect();
+    assert_eq!(points.len(), rows.len());
+    for (p, row) in points.iter().zip(&rows) {
+        let cells: Vec<&str> = row.split(',').collect();
+        assert_eq!(p["style"], cells[2]);
+        assert_eq!(p["sustained"].as_bool().unwrap().to_string(), cells[3]);
+        match p["strike_theta_deg"].as_f64() {
+            Some(t) => assert_eq!(format!("{t:.6}"), cells[4]),
+            None => assert_eq!(cells[4], ""),
+        }
+    }
+    // Two outputs on standard output, or one with --json, or a plot: refused.
+    for (args, want) in [
+        (
+            vec!["simulate", "--trace", "-", "--json"],
+            "--trace - and --json both want standard output",
+        ),
+        (
+            vec!["chart", "--grid", "3", "--csv", "-", "--json"],
+            "--csv - and --json",
+        ),
+        (vec!["simulate", "--plot", "-"], "a plot is drawn to a file"),
+        (
+            vec![
+                "strikes",
+                "x.wav",
+                "--nominals",
+                "700,800",
+                "--csv",
+                "-",
+                "--lowndes",
+                "-",
+            ],
+            "--csv - and --lowndes - both want standard output",
+        ),
+    ] {
+        let out = clapper().current_dir(dir.path()).args(&args).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && err.contains(want), "{args:?}: {err}");
+        assert!(out.stdout.is_empty(), "{args:?} printed before refusing");
+    }
+}

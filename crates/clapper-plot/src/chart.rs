@@ -161,7 +161,7 @@ fn draw_chart<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, fig: &ChartFigu
     let (w, _) = root.dim_in_pixel();
     // Sans-serif glyphs average about 0.55 em: shrink a long title to fit.
     let title_px = (f64::from(w) * 0.95 / (0.55 * fig.title.chars().count().max(1) as f64)).min(24.0);
-    let titled = root.titled(&fig.title, ("sans-serif", title_px))?;
+    let titled = root.titled(&crate::symbols(&fig.title), ("sans-serif", title_px))?;
     let (panels_area, bar_area) = titled.split_horizontally(w - 160);
     let areas = panels_area.split_evenly((1, fig.panels.len()));
     for (panel, area) in fig.panels.iter().zip(areas.iter()) {
@@ -180,7 +180,7 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel, fig:
     let (x0, x1) = (xr[0].0, xr[xr.len() - 1].1);
     let (y0, y1) = (yr[0].0, yr[yr.len() - 1].1);
     let mut chart = ChartBuilder::on(area)
-        .caption(&p.title, ("sans-serif", 20))
+        .caption(crate::symbols(&p.title), ("sans-serif", 22))
         .margin(12)
         .x_label_area_size(45)
         .y_label_area_size(60)
@@ -188,8 +188,8 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel, fig:
     chart
         .configure_mesh()
         .disable_mesh()
-        .x_desc(fig.axes.0.as_str())
-        .y_desc(fig.axes.1.as_str())
+        .x_desc(crate::symbols(&fig.axes.0))
+        .y_desc(crate::symbols(&fig.axes.1))
         .x_label_formatter(&crate::tick)
         .y_label_formatter(&crate::tick)
         .label_style(("sans-serif", 15))
@@ -226,36 +226,106 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel, fig:
         }
     }
     chart.draw_series(edges.into_iter().map(|e| PathElement::new(e, BLACK.stroke_width(2))))?;
+    let within = |&(x, y): &(f64, f64)| x >= x0 && x <= x1 && y >= y0 && y <= y1;
+    let markers: Vec<&Marker> = fig.markers.iter().filter(|m| within(&(m.x, m.y))).collect();
+    // Labels: each line's at its last point inside, each marker's beside
+    // it, placed so that none runs off the plot or over another.
+    let font = ("sans-serif", 16);
+    let mut labels: Vec<(String, (f64, f64), RGBColor)> = vec![];
     for (label, pts, colour) in &fig.lines {
-        let inside: Vec<(f64, f64)> = pts
-            .iter()
-            .copied()
-            .filter(|&(x, y)| x >= x0 && x <= x1 && y >= y0 && y <= y1)
-            .collect();
+        let inside: Vec<(f64, f64)> = pts.iter().copied().filter(within).collect();
         if let Some(&last) = inside.last() {
-            chart.draw_series(std::iter::once(PathElement::new(
-                inside.clone(),
-                colour.stroke_width(3),
-            )))?;
-            chart.draw_series(std::iter::once(Text::new(
-                label.clone(),
-                last,
-                ("sans-serif", 16).into_font().color(colour),
-            )))?;
+            chart.draw_series(std::iter::once(PathElement::new(inside, colour.stroke_width(3))))?;
+            labels.push((label.clone(), last, *colour));
         }
     }
-    for m in &fig.markers {
-        if m.x < x0 || m.x > x1 || m.y < y0 || m.y > y1 {
-            continue;
-        }
+    labels.extend(markers.iter().map(|m| (m.label.clone(), (m.x, m.y), BLACK)));
+    let px = |p: &(f64, f64)| chart.backend_coord(p);
+    let (bx, by) = chart.plotting_area().get_pixel_range();
+    let sizes: Vec<(i32, i32)> = labels
+        .iter()
+        .map(|(t, _, _)| {
+            let (w, h) = font.into_font().box_size(t).unwrap_or((9 * t.len() as u32, 16));
+            (w as i32, h as i32)
+        })
+        .collect();
+    let anchors: Vec<(i32, i32)> = labels.iter().map(|l| px(&l.1)).collect();
+    let dots: Vec<(i32, i32)> = markers.iter().map(|m| px(&(m.x, m.y))).collect();
+    // A little inside the frame, clear of its line.
+    let bounds = ((bx.start + 4, by.start + 4), (bx.end - 4, by.end - 4));
+    let offsets = place_labels(&anchors, &sizes, bounds, &dots);
+    for m in &markers {
         chart.draw_series(std::iter::once(
             EmptyElement::at((m.x, m.y))
                 + Circle::new((0, 0), 7, WHITE.filled())
-                + Circle::new((0, 0), 7, BLACK.stroke_width(2))
-                + Text::new(m.label.clone(), (10, -18), ("sans-serif", 16).into_font().color(&BLACK)),
+                + Circle::new((0, 0), 7, BLACK.stroke_width(2)),
+        ))?;
+    }
+    for ((text, at, colour), off) in labels.into_iter().zip(offsets) {
+        chart.draw_series(std::iter::once(
+            EmptyElement::at(at) + Text::new(text, off, font.into_font().color(&colour)),
         ))?;
     }
     Ok(())
+}
+
+/// Where each label goes: the offset (pixels) of its top-left corner from
+/// its anchor, chosen from places around the anchor (beside a marker's
+/// circle of radius 7 px, nearer first), each pushed inside `bounds`
+/// (top-left, bottom-right) where it would stick out, so that the label is
+/// clear of the labels placed before it and of every marker in `dots`.
+/// Where no place is clear, the one that overlaps least.
+fn place_labels(
+    anchors: &[(i32, i32)],
+    sizes: &[(i32, i32)],
+    bounds: ((i32, i32), (i32, i32)),
+    dots: &[(i32, i32)],
+) -> Vec<(i32, i32)> {
+    type Boxed = (i32, i32, i32, i32);
+    let overlap = |a: Boxed, b: Boxed| {
+        let w = (a.2.min(b.2) - a.0.max(b.0)).max(0);
+        let h = (a.3.min(b.3) - a.1.max(b.1)).max(0);
+        w * h
+    };
+    let mut placed: Vec<Boxed> = vec![];
+    let mut out = vec![];
+    for (&(x, y), &(w, h)) in anchors.iter().zip(sizes) {
+        let mut best = (i32::MAX, (10, -h - 2));
+        'places: for gap in [10, 22, 40] {
+            for (dx, dy) in [
+                (gap, -h - gap / 5),
+                (gap, gap / 5),
+                (-gap - w, -h - gap / 5),
+                (-gap - w, gap / 5),
+                (-w / 2, -h - gap),
+                (-w / 2, gap),
+                (gap + 2, -h / 2),
+                (-gap - 2 - w, -h / 2),
+            ] {
+                // Pushed back inside the plot where it would stick out.
+                let (dx, dy) = (
+                    dx.min(bounds.1 .0 - w - x).max(bounds.0 .0 - x),
+                    dy.min(bounds.1 .1 - h - y).max(bounds.0 .1 - y),
+                );
+                let b = (x + dx, y + dy, x + dx + w, y + dy + h);
+                let cost: i32 = placed.iter().map(|&p| overlap(b, p)).sum::<i32>()
+                    + dots
+                        .iter()
+                        .map(|&(cx, cy)| overlap(b, (cx - 8, cy - 8, cx + 8, cy + 8)))
+                        .sum::<i32>();
+                if cost < best.0 {
+                    best = (cost, (dx, dy));
+                }
+                if cost == 0 {
+                    break 'places;
+                }
+            }
+        }
+        let (dx, dy) = best.1;
+        placed.push((x + dx, y + dy, x + dx + w, y + dy + h));
+        out.push((dx, dy));
+    }
+    out
 }
 
 fn draw_colour_bar<DB: DrawingBackend>(
@@ -275,7 +345,7 @@ fn draw_colour_bar<DB: DrawingBackend>(
     bar.configure_mesh()
         .disable_mesh()
         .disable_x_axis()
-        .y_desc(label)
+        .y_desc(crate::symbols(label))
         .y_label_formatter(&crate::tick)
         .label_style(("sans-serif", 14))
         .axis_desc_style(("sans-serif", 16))
@@ -312,9 +382,29 @@ pub struct Series {
     pub colour: RGBColor,
 }
 
-/// A plain x-y plot with axis labels (with units) and a legend.
+/// A plain x-y plot with axis labels (with units) and a legend. A point
+/// with a y that is not finite is a gap: the line stops there and starts
+/// again after it (a level below a spectrogram's floor, say).
 pub fn line_plot(path: &Path, title: &str, x_label: &str, y_label: &str, series: &[Series]) -> Result<(), PlotError> {
-    let pts = || series.iter().flat_map(|s| s.points.iter());
+    line_plot_scaled(path, title, x_label, y_label, series, false)
+}
+
+/// [`line_plot`] with a logarithmic x axis (`log_x`): every x must then be
+/// greater than 0.
+pub fn line_plot_scaled(
+    path: &Path,
+    title: &str,
+    x_label: &str,
+    y_label: &str,
+    series: &[Series],
+    log_x: bool,
+) -> Result<(), PlotError> {
+    let pts = || {
+        series
+            .iter()
+            .flat_map(|s| s.points.iter())
+            .filter(|p| p.0.is_finite() && p.1.is_finite() && (!log_x || p.0 > 0.0))
+    };
     if pts().next().is_none() {
         return Err(PlotError::Empty("no points"));
     }
@@ -329,7 +419,13 @@ pub fn line_plot(path: &Path, title: &str, x_label: &str, y_label: &str, series:
         let d = (b - a).max(1e-9) * 0.05;
         (a - d, b + d)
     };
-    let (x0, x1) = pad(x0, x1);
+    let (x0, x1) = if log_x {
+        // 5 % of the decades either side.
+        let (a, b) = pad(x0.log10(), x1.log10());
+        (10f64.powf(a), 10f64.powf(b))
+    } else {
+        pad(x0, x1)
+    };
     let (y0, y1) = pad(y0, y1);
     // Headroom for the legend in the upper right.
     let y1 = y1 + 0.15 * (y1 - y0);
@@ -341,7 +437,11 @@ pub fn line_plot(path: &Path, title: &str, x_label: &str, y_label: &str, series:
         range: (x0, x1, y0, y1),
     };
     let size = (1000, 700);
-    render!(path, size, draw_lines(&spec))
+    if log_x {
+        render!(path, size, draw_lines_log_x(&spec))
+    } else {
+        render!(path, size, draw_lines(&spec))
+    }
 }
 
 struct LineSpec<'a> {
@@ -355,34 +455,73 @@ struct LineSpec<'a> {
 fn draw_lines<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, spec: &LineSpec<'_>) -> DrawResult<DB> {
     let (x0, x1, y0, y1) = spec.range;
     root.fill(&WHITE)?;
-    let mut chart = ChartBuilder::on(root)
-        .caption(spec.title, ("sans-serif", 22))
+    let chart = line_frame(root, spec).build_cartesian_2d(x0..x1, y0..y1)?;
+    draw_line_series(chart, spec)
+}
+
+fn draw_lines_log_x<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, spec: &LineSpec<'_>) -> DrawResult<DB> {
+    let (x0, x1, y0, y1) = spec.range;
+    root.fill(&WHITE)?;
+    let chart = line_frame(root, spec).build_cartesian_2d((x0..x1).log_scale(), y0..y1)?;
+    draw_line_series(chart, spec)
+}
+
+fn line_frame<'a, 'b, DB: DrawingBackend>(
+    root: &'a DrawingArea<DB, Shift>,
+    spec: &LineSpec<'_>,
+) -> ChartBuilder<'a, 'b, DB> {
+    let mut b = ChartBuilder::on(root);
+    b.caption(crate::symbols(spec.title), ("sans-serif", 24))
         .margin(15)
-        .x_label_area_size(45)
-        .y_label_area_size(60)
-        .build_cartesian_2d(x0..x1, y0..y1)?;
+        .x_label_area_size(50)
+        .y_label_area_size(70);
+    b
+}
+
+fn draw_line_series<'a, DB, X>(
+    mut chart: ChartContext<'a, DB, Cartesian2d<X, plotters::coord::types::RangedCoordf64>>,
+    spec: &LineSpec<'_>,
+) -> DrawResult<DB>
+where
+    DB: DrawingBackend + 'a,
+    X: Ranged<ValueType = f64> + plotters::coord::ranged1d::ValueFormatter<f64>,
+{
     chart
         .configure_mesh()
-        .x_desc(spec.x_label)
-        .y_desc(spec.y_label)
+        .x_desc(crate::symbols(spec.x_label))
+        .y_desc(crate::symbols(spec.y_label))
         .x_label_formatter(&crate::tick)
         .y_label_formatter(&crate::tick)
         .light_line_style(RGBColor(235, 235, 235))
-        .label_style(("sans-serif", 15))
-        .axis_desc_style(("sans-serif", 17))
+        .label_style(("sans-serif", 16))
+        .axis_desc_style(("sans-serif", 18))
         .draw()?;
     for s in spec.series {
         let c = s.colour;
+        let finite = |p: &&(f64, f64)| p.0.is_finite() && p.1.is_finite();
         if s.markers {
             chart
-                .draw_series(s.points.iter().map(|&p| Circle::new(p, 5, c.stroke_width(2))))?
+                .draw_series(
+                    s.points
+                        .iter()
+                        .filter(finite)
+                        .map(|&p| Circle::new(p, 5, c.stroke_width(2))),
+                )?
                 .label(s.label.clone())
                 .legend(move |(x, y)| Circle::new((x + 10, y), 5, c.stroke_width(2)));
         } else {
-            chart
-                .draw_series(LineSeries::new(s.points.iter().copied(), c.stroke_width(2)))?
-                .label(s.label.clone())
-                .legend(move |(x, y)| PathElement::new([(x, y), (x + 25, y)], c.stroke_width(2)));
+            // One line per run of finite points: a gap where a y is not.
+            let runs = s.points.split(|p| !(p.0.is_finite() && p.1.is_finite()));
+            let mut labelled = false;
+            for run in runs.filter(|r| !r.is_empty()) {
+                let drawn = chart.draw_series(LineSeries::new(run.iter().copied(), c.stroke_width(2)))?;
+                if !labelled {
+                    drawn
+                        .label(s.label.clone())
+                        .legend(move |(x, y)| PathElement::new([(x, y), (x + 25, y)], c.stroke_width(2)));
+                    labelled = true;
+                }
+            }
         }
     }
     chart
@@ -390,7 +529,7 @@ fn draw_lines<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, spec: &LineSpec
         .position(SeriesLabelPosition::UpperRight)
         .background_style(WHITE.mix(0.85))
         .border_style(BLACK)
-        .label_font(("sans-serif", 15))
+        .label_font(("sans-serif", 16))
         .draw()?;
     Ok(())
 }
@@ -398,6 +537,41 @@ fn draw_lines<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, spec: &LineSpec
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn labels_of_markers_on_one_spot_do_not_overlap_or_leave_the_plot() {
+        // Two bells at almost the same point near the top right corner, and
+        // a line's label at the top edge.
+        let anchors = [(395, 12), (397, 14), (200, 0)];
+        let sizes = [(60, 16), (12, 16), (110, 16)];
+        let bounds = ((0, 0), (400, 300));
+        let dots = [(395, 12), (397, 14)];
+        let off = place_labels(&anchors, &sizes, bounds, &dots);
+        let boxes: Vec<(i32, i32, i32, i32)> = anchors
+            .iter()
+            .zip(&sizes)
+            .zip(&off)
+            .map(|((a, s), o)| (a.0 + o.0, a.1 + o.1, a.0 + o.0 + s.0, a.1 + o.1 + s.1))
+            .collect();
+        for (k, b) in boxes.iter().enumerate() {
+            assert!(
+                b.0 >= 0 && b.1 >= 0 && b.2 <= 400 && b.3 <= 300,
+                "label {k} leaves the plot: {b:?}"
+            );
+            for c in &boxes[k + 1..] {
+                assert!(
+                    b.2 <= c.0 || c.2 <= b.0 || b.3 <= c.1 || c.3 <= b.1,
+                    "{b:?} overlaps {c:?}"
+                );
+            }
+            for d in &dots {
+                assert!(
+                    b.2 <= d.0 - 8 || d.0 + 8 <= b.0 || b.3 <= d.1 - 8 || d.1 + 8 <= b.1,
+                    "label {k} {b:?} covers the marker at {d:?}"
+                );
+            }
+        }
+    }
 
     fn fig(n: usize) -> ChartFigure {
         let xs: Vec<f64> = (0..n).map(|i| i as f64 / n as f64).collect();

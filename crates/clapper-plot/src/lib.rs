@@ -6,6 +6,44 @@
 
 #![warn(missing_docs)]
 
+/// Words as a plot shows them: the model's names in ASCII (as the command
+/// line and CSV headers spell them) turned into its symbols: `theta0` θ₀,
+/// `theta` θ, `phi_max` φₘₐₓ, `phi` φ, `R2` R₂, and a number's ` deg` °.
+/// Only whole words change (`theta_r` stays as it is).
+pub(crate) fn symbols(text: &str) -> String {
+    let word = |c: char| c.is_ascii_alphanumeric() || c == '_';
+    let mut out = String::with_capacity(text.len() + 8);
+    let mut rest = text;
+    let mut prev: Option<char> = None;
+    while let Some(c) = rest.chars().next() {
+        if word(c) && !prev.is_some_and(word) {
+            let end = rest.find(|c: char| !word(c)).unwrap_or(rest.len());
+            let w = &rest[..end];
+            let sym = match w {
+                "theta0" => Some("θ₀"),
+                "theta" => Some("θ"),
+                "phi_max" => Some("φₘₐₓ"),
+                "phi" => Some("φ"),
+                "R2" => Some("R₂"),
+                "deg" if prev == Some(' ') && out.trim_end().ends_with(|c: char| c.is_ascii_digit()) => {
+                    // "171 deg" -> "171°": the space goes too.
+                    out.pop();
+                    Some("°")
+                }
+                _ => None,
+            };
+            out.push_str(sym.unwrap_or(w));
+            prev = w.chars().last();
+            rest = &rest[end..];
+        } else {
+            out.push(c);
+            prev = Some(c);
+            rest = &rest[c.len_utf8()..];
+        }
+    }
+    out
+}
+
 /// A tick label: the shortest decimal of the value rounded to 1e-6 ("150",
 /// "0.25", "0", never "150.0" or "-0.0").
 pub(crate) fn tick(v: &f64) -> String {
@@ -61,7 +99,9 @@ pub mod quantity;
 pub mod signal;
 pub mod striking;
 
-pub use chart::{chart_figure, chart_figure_svg, line_plot, ChartFigure, Marker, Panel, Scale, Series};
+pub use chart::{
+    chart_figure, chart_figure_svg, line_plot, line_plot_scaled, ChartFigure, Marker, Panel, Scale, Series,
+};
 pub use plotters::style::RGBColor;
 pub use quantity::Quantity;
 pub use signal::{spectrogram_plot, SpectrogramPlot};
@@ -80,6 +120,9 @@ pub enum PlotError {
     /// The extension is neither `.svg` nor `.png`.
     #[error("plot file {0} must end in .svg or .png")]
     Format(String),
+    /// `-` given where a plot file is wanted.
+    #[error("a plot is drawn to a file: give a name ending in .svg or .png, not - (standard output)")]
+    Stdout,
     /// Nothing to draw.
     #[error("nothing to plot: {0}")]
     Empty(&'static str),
@@ -112,6 +155,7 @@ pub fn format_of(path: &Path) -> Result<Format, PlotError> {
     {
         Some("svg") => Ok(Format::Svg),
         Some("png") => Ok(Format::Png),
+        _ if path.as_os_str() == "-" => Err(PlotError::Stdout),
         _ => Err(PlotError::Format(path.display().to_string())),
     }
 }
@@ -166,7 +210,7 @@ fn draw_strokes<DB: DrawingBackend>(
     let t1 = samples.last().map_or(1.0, |s| s.t).max(t0 + 1e-3);
     let vmax = samples.iter().map(|s| s.y[3].abs()).fold(0.0f64, f64::max).max(0.1) * 1.1;
     let mut chart = ChartBuilder::on(root)
-        .caption(plot.title, ("sans-serif", 22))
+        .caption(crate::symbols(plot.title), ("sans-serif", 24))
         .margin(15)
         .x_label_area_size(45)
         .y_label_area_size(60)
@@ -288,6 +332,22 @@ mod tests {
 
 #[cfg(test)]
 mod tick_tests {
+    #[test]
+    fn plots_show_symbols_for_the_ascii_names() {
+        assert_eq!(
+            super::symbols("Fig 10 (theta0 = 171 deg, R = 0.2, R2 = 0.3, phi_max = 26 deg, 20 x 20)"),
+            "Fig 10 (θ₀ = 171°, R = 0.2, R₂ = 0.3, φₘₐₓ = 26°, 20 x 20)"
+        );
+        assert_eq!(
+            super::symbols("first strike angle theta (deg)"),
+            "first strike angle θ (deg)"
+        );
+        assert_eq!(
+            super::symbols("phi' (rad/s), theta_r, phi_maximum, 3 degrees"),
+            "φ' (rad/s), theta_r, phi_maximum, 3 degrees"
+        );
+    }
+
     #[test]
     fn ticks_are_short_and_never_negative_zero() {
         assert_eq!(super::tick(&150.0), "150");

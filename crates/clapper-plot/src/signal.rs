@@ -91,7 +91,7 @@ pub(crate) fn frame<'a, DB: DrawingBackend>(
 ) -> Result<TimeFrequency<'a, DB>, DrawingAreaErrorKind<DB::ErrorType>> {
     let g = grid(p, cells.0, cells.1);
     let mut chart = ChartBuilder::on(area)
-        .caption(p.title, ("sans-serif", caption_px))
+        .caption(crate::symbols(p.title), ("sans-serif", caption_px))
         .margin(12)
         .x_label_area_size(45)
         .y_label_area_size(70)

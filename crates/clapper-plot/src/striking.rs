@@ -109,7 +109,7 @@ fn diagram<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &StrikingPlot<'
     let rows = placed.iter().map(|x| x.1).max().map_or(1, |r| r + 1);
     let n = p.bells as f64;
     let mut chart = ChartBuilder::on(area)
-        .caption(p.title, ("sans-serif", 20))
+        .caption(crate::symbols(p.title), ("sans-serif", 22))
         .margin(12)
         .x_label_area_size(45)
         .y_label_area_size(60)
