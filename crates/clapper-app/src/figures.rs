@@ -188,29 +188,57 @@ pub fn figures(base: &ChartSpec, run_chart: &mut ChartRunner<'_>) -> Result<Figu
         .fold(0.0f64, f64::max);
     let blue = RGBColor(31, 90, 180);
     let orange = RGBColor(220, 100, 20);
+    // The paper draws each formula dashed where the r = 0 bell cannot keep
+    // ringing in that style (Fig 12): here, where the nearest point of the
+    // simulated column does not sustain it.
+    let sustains = |style: Style, y: f64| {
+        col.cells
+            .iter()
+            .filter(|c| c.style == style)
+            .min_by(|a, b| (a.y - y).abs().total_cmp(&(b.y - y).abs()))
+            .is_some_and(|c| c.result.as_ref().is_ok_and(|s| s.sustained))
+    };
+    // One formula curve as two series, solid where `style` is sustained and
+    // dashed where not, each a gap (NaN) where the other is drawn; the two
+    // share the point where they meet, so the curve is unbroken.
+    let split = |style: Style, angle: fn(&LiftoffAngles) -> f64| -> [Vec<(f64, f64)>; 2] {
+        let on: Vec<bool> = formula.iter().map(|(y, _)| sustains(style, *y)).collect();
+        let mut parts = [vec![], vec![]];
+        for (k, (y, a)) in formula.iter().enumerate() {
+            let p = (*y, angle(a).to_degrees());
+            let near =
+                |want: bool| on[k] == want || on.get(k.wrapping_sub(1)) == Some(&want) || on.get(k + 1) == Some(&want);
+            parts[0].push(if near(true) { p } else { (p.0, f64::NAN) });
+            parts[1].push(if near(false) { p } else { (p.0, f64::NAN) });
+        }
+        parts
+    };
+    let [right_on, right_off] = split(Style::Right, |a| a.right);
+    let [wrong_on, wrong_off] = split(Style::Wrong, |a| a.wrong);
+    let line = |label: &str, points: Vec<(f64, f64)>, dashed: bool, colour: RGBColor| Series {
+        label: label.into(),
+        points,
+        markers: false,
+        dashed,
+        colour,
+    };
     let series = [
-        Series {
-            label: "ringing right, formula (15)".into(),
-            points: formula.iter().map(|(y, a)| (*y, a.right.to_degrees())).collect(),
-            markers: false,
-            colour: blue,
-        },
-        Series {
-            label: "ringing wrong, formula (16)".into(),
-            points: formula.iter().map(|(y, a)| (*y, a.wrong.to_degrees())).collect(),
-            markers: false,
-            colour: orange,
-        },
+        line("ringing right, formula (15)", right_on, false, blue),
+        line("ringing right, not sustained", right_off, true, blue),
+        line("ringing wrong, formula (16)", wrong_on, false, orange),
+        line("ringing wrong, not sustained", wrong_off, true, orange),
         Series {
             label: "ringing right, simulated".into(),
             points: sim_r.clone(),
             markers: true,
+            dashed: false,
             colour: blue,
         },
         Series {
             label: "ringing wrong, simulated".into(),
             points: sim_w.clone(),
             markers: true,
+            dashed: false,
             colour: orange,
         },
     ];
@@ -251,8 +279,9 @@ pub fn figures(base: &ChartSpec, run_chart: &mut ChartRunner<'_>) -> Result<Figu
         name: "fig07".into(),
         title: "Fig 7: lift-off angle at r = 0".into(),
         says: format!(
-            "Lift-off comes later (higher angle) ringing right and earlier ringing wrong as L_b/L_c grows; \
-             the {} simulated points lie on the curves of (15) and (16) to within {worst:.1e} deg.",
+            "As L_b/L_c grows, lift-off ringing right comes earlier in the swing (at a higher angle) and \
+             ringing wrong later; dashed where the r = 0 bell cannot keep ringing in that style (Fig 12). \
+             The {} simulated points lie on the curves of (15) and (16) to within {worst:.1e} deg.",
             sim_r.len() + sim_w.len()
         ),
         data: vec!["fig07.csv".into()],
@@ -499,4 +528,43 @@ fn index(entries: &[Entry], words: &str, secs: f64) -> (String, String) {
     }
     html.push_str("</body></html>\n");
     (md, html)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clapper_core::chart::sweep;
+
+    #[test]
+    fn fig7_dashes_the_styles_that_cannot_be_kept_and_its_caption_reads_the_curves_rightly() {
+        let base = crate::chart::ChartRequest {
+            grid: [4, 12],
+            ..Default::default()
+        }
+        .spec()
+        .unwrap();
+        let set = figures(&base, &mut |spec, _| Ok((sweep(spec, &|_| {})?, 0.0))).unwrap();
+        let Some((_, Drawing::Lines { series, .. })) = set.drawings.iter().find(|(n, _)| n == "fig07") else {
+            panic!("no fig07")
+        };
+        let by = |label: &str| series.iter().find(|s| s.label == label).unwrap();
+        let (solid, dashed) = (by("ringing right, formula (15)"), by("ringing right, not sustained"));
+        assert!(dashed.dashed && !solid.dashed);
+        // At r = 0 a bell of L_b/L_c 2.4 cannot keep ringing right (Fig 12),
+        // one of 1.2 can: dashed there, solid here.
+        let at = |s: &Series, y: f64| {
+            s.points
+                .iter()
+                .min_by(|a, b| (a.0 - y).abs().total_cmp(&(b.0 - y).abs()))
+                .unwrap()
+                .1
+        };
+        assert!(at(dashed, 2.4).is_finite() && at(solid, 2.4).is_nan());
+        assert!(at(solid, 1.2).is_finite() && at(dashed, 1.2).is_nan());
+        // As L_b/L_c grows, ringing right lifts off at a higher angle: sooner
+        // after the balance, not later.
+        assert!(at(solid, 1.5) > at(solid, 1.0));
+        let md = &set.files.iter().find(|(n, _)| n == "index.md").unwrap().1;
+        assert!(md.contains("lift-off ringing right comes earlier"), "{md}");
+    }
 }

@@ -325,7 +325,12 @@ pub fn summary(r: &SimulationReport) -> String {
             "\nstroke {} ({kind}, {} style, from {:+.1} deg)",
             st.number, st.style, st.start_theta_deg
         );
-        let _ = writeln!(o, "  lift-off         {}", opt(st.liftoff_theta_deg, 2, "deg"));
+        let bounce = if st.liftoff_kind == Some("bounce") {
+            " (off a bounce: it never rested)"
+        } else {
+            ""
+        };
+        let _ = writeln!(o, "  lift-off         {}{bounce}", opt(st.liftoff_theta_deg, 2, "deg"));
         match &st.first_strike {
             Some(f) => {
                 let _ = writeln!(

@@ -84,12 +84,14 @@ pub fn restitution(args: RestitutionArgs) -> Result<()> {
                     label: "each drop".into(),
                     points: stars,
                     markers: true,
+                    dashed: false,
                     colour: RGBColor(120, 120, 120),
                 },
                 Series {
                     label: "mean of each pair (the paper's circles)".into(),
                     points: means,
                     markers: true,
+                    dashed: false,
                     colour: RGBColor(210, 40, 40),
                 },
             ],
@@ -237,6 +239,7 @@ pub fn decay(args: DecayArgs) -> Result<()> {
                     .map(|p| (p[0], if p[1] > report.floor_db { p[1] } else { f64::NAN }))
                     .collect(),
                 markers: false,
+                dashed: false,
                 colour: RGBColor(31, 90, 180),
             }],
         )?;
@@ -307,12 +310,14 @@ pub fn impulse(args: ImpulseArgs) -> Result<()> {
                 label: "K".into(),
                 points: pts,
                 markers: false,
+                dashed: false,
                 colour: RGBColor(31, 90, 180),
             },
             Series {
                 label: "K = 1".into(),
                 points: vec![(x0, 1.0), (x1, 1.0)],
                 markers: false,
+                dashed: false,
                 colour: RGBColor(210, 40, 40),
             },
         ];

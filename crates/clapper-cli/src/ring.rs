@@ -96,18 +96,21 @@ fn plot(path: &std::path::Path, r: &RingReport) -> Result<()> {
             label: "angle reached (deg)".into(),
             points: r.swings.iter().map(|s| (s.number as f64, s.amplitude_deg)).collect(),
             markers: false,
+            dashed: false,
             colour: RGBColor(90, 90, 90),
         },
         Series {
             label: "strikes right (leading side)".into(),
             points: pts("right"),
             markers: true,
+            dashed: false,
             colour: RGBColor(49, 130, 189),
         },
         Series {
             label: "strikes wrong (trailing side)".into(),
             points: pts("wrong"),
             markers: true,
+            dashed: false,
             colour: RGBColor(230, 85, 13),
         },
     ];

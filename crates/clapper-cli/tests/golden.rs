@@ -116,22 +116,23 @@ fn simulate_json_is_unchanged() {
     }
 }
 
-/// The JSON with the keys issue 17 added to every report taken out (each
-/// is a line of its own, never an object's last): `odd_struck_ms` once at
-/// the top and `bdc_to_strike_ms` on every stroke. Everything else must be
+/// The JSON with the keys added since the reference was written taken out
+/// (each is a line of its own, never an object's last): issue 17's
+/// `odd_struck_ms` once at the top and `bdc_to_strike_ms` on every stroke,
+/// and issue 21's `liftoff_kind` on every stroke. Everything else must be
 /// the reference, byte for byte; the additions must be there.
 fn without_added_keys(got: &[u8]) -> Vec<u8> {
     let text = String::from_utf8(got.to_vec()).unwrap();
     let is_added = |l: &str| {
         let l = l.trim_start();
-        l.starts_with("\"odd_struck_ms\": ") || l.starts_with("\"bdc_to_strike_ms\": ")
+        l.starts_with("\"odd_struck_ms\": ")
+            || l.starts_with("\"bdc_to_strike_ms\": ")
+            || l.starts_with("\"liftoff_kind\": ")
     };
     let strokes = text.matches("\"number\": ").count();
-    assert_eq!(
-        text.matches("\"bdc_to_strike_ms\": ").count(),
-        strokes,
-        "one per stroke"
-    );
+    for key in ["\"bdc_to_strike_ms\": ", "\"liftoff_kind\": "] {
+        assert_eq!(text.matches(key).count(), strokes, "{key}: one per stroke");
+    }
     assert_eq!(text.matches("\"odd_struck_ms\": ").count(), 1);
     let kept: Vec<&str> = text.split_inclusive('\n').filter(|l| !is_added(l)).collect();
     kept.concat().into_bytes()

@@ -191,3 +191,44 @@ fn each_impact_loses_the_energy_its_coefficient_says() {
     assert_eq!(checked.0, 3, "{checked:?}");
     assert!(checked.1 >= 10 && checked.2 >= 1, "{checked:?}");
 }
+
+/// A stroke whose clapper, still flying from the stroke before, bounces off
+/// its starting side and leaves without resting reports that bounce as its
+/// lift-off, and says so; a lift-off from rest says that.
+#[test]
+fn a_liftoff_off_a_bounce_is_told_from_one_from_rest() {
+    use clapper_core::ringing::{ring, Protocol};
+    use clapper_core::stroke::LiftoffKind;
+    for contact in [ContactModel::Impact, ContactModel::Penalty] {
+        let cfg = SimConfig {
+            contact,
+            stiffness: 1e8,
+            restitution: 0.6,
+            ..SimConfig::default()
+        };
+        let r = ring(&Bell::lab(), &cfg, Style::Right, Protocol::Free, 4, &mut ()).unwrap();
+        let kinds: Vec<Option<LiftoffKind>> = r.strokes.iter().map(|s| s.liftoff_kind).collect();
+        // Set off from rest: the first lift-off is from rest.
+        assert_eq!(kinds[0], Some(LiftoffKind::FromRest), "{contact:?}");
+        let mut bounces = 0;
+        for s in &r.strokes {
+            assert_eq!(s.liftoff.is_some(), s.liftoff_kind.is_some());
+            let (Some(lift), Some(kind)) = (s.liftoff, s.liftoff_kind) else {
+                continue;
+            };
+            // A bounce lift-off is an impact on the starting side at that very moment.
+            let off_an_impact = s
+                .impacts
+                .iter()
+                .any(|i| i.side == s.start_side && (i.t - lift.t).abs() < 1e-3);
+            if kind == LiftoffKind::Bounce {
+                bounces += 1;
+                assert!(s.start.clapper.is_flying() && off_an_impact, "{contact:?}: {s:?}");
+            }
+        }
+        assert!(
+            bounces > 0,
+            "{contact:?}: R = 0.6 free ringing has strokes that begin in flight: {kinds:?}"
+        );
+    }
+}

@@ -3,7 +3,7 @@
 
 use clapper_core::bell::{Bell, BellWarning};
 use clapper_core::ringing::{Protocol, Ringing};
-use clapper_core::stroke::{ClapperState, ContactModel, EndReason, Integrator, SimConfig, Stroke};
+use clapper_core::stroke::{ClapperState, ContactModel, EndReason, Integrator, LiftoffKind, SimConfig, Stroke};
 use clapper_core::Choice;
 use serde::Serialize;
 
@@ -183,6 +183,9 @@ pub struct StrokeReport {
     pub bdc_to_strike_ms: Option<f64>,
     /// θ when the clapper last left its starting side before the first strike (deg).
     pub liftoff_theta_deg: Option<f64>,
+    /// How it left then: "from rest", or "bounce" (still flying from the
+    /// stroke before, it bounced off its starting side without resting).
+    pub liftoff_kind: Option<&'static str>,
     /// dt12 (ms).
     pub second_strike_delay_ms: Option<f64>,
     /// A.
@@ -234,6 +237,7 @@ impl StrokeReport {
             }),
             bdc_to_strike_ms: s.bdc_to_strike().map(|t| t * 1e3),
             liftoff_theta_deg: s.liftoff_angle().map(f64::to_degrees),
+            liftoff_kind: s.liftoff_kind.map(LiftoffKind::name),
             second_strike_delay_ms: s.second_strike_delay().map(|d| d * 1e3),
             amplitude_ratio: s.amplitude_ratio(),
             double_strike_index: s.double_strike_index(),

@@ -378,6 +378,9 @@ pub struct Series {
     pub points: Vec<(f64, f64)>,
     /// Draw as markers instead of a line.
     pub markers: bool,
+    /// Draw the line dashed (e.g. where a style cannot be sustained, as the
+    /// paper's Fig 7 does).
+    pub dashed: bool,
     /// Colour.
     pub colour: RGBColor,
 }
@@ -514,11 +517,27 @@ where
             let runs = s.points.split(|p| !(p.0.is_finite() && p.1.is_finite()));
             let mut labelled = false;
             for run in runs.filter(|r| !r.is_empty()) {
-                let drawn = chart.draw_series(LineSeries::new(run.iter().copied(), c.stroke_width(2)))?;
+                let drawn = if s.dashed {
+                    chart.draw_series(DashedLineSeries::new(run.iter().copied(), 8, 6, c.stroke_width(2)))?
+                } else {
+                    chart.draw_series(LineSeries::new(run.iter().copied(), c.stroke_width(2)))?
+                };
                 if !labelled {
-                    drawn
-                        .label(s.label.clone())
-                        .legend(move |(x, y)| PathElement::new([(x, y), (x + 25, y)], c.stroke_width(2)));
+                    let dashed = s.dashed;
+                    drawn.label(s.label.clone()).legend(move |(x, y)| {
+                        // A dashed legend: two short strokes.
+                        let pts = if dashed {
+                            vec![(x, y), (x + 9, y)]
+                        } else {
+                            vec![(x, y), (x + 25, y)]
+                        };
+                        EmptyElement::at((0, 0))
+                            + PathElement::new(pts, c.stroke_width(2))
+                            + PathElement::new(
+                                if dashed { vec![(x + 15, y), (x + 25, y)] } else { vec![] },
+                                c.stroke_width(2),
+                            )
+                    });
                     labelled = true;
                 }
             }

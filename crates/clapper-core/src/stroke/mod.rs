@@ -364,6 +364,28 @@ impl StrokeStart {
     }
 }
 
+/// How the clapper left its starting side at a stroke's lift-off.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum LiftoffKind {
+    /// From rest against its side (pressed, held, or at a standstill there
+    /// at the start): the lift-off of the paper's Section 3.
+    FromRest,
+    /// Off a bounce: the clapper, still flying from the stroke before,
+    /// struck its starting side and left it again without resting; the
+    /// lift-off reported is that last bounce (docs/model.md §4).
+    Bounce,
+}
+
+impl LiftoffKind {
+    /// "from rest" or "bounce", as reports spell it.
+    pub fn name(self) -> &'static str {
+        match self {
+            LiftoffKind::FromRest => "from rest",
+            LiftoffKind::Bounce => "bounce",
+        }
+    }
+}
+
 /// A simulated stroke and its quantities (docs/model.md §4).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Stroke {
@@ -377,6 +399,10 @@ pub struct Stroke {
     pub impacts: Vec<Impact>,
     /// When the clapper last left its starting side before the first strike.
     pub liftoff: Option<Moment>,
+    /// How it left then: from rest, or off a bounce (a clapper still flying
+    /// from the stroke before that struck its starting side and left it
+    /// again without resting). `Some` exactly when `liftoff` is.
+    pub liftoff_kind: Option<LiftoffKind>,
     /// When the clapper first came to rest after the first strike.
     pub rest_after_strike: Option<Moment>,
     /// When the bell passed the bottom (θ = 0).

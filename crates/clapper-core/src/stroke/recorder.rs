@@ -6,7 +6,7 @@ use crate::contact::{Rest, Side, Stops, Transition};
 use crate::dynamics::{State, PHI_DOT, THETA};
 use crate::ode::Stats;
 
-use super::{Impact, Moment, Stroke, StrokeEnd, StrokeStart, Style};
+use super::{Impact, LiftoffKind, Moment, Stroke, StrokeEnd, StrokeStart, Style};
 
 /// What a stroke has done so far.
 pub(super) struct StrokeRecorder {
@@ -14,6 +14,11 @@ pub(super) struct StrokeRecorder {
     start_side: Side,
     impacts: Vec<Impact>,
     liftoff: Option<Moment>,
+    liftoff_kind: Option<LiftoffKind>,
+    /// Whether the clapper has been at rest on its starting side since it
+    /// last left it (or since the start): its next departure is a lift-off
+    /// from rest, not a bounce.
+    rested: bool,
     rest_after_strike: Option<Moment>,
     bottom: Option<Moment>,
     /// Whether the first strike (an impact on the far side) has happened.
@@ -37,6 +42,10 @@ impl StrokeRecorder {
                 t: start.t,
                 theta: y[THETA],
             }),
+            liftoff_kind: leaves_at_once.then_some(LiftoffKind::FromRest),
+            // Against its side at the start (pressed, held, or leaving at
+            // once from a standstill there); in flight from the last stroke otherwise.
+            rested: !start.clapper.is_flying() || leaves_at_once,
             rest_after_strike: None,
             bottom: None,
             struck: false,
@@ -78,8 +87,17 @@ impl StrokeRecorder {
                 Rest::SinceContactStart => self.impacts.last().map(|l| Moment { t: l.t, theta: l.theta }),
             };
         }
+        if tr.rest.is_some() && !self.struck {
+            self.rested = true;
+        }
         if tr.departed == Some(self.start_side) && !self.struck {
             self.liftoff = Some(now);
+            self.liftoff_kind = Some(if self.rested {
+                LiftoffKind::FromRest
+            } else {
+                LiftoffKind::Bounce
+            });
+            self.rested = false;
         }
     }
 
@@ -92,6 +110,7 @@ impl StrokeRecorder {
             style: Style::of(self.start_side, self.start.y[THETA]),
             impacts: self.impacts,
             liftoff: self.liftoff,
+            liftoff_kind: self.liftoff_kind,
             rest_after_strike: self.rest_after_strike,
             bottom: self.bottom,
             end,
