@@ -232,3 +232,43 @@ fn a_liftoff_off_a_bounce_is_told_from_one_from_rest() {
         );
     }
 }
+
+/// At R = 1 an impact near the turning point can reverse the bell's rate
+/// in a jump: the stroke ends there, one swing long, instead of running on
+/// through two or three more swings with θ' never passing through zero.
+#[test]
+fn a_stroke_ends_where_an_impact_reverses_the_bell() {
+    use clapper_core::bell::ChartConstruction;
+    use clapper_core::dynamics::THETA_DOT;
+    use clapper_core::ringing::{ring, Protocol};
+    use clapper_core::stroke::EndReason;
+    let cfg = SimConfig {
+        restitution: 1.0,
+        ..SimConfig::default()
+    };
+    // Chart points where the strokes ran 7.0 s and 36 s before.
+    for (r, lb, style) in [
+        (-0.3, 1.0, Style::Right),
+        (-0.15, 1.7, Style::Wrong),
+        (-0.2, 1.7, Style::Right),
+    ] {
+        let bell = ChartConstruction::default().bell(r, lb).unwrap();
+        let ringing = ring(&bell, &cfg, style, Protocol::Restart, 2, &mut ()).unwrap();
+        for s in &ringing.strokes {
+            let s0 = s.start.y[0].signum();
+            // One swing from 171 deg to the far side takes about 2.4 s here.
+            assert!(
+                s.end.t - s.start.t < 3.0,
+                "({r}, {lb}) {style:?}: a stroke of {:.2} s",
+                s.end.t - s.start.t
+            );
+            assert_eq!(s.end.reason, EndReason::TurningPoint);
+            // It ends with the bell turned (or turning): moving back, or still.
+            assert!(
+                s.end.y[THETA_DOT] * s0 >= -1e-9,
+                "({r}, {lb}): θ' {} at the end",
+                s.end.y[THETA_DOT]
+            );
+        }
+    }
+}

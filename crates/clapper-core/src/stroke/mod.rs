@@ -292,7 +292,8 @@ pub struct Impact {
 /// Why a stroke ended.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum EndReason {
-    /// The bell reached its turning point (θ' = 0 after the bottom).
+    /// The bell reached its turning point: θ' = 0 after the bottom, or θ'
+    /// reversed in a jump by an impact (at R = 1 near the turning point).
     TurningPoint,
     /// The bell went over the balance (|θ| reached 180 deg on the far side).
     OverTheBalance,
@@ -796,7 +797,15 @@ where
                 });
                 let tr = law.transition(&d, e, y, clapper, judge.as_ref());
                 rec.contact(t, &y, &tr);
+                // An impact may reverse the bell's rate in a jump (at R = 1
+                // near a turning point): the bell turns there, though θ'
+                // never passes through zero (docs/model.md §4).
+                let reversed = y[THETA_DOT] * s0 < 0.0 && tr.y[THETA_DOT] * s0 > 0.0;
                 (y, clapper) = (tr.y, tr.clapper);
+                if reversed {
+                    observer.on_jump(&before, &sample(t, y, clapper));
+                    break EndReason::TurningPoint;
+                }
                 if let Some(next) = tr.next {
                     stepper.expect(next);
                 }
