@@ -347,7 +347,8 @@ pub fn summary(r: &SimulationReport) -> String {
                         );
                     }
                     _ => {
-                        let _ = writeln!(o, "  second impact    none; double strike index D = 0");
+                        let why = st.no_second_impact.unwrap_or("none");
+                        let _ = writeln!(o, "  second impact    none ({why}): no double strike index");
                     }
                 }
                 let _ = writeln!(

@@ -119,7 +119,7 @@ fn simulate_json_is_unchanged() {
 /// The JSON with the keys added since the reference was written taken out
 /// (each is a line of its own, never an object's last): issue 17's
 /// `odd_struck_ms` once at the top and `bdc_to_strike_ms` on every stroke,
-/// and issue 21's `liftoff_kind` on every stroke. Everything else must be
+/// and issue 21's `liftoff_kind` and `no_second_impact` on every stroke. Everything else must be
 /// the reference, byte for byte; the additions must be there.
 fn without_added_keys(got: &[u8]) -> Vec<u8> {
     let text = String::from_utf8(got.to_vec()).unwrap();
@@ -128,9 +128,10 @@ fn without_added_keys(got: &[u8]) -> Vec<u8> {
         l.starts_with("\"odd_struck_ms\": ")
             || l.starts_with("\"bdc_to_strike_ms\": ")
             || l.starts_with("\"liftoff_kind\": ")
+            || l.starts_with("\"no_second_impact\": ")
     };
     let strokes = text.matches("\"number\": ").count();
-    for key in ["\"bdc_to_strike_ms\": ", "\"liftoff_kind\": "] {
+    for key in ["\"bdc_to_strike_ms\": ", "\"liftoff_kind\": ", "\"no_second_impact\": "] {
         assert_eq!(text.matches(key).count(), strokes, "{key}: one per stroke");
     }
     assert_eq!(text.matches("\"odd_struck_ms\": ").count(), 1);
@@ -232,14 +233,16 @@ fn shards_written_before_the_refactor_still_merge() {
         .assert()
         .success();
     assert_same("merged", &read(&golden("shards/merged.csv")), &read(&out));
-    // And a fresh run of the same sweep gives the same bytes.
+    // And a fresh run of the same sweep gives the same bytes as the
+    // merge, but for the double strike index that issue 21 follows past
+    // the turning point: that run is kept as shards/fresh.csv (README).
     let fresh = dir.path().join("fresh.csv");
     clapper()
         .args(["chart", "--grid", "4", "--theta0", "150,171", "--csv"])
         .arg(&fresh)
         .assert()
         .success();
-    assert_same("fresh", &read(&golden("shards/merged.csv")), &read(&fresh));
+    assert_same("fresh", &read(&golden("shards/fresh.csv")), &read(&fresh));
 }
 
 #[test]

@@ -190,8 +190,10 @@ pub struct StrokeReport {
     pub second_strike_delay_ms: Option<f64>,
     /// A.
     pub amplitude_ratio: Option<f64>,
-    /// D of (33), clamped.
+    /// D of (33), clamped; null without a second impact.
     pub double_strike_index: Option<f64>,
+    /// Why a stroke that struck has no second impact (and so no D), or null.
+    pub no_second_impact: Option<&'static str>,
     /// Time from the first strike until the clapper came to rest (s).
     pub bounce_time_s: Option<f64>,
     /// Every impact.
@@ -241,6 +243,7 @@ impl StrokeReport {
             second_strike_delay_ms: s.second_strike_delay().map(|d| d * 1e3),
             amplitude_ratio: s.amplitude_ratio(),
             double_strike_index: s.double_strike_index(),
+            no_second_impact: s.no_second_impact(),
             bounce_time_s: s.bounce_time(),
             impacts: s
                 .impacts

@@ -387,6 +387,21 @@ impl LiftoffKind {
     }
 }
 
+/// What the clapper did after a stroke that reached its turning point
+/// between its first strike and a second impact: the double strike's
+/// second impact may come after the bell has turned (docs/model.md §4).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum AfterEnd {
+    /// Its next impact (the second strike), after the stroke's end.
+    Impact(Impact),
+    /// It came to rest on the bell without another impact.
+    Rested(Moment),
+    /// The bell went over the balance first.
+    OverTheBalance,
+    /// No impact within one bell period T_b after the stroke's end.
+    NoneWithin,
+}
+
 /// A simulated stroke and its quantities (docs/model.md §4).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Stroke {
@@ -410,7 +425,11 @@ pub struct Stroke {
     pub bottom: Option<Moment>,
     /// How it ended.
     pub end: StrokeEnd,
-    /// Integrator work.
+    /// The clapper followed past the end, when the stroke ended at its
+    /// turning point with a first strike, no impact after it and the
+    /// clapper not at rest: where its second impact came, or why none did.
+    pub after_end: Option<AfterEnd>,
+    /// Integrator work (the following past the end included).
     pub stats: Stats,
     /// Events handled.
     pub events: u32,
@@ -428,9 +447,33 @@ impl Stroke {
         self.first_strike_index().map(|i| &self.impacts[i])
     }
 
-    /// The impact after the first strike (the second strike).
+    /// The impact after the first strike (the second strike): in the
+    /// stroke, or after its end when the bell turned first.
     pub fn second_strike(&self) -> Option<&Impact> {
-        self.first_strike_index().and_then(|i| self.impacts.get(i + 1))
+        let i = self.first_strike_index()?;
+        self.impacts.get(i + 1).or(match &self.after_end {
+            Some(AfterEnd::Impact(imp)) => Some(imp),
+            _ => None,
+        })
+    }
+
+    /// Why a stroke that struck has no second impact, in words; `None` if
+    /// it has one or did not strike.
+    pub fn no_second_impact(&self) -> Option<&'static str> {
+        self.first_strike()?;
+        if self.second_strike().is_some() {
+            return None;
+        }
+        Some(match (self.after_end, self.end.reason) {
+            (Some(AfterEnd::OverTheBalance), _) | (_, EndReason::OverTheBalance) => {
+                "the bell went over the balance first"
+            }
+            (Some(AfterEnd::NoneWithin), _) => "none within a bell period after the turning point",
+            (_, EndReason::TimeLimit) => "the stroke reached its time limit first",
+            (_, EndReason::Held) => "the bell was held first",
+            // At rest after the strike, in the stroke or after it.
+            _ => "the clapper came to rest on the bell after the strike",
+        })
     }
 
     /// Every strike: the first strike and every impact after it.
@@ -470,16 +513,15 @@ impl Stroke {
         Some(second / first)
     }
 
-    /// The double strike index D of (33), clamped (docs/model.md §4). `None` without
-    /// a first strike; 0 when the first strike has no second impact (the
-    /// clapper stayed on the bell or the stroke ended first: nothing to hear
-    /// as a second strike).
+    /// The double strike index D of (33), clamped (docs/model.md §4), of
+    /// the first strike and the impact after it (after the stroke's end if
+    /// the bell turned first). `None` without a first strike, or without a
+    /// second impact ([`Self::no_second_impact`] says why).
     pub fn double_strike_index(&self) -> Option<f64> {
-        self.first_strike()?;
-        match (self.amplitude_ratio(), self.second_strike_delay()) {
-            (Some(a), Some(dt)) => Some(double_strike_index(a, dt * 1e3)),
-            _ => Some(0.0),
-        }
+        Some(double_strike_index(
+            self.amplitude_ratio()?,
+            self.second_strike_delay()? * 1e3,
+        ))
     }
 
     /// Time from bottom dead centre (θ = 0) to the first strike (s), what a
@@ -810,27 +852,129 @@ where
                     stepper.expect(next);
                 }
             }
-            Ev::Friction(e) => {
-                // Relative to the bell the clapper is still, for an instant
-                // (slip stops) or from now on (stuck).
-                y[PHI_DOT] = 0.0;
-                clapper = match e {
-                    FrictionEvent::SlipStops => {
-                        let bell_load = load_now.map_or(0.0, |l| l.theta(&y));
-                        let hold = d.resting_q(&y, bell_load).1;
-                        if hold.abs() <= stops.grip {
-                            ClapperState::Stuck
-                        } else {
-                            clapper
-                        }
-                    }
-                    FrictionEvent::Breakaway => ClapperState::FLYING,
-                };
-            }
+            Ev::Friction(e) => (y, clapper) = frictional(&d, &frame, e, y, clapper, load_now),
         }
         observer.on_jump(&before, &sample(t, y, clapper));
     };
     let last = sample(t, y, clapper);
     observer.on_jump(&last, &last);
-    Ok(rec.finish(StrokeEnd { t, y, clapper, reason }, stepper.stats(), events))
+    // The second impact of a double strike may come after the bell has
+    // turned: follow the clapper (unobserved: the stroke is over) until it.
+    let after_end = if reason == EndReason::TurningPoint && rec.awaits_second_impact() {
+        let back = StrokeFrame {
+            stops: frame.stops,
+            // The bearing's Coulomb torque turns with the bell; the ringer's
+            // pull is left out of this look past the stroke.
+            friction: frame.friction.map(|l| Load {
+                bell_torque: -l.bell_torque,
+                ..l
+            }),
+            pull: None,
+        };
+        let budget = cfg.max_events.saturating_sub(events);
+        Some(follow_to_next_impact(
+            &mut stepper,
+            &d,
+            law.as_ref(),
+            &back,
+            (t, y, clapper),
+            -s0,
+            t + bell.tb(),
+            budget,
+        )?)
+    } else {
+        None
+    };
+    let mut stroke = rec.finish(StrokeEnd { t, y, clapper, reason }, stepper.stats(), events);
+    stroke.after_end = after_end;
+    Ok(stroke)
+}
+
+/// Follow the clapper from a stroke's end (time, state, clapper) with the
+/// bell swinging back (`s0`: the side of the bottom it now starts from)
+/// until its next impact, its rest, the bell over the balance, `t_limit`
+/// (s) or `budget` events, whichever is first.
+#[allow(clippy::too_many_arguments)]
+fn follow_to_next_impact<M>(
+    stepper: &mut M,
+    d: &Dynamics,
+    law: &dyn ContactLaw,
+    frame: &StrokeFrame,
+    (mut t, mut y, mut clapper): (f64, State, ClapperState),
+    mut s0: f64,
+    t_limit: f64,
+    budget: u32,
+) -> Result<AfterEnd, SimError>
+where
+    M: for<'a> Stepper<4, Segment<'a>>,
+{
+    let mut bottom_passed = false;
+    for _ in 0..budget {
+        let seg = Segment::new(d, law, frame, clapper, &y, s0, bottom_passed);
+        let load_now = seg.load();
+        let stop = stepper.integrate(&seg, t, y, t_limit, &mut |_: &dyn DenseOutput<4>, _| {})?;
+        (t, y) = (stop.t, stop.y);
+        let Stop::Event(i) = stop.stop else {
+            return Ok(AfterEnd::NoneWithin);
+        };
+        match seg.kind(i) {
+            Ev::Bell(BellEvent::OverTop) => return Ok(AfterEnd::OverTheBalance),
+            // Another swing: watch its bottom and turning point afresh.
+            Ev::Bell(BellEvent::Turning) => (s0, bottom_passed) = (-s0, false),
+            Ev::Bell(BellEvent::Bottom) => bottom_passed = true,
+            Ev::Bell(BellEvent::Pull) => {}
+            Ev::Contact(e) => {
+                let judge = load_now.map(|l| Load {
+                    clapper_torque: frame.friction.map_or(0.0, |f| f.clapper_torque),
+                    ..l
+                });
+                let tr = law.transition(d, e, y, clapper, judge.as_ref());
+                if let Some(side) = tr.impact {
+                    return Ok(AfterEnd::Impact(Impact {
+                        t,
+                        theta: y[THETA],
+                        phi_dot_before: y[PHI_DOT],
+                        phi_dot_after: tr.rebound,
+                        side,
+                    }));
+                }
+                if tr.rest.is_some() {
+                    return Ok(AfterEnd::Rested(Moment { t, theta: y[THETA] }));
+                }
+                (y, clapper) = (tr.y, tr.clapper);
+                if let Some(next) = tr.next {
+                    stepper.expect(next);
+                }
+            }
+            Ev::Friction(e) => (y, clapper) = frictional(d, frame, e, y, clapper, load_now),
+        }
+    }
+    Ok(AfterEnd::NoneWithin)
+}
+
+/// The clapper at a friction event: still relative to the bell, for an
+/// instant (slip stops, unless the pivot's friction can hold it: stuck) or
+/// from now on; or free again (breakaway).
+fn frictional(
+    d: &Dynamics,
+    frame: &StrokeFrame,
+    e: FrictionEvent,
+    mut y: State,
+    clapper: ClapperState,
+    load: Option<Load>,
+) -> (State, ClapperState) {
+    y[PHI_DOT] = 0.0;
+    let clapper = match e {
+        FrictionEvent::SlipStops => {
+            let bell_load = load.map_or(0.0, |l| l.theta(&y));
+            let hold = d.resting_q(&y, bell_load).1;
+            if hold.abs() <= frame.stops.grip {
+                ClapperState::Stuck
+            } else {
+                clapper
+            }
+        }
+        FrictionEvent::Breakaway => ClapperState::FLYING,
+    };
+    (y, clapper)
 }

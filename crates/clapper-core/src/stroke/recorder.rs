@@ -101,6 +101,13 @@ impl StrokeRecorder {
         }
     }
 
+    /// Whether the stroke has struck and awaits the impact after its first
+    /// strike, the clapper not at rest.
+    pub(super) fn awaits_second_impact(&self) -> bool {
+        let first = self.impacts.iter().position(|i| i.side != self.start_side);
+        first.is_some_and(|k| k + 1 == self.impacts.len()) && self.rest_after_strike.is_none()
+    }
+
     /// The stroke, ended as `end`, with the stepper's work and the number
     /// of events handled.
     pub(super) fn finish(self, end: StrokeEnd, stats: Stats, events: u32) -> Stroke {
@@ -114,6 +121,7 @@ impl StrokeRecorder {
             rest_after_strike: self.rest_after_strike,
             bottom: self.bottom,
             end,
+            after_end: None,
             stats,
             events,
         }
