@@ -711,20 +711,11 @@ fn ring_up_and_the_goes_up_chart() {
 #[test]
 fn design_clapper_prints_and_writes_a_clapper_a_bell_file_reads() {
     let parts = [
-        "design-clapper",
-        "--shaft-length",
-        "0.69",
-        "--shaft-diameter",
-        "0.05",
-        "--ball-diameter",
-        "0.14",
-        "--ball-position",
-        "0.76",
-        "--flight-length",
-        "0.2",
-        "--flight-diameter",
-        "0.05",
-    ];
+        &["design-clapper"][..],
+        &common::TENOR_CLAPPER_PARTS,
+        &["--flight-length", "0.2", "--flight-diameter", "0.05"],
+    ]
+    .concat();
     let v = json(&parts);
     for key in ["m_kg", "b_m", "ic_kg_m2", "lc_m", "tc_s"] {
         assert!(v[key].as_f64().unwrap() > 0.0, "{key}: {v}");
@@ -1120,18 +1111,7 @@ fn a_dash_is_standard_output_for_every_text_or_sound_output() {
         (&["chart", "--grid", "5", "--csv"], "c.csv", "sustains ringing right"),
         (&["synth", "--preset", "lab", "--strokes", "1", "--out"], "s.wav", ""),
         (
-            &[
-                "design-clapper",
-                "--shaft-length",
-                "0.69",
-                "--shaft-diameter",
-                "0.05",
-                "--ball-diameter",
-                "0.14",
-                "--ball-position",
-                "0.76",
-                "--out",
-            ],
+            &[&["design-clapper"][..], &common::TENOR_CLAPPER_PARTS, &["--out"]].concat(),
             "d.toml",
             "T_c",
         ),

@@ -18,3 +18,16 @@ pub fn json(args: &[&str]) -> serde_json::Value {
     );
     serde_json::from_slice(&out.stdout).unwrap()
 }
+
+/// The tenor's clapper by its parts (README's design-clapper example):
+/// shaft, ball and their place, as `design-clapper` options.
+pub const TENOR_CLAPPER_PARTS: [&str; 8] = [
+    "--shaft-length",
+    "0.69",
+    "--shaft-diameter",
+    "0.05",
+    "--ball-diameter",
+    "0.14",
+    "--ball-position",
+    "0.76",
+];
