@@ -17,9 +17,19 @@ pub fn is_stdout(path: &Path) -> bool {
 }
 
 /// Whether standard output carries an output's bytes (so a summary goes
-/// to standard error: see [`crate::say`]).
+/// to standard error: see [`summary`]).
 pub fn stdout_is_data() -> bool {
     STDOUT_IS_DATA.load(Ordering::Relaxed)
+}
+
+/// Print a command's summary text: on standard output, or on standard
+/// error when standard output carries an output's bytes.
+pub fn summary(text: std::fmt::Arguments<'_>) {
+    if stdout_is_data() {
+        eprint!("{text}");
+    } else {
+        print!("{text}");
+    }
 }
 
 /// Give standard output to the one output among `outputs` (option name,

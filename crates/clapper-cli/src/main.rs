@@ -2,15 +2,11 @@
 
 /// `println!` for a command's summary: to standard output, or to standard
 /// error when an output file is `-` and standard output carries its bytes
-/// (`clapper strikes rec.wav --csv - | ...`).
+/// (`clapper strikes rec.wav --csv - | ...`; see [`files::summary`]).
 #[macro_export]
 macro_rules! say {
     ($($arg:tt)*) => {
-        if $crate::files::stdout_is_data() {
-            eprintln!($($arg)*)
-        } else {
-            println!($($arg)*)
-        }
+        $crate::files::summary(format_args!("{}\n", format_args!($($arg)*)))
     };
 }
 
@@ -18,11 +14,7 @@ macro_rules! say {
 #[macro_export]
 macro_rules! say_text {
     ($($arg:tt)*) => {
-        if $crate::files::stdout_is_data() {
-            eprint!($($arg)*)
-        } else {
-            print!($($arg)*)
-        }
+        $crate::files::summary(format_args!($($arg)*))
     };
 }
 

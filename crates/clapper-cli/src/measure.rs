@@ -14,7 +14,21 @@ use clapper_signal::accel::{velocity_jumps, JumpOptions};
 use clapper_signal::spectrogram::spectrogram;
 
 fn line_plot(path: &std::path::Path, title: &str, x: &str, y: &str, series: &[Series]) -> Result<()> {
-    crate::files::write_atomically(path, |tmp| Ok(clapper_plot::line_plot(tmp, title, x, y, series)?))
+    line_plot_scaled(path, title, x, y, series, false)
+}
+
+/// [`line_plot`], with a logarithmic x axis if `log_x`.
+fn line_plot_scaled(
+    path: &std::path::Path,
+    title: &str,
+    x: &str,
+    y: &str,
+    series: &[Series],
+    log_x: bool,
+) -> Result<()> {
+    crate::files::write_atomically(path, |tmp| {
+        Ok(clapper_plot::line_plot_scaled(tmp, title, x, y, series, log_x)?)
+    })
 }
 
 /// The jumps of one or more drops (a newtype, so clap takes it as one value).
@@ -321,9 +335,7 @@ pub fn impulse(args: ImpulseArgs) -> Result<()> {
                 colour: RGBColor(210, 40, 40),
             },
         ];
-        crate::files::write_atomically(p, |tmp| {
-            Ok(clapper_plot::line_plot_scaled(tmp, &title, x, y, &series, true)?)
-        })?;
+        line_plot_scaled(p, &title, x, y, &series, true)?;
     }
     print_report(&report, args.json, || report.text())
 }
