@@ -3,8 +3,8 @@
 //! code), plus root location of events on the dense output.
 
 use super::{
-    begin, check_options, crossed, sign, split_exp2, split_exponent, DenseOutput, Direction, NextSegment, Observe,
-    OdeError, Options, Run, Segment, Span, Stats, Stepper, Stop, System, MAX_EVENTS,
+    begin, check_options, crossed, sign, split_exp2, split_exponent, DenseOutput, Direction, ErrorWeights, NextSegment,
+    Observe, OdeError, Options, Run, Segment, Span, Stats, Stepper, Stop, System, MAX_EVENTS,
 };
 
 // Butcher tableau of Dormand & Prince (1980).
@@ -143,22 +143,29 @@ impl<const N: usize> Dopri5<N> {
     }
 
     #[inline]
-    fn err_norm(&self, y0: &[f64; N], y1: &[f64; N], e: &[f64; N]) -> f64 {
+    fn err_norm(&self, w: &ErrorWeights<N>, y0: &[f64; N], y1: &[f64; N], e: &[f64; N]) -> f64 {
         let mut s = 0.0;
         for i in 0..N {
-            let sk = self.opts.atol + self.opts.rtol * y0[i].abs().max(y1[i].abs());
+            let sk = w.scale(i, y0[i]).max(w.scale(i, y1[i]));
             let q = e[i] / sk;
             s += q * q;
         }
         (s / N as f64).sqrt()
     }
 
-    fn initial_step<S: System<N> + ?Sized>(&mut self, sys: &S, t0: f64, y0: &[f64; N], f0: &[f64; N]) -> f64 {
+    fn initial_step<S: System<N> + ?Sized>(
+        &mut self,
+        sys: &S,
+        w: &ErrorWeights<N>,
+        t0: f64,
+        y0: &[f64; N],
+        f0: &[f64; N],
+    ) -> f64 {
         let mut d0 = 0.0;
         let mut d1 = 0.0;
         for i in 0..N {
-            let sk = self.opts.atol + self.opts.rtol * y0[i].abs();
-            d0 += (y0[i] / sk).powi(2);
+            let sk = w.scale(i, y0[i]);
+            d0 += ((y0[i] - w.origin[i]) / sk).powi(2);
             d1 += (f0[i] / sk).powi(2);
         }
         d0 = (d0 / N as f64).sqrt();
@@ -170,7 +177,7 @@ impl<const N: usize> Dopri5<N> {
         self.stats.rhs_evals += 1;
         let mut d2 = 0.0;
         for i in 0..N {
-            let sk = self.opts.atol + self.opts.rtol * y0[i].abs();
+            let sk = w.scale(i, y0[i]);
             d2 += ((f1[i] - f0[i]) / sk).powi(2);
         }
         d2 = (d2 / N as f64).sqrt() / h0;
@@ -202,6 +209,7 @@ impl<const N: usize, S: System<N> + ?Sized> Stepper<N, S> for Dopri5<N> {
         }
         let events = sys.events();
         let n_ev = events.len();
+        let weights = sys.error_weights(self.opts.atol, self.opts.rtol);
 
         // Event bookkeeping: last value, the sign it is known to have, and
         // whether it starts exactly at zero (a restart at its own root).
@@ -225,7 +233,7 @@ impl<const N: usize, S: System<N> + ?Sized> Stepper<N, S> for Dopri5<N> {
         }
         let mut h = match self.h_next {
             Some(h) => h.min(self.opts.h_max),
-            None => self.initial_step(sys, t, &y, &k1),
+            None => self.initial_step(sys, &weights, t, &y, &k1),
         };
         let mut fac_old = 1e-4f64;
         let mut last_rejected = false;
@@ -270,7 +278,7 @@ impl<const N: usize, S: System<N> + ?Sized> Stepper<N, S> for Dopri5<N> {
             let e: [f64; N] = std::array::from_fn(|i| {
                 h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i])
             });
-            let err = self.err_norm(&y, &y_new, &e);
+            let err = self.err_norm(&weights, &y, &y_new, &e);
 
             if !err.is_finite() {
                 // Treat like a failed step: shrink hard and try again.
@@ -599,5 +607,54 @@ mod tests {
         let r = locate_root(|t| t * (t - 1.0), 0.0, 0.0, -1, 1.5, 0.75, 1e-13);
         assert!((r - 1.0).abs() < 1e-12, "{r}");
         assert!(r >= 1.0);
+    }
+
+    /// A tiny oscillation about a far origin, y = c + A cos(ω t) with
+    /// A = 1e-9 and c = 1: the penalty spring's resting clapper in
+    /// miniature. Weighed from zero with an order-one absolute tolerance,
+    /// the oscillation is lost in the tolerance; weighed from c with the
+    /// tolerance scaled to A (as `ErrorWeights` lets a system say), it is
+    /// followed to the tolerance's share of A. Checked against the exact
+    /// solution.
+    struct Ring {
+        origin: bool,
+    }
+    const RING_A: f64 = 1e-9;
+    impl System<2> for Ring {
+        fn rhs(&self, _t: f64, y: &[f64; 2]) -> [f64; 2] {
+            [y[1], -100.0 * (y[0] - 1.0)]
+        }
+        fn error_weights(&self, atol: f64, rtol: f64) -> ErrorWeights<2> {
+            let mut w = ErrorWeights::uniform(atol, rtol);
+            if self.origin {
+                w.origin[0] = 1.0;
+                w.atol = [atol * RING_A, atol * RING_A * 10.0];
+            }
+            w
+        }
+    }
+
+    #[test]
+    fn error_weights_from_an_origin_resolve_a_small_deflection() {
+        // A largest step well beyond the ring's period, so that the
+        // tolerance alone sets the steps.
+        let error = |origin| {
+            let mut s = Dopri5::new(Options {
+                h_max: 10.0,
+                ..Options::default()
+            });
+            let mut noop = |_: &dyn DenseOutput<2>, _: f64| {};
+            let seg = s
+                .integrate(&Ring { origin }, 0.0, [1.0 + RING_A, 0.0], 3.0, &mut noop)
+                .unwrap();
+            let exact = 1.0 + RING_A * (10.0f64 * 3.0).cos();
+            ((seg.y[0] - exact) / RING_A).abs()
+        };
+        let (plain, weighed) = (error(false), error(true));
+        assert!(plain > 0.1, "weighed from zero: error {plain} of the amplitude");
+        assert!(
+            weighed < 1e-5,
+            "weighed from the origin: error {weighed} of the amplitude"
+        );
     }
 }

@@ -14,8 +14,8 @@
 //! every component, capped at `h_max`.
 
 use super::{
-    begin, check_options, crossed, sign, split_exp2, split_exponent, DenseOutput, Direction, NextSegment, Observe,
-    OdeError, Options, Run, Segment, Source, Span, Stats, Stepper, Stop, System, MAX_EXTRA,
+    begin, check_options, crossed, sign, split_exp2, split_exponent, DenseOutput, Direction, ErrorWeights, NextSegment,
+    Observe, OdeError, Options, Run, Segment, Source, Span, Stats, Stepper, Stop, System, MAX_EXTRA,
 };
 
 /// The highest order an expansion may have.
@@ -267,10 +267,10 @@ impl<const N: usize> Taylor<N> {
     }
 
     /// The step the last two coefficients allow (s), before capping.
-    fn step_size(&self, y: &[f64; N], p: usize) -> f64 {
+    fn step_size(&self, y: &[f64; N], p: usize, w: &ErrorWeights<N>) -> f64 {
         let (mut m1, mut m2) = (0.0f64, 0.0f64);
-        for (yi, xi) in y.iter().zip(&self.series.x) {
-            let inv = 1.0 / (self.opts.atol + self.opts.rtol * yi.abs());
+        for (i, (yi, xi)) in y.iter().zip(&self.series.x).enumerate() {
+            let inv = 1.0 / w.scale(i, *yi);
             m1 = m1.max(xi[p - 1].abs() * inv);
             m2 = m2.max(xi[p].abs() * inv);
         }
@@ -398,6 +398,7 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
             return Ok(done);
         }
         let events = sys.events();
+        let weights = sys.error_weights(self.opts.atol, self.opts.rtol);
         let p = self.next_order.take().unwrap_or(self.order);
         let mut cap = self.next_cap.take().unwrap_or(f64::INFINITY);
         let mut t = t0;
@@ -418,7 +419,7 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
                 return Err(OdeError::NonFinite { t });
             }
             let remaining = t_end - t;
-            let h = self.step_size(&y, p).min(self.h_max).min(cap);
+            let h = self.step_size(&y, p, &weights).min(self.h_max).min(cap);
             cap = f64::INFINITY;
             let last = h >= remaining;
             let h = if last { remaining } else { h };
