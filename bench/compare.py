@@ -2,7 +2,8 @@
 """clapper against its peers, on the same work, in one run.
 
 Runs clapper (release build), the SciPy peer (impact with restarts, and the
-paper's penalty spring) and the Octave peer (ode45 with an Events function)
+paper's penalty spring), the Octave peer (ode45 with an Events function) and
+the CVODE peer (SUNDIALS, Adams and BDF, with its root finding)
 on the paper's 20 x 20 chart of both styles and the lab bell, measures time
 per stroke and the chart's wall time, and the error of the first strike
 angle and strike velocity (read in full, not from the CSV's six decimals)
@@ -23,6 +24,7 @@ ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 CLAPPER = os.path.join(ROOT, "target", "release", "clapper")
 PEERS = os.path.join(ROOT, "bench", "peers")
 WORK = os.path.join(ROOT, "target", "bench")
+CVODE = os.path.join(WORK, "cvode_peer")  # built by bench/run
 N = 20  # the paper's chart
 REPEATS = 20
 # clapper's time per stroke: a denser chart of the same domain, so that a
@@ -94,6 +96,31 @@ def scipy_chart(model, rtol, n=N):
         else:
             secs = d["seconds"]
     return cells, secs, sum(evals) / len(evals)
+
+
+def cvode_chart(method, rtol, n=N):
+    """The CVODE peer's chart: cells, seconds, mean RHS calls per stroke
+    (its JSON lines are the SciPy peer's)."""
+    cells, secs, evals = {}, None, []
+    for line in sh([CVODE, "--chart", str(n), "--method", method, "--rtol", str(rtol)]).splitlines():
+        d = json.loads(line)
+        if "point" in d:
+            json_cell(d, cells)
+            evals.append(d["rhs_evals"])
+        else:
+            secs = d["seconds"]
+    return cells, secs, sum(evals) / len(evals)
+
+
+def lab_cvode(method, rtol):
+    """The lab bell ringing right, the least time per stroke of 20 runs of 20 strokes."""
+    best, d = float("inf"), None
+    for _ in range(20):
+        lines = [json.loads(l) for l in sh([CVODE, "--bell", "lab", "--method", method, "--rtol", str(rtol),
+                                            "--repeat", "20"]).splitlines()]
+        d = lines[0]
+        best = min(best, lines[1]["seconds_per_stroke"])
+    return best, d["strike_theta_deg"], d["strike_phidot_rad_s"]
 
 
 def octave_chart(rtol, n=N):
@@ -194,6 +221,15 @@ def main():
         m_rtol, m_per = match(e)
         peer_rows.append((f"SciPy impact, rtol {rtol:g}, chart", per / clapper_per_stroke, m_rtol,
                           per / m_per if m_per else None, evals))
+    for method, name in [("adams", "Adams"), ("bdf", "BDF")]:
+        for rtol in [1e-6, 1e-8, 1e-10, 1e-12]:
+            cells, secs, evals = cvode_chart(method, rtol)
+            e = errors(ref, cells)
+            per = secs / len(cells)
+            rows.append((f"CVODE {name} + roots, impact, rtol {rtol:g}", per, secs, *e))
+            m_rtol, m_per = match(e)
+            peer_rows.append((f"CVODE {name} impact, rtol {rtol:g}, chart", per / clapper_per_stroke, m_rtol,
+                              per / m_per if m_per else None, evals))
     cells, secs = octave_chart(1e-8)
     e = errors(ref, cells)
     per = secs / len(cells)
@@ -216,6 +252,9 @@ def main():
         lab.append((f"SciPy impact, rtol {rtol:g}", *lab_scipy(rtol)))
     for rtol in [1e-8, 1e-10, 1e-12]:
         lab.append((f"Octave impact, rtol {rtol:g}", *lab_octave(rtol)))
+    for method, name in [("adams", "Adams"), ("bdf", "BDF")]:
+        for rtol in [1e-8, 1e-10, 1e-12]:
+            lab.append((f"CVODE {name} impact, rtol {rtol:g}", *lab_cvode(method, rtol)))
     lab_err = [(n, t, abs(th - ref_lab[1]), abs(ph - ref_lab[2])) for n, t, th, ph in lab]
     mine_taylor = [r for r in lab_err if r[0].startswith("clapper") and "Dormand" not in r[0]]
 
@@ -233,6 +272,8 @@ def main():
         "scipy": __import__("scipy").__version__,
         "numpy": __import__("numpy").__version__,
         "octave": sh(["octave-cli", "--version"]).splitlines()[0],
+        "sundials": re.search(r'SUNDIALS_VERSION "([^"]+)"',
+                              open("/usr/include/sundials/sundials_config.h").read()).group(1),
     }
     write_doc(rows, peer_rows, lab_rows, versions, big, big_reported, t_all, floor, lab_floor)
 
