@@ -106,6 +106,9 @@ pub fn settings_words(spec: &ChartSpec) -> String {
     if !h.friction.is_none() {
         extra += ", with friction";
     }
+    if !spec.config.strike_amplitude.is_rate() {
+        extra += &format!(", A by {}", spec.config.strike_amplitude);
+    }
     format!(
         "theta0 = {:.0} deg, R = {}{}, phi_max = {:.0} deg{extra}, {} contact, {} x {}",
         spec.config.theta0.to_degrees(),

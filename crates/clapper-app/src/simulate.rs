@@ -312,7 +312,10 @@ pub fn summary(r: &SimulationReport) -> String {
         .stiffness_n_m_per_rad
         .map(|k| format!(" (k = {k:e} N m/rad)"))
         .unwrap_or_default();
-    let later = s.restitution_later.map(|r2| format!(", R2 = {r2}")).unwrap_or_default();
+    let mut later = s.restitution_later.map(|r2| format!(", R2 = {r2}")).unwrap_or_default();
+    if !s.strike_amplitude.is_rate() {
+        later += &format!(", A by {}", s.strike_amplitude);
+    }
     let _ = writeln!(
         o,
         "settings: ringing {} from theta0 = {:.1} deg, R = {}{later}, {} contact{stiffness}, {} protocol",

@@ -29,6 +29,8 @@ pub struct StrokeOptions {
     pub restitution: Option<f64>,
     /// R2, if given apart from R.
     pub restitution_later: Option<f64>,
+    /// What the double strike's amplitude ratio compares, if named.
+    pub strike_amplitude: Option<StrikeAmplitude>,
     /// The contact law, if named.
     pub contact: Option<ContactModel>,
     /// The penalty law's stiffness k (N m/rad), if given.
@@ -59,6 +61,7 @@ impl StrokeOptions {
             theta0: self.theta0.to_radians(),
             restitution: self.restitution.unwrap_or(DEFAULT_RESTITUTION),
             restitution_later: self.restitution_later,
+            strike_amplitude: self.strike_amplitude.unwrap_or_default(),
             contact,
             stiffness,
             integrator: self.integrator.unwrap_or_default(),
@@ -104,6 +107,11 @@ macro_rules! with_stroke_options {
             /// on a side (0 < R2 ≤ 1); unset means R2 = R.
             #[serde(default, skip_serializing_if = "Option::is_none", alias = "restitution-later")]
             pub restitution_later: Option<f64>,
+            /// What the double strike's amplitude ratio A compares: rate
+            /// (the clapper's, the default), impulse or vibration
+            /// (docs/model.md §4.1).
+            #[serde(default, skip_serializing_if = "Option::is_none", alias = "strike-amplitude")]
+            pub strike_amplitude: Option<clapper_core::stroke::StrikeAmplitude>,
             /// Contact model (default impact; a stiffness implies penalty).
             #[serde(default)]
             pub contact: Option<clapper_core::stroke::ContactModel>,
@@ -175,6 +183,7 @@ macro_rules! with_stroke_options {
                     theta0: self.theta0,
                     restitution: self.restitution,
                     restitution_later: self.restitution_later,
+                    strike_amplitude: self.strike_amplitude,
                     contact: self.contact,
                     stiffness: self.stiffness,
                     rtol: self.rtol,
@@ -228,6 +237,7 @@ mod tests {
         names_are_serde_forms::<Protocol>();
         names_are_serde_forms::<ContactModel>();
         names_are_serde_forms::<Integrator>();
+        names_are_serde_forms::<StrikeAmplitude>();
         names_are_serde_forms::<Styles>();
     }
 
@@ -237,6 +247,7 @@ mod tests {
             theta0: 171.0,
             restitution: None,
             restitution_later: None,
+            strike_amplitude: None,
             contact,
             stiffness,
             rtol: None,

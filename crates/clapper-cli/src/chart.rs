@@ -118,6 +118,7 @@ impl SweepArgs {
             theta0: self.theta0[0],
             restitution: Some(self.restitution[0]),
             restitution_later: self.solver.restitution_later,
+            strike_amplitude: self.solver.strike_amplitude,
             phi_max: self.phi_max[0],
             contact: self.solver.contact,
             stiffness: self.solver.stiffness,

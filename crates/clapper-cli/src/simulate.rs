@@ -89,12 +89,18 @@ pub struct SolverArgs {
     /// both from clapper drops.
     #[arg(long, value_name = "R2")]
     pub restitution_later: Option<f64>,
+    /// What the double strike's amplitude ratio A compares: rate (the
+    /// clapper's, default), impulse (the synthesised strikes') or
+    /// vibration (the energy each impact takes); docs/model.md section 4.1.
+    #[arg(long, value_parser = choice::<StrikeAmplitude>())]
+    pub strike_amplitude: Option<StrikeAmplitude>,
 }
 
 impl SolverArgs {
     /// Copy these options into a simulate request.
     pub fn set(&self, req: &mut SimulateRequest) {
         req.restitution_later = self.restitution_later;
+        req.strike_amplitude = self.strike_amplitude;
         req.contact = self.contact;
         req.stiffness = self.stiffness;
         req.rtol = self.rtol;

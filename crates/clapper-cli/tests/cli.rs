@@ -520,6 +520,53 @@ fn restitution_reports_both_coefficients_and_simulate_takes_them() {
     assert!(String::from_utf8_lossy(&out.stderr).contains("restitution_later"));
 }
 
+/// `--strike-amplitude` reaches the stroke's A and D and the settings in
+/// `simulate --json`, and the chart's D column, and names itself in the
+/// summary; the default leaves the settings as they were.
+#[test]
+fn the_strike_amplitude_reading_reaches_simulate_and_chart() {
+    let base = [
+        "simulate",
+        "--preset",
+        "lab",
+        "--restitution",
+        "0.05",
+        "--restitution-later",
+        "0.5",
+    ];
+    let rate = common::json(&base);
+    let vib = common::json(&[&base[..], &["--strike-amplitude", "vibration"]].concat());
+    assert!(rate["settings"].get("strike_amplitude").is_none());
+    assert_eq!(vib["settings"]["strike_amplitude"], "vibration");
+    let (a, b) = (&rate["strokes"][0], &vib["strokes"][0]);
+    assert_eq!(a["first_strike"], b["first_strike"]);
+    let (ra, va) = (
+        a["amplitude_ratio"].as_f64().unwrap(),
+        b["amplitude_ratio"].as_f64().unwrap(),
+    );
+    // The bounce after the strike is on its side: √((1 − R2) / (1 − R)).
+    let want = ra * ((1.0f64 - 0.5) / (1.0 - 0.05)).sqrt();
+    assert!((va / want - 1.0).abs() < 1e-12, "{va} against {want}");
+    let text = common::clapper()
+        .args(base)
+        .args(["--strike-amplitude", "vibration"])
+        .output()
+        .unwrap();
+    assert!(String::from_utf8_lossy(&text.stdout).contains("A by vibration"));
+    let chart = |how: &str| {
+        let out = common::clapper()
+            .args(["chart", "--grid", "6", "--style", "right", "--restitution", "0.05"])
+            .args(["--restitution-later", "0.5", "--strike-amplitude", how, "--csv", "-"])
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        String::from_utf8(out.stdout).unwrap()
+    };
+    let (r, v) = (chart("rate"), chart("vibration"));
+    assert_eq!(r.lines().count(), v.lines().count());
+    assert_ne!(r, v, "the D column moves");
+}
+
 /// `figures` draws Fig 9 with the solver the charts use: with
 /// `--integrator dopri5 --rtol 1e-10` its trace is `simulate`'s with the
 /// same options, to the byte, and not the default one.

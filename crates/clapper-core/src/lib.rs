@@ -52,7 +52,7 @@ pub mod prelude {
     pub use crate::ringing::{first_stroke, ring, Protocol, Ringing};
     pub use crate::stroke::{
         run_stroke, ClapperState, ContactModel, EndReason, Impact, Integrator, Observer, Side, SimConfig, SimError,
-        Stroke, StrokeStart, Style, TraceRecorder,
+        StrikeAmplitude, Stroke, StrokeStart, Style, TraceRecorder,
     };
     pub use crate::Choice;
 }
@@ -92,6 +92,7 @@ named_choice!(stroke::Style { Right => "right", Wrong => "wrong" });
 named_choice!(ringing::Protocol { Restart => "restart", Free => "free" });
 named_choice!(contact::ContactModel { Impact => "impact", Penalty => "penalty" });
 named_choice!(stroke::Integrator { Taylor => "taylor", Dopri5 => "dopri5" });
+named_choice!(stroke::StrikeAmplitude { Rate => "rate", Impulse => "impulse", Vibration => "vibration" });
 named_choice!(chart::Styles { Right => "right", Wrong => "wrong", Both => "both" });
 named_choice!(hanging::SwingLoss { Viscous => "viscous", Coulomb => "coulomb" });
 named_choice!(clapper_parts::Material { WroughtIron => "wrought-iron", SgIron => "sg-iron", Steel => "steel", Ash => "ash" });

@@ -62,3 +62,61 @@ fn every_strike_has_d_or_a_reason() {
     }
     assert!(followed > 0, "no stroke needed following past its end");
 }
+
+/// The three readings of the amplitude ratio A (docs/model.md §4.1), on
+/// the lab bell ringing right. With one coefficient of restitution they
+/// are one number (each impact's φ'⁺ is −√R φ'⁻, so the impulse and the
+/// energy taken scale with φ'⁻ alike). With R2 the strike's rebound still
+/// takes R and the impact after it, a bounce on the same side, takes R2,
+/// so the impulse reading is the rate's times (1 + √R2) / (1 + √R) and the
+/// vibration reading the rate's times √((1 − R2) / (1 − R)): the
+/// restitution law's factors, checked against the recorded rates.
+#[test]
+fn the_amplitude_ratio_by_rate_impulse_and_vibration() {
+    let bell = Bell::lab();
+    let one = first_stroke(&bell, &SimConfig::default(), Style::Right).unwrap();
+    let rate = one.amplitude_ratio().unwrap();
+    for how in StrikeAmplitude::ALL {
+        let a = one.amplitude_ratio_by(*how).unwrap();
+        assert!((a / rate - 1.0).abs() < 1e-12, "{how}: {a} against {rate}");
+    }
+    let (r, r2) = (0.05, 0.5);
+    let base = SimConfig {
+        restitution: r,
+        restitution_later: Some(r2),
+        ..SimConfig::default()
+    };
+    let two = first_stroke(&bell, &base, Style::Right).unwrap();
+    let (first, second) = (two.first_strike().unwrap(), two.second_strike().unwrap());
+    assert_eq!(
+        first.side, second.side,
+        "the impact after the strike is a bounce on its side"
+    );
+    let rate = two.amplitude_ratio_by(StrikeAmplitude::Rate).unwrap();
+    let impulse = two.amplitude_ratio_by(StrikeAmplitude::Impulse).unwrap();
+    let vibration = two.amplitude_ratio_by(StrikeAmplitude::Vibration).unwrap();
+    let want_impulse = rate * (1.0 + r2.sqrt()) / (1.0 + r.sqrt());
+    let want_vibration = rate * ((1.0 - r2) / (1.0 - r)).sqrt();
+    assert!((impulse / want_impulse - 1.0).abs() < 1e-12, "{impulse} {want_impulse}");
+    assert!(
+        (vibration / want_vibration - 1.0).abs() < 1e-12,
+        "{vibration} {want_vibration}"
+    );
+    // The configured reading is the stroke's A and D.
+    let by_vibration = first_stroke(
+        &bell,
+        &SimConfig {
+            strike_amplitude: StrikeAmplitude::Vibration,
+            ..base
+        },
+        Style::Right,
+    )
+    .unwrap();
+    assert_eq!(by_vibration.amplitude_ratio(), Some(vibration));
+    let dt = two.second_strike_delay().unwrap() * 1e3;
+    assert_eq!(
+        by_vibration.double_strike_index(),
+        Some(clapper_core::stroke::double_strike_index(vibration, dt))
+    );
+    assert!(by_vibration.double_strike_index() < two.double_strike_index());
+}

@@ -3,7 +3,9 @@
 
 use clapper_core::bell::{Bell, BellWarning};
 use clapper_core::ringing::{Protocol, Ringing};
-use clapper_core::stroke::{ClapperState, ContactModel, EndReason, Integrator, LiftoffKind, SimConfig, Stroke};
+use clapper_core::stroke::{
+    ClapperState, ContactModel, EndReason, Integrator, LiftoffKind, SimConfig, StrikeAmplitude, Stroke,
+};
 use clapper_core::Choice;
 use serde::Serialize;
 
@@ -104,6 +106,10 @@ pub struct SimulationSettings {
     /// R2: the later bounces', when given apart from R.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub restitution_later: Option<f64>,
+    /// What the double strike's amplitude ratio compares, when not the
+    /// clapper's rate (docs/model.md §4.1).
+    #[serde(skip_serializing_if = "StrikeAmplitude::is_rate")]
+    pub strike_amplitude: StrikeAmplitude,
     /// "impact" or "penalty".
     pub contact: ContactModel,
     /// k (N m/rad) for the penalty model, else null.
@@ -125,6 +131,7 @@ impl SimulationSettings {
             theta0_deg: cfg.theta0.to_degrees(),
             restitution: cfg.restitution,
             restitution_later: cfg.restitution_later,
+            strike_amplitude: cfg.strike_amplitude,
             contact: cfg.contact,
             stiffness_n_m_per_rad: (cfg.contact == ContactModel::Penalty).then_some(cfg.stiffness),
             protocol,

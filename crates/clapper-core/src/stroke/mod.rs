@@ -119,6 +119,10 @@ pub struct SimConfig {
     /// more than the later ones.
     #[cfg_attr(feature = "serde", serde(default, skip_serializing_if = "Option::is_none"))]
     pub restitution_later: Option<f64>,
+    /// What the double strike's amplitude ratio A compares. Default
+    /// [`StrikeAmplitude::Rate`], the paper's (docs/model.md §4.1).
+    #[cfg_attr(feature = "serde", serde(default, skip_serializing_if = "StrikeAmplitude::is_rate"))]
+    pub strike_amplitude: StrikeAmplitude,
     /// The contact law. Default [`ContactModel::Impact`].
     pub contact: ContactModel,
     /// Penalty law: the contact stiffness k (N m/rad). Default
@@ -156,6 +160,7 @@ impl Default for SimConfig {
             theta0: DEFAULT_THETA0_DEG.to_radians(),
             restitution: DEFAULT_RESTITUTION,
             restitution_later: None,
+            strike_amplitude: StrikeAmplitude::Rate,
             contact: ContactModel::Impact,
             stiffness: DEFAULT_STIFFNESS,
             rest_flight_time: 1e-7,
@@ -433,6 +438,8 @@ pub struct Stroke {
     pub stats: Stats,
     /// Events handled.
     pub events: u32,
+    /// What the amplitude ratio A compares ([`SimConfig::strike_amplitude`]).
+    pub strike_amplitude: StrikeAmplitude,
 }
 
 impl Stroke {
@@ -506,11 +513,16 @@ impl Stroke {
         Some(self.second_strike()?.t - self.first_strike()?.t)
     }
 
-    /// A = |φ' at the second impact| / |φ' at the first strike|.
+    /// A: the impact after the first strike against the first strike, by
+    /// [`Self::strike_amplitude`]; by default |φ' at the second impact| /
+    /// |φ' at the first strike|.
     pub fn amplitude_ratio(&self) -> Option<f64> {
-        let first = self.first_strike()?.phi_dot_before.abs();
-        let second = self.second_strike()?.phi_dot_before.abs();
-        Some(second / first)
+        self.amplitude_ratio_by(self.strike_amplitude)
+    }
+
+    /// A by definition `how` (docs/model.md §4.1).
+    pub fn amplitude_ratio_by(&self, how: StrikeAmplitude) -> Option<f64> {
+        Some(how.of(self.second_strike()?) / how.of(self.first_strike()?))
     }
 
     /// The double strike index D of (33), clamped (docs/model.md §4), of
@@ -546,6 +558,48 @@ impl Stroke {
     /// turning point, and leaves the clapper where the same style goes on.
     pub fn sustained(&self) -> bool {
         self.first_strike().is_some() && self.end.reason == EndReason::TurningPoint && self.continues_as() == self.style
+    }
+}
+
+/// What the amplitude ratio A of (33) compares between the first strike
+/// and the impact after it (docs/model.md §4.1). With one coefficient of
+/// restitution (R2 = R) the three are the same number; they part when the
+/// later bounces lose less than the strike (R2 > R), as the paper's drops
+/// show.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+#[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
+#[cfg_attr(feature = "serde", serde(rename_all = "kebab-case"))]
+pub enum StrikeAmplitude {
+    /// The clapper's rate just before each impact, |φ'⁻| (the paper's
+    /// reading, and the default).
+    #[default]
+    Rate,
+    /// The impulse each impact gives the bell, ∝ |φ'⁻ − φ'⁺|: what the
+    /// modal synthesis sets each mode moving with (`clapper synth`), so the
+    /// amplitude ratio of the synthesised strikes.
+    Impulse,
+    /// The energy each impact takes from the clapper's motion,
+    /// ∝ φ'⁻² − φ'⁺², as an amplitude (its square root): the paper's
+    /// reading of a low R, that the strike's lost energy is what rings.
+    Vibration,
+}
+
+impl StrikeAmplitude {
+    /// Whether this is the default, [`StrikeAmplitude::Rate`].
+    pub fn is_rate(&self) -> bool {
+        *self == Self::Rate
+    }
+
+    /// The size of impact `i` by this definition, in units that cancel in
+    /// the ratio (rad/s). A contact still open when the stroke ended counts
+    /// as come to rest (φ'⁺ = 0).
+    pub fn of(self, i: &Impact) -> f64 {
+        let (before, after) = (i.phi_dot_before, i.phi_dot_after.unwrap_or(0.0));
+        match self {
+            Self::Rate => before.abs(),
+            Self::Impulse => (before - after).abs(),
+            Self::Vibration => (before * before - after * after).max(0.0).sqrt(),
+        }
     }
 }
 
@@ -886,6 +940,7 @@ where
         None
     };
     let mut stroke = rec.finish(StrokeEnd { t, y, clapper, reason }, stepper.stats(), events);
+    stroke.strike_amplitude = cfg.strike_amplitude;
     stroke.after_end = after_end;
     Ok(stroke)
 }

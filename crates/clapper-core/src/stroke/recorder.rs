@@ -6,7 +6,7 @@ use crate::contact::{Rest, Side, Stops, Transition};
 use crate::dynamics::{State, PHI_DOT, THETA};
 use crate::ode::Stats;
 
-use super::{Impact, LiftoffKind, Moment, Stroke, StrokeEnd, StrokeStart, Style};
+use super::{Impact, LiftoffKind, Moment, StrikeAmplitude, Stroke, StrokeEnd, StrokeStart, Style};
 
 /// What a stroke has done so far.
 pub(super) struct StrokeRecorder {
@@ -124,6 +124,7 @@ impl StrokeRecorder {
             after_end: None,
             stats,
             events,
+            strike_amplitude: StrikeAmplitude::Rate,
         }
     }
 }
