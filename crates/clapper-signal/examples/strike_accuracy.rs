@@ -4,7 +4,9 @@
 //! each with its own seed, so its own voices (partials detuned within ±15
 //! cents and ±3 dB), in four conditions, scored against the truth.
 //!
-//! cargo run --release -p clapper-signal --example strike_accuracy [RECORDINGS]
+//! cargo run --release -p clapper-signal --example strike_accuracy [RECORDINGS] [CONDITIONS]
+//!
+//! CONDITIONS picks rows by number from 1, e.g. `1,3` (default all four).
 
 use clapper_signal::strikes::{find_strikes, BellVoice, StrikeOptions};
 use clapper_signal::striking::{mean_sd, rhythm, Timed};
@@ -46,9 +48,16 @@ fn main() {
         ("25 dB, RT60 1.2 s", 25.0, Some(Room::chamber(1.2))),
         ("15 dB, RT60 1.2 s", 15.0, Some(Room::chamber(1.2))),
     ];
+    let picked: Vec<usize> = std::env::args()
+        .nth(2)
+        .map(|s| s.split(',').filter_map(|x| x.trim().parse().ok()).collect())
+        .unwrap_or_else(|| (1..=conditions.len()).collect());
     println!("| condition | recordings | strikes | recall | precision | bell labels right | onset error median / p95 (ms) | hand/back right | doubles flagged | false doubles | odd-struck bell 4 (planted 15 ms) | heard against the true times, worst | listening time per minute |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
-    for (name, snr, room) in conditions {
+    for (k, (name, snr, room)) in conditions.into_iter().enumerate() {
+        if !picked.contains(&(k + 1)) {
+            continue;
+        }
         let mut total = Score::default();
         let mut strokes = (0usize, 0usize);
         let mut odd = vec![];

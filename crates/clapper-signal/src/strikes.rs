@@ -276,10 +276,17 @@ pub fn find_strikes(sig: &Signal, voices: &[BellVoice], opts: &StrikeOptions) ->
     let spectrum = mean_spectrum(&low);
     let plan = plan_bands(voices, low.rate, &spectrum);
     // 1. Each bell's bands and onset function, and its candidate strikes.
+    let mut shared_bands: Vec<Vec<(Band, Vec<usize>)>> = vec![];
     let mut heard: Vec<BellHearing> = plan
         .into_iter()
-        .map(|bands| {
-            let bands: Vec<Band> = bands.into_iter().map(|(f, w, l)| band(&low, f, w, l)).collect();
+        .map(|p| {
+            let bands: Vec<Band> = p.bands.into_iter().map(|(f, w, l)| band(&low, f, w, l)).collect();
+            shared_bands.push(
+                p.shared
+                    .into_iter()
+                    .map(|((f, w, l), with)| (band(&low, f, w, l), with))
+                    .collect(),
+            );
             hear_bell(bands, opts)
         })
         .collect();
@@ -311,26 +318,41 @@ pub fn find_strikes(sig: &Signal, voices: &[BellVoice], opts: &StrikeOptions) ->
         heard[b].candidates[k].1 = 0.0;
     }
     // 3. Per bell, the strikes: candidates standing clear of the rest,
-    //    timed, and looked at for a second strike.
+    //    timed; then each looked at for a second strike, in its own bands
+    //    and in the bands it shares where no sharing bell strikes nearby.
+    let firsts: Vec<Vec<(f64, f64)>> = heard
+        .iter()
+        .enumerate()
+        .map(|(b, h)| {
+            if h.bands.is_empty() {
+                warnings.push(format!(
+                    "bell {}: its strongest partial is not in the recording, or none of its partials can be told from other bells'",
+                    b + 1
+                ));
+                return vec![];
+            }
+            let found = h.firsts(opts, voices.len());
+            if found.is_empty() {
+                warnings.push(format!("bell {}: no strikes heard", b + 1));
+            }
+            found
+        })
+        .collect();
+    let times: Vec<Vec<f64>> = firsts.iter().map(|f| f.iter().map(|x| x.0).collect()).collect();
     let mut strikes = vec![];
-    for (b, h) in heard.iter().enumerate() {
-        if h.bands.is_empty() {
-            warnings.push(format!(
-                "bell {}: its strongest partial is not in the recording, or none of its partials can be told from other bells'",
-                b + 1
-            ));
-            continue;
-        }
-        let found = h.strikes(opts, voices.len());
-        if found.is_empty() {
-            warnings.push(format!("bell {}: no strikes heard", b + 1));
-        }
-        strikes.extend(found.into_iter().map(|(t, strength, double)| HeardStrike {
-            bell: b + 1,
-            t,
-            strength,
-            double,
-        }));
+    for (b, (h, found)) in heard.iter().zip(firsts).enumerate() {
+        let doubles = h.doubles(&found, &shared_bands[b], &times, opts);
+        strikes.extend(
+            found
+                .into_iter()
+                .zip(doubles)
+                .map(|((t, strength), double)| HeardStrike {
+                    bell: b + 1,
+                    t,
+                    strength,
+                    double,
+                }),
+        );
     }
     strikes.sort_by(|a, b| a.t.total_cmp(&b.t).then(a.bell.cmp(&b.bell)));
     Ok(Heard { strikes, warnings })
@@ -429,7 +451,22 @@ fn mean_spectrum(sig: &Signal) -> (f64, Vec<f64>) {
 }
 
 /// Each bell's bands as (frequency Hz, weight, box length in samples).
-fn plan_bands(voices: &[BellVoice], rate: f64, spectrum: &(f64, Vec<f64>)) -> Vec<Vec<(f64, f64, usize)>> {
+/// A shared band is fitted for a double strike only where what rings in
+/// it before the strike is below this fraction of the strike's step.
+const SHARED_BAND_QUIET: f64 = 0.2;
+
+/// One band to listen in: centre (Hz), weight, box length (samples).
+type BandSpec = (f64, f64, usize);
+
+/// What a bell is heard in: its bands, and the strong partials it shares
+/// with other bells (with those bells, from 0) that are left out of them,
+/// to be fitted for a double strike where no sharing bell strikes.
+struct BandPlan {
+    bands: Vec<BandSpec>,
+    shared: Vec<(BandSpec, Vec<usize>)>,
+}
+
+fn plan_bands(voices: &[BellVoice], rate: f64, spectrum: &(f64, Vec<f64>)) -> Vec<BandPlan> {
     let nyq = 0.45 * rate;
     let (df, mag) = spectrum;
     // Each partial where the recording has it: a peak within 2 % (a
@@ -461,14 +498,18 @@ fn plan_bands(voices: &[BellVoice], rate: f64, spectrum: &(f64, Vec<f64>)) -> Ve
             // the bell is not: nothing of it is listened for.
             let strongest = v.iter().find(|p| p.strength == smax);
             if strongest.is_some_and(|p| find_peak(p.freq_hz, 0.01, *df, mag).is_none()) {
-                return vec![];
+                return BandPlan {
+                    bands: vec![],
+                    shared: vec![],
+                };
             }
-            let bands: Vec<(f64, f64, f64, usize)> = v
+            let bands: Vec<(f64, f64, f64, usize, Vec<usize>)> = v
                 .iter()
                 .map(|p| {
                     let f = p.freq_hz;
                     // Other bells' partials that may lie in this band, and the nearest that cannot.
                     let mut shared = 0.0;
+                    let mut sharers = vec![];
                     let mut nearest = f64::INFINITY;
                     for (ob, ov) in placed.iter().enumerate() {
                         if ob == b {
@@ -480,6 +521,7 @@ fn plan_bands(voices: &[BellVoice], rate: f64, spectrum: &(f64, Vec<f64>)) -> Ve
                             let tol = (p.uncertainty + op.uncertainty).max(0.01) * f;
                             if d < tol {
                                 shared += (op.strength / omax).powi(2);
+                                sharers.push(ob);
                             } else {
                                 nearest = nearest.min(d);
                             }
@@ -490,15 +532,25 @@ fn plan_bands(voices: &[BellVoice], rate: f64, spectrum: &(f64, Vec<f64>)) -> Ve
                     // A null of the smoothing on the nearest other partial; 3 to 50 ms.
                     let secs = (1.0 / nearest.max(0.03 * f)).clamp(0.003, 0.05);
                     let len = ((secs * rate).round() as usize) | 1;
-                    (f, s, own, len)
+                    sharers.dedup();
+                    (f, s, own, len, sharers)
                 })
                 .collect();
             // A band another bell shares beats with it while both ring and
             // steps when the other strikes: with two bands or more of its
             // own (90 %), a bell is heard in those alone; else in its best
             // shared ones, weighted by how much of each is its own.
-            let clean: Vec<_> = bands.iter().copied().filter(|b| b.2 >= 0.9 && b.1 >= 0.1).collect();
-            let mut chosen: Vec<(f64, f64, usize)> = if clean.len() >= 2 {
+            let clean: Vec<_> = bands.iter().filter(|b| b.2 >= 0.9 && b.1 >= 0.1).collect();
+            // Its strong partials left out for being shared (a nominal on
+            // another bell's tierce): a double strike is often told
+            // soonest there, between the sharing bells' strikes.
+            let mut shared: Vec<(BandSpec, Vec<usize>)> = vec![];
+            let mut chosen: Vec<BandSpec> = if clean.len() >= 2 {
+                shared = bands
+                    .iter()
+                    .filter(|b| b.2 < 0.9 && b.1 >= 0.3 && !b.4.is_empty())
+                    .map(|b| ((b.0, b.1, b.3), b.4.clone()))
+                    .collect();
                 clean.iter().map(|b| (b.0, b.1, b.3)).collect()
             } else {
                 bands
@@ -509,7 +561,7 @@ fn plan_bands(voices: &[BellVoice], rate: f64, spectrum: &(f64, Vec<f64>)) -> Ve
             };
             chosen.sort_by(|a, b| b.1.total_cmp(&a.1));
             chosen.truncate(6);
-            chosen
+            BandPlan { bands: chosen, shared }
         })
         .collect()
 }
@@ -652,8 +704,8 @@ fn typical_peak(v: &[f64], sep: usize) -> f64 {
 }
 
 impl BellHearing {
-    /// The strikes: (onset s, strength, double strike).
-    fn strikes(&self, opts: &StrikeOptions, bells: usize) -> Vec<(f64, f64, Option<HeardDouble>)> {
+    /// The strikes: (onset s, strength).
+    fn firsts(&self, opts: &StrikeOptions, bells: usize) -> Vec<(f64, f64)> {
         let heights: Vec<f64> = self.candidates.iter().map(|c| c.1).collect();
         let Some(threshold) = strike_threshold(&heights, self.floor) else {
             return vec![];
@@ -662,21 +714,78 @@ impl BellHearing {
             self.candidates.iter().copied().filter(|c| c.1 >= threshold).collect(),
             bells,
         );
-        let firsts: Vec<(f64, f64)> = kept
-            .into_iter()
+        kept.into_iter()
             .filter_map(|(m, h)| {
                 let m = self.first_of_double(m, opts);
                 Some((onset_time(&self.bands, &self.changes, m)?, h))
             })
-            .collect();
-        // The bell's own response to a strike in each band, in this room,
-        // learned from all its strikes: a second strike is a second copy of it.
-        let times: Vec<f64> = firsts.iter().map(|f| f.0).collect();
-        let responses: Vec<Option<Response>> = self.bands.iter().map(|b| learn_response(b, &times, opts)).collect();
+            .collect()
+    }
+
+    /// A second strike after each of `firsts` (onset s, strength), if
+    /// any. The bell's own response to a strike in each band, in this
+    /// room, is learned from all its strikes: a second strike is a second
+    /// copy of it. A band it shares with other bells (`shared`, with
+    /// those bells) is used where none of them strikes (`times`, every
+    /// bell's onsets) within its window, and learned from those strikes.
+    fn doubles(
+        &self,
+        firsts: &[(f64, f64)],
+        shared: &[(Band, Vec<usize>)],
+        times: &[Vec<f64>],
+        opts: &StrikeOptions,
+    ) -> Vec<Option<HeardDouble>> {
+        let own: Vec<f64> = firsts.iter().map(|f| f.0).collect();
+        let responses: Vec<Option<Response>> = self.bands.iter().map(|b| learn_response(b, &own, opts)).collect();
         let fits = fitted(&self.bands, &responses, opts);
-        firsts
-            .into_iter()
-            .map(|(t, h)| (t, h, second_strike(&fits, t, opts)))
+        // Whether no sharing bell strikes in the window of band `b` around `t`.
+        let quiet = |b: &Band, with: &[usize], t: f64| {
+            let (lead, tail) = response_window(b, opts);
+            let (lo, hi) = (
+                t - lead as f64 / b.rate - 2.0 * b.box_s,
+                t + tail as f64 / b.rate + 2.0 * b.box_s,
+            );
+            with.iter()
+                .all(|&o| times.get(o).is_none_or(|v| v.iter().all(|&u| u < lo || u > hi)))
+        };
+        let shared_resp: Vec<Option<Response>> = shared
+            .iter()
+            .map(|(b, with)| {
+                let clear: Vec<f64> = own.iter().copied().filter(|&t| quiet(b, with, t)).collect();
+                learn_response(b, &clear, opts)
+            })
+            .collect();
+        let shared_fits: Vec<(Fitted, &[usize])> = shared
+            .iter()
+            .zip(&shared_resp)
+            .filter_map(|((b, with), r)| Some((fit_band(b, r.as_ref()?, opts), with.as_slice())))
+            .collect();
+        // ... and where what rings there before the strike (a sharing
+        // bell's partial, beating against this one's) is small beside the
+        // strike's own step.
+        let faint = |b: &Band, t: f64| {
+            let (lead, tail) = response_window(b, opts);
+            let Some(seg) = segment(b, t, lead, tail) else {
+                return false;
+            };
+            let before = ((0.01 * b.rate).round() as usize).max(1);
+            let base = seg[..before].iter().fold((0.0, 0.0), |a, z| (a.0 + z.0, a.1 + z.1));
+            let base = (base.0 / before as f64, base.1 / before as f64);
+            let top = seg[(lead + (1.5 * b.box_s * b.rate).ceil() as usize).min(seg.len() - 1)];
+            let step = (top.0 - base.0).hypot(top.1 - base.1);
+            base.0.hypot(base.1) < SHARED_BAND_QUIET * step
+        };
+        own.iter()
+            .map(|&t| {
+                let mut use_: Vec<&Fitted> = fits.iter().collect();
+                use_.extend(
+                    shared_fits
+                        .iter()
+                        .filter(|(f, with)| quiet(f.band, with, t) && faint(f.band, t))
+                        .map(|(f, _)| f),
+                );
+                second_strike(&use_, t, opts)
+            })
             .collect()
     }
 
@@ -1140,29 +1249,32 @@ fn fitted<'a>(bands: &'a [Band], responses: &'a [Option<Response>], opts: &Strik
         .iter()
         .zip(responses)
         .filter(|(b, _)| b.weight >= 0.3 * wmax)
-        .filter_map(|(b, r)| {
-            let resp = r.as_ref()?;
-            let shifted = delays(opts, b.rate)
-                .filter(|&d| d >= 3.0 * b.box_s)
-                .map(|d| {
-                    let r2 = shift_response(&resp.r, d * b.rate);
-                    Shifted {
-                        d,
-                        sum: r2.iter().fold((0.0, 0.0), |s, v| (s.0 + v.0, s.1 + v.1)),
-                        r1_r2: dot(&resp.r, &r2),
-                        r2_r2: dot(&r2, &r2),
-                        r2,
-                    }
-                })
-                .collect();
-            Some(Fitted {
-                band: b,
-                resp,
-                tail: response_window(b, opts).1,
-                shifted,
-            })
-        })
+        .filter_map(|(b, r)| Some(fit_band(b, r.as_ref()?, opts)))
         .collect()
+}
+
+/// Band `b` with its learned response, ready to fit: the response at every
+/// delay the band can tell.
+fn fit_band<'a>(b: &'a Band, resp: &'a Response, opts: &StrikeOptions) -> Fitted<'a> {
+    let shifted = delays(opts, b.rate)
+        .filter(|&d| d >= 3.0 * b.box_s)
+        .map(|d| {
+            let r2 = shift_response(&resp.r, d * b.rate);
+            Shifted {
+                d,
+                sum: r2.iter().fold((0.0, 0.0), |s, v| (s.0 + v.0, s.1 + v.1)),
+                r1_r2: dot(&resp.r, &r2),
+                r2_r2: dot(&r2, &r2),
+                r2,
+            }
+        })
+        .collect();
+    Fitted {
+        band: b,
+        resp,
+        tail: response_window(b, opts).1,
+        shifted,
+    }
 }
 
 /// The delays of the double-strike window, one per band sample (s).
@@ -1177,7 +1289,7 @@ fn delays(opts: &StrikeOptions, rate: f64) -> impl Iterator<Item = f64> {
 /// each delay: kept if it halves the one-copy error (summed over the
 /// bands, each over its first copy's size squared) and its size over the
 /// first's (the median over the bands) is at least the option's ratio.
-fn second_strike(fits: &[Fitted], t: f64, opts: &StrikeOptions) -> Option<HeardDouble> {
+fn second_strike(fits: &[&Fitted], t: f64, opts: &StrikeOptions) -> Option<HeardDouble> {
     let rate = fits.first()?.band.rate;
     let singles: Vec<Option<(Single, f64)>> = fits
         .iter()
