@@ -25,6 +25,12 @@ pub struct ServeArgs {
     /// Most chart points in one chart request.
     #[arg(long, value_name = "N", default_value_t = Limits::default().max_chart_points)]
     pub max_chart_points: usize,
+    /// Also answer requests to this host name (repeatable; `*.example.org`
+    /// for every name under it). Loopback names and IP addresses are
+    /// always answered; any other name is refused (403), so that a web page
+    /// elsewhere cannot drive this server through your browser.
+    #[arg(long, value_name = "NAME")]
+    pub allow_host: Vec<String>,
 }
 
 pub fn run(args: ServeArgs) -> Result<()> {
@@ -38,6 +44,7 @@ pub fn run(args: ServeArgs) -> Result<()> {
             clapper_core::chart::MAX_POINTS
         );
     }
+    let hosts = clapper_web::AllowedHosts::with(&args.allow_host).map_err(anyhow::Error::msg)?;
     let limits = Limits {
         max_jobs: args.max_jobs,
         max_chart_points: args.max_chart_points,
@@ -65,7 +72,7 @@ pub fn run(args: ServeArgs) -> Result<()> {
         let shutdown = async {
             let _ = tokio::signal::ctrl_c().await;
         };
-        clapper_web::serve(listener, limits, shutdown).await?;
+        clapper_web::serve(listener, limits, hosts, shutdown).await?;
         println!("stopped");
         Ok(())
     })

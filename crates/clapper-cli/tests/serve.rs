@@ -15,8 +15,13 @@ struct Server {
 
 impl Server {
     fn start() -> Self {
+        Self::start_with(&[])
+    }
+
+    fn start_with(extra: &[&str]) -> Self {
         let mut child = Command::new(assert_cmd::cargo::cargo_bin("clapper"))
             .args(["serve", "--port", "0"])
+            .args(extra)
             .stdout(Stdio::piped())
             .spawn()
             .unwrap();
@@ -35,11 +40,16 @@ impl Server {
 
     /// One HTTP/1.1 request; the status and the body.
     fn request(&self, method: &str, path: &str, body: &str) -> (u16, String) {
+        self.request_as(&self.addr, "", method, path, body)
+    }
+
+    /// One HTTP/1.1 request with Host `host` and `headers` (lines ending
+    /// in CRLF); the status and the body.
+    fn request_as(&self, host: &str, headers: &str, method: &str, path: &str, body: &str) -> (u16, String) {
         let mut s = TcpStream::connect(&self.addr).unwrap();
         write!(
             s,
-            "{method} {path} HTTP/1.1\r\nHost: {}\r\nContent-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
-            self.addr,
+            "{method} {path} HTTP/1.1\r\nHost: {host}\r\n{headers}Content-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
             body.len()
         )
         .unwrap();
@@ -117,5 +127,34 @@ fn bad_requests_do_not_stop_the_server() {
         assert!(!v["error"].as_str().unwrap().is_empty());
     }
     let (status, _) = server.request("GET", "/api/health", "");
+    assert_eq!(status, 200);
+}
+
+/// DNS rebinding: a request naming another site's host (or sent from a page
+/// at another site) is refused with 403 and the reason; loopback names and
+/// IP literals are served, and names given with `--allow-host`.
+#[test]
+fn other_sites_names_are_refused_and_loopback_served() {
+    let server = Server::start_with(&["--allow-host", "bells.example"]);
+    let port = server.addr.rsplit(':').next().unwrap().to_string();
+    let (status, body) = server.request_as("evil.com", "", "POST", "/api/simulate", "{}");
+    assert_eq!(status, 403, "{body}");
+    let reason: serde_json::Value = serde_json::from_str(&body).unwrap();
+    assert!(reason["error"].as_str().unwrap().contains("--allow-host"), "{body}");
+    let (status, _) = server.request_as(&format!("evil.com:{port}"), "", "GET", "/", "");
+    assert_eq!(status, 403);
+    let origin = "Origin: http://evil.com\r\n";
+    let (status, _) = server.request_as(&format!("localhost:{port}"), origin, "POST", "/api/simulate", "{}");
+    assert_eq!(status, 403);
+    for host in [
+        format!("localhost:{port}"),
+        server.addr.clone(),
+        format!("bells.example:{port}"),
+    ] {
+        let (status, body) = server.request_as(&host, "", "POST", "/api/simulate", "{}");
+        assert_eq!(status, 200, "{host}: {body}");
+    }
+    let own = format!("Origin: http://localhost:{port}\r\n");
+    let (status, _) = server.request_as(&format!("localhost:{port}"), &own, "POST", "/api/simulate", "{}");
     assert_eq!(status, 200);
 }

@@ -17,7 +17,7 @@ use clapper_app::clapper_design::{design, DesignRequest};
 use clapper_app::diagnosis::{diagnose_bells, report_page, DiagnoseRequest};
 use clapper_app::listening::{analyse, figure, StimulusSet, DEFAULT_RATE_HZ};
 use clapper_app::simulate::{simulate_traced, SimulateRequest};
-use clapper_core::chart::sweep_cells;
+use clapper_core::chart::sweep_cells_until;
 use clapper_core::listening::Answer;
 use serde::{Deserialize, Serialize};
 use serde_json::json;
@@ -146,9 +146,17 @@ pub(crate) async fn chart(State(s): State<AppState>, req: Body_<ChartRequest>) -
     let permit = s.jobs.slot().await?;
     let deadline = Instant::now() + s.limits.job_time;
     let limit_s = s.limits.job_time.as_secs();
+    let write_timeout = s.limits.write_timeout;
     let (tx, rx) = tokio::sync::mpsc::channel::<Result<Bytes, Infallible>>(4);
+    let runtime = tokio::runtime::Handle::current();
     tokio::task::spawn_blocking(move || {
         let _slot = permit;
+        // A line to the client, unless it has gone or does not take it
+        // within the write timeout: then the sweep stops and the slot is
+        // freed.
+        let send = |v: Result<Bytes, Infallible>| runtime.block_on(tx.send_timeout(v, write_timeout)).is_ok();
+        // Asked before every stroke: the time limit, and a client gone.
+        let stop = || Instant::now() > deadline || tx.is_closed();
         let started = Instant::now();
         let styles: Vec<&str> = spec.styles.list().iter().map(|s| s.name()).collect();
         let total = spec.cell_count();
@@ -156,7 +164,7 @@ pub(crate) async fn chart(State(s): State<AppState>, req: Body_<ChartRequest>) -
             "type": "start", "nx": spec.nx, "ny": spec.ny, "xs": spec.xs(), "ys": spec.ys(),
             "styles": styles, "total": total,
         });
-        if tx.blocking_send(line(&start)).is_err() {
+        if !send(line(&start)) {
             return;
         }
         // Blocks of whole rows: big enough to keep both cores busy, small
@@ -166,30 +174,31 @@ pub(crate) async fn chart(State(s): State<AppState>, req: Body_<ChartRequest>) -
         let block = rows * row;
         let (mut k, mut errors) = (0, 0);
         while k < total {
-            if Instant::now() > deadline {
-                let _ = tx.blocking_send(line(&json!({
-                    "type": "error",
-                    "message": format!("stopped at the server's time limit of {limit_s} s after {k} of {total} strokes"),
-                })));
-                return;
-            }
             let end = (k + block).min(total);
-            let cells = match sweep_cells(&spec, k..end, &|_| {}) {
-                Ok(c) => c,
+            let cells = match sweep_cells_until(&spec, k..end, &|_| {}, &stop) {
+                Ok(Some(c)) => c,
+                Ok(None) => {
+                    // Out of time (a departed client hears nothing).
+                    let _ = send(line(&json!({
+                        "type": "error",
+                        "message": format!("stopped at the server's time limit of {limit_s} s after {k} of {total} strokes"),
+                    })));
+                    return;
+                }
                 Err(e) => {
-                    let _ = tx.blocking_send(line(&json!({"type": "error", "message": e.to_string()})));
+                    let _ = send(line(&json!({"type": "error", "message": e.to_string()})));
                     return;
                 }
             };
             errors += cells.iter().filter(|c| c.result.is_err()).count();
             let out = json!({"type": "cells", "start": k, "cells": cells.iter().map(cell_json).collect::<Vec<_>>()});
-            // The client has gone: stop sweeping.
-            if tx.blocking_send(line(&out)).is_err() {
+            // The client has gone, or is not reading: stop sweeping.
+            if !send(line(&out)) {
                 return;
             }
             k = end;
         }
-        let _ = tx.blocking_send(line(&json!({
+        let _ = send(line(&json!({
             "type": "done", "strokes": total, "errors": errors, "seconds": started.elapsed().as_secs_f64(),
         })));
     });

@@ -17,6 +17,9 @@ pub enum ApiError {
     /// The computation failed for valid input (422).
     #[error("{0}")]
     Failed(String),
+    /// The request's Host or Origin is not served (403).
+    #[error("{0}")]
+    Forbidden(String),
     /// No such route (404).
     #[error("{0}")]
     NotFound(String),
@@ -37,6 +40,7 @@ impl ApiError {
             ApiError::BadRequest(_) => StatusCode::BAD_REQUEST,
             ApiError::Limit(s, _) => *s,
             ApiError::Failed(_) => StatusCode::UNPROCESSABLE_ENTITY,
+            ApiError::Forbidden(_) => StatusCode::FORBIDDEN,
             ApiError::NotFound(_) => StatusCode::NOT_FOUND,
             ApiError::MethodNotAllowed(_) => StatusCode::METHOD_NOT_ALLOWED,
             ApiError::Unavailable(_) => StatusCode::SERVICE_UNAVAILABLE,

@@ -7,7 +7,10 @@
 //! The API is described at `/api` on a running server (the page is
 //! `assets/api.html`).
 //!
-//! Every request is bounded: a body size, a grid size, a stroke count, a
+//! Only requests to names that cannot be rebound to this machine by
+//! another site are answered (loopback names, IP literals, and the names
+//! allowed; [`AllowedHosts`]): a page elsewhere cannot drive the API
+//! through the user's browser. Every request is bounded: a body size, a grid size, a stroke count, a
 //! penalty stiffness, a number of computations at once and a time limit
 //! per computation ([`Limits`]). A request beyond a bound gets a 4xx (or
 //! 503 when the server is busy) with a one-line JSON message, never a
@@ -17,7 +20,8 @@
 //! ```no_run
 //! # async fn demo() -> std::io::Result<()> {
 //! let listener = tokio::net::TcpListener::bind("127.0.0.1:8080").await?;
-//! clapper_web::serve(listener, clapper_web::Limits::default(), std::future::pending()).await
+//! let hosts = clapper_web::AllowedHosts::loopback();
+//! clapper_web::serve(listener, clapper_web::Limits::default(), hosts, std::future::pending()).await
 //! # }
 //! ```
 
@@ -26,6 +30,7 @@
 mod api;
 mod assets;
 mod error;
+mod hosts;
 mod jobs;
 
 use std::future::Future;
@@ -37,6 +42,7 @@ use axum::routing::{get, post};
 use axum::Router;
 
 pub use error::ApiError;
+pub use hosts::AllowedHosts;
 
 /// Per-request bounds of the server. The defaults keep one request of
 /// each kind under a few seconds on a two-core machine and the server's
@@ -65,8 +71,14 @@ pub struct Limits {
     /// answered 503 "busy". Default 20 s.
     pub queue_wait: Duration,
     /// Time limit of one computation. Default 60 s: a chart stops
-    /// streaming and says so; other requests are answered 503.
+    /// streaming and says so; other requests are answered 503. It is
+    /// checked before every stroke, so it holds to within one stroke.
     pub job_time: Duration,
+    /// How long a streamed chart waits for its client to take the next
+    /// lines before it stops and frees its slot. Default 3 s: a page
+    /// reading as it draws takes a block in milliseconds, so a client
+    /// this slow is not reading, and four such must not hold every slot.
+    pub write_timeout: Duration,
 }
 
 impl Default for Limits {
@@ -80,6 +92,7 @@ impl Default for Limits {
             max_jobs: 4,
             queue_wait: Duration::from_secs(20),
             job_time: Duration::from_secs(60),
+            write_timeout: Duration::from_secs(3),
         }
     }
 }
@@ -92,8 +105,14 @@ pub(crate) struct AppState {
     pub stimuli: Arc<tokio::sync::OnceCell<Arc<api::Stimuli>>>,
 }
 
-/// The application: every route of the page and the API.
+/// The application: every route of the page and the API, served to
+/// loopback names and IP literals ([`AllowedHosts::loopback`]).
 pub fn router(limits: Limits) -> Router {
+    router_with(limits, AllowedHosts::loopback())
+}
+
+/// [`router`] serving `hosts`.
+pub fn router_with(limits: Limits, hosts: AllowedHosts) -> Router {
     let state = AppState {
         limits,
         jobs: jobs::Jobs::new(limits),
@@ -124,15 +143,18 @@ pub fn router(limits: Limits) -> Router {
         .method_not_allowed_fallback(error::method_not_allowed)
         .layer(DefaultBodyLimit::max(limits.max_body_bytes))
         .with_state(state)
+        .layer(axum::middleware::from_fn_with_state(hosts, hosts::check))
 }
 
-/// Serve the application on `listener` until `shutdown` completes.
+/// Serve the application on `listener` to `hosts` until `shutdown`
+/// completes.
 pub async fn serve(
     listener: tokio::net::TcpListener,
     limits: Limits,
+    hosts: AllowedHosts,
     shutdown: impl Future<Output = ()> + Send + 'static,
 ) -> std::io::Result<()> {
-    axum::serve(listener, router(limits))
+    axum::serve(listener, router_with(limits, hosts))
         .with_graceful_shutdown(shutdown)
         .await
 }

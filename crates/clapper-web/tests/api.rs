@@ -430,9 +430,9 @@ async fn the_api_page_names_the_port_it_was_asked_on() {
     let text = page("127.0.0.1:43117").await;
     assert!(text.contains("curl -s -X POST 127.0.0.1:43117/api/simulate"));
     assert!(!text.contains("8080"));
-    // A host that is not a host does not reach the page.
+    // A host that is not a host is refused before the page (403, JSON).
     let text = page("x\"><script>").await;
-    assert!(!text.contains("<script>") && text.contains("localhost:8080/api/simulate"));
+    assert!(!text.contains("curl") && text.contains("not served"), "{text}");
 }
 
 #[tokio::test]
@@ -582,4 +582,54 @@ async fn a_recording_is_heard_through_the_api() {
     let (status, body) = send_wav(&small, &uri, wav).await;
     assert_eq!(status, StatusCode::PAYLOAD_TOO_LARGE);
     assert!(String::from_utf8_lossy(&body).contains("clapper strikes"));
+}
+
+/// The Host and Origin check through the router: another site's name gets
+/// 403 with a one-line reason, loopback names and IP literals are served,
+/// a request without Host (not a browser's) too.
+#[tokio::test]
+async fn a_host_or_origin_of_another_site_is_refused() {
+    let app = router(Limits::default());
+    let ask = |host: Option<&str>, origin: Option<&str>| {
+        let mut req = Request::builder().method("GET").uri("/api/health");
+        if let Some(h) = host {
+            req = req.header("host", h);
+        }
+        if let Some(o) = origin {
+            req = req.header("origin", o);
+        }
+        let app = app.clone();
+        async move { app.oneshot(req.body(Body::empty()).unwrap()).await.unwrap() }
+    };
+    for (host, origin, want) in [
+        (Some("evil.com"), None, StatusCode::FORBIDDEN),
+        (
+            Some("localhost:8080"),
+            Some("http://evil.com:8080"),
+            StatusCode::FORBIDDEN,
+        ),
+        (Some("localhost:8080"), Some("null"), StatusCode::FORBIDDEN),
+        (Some("localhost:8080"), None, StatusCode::OK),
+        (Some("127.0.0.1:8080"), Some("http://127.0.0.1:8080"), StatusCode::OK),
+        (Some("[::1]:8080"), None, StatusCode::OK),
+        (None, None, StatusCode::OK),
+    ] {
+        let res = ask(host, origin).await;
+        assert_eq!(res.status(), want, "{host:?} {origin:?}");
+        if want == StatusCode::FORBIDDEN {
+            let body = res.into_body().collect().await.unwrap().to_bytes();
+            assert!(json(&body)["error"].as_str().unwrap().contains("not served"));
+        }
+    }
+    let app = clapper_web::router_with(
+        Limits::default(),
+        clapper_web::AllowedHosts::with(&["bells.example".to_string()]).unwrap(),
+    );
+    let req = Request::builder()
+        .uri("/api/health")
+        .header("host", "bells.example:8080");
+    assert_eq!(
+        app.oneshot(req.body(Body::empty()).unwrap()).await.unwrap().status(),
+        StatusCode::OK
+    );
 }

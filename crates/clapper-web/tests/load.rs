@@ -32,7 +32,7 @@ fn rss_mib() -> f64 {
 async fn request(addr: std::net::SocketAddr, path: &str, body: &str) -> std::io::Result<(u16, usize)> {
     let mut s = tokio::net::TcpStream::connect(addr).await?;
     let req = format!(
-        "POST {path} HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
+        "POST {path} HTTP/1.1\r\nHost: {addr}\r\nContent-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
         body.len()
     );
     s.write_all(req.as_bytes()).await?;
@@ -55,7 +55,12 @@ async fn the_server_keeps_answering_under_load() {
         queue_wait: Duration::from_secs(120),
         ..clapper_web::Limits::default()
     };
-    tokio::spawn(clapper_web::serve(listener, limits, std::future::pending()));
+    tokio::spawn(clapper_web::serve(
+        listener,
+        limits,
+        clapper_web::AllowedHosts::loopback(),
+        std::future::pending(),
+    ));
     // Warm up (first allocations, thread pools), then measure memory.
     request(addr, "/api/simulate", "{}").await.unwrap();
     let rss_before = rss_mib();
