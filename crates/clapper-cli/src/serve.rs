@@ -54,7 +54,7 @@ pub fn run(args: ServeArgs) -> Result<()> {
         .enable_all()
         .build()
         .context("cannot start the server's runtime")?;
-    runtime.block_on(async move {
+    let served = runtime.block_on(async move {
         let addr = SocketAddr::new(args.host, args.port);
         let listener = tokio::net::TcpListener::bind(addr)
             .await
@@ -75,7 +75,11 @@ pub fn run(args: ServeArgs) -> Result<()> {
         clapper_web::serve(listener, limits, hosts, shutdown).await?;
         println!("stopped");
         Ok(())
-    })
+    });
+    // A computation still running (a chart past its client) is not waited
+    // for: the process is ending.
+    runtime.shutdown_timeout(std::time::Duration::from_millis(200));
+    served
 }
 
 /// Ask the desktop to open `url`; say so if it cannot.

@@ -158,3 +158,32 @@ fn other_sites_names_are_refused_and_loopback_served() {
     let (status, _) = server.request_as(&format!("localhost:{port}"), &own, "POST", "/api/simulate", "{}");
     assert_eq!(status, 200);
 }
+
+/// Ctrl-C (SIGINT) stops the server within 2 s while clients hold
+/// half-sent requests open (before, one such kept it running).
+#[test]
+fn ctrl_c_stops_the_server_with_half_sent_requests_open() {
+    let mut server = Server::start();
+    let mut half = vec![];
+    for _ in 0..3 {
+        let mut s = TcpStream::connect(&server.addr).unwrap();
+        s.write_all(b"POST /api/chart HTTP/1.1\r\nHost: local").unwrap();
+        half.push(s);
+    }
+    std::thread::sleep(std::time::Duration::from_millis(200));
+    let t = std::time::Instant::now();
+    let ok = Command::new("kill")
+        .args(["-INT", &server.child.id().to_string()])
+        .status()
+        .unwrap();
+    assert!(ok.success());
+    loop {
+        if let Some(status) = server.child.try_wait().unwrap() {
+            println!("stopped {:.2} s after SIGINT ({status})", t.elapsed().as_secs_f64());
+            break;
+        }
+        assert!(t.elapsed().as_secs_f64() < 2.0, "still running 2 s after SIGINT");
+        std::thread::sleep(std::time::Duration::from_millis(20));
+    }
+    drop(half);
+}

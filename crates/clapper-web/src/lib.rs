@@ -79,6 +79,23 @@ pub struct Limits {
     /// reading as it draws takes a block in milliseconds, so a client
     /// this slow is not reading, and four such must not hold every slot.
     pub write_timeout: Duration,
+    /// How long a connection may take to send a request's headers, and
+    /// how long it may stay open idle between requests. Default 10 s: a
+    /// browser sends its headers in one packet and reuses or closes an
+    /// idle connection within seconds; a client that sends nothing only
+    /// holds a connection.
+    pub header_timeout: Duration,
+    /// How long a request body may pause between its parts. Default 10 s,
+    /// for the same reason: an upload that stalls longer has stopped.
+    pub body_timeout: Duration,
+    /// Most connections open at once; further ones wait to be accepted
+    /// until one closes. Default 512: under the usual limit of 1024 open
+    /// files, and with the header timeout a flood of idle connections
+    /// drains within 10 s.
+    pub max_connections: usize,
+    /// On shutdown, how long open connections get to finish before they
+    /// are closed. Default 1 s.
+    pub shutdown_grace: Duration,
 }
 
 impl Default for Limits {
@@ -93,6 +110,10 @@ impl Default for Limits {
             queue_wait: Duration::from_secs(20),
             job_time: Duration::from_secs(60),
             write_timeout: Duration::from_secs(3),
+            header_timeout: Duration::from_secs(10),
+            body_timeout: Duration::from_secs(10),
+            max_connections: 512,
+            shutdown_grace: Duration::from_secs(1),
         }
     }
 }
@@ -144,17 +165,51 @@ pub fn router_with(limits: Limits, hosts: AllowedHosts) -> Router {
         .layer(DefaultBodyLimit::max(limits.max_body_bytes))
         .with_state(state)
         .layer(axum::middleware::from_fn_with_state(hosts, hosts::check))
+        .layer(tower_http::timeout::RequestBodyTimeoutLayer::new(limits.body_timeout))
 }
 
 /// Serve the application on `listener` to `hosts` until `shutdown`
-/// completes.
+/// completes: at most [`Limits::max_connections`] connections at once,
+/// each closed if its headers take longer than [`Limits::header_timeout`]
+/// or it stays idle that long; on shutdown, open connections get
+/// [`Limits::shutdown_grace`] to finish and are then dropped.
 pub async fn serve(
     listener: tokio::net::TcpListener,
     limits: Limits,
     hosts: AllowedHosts,
     shutdown: impl Future<Output = ()> + Send + 'static,
 ) -> std::io::Result<()> {
-    axum::serve(listener, router_with(limits, hosts))
-        .with_graceful_shutdown(shutdown)
-        .await
+    use hyper_util::rt::{TokioIo, TokioTimer};
+    let app = router_with(limits, hosts);
+    let open = Arc::new(tokio::sync::Semaphore::new(limits.max_connections.max(1)));
+    let graceful = hyper_util::server::graceful::GracefulShutdown::new();
+    let mut http = hyper::server::conn::http1::Builder::new();
+    http.timer(TokioTimer::new()).header_read_timeout(limits.header_timeout);
+    tokio::pin!(shutdown);
+    loop {
+        let permit = tokio::select! {
+            p = open.clone().acquire_owned() => p.expect("the semaphore is never closed"),
+            _ = &mut shutdown => break,
+        };
+        let stream = tokio::select! {
+            a = listener.accept() => match a {
+                Ok((stream, _)) => stream,
+                // Out of file descriptors and the like: wait, do not spin.
+                Err(_) => {
+                    tokio::time::sleep(Duration::from_millis(50)).await;
+                    continue;
+                }
+            },
+            _ = &mut shutdown => break,
+        };
+        let service = hyper_util::service::TowerToHyperService::new(app.clone());
+        let conn = graceful.watch(http.serve_connection(TokioIo::new(stream), service));
+        tokio::spawn(async move {
+            let _ = conn.await;
+            drop(permit);
+        });
+    }
+    drop(listener);
+    let _ = tokio::time::timeout(limits.shutdown_grace, graceful.shutdown()).await;
+    Ok(())
 }
