@@ -191,7 +191,7 @@ pub fn simulate(
     file: Option<LoadedBell>,
     max_strokes: Option<usize>,
 ) -> Result<Simulation, AppError> {
-    run(req, file, max_strokes, false)
+    run(req, file, max_strokes, &mut ())
 }
 
 /// [`simulate`], recording a trace for plots and trace files.
@@ -200,14 +200,33 @@ pub fn simulate_traced(
     file: Option<LoadedBell>,
     max_strokes: Option<usize>,
 ) -> Result<Simulation, AppError> {
-    run(req, file, max_strokes, true)
+    let mut recorder = TraceRecorder::new(TRACE_INTERVAL_S);
+    let mut sim = run(req, file, max_strokes, &mut recorder)?;
+    sim.samples = recorder.samples;
+    Ok(sim)
 }
 
-fn run(
+/// [`simulate`], handing each sample of the trace to `sink` as it is
+/// computed (and keeping none): a trace file of any number of strokes in
+/// constant memory.
+pub fn simulate_streamed(
+    req: &SimulateRequest,
+    file: Option<LoadedBell>,
+    sink: impl FnMut(&Sample),
+) -> Result<Simulation, AppError> {
+    run(
+        req,
+        file,
+        None,
+        &mut clapper_core::stroke::TraceSampler::new(TRACE_INTERVAL_S, sink),
+    )
+}
+
+fn run<O: Observer>(
     req: &SimulateRequest,
     file: Option<LoadedBell>,
     max_strokes: Option<usize>,
-    trace: bool,
+    observer: &mut O,
 ) -> Result<Simulation, AppError> {
     let loaded = req.bell(file)?;
     let cfg = req.config_for(&loaded)?;
@@ -221,12 +240,7 @@ fn run(
     }
     let (style, protocol) = (req.style, req.protocol);
     let bell = &loaded.bell;
-    let mut recorder = TraceRecorder::new(TRACE_INTERVAL_S);
-    let ringing = if trace {
-        ring(bell, &cfg, style, protocol, req.strokes, &mut recorder)
-    } else {
-        ring(bell, &cfg, style, protocol, req.strokes, &mut ())
-    }?;
+    let ringing = ring(bell, &cfg, style, protocol, req.strokes, observer)?;
     let title = format!(
         "{}: ringing {} from {:.0} deg, R = {}, {} contact  (r/L_c = {:.3}, L_b/L_c = {:.3})",
         loaded.name,
@@ -252,7 +266,7 @@ fn run(
     );
     Ok(Simulation {
         report,
-        samples: recorder.samples,
+        samples: vec![],
         title,
         phi_max_deg: bell.phi_max.to_degrees(),
         stroke_starts: ringing.strokes.iter().skip(1).map(|s| s.start.t).collect(),

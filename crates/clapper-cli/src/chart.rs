@@ -291,6 +291,7 @@ pub fn run(args: ChartArgs) -> Result<()> {
                 csv,
                 meta,
                 block: args.block,
+                keep: false,
             },
             &plan,
             &pool,
@@ -306,7 +307,7 @@ pub fn run(args: ChartArgs) -> Result<()> {
             range[0],
             range[1],
             plan.total(),
-            o.cells.len(),
+            o.computed,
             o.seconds,
             csv.display()
         );
@@ -334,11 +335,12 @@ pub fn run(args: ChartArgs) -> Result<()> {
                     csv,
                     meta: args.meta(&plan, (0, 1))?,
                     block: args.block,
+                    keep: true,
                 },
                 &plan,
                 &pool,
             )?;
-            let n = o.cells.len();
+            let n = o.computed;
             let chart = match o.resumed_from {
                 None => Chart {
                     spec,

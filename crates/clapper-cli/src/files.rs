@@ -100,10 +100,11 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) ->
         let dir = tempfile::tempdir().context("cannot make a temporary folder")?;
         let tmp = dir.path().join("stdout");
         write(&tmp).map_err(|e| anyhow::anyhow!(format!("{e:#}").replace(&tmp.display().to_string(), "-")))?;
-        let bytes = std::fs::read(&tmp).context("cannot read back the output")?;
+        // Copied through, not read whole: a trace may be gigabytes.
+        let mut f = std::fs::File::open(&tmp).context("cannot read back the output")?;
         let mut out = std::io::stdout().lock();
-        out.write_all(&bytes)
-            .and_then(|()| out.flush())
+        std::io::copy(&mut f, &mut out)
+            .and_then(|_| out.flush())
             .context("cannot write to standard output")?;
         return Ok(());
     }

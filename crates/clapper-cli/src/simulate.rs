@@ -277,15 +277,42 @@ pub fn run(args: SimulateArgs) -> Result<()> {
     if let Some(p) = &args.plot {
         clapper_plot::format_of(p)?;
     }
-    let sim = simulate_traced(&args.request(), args.bell_file()?, None)?;
-
-    if let Some(path) = &args.trace {
-        crate::files::write_atomically(path, |tmp| {
-            let f = std::fs::File::create(tmp).with_context(|| format!("cannot create {}", path.display()))?;
-            clapper_io::write_trace_csv(std::io::BufWriter::new(f), &sim.samples)
-                .with_context(|| format!("cannot write {}", path.display()))
-        })?;
-    }
+    let sim = match (&args.trace, &args.plot) {
+        // A trace alone is written as it is computed: any number of
+        // strokes in constant memory.
+        (Some(path), None) => {
+            let mut sim = None;
+            crate::files::write_atomically(path, |tmp| {
+                let f = std::fs::File::create(tmp).with_context(|| format!("cannot create {}", path.display()))?;
+                let mut w = clapper_io::TraceWriter::new(std::io::BufWriter::new(f))
+                    .with_context(|| format!("cannot write {}", path.display()))?;
+                let mut failed = None;
+                let s = clapper_app::simulate::simulate_streamed(&args.request(), args.bell_file()?, |x| {
+                    if failed.is_none() {
+                        failed = w.write(x).err();
+                    }
+                })?;
+                if let Some(e) = failed {
+                    return Err(e).with_context(|| format!("cannot write {}", path.display()));
+                }
+                w.finish().with_context(|| format!("cannot write {}", path.display()))?;
+                sim = Some(s);
+                Ok(())
+            })?;
+            sim.expect("written")
+        }
+        _ => {
+            let sim = simulate_traced(&args.request(), args.bell_file()?, None)?;
+            if let Some(path) = &args.trace {
+                crate::files::write_atomically(path, |tmp| {
+                    let f = std::fs::File::create(tmp).with_context(|| format!("cannot create {}", path.display()))?;
+                    clapper_io::write_trace_csv(std::io::BufWriter::new(f), &sim.samples)
+                        .with_context(|| format!("cannot write {}", path.display()))
+                })?;
+            }
+            sim
+        }
+    };
     if let Some(path) = &args.plot {
         crate::files::write_atomically(path, |tmp| {
             Ok(clapper_plot::stroke_plot(tmp, &sim.samples, &sim.plot())?)

@@ -73,8 +73,11 @@ fn lock(path: &Path) -> Result<File> {
 
 /// What a run did.
 pub struct Outcome {
-    /// The strokes computed by this run, with their chart index.
+    /// The strokes computed by this run, with their chart index, if
+    /// [`RunFile::keep`]; else empty (the file holds them).
     pub cells: Vec<(usize, ChartCell)>,
+    /// How many strokes this run computed.
+    pub computed: usize,
     /// Where this run started, if it resumed an earlier one.
     pub resumed_from: Option<usize>,
     /// Wall time of this run (s).
@@ -89,6 +92,10 @@ pub struct RunFile<'a> {
     pub meta: SweepMeta,
     /// Strokes per block (and journal entry).
     pub block: usize,
+    /// Keep the computed strokes in memory for the caller (one chart to
+    /// draw or summarise). Without it a run holds one block at a time,
+    /// whatever the sweep's size.
+    pub keep: bool,
 }
 
 /// Compute `meta.range` of `plan` into `csv`, resuming an interrupted run.
@@ -176,6 +183,7 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
         .open(&partial)
         .with_context(|| format!("cannot open {}", partial.display()))?;
     let mut mine = vec![];
+    let mut computed = 0;
     while done < range.end {
         let end = range.end.min(done + f.block.max(1));
         let base = (done - range.start) as u64;
@@ -201,7 +209,10 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
                 bytes,
             },
         )?;
-        mine.extend(cells);
+        computed += cells.len();
+        if f.keep {
+            mine.extend(cells);
+        }
     }
     bar.finish_and_clear();
     drop(out);
@@ -213,6 +224,7 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
     std::fs::remove_file(&lock_path).ok();
     Ok(Outcome {
         cells: mine,
+        computed,
         resumed_from,
         seconds: started.elapsed().as_secs_f64(),
     })

@@ -22,4 +22,4 @@ pub use bell_file::{
 };
 pub use chart_csv::{read_chart_csv, write_chart_csv, write_chart_rows, write_goes_up_csv, Columns};
 pub use report::{SimulationReport, SimulationSettings};
-pub use trace::write_trace_csv;
+pub use trace::{write_trace_csv, TraceWriter};

@@ -19,20 +19,44 @@ pub const TRACE_HEADER: [&str; 6] = [
 /// pressed into the bell (an impact is an impulse and does not show; the
 /// velocity jumps in consecutive rows at the same time do).
 pub fn write_trace_csv<W: Write>(out: W, samples: &[Sample]) -> Result<(), csv::Error> {
-    let mut w = csv::Writer::from_writer(out);
-    w.write_record(TRACE_HEADER)?;
+    let mut w = TraceWriter::new(out)?;
     for s in samples {
-        w.write_record([
+        w.write(s)?;
+    }
+    w.finish()
+}
+
+/// A trace CSV written a sample at a time ([`write_trace_csv`]'s format),
+/// for traces too long to hold.
+pub struct TraceWriter<W: Write> {
+    w: csv::Writer<W>,
+}
+
+impl<W: Write> TraceWriter<W> {
+    /// Start the file: its header.
+    pub fn new(out: W) -> Result<Self, csv::Error> {
+        let mut w = csv::Writer::from_writer(out);
+        w.write_record(TRACE_HEADER)?;
+        Ok(Self { w })
+    }
+
+    /// One sample's row.
+    pub fn write(&mut self, s: &Sample) -> Result<(), csv::Error> {
+        self.w.write_record([
             format!("{:.6}", s.t),
             format!("{:.6}", s.y[0].to_degrees()),
             format!("{:.6}", s.y[1].to_degrees()),
             format!("{:.6}", s.y[2]),
             format!("{:.6}", s.y[3]),
             format!("{:.6}", s.contact_force),
-        ])?;
+        ])
     }
-    w.flush()?;
-    Ok(())
+
+    /// Flush what is buffered.
+    pub fn finish(mut self) -> Result<(), csv::Error> {
+        self.w.flush()?;
+        Ok(())
+    }
 }
 
 #[cfg(test)]

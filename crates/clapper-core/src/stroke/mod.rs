@@ -687,8 +687,62 @@ pub trait Observer {
 
 impl Observer for () {}
 
+/// Samples a trace every `interval` seconds of simulated time, plus both
+/// sides of every jump, and hands each sample to `sink` as it comes: a
+/// trace of any length in constant memory (a file written as it goes).
+#[derive(Clone, Debug)]
+pub struct TraceSampler<F> {
+    /// Sampling interval (s).
+    pub interval: f64,
+    next: u64,
+    last: Option<Sample>,
+    sink: F,
+}
+
+impl<F: FnMut(&Sample)> TraceSampler<F> {
+    /// A sampler every `interval` seconds (> 0) into `sink`.
+    pub fn new(interval: f64, sink: F) -> Self {
+        Self {
+            interval,
+            next: 0,
+            last: None,
+            sink,
+        }
+    }
+
+    fn push(&mut self, s: Sample) {
+        (self.sink)(&s);
+        self.last = Some(s);
+    }
+}
+
+impl<F: FnMut(&Sample)> Observer for TraceSampler<F> {
+    fn on_step(&mut self, step: &StepView<'_>) {
+        // Bounded: at most (t_to - t_from) / interval + 1 samples.
+        loop {
+            let t = self.next as f64 * self.interval;
+            if t > step.t_to() {
+                break;
+            }
+            if t >= step.t_from() {
+                self.push(step.sample(t));
+            }
+            self.next += 1;
+        }
+    }
+
+    fn on_jump(&mut self, before: &Sample, after: &Sample) {
+        for s in [before, after] {
+            if self.last.as_ref() != Some(s) {
+                self.push(*s);
+            }
+        }
+    }
+}
+
 /// Records a trace in memory: samples every `interval` seconds of
-/// simulated time, plus both sides of every jump.
+/// simulated time, plus both sides of every jump ([`TraceSampler`] into
+/// a vector).
 #[derive(Clone, Debug, PartialEq)]
 pub struct TraceRecorder {
     /// Sampling interval (s).
@@ -707,29 +761,31 @@ impl TraceRecorder {
             samples: Vec::new(),
         }
     }
+
+    /// The sampler this recorder is, for one call.
+    fn sampler(&mut self) -> TraceSampler<impl FnMut(&Sample) + '_> {
+        let samples = &mut self.samples;
+        TraceSampler {
+            interval: self.interval,
+            next: self.next,
+            last: samples.last().copied(),
+            sink: move |s: &Sample| samples.push(*s),
+        }
+    }
 }
 
 impl Observer for TraceRecorder {
     fn on_step(&mut self, step: &StepView<'_>) {
-        // Bounded: at most (t_to - t_from) / interval + 1 samples.
-        loop {
-            let t = self.next as f64 * self.interval;
-            if t > step.t_to() {
-                break;
-            }
-            if t >= step.t_from() {
-                self.samples.push(step.sample(t));
-            }
-            self.next += 1;
-        }
+        let next = {
+            let mut s = self.sampler();
+            s.on_step(step);
+            s.next
+        };
+        self.next = next;
     }
 
     fn on_jump(&mut self, before: &Sample, after: &Sample) {
-        for s in [before, after] {
-            if self.samples.last() != Some(s) {
-                self.samples.push(*s);
-            }
-        }
+        self.sampler().on_jump(before, after);
     }
 }
 
