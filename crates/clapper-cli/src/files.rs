@@ -1,9 +1,12 @@
 //! Writing output files so that a failure never leaves half a file where a
-//! good one was: write beside it, then rename.
+//! good one was: write beside it, then rename. A run stopped by Ctrl-C or
+//! SIGTERM removes the files it was writing; one killed outright leaves
+//! them, and the next write of the same file removes them.
 
 use std::io::Write;
 use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicBool, Ordering};
+use std::sync::{Mutex, Once};
 
 use anyhow::{Context, Result};
 
@@ -54,13 +57,119 @@ pub fn claim_stdout(outputs: &[(&str, Option<&Path>)], json: bool) -> Result<()>
     Ok(())
 }
 
-/// A temporary path beside `path` with the same extension.
+/// The files being written now, removed if the run is stopped.
+static PARTIALS: Mutex<Vec<PathBuf>> = Mutex::new(Vec::new());
+
+/// What to tell the user when a run that can resume is stopped.
+static RESUMABLE: Mutex<Option<String>> = Mutex::new(None);
+
+/// Catch Ctrl-C, SIGTERM and SIGHUP (once): remove the files being
+/// written, say what was removed (and how to resume, where a run can),
+/// and exit with status 130.
+fn catch_stops() {
+    static ONCE: Once = Once::new();
+    ONCE.call_once(|| {
+        let _ = ctrlc::set_handler(|| {
+            let partials: Vec<PathBuf> = PARTIALS.lock().map(|mut p| std::mem::take(&mut *p)).unwrap_or_default();
+            for p in &partials {
+                if std::fs::remove_file(p).or_else(|_| std::fs::remove_dir_all(p)).is_ok() {
+                    eprintln!("\nstopped: removed the unfinished {}", p.display());
+                }
+            }
+            if let Some(how) = RESUMABLE.lock().ok().and_then(|r| r.clone()) {
+                eprintln!("\nstopped: {how}");
+            }
+            std::process::exit(130);
+        });
+    });
+}
+
+/// Say `how` to resume if the run is stopped, until [`resumable_done`].
+pub fn resumable(how: String) {
+    catch_stops();
+    if let Ok(mut r) = RESUMABLE.lock() {
+        *r = Some(how);
+    }
+}
+
+/// The run can no longer be resumed (it finished).
+pub fn resumable_done() {
+    if let Ok(mut r) = RESUMABLE.lock() {
+        *r = None;
+    }
+}
+
+fn register(tmp: &Path) {
+    catch_stops();
+    if let Ok(mut p) = PARTIALS.lock() {
+        p.push(tmp.to_path_buf());
+    }
+}
+
+fn unregister(tmp: &Path) {
+    if let Ok(mut p) = PARTIALS.lock() {
+        p.retain(|x| x != tmp);
+    }
+}
+
+/// A temporary path beside `path` with the same extension:
+/// `.NAME.PID.partial.EXT`.
 fn temp_beside(path: &Path) -> PathBuf {
     let name = path
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
     path.with_file_name(format!(".{name}.{}.partial.{}", std::process::id(), extension(path)))
+}
+
+/// Remove the temporary files of `path` left by runs that were killed
+/// (their process is gone), saying so; a file of a run still going is
+/// left alone.
+fn remove_stale(path: &Path) {
+    let (Some(dir), Some(name)) = (path.parent(), path.file_name()) else {
+        return;
+    };
+    let dir = if dir.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        dir
+    };
+    let prefix = format!(".{}.", name.to_string_lossy());
+    let suffix = format!(".partial.{}", extension(path));
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for e in entries.flatten() {
+        let file = e.file_name().to_string_lossy().into_owned();
+        let Some(pid) = file
+            .strip_prefix(&prefix)
+            .and_then(|r| r.strip_suffix(&suffix))
+            .and_then(|pid| pid.parse::<u32>().ok())
+        else {
+            continue;
+        };
+        if pid != std::process::id() && !alive(pid) && std::fs::remove_file(e.path()).is_ok() {
+            eprintln!(
+                "removed {}, left by an earlier run that was stopped",
+                e.path().display()
+            );
+        }
+    }
+}
+
+/// Whether process `pid` is running.
+fn alive(pid: u32) -> bool {
+    #[cfg(unix)]
+    {
+        // SAFETY: signal 0 only checks that the process exists.
+        let r = unsafe { libc::kill(pid as libc::pid_t, 0) };
+        r == 0 || std::io::Error::last_os_error().raw_os_error() == Some(libc::EPERM)
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = pid;
+        true
+    }
 }
 
 fn extension(path: &Path) -> String {
@@ -99,6 +208,8 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) ->
     if is_stdout(path) {
         let dir = tempfile::tempdir().context("cannot make a temporary folder")?;
         let tmp = dir.path().join("stdout");
+        // Removed with its folder if the run is stopped.
+        register(dir.path());
         write(&tmp).map_err(|e| anyhow::anyhow!(format!("{e:#}").replace(&tmp.display().to_string(), "-")))?;
         // Copied through, not read whole: a trace may be gigabytes.
         let mut f = std::fs::File::open(&tmp).context("cannot read back the output")?;
@@ -106,16 +217,26 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) ->
         std::io::copy(&mut f, &mut out)
             .and_then(|_| out.flush())
             .context("cannot write to standard output")?;
+        unregister(dir.path());
         return Ok(());
     }
     ensure_folder(path)?;
+    remove_stale(path);
     let tmp = temp_beside(path);
-    if let Err(e) = write(&tmp) {
-        let _ = std::fs::remove_file(&tmp);
-        let message = format!("{e:#}").replace(&tmp.display().to_string(), &path.display().to_string());
-        return Err(anyhow::anyhow!(message));
-    }
-    std::fs::rename(&tmp, path).with_context(|| format!("cannot move output into place at {}", path.display()))
+    register(&tmp);
+    let written = write(&tmp);
+    let done = match written {
+        Err(e) => {
+            let _ = std::fs::remove_file(&tmp);
+            let message = format!("{e:#}").replace(&tmp.display().to_string(), &path.display().to_string());
+            Err(anyhow::anyhow!(message))
+        }
+        Ok(()) => {
+            std::fs::rename(&tmp, path).with_context(|| format!("cannot move output into place at {}", path.display()))
+        }
+    };
+    unregister(&tmp);
+    done
 }
 
 /// Write `bytes` to `path` atomically.

@@ -176,6 +176,10 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
             partial.display()
         );
     }
+    crate::files::resumable(format!(
+        "the strokes done are kept in {}; run the same command again to resume",
+        partial.display()
+    ));
     let bar = crate::progress::bar((range.end - range.start) as u64, "sweep");
     bar.set_position((done - range.start) as u64);
     let mut out = OpenOptions::new()
@@ -215,6 +219,7 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
         }
     }
     bar.finish_and_clear();
+    crate::files::resumable_done();
     drop(out);
     std::fs::rename(&partial, csv).with_context(|| format!("cannot move the finished sweep to {}", csv.display()))?;
     if meta.shard[1] > 1 {
