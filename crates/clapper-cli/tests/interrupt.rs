@@ -23,7 +23,7 @@ fn a_stopped_trace_leaves_no_partial_file() {
     for signal in ["-INT", "-TERM"] {
         let dir = tempfile::tempdir().unwrap();
         let trace = dir.path().join("long.csv");
-        let mut child = Command::new(assert_cmd::cargo::cargo_bin("clapper"))
+        let child = Command::new(assert_cmd::cargo::cargo_bin("clapper"))
             .args(["simulate", "--preset", "lab", "--strokes", "10000", "--trace"])
             .arg(&trace)
             .stdout(Stdio::null())
