@@ -25,7 +25,24 @@ struct Journal {
     done: usize,
     /// Bytes of the partial file that hold complete rows.
     bytes: u64,
+    /// FNV-1a (64 bits) of those bytes: a journal edited or damaged, or a
+    /// partial file changed, is caught before the run goes on. Missing in
+    /// the journals of clapper before it.
+    #[serde(default)]
+    checksum: Option<u64>,
 }
+
+/// FNV-1a, 64 bits, continued from `h` over `bytes`.
+fn fnv1a(mut h: u64, bytes: &[u8]) -> u64 {
+    for &b in bytes {
+        h ^= u64::from(b);
+        h = h.wrapping_mul(0x0000_0100_0000_01b3);
+    }
+    h
+}
+
+/// FNV-1a's starting value.
+const FNV_START: u64 = 0xcbf2_9ce4_8422_2325;
 
 fn with_suffix(path: &Path, suffix: &str) -> PathBuf {
     let mut s = path.as_os_str().to_owned();
@@ -111,7 +128,7 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
     let lock_path = with_suffix(csv, ".lock");
     let _lock = lock(&lock_path)?;
 
-    let (mut done, mut bytes, resumed_from) = match std::fs::read_to_string(&journal_path) {
+    let (mut done, mut bytes, resumed_from, mut sum) = match std::fs::read_to_string(&journal_path) {
         Ok(text) => {
             let j: Journal = serde_json::from_str(&text).with_context(|| {
                 format!(
@@ -145,9 +162,33 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
                     journal_path.display()
                 );
             }
+            // The rows the journal vouches for must be the file's: as many
+            // as strokes done, and the same bytes.
+            let mut kept = vec![0u8; j.bytes as usize];
+            std::io::Read::read_exact(
+                &mut File::open(&partial).with_context(|| format!("cannot read {}", partial.display()))?,
+                &mut kept,
+            )
+            .with_context(|| format!("cannot read {}", partial.display()))?;
+            let rows = kept.iter().filter(|&&b| b == b'\n').count().saturating_sub(1);
+            let sum = fnv1a(FNV_START, &kept);
+            if j.checksum != Some(sum) || Some(rows) != j.done.checked_sub(range.start) {
+                bail!(
+                    "{} does not match {} ({} strokes done by the journal, {rows} rows in the file{}): \
+                     one of them was changed or damaged; delete both to start afresh (nothing else was touched)",
+                    journal_path.display(),
+                    partial.display(),
+                    j.done.saturating_sub(range.start),
+                    if j.checksum == Some(sum) {
+                        ""
+                    } else {
+                        ", and a different checksum"
+                    }
+                );
+            }
             // Drop a block that was being written when the run stopped.
             OpenOptions::new().write(true).open(&partial)?.set_len(j.bytes)?;
-            (j.done, j.bytes, Some(j.done))
+            (j.done, j.bytes, Some(j.done), sum)
         }
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
             let mut head = Vec::new();
@@ -156,15 +197,17 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
             p.write_all(&head)?;
             p.sync_all()?;
             let bytes = head.len() as u64;
+            let sum = fnv1a(FNV_START, &head);
             write_json_atomically(
                 &journal_path,
                 &Journal {
                     meta: meta.clone(),
                     done: range.start,
                     bytes,
+                    checksum: Some(sum),
                 },
             )?;
-            (range.start, bytes, None)
+            (range.start, bytes, None, sum)
         }
         Err(e) => return Err(e).with_context(|| format!("cannot read {}", journal_path.display())),
     };
@@ -204,6 +247,7 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
         out.write_all(&buf)?;
         out.sync_data()?;
         bytes += buf.len() as u64;
+        sum = fnv1a(sum, &buf);
         done = end;
         write_json_atomically(
             &journal_path,
@@ -211,6 +255,7 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
                 meta: meta.clone(),
                 done,
                 bytes,
+                checksum: Some(sum),
             },
         )?;
         computed += cells.len();

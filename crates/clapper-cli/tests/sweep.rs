@@ -126,6 +126,18 @@ fn a_killed_run_resumes_to_the_same_bytes() {
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(!out.status.success() && err.contains("unfinished run"), "{err}");
 
+    // A journal edited by hand (or damaged) is refused, and nothing is
+    // put in place; put back, the run resumes.
+    let good = std::fs::read_to_string(&journal).unwrap();
+    let mut edited: serde_json::Value = serde_json::from_str(&good).unwrap();
+    edited["done"] = serde_json::json!(edited["done"].as_u64().unwrap() - 300);
+    std::fs::write(&journal, edited.to_string()).unwrap();
+    let out = clapper().current_dir(d).args(&args).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && err.contains("does not match"), "{err}");
+    assert!(!d.join("out.csv").exists());
+    std::fs::write(&journal, good).unwrap();
+
     let said = run(d, &args);
     assert!(said.contains("resumed at stroke"), "{said}");
     let (a, b) = (
