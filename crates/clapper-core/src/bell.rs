@@ -12,7 +12,7 @@ pub const G: f64 = 9.81;
 
 /// A bad bell parameter: which field, its value, and what is allowed.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{field} = {value} is out of range: {allowed}")]
+#[error("{field} = {} is out of range: {allowed}", readable(*value))]
 pub struct ParamError {
     /// The field's name as the user writes it (e.g. `clapper_mass_kg`).
     pub field: &'static str,
@@ -21,6 +21,21 @@ pub struct ParamError {
     /// The allowed range, in words.
     pub allowed: &'static str,
 }
+
+/// `v` as a person reads it: plain for ordinary sizes, in exponent form
+/// (`1e-300`, not three hundred digits) for very small or large ones.
+pub fn readable(v: f64) -> String {
+    if v != 0.0 && v.is_finite() && !(1e-4..1e7).contains(&v.abs()) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
+/// The shortest and longest equivalent pendulum, L_b or L_c (m): a bell
+/// or clapper outside is not one (a tower bell's are 0.1 to 3 m); inside,
+/// every derived length and period is finite.
+pub const PENDULUM_LENGTH_RANGE_M: (f64, f64) = (1e-3, 1e3);
 
 /// Something odd about a bell that does not stop it being simulated.
 #[derive(Clone, Debug, PartialEq)]
@@ -159,6 +174,21 @@ impl Bell {
                 value: self.r,
                 allowed: "a finite number (may be negative)",
             });
+        }
+        // Positive masses and lengths can still make no pendulum: b = 1e-320 m
+        // gives L_c = inf.
+        let (lo, hi) = PENDULUM_LENGTH_RANGE_M;
+        for (field, value) in [
+            ("L_b = I_b / (M a) (m)", self.lb()),
+            ("L_c = I_c / (m b) (m)", self.lc()),
+        ] {
+            if !(lo..=hi).contains(&value) {
+                return Err(ParamError {
+                    field,
+                    value,
+                    allowed: "an equivalent pendulum length from 1e-3 to 1e3 m (check the masses, inertias, a and b)",
+                });
+            }
         }
         check_phi_max(self.phi_max)?;
         self.hanging.validate()?;
@@ -478,6 +508,28 @@ impl TowerMeasurements {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Positive but meaningless inputs are refused with the derived
+    /// quantity named, and tiny numbers are printed readably.
+    #[test]
+    fn a_bell_that_is_no_pendulum_is_refused_readably() {
+        let bad = Bell {
+            b: 1e-320,
+            ..Bell::lab()
+        };
+        let e = bad.validate().unwrap_err();
+        assert!(e.field.starts_with("L_c"), "{e}");
+        let tiny = Bell {
+            bell_mass: 1e-300,
+            ..Bell::lab()
+        };
+        let e = tiny.validate().unwrap_err().to_string();
+        assert!(e.contains("L_b") && e.len() < 200, "{e}");
+        assert_eq!(readable(1e-300), "1e-300");
+        assert_eq!(readable(0.25), "0.25");
+        assert_eq!(readable(3e9), "3e9");
+        assert!(Bell::lab().validate().is_ok() && Bell::gsm_tenor().validate().is_ok());
+    }
     use approx::assert_relative_eq;
 
     #[test]

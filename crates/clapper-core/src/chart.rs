@@ -136,12 +136,15 @@ impl ChartSpec {
                 });
             }
         }
-        if d.x.0 > d.x.1 || d.y.0 > d.y.1 {
-            return Err(ParamError {
-                field: "domain",
-                value: f64::NAN,
-                allowed: "each range from low to high",
-            });
+        // A range given high to low is named by its first end.
+        for (field, (lo, hi)) in [("r_over_lc range, from", d.x), ("lb_over_lc range, from", d.y)] {
+            if lo > hi {
+                return Err(ParamError {
+                    field,
+                    value: lo,
+                    allowed: "the low end first (e.g. -0.3,0.7)",
+                });
+            }
         }
         let n = self.nx.saturating_mul(self.ny);
         if self.nx == 0 || self.ny == 0 || n > MAX_POINTS {

@@ -126,9 +126,13 @@ fn out_of_range_settings_are_typed_errors() {
         config(171.0, 1.5, IMPACT),
         config(171.0, f64::NAN, IMPACT),
         config(171.0, 0.2, penalty(-1.0)),
+        config(171.0, 0.2, penalty(1e-300)),
+        config(171.0, 0.2, penalty(1e13)),
     ] {
         let e = first_stroke(&bell, &cfg, Style::Right).unwrap_err();
         assert!(matches!(e, SimError::Param(_)), "{e}");
+        // One short line, numbers readable (1e-300, not 300 digits).
+        assert!(e.to_string().len() < 120, "{e}");
     }
     let bad = Bell {
         bell_mass: -3.0,

@@ -7,7 +7,7 @@ use std::convert::Infallible;
 use std::time::Instant;
 
 use axum::body::{Body, Bytes};
-use axum::extract::rejection::{JsonRejection, QueryRejection};
+use axum::extract::rejection::QueryRejection;
 use axum::extract::{Path, Query, State};
 use axum::http::header;
 use axum::response::{IntoResponse, Response};
@@ -24,11 +24,54 @@ use serde_json::json;
 
 use crate::{ApiError, AppState, Limits};
 
-type Body_<T> = Result<Json<T>, JsonRejection>;
+type Body_<T> = Result<Object<T>, ApiError>;
 
 /// The request's JSON, or a 4xx naming what is wrong with it.
 fn body<T>(b: Body_<T>) -> Result<T, ApiError> {
     Ok(b?.0)
+}
+
+/// A request body that is a JSON object read as `T`. serde would also read
+/// a struct from an array (`[]` gave the lab bell's default request); a
+/// request is always an object of named options.
+pub(crate) struct Object<T>(pub T);
+
+impl<S: Send + Sync, T: serde::de::DeserializeOwned> axum::extract::FromRequest<S> for Object<T> {
+    type Rejection = ApiError;
+
+    async fn from_request(req: axum::extract::Request, state: &S) -> Result<Self, ApiError> {
+        let json = req
+            .headers()
+            .get(header::CONTENT_TYPE)
+            .and_then(|v| v.to_str().ok())
+            .and_then(|v| v.split(';').next())
+            .is_some_and(|m| {
+                let m = m.trim().to_ascii_lowercase();
+                m == "application/json" || (m.starts_with("application/") && m.ends_with("+json"))
+            });
+        if !json {
+            return Err(ApiError::Limit(
+                axum::http::StatusCode::UNSUPPORTED_MEDIA_TYPE,
+                "Expected request with `Content-Type: application/json` (send JSON with Content-Type: application/json)"
+                    .into(),
+            ));
+        }
+        // Within the route's body limit, as every extractor of the body.
+        let bytes = Bytes::from_request(req, state).await.map_err(|r| {
+            ApiError::Limit(
+                r.status(),
+                format!("request body too large: {}", r.body_text().replace('\n', " ")),
+            )
+        })?;
+        if bytes.iter().find(|b| !b.is_ascii_whitespace()) != Some(&b'{') {
+            return Err(ApiError::BadRequest(
+                "the request body must be a JSON object of options, such as {\"preset\": \"lab\"} ({} for every default)"
+                    .into(),
+            ));
+        }
+        // Axum's reading names the field a bad value is in.
+        Ok(Object(Json::<T>::from_bytes(&bytes).map_err(ApiError::from)?.0))
+    }
 }
 
 /// `GET /api/health`.

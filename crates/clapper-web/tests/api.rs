@@ -633,3 +633,18 @@ async fn a_host_or_origin_of_another_site_is_refused() {
         StatusCode::OK
     );
 }
+
+/// A body that is JSON but not an object (`[]`, a number, a string) is
+/// refused with 400 naming what a request is; it used to read as the
+/// default request.
+#[tokio::test]
+async fn a_body_that_is_not_an_object_is_refused() {
+    let app = router(Limits::default());
+    for body in ["[]", "[1, 2]", "3", "\"lab\"", "null"] {
+        let (status, text) = send(&app, "POST", "/api/simulate", Some(body)).await;
+        assert_eq!(status, StatusCode::BAD_REQUEST, "{body}");
+        assert!(json(&text)["error"].as_str().unwrap().contains("JSON object"), "{body}");
+    }
+    let (status, _) = send(&app, "POST", "/api/simulate", Some("{}")).await;
+    assert_eq!(status, StatusCode::OK);
+}
