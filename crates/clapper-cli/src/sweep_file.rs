@@ -58,8 +58,9 @@ pub fn shard_meta_path(csv: &Path) -> PathBuf {
 fn write_json_atomically<T: Serialize>(path: &Path, v: &T) -> Result<()> {
     crate::files::write_atomically(path, |tmp| {
         let mut f = File::create(tmp).with_context(|| format!("cannot create {}", tmp.display()))?;
-        f.write_all(serde_json::to_string(v)?.as_bytes())?;
-        f.sync_all()?;
+        f.write_all(serde_json::to_string(v)?.as_bytes())
+            .and_then(|()| f.sync_all())
+            .with_context(|| format!("cannot write {}", tmp.display()))?;
         Ok(())
     })
 }
@@ -194,8 +195,9 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
             let mut head = Vec::new();
             clapper_io::write_chart_rows(&mut head, std::iter::empty(), columns, true)?;
             let mut p = File::create(&partial).with_context(|| format!("cannot create {}", partial.display()))?;
-            p.write_all(&head)?;
-            p.sync_all()?;
+            p.write_all(&head)
+                .and_then(|()| p.sync_all())
+                .with_context(|| format!("cannot write {}", partial.display()))?;
             let bytes = head.len() as u64;
             let sum = fnv1a(FNV_START, &head);
             write_json_atomically(
@@ -244,8 +246,9 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
             columns,
             false,
         )?;
-        out.write_all(&buf)?;
-        out.sync_data()?;
+        out.write_all(&buf)
+            .and_then(|()| out.sync_data())
+            .with_context(|| format!("cannot write {}", partial.display()))?;
         bytes += buf.len() as u64;
         sum = fnv1a(sum, &buf);
         done = end;

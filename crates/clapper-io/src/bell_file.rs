@@ -378,10 +378,23 @@ fn one_line(text: &str, err: &toml::de::Error) -> String {
     match err.span() {
         Some(span) => {
             let line = text[..span.start.min(text.len())].matches('\n').count() + 1;
-            let src = text.lines().nth(line - 1).unwrap_or("").trim();
-            format!("line {line} (`{src}`): {msg}")
+            let src = cut(text.lines().nth(line - 1).unwrap_or("").trim());
+            format!("line {line} (`{src}`): {}", cut(&msg))
         }
-        None => msg,
+        None => cut(&msg),
+    }
+}
+
+/// Longest piece of the user's text quoted in a message (characters).
+const QUOTE_MAX: usize = 120;
+
+/// `s` cut to [`QUOTE_MAX`] characters with "...": a 200 KB line is not
+/// echoed back whole.
+fn cut(s: &str) -> String {
+    if s.chars().count() <= QUOTE_MAX {
+        s.to_string()
+    } else {
+        s.chars().take(QUOTE_MAX - 3).collect::<String>() + "..."
     }
 }
 
@@ -548,6 +561,18 @@ fn missing_of(keys: &[(&str, bool)]) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A very long line is cut in the message, not echoed whole.
+    #[test]
+    fn a_long_line_is_cut_in_the_message() {
+        let text = format!("bell_mass_kg = {}", "9".repeat(200_000));
+        let e = parse_bell(&text, "x").unwrap_err().to_string();
+        assert!(
+            e.len() < 400 && e.contains("line 1") && e.contains("..."),
+            "{} bytes",
+            e.len()
+        );
+    }
 
     #[test]
     fn a_ring_where_one_bell_is_wanted_says_so() {

@@ -49,14 +49,14 @@ pub fn hann(n: usize) -> Vec<f64> {
 }
 
 /// Compute a spectrogram with windows of `window` samples overlapping by
-/// the fraction `overlap` (0 ≤ overlap < 1); levels below `-range_db` are
+/// the fraction `overlap` (0 ≤ overlap ≤ 0.99); levels below `-range_db` are
 /// clipped to it.
 pub fn spectrogram(sig: &Signal, window: usize, overlap: f64, range_db: f64) -> Result<Spectrogram, SignalError> {
     sig.validate()?;
     if window < 16 {
         return Err(SignalError::Option(format!("window of {window} samples: at least 16")));
     }
-    if !(0.0..0.99).contains(&overlap) {
+    if !(0.0..=0.99).contains(&overlap) {
         return Err(SignalError::Option(format!("overlap {overlap}: from 0 to 0.99")));
     }
     if !(range_db.is_finite() && range_db > 0.0) {
@@ -107,6 +107,18 @@ pub fn spectrogram(sig: &Signal, window: usize, overlap: f64, range_db: f64) -> 
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The overlap's range includes its end, as its message says.
+    #[test]
+    fn an_overlap_of_0_99_is_taken_and_1_refused() {
+        let sig = Signal {
+            rate: 8000.0,
+            samples: (0..4000).map(|k| (k as f64 * 0.3).sin()).collect(),
+        };
+        assert!(spectrogram(&sig, 256, 0.99, 80.0).is_ok());
+        let e = spectrogram(&sig, 256, 1.0, 80.0).unwrap_err().to_string();
+        assert!(e.contains("0.99"), "{e}");
+    }
 
     #[test]
     fn a_tone_lands_in_its_bin_and_decays_at_its_rate() {
