@@ -11,7 +11,7 @@ use clapper_io::signal_file::{read_modes, read_signal};
 use clapper_plot::chart::Series;
 use clapper_plot::RGBColor;
 use clapper_signal::accel::{velocity_jumps, JumpOptions};
-use clapper_signal::spectrogram::spectrogram;
+use clapper_signal::spectrogram::spectrogram_columns;
 
 fn line_plot(path: &std::path::Path, title: &str, x: &str, y: &str, series: &[Series]) -> Result<()> {
     line_plot_scaled(path, title, x, y, series, false)
@@ -173,10 +173,18 @@ pub struct SpectrogramArgs {
     pub channel: usize,
 }
 
+/// Most columns of a drawn spectrogram: more than a picture's pixels across.
+const SPECTROGRAM_COLUMNS: usize = 2048;
+
 pub fn spectrogram_cmd(args: SpectrogramArgs) -> Result<()> {
     clapper_plot::format_of(&args.out)?;
     let sig = read_signal(&args.file, args.channel)?;
-    let s = spectrogram(&sig, args.window, args.overlap, args.range_db)?;
+    // A picture has no use for more columns than pixels: a long recording's
+    // frames are merged (the loudest of each run), so that memory does not
+    // grow with it.
+    let s = spectrogram_columns(&sig, args.window, args.overlap, args.range_db, SPECTROGRAM_COLUMNS)?;
+    let hop = ((args.window as f64 * (1.0 - args.overlap)).round() as usize).max(1);
+    let frames = (sig.samples.len().saturating_sub(args.window)) / hop + 1;
     let title = format!(
         "{}: {} sample windows, {:.0} % overlap, {} dB",
         crate::files::title_name(&args.file),
@@ -193,9 +201,17 @@ pub fn spectrogram_cmd(args: SpectrogramArgs) -> Result<()> {
         range_db: args.range_db,
     };
     crate::files::write_atomically(&args.out, |tmp| Ok(clapper_plot::spectrogram_plot(tmp, &p)?))?;
+    let merged = if frames > s.times.len() {
+        format!(
+            ", drawn as {} columns of the loudest of {}",
+            s.times.len(),
+            frames.div_ceil(s.times.len())
+        )
+    } else {
+        String::new()
+    };
     crate::say!(
-        "{} frames x {} bins ({:.1} Hz, {:.1} ms per frame) written to {}",
-        s.times.len(),
+        "{frames} frames{merged} x {} bins ({:.1} Hz, {:.1} ms per frame) written to {}",
         s.freqs.len(),
         sig.rate / args.window as f64,
         args.window as f64 / sig.rate * 1e3,
