@@ -168,3 +168,29 @@ async fn shutdown_does_not_wait_for_half_sent_requests() {
     assert!(secs < 2.0, "{secs:.2} s");
     drop(half);
 }
+
+/// The time limit holds within a second even for a chart that is one
+/// block of 80,000 slow strokes (it was checked only between blocks).
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn the_time_limit_holds_inside_one_block() {
+    let limits = clapper_web::Limits {
+        job_time: Duration::from_secs(1),
+        ..clapper_web::Limits::default()
+    };
+    let (addr, _stop, _server) = start_with(limits).await;
+    let heavy =
+        r#"{"grid": [40000, 1], "contact": "penalty", "stiffness": 1e9, "integrator": "dopri5", "rtol": 1e-14}"#;
+    let t = Instant::now();
+    let mut s = TcpStream::connect(addr).await.unwrap();
+    s.write_all(post(addr, "/api/chart", heavy).as_bytes()).await.unwrap();
+    let mut all = Vec::new();
+    tokio::time::timeout(Duration::from_secs(20), s.read_to_end(&mut all))
+        .await
+        .expect("the stream ends")
+        .unwrap();
+    let secs = t.elapsed().as_secs_f64();
+    let text = String::from_utf8_lossy(&all);
+    println!("a 1 s time limit ended the stream after {secs:.2} s");
+    assert!(text.contains("time limit"), "{text}");
+    assert!(secs < 2.0, "{secs:.2} s");
+}
