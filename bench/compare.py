@@ -84,9 +84,9 @@ def fastest_as_accurate(runs, err, floor):
     return min(ok)[::-1] if ok else (None, None)
 
 
-def scipy_chart(model, rtol, n=N):
-    out = sh([sys.executable, os.path.join(PEERS, "scipy_peer.py"), "--chart", str(n), "--model", model,
-              "--rtol", str(rtol)])
+def peer_chart(out):
+    """A peer's chart printed as JSON lines (the SciPy and CVODE peers'):
+    cells, seconds, mean RHS calls per stroke."""
     cells, secs, evals = {}, None, []
     for line in out.splitlines():
         d = json.loads(line)
@@ -98,18 +98,13 @@ def scipy_chart(model, rtol, n=N):
     return cells, secs, sum(evals) / len(evals)
 
 
+def scipy_chart(model, rtol, n=N):
+    return peer_chart(sh([sys.executable, os.path.join(PEERS, "scipy_peer.py"), "--chart", str(n), "--model", model,
+                          "--rtol", str(rtol)]))
+
+
 def cvode_chart(method, rtol, n=N):
-    """The CVODE peer's chart: cells, seconds, mean RHS calls per stroke
-    (its JSON lines are the SciPy peer's)."""
-    cells, secs, evals = {}, None, []
-    for line in sh([CVODE, "--chart", str(n), "--method", method, "--rtol", str(rtol)]).splitlines():
-        d = json.loads(line)
-        if "point" in d:
-            json_cell(d, cells)
-            evals.append(d["rhs_evals"])
-        else:
-            secs = d["seconds"]
-    return cells, secs, sum(evals) / len(evals)
+    return peer_chart(sh([CVODE, "--chart", str(n), "--method", method, "--rtol", str(rtol)]))
 
 
 def lab_cvode(method, rtol):
@@ -211,32 +206,25 @@ def main():
     big = time.perf_counter() - start
     big_reported = float(re.search(r"strokes in ([0-9.]+) s", out).group(1))
 
-    # SciPy and Octave peers on the chart.
+    # SciPy, CVODE and Octave peers on the chart.
     peer_rows = []
-    for rtol in [1e-6, 1e-8, 1e-10, 1e-12]:
-        cells, secs, evals = scipy_chart("impact", rtol)
+
+    def peer(row_name, ratio_name, cells, secs, evals):
+        """A peer's chart as a row of each table."""
         e = errors(ref, cells)
         per = secs / len(cells)
-        rows.append((f"SciPy solve_ivp RK45, impact, rtol {rtol:g}", per, secs, *e))
+        rows.append((row_name, per, secs, *e))
         m_rtol, m_per = match(e)
-        peer_rows.append((f"SciPy impact, rtol {rtol:g}, chart", per / clapper_per_stroke, m_rtol,
-                          per / m_per if m_per else None, evals))
+        peer_rows.append((ratio_name, per / clapper_per_stroke, m_rtol, per / m_per if m_per else None, evals))
+
+    for rtol in [1e-6, 1e-8, 1e-10, 1e-12]:
+        peer(f"SciPy solve_ivp RK45, impact, rtol {rtol:g}", f"SciPy impact, rtol {rtol:g}, chart",
+             *scipy_chart("impact", rtol))
     for method, name in [("adams", "Adams"), ("bdf", "BDF")]:
         for rtol in [1e-6, 1e-8, 1e-10, 1e-12]:
-            cells, secs, evals = cvode_chart(method, rtol)
-            e = errors(ref, cells)
-            per = secs / len(cells)
-            rows.append((f"CVODE {name} + roots, impact, rtol {rtol:g}", per, secs, *e))
-            m_rtol, m_per = match(e)
-            peer_rows.append((f"CVODE {name} impact, rtol {rtol:g}, chart", per / clapper_per_stroke, m_rtol,
-                              per / m_per if m_per else None, evals))
-    cells, secs = octave_chart(1e-8)
-    e = errors(ref, cells)
-    per = secs / len(cells)
-    rows.append(("Octave ode45 + Events, impact, rtol 1e-08", per, secs, *e))
-    m_rtol, m_per = match(e)
-    peer_rows.append(("Octave impact, rtol 1e-08, chart", per / clapper_per_stroke, m_rtol,
-                      per / m_per if m_per else None, None))
+            peer(f"CVODE {name} + roots, impact, rtol {rtol:g}", f"CVODE {name} impact, rtol {rtol:g}, chart",
+                 *cvode_chart(method, rtol))
+    peer("Octave ode45 + Events, impact, rtol 1e-08", "Octave impact, rtol 1e-08, chart", *octave_chart(1e-8), None)
 
     # The lab bell, one stroke ringing right, at several tolerances.
     ref_lab = lab_clapper(1e-13, "dopri5")

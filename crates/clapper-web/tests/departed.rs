@@ -2,29 +2,13 @@
 //! a test binary of its own: it reads the process's CPU time, which other
 //! tests running beside it would add to.
 
+mod common;
+
+use common::{post, start};
 use std::time::{Duration, Instant};
 
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::TcpStream;
-
-async fn start() -> std::net::SocketAddr {
-    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
-    let addr = listener.local_addr().unwrap();
-    tokio::spawn(clapper_web::serve(
-        listener,
-        clapper_web::Limits::default(),
-        clapper_web::AllowedHosts::loopback(),
-        std::future::pending(),
-    ));
-    addr
-}
-
-fn post(addr: std::net::SocketAddr, path: &str, body: &str) -> String {
-    format!(
-        "POST {path} HTTP/1.1\r\nHost: {addr}\r\nContent-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
-        body.len()
-    )
-}
 
 /// The process's CPU time so far (s), user and system, from /proc.
 fn cpu_seconds() -> f64 {

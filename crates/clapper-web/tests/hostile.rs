@@ -3,29 +3,13 @@
 //! connections that send nothing or half a request are closed, and
 //! shutdown does not wait for them (a departed client: tests/departed.rs).
 
+mod common;
+
+use common::{post, start};
 use std::time::{Duration, Instant};
 
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::{TcpSocket, TcpStream};
-
-async fn start() -> std::net::SocketAddr {
-    let listener = tokio::net::TcpListener::bind("127.0.0.1:0").await.unwrap();
-    let addr = listener.local_addr().unwrap();
-    tokio::spawn(clapper_web::serve(
-        listener,
-        clapper_web::Limits::default(),
-        clapper_web::AllowedHosts::loopback(),
-        std::future::pending(),
-    ));
-    addr
-}
-
-fn post(addr: std::net::SocketAddr, path: &str, body: &str) -> String {
-    format!(
-        "POST {path} HTTP/1.1\r\nHost: {addr}\r\nContent-Type: application/json\r\nContent-Length: {}\r\nConnection: close\r\n\r\n{body}",
-        body.len()
-    )
-}
 
 /// Four chart clients that send their request and never read, each with a
 /// small receive buffer, hold the four computation slots only until their
