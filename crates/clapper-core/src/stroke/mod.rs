@@ -998,8 +998,12 @@ where
     } else {
         None
     };
-    let mut stroke = rec.finish(StrokeEnd { t, y, clapper, reason }, stepper.stats(), events);
-    stroke.strike_amplitude = cfg.strike_amplitude;
+    let mut stroke = rec.finish(
+        StrokeEnd { t, y, clapper, reason },
+        stepper.stats(),
+        events,
+        cfg.strike_amplitude,
+    );
     stroke.after_end = after_end;
     Ok(stroke)
 }

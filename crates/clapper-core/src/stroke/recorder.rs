@@ -108,9 +108,9 @@ impl StrokeRecorder {
         first.is_some_and(|k| k + 1 == self.impacts.len()) && self.rest_after_strike.is_none()
     }
 
-    /// The stroke, ended as `end`, with the stepper's work and the number
-    /// of events handled.
-    pub(super) fn finish(self, end: StrokeEnd, stats: Stats, events: u32) -> Stroke {
+    /// The stroke, ended as `end`, with the stepper's work, the number of
+    /// events handled, and what its amplitude ratio compares.
+    pub(super) fn finish(self, end: StrokeEnd, stats: Stats, events: u32, strike_amplitude: StrikeAmplitude) -> Stroke {
         Stroke {
             start: self.start,
             start_side: self.start_side,
@@ -124,7 +124,7 @@ impl StrokeRecorder {
             after_end: None,
             stats,
             events,
-            strike_amplitude: StrikeAmplitude::Rate,
+            strike_amplitude,
         }
     }
 }
