@@ -18,6 +18,7 @@
 
 #![warn(missing_docs)]
 
+pub mod animate;
 pub mod chart;
 pub mod clapper_design;
 pub mod diagnosis;

@@ -16,7 +16,7 @@ use crate::simulate::SimulateRequest;
 use crate::AppError;
 
 /// Lead-in before the first sound (s).
-const LEAD_S: f64 = 0.2;
+pub(crate) const LEAD_S: f64 = 0.2;
 
 /// Which partials ring.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
@@ -71,6 +71,30 @@ impl Default for SynthOptions {
             accelerometer: false,
             chime: false,
             tail: 2.0,
+        }
+    }
+}
+
+impl SynthOptions {
+    /// Refuse a gap, pulse or tail outside 0-600.
+    pub fn check(&self) -> Result<(), AppError> {
+        for (flag, v) in [
+            ("--gap", self.gap),
+            ("--pulse-ms", self.pulse_ms),
+            ("--tail", self.tail),
+        ] {
+            if !(v.is_finite() && (0.0..=600.0).contains(&v)) {
+                return Err(AppError::Request(format!("{flag} {v} must be between 0 and 600")));
+            }
+        }
+        Ok(())
+    }
+
+    /// The modes that ring for `bell`.
+    pub fn modes(&self, bell: &Bell) -> Vec<SynthMode> {
+        match self.partials {
+            Partials::Lab => lab_partials(),
+            Partials::Typical => typical_partials(self.nominal, bell.bell_mass),
         }
     }
 }
@@ -154,50 +178,24 @@ pub fn synth(req: &SimulateRequest, file: Option<LoadedBell>, opts: &SynthOption
     let loaded = req.bell(file)?;
     let cfg = req.config_for(&loaded)?;
     let (name, bell) = (loaded.name, loaded.bell);
-    for (flag, v) in [
-        ("--gap", opts.gap),
-        ("--pulse-ms", opts.pulse_ms),
-        ("--tail", opts.tail),
-    ] {
-        if !(v.is_finite() && (0.0..=600.0).contains(&v)) {
-            return Err(AppError::Request(format!("{flag} {v} must be between 0 and 600")));
-        }
-    }
+    opts.check()?;
     let mut rec = TraceRecorder::new(1e-3);
     let ringing = ring(&bell, &cfg, req.style, req.protocol, req.strokes, &mut rec)?;
     // Stroke k (from 0) is heard later by the handstroke gaps before it.
-    let offset = |k: usize| LEAD_S + opts.gap * (k / 2) as f64;
-    let stroke_of = |t: f64| {
-        ringing
-            .strokes
-            .iter()
-            .rposition(|s| s.start.t <= t + 1e-12)
-            .unwrap_or(0)
-    };
-    let heard = |t: f64| t + offset(stroke_of(t));
-    let pulse = opts.pulse_ms * 1e-3;
-    // The impulse at the strike point: the clapper's momentum change m b |Δφ'|.
-    let strikes: Vec<Strike> = ringing
-        .strokes
-        .iter()
-        .enumerate()
-        .flat_map(|(k, s)| s.impacts.iter().map(move |i| (k, *i)))
-        .map(|(k, i)| Strike {
-            t: i.t + offset(k),
-            impulse: bell.clapper_mass * bell.b * (i.phi_dot_before - i.phi_dot_after.unwrap_or(0.0)).abs(),
-            pulse,
-        })
+    let offsets: Vec<f64> = (0..ringing.strokes.len())
+        .map(|k| LEAD_S + opts.gap * (k / 2) as f64)
         .collect();
+    let strikes = heard_strikes(&bell, &ringing, &offsets, opts.pulse_ms * 1e-3);
     let first = *strikes
         .first()
         .ok_or_else(|| AppError::Request("the clapper never struck the bell: nothing to hear".into()))?;
-    let end = ringing.strokes.last().map_or(0.0, |s| heard(s.end.t));
+    let end = ringing
+        .strokes
+        .last()
+        .map_or(0.0, |s| s.end.t + offsets[offsets.len() - 1]);
     let duration = end + opts.tail;
-    let rests = rests(&rec.samples, heard, duration);
-    let modes: Vec<SynthMode> = match opts.partials {
-        Partials::Lab => lab_partials(),
-        Partials::Typical => typical_partials(opts.nominal, bell.bell_mass),
-    };
+    let rests = heard_rests(&rec.samples, &ringing, &offsets, duration);
+    let modes = opts.modes(&bell);
     let (strikes, rests, duration) = if opts.chime {
         (vec![Strike { t: LEAD_S, ..first }], vec![], LEAD_S + 3.0 + opts.tail)
     } else {
@@ -217,7 +215,7 @@ pub fn synth(req: &SimulateRequest, file: Option<LoadedBell>, opts: &SynthOption
         .strokes
         .iter()
         .enumerate()
-        .filter_map(|(k, s)| s.rest_after_strike.map(|m| m.t + offset(k)))
+        .filter_map(|(k, s)| s.rest_after_strike.map(|m| m.t + offsets[k]))
         .collect();
     let report = SynthReport {
         bell: name,
@@ -250,6 +248,36 @@ pub fn synth(req: &SimulateRequest, file: Option<LoadedBell>, opts: &SynthOption
         report,
         strokes: ringing.strokes.len(),
     })
+}
+
+/// Every impact of `ringing` as a strike heard at its time plus its
+/// stroke's offset (`offsets[k]` for stroke k, s): the impulse at the strike
+/// point is the clapper's momentum change m b |Δφ'|.
+pub(crate) fn heard_strikes(bell: &Bell, ringing: &Ringing, offsets: &[f64], pulse: f64) -> Vec<Strike> {
+    ringing
+        .strokes
+        .iter()
+        .enumerate()
+        .flat_map(|(k, s)| s.impacts.iter().map(move |i| (k, *i)))
+        .map(|(k, i)| Strike {
+            t: i.t + offsets[k],
+            impulse: bell.clapper_mass * bell.b * (i.phi_dot_before - i.phi_dot_after.unwrap_or(0.0)).abs(),
+            pulse,
+        })
+        .collect()
+}
+
+/// The intervals with the clapper resting on the bell, as heard (each
+/// sample shifted by its stroke's offset), closed at `end` (s).
+pub(crate) fn heard_rests(samples: &[Sample], ringing: &Ringing, offsets: &[f64], end: f64) -> Vec<(f64, f64)> {
+    let stroke_of = |t: f64| {
+        ringing
+            .strokes
+            .iter()
+            .rposition(|s| s.start.t <= t + 1e-12)
+            .unwrap_or(0)
+    };
+    rests(samples, |t| t + offsets[stroke_of(t)], end)
 }
 
 /// Runs of trace samples with a holding force (the clapper on the bell), as

@@ -18,6 +18,7 @@ macro_rules! say_text {
     };
 }
 
+mod animate;
 mod chart;
 mod design_clapper;
 mod diagnose;
@@ -96,6 +97,10 @@ enum Command {
     /// The sound of the bell rung full circle (or chimed), by modal synthesis
     /// driven by the simulation.
     Synth(sound::SynthArgs),
+    /// The bell and its clapper drawn to scale and animated: an SVG, a GIF,
+    /// or an HTML page playing the synthesised sound in step; a ring in rounds
+    /// with --ring.
+    Animate(animate::AnimateArgs),
     /// The double-strike listening test (Section 4.3): make stimuli and
     /// answer sheets, or analyse the answers.
     ListeningTest(listening::ListeningArgs),
@@ -172,6 +177,7 @@ fn main() {
         Command::SynthRing(args) => strikes::synth_ring(args),
         Command::Impulse(args) => measure::impulse(args),
         Command::Synth(args) => sound::run(args),
+        Command::Animate(args) => animate::run(args),
         Command::ListeningTest(args) => listening::run(args),
         Command::SampleData(args) => sample_data::run(args),
         Command::Serve(args) => serve::run(args),

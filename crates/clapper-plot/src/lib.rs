@@ -93,6 +93,7 @@ macro_rules! render_svg {
     }};
 }
 
+pub mod animation;
 pub mod chart;
 mod fonts;
 pub mod quantity;

@@ -416,8 +416,41 @@ async function simulateStroke(body, title) {
     $("stroke-plot").innerHTML = res.plot_svg;
   } catch (e) {
     $("stroke-title").textContent = "Stroke: " + e.message;
+    return;
+  }
+  strokeBody = body;
+  await animateStrokes([body]);
+}
+
+// The stroke view's animation: the bell (and a variant beside it) drawn
+// from the simulation, with its sound, by the player /player.js serves.
+let strokeBody = null;
+let player = null;
+async function animateStrokes(bodies) {
+  const status = $("anim-status");
+  status.textContent = "animating…";
+  status.classList.remove("error");
+  try {
+    const res = await (await postJson("/api/animate", { bells: bodies })).json();
+    if (player && player.playing) player.pause();
+    player = ClapperPlayer.mount($("stroke-anim"), res.animation, "data:audio/wav;base64," + res.audio_wav_base64);
+    status.textContent = "";
+  } catch (e) {
+    showError(status, e);
   }
 }
+
+$("cmp-go").addEventListener("click", () => {
+  if (!strokeBody) return;
+  const other = { ...strokeBody };
+  const style = $("cmp-style").value;
+  if (style) other.style = style;
+  for (const [id, key] of [["cmp-theta0", "theta0"], ["cmp-restitution", "restitution"], ["cmp-phi-max", "phi_max"]]) {
+    const v = $(id).value.trim();
+    if (v !== "") other[key] = Number(v);
+  }
+  animateStrokes([strokeBody, other]);
+});
 
 async function showStroke(p) {
   const q = $("quantity").value;

@@ -3,7 +3,8 @@
 // playwright-core. It starts `clapper serve --port 0`, loads the page,
 // times a 200 x 200 chart drawn in the page against the same chart from the
 // API, enters the lab bell, sees its marker on the chart, clicks it and sees
-// the lab bell's stroke, answers three listening-test stimuli and shows the
+// the lab bell's stroke and plays its animation (alone and beside the same
+// bell ringing wrong), answers three listening-test stimuli and shows the
 // result, uploads a synthetic recording of a ring and sees its striking,
 // saving a screenshot at each step.
 //
@@ -127,6 +128,51 @@ try {
     `the marker's click simulates the lab bell itself (T_b ${labTb.toFixed(3)} s): ` + numbers.slice(0, 90));
   await page.locator("#stroke-panel").scrollIntoViewIfNeeded();
   await page.screenshot({ path: `${out}/03-stroke.png`, fullPage: true });
+
+  // The stroke view animates the bell beside its plot: play it, see the
+  // clapper move and a strike flash, in slow motion too.
+  await page.waitForSelector("#stroke-anim canvas.cp-bells", { timeout: 30000 });
+  const anim = page.locator("#stroke-anim");
+  const phiAt = async () => Number(await anim.getAttribute("data-phi"));
+  const phi0 = await phiAt();
+  const theta0 = Number(await anim.getAttribute("data-theta"));
+  await page.click("#stroke-anim .cp-play");
+  // The clapper rests on the bell until lift-off, then flies across.
+  await page.waitForFunction((p0) => Math.abs(Number(document.querySelector("#stroke-anim").dataset.phi) - p0) > 5, phi0, { timeout: 10000 });
+  const [phi1, theta1] = [await phiAt(), Number(await anim.getAttribute("data-theta"))];
+  check(Math.abs(theta1 - theta0) > 20, `the animation plays and the bell swings (theta ${theta0.toFixed(1)} to ${theta1.toFixed(1)} deg) and the clapper moves (phi ${phi0.toFixed(1)} to ${phi1.toFixed(1)} deg)`);
+  await page.waitForFunction(() => Number(document.querySelector("#stroke-anim").dataset.strikesShown) > 0, null, { timeout: 15000 });
+  check(true, `a strike is shown (${await anim.getAttribute("data-strikes-shown")} flashed)`);
+  // Pictures drawn in one second of playing: the browser's frame rate if
+  // the player keeps up (60 on a display; headless Chromium may run slower).
+  const d0 = Number(await anim.getAttribute("data-draws"));
+  await page.waitForTimeout(1000);
+  const d1 = Number(await anim.getAttribute("data-draws"));
+  check(d1 - d0 >= 20, `the player draws ${d1 - d0} pictures in a second of playing`);
+  await page.click("#stroke-anim .cp-play");
+  await anim.scrollIntoViewIfNeeded();
+  await page.screenshot({ path: `${out}/03b-stroke-animation.png`, fullPage: false });
+  // Slow motion: 1/10 runs the clock at a tenth of the speed.
+  await page.selectOption("#stroke-anim .cp-speed", "0.1");
+  const tSlow0 = Number(await anim.getAttribute("data-t"));
+  await page.click("#stroke-anim .cp-play");
+  await page.waitForTimeout(1000);
+  const tSlow1 = Number(await anim.getAttribute("data-t"));
+  await page.click("#stroke-anim .cp-play");
+  check(tSlow1 - tSlow0 > 0.03 && tSlow1 - tSlow0 < 0.3, `1/10 slow motion: ${(tSlow1 - tSlow0).toFixed(3)} s of bell time in 1 s`);
+  // The same bell ringing wrong, beside it, on one clock.
+  await page.selectOption("#cmp-style", "wrong");
+  await page.click("#cmp-go");
+  await page.waitForFunction(() => document.querySelector("#stroke-anim .cp-readout") && document.querySelectorAll("#stroke-anim").length === 1 &&
+    document.querySelector("#stroke-anim").dataset.strikesShown === "0", null, { timeout: 30000 });
+  await page.waitForFunction(() => !document.querySelector("#anim-status").textContent.includes("animating"), null, { timeout: 30000 });
+  await page.click("#stroke-anim .cp-play");
+  await page.waitForFunction(() => Number(document.querySelector("#stroke-anim").dataset.strikesShown) > 1, null, { timeout: 15000 });
+  await page.waitForTimeout(400);
+  await page.click("#stroke-anim .cp-play");
+  await anim.scrollIntoViewIfNeeded();
+  await page.screenshot({ path: `${out}/03c-side-by-side.png`, fullPage: false });
+  check(true, "two bells side by side play on one clock, strikes shown");
 
   // The README's odd-struck bell: the tenor by tower measurements with the
   // tape's gaps (253 and 247 mm, ball 0.8 m below the pivot).

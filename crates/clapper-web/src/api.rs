@@ -12,6 +12,7 @@ use axum::extract::{Path, Query, State};
 use axum::http::header;
 use axum::response::{IntoResponse, Response};
 use axum::Json;
+use clapper_app::animate::{AnimateOptions, Arrangement};
 use clapper_app::chart::ChartRequest;
 use clapper_app::clapper_design::{design, DesignRequest};
 use clapper_app::diagnosis::{diagnose_bells, report_page, DiagnoseRequest};
@@ -137,6 +138,67 @@ pub(crate) async fn stroke(State(s): State<AppState>, req: Body_<SimulateRequest
         })
         .await?;
     Ok(Json(json!({"report": report, "plot_svg": svg})).into_response())
+}
+
+/// `POST /api/animate`: one bell or two side by side (e.g. before and
+/// after a change), animated on one clock: `{"bells": [request, ..],
+/// "fps": 300}`, each request as `/api/simulate` takes. Answers the
+/// player's data (`clapper_plot::animation::player_json`) and the sound
+/// as a base64 WAV: `{"animation": {..}, "audio_wav_base64": ".."}`.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct AnimateBody {
+    bells: Vec<SimulateRequest>,
+    #[serde(default)]
+    fps: Option<f64>,
+}
+
+/// Most bells one animation request may ask for: two, side by side.
+const ANIMATE_MAX_BELLS: usize = 2;
+/// Most strokes a bell may ring in a page's animation: the page holds
+/// every frame (300 a second), so a few whole pulls.
+const ANIMATE_MAX_STROKES: usize = 8;
+
+pub(crate) async fn animate(State(s): State<AppState>, req: Body_<AnimateBody>) -> Result<Response, ApiError> {
+    let req = body(req)?;
+    if req.bells.is_empty() || req.bells.len() > ANIMATE_MAX_BELLS {
+        return Err(ApiError::BadRequest(format!(
+            "bells: give 1 or {ANIMATE_MAX_BELLS} bell requests, not {}",
+            req.bells.len()
+        )));
+    }
+    for b in &req.bells {
+        check_stiffness(&s.limits, b.stiffness)?;
+        if b.strokes > ANIMATE_MAX_STROKES.min(s.limits.max_strokes) {
+            return Err(ApiError::BadRequest(format!(
+                "strokes {} is more than an animation here allows ({})",
+                b.strokes,
+                ANIMATE_MAX_STROKES.min(s.limits.max_strokes)
+            )));
+        }
+    }
+    let fps = req.fps.unwrap_or(300.0);
+    if !(1.0..=600.0).contains(&fps) {
+        return Err(ApiError::BadRequest(format!("fps {fps} is out of range: 1 to 600")));
+    }
+    let v = s
+        .jobs
+        .run(move || {
+            use base64::Engine as _;
+            let opts = AnimateOptions {
+                fps,
+                ..AnimateOptions::default()
+            };
+            let bells = req.bells.into_iter().map(|r| (r, None)).collect();
+            let a = clapper_app::animate::animate(bells, Arrangement::SideBySide, &opts)?;
+            let wav = clapper_io::signal_file::wav_bytes(&a.sound, 0.9).map_err(clapper_app::AppError::Sound)?;
+            Ok(json!({
+                "animation": clapper_plot::animation::player_json(&a.animation),
+                "audio_wav_base64": base64::engine::general_purpose::STANDARD.encode(wav),
+            }))
+        })
+        .await?;
+    Ok(Json(v).into_response())
 }
 
 /// One chart cell as the stream sends it:

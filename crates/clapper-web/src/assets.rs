@@ -16,6 +16,15 @@ pub(crate) async fn script() -> impl IntoResponse {
     )
 }
 
+/// `GET /player.js`: the animation player, the same file `clapper
+/// animate` puts in its pages.
+pub(crate) async fn player() -> impl IntoResponse {
+    (
+        [(header::CONTENT_TYPE, "text/javascript; charset=utf-8")],
+        clapper_plot::animation::PLAYER_JS,
+    )
+}
+
 /// `GET /app.css`.
 pub(crate) async fn style() -> impl IntoResponse {
     (

@@ -648,3 +648,51 @@ async fn a_body_that_is_not_an_object_is_refused() {
     let (status, _) = send(&app, "POST", "/api/simulate", Some("{}")).await;
     assert_eq!(status, StatusCode::OK);
 }
+
+#[tokio::test]
+async fn animate_answers_frames_and_sound_for_one_or_two_bells() {
+    let app = router(Limits::default());
+    let (status, body) = send(
+        &app,
+        "POST",
+        "/api/animate",
+        Some(r#"{"bells": [{"preset": "lab"}, {"preset": "lab", "style": "wrong"}], "fps": 100}"#),
+    )
+    .await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let v = json(&body);
+    let bells = v["animation"]["bells"].as_array().unwrap();
+    assert_eq!(bells.len(), 2);
+    // One clock: both bells' frames run from 0 to the animation's end, an
+    // angle a frame, and each has strikes.
+    let duration = v["animation"]["duration_s"].as_f64().unwrap();
+    for b in bells {
+        let t = b["t_s"].as_array().unwrap();
+        assert_eq!(t.len(), b["phi_deg"].as_array().unwrap().len());
+        assert_eq!(
+            (t[0].as_f64().unwrap(), t[t.len() - 1].as_f64().unwrap()),
+            (0.0, duration)
+        );
+    }
+    assert!(bells.iter().all(|b| !b["strikes"].as_array().unwrap().is_empty()));
+    let wav = v["audio_wav_base64"].as_str().unwrap();
+    assert!(wav.starts_with("UklGR"), "a WAV (RIFF) in base64");
+    // Bad requests name what is wrong.
+    for (req, says) in [
+        (r#"{"bells": []}"#, "give 1 or 2"),
+        (r#"{"bells": [{}, {}, {}]}"#, "give 1 or 2"),
+        (r#"{"bells": [{"strokes": 9}]}"#, "more than an animation here allows"),
+        (r#"{"bells": [{}], "fps": 0}"#, "fps 0 is out of range"),
+        (r#"{"bells": [{"theta0": 200}]}"#, "theta0"),
+        (r#"{"bell": {}}"#, "unknown field"),
+    ] {
+        let (status, body) = send(&app, "POST", "/api/animate", Some(req)).await;
+        assert_eq!(status, StatusCode::BAD_REQUEST, "{req}");
+        let text = String::from_utf8_lossy(&body);
+        assert!(text.contains(says), "{req}: {text}");
+    }
+    // The page's player is served.
+    let (status, body) = send(&app, "GET", "/player.js", None).await;
+    assert_eq!(status, StatusCode::OK);
+    assert!(String::from_utf8_lossy(&body).contains("class ClapperPlayer"));
+}

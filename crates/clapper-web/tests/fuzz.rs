@@ -11,7 +11,11 @@ use proptest::prelude::*;
 use proptest::test_runner::Config;
 use tower::ServiceExt;
 
-const BODIES: [(&str, &str); 7] = [
+const BODIES: [(&str, &str); 8] = [
+    (
+        "/api/animate",
+        r#"{"bells": [{"preset": "lab", "strokes": 1}], "fps": 20}"#,
+    ),
     (
         "/api/simulate",
         r#"{"preset": "lab", "style": "wrong", "theta0": 150, "restitution": 0.3, "strokes": 3}"#,
