@@ -39,7 +39,8 @@ pub struct AnimateArgs {
     #[arg(long)]
     pub fps: Option<f64>,
     /// Picture size WxH (px). Default 520x560 for one bell, 880x500 for
-    /// two, 180 px a bell across by 380 px for a ring.
+    /// two; for a ring 200 x 230 px a bell, in one row up to four bells,
+    /// else two.
     #[arg(long, value_name = "WxH", value_parser = parse_size)]
     pub size: Option<(u32, u32)>,
     /// The handstroke gap (s): an extra pause before each handstroke after
@@ -135,7 +136,13 @@ pub fn run(args: AnimateArgs) -> Result<()> {
     let (w, h) = args.size.unwrap_or(match n {
         1 => (520, 560),
         2 => (880, 500),
-        _ => ((180 * n as u32).clamp(360, 4096), 380),
+        _ => {
+            let cols = clapper_plot::animation::columns(n) as u32;
+            (
+                (200 * cols).clamp(360, 4096),
+                (230 * n.div_ceil(cols as usize) as u32 + 40).min(4096),
+            )
+        }
     });
     let animated = animate(bells, arrangement, &opts)?;
     let a = &animated.animation;

@@ -602,6 +602,7 @@ $("ring-file").addEventListener("change", async (ev) => {
 $("clear-bells").addEventListener("click", () => {
   ring.bells = []; ring.text = null; chart.markers = []; renderRing(); renderMarkers();
   $("diagnosis").innerHTML = ""; showStatus($("diagnosis-status"), "");
+  $("rounds-box").hidden = true;
 });
 
 function diagnoseRequest() {
@@ -621,8 +622,25 @@ $("diagnose").addEventListener("click", async () => {
       x: b.r_over_lc, y: b.lb_over_lc, label: b.name, source: rep.simulate[k], style: b.usual_style || "right",
     }));
     $("diagnosis").innerHTML = diagnosisHtml(rep);
+    $("rounds-box").hidden = rep.bells.length < 2;
     showStatus(status, `${rep.bells.length} bell(s) diagnosed; they are marked on the clapping chart.`);
     renderMarkers();
+  } catch (e) { showError(status, e); }
+});
+
+// The diagnosed ring ringing rounds: every bell's own file, rung right,
+// two whole pulls, animated with its sound and a striking diagram.
+let roundsPlayer = null;
+$("ring-rounds").addEventListener("click", async () => {
+  const status = $("rounds-status");
+  if (!lastDiagnosis) return;
+  try {
+    showStatus(status, "Ringing…");
+    const bells = lastDiagnosis.simulate.slice(0, 16).map((src) => ({ ...src, style: "right", strokes: 4 }));
+    const res = await (await postJson("/api/animate", { bells, arrangement: "rounds" })).json();
+    if (roundsPlayer && roundsPlayer.playing) roundsPlayer.pause();
+    roundsPlayer = ClapperPlayer.mount($("rounds-anim"), res.animation, "data:audio/wav;base64," + res.audio_wav_base64);
+    showStatus(status, `${bells.length} bells, ${(res.animation.rounds_interval_s * 1000).toFixed(0)} ms between blows. Press Play.`);
   } catch (e) { showError(status, e); }
 });
 

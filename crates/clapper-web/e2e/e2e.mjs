@@ -266,6 +266,37 @@ try {
   check(await page.locator("#strikes-result svg").count() === 1, "the striking diagram is drawn");
   await page.screenshot({ path: `${out}/07-strikes.png`, fullPage: true });
 
+  // A ring file diagnosed, then rung in rounds in the page.
+  await page.click('button[data-tab="bells"]');
+  await page.click("#clear-bells");
+  await page.setInputFiles("#ring-file", resolve(root, "examples/ring-of-eight.csv"));
+  await page.click("#diagnose");
+  await page.waitForFunction(() => document.querySelectorAll("tr.bell-row").length === 8, null, { timeout: 60000 });
+  await page.click("#ring-rounds");
+  await page.waitForSelector("#rounds-anim canvas.cp-diagram", { timeout: 60000 });
+  await page.click("#rounds-anim .cp-play");
+  await page.waitForFunction(() => Number(document.querySelector("#rounds-anim").dataset.strikesShown) >= 8, null, { timeout: 20000 });
+  await page.click("#rounds-anim .cp-play");
+  await page.locator("#rounds-box").scrollIntoViewIfNeeded();
+  await page.screenshot({ path: `${out}/09-rounds-web.png`, fullPage: false });
+  check((await page.textContent("#rounds-status")).includes("8 bells"), "the diagnosed ring rings rounds in the page, its blows flashing");
+
+  // `clapper animate --ring` writes a page that plays on its own, from a
+  // file: the ring in rounds with its striking diagram.
+  const rounds = `${out}/rounds.html`;
+  const animRun = spawnSync(bin, ["animate", "--ring", resolve(root, "examples/ring-of-eight.csv"), "--out", rounds], { encoding: "utf8" });
+  check(animRun.status === 0, "clapper animate --ring writes a page: " + (animRun.stdout || animRun.stderr).split("\n")[0]);
+  const own = await browser.newPage({ viewport: { width: 1400, height: 900 } });
+  own.on("pageerror", (e) => pageErrors.push(String(e)));
+  await own.goto("file://" + rounds);
+  await own.waitForSelector("#player canvas.cp-diagram", { timeout: 10000 });
+  await own.click("#player .cp-play");
+  await own.waitForFunction(() => Number(document.querySelector("#player").dataset.strikesShown) >= 8, null, { timeout: 20000 });
+  await own.click("#player .cp-play");
+  check(true, `the rounds page plays from a file, its striking diagram drawn (${await own.getAttribute("#player", "data-strikes-shown")} strikes flashed)`);
+  await own.screenshot({ path: `${out}/08-rounds.png`, fullPage: true });
+  await own.close();
+
   check(pageErrors.length === 0, "no script errors in the page" + (pageErrors.length ? ": " + pageErrors.join("; ") : ""));
   console.log(`screenshots in ${out}`);
 } catch (e) {

@@ -141,7 +141,8 @@ pub(crate) async fn stroke(State(s): State<AppState>, req: Body_<SimulateRequest
 }
 
 /// `POST /api/animate`: one bell or two side by side (e.g. before and
-/// after a change), animated on one clock: `{"bells": [request, ..],
+/// after a change), or a ring in rounds, animated on one clock:
+/// `{"bells": [request, ..], "arrangement": "side-by-side" | "rounds",
 /// "fps": 300}`, each request as `/api/simulate` takes. Answers the
 /// player's data (`clapper_plot::animation::player_json`) and the sound
 /// as a base64 WAV: `{"animation": {..}, "audio_wav_base64": ".."}`.
@@ -150,37 +151,49 @@ pub(crate) async fn stroke(State(s): State<AppState>, req: Body_<SimulateRequest
 pub(crate) struct AnimateBody {
     bells: Vec<SimulateRequest>,
     #[serde(default)]
+    arrangement: Arrangement,
+    #[serde(default)]
     fps: Option<f64>,
 }
 
-/// Most bells one animation request may ask for: two, side by side.
-const ANIMATE_MAX_BELLS: usize = 2;
-/// Most strokes a bell may ring in a page's animation: the page holds
-/// every frame (300 a second), so a few whole pulls.
-const ANIMATE_MAX_STROKES: usize = 8;
+/// What a page's animation may hold, by arrangement: most bells, most
+/// strokes a bell, most and default frames a second. The page holds
+/// every frame, so each bound keeps it under about 30,000 frames: two
+/// bells of 8 strokes at up to 600 a second (1/10 slow motion at 60), or
+/// 16 bells of 4 strokes at up to 150.
+fn animate_bounds(a: Arrangement) -> (usize, usize, f64, f64) {
+    match a {
+        Arrangement::SideBySide => (2, 8, 600.0, 300.0),
+        Arrangement::Rounds => (16, 4, 150.0, 120.0),
+    }
+}
 
 pub(crate) async fn animate(State(s): State<AppState>, req: Body_<AnimateBody>) -> Result<Response, ApiError> {
     let req = body(req)?;
-    if req.bells.is_empty() || req.bells.len() > ANIMATE_MAX_BELLS {
+    let (max_bells, max_strokes, max_fps, fps) = animate_bounds(req.arrangement);
+    if req.bells.is_empty() || req.bells.len() > max_bells {
         return Err(ApiError::BadRequest(format!(
-            "bells: give 1 or {ANIMATE_MAX_BELLS} bell requests, not {}",
+            "bells: give 1 to {max_bells} bell requests here, not {}",
             req.bells.len()
         )));
     }
+    let max_strokes = max_strokes.min(s.limits.max_strokes);
     for b in &req.bells {
         check_stiffness(&s.limits, b.stiffness)?;
-        if b.strokes > ANIMATE_MAX_STROKES.min(s.limits.max_strokes) {
+        if b.strokes > max_strokes {
             return Err(ApiError::BadRequest(format!(
-                "strokes {} is more than an animation here allows ({})",
-                b.strokes,
-                ANIMATE_MAX_STROKES.min(s.limits.max_strokes)
+                "strokes {} is more than an animation here allows ({max_strokes})",
+                b.strokes
             )));
         }
     }
-    let fps = req.fps.unwrap_or(300.0);
-    if !(1.0..=600.0).contains(&fps) {
-        return Err(ApiError::BadRequest(format!("fps {fps} is out of range: 1 to 600")));
+    let fps = req.fps.unwrap_or(fps);
+    if !(1.0..=max_fps).contains(&fps) {
+        return Err(ApiError::BadRequest(format!(
+            "fps {fps} is out of range: 1 to {max_fps}"
+        )));
     }
+    let arrangement = req.arrangement;
     let v = s
         .jobs
         .run(move || {
@@ -190,7 +203,7 @@ pub(crate) async fn animate(State(s): State<AppState>, req: Body_<AnimateBody>) 
                 ..AnimateOptions::default()
             };
             let bells = req.bells.into_iter().map(|r| (r, None)).collect();
-            let a = clapper_app::animate::animate(bells, Arrangement::SideBySide, &opts)?;
+            let a = clapper_app::animate::animate(bells, arrangement, &opts)?;
             let wav = clapper_io::signal_file::wav_bytes(&a.sound, 0.9).map_err(clapper_app::AppError::Sound)?;
             Ok(json!({
                 "animation": clapper_plot::animation::player_json(&a.animation),

@@ -679,8 +679,11 @@ async fn animate_answers_frames_and_sound_for_one_or_two_bells() {
     assert!(wav.starts_with("UklGR"), "a WAV (RIFF) in base64");
     // Bad requests name what is wrong.
     for (req, says) in [
-        (r#"{"bells": []}"#, "give 1 or 2"),
-        (r#"{"bells": [{}, {}, {}]}"#, "give 1 or 2"),
+        (r#"{"bells": []}"#, "give 1 to 2"),
+        (r#"{"bells": [{}, {}, {}]}"#, "give 1 to 2"),
+        (r#"{"bells": [{"strokes": 5}], "arrangement": "rounds"}"#, "allows (4)"),
+        (r#"{"bells": [{}], "arrangement": "rounds", "fps": 300}"#, "1 to 150"),
+        (r#"{"bells": [{}], "arrangement": "in-a-line"}"#, "unknown variant"),
         (r#"{"bells": [{"strokes": 9}]}"#, "more than an animation here allows"),
         (r#"{"bells": [{}], "fps": 0}"#, "fps 0 is out of range"),
         (r#"{"bells": [{"theta0": 200}]}"#, "theta0"),
@@ -690,6 +693,28 @@ async fn animate_answers_frames_and_sound_for_one_or_two_bells() {
         assert_eq!(status, StatusCode::BAD_REQUEST, "{req}");
         let text = String::from_utf8_lossy(&body);
         assert!(text.contains(says), "{req}: {text}");
+    }
+    // Three bells in rounds: each blow has its ideal place, and the
+    // interval between blows is given.
+    let (status, body) = send(
+        &app,
+        "POST",
+        "/api/animate",
+        Some(r#"{"bells": [{"preset": "lab"}, {"preset": "gsm-tenor"}, {"preset": "lab", "theta0": 160}], "arrangement": "rounds"}"#),
+    )
+    .await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+    let v = json(&body);
+    assert!(v["animation"]["rounds_interval_s"].as_f64().unwrap() > 0.1);
+    for b in v["animation"]["bells"].as_array().unwrap() {
+        let firsts: Vec<&Value> = b["strikes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .filter(|s| s["first"] == true)
+            .collect();
+        assert_eq!(firsts.len(), 2, "a blow at handstroke and backstroke");
+        assert!(firsts.iter().all(|s| s["ideal_s"].is_number()));
     }
     // The page's player is served.
     let (status, body) = send(&app, "GET", "/player.js", None).await;

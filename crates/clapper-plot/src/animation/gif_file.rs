@@ -8,7 +8,7 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::figure::{colours, rotate, Part, Shape};
-use super::{check_size, Animation, Layout, FLASH_S};
+use super::{caption, check_size, Animation, Layout, FLASH_S};
 use crate::PlotError;
 
 fn rgb(hex: &str) -> RGBColor {
@@ -181,7 +181,7 @@ pub fn animation_gif(anim: &Animation, width: u32, height: u32) -> Result<Vec<u8
                     (((l.width - f64::from(tw)) / 2.0) as i32, (0.4 * l.font) as i32),
                 )
                 .map_err(|e| draw_err(e.to_string()))?;
-                for (b, c) in anim.bells.iter().zip(&l.centres) {
+                for ((b, c), cap) in anim.bells.iter().zip(&l.centres).zip(&l.captions) {
                     let fr = &b.frames[j];
                     let f = &b.figure;
                     let pen = Pen {
@@ -209,14 +209,14 @@ pub fn animation_gif(anim: &Animation, width: u32, height: u32) -> Result<Vec<u8
                         area.draw(&Circle::new(pen.px(at), r, rgb(colours::FLASH_RIM).stroke_width(2)))
                             .map_err(|e| draw_err(e.to_string()))?;
                     }
-                    let caption = format!("{}: {}", b.name, b.caption);
+                    let text = caption(anim, b);
                     let (cw, _) = area
-                        .estimate_text_size(&caption, &caption_font)
+                        .estimate_text_size(&text, &caption_font)
                         .map_err(|e| draw_err(e.to_string()))?;
                     area.draw_text(
-                        &caption,
+                        &text,
                         &caption_font,
-                        ((c[0] - f64::from(cw) / 2.0) as i32, (l.caption_y - 0.8 * l.font) as i32),
+                        ((cap[0] - f64::from(cw) / 2.0) as i32, (cap[1] - 0.8 * l.font) as i32),
                     )
                     .map_err(|e| draw_err(e.to_string()))?;
                 }

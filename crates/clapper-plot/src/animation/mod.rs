@@ -117,8 +117,9 @@ impl Animation {
 }
 
 /// Where each bell is drawn in a picture `width` × `height` px: a title
-/// band on top, a caption band under the bells, the bells in a row at one
-/// scale (a tenor beside a treble looks its size).
+/// band on top, the bells in a row (more than four: two rows), each with a
+/// caption under it, all at one scale (a tenor beside a treble looks its
+/// size). The HTML player lays bells out by the same rule.
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) struct Layout {
     pub width: f64,
@@ -127,10 +128,19 @@ pub(crate) struct Layout {
     pub scale: f64,
     /// Each bell's pivot (px, y down).
     pub centres: Vec<[f64; 2]>,
-    /// Baseline of the captions (px).
-    pub caption_y: f64,
+    /// Each bell's caption: its centre and baseline (px).
+    pub captions: Vec<[f64; 2]>,
     /// Title font size (px).
     pub font: f64,
+}
+
+/// Columns for `n` bells: one row up to four, else two rows.
+pub fn columns(n: usize) -> usize {
+    if n > 4 {
+        n.div_ceil(2)
+    } else {
+        n.max(1)
+    }
 }
 
 impl Layout {
@@ -138,26 +148,48 @@ impl Layout {
         let (w, h) = (f64::from(width), f64::from(height));
         let font = (h / 28.0).clamp(9.0, 18.0);
         let top = 1.8 * font;
-        let bottom = 2.6 * font;
-        let n = anim.bells.len().max(1) as f64;
-        let cell = w / n;
-        let area = (h - top - bottom).max(10.0);
+        let n = anim.bells.len().max(1);
+        let cols = columns(n);
+        let rows = n.div_ceil(cols);
+        let cell = w / cols as f64;
+        let row_h = ((h - top - 4.0) / rows as f64).max(10.0);
+        let area = (row_h - 1.6 * font).max(10.0);
         let scale = anim
             .bells
             .iter()
             .map(|b| 0.48 * cell.min(area) / b.figure.reach.max(1e-6))
             .fold(f64::INFINITY, f64::min);
+        let at = |i: usize| ((i % cols) as f64, (i / cols) as f64);
         let centres = (0..anim.bells.len())
-            .map(|i| [cell * (i as f64 + 0.5), top + area / 2.0])
+            .map(|i| {
+                let (c, r) = at(i);
+                [cell * (c + 0.5), top + r * row_h + area / 2.0]
+            })
+            .collect();
+        let captions = (0..anim.bells.len())
+            .map(|i| {
+                let (c, r) = at(i);
+                [cell * (c + 0.5), top + (r + 1.0) * row_h - 0.5 * font]
+            })
             .collect();
         Layout {
             width: w,
             height: h,
             scale,
             centres,
-            caption_y: h - 1.2 * font,
+            captions,
             font,
         }
+    }
+}
+
+/// A bell's caption: its name and how it rings, or for more than two
+/// bells (narrow cells) its name alone.
+pub(crate) fn caption(anim: &Animation, b: &BellMotion) -> String {
+    if anim.bells.len() > 2 {
+        b.name.clone()
+    } else {
+        format!("{}: {}", b.name, b.caption)
     }
 }
 
@@ -235,10 +267,25 @@ pub(crate) mod tests {
         let mut tenor = a.bells[0].clone();
         tenor.figure = Figure::of(&Bell::gsm_tenor());
         a.bells.push(tenor);
-        let l = Layout::new(&a, 600, 400);
-        for (b, c) in a.bells.iter().zip(&l.centres) {
-            let r = b.figure.reach * l.scale;
-            assert!(c[0] - r >= 0.0 && c[0] + r <= 600.0 && c[1] + r <= l.caption_y);
+        for n in [2, 5, 8] {
+            while a.bells.len() < n {
+                a.bells.push(a.bells[a.bells.len() % 2].clone());
+            }
+            let l = Layout::new(&a, 600, 400);
+            for ((b, c), cap) in a.bells.iter().zip(&l.centres).zip(&l.captions) {
+                let r = b.figure.reach * l.scale;
+                assert!(
+                    c[0] - r >= 0.0 && c[0] + r <= 600.0 && c[1] + r <= cap[1] - 0.5 * l.font,
+                    "{n} bells"
+                );
+            }
+            // Two rows above four bells, each bell's caption under it.
+            let rows = l
+                .centres
+                .iter()
+                .map(|c| c[1].to_bits())
+                .collect::<std::collections::BTreeSet<_>>();
+            assert_eq!(rows.len(), if n > 4 { 2 } else { 1 });
         }
     }
 }

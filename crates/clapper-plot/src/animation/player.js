@@ -108,17 +108,21 @@
       const n = this.bells.length;
       const ratio = window.devicePixelRatio || 1;
       const size = (c, h) => { c.width = Math.round(w * ratio); c.height = Math.round(h * ratio); c.style.width = w + "px"; c.style.height = h + "px"; };
-      const bellsHeight = n === 1 ? Math.min(w, 440) : Math.max(220, Math.min(440, (w / n) * 1.5));
+      // The bells' layout, as the SVG and GIF lay them out: one row up to
+      // four bells, else two; one scale for all.
+      const cols = n > 4 ? Math.ceil(n / 2) : n, rows = Math.ceil(n / cols);
+      const font = 13, top = 6, band = 1.6 * font;
+      const cell = w / cols;
+      const rowHeight = n === 1 ? Math.min(w, 440) : Math.min(440, cell * 1.05 + band);
+      const bellsHeight = top + rows * rowHeight + 4;
       size(this.canvas, bellsHeight);
       size(this.plot, 164);
       if (this.diagram) size(this.diagram, 24 * n + 40);
       this.ratio = ratio;
-      // The bells' layout, as the SVG and GIF lay them out: one scale for all.
-      const font = 13, top = 6, bottom = 2.2 * font;
-      const cell = w / n, area = bellsHeight - top - bottom;
+      const area = rowHeight - band;
       this.scale = Math.min(...this.bells.map((b) => (0.48 * Math.min(cell, area)) / b.figure.reach));
-      this.centres = this.bells.map((_, i) => [cell * (i + 0.5), top + area / 2]);
-      this.captionY = bellsHeight - 0.8 * font;
+      this.centres = this.bells.map((_, i) => [cell * ((i % cols) + 0.5), top + Math.floor(i / cols) * rowHeight + area / 2]);
+      this.captions = this.bells.map((_, i) => [cell * ((i % cols) + 0.5), top + (Math.floor(i / cols) + 1) * rowHeight - 0.5 * font]);
       this.renderPlot();
       if (this.diagram) this.renderDiagram();
     }
@@ -181,12 +185,12 @@
             const xi = a.x + (a.w * s.ideal_s) / this.duration;
             g.strokeStyle = "#999"; g.strokeRect(xi - 3, y - 6, 6, 12);
           }
-          g.fillStyle = s.first ? (s.side === "hand" ? "#1f6fb4" : "#c2410c") : "#d9480f";
+          g.fillStyle = s.first ? (s.side === "hand" ? "#1f6fb4" : "#c2410c") : "#9a9a9a";
           g.beginPath(); g.arc(x, y, s.first ? 4 : 2.5, 0, 2 * Math.PI); g.fill();
         }
       });
       g.fillStyle = "#333";
-      g.fillText("strikes (hand blue, back orange, later impacts small) against their ideal places (boxes)", a.x, a.y + a.h + 20);
+      g.fillText("blows (handstroke blue, backstroke orange; the clapper's later impacts small, grey) against their places (boxes)", a.x, a.y + a.h + 20);
       this.diagramImage = c;
     }
 
@@ -278,7 +282,8 @@
         }
         g.setTransform(r, 0, 0, r, 0, 0);
         g.fillStyle = "#222"; g.font = "12px sans-serif"; g.textAlign = "center";
-        g.fillText(`${b.name}: ${b.caption}`, cx, this.captionY);
+        const cap = this.captions[k];
+        g.fillText(this.bells.length > 2 ? b.name : `${b.name}: ${b.caption}`, cap[0], cap[1]);
         g.textAlign = "start";
         if (k === 0) {
           this.root.dataset.theta = String((theta * 180) / Math.PI);

@@ -6,7 +6,7 @@
 use std::fmt::Write as _;
 
 use super::figure::{colours, Part, Shape};
-use super::{check_size, Animation, Layout, FLASH_S};
+use super::{caption, check_size, Animation, Layout, FLASH_S};
 use crate::PlotError;
 
 fn esc(s: &str) -> String {
@@ -91,7 +91,7 @@ pub fn animation_svg(anim: &Animation, width: u32, height: u32) -> Result<String
         colours::INK,
         esc(&anim.title)
     );
-    for (i, (b, c)) in anim.bells.iter().zip(&l.centres).enumerate() {
+    for (i, ((b, c), cap)) in anim.bells.iter().zip(&l.centres).zip(&l.captions).enumerate() {
         let f = &b.figure;
         let times: Vec<f64> = b.frames.iter().map(|fr| fr.t).collect();
         let _ = writeln!(
@@ -144,11 +144,11 @@ pub fn animation_svg(anim: &Animation, width: u32, height: u32) -> Result<String
         let _ = writeln!(
             o,
             r#"<text x="{:.1}" y="{:.1}" font-size="{:.1}" text-anchor="middle" fill="{}">{}</text>"#,
-            c[0],
-            l.caption_y,
+            cap[0],
+            cap[1],
             0.85 * l.font,
             colours::INK,
-            esc(&format!("{}: {}", b.name, b.caption))
+            esc(&caption(anim, b))
         );
     }
     // A bar that fills over the animation: where in it you are.
