@@ -127,18 +127,25 @@
       if (this.diagram) this.renderDiagram();
     }
 
-    // Theta and phi against time, drawn once; each moment adds the cursor.
-    renderPlot() {
+    // A picture drawn once, the size of `target`, white, in CSS px: its
+    // context, size and plotting area (`margins` left, top, right, bottom).
+    offscreen(target, margins) {
       const c = document.createElement("canvas");
-      c.width = this.plot.width; c.height = this.plot.height;
+      c.width = target.width; c.height = target.height;
       const g = c.getContext("2d");
       g.scale(this.ratio, this.ratio);
       const w = c.width / this.ratio, h = c.height / this.ratio;
-      const a = { x: 44, y: 8, w: w - 56, h: h - 30 };
-      this.plotArea = a;
+      const [l, t, r, b] = margins;
       g.fillStyle = "#fff"; g.fillRect(0, 0, w, h);
-      g.strokeStyle = "#ccc"; g.lineWidth = 1;
-      g.font = "11px sans-serif"; g.fillStyle = "#333";
+      g.font = "11px sans-serif";
+      return { c, g, a: { x: l, y: t, w: w - l - r, h: h - t - b } };
+    }
+
+    // Theta and phi against time, drawn once; each moment adds the cursor.
+    renderPlot() {
+      const { c, g, a } = this.offscreen(this.plot, [44, 8, 12, 22]);
+      this.plotArea = a;
+      g.strokeStyle = "#ccc"; g.lineWidth = 1; g.fillStyle = "#333";
       for (const d of [-180, -90, 0, 90, 180]) {
         const y = a.y + a.h * (1 - (d + 180) / 360);
         g.beginPath(); g.moveTo(a.x, y); g.lineTo(a.x + a.w, y); g.stroke();
@@ -165,15 +172,8 @@
 
     // Rounds: one lane a bell, each blow against its ideal place.
     renderDiagram() {
-      const c = document.createElement("canvas");
-      c.width = this.diagram.width; c.height = this.diagram.height;
-      const g = c.getContext("2d");
-      g.scale(this.ratio, this.ratio);
-      const w = c.width / this.ratio, h = c.height / this.ratio;
-      const a = { x: 80, y: 8, w: w - 92, h: h - 32 };
+      const { c, g, a } = this.offscreen(this.diagram, [80, 8, 12, 24]);
       this.diagramArea = a;
-      g.fillStyle = "#fff"; g.fillRect(0, 0, w, h);
-      g.font = "11px sans-serif";
       const lane = a.h / this.bells.length;
       this.bells.forEach((b, i) => {
         const y = a.y + lane * (i + 0.5);
@@ -192,6 +192,17 @@
       g.fillStyle = "#333";
       g.fillText("blows (handstroke blue, backstroke orange; the clapper's later impacts small, grey) against their places (boxes)", a.x, a.y + a.h + 20);
       this.diagramImage = c;
+    }
+
+    // A picture drawn once, copied to `canvas` with a line at time `t`.
+    cursor(canvas, image, a, t) {
+      const h = canvas.getContext("2d");
+      h.setTransform(1, 0, 0, 1, 0, 0);
+      h.drawImage(image, 0, 0);
+      h.setTransform(this.ratio, 0, 0, this.ratio, 0, 0);
+      const x = a.x + (a.w * t) / this.duration;
+      h.strokeStyle = "#d9480f"; h.lineWidth = 1.5;
+      h.beginPath(); h.moveTo(x, a.y); h.lineTo(x, a.y + a.h); h.stroke();
     }
 
     setSpeed(v) {
@@ -293,17 +304,8 @@
       this.root.dataset.t = String(t);
       this.draws = (this.draws || 0) + 1;
       this.root.dataset.draws = String(this.draws);
-      const cursor = (canvas, image, a) => {
-        const h = canvas.getContext("2d");
-        h.setTransform(1, 0, 0, 1, 0, 0);
-        h.drawImage(image, 0, 0);
-        h.setTransform(r, 0, 0, r, 0, 0);
-        const x = a.x + (a.w * t) / this.duration;
-        h.strokeStyle = "#d9480f"; h.lineWidth = 1.5;
-        h.beginPath(); h.moveTo(x, a.y); h.lineTo(x, a.y + a.h); h.stroke();
-      };
-      cursor(this.plot, this.plotImage, this.plotArea);
-      if (this.diagram) cursor(this.diagram, this.diagramImage, this.diagramArea);
+      this.cursor(this.plot, this.plotImage, this.plotArea, t);
+      if (this.diagram) this.cursor(this.diagram, this.diagramImage, this.diagramArea, t);
       this.slider.value = String(Math.round((1000 * t) / this.duration));
       this.readout.textContent = `${t.toFixed(3)} s of ${this.duration.toFixed(2)} s`;
     }
