@@ -40,6 +40,7 @@ pub mod ode;
 pub mod restitution;
 pub mod ringer;
 pub mod ringing;
+pub mod sensor;
 pub mod stroke;
 pub mod swing;
 pub mod trig;

@@ -277,6 +277,8 @@ pub struct RingingUpDown {
     pub swings: Vec<Swing>,
     /// Whether it finished: set at the stay (up) or down (down).
     pub finished: bool,
+    /// The strokes themselves (impacts, bottom, end), one a swing.
+    pub strokes: Vec<Stroke>,
 }
 
 impl RingingUpDown {
@@ -340,6 +342,7 @@ fn ring<O: Observer>(
     observer: &mut O,
 ) -> Result<RingingUpDown, SimError> {
     let mut swings = vec![];
+    let mut strokes = vec![];
     let mut finished = false;
     for number in 1..=4 * ringer.swings + 20 {
         let stroke = run_stroke_pulled(bell, cfg, start, Some(pull), observer)?;
@@ -347,14 +350,15 @@ fn ring<O: Observer>(
         let end = swing.end;
         finished = done(&swing);
         swings.push(swing);
-        if finished || end != EndReason::TurningPoint {
-            break;
-        }
         start = StrokeStart {
             t: stroke.end.t,
             y: stroke.end.y,
             clapper: stroke.end.clapper,
         };
+        strokes.push(stroke);
+        if finished || end != EndReason::TurningPoint {
+            break;
+        }
     }
     Ok(RingingUpDown {
         phase: pull.phase,
@@ -362,6 +366,7 @@ fn ring<O: Observer>(
         pull_force: pull.torque / ringer.wheel_radius,
         swings,
         finished,
+        strokes,
     })
 }
 

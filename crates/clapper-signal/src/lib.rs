@@ -12,6 +12,8 @@
 pub mod accel;
 pub mod contacts;
 pub mod modes;
+pub mod ringing_log;
+pub mod ringing_log_synth;
 pub mod spectrogram;
 pub mod strikes;
 pub mod striking;

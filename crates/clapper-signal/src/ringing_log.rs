@@ -1,0 +1,793 @@
+//! A bell's motion read from a 3-axis accelerometer on its headstock
+//! (`clapper ringing-log`, docs/model.md §13): the bell's angle swing by
+//! swing, bottom dead centre, the clapper's strikes, the swing's amplitude,
+//! odd-struckness, and the phases of a session (down, raising, up,
+//! ringing, lowering).
+//!
+//! The method, in order:
+//! 1. **Strikes** are bursts: the clapper's impact shakes the headstock
+//!    far harder and faster than the swing, often past the sensor's range.
+//!    A sample is a burst when it departs from the straight line through
+//!    the two samples before it (a causal prediction, so that the sample
+//!    before an impact is never blamed for it) by more than 6 robust
+//!    standard deviations of that departure over the log (at least 1.5
+//!    m/s²), or is clipped. A strike is the first burst sample.
+//! 2. **The angle**: θ = atan2(tangential, radial) on the samples that
+//!    are not bursts (interpolated across those that are), then corrected
+//!    for the swing's own accelerations at the sensor, g sin θ = f_t + h θ''
+//!    and g cos θ = f_r + h θ'² (h the sensor's distance above the pivot,
+//!    given or fitted so that the corrected force is g throughout), θ' and
+//!    θ'' from local quadratic fits; twice.
+//! 3. **Strokes**: each crossing of θ = 0 while the bell moves is a bottom
+//!    dead centre, timed by the tangential reading's own zero (interpolated
+//!    between samples; θ'' is near zero there, so the reading is g sin θ);
+//!    the stroke's amplitude is the turning point it fell from; its strike
+//!    the first burst after it.
+//! 4. **Phases**: rests (no motion for 1.5 s or more) are down (near
+//!    θ = 0) or up (near the balance); what moves between two rests is
+//!    raising (from down to up), ringing (from up; the full swings), and
+//!    lowering (the swings after the last full one, down to rest).
+//! 5. **Hand and back**: the bell is set at handstroke, so a stroke that
+//!    starts from the side the bell was set on is a handstroke (with no
+//!    set, the side with θ > 0 on the sensor's axes).
+
+use crate::SignalError;
+use clapper_core::bell::G;
+
+/// An accelerometer log, its axes already named (m/s², s).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct AccelLog {
+    /// The bell's name, when the log gives one.
+    pub name: Option<String>,
+    /// Sample times (s), increasing.
+    pub t: Vec<f64>,
+    /// Along the bell's axis, toward the crown (m/s²): +g with the bell
+    /// down and still.
+    pub radial: Vec<f64>,
+    /// Across the bell's axis in its plane of swing (m/s²): g sin θ with
+    /// the bell still at θ.
+    pub tangential: Vec<f64>,
+    /// Along the pivot's axis (m/s²): no swing, only strikes and noise.
+    pub axle: Vec<f64>,
+}
+
+/// How to read a log.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LogOptions {
+    /// The sensor's distance above the pivot along the bell's axis (m), if
+    /// known; fitted from the log otherwise.
+    pub sensor_along: Option<f64>,
+    /// The sensor's range (m/s²): readings at 99 % of it or more are taken
+    /// as clipped. Default 2 g, an ADXL345 at its ±2 g setting.
+    pub clip: f64,
+    /// A stroke rings "full" (ringing, not raising or lowering) when its
+    /// amplitude is at least this (rad). Default 150 deg.
+    pub full_swing: f64,
+}
+
+impl Default for LogOptions {
+    fn default() -> Self {
+        Self {
+            sensor_along: None,
+            clip: 2.0 * G,
+            full_swing: 150f64.to_radians(),
+        }
+    }
+}
+
+/// A part of a ringing session.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PhaseKind {
+    /// At rest, mouth down.
+    Down,
+    /// Being rung up.
+    Raising,
+    /// Set at the balance.
+    Up,
+    /// Rung full circle.
+    Ringing,
+    /// Being rung down.
+    Lowering,
+}
+
+impl PhaseKind {
+    /// The name in JSON and text.
+    pub fn name(self) -> &'static str {
+        match self {
+            PhaseKind::Down => "down",
+            PhaseKind::Raising => "raising",
+            PhaseKind::Up => "up",
+            PhaseKind::Ringing => "ringing",
+            PhaseKind::Lowering => "lowering",
+        }
+    }
+}
+
+/// A phase and when it held (s).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Phase {
+    /// What the bell was doing.
+    pub kind: PhaseKind,
+    /// Start (s).
+    pub start: f64,
+    /// End (s).
+    pub end: f64,
+}
+
+/// One swing read from the log.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct LogStroke {
+    /// Bottom dead centre (s).
+    pub bdc: f64,
+    /// Handstroke (else backstroke).
+    pub hand: bool,
+    /// The clapper's first strike after bottom dead centre (s), if any.
+    pub strike: Option<f64>,
+    /// The bell's angle at the strike (rad).
+    pub strike_theta: Option<f64>,
+    /// The turning point it fell from: |θ| (rad).
+    pub amplitude: f64,
+    /// The phase it belongs to.
+    pub phase: PhaseKind,
+}
+
+impl LogStroke {
+    /// Bottom dead centre to strike (s).
+    pub fn bdc_to_strike(&self) -> Option<f64> {
+        self.strike.map(|s| s - self.bdc)
+    }
+}
+
+/// Where clappering starts while the bell is raised.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ClapperingStart {
+    /// When (s): the first strike of the raising.
+    pub t: f64,
+    /// The amplitude of the swing it is in (rad).
+    pub amplitude: f64,
+    /// Whether that swing is a handstroke.
+    pub hand: bool,
+}
+
+/// What a log says.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LogAnalysis {
+    /// The phases, in time order.
+    pub phases: Vec<Phase>,
+    /// Every swing, in time order.
+    pub strokes: Vec<LogStroke>,
+    /// Odd-struckness in the ringing: mean handstroke minus mean backstroke
+    /// BDC-to-strike (s), and its standard error (s).
+    pub odd_struck: Option<(f64, f64)>,
+    /// Clappering's start while raising.
+    pub clappering_starts: Option<ClapperingStart>,
+    /// The sensor's distance above the pivot used (m), given or fitted.
+    pub sensor_along: f64,
+    /// Whether it was fitted.
+    pub sensor_fitted: bool,
+    /// Median sample interval (s).
+    pub interval: f64,
+    /// The reconstructed angle at every sample (rad, in (−π, π]).
+    pub theta: Vec<f64>,
+    /// Samples taken as bursts (strikes) or clipped.
+    pub burst: Vec<bool>,
+    /// The side the bell was set on (+1 or −1: θ's sign), which makes
+    /// handstrokes; `None` if it was never set (θ > 0 taken).
+    pub set_side: Option<f64>,
+    /// Things worth knowing (gaps, clipping, a fitted sensor place).
+    pub warnings: Vec<String>,
+}
+
+fn median(mut v: Vec<f64>) -> f64 {
+    if v.is_empty() {
+        return 0.0;
+    }
+    v.sort_by(f64::total_cmp);
+    v[v.len() / 2]
+}
+
+/// Check a log: enough samples, finite, time increasing.
+fn check(log: &AccelLog) -> Result<(), SignalError> {
+    let n = log.t.len();
+    if [log.radial.len(), log.tangential.len(), log.axle.len()] != [n; 3] {
+        return Err(SignalError::Invalid(
+            "the axes have different numbers of samples".into(),
+        ));
+    }
+    if n < 20 {
+        return Err(SignalError::TooShort(format!(
+            "{n} samples: a log needs at least 20 (a second or so)"
+        )));
+    }
+    for k in 0..n {
+        let v = [log.t[k], log.radial[k], log.tangential[k], log.axle[k]];
+        if v.iter().any(|x| !x.is_finite()) {
+            return Err(SignalError::Invalid(format!("sample {} is not a finite number", k + 1)));
+        }
+        if k > 0 && log.t[k] <= log.t[k - 1] {
+            return Err(SignalError::Invalid(format!(
+                "time goes backwards or repeats at sample {} ({} s after {} s)",
+                k + 1,
+                log.t[k],
+                log.t[k - 1]
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// The burst mask and the burst onsets (sample indices), method step 1.
+fn bursts(log: &AccelLog, clip: f64) -> (Vec<bool>, Vec<usize>) {
+    let n = log.t.len();
+    let axes = [&log.radial, &log.tangential, &log.axle];
+    let interval = median(log.t.windows(2).map(|w| w[1] - w[0]).collect());
+    let mut d = vec![0.0; n];
+    for k in 2..n {
+        // Across a gap the swing has moved on: no prediction.
+        if log.t[k] - log.t[k - 2] > 4.0 * interval {
+            continue;
+        }
+        let f = (log.t[k] - log.t[k - 1]) / (log.t[k - 1] - log.t[k - 2]);
+        d[k] = axes
+            .iter()
+            .map(|a| {
+                let pred = a[k - 1] + (a[k - 1] - a[k - 2]) * f;
+                (a[k] - pred).powi(2)
+            })
+            .sum::<f64>()
+            .sqrt();
+    }
+    let typical = median(d[2..].to_vec());
+    let threshold = (6.0 * 1.4826 * typical).max(1.5);
+    let clipped = |k: usize| axes.iter().any(|a| a[k].abs() >= 0.99 * clip);
+    let mut mask = vec![false; n];
+    let mut onsets = vec![];
+    let mut last_hot: Option<f64> = None;
+    for k in 0..n {
+        let hot = d[k] > threshold || clipped(k);
+        if hot {
+            // A new burst unless one is still ringing (within 60 ms).
+            if last_hot.is_none_or(|t| log.t[k] - t > 0.06) {
+                onsets.push(k);
+            }
+            last_hot = Some(log.t[k]);
+        }
+        mask[k] = last_hot.is_some_and(|t| log.t[k] - t <= 0.04);
+    }
+    (mask, onsets)
+}
+
+/// Local quadratic fits of `y` (on samples not in `bad`) over ±`w` s:
+/// the value, first and second derivative at every sample.
+fn quadratic_fits(t: &[f64], y: &[f64], bad: &[bool], w: f64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let n = t.len();
+    let (mut v, mut d1, mut d2) = (y.to_vec(), vec![0.0; n], vec![0.0; n]);
+    let mut lo = 0;
+    let mut hi = 0;
+    for k in 0..n {
+        while t[k] - t[lo] > w {
+            lo += 1;
+        }
+        while hi + 1 < n && t[hi + 1] - t[k] <= w {
+            hi += 1;
+        }
+        // Normal equations of a + b x + c x², x = t - t_k.
+        let mut s = [0.0f64; 5];
+        let mut r = [0.0f64; 3];
+        for j in lo..=hi {
+            if bad[j] {
+                continue;
+            }
+            let x = t[j] - t[k];
+            let mut p = 1.0;
+            for m in s.iter_mut() {
+                *m += p;
+                p *= x;
+            }
+            r[0] += y[j];
+            r[1] += y[j] * x;
+            r[2] += y[j] * x * x;
+        }
+        if s[0] < 4.0 {
+            continue;
+        }
+        let a = [[s[0], s[1], s[2]], [s[1], s[2], s[3]], [s[2], s[3], s[4]]];
+        if let Some(sol) = solve3(a, r) {
+            v[k] = sol[0];
+            d1[k] = sol[1];
+            d2[k] = 2.0 * sol[2];
+        }
+    }
+    (v, d1, d2)
+}
+
+/// Solve a 3 × 3 system by Cramer's rule; `None` if singular.
+fn solve3(a: [[f64; 3]; 3], r: [f64; 3]) -> Option<[f64; 3]> {
+    let det = |m: [[f64; 3]; 3]| {
+        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
+            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
+    };
+    let d = det(a);
+    if d.abs() < 1e-300 || !d.is_finite() {
+        return None;
+    }
+    let mut out = [0.0; 3];
+    for (i, o) in out.iter_mut().enumerate() {
+        let mut m = a;
+        for row in 0..3 {
+            m[row][i] = r[row];
+        }
+        *o = det(m) / d;
+    }
+    Some(out)
+}
+
+fn wrap(a: f64) -> f64 {
+    let x = (a + std::f64::consts::PI).rem_euclid(2.0 * std::f64::consts::PI) - std::f64::consts::PI;
+    if x == -std::f64::consts::PI {
+        std::f64::consts::PI
+    } else {
+        x
+    }
+}
+
+/// The angle, method step 2: θ unwrapped (measured where good, fitted
+/// across bursts), θ smoothed (the fits' values), θ', h, and whether h was
+/// fitted.
+struct Angle {
+    theta: Vec<f64>,
+    smooth: Vec<f64>,
+    rate: Vec<f64>,
+    h: f64,
+    fitted: bool,
+}
+
+fn angle(log: &AccelLog, bad: &[bool], given: Option<f64>, interval: f64) -> Angle {
+    let n = log.t.len();
+    let raw = |h: f64, d1: &[f64], d2: &[f64], k: usize| {
+        (log.tangential[k] + h * d2[k]).atan2(log.radial[k] + h * d1[k] * d1[k])
+    };
+    let zeros = vec![0.0; n];
+    let mut theta = unwrap_fill(
+        &log.t,
+        &(0..n).map(|k| raw(0.0, &zeros, &zeros, k)).collect::<Vec<_>>(),
+        bad,
+    );
+    // ±0.3 s: θ'' from a narrower fit is so noisy that the correction
+    // (h θ'', fed back) amplifies the noise (at 100 Hz and ±0.12 s by 4.5 a
+    // pass); over ±0.3 s the gain is 0.15, and a swing (seconds long) is
+    // still a parabola there.
+    let w = (5.0 * interval).max(0.3);
+    let (mut h, mut fitted) = (given.unwrap_or(0.0), false);
+    for _ in 0..3 {
+        let (_, d1, d2) = quadratic_fits(&log.t, &theta, bad, w);
+        if given.is_none() {
+            h = fit_sensor(log, bad, &d1, &d2);
+            fitted = true;
+        }
+        let corrected: Vec<f64> = (0..n).map(|k| raw(h, &d1, &d2, k)).collect();
+        theta = unwrap_fill(&log.t, &corrected, bad);
+    }
+    let (smooth, rate, _) = quadratic_fits(&log.t, &theta, bad, w);
+    // Keep the measured angle where it is good; the fit only bridges bursts.
+    let theta = (0..n).map(|k| if bad[k] { smooth[k] } else { theta[k] }).collect();
+    Angle {
+        theta,
+        smooth,
+        rate,
+        h,
+        fitted,
+    }
+}
+
+/// Unwrap `a` over the good samples and fill the bad ones by linear
+/// interpolation in time.
+fn unwrap_fill(t: &[f64], a: &[f64], bad: &[bool]) -> Vec<f64> {
+    let n = t.len();
+    let mut out = vec![f64::NAN; n];
+    let mut prev: Option<f64> = None;
+    for k in 0..n {
+        if bad[k] {
+            continue;
+        }
+        let mut v = a[k];
+        if let Some(p) = prev {
+            v = p + wrap(v - p);
+        }
+        out[k] = v;
+        prev = Some(v);
+    }
+    let good: Vec<usize> = (0..n).filter(|&k| !bad[k]).collect();
+    if good.is_empty() {
+        return a.to_vec();
+    }
+    let mut g = 0;
+    for k in 0..n {
+        if !bad[k] {
+            continue;
+        }
+        while g + 1 < good.len() && good[g + 1] < k {
+            g += 1;
+        }
+        let (i, j) = (good[g], good.get(g + 1).copied().unwrap_or(good[g]));
+        out[k] = if i >= k || j == i {
+            out[i.min(j)]
+        } else {
+            out[i] + (out[j] - out[i]) * (t[k] - t[i]) / (t[j] - t[i])
+        };
+    }
+    out
+}
+
+/// The sensor's height h above the pivot that makes the corrected force g
+/// throughout (least squares over moving, good samples; golden section on
+/// −1 to 1 m).
+fn fit_sensor(log: &AccelLog, bad: &[bool], d1: &[f64], d2: &[f64]) -> f64 {
+    let cost = |h: f64| {
+        (0..log.t.len())
+            .filter(|&k| !bad[k] && d1[k].abs() > 0.5)
+            .map(|k| {
+                let (a, b) = (log.tangential[k] + h * d2[k], log.radial[k] + h * d1[k] * d1[k]);
+                (a.hypot(b) - G).powi(2)
+            })
+            .sum::<f64>()
+    };
+    let (mut lo, mut hi) = (-1.0f64, 1.0f64);
+    let r = (5f64.sqrt() - 1.0) / 2.0;
+    for _ in 0..60 {
+        let (x1, x2) = (hi - r * (hi - lo), lo + r * (hi - lo));
+        if cost(x1) < cost(x2) {
+            hi = x2;
+        } else {
+            lo = x1;
+        }
+    }
+    0.5 * (lo + hi)
+}
+
+/// Read `log` (module docs).
+pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, SignalError> {
+    check(log)?;
+    if !(opts.clip.is_finite() && opts.clip > 0.0) {
+        return Err(SignalError::Option(format!(
+            "clip level {} m/s² must be > 0",
+            opts.clip
+        )));
+    }
+    let n = log.t.len();
+    let interval = median(log.t.windows(2).map(|w| w[1] - w[0]).collect());
+    let mut warnings = vec![];
+    let gaps = log.t.windows(2).filter(|w| w[1] - w[0] > 5.0 * interval).count();
+    if gaps > 0 {
+        warnings.push(format!("{gaps} gap(s) longer than 5 sample intervals"));
+    }
+    let (burst, onsets) = bursts(log, opts.clip);
+    let bursty = burst.iter().filter(|b| **b).count();
+    if bursty as f64 > 0.9 * n as f64 {
+        return Err(SignalError::Invalid(format!(
+            "{bursty} of {n} samples are clipped or bursts: nothing left to read the swing from (is the range right?)"
+        )));
+    }
+    let Angle {
+        theta: theta_u,
+        smooth,
+        rate: d1,
+        h,
+        fitted,
+    } = angle(log, &burst, opts.sensor_along, interval);
+    if fitted {
+        warnings.push(format!(
+            "sensor place fitted: {:.3} m above the pivot (give --sensor-m when known)",
+            h
+        ));
+    }
+    let theta: Vec<f64> = theta_u.iter().map(|&a| wrap(a)).collect();
+    // Rests by the slope over ±0.5 s: still to a few hundredths of a rad/s.
+    let (level, slow, _) = quadratic_fits(&log.t, &theta_u, &burst, 0.5);
+    let rests = rests(&log.t, &level, &slow, interval);
+    let smooth: Vec<f64> = smooth.iter().map(|&a| wrap(a)).collect();
+    let mut strokes = strokes(log, &theta, &smooth, &d1, (&burst, &onsets), &rests);
+    let phases = phases(&log.t, &rests, &mut strokes, &theta, opts.full_swing);
+    // The side the bell was set on before it was rung.
+    let set_side = phases
+        .iter()
+        .enumerate()
+        .find(|(i, p)| p.kind == PhaseKind::Up && phases.get(i + 1).is_some_and(|q| q.kind == PhaseKind::Ringing))
+        .or_else(|| phases.iter().enumerate().find(|(_, p)| p.kind == PhaseKind::Up))
+        .map(|(_, p)| {
+            let mid = log.t.partition_point(|&t| t < 0.5 * (p.start + p.end)).min(n - 1);
+            theta[mid].signum()
+        });
+    let hand_side = set_side.unwrap_or(1.0);
+    for s in &mut strokes {
+        // A handstroke falls from the hand side: moving away from it.
+        let k = log.t.partition_point(|&t| t < s.bdc).min(n - 1);
+        s.hand = d1[k].signum() == -hand_side;
+    }
+    let odd_struck = odd_struck(&strokes);
+    let clappering_starts = strokes
+        .iter()
+        .find(|s| s.phase == PhaseKind::Raising && s.strike.is_some())
+        .map(|s| ClapperingStart {
+            t: s.strike.unwrap_or(s.bdc),
+            amplitude: s.amplitude,
+            hand: s.hand,
+        });
+    Ok(LogAnalysis {
+        phases,
+        strokes,
+        odd_struck,
+        clappering_starts,
+        sensor_along: h,
+        sensor_fitted: fitted,
+        interval,
+        theta,
+        burst,
+        set_side,
+        warnings,
+    })
+}
+
+/// Intervals of rest (s): no motion (|θ'| < 0.05 rad/s over ±0.5 s, and
+/// θ within 3 deg) for at least 1.5 s (a swing's turning point at the
+/// balance lasts less).
+fn rests(t: &[f64], theta: &[f64], d1: &[f64], interval: f64) -> Vec<(f64, f64, f64)> {
+    let n = t.len();
+    let mut out = vec![];
+    let mut start: Option<usize> = None;
+    // `theta` here is smoothed (the same fit as `d1`).
+    let still = |k: usize| d1[k].abs() < 0.05;
+    for k in 0..=n {
+        let s = k < n && still(k) && start.is_none_or(|i| (theta[k] - theta[i]).abs() < 3f64.to_radians());
+        match (s, start) {
+            (true, None) => start = Some(k),
+            (false, Some(i)) => {
+                let j = k - 1;
+                if t[j] - t[i] >= 1.5 - 0.5 * interval {
+                    let mean = theta[i..=j].iter().sum::<f64>() / (j - i + 1) as f64;
+                    out.push((t[i], t[j], mean));
+                }
+                start = if k < n && still(k) { Some(k) } else { None };
+            }
+            _ => {}
+        }
+    }
+    out
+}
+
+/// Bottom dead centres, amplitudes and strikes (method step 3).
+fn strokes(
+    log: &AccelLog,
+    theta: &[f64],
+    smooth: &[f64],
+    d1: &[f64],
+    (burst, onsets): (&[bool], &[usize]),
+    rests: &[(f64, f64, f64)],
+) -> Vec<LogStroke> {
+    let t = &log.t;
+    let n = t.len();
+    let resting = |time: f64| rests.iter().any(|r| time >= r.0 && time <= r.1);
+    let mut bdcs: Vec<(f64, usize)> = vec![];
+    for k in 0..n - 1 {
+        let (a, b) = (theta[k], theta[k + 1]);
+        // A crossing of 0, not of ±180 deg, while the bell moves.
+        if a.signum() != b.signum() && a.abs() < 1.5 && b.abs() < 1.5 && (d1[k].abs() > 0.3 || d1[k + 1].abs() > 0.3) {
+            let mut tc = t[k] + (t[k + 1] - t[k]) * a / (a - b);
+            if resting(tc) || bdcs.last().is_some_and(|&(p, _)| tc - p < 0.3) {
+                continue;
+            }
+            // The tangential reading's own zero, where clean: it is g sin θ
+            // less h θ'', and θ'' is near zero at the bottom (gravity's
+            // torque is; the clapper's and a rope's are small), while the
+            // estimate of θ'' that corrects the angle is smoothed over
+            // ±0.3 s and can be off there by a few rad/s².
+            let f = &log.tangential;
+            let near = (k.saturating_sub(4)..(k + 5).min(n - 1))
+                .filter(|&j| !burst[j] && !burst[j + 1] && f[j].signum() != f[j + 1].signum() && f[j] != 0.0)
+                .min_by_key(|&j| j.abs_diff(k));
+            if let Some(j) = near {
+                tc = t[j] + (t[j + 1] - t[j]) * f[j] / (f[j] - f[j + 1]);
+                // A straight line through the clean samples within ±5 ms
+                // (at least the two each side) averages the noise down.
+                let half = (0.005f64).max(1.5 * (t[j + 1] - t[j]));
+                let pts: Vec<usize> = (j.saturating_sub(4)..(j + 6).min(n))
+                    .filter(|&q| !burst[q] && (t[q] - tc).abs() <= half)
+                    .collect();
+                if pts.len() >= 3 {
+                    let m = pts.len() as f64;
+                    let (sx, sy) = pts.iter().fold((0.0, 0.0), |a, &q| (a.0 + t[q] - tc, a.1 + f[q]));
+                    let (mx, my) = (sx / m, sy / m);
+                    let (sxy, sxx) = pts.iter().fold((0.0, 0.0), |a, &q| {
+                        (a.0 + (t[q] - tc - mx) * (f[q] - my), a.1 + (t[q] - tc - mx).powi(2))
+                    });
+                    if sxx > 0.0 && sxy != 0.0 {
+                        let slope = sxy / sxx;
+                        let zero = tc + mx - my / slope;
+                        if (zero - tc).abs() <= half {
+                            tc = zero;
+                        }
+                    }
+                }
+            }
+            bdcs.push((tc, k));
+        }
+    }
+    let mut out = Vec::with_capacity(bdcs.len());
+    for (i, &(bdc, k)) in bdcs.iter().enumerate() {
+        // The turning point it fell from: the largest |θ| since the last
+        // bottom (or in the 3 s before the first), on its side.
+        let mut from = if i == 0 {
+            t.partition_point(|&x| x < bdc - 3.0)
+        } else {
+            bdcs[i - 1].1 + 1
+        };
+        // After a rest (set at the balance), it fell from where it rested.
+        if let Some(r) = rests.iter().rev().find(|r| r.1 < bdc && t[from] <= r.1) {
+            from = from.max(t.partition_point(|&x| x < r.1 - 0.5));
+        }
+        // From the smoothed angle: the largest of noisy samples overshoots.
+        let side = theta[k].signum();
+        let amplitude = (from..=k)
+            .filter(|&j| smooth[j].signum() == side)
+            .map(|j| smooth[j].abs())
+            .fold(0.0, f64::max);
+        let until = bdcs.get(i + 1).map_or(f64::INFINITY, |b| b.0);
+        let strike_at = onsets.iter().copied().find(|&j| t[j] > bdc && t[j] < until);
+        out.push(LogStroke {
+            bdc,
+            hand: true,
+            strike: strike_at.map(|j| t[j]),
+            strike_theta: strike_at.map(|j| theta[j]),
+            amplitude,
+            phase: PhaseKind::Ringing,
+        });
+    }
+    out
+}
+
+/// Phases (method step 4), and each stroke's phase set.
+fn phases(t: &[f64], rests: &[(f64, f64, f64)], strokes: &mut [LogStroke], theta: &[f64], full: f64) -> Vec<Phase> {
+    let (t0, t1) = (t[0], t[t.len() - 1]);
+    let rest_kind = |mean: f64| {
+        if mean.abs() < std::f64::consts::FRAC_PI_2 {
+            PhaseKind::Down
+        } else {
+            PhaseKind::Up
+        }
+    };
+    let mut out: Vec<Phase> = vec![];
+    let mut cursor = t0;
+    let mut before: Option<PhaseKind> = None;
+    // Each rest, with the moving segment before it; then the last segment.
+    for k in 0..=rests.len() {
+        let (seg_end, after) = match rests.get(k) {
+            Some(r) => (r.0, Some(rest_kind(r.2))),
+            None => (t1, None),
+        };
+        if seg_end > cursor {
+            segment(t, theta, strokes, full, (cursor, seg_end), (before, after), &mut out);
+        }
+        if let Some(r) = rests.get(k) {
+            push(&mut out, rest_kind(r.2), r.0, r.1);
+            before = Some(rest_kind(r.2));
+            cursor = r.1;
+        }
+    }
+    out
+}
+
+/// Add a phase, merged with the one before if of the same kind.
+fn push(out: &mut Vec<Phase>, kind: PhaseKind, start: f64, end: f64) {
+    if end <= start {
+        return;
+    }
+    match out.last_mut() {
+        Some(p) if p.kind == kind => p.end = end,
+        _ => out.push(Phase { kind, start, end }),
+    }
+}
+
+/// The phases of one moving segment `(a, b)` between rests of the kinds
+/// `(from, to)` (`None`: the log's start or end), its strokes' phases set.
+fn segment(
+    t: &[f64],
+    theta: &[f64],
+    strokes: &mut [LogStroke],
+    full: f64,
+    (a, b): (f64, f64),
+    (from, to): (Option<PhaseKind>, Option<PhaseKind>),
+    out: &mut Vec<Phase>,
+) {
+    let idx: Vec<usize> = (0..strokes.len())
+        .filter(|&i| strokes[i].bdc >= a && strokes[i].bdc <= b)
+        .collect();
+    if idx.is_empty() {
+        // Motion with no swing through the bottom (a tug, a check): it
+        // belongs with the rest after it.
+        push(out, to.or(from).unwrap_or(PhaseKind::Down), a, b);
+        return;
+    }
+    let amp = |i: usize| strokes[i].amplitude;
+    let fulls: Vec<f64> = idx.iter().map(|&i| amp(i)).filter(|&x| x >= full).collect();
+    let kind_all = match (from, to) {
+        // Raised and set: every swing is raising, even the last full ones.
+        (Some(PhaseKind::Down) | None, Some(PhaseKind::Up)) => Some(PhaseKind::Raising),
+        (Some(PhaseKind::Up), Some(PhaseKind::Up)) => Some(PhaseKind::Ringing),
+        _ if fulls.is_empty() => {
+            // No full swing: rising or falling amplitudes.
+            let (f, l) = (amp(idx[0]), amp(idx[idx.len() - 1]));
+            Some(
+                if from == Some(PhaseKind::Up) || (to == Some(PhaseKind::Down) && l < f) {
+                    PhaseKind::Lowering
+                } else {
+                    PhaseKind::Raising
+                },
+            )
+        }
+        _ => None,
+    };
+    if let Some(kind) = kind_all {
+        for &i in &idx {
+            strokes[i].phase = kind;
+        }
+        push(out, kind, a, b);
+        return;
+    }
+    // The ringing: swings that fall from near the ringing's height and rise
+    // back to it (3 deg below the full swings' median); raising before,
+    // lowering from the first swing that does not rise back.
+    let threshold = median(fulls) - 3f64.to_radians();
+    let core = |p: usize| amp(idx[p]) >= threshold && idx.get(p + 1).is_none_or(|&q| amp(q) >= threshold);
+    let first = (0..idx.len()).find(|&p| core(p)).unwrap_or(0);
+    let last = (0..idx.len()).rev().find(|&p| core(p)).unwrap_or(idx.len() - 1);
+    // The turning point just before the stroke at position p.
+    let before = |p: usize| {
+        let since = if p == 0 { a } else { strokes[idx[p - 1]].bdc };
+        turning_before(t, theta, strokes[idx[p]].bdc, since)
+    };
+    let start_ring = if from == Some(PhaseKind::Up) { a } else { before(first) };
+    let end_ring = if last + 1 < idx.len() { before(last + 1) } else { b };
+    for (p, &i) in idx.iter().enumerate() {
+        strokes[i].phase = if p < first {
+            PhaseKind::Raising
+        } else if p <= last {
+            PhaseKind::Ringing
+        } else {
+            PhaseKind::Lowering
+        };
+    }
+    push(out, PhaseKind::Raising, a, start_ring);
+    push(out, PhaseKind::Ringing, start_ring, end_ring);
+    push(out, PhaseKind::Lowering, end_ring, b);
+}
+
+/// The turning point (largest |θ|) before bottom dead centre `bdc`, after `from`.
+fn turning_before(t: &[f64], theta: &[f64], bdc: f64, from: f64) -> f64 {
+    let (i, j) = (t.partition_point(|&x| x < from), t.partition_point(|&x| x < bdc));
+    (i..j)
+        .max_by(|&a, &b| theta[a].abs().total_cmp(&theta[b].abs()))
+        .map_or(from, |k| t[k])
+}
+
+/// Odd-struckness of the ringing: mean hand minus mean back BDC-to-strike
+/// (s) and its standard error.
+fn odd_struck(strokes: &[LogStroke]) -> Option<(f64, f64)> {
+    let times = |hand: bool| -> Vec<f64> {
+        strokes
+            .iter()
+            .filter(|s| s.phase == PhaseKind::Ringing && s.hand == hand)
+            .filter_map(LogStroke::bdc_to_strike)
+            .collect()
+    };
+    let (h, b) = (times(true), times(false));
+    if h.len() < 2 || b.len() < 2 {
+        return None;
+    }
+    let stats = |v: &[f64]| {
+        let m = v.iter().sum::<f64>() / v.len() as f64;
+        let var = v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (v.len() - 1) as f64;
+        (m, var / v.len() as f64)
+    };
+    let ((mh, vh), (mb, vb)) = (stats(&h), stats(&b));
+    Some((mh - mb, (vh + vb).sqrt()))
+}

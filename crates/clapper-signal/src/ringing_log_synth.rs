@@ -1,0 +1,454 @@
+//! A synthetic accelerometer log with known truth (docs/model.md §13), for
+//! testing [`crate::ringing_log`]: a bell at rest, raised by a ringer
+//! ([`clapper_core::ringer::ring_up`]), set at the balance, rung full
+//! circle, lowered, and at rest again, all simulated; the sensor on the
+//! headstock reads gravity and the swing's own accelerations
+//! ([`clapper_core::sensor::specific_force`]), plus a burst at each of the
+//! clapper's impacts scaled by its impulse, noise, the sensor's resolution
+//! and its ±2 g range, at a jittered rate with gaps.
+
+use clapper_core::bell::{Bell, G};
+use clapper_core::ringer::{ring_down, ring_up, RingerConfig};
+use clapper_core::ringing::{ring, Protocol};
+use clapper_core::sensor::{specific_force, SensorPlace};
+use clapper_core::stroke::{Observer, SimConfig, StepView, Stroke, Style};
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64;
+
+use crate::ringing_log::{AccelLog, Phase, PhaseKind};
+use crate::SignalError;
+
+/// What to synthesise.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LogSpec {
+    /// The bell.
+    pub bell: Bell,
+    /// Simulation settings (θ0 is set from the ring-up's set angle).
+    pub cfg: SimConfig,
+    /// The ringer who raises and lowers it.
+    pub ringer: RingerConfig,
+    /// Sample rate (Hz). belfry-sleuth logs at 100 Hz.
+    pub rate: f64,
+    /// Sample times jitter by up to ± this fraction of the interval.
+    pub jitter: f64,
+    /// Runs of lost samples (each 0.1-0.4 s), placed at random.
+    pub gaps: usize,
+    /// Noise, standard deviation (m/s²).
+    pub noise: f64,
+    /// Resolution (m/s²): an ADXL345 at ±2 g, 10 bits, reads in 0.038 m/s² steps.
+    pub resolution: f64,
+    /// The range: readings clip at ± this (m/s²).
+    pub clip: f64,
+    /// Where the sensor is.
+    pub sensor: SensorPlace,
+    /// Rest before raising and after lowering (s).
+    pub rest_s: f64,
+    /// Time set at the balance before ringing (s).
+    pub set_s: f64,
+    /// Strokes rung full circle (an even number: it ends at handstroke).
+    pub strokes: usize,
+    /// A ringing stroke's first strike's burst (m/s²); others scale with
+    /// their impulse.
+    pub burst: f64,
+    /// Seed of the noise, jitter and gaps.
+    pub seed: u64,
+}
+
+impl LogSpec {
+    /// A log of `bell` as belfry-sleuth takes one: 100 Hz with 2 %
+    /// jitter, no gaps, 0.04 m/s² noise, 10-bit ±2 g, the sensor on the
+    /// crown-staple nut 0.15 m above the pivot, 10 s at rest each end, 8 s
+    /// set, 40 strokes, 40 m/s² bursts (past the range).
+    pub fn new(bell: Bell, seed: u64) -> Self {
+        Self {
+            bell,
+            cfg: SimConfig::default(),
+            ringer: RingerConfig::default(),
+            rate: 100.0,
+            jitter: 0.02,
+            gaps: 0,
+            noise: 0.04,
+            resolution: 4.0 * G / 1024.0,
+            clip: 2.0 * G,
+            sensor: SensorPlace {
+                along: 0.15,
+                across: 0.0,
+            },
+            rest_s: 10.0,
+            set_s: 8.0,
+            strokes: 40,
+            burst: 40.0,
+            seed,
+        }
+    }
+}
+
+/// One swing as it truly was.
+#[derive(Clone, Debug, PartialEq)]
+pub struct TrueLogStroke {
+    /// Bottom dead centre (s).
+    pub bdc: f64,
+    /// Handstroke (it falls from the side the bell was set on).
+    pub hand: bool,
+    /// The first impact a sensor sees (its burst at least 3 m/s² one
+    /// sample after), if any (s).
+    pub strike: Option<f64>,
+    /// The angle it fell from (rad).
+    pub amplitude: f64,
+    /// When it turned there (s).
+    pub turned: f64,
+    /// Every impact after its bottom and before the next, with its burst
+    /// (s, m/s²): the strike is the first of these big enough to see.
+    pub impacts: Vec<(f64, f64)>,
+    /// The phase it is in.
+    pub phase: PhaseKind,
+    /// Whether a gap in the log hides its bottom, its strike or the turning
+    /// point it fell from.
+    pub hidden: bool,
+}
+
+/// The truth behind a synthetic log.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LogTruth {
+    /// The phases.
+    pub phases: Vec<Phase>,
+    /// The swings.
+    pub strokes: Vec<TrueLogStroke>,
+    /// Mean handstroke minus mean backstroke BDC-to-strike while ringing (s).
+    pub odd_struck: Option<f64>,
+}
+
+/// A piece of the session: its phase, start (s), length (s) and motion.
+struct Piece {
+    kind: PhaseKind,
+    start: f64,
+    len: f64,
+    motion: Motion,
+}
+
+enum Motion {
+    /// Still at an angle (rad).
+    Hold(f64),
+    /// Smoothly (smoothstep) from one angle to another (rad).
+    Ramp(f64, f64),
+    /// A simulation's strokes, θ mirrored by the sign, its time from 0.
+    Sim(Run, f64, Vec<Stroke>),
+}
+
+#[derive(Clone, Copy, PartialEq, Eq)]
+enum Run {
+    Up,
+    Ring,
+    Down,
+}
+
+/// Samples θ, θ', θ'' at given (sorted) simulated times, θ'' by a central
+/// difference of θ' inside the step (so across no impact).
+struct Kinematics<'a> {
+    times: &'a [f64],
+    next: usize,
+    out: Vec<[f64; 3]>,
+}
+
+impl Observer for Kinematics<'_> {
+    fn on_step(&mut self, step: &StepView<'_>) {
+        while self.next < self.times.len() && self.times[self.next] <= step.t_to() {
+            let t = self.times[self.next].max(step.t_from());
+            let h = (0.25 * (step.t_to() - step.t_from())).min(1e-5);
+            let (a, b) = ((t - h).max(step.t_from()), (t + h).min(step.t_to()));
+            let y = step.sample(t).y;
+            let acc = if b > a {
+                (step.sample(b).y[2] - step.sample(a).y[2]) / (b - a)
+            } else {
+                0.0
+            };
+            self.out.push([y[0], y[2], acc]);
+            self.next += 1;
+        }
+    }
+}
+
+fn err(e: impl std::fmt::Display) -> SignalError {
+    SignalError::Option(format!("the synthetic log's simulation failed: {e}"))
+}
+
+/// Run one simulation of the session with `obs` watching.
+fn run<O: Observer>(
+    spec: &LogSpec,
+    cfg: &SimConfig,
+    ringer: &RingerConfig,
+    which: Run,
+    obs: &mut O,
+) -> Result<Vec<Stroke>, SignalError> {
+    Ok(match which {
+        Run::Up => ring_up(&spec.bell, cfg, ringer, obs).map_err(err)?.strokes,
+        Run::Ring => {
+            ring(&spec.bell, cfg, Style::Right, Protocol::Restart, spec.strokes, obs)
+                .map_err(err)?
+                .strokes
+        }
+        Run::Down => ring_down(&spec.bell, cfg, ringer, obs).map_err(err)?.strokes,
+    })
+}
+
+fn smoothstep(u: f64) -> (f64, f64, f64) {
+    let u = u.clamp(0.0, 1.0);
+    (u * u * (3.0 - 2.0 * u), 6.0 * u * (1.0 - u), 6.0 - 12.0 * u)
+}
+
+/// A standard normal number (Box-Muller).
+fn gauss(rng: &mut Pcg64) -> f64 {
+    let u: f64 = rng.random_range(f64::MIN_POSITIVE..1.0);
+    let v: f64 = rng.random();
+    (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
+}
+
+/// Synthesise a log and its truth.
+pub fn synth_log(spec: &LogSpec) -> Result<(AccelLog, LogTruth), SignalError> {
+    if !(spec.rate.is_finite() && (5.0..=5000.0).contains(&spec.rate)) {
+        return Err(SignalError::Option(format!("sample rate {} Hz: 5 to 5000", spec.rate)));
+    }
+    if spec.strokes % 2 != 0 || spec.strokes == 0 {
+        return Err(SignalError::Option(format!(
+            "{} strokes: an even number, at least 2",
+            spec.strokes
+        )));
+    }
+    // The session, piece by piece (each simulation run once to learn its length).
+    let mut pieces: Vec<Piece> = vec![];
+    let mut t = 0.0;
+    let mut add = |pieces: &mut Vec<Piece>, kind, len: f64, motion| {
+        pieces.push(Piece {
+            kind,
+            start: t,
+            len,
+            motion,
+        });
+        t += len;
+    };
+    add(&mut pieces, PhaseKind::Down, spec.rest_s, Motion::Hold(0.0));
+    let tug = spec.ringer.start;
+    add(&mut pieces, PhaseKind::Raising, 0.5, Motion::Ramp(0.0, tug));
+    let up = run(spec, &spec.cfg, &spec.ringer, Run::Up, &mut ())?;
+    let last = up.last().ok_or_else(|| err("no swings ringing up"))?;
+    // Ringing up may end on either side; mirrored, it ends on the + side,
+    // which is then the handstroke side (the bell is set at handstroke).
+    let sign = last.end.y[0].signum();
+    // Set where the last swing of the raising reached (short of the very
+    // balance, from which a restart would never fall).
+    let set = last.end.y[0].abs().min(179f64.to_radians());
+    let up_len = last.end.t;
+    add(&mut pieces, PhaseKind::Raising, up_len, Motion::Sim(Run::Up, sign, up));
+    add(&mut pieces, PhaseKind::Up, spec.set_s, Motion::Hold(set));
+    let cfg = SimConfig {
+        theta0: set,
+        ..spec.cfg
+    };
+    let rung = run(spec, &cfg, &spec.ringer, Run::Ring, &mut ())?;
+    let ring_len = rung.last().map_or(0.0, |s| s.end.t);
+    add(
+        &mut pieces,
+        PhaseKind::Ringing,
+        ring_len,
+        Motion::Sim(Run::Ring, 1.0, rung),
+    );
+    let ringer = RingerConfig {
+        stay: set,
+        ..spec.ringer
+    };
+    let down = run(spec, &cfg, &ringer, Run::Down, &mut ())?;
+    let (down_len, down_end) = down.last().map_or((0.0, 0.0), |s| (s.end.t, s.end.y[0]));
+    add(
+        &mut pieces,
+        PhaseKind::Lowering,
+        down_len,
+        Motion::Sim(Run::Down, 1.0, down),
+    );
+    add(&mut pieces, PhaseKind::Lowering, 1.5, Motion::Ramp(down_end, 0.0));
+    add(&mut pieces, PhaseKind::Down, spec.rest_s, Motion::Hold(0.0));
+    let total = t;
+
+    // Sample times: jittered, with gaps.
+    let mut rng = Pcg64::seed_from_u64(spec.seed);
+    let dt = 1.0 / spec.rate;
+    let mut gaps: Vec<(f64, f64)> = (0..spec.gaps)
+        .map(|_| {
+            let a = rng.random_range(0.0..total - 0.5);
+            (a, a + rng.random_range(0.1..0.4))
+        })
+        .collect();
+    gaps.sort_by(|x, y| x.0.total_cmp(&y.0));
+    let n = (total * spec.rate) as usize;
+    let times: Vec<f64> = (0..n)
+        .map(|k| k as f64 * dt + spec.jitter * dt * rng.random_range(-0.5..0.5))
+        .filter(|&x| x >= 0.0 && x < total && !gaps.iter().any(|g| x >= g.0 && x < g.1))
+        .collect();
+
+    // θ, θ', θ'' at every sample time, piece by piece.
+    let mut kin: Vec<[f64; 3]> = Vec::with_capacity(times.len());
+    let mut impacts: Vec<(f64, f64, bool)> = vec![]; // (time, impulse, a first strike while ringing)
+    let mut truth_strokes: Vec<TrueLogStroke> = vec![];
+    let mut i = 0;
+    for p in &pieces {
+        let j = times.partition_point(|&x| x < p.start + p.len);
+        let local: Vec<f64> = times[i..j].iter().map(|x| x - p.start).collect();
+        match &p.motion {
+            Motion::Hold(a) => kin.extend(local.iter().map(|_| [*a, 0.0, 0.0])),
+            Motion::Ramp(a, b) => kin.extend(local.iter().map(|&u| {
+                let (s, ds, dds) = smoothstep(u / p.len);
+                [a + (b - a) * s, (b - a) * ds / p.len, (b - a) * dds / (p.len * p.len)]
+            })),
+            Motion::Sim(which, sign, strokes) => {
+                let (c, r) = match which {
+                    Run::Up => (&spec.cfg, &spec.ringer),
+                    _ => (&cfg, &ringer),
+                };
+                let mut k = Kinematics {
+                    times: &local,
+                    next: 0,
+                    out: Vec::with_capacity(local.len()),
+                };
+                run(spec, c, r, *which, &mut k)?;
+                if k.out.len() != local.len() {
+                    return Err(err("the second run did not repeat the first"));
+                }
+                kin.extend(k.out.iter().map(|v| [sign * v[0], sign * v[1], sign * v[2]]));
+                for st in strokes {
+                    let first = st.first_strike_index();
+                    for (m, im) in st.impacts.iter().enumerate() {
+                        let impulse = spec.bell.clapper_mass
+                            * spec.bell.b
+                            * (im.phi_dot_before - im.phi_dot_after.unwrap_or(0.0)).abs();
+                        impacts.push((p.start + im.t, impulse, *which == Run::Ring && first == Some(m)));
+                    }
+                    if let Some(b) = st.bottom {
+                        truth_strokes.push(TrueLogStroke {
+                            bdc: p.start + b.t,
+                            // Falling from the + side (mirrored): a handstroke.
+                            hand: sign * st.start.y[0] > 0.0,
+                            strike: None,
+                            amplitude: st.start.y[0].abs(),
+                            turned: p.start + st.start.t,
+                            impacts: vec![],
+                            phase: p.kind,
+                            hidden: false,
+                        });
+                    }
+                }
+            }
+        }
+        i = j;
+    }
+
+    // Bursts, scaled to a ringing stroke's strike.
+    let reference = {
+        let mut v: Vec<f64> = impacts.iter().filter(|x| x.2).map(|x| x.1).collect();
+        v.sort_by(f64::total_cmp);
+        v.get(v.len() / 2).copied().unwrap_or(1.0).max(1e-9)
+    };
+    const TAU: f64 = 0.012; // s: the headstock's ring dies in a few hundredths
+    const F_RING: f64 = 180.0; // Hz
+    let bursts: Vec<(f64, f64, [f64; 3])> = impacts
+        .iter()
+        .map(|&(ti, j, _)| {
+            let phases = [0, 1, 2].map(|_| rng.random_range(0.0..std::f64::consts::TAU));
+            (ti, spec.burst * j / reference, phases)
+        })
+        .collect();
+    // The truth's strike: the first impact after bottom whose burst is
+    // at least 3 m/s² one sample later (what any reader could see).
+    let seen = 3.0 * (dt / TAU).exp();
+    let bottoms: Vec<f64> = truth_strokes.iter().map(|s| s.bdc).collect();
+    for (k, s) in truth_strokes.iter_mut().enumerate() {
+        let until = bottoms.get(k + 1).copied().unwrap_or(s.bdc + 2.5).min(s.bdc + 2.5);
+        s.impacts = bursts
+            .iter()
+            .filter(|b| b.0 > s.bdc && b.0 < until)
+            .map(|b| (b.0, b.1))
+            .collect();
+        s.strike = s.impacts.iter().find(|b| b.1 >= seen).map(|b| b.0);
+    }
+    // A stroke's strike must come before the next bottom.
+    for k in 0..truth_strokes.len().saturating_sub(1) {
+        let next = truth_strokes[k + 1].bdc;
+        if truth_strokes[k].strike.is_some_and(|x| x >= next) {
+            truth_strokes[k].strike = None;
+        }
+    }
+    let near_gap = |x: f64| gaps.iter().any(|g| x > g.0 - 2.0 * dt && x < g.1 + 2.0 * dt);
+    for s in &mut truth_strokes {
+        s.hidden = near_gap(s.bdc) || s.strike.is_some_and(near_gap) || near_gap(s.turned);
+    }
+
+    // The readings.
+    let mut radial = Vec::with_capacity(times.len());
+    let mut tangential = Vec::with_capacity(times.len());
+    let mut axle = Vec::with_capacity(times.len());
+    let mut b0 = 0;
+    for (k, &x) in times.iter().enumerate() {
+        let [th, w, a] = kin[k];
+        let f = specific_force(spec.sensor, th, w, a);
+        let mut v = [f[1], f[0], 0.0];
+        while b0 < bursts.len() && bursts[b0].0 < x - 0.2 {
+            b0 += 1;
+        }
+        for b in &bursts[b0..] {
+            if b.0 > x {
+                break;
+            }
+            let d = x - b.0;
+            let env = b.1 * (-d / TAU).exp();
+            for (axis, val) in v.iter_mut().enumerate() {
+                *val += env * (2.0 * std::f64::consts::PI * F_RING * d + b.2[axis]).cos();
+            }
+        }
+        for val in &mut v {
+            *val += spec.noise * gauss(&mut rng);
+            if spec.resolution > 0.0 {
+                *val = (*val / spec.resolution).round() * spec.resolution;
+            }
+            *val = val.clamp(-spec.clip, spec.clip);
+        }
+        radial.push(v[0]);
+        tangential.push(v[1]);
+        axle.push(v[2]);
+    }
+
+    // Phases: pieces of one kind run together.
+    let mut phases: Vec<Phase> = vec![];
+    for p in &pieces {
+        match phases.last_mut() {
+            Some(q) if q.kind == p.kind => q.end = p.start + p.len,
+            _ => phases.push(Phase {
+                kind: p.kind,
+                start: p.start,
+                end: p.start + p.len,
+            }),
+        }
+    }
+    let odd_struck = {
+        let mean = |hand: bool| {
+            let v: Vec<f64> = truth_strokes
+                .iter()
+                .filter(|s| s.phase == PhaseKind::Ringing && s.hand == hand)
+                .filter_map(|s| s.strike.map(|x| x - s.bdc))
+                .collect();
+            (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
+        };
+        mean(true).zip(mean(false)).map(|(h, b)| h - b)
+    };
+    Ok((
+        AccelLog {
+            name: Some("synthetic".into()),
+            t: times,
+            radial,
+            tangential,
+            axle,
+        },
+        LogTruth {
+            phases,
+            strokes: truth_strokes,
+            odd_struck,
+        },
+    ))
+}
