@@ -27,6 +27,7 @@ pub mod liftoff;
 pub mod listening;
 pub mod measure;
 pub mod ring_up;
+pub mod ringing_log;
 pub mod sample_data;
 pub mod simulate;
 pub mod sound;

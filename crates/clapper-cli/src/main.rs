@@ -29,6 +29,7 @@ mod listening;
 mod measure;
 mod progress;
 mod ring;
+mod ringing_log;
 mod sample_data;
 mod serve;
 mod simulate;
@@ -101,6 +102,12 @@ enum Command {
     /// or an HTML page playing the synthesised sound in step; a ring in rounds
     /// with --ring.
     Animate(animate::AnimateArgs),
+    /// A bell's accelerometer log (belfry-sleuth or CSV) read into swings,
+    /// strikes, odd-struckness and phases; beside the model with --bell.
+    RingingLog(ringing_log::RingingLogArgs),
+    /// A synthetic accelerometer log of a bell raised, rung and lowered,
+    /// with its truth, for testing.
+    SynthLog(ringing_log::SynthLogArgs),
     /// The double-strike listening test (Section 4.3): make stimuli and
     /// answer sheets, or analyse the answers.
     ListeningTest(listening::ListeningArgs),
@@ -178,6 +185,8 @@ fn main() {
         Command::Impulse(args) => measure::impulse(args),
         Command::Synth(args) => sound::run(args),
         Command::Animate(args) => animate::run(args),
+        Command::RingingLog(args) => ringing_log::ringing_log(args),
+        Command::SynthLog(args) => ringing_log::synth_log_cmd(args),
         Command::ListeningTest(args) => listening::run(args),
         Command::SampleData(args) => sample_data::run(args),
         Command::Serve(args) => serve::run(args),

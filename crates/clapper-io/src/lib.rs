@@ -7,6 +7,7 @@
 
 #![warn(missing_docs)]
 
+pub mod accel_log;
 pub mod answers;
 pub mod bell_file;
 pub mod chart_csv;

@@ -97,6 +97,7 @@ pub mod animation;
 pub mod chart;
 mod fonts;
 pub mod quantity;
+pub mod ringing_log;
 pub mod signal;
 pub mod striking;
 

@@ -27,6 +27,9 @@
 //!    θ = 0) or up (near the balance); what moves between two rests is
 //!    raising (from down to up), ringing (from up; the full swings), and
 //!    lowering (the swings after the last full one, down to rest).
+//! 0. **Tilt**: a sensor not square on its nut reads the resting bell
+//!    (which hangs plumb) a few degrees off; that angle, from the rests
+//!    near the bottom, is turned out of the readings first.
 //! 5. **Hand and back**: the bell is set at handstroke, so a stroke that
 //!    starts from the side the bell was set on is a handstroke (with no
 //!    set, the side with θ > 0 on the sensor's axes).
@@ -167,7 +170,9 @@ pub struct LogAnalysis {
     pub sensor_fitted: bool,
     /// Median sample interval (s).
     pub interval: f64,
-    /// The reconstructed angle at every sample (rad, in (−π, π]).
+    /// The reconstructed angle at every sample (rad): continuous, the
+    /// bottom at 0, within ±200 deg (past ±180 for a bell set beyond the
+    /// balance).
     pub theta: Vec<f64>,
     /// Samples taken as bursts (strikes) or clipped.
     pub burst: Vec<bool>,
@@ -239,7 +244,12 @@ fn bursts(log: &AccelLog, clip: f64) -> (Vec<bool>, Vec<usize>) {
     }
     let typical = median(d[2..].to_vec());
     let threshold = (6.0 * 1.4826 * typical).max(1.5);
-    let clipped = |k: usize| axes.iter().any(|a| a[k].abs() >= 0.99 * clip);
+    // Clipped, or a force no swing gives (the swing's own accelerations
+    // stay within a few tenths of g at a sensor near the pivot).
+    let clipped = |k: usize| {
+        let f = log.radial[k].hypot(log.tangential[k]);
+        axes.iter().any(|a| a[k].abs() >= 0.99 * clip) || !(0.3 * G..=1.9 * G).contains(&f)
+    };
     let mut mask = vec![false; n];
     let mut onsets = vec![];
     let mut last_hot: Option<f64> = None;
@@ -369,8 +379,18 @@ fn angle(log: &AccelLog, bad: &[bool], given: Option<f64>, interval: f64) -> Ang
         theta = unwrap_fill(&log.t, &corrected, bad);
     }
     let (smooth, rate, _) = quadratic_fits(&log.t, &theta, bad, w);
-    // Keep the measured angle where it is good; the fit only bridges bursts.
-    let theta = (0..n).map(|k| if bad[k] { smooth[k] } else { theta[k] }).collect();
+    // Across a burst the fit bridges better than a straight line, unless
+    // the burst is so long that the fit has little to stand on (then the
+    // two disagree, and the line is kept).
+    let theta: Vec<f64> = (0..n)
+        .map(|k| {
+            if bad[k] && (smooth[k] - theta[k]).abs() < 0.3 {
+                smooth[k]
+            } else {
+                theta[k]
+            }
+        })
+        .collect();
     Angle {
         theta,
         smooth,
@@ -380,22 +400,51 @@ fn angle(log: &AccelLog, bad: &[bool], given: Option<f64>, interval: f64) -> Ang
     }
 }
 
+/// `a` made continuous sample to sample, but never more than 200 deg from
+/// the bottom: each value the turn of it nearest the last one, else the
+/// one in (−180, 180] deg.
+fn bounded(a: &[f64]) -> Vec<f64> {
+    let limit = 200f64.to_radians();
+    let mut out = Vec::with_capacity(a.len());
+    let mut prev = a.first().map_or(0.0, |&x| wrap(x));
+    for &x in a {
+        let near = prev + wrap(x - prev);
+        let v = if near.abs() <= limit { near } else { wrap(x) };
+        out.push(v);
+        prev = v;
+    }
+    out
+}
+
 /// Unwrap `a` over the good samples and fill the bad ones by linear
 /// interpolation in time.
 fn unwrap_fill(t: &[f64], a: &[f64], bad: &[bool]) -> Vec<f64> {
     let n = t.len();
     let mut out = vec![f64::NAN; n];
-    let mut prev: Option<f64> = None;
+    let mut bad = bad.to_vec();
+    let mut prev: Option<(f64, f64)> = None;
+    let mut refused_since: Option<f64> = None;
     for k in 0..n {
         if bad[k] {
             continue;
         }
         let mut v = a[k];
-        if let Some(p) = prev {
-            v = p + wrap(v - p);
+        if let Some((p, tp)) = prev {
+            let step = wrap(v - p);
+            // A bell turns at most some 6 rad/s: a sample further off is
+            // a strike's shaking that the burst test let through; but a
+            // quarter of a second of such samples means the last one
+            // trusted was the odd one out.
+            let since = *refused_since.get_or_insert(t[k]);
+            if step.abs() > (8.0 * (t[k] - tp)).max(0.35) && t[k] - since < 0.25 {
+                bad[k] = true;
+                continue;
+            }
+            refused_since = None;
+            v = p + step;
         }
         out[k] = v;
-        prev = Some(v);
+        prev = Some((v, t[k]));
     }
     let good: Vec<usize> = (0..n).filter(|&k| !bad[k]).collect();
     if good.is_empty() {
@@ -468,6 +517,35 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
             "{bursty} of {n} samples are clipped or bursts: nothing left to read the swing from (is the range right?)"
         )));
     }
+    // A sensor not square on its nut reads the bell at rest as tilted:
+    // the bell hangs plumb when down, so its rest's angle is the tilt.
+    let tilted;
+    let log = {
+        let first = angle(log, &burst, Some(0.0), interval);
+        let (level, slow, _) = quadratic_fits(&log.t, &first.theta, &burst, 0.5);
+        let mut downs: Vec<f64> = rests(&log.t, &level, &slow, interval)
+            .iter()
+            .map(|r| r.2)
+            .filter(|m| m.abs() < 0.5)
+            .collect();
+        downs.sort_by(f64::total_cmp);
+        match downs.get(downs.len() / 2) {
+            Some(&tilt) if tilt.abs() > 0.2f64.to_radians() => {
+                warnings.push(format!(
+                    "the sensor reads the bell at rest {:.1} deg off plumb: taken as its tilt and removed",
+                    tilt.to_degrees()
+                ));
+                let (s, c) = tilt.sin_cos();
+                tilted = AccelLog {
+                    tangential: (0..n).map(|k| log.tangential[k] * c - log.radial[k] * s).collect(),
+                    radial: (0..n).map(|k| log.tangential[k] * s + log.radial[k] * c).collect(),
+                    ..log.clone()
+                };
+                &tilted
+            }
+            _ => log,
+        }
+    };
     let Angle {
         theta: theta_u,
         smooth,
@@ -481,11 +559,14 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
             h
         ));
     }
-    let theta: Vec<f64> = theta_u.iter().map(|&a| wrap(a)).collect();
+    // The angle continuous but held within ±200 deg of the bottom: a bell
+    // set past the balance (185 deg, say) reads more than 180 deg, not a
+    // wrap to -175, and a strike's shaking cannot wind it round.
+    let theta = bounded(&theta_u);
+    let smooth = bounded(&smooth);
     // Rests by the slope over ±0.5 s: still to a few hundredths of a rad/s.
-    let (level, slow, _) = quadratic_fits(&log.t, &theta_u, &burst, 0.5);
+    let (level, slow, _) = quadratic_fits(&log.t, &theta, &burst, 0.5);
     let rests = rests(&log.t, &level, &slow, interval);
-    let smooth: Vec<f64> = smooth.iter().map(|&a| wrap(a)).collect();
     let mut strokes = strokes(log, &theta, &smooth, &d1, (&burst, &onsets), &rests);
     let phases = phases(&log.t, &rests, &mut strokes, &theta, opts.full_swing);
     // The side the bell was set on before it was rung.
@@ -570,7 +651,7 @@ fn strokes(
     let mut bdcs: Vec<(f64, usize)> = vec![];
     for k in 0..n - 1 {
         let (a, b) = (theta[k], theta[k + 1]);
-        // A crossing of 0, not of ±180 deg, while the bell moves.
+        // A crossing of 0 while the bell moves.
         if a.signum() != b.signum() && a.abs() < 1.5 && b.abs() < 1.5 && (d1[k].abs() > 0.3 || d1[k + 1].abs() > 0.3) {
             let mut tc = t[k] + (t[k + 1] - t[k]) * a / (a - b);
             if resting(tc) || bdcs.last().is_some_and(|&(p, _)| tc - p < 0.3) {

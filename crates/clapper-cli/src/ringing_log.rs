@@ -1,0 +1,243 @@
+//! `clapper ringing-log`: a bell's accelerometer log read into swings,
+//! strikes, odd-struckness and phases, beside the model with `--bell`; and
+//! `clapper synth-log`: a synthetic log with known truth.
+
+use std::path::PathBuf;
+
+use anyhow::{bail, Context, Result};
+use clap::Args;
+use clapper_app::ringing_log::{read_log, text, LogReport};
+use clapper_core::bell::G;
+use clapper_core::sensor::SensorPlace;
+use clapper_io::accel_log::{load_accel_log, write_sleuth_log, Axes};
+use clapper_plot::ringing_log::{ringing_log_plot, LogPhase, LogPlot, LogSwing};
+use clapper_signal::ringing_log::{LogOptions, PhaseKind};
+use clapper_signal::ringing_log_synth::{synth_log, LogSpec};
+use serde_json::json;
+
+use crate::files::write_bytes;
+use crate::simulate::BellArgs;
+
+#[derive(Args, Debug)]
+pub struct RingingLogArgs {
+    /// The log: belfry-sleuth text (x y z in m/s², time in ms, a line a
+    /// sample, `Bell 3` after) or CSV with a header t_s, ax, ay, az.
+    pub file: PathBuf,
+    /// Which sensor axis lies along the bell's axis (toward the crown) and
+    /// which is tangential: RADIAL,TANGENTIAL, each x, y or z with an
+    /// optional sign (the third lies along the pivot).
+    #[arg(long, default_value = "y,z", allow_hyphen_values = true)]
+    pub axes: String,
+    /// The sensor's distance above the pivot along the bell's axis (m), if
+    /// known; fitted from the log otherwise.
+    #[arg(long, value_name = "M", allow_hyphen_values = true)]
+    pub sensor_m: Option<f64>,
+    /// The sensor's range (g): readings at it are clipped. Default ±2 g.
+    #[arg(long, default_value_t = 2.0, value_name = "G")]
+    pub clip_g: f64,
+    /// A bell file: the model's BDC-to-strike at each measured amplitude,
+    /// the pivot offset that gives the log's odd-struckness, and the
+    /// pendulum period against the log's.
+    #[arg(long, value_name = "FILE")]
+    pub bell: Option<PathBuf>,
+    /// Print the report as JSON.
+    #[arg(long)]
+    pub json: bool,
+    /// Write every swing as CSV.
+    #[arg(long, value_name = "FILE.csv")]
+    pub csv: Option<PathBuf>,
+    /// Plot: the log with its phases, a zoom of strokes, the amplitudes
+    /// ringing up and down (.png or .svg).
+    #[arg(long, value_name = "FILE")]
+    pub plot: Option<PathBuf>,
+}
+
+pub fn ringing_log(args: RingingLogArgs) -> Result<()> {
+    crate::files::claim_stdout(&[("--csv", args.csv.as_deref())], args.json)?;
+    if let Some(p) = &args.plot {
+        clapper_plot::format_of(p)?;
+    }
+    if !(args.clip_g.is_finite() && args.clip_g > 0.0) {
+        bail!("--clip-g {} must be a number of g above 0", args.clip_g);
+    }
+    let axes = Axes::parse(&args.axes)?;
+    let log = load_accel_log(&args.file, axes).with_context(|| format!("reading {}", args.file.display()))?;
+    let bell = match &args.bell {
+        Some(p) => Some(clapper_io::load_bell(p)?),
+        None => None,
+    };
+    let opts = LogOptions {
+        sensor_along: args.sensor_m,
+        clip: args.clip_g * G,
+        ..LogOptions::default()
+    };
+    let reading = read_log(&log, &opts, bell)?;
+    let r = &reading.report;
+    if let Some(path) = &args.csv {
+        write_bytes(path, csv(r)?)?;
+    }
+    if let Some(path) = &args.plot {
+        let a = &reading.analysis;
+        let theta: Vec<f64> = a.theta.iter().map(|x| x.to_degrees()).collect();
+        let phases: Vec<LogPhase> = a
+            .phases
+            .iter()
+            .map(|p| LogPhase {
+                kind: p.kind.name(),
+                span: (p.start, p.end),
+            })
+            .collect();
+        let swings: Vec<LogSwing> = a
+            .strokes
+            .iter()
+            .map(|s| LogSwing {
+                bdc: s.bdc,
+                strike: s.strike.zip(s.strike_theta.map(f64::to_degrees)),
+                amplitude: s.amplitude.to_degrees(),
+                hand: s.hand,
+                ringing_up_or_down: matches!(s.phase, PhaseKind::Raising | PhaseKind::Lowering),
+            })
+            .collect();
+        let title = format!(
+            "{}: {} swings, odd-struck {}",
+            r.bell.as_deref().unwrap_or(&args.file.display().to_string()),
+            r.strokes.len(),
+            r.odd_struck_ms.map_or("unknown".into(), |o| format!("{o:+.1} ms"))
+        );
+        crate::files::write_atomically(path, |tmp| {
+            Ok(ringing_log_plot(
+                tmp,
+                &LogPlot {
+                    title: &title,
+                    t: &log.t,
+                    theta: &theta,
+                    phases: &phases,
+                    swings: &swings,
+                },
+            )?)
+        })?;
+    }
+    if args.json {
+        crate::say!("{}", serde_json::to_string(r)?);
+    } else {
+        crate::say_text!("{}", text(r));
+    }
+    Ok(())
+}
+
+fn csv(r: &LogReport) -> Result<String> {
+    let mut rows = vec![[
+        "bdc_s",
+        "stroke",
+        "phase",
+        "amplitude_deg",
+        "strike_s",
+        "bdc_to_strike_ms",
+        "strike_theta_deg",
+        "model_bdc_to_strike_ms",
+    ]
+    .map(String::from)];
+    let f = |v: Option<f64>, d: usize| v.map_or(String::new(), |x| format!("{x:.d$}"));
+    for s in &r.strokes {
+        rows.push([
+            format!("{:.4}", s.bdc_s),
+            s.stroke.to_string(),
+            s.phase.to_string(),
+            format!("{:.2}", s.amplitude_deg),
+            f(s.strike_s, 4),
+            f(s.bdc_to_strike_ms, 1),
+            f(s.strike_theta_deg, 2),
+            f(s.model_bdc_to_strike_ms, 1),
+        ]);
+    }
+    clapper_io::strike_file::csv_text(&rows).map_err(anyhow::Error::msg)
+}
+
+#[derive(Args, Debug)]
+pub struct SynthLogArgs {
+    /// The bell (default the Great St Mary's tenor).
+    #[command(flatten)]
+    pub source: BellArgs,
+    /// Output log (belfry-sleuth text: x y z in m/s², time in ms).
+    #[arg(long, value_name = "FILE")]
+    pub out: PathBuf,
+    /// The truth as JSON (phases, swings, odd-struckness), beside it.
+    #[arg(long, value_name = "FILE.json")]
+    pub truth: Option<PathBuf>,
+    /// Sample rate (Hz).
+    #[arg(long, default_value_t = 100.0)]
+    pub rate: f64,
+    /// Noise (m/s², standard deviation).
+    #[arg(long, default_value_t = 0.04)]
+    pub noise: f64,
+    /// Strokes rung full circle between raising and lowering (even).
+    #[arg(long, default_value_t = 40)]
+    pub strokes: usize,
+    /// The clapper pivot's offset across the bell's axis (mm): an
+    /// odd-struck bell.
+    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
+    pub offset_mm: f64,
+    /// Runs of lost samples.
+    #[arg(long, default_value_t = 0)]
+    pub gaps: usize,
+    /// The sensor's distance above the pivot (m).
+    #[arg(long, default_value_t = 0.15)]
+    pub sensor_m: f64,
+    /// Seed.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// The bell's name, written after the samples.
+    #[arg(long, default_value = "synthetic")]
+    pub name: String,
+}
+
+pub fn synth_log_cmd(args: SynthLogArgs) -> Result<()> {
+    let mut bell = match (&args.source.bell, args.source.preset, args.source.chart_point) {
+        (Some(p), ..) => clapper_io::load_bell(p)?.bell,
+        (_, Some(preset), _) => preset.loaded().bell,
+        (_, _, Some((x, y))) => clapper_core::bell::ChartConstruction::default().bell(x, y)?,
+        _ => clapper_core::bell::Bell::gsm_tenor(),
+    };
+    bell.hanging.pivot_offset = args.offset_mm * 1e-3;
+    let mut spec = LogSpec::new(bell, args.seed);
+    spec.rate = args.rate;
+    spec.noise = args.noise;
+    spec.strokes = args.strokes;
+    spec.gaps = args.gaps;
+    spec.sensor = SensorPlace {
+        along: args.sensor_m,
+        across: 0.0,
+    };
+    let (mut log, truth) = synth_log(&spec)?;
+    log.name = Some(args.name.clone());
+    write_bytes(&args.out, write_sleuth_log(&log))?;
+    if let Some(path) = &args.truth {
+        let v = json!({
+            "synthetic": true,
+            "rate_hz": args.rate,
+            "odd_struck_ms": truth.odd_struck.map(|x| x * 1e3),
+            "phases": truth.phases.iter().map(|p| json!({"kind": p.kind.name(), "start_s": p.start, "end_s": p.end})).collect::<Vec<_>>(),
+            "strokes": truth.strokes.iter().map(|s| json!({
+                "bdc_s": s.bdc,
+                "stroke": if s.hand { "hand" } else { "back" },
+                "strike_s": s.strike,
+                "amplitude_deg": s.amplitude.to_degrees(),
+                "phase": s.phase.name(),
+                "hidden_by_a_gap": s.hidden,
+            })).collect::<Vec<_>>(),
+        });
+        write_bytes(path, serde_json::to_string_pretty(&v)? + "\n")?;
+    }
+    crate::say!(
+        "synthetic log: {} samples at {} Hz over {:.0} s, {} swings, odd-struck {}, written to {}",
+        log.t.len(),
+        args.rate,
+        log.t.last().copied().unwrap_or(0.0),
+        truth.strokes.len(),
+        truth
+            .odd_struck
+            .map_or("none".into(), |o| format!("{:+.1} ms", o * 1e3)),
+        args.out.display()
+    );
+    Ok(())
+}
