@@ -86,21 +86,24 @@ fn draw<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, p: &LogPlot<'_>) -> D
     amplitudes(&bottom, p, (t0, t1))
 }
 
-fn angle_axes<'a, DB: DrawingBackend>(
+/// Axes of time (s) against `y_desc` over `y`, with a caption.
+fn axes<'a, DB: DrawingBackend>(
     area: &'a DrawingArea<DB, Shift>,
     caption: &str,
     (a, b): (f64, f64),
+    y: std::ops::Range<f64>,
+    y_desc: &str,
 ) -> Result<AngleChart<'a, DB>, DrawingAreaErrorKind<DB::ErrorType>> {
     let mut chart = ChartBuilder::on(area)
-        .caption(caption, ("sans-serif", 20))
+        .caption(caption, ("sans-serif", 18))
         .margin(10)
         .x_label_area_size(40)
         .y_label_area_size(55)
-        .build_cartesian_2d(a..b, -190.0..190.0)?;
+        .build_cartesian_2d(a..b, y)?;
     chart
         .configure_mesh()
         .x_desc("time (s)")
-        .y_desc("bell angle θ (deg)")
+        .y_desc(y_desc)
         .y_labels(9)
         .x_label_formatter(&crate::tick)
         .y_label_formatter(&crate::tick)
@@ -110,6 +113,14 @@ fn angle_axes<'a, DB: DrawingBackend>(
         .axis_desc_style(("sans-serif", 15))
         .draw()?;
     Ok(chart)
+}
+
+fn angle_axes<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    caption: &str,
+    span: (f64, f64),
+) -> Result<AngleChart<'a, DB>, DrawingAreaErrorKind<DB::ErrorType>> {
+    axes(area, caption, span, -190.0..190.0, "bell angle θ (deg)")
 }
 
 /// The whole log, phases shaded and named.
@@ -204,26 +215,13 @@ fn zoom<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &LogPlot<'_>) -> D
 
 /// Amplitude against time while raising and lowering, by the stroke struck.
 fn amplitudes<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &LogPlot<'_>, span: (f64, f64)) -> DrawResult<DB> {
-    let mut chart = ChartBuilder::on(area)
-        .caption(
-            "amplitude of each swing ringing up and down (filled: the clapper struck; hand blue, back orange)",
-            ("sans-serif", 18),
-        )
-        .margin(10)
-        .x_label_area_size(40)
-        .y_label_area_size(55)
-        .build_cartesian_2d(span.0..span.1, 0.0..185.0)?;
-    chart
-        .configure_mesh()
-        .x_desc("time (s)")
-        .y_desc("amplitude (deg)")
-        .x_label_formatter(&crate::tick)
-        .y_label_formatter(&crate::tick)
-        .light_line_style(WHITE)
-        .bold_line_style(RGBColor(225, 225, 225))
-        .label_style(("sans-serif", 14))
-        .axis_desc_style(("sans-serif", 15))
-        .draw()?;
+    let mut chart = axes(
+        area,
+        "amplitude of each swing ringing up and down (filled: the clapper struck; hand blue, back orange)",
+        span,
+        0.0..185.0,
+        "amplitude (deg)",
+    )?;
     for s in p.swings.iter().filter(|s| s.ringing_up_or_down) {
         let colour = if s.hand { HAND } else { BACK };
         let style = if s.strike.is_some() {
