@@ -130,6 +130,8 @@ pub struct LogStroke {
     pub strike_theta: Option<f64>,
     /// The turning point it fell from: |θ| (rad).
     pub amplitude: f64,
+    /// The side it fell from: +1 (θ > 0) or −1.
+    pub from_side: f64,
     /// The phase it belongs to.
     pub phase: PhaseKind,
 }
@@ -244,12 +246,7 @@ fn bursts(log: &AccelLog, clip: f64) -> (Vec<bool>, Vec<usize>) {
     }
     let typical = median(d[2..].to_vec());
     let threshold = (6.0 * 1.4826 * typical).max(1.5);
-    // Clipped, or a force no swing gives (the swing's own accelerations
-    // stay within a few tenths of g at a sensor near the pivot).
-    let clipped = |k: usize| {
-        let f = log.radial[k].hypot(log.tangential[k]);
-        axes.iter().any(|a| a[k].abs() >= 0.99 * clip) || !(0.3 * G..=1.9 * G).contains(&f)
-    };
+    let clipped = |k: usize| axes.iter().any(|a| a[k].abs() >= 0.99 * clip);
     let mut mask = vec![false; n];
     let mut onsets = vec![];
     let mut last_hot: Option<f64> = None;
@@ -350,6 +347,9 @@ struct Angle {
     rate: Vec<f64>,
     h: f64,
     fitted: bool,
+    /// The median departure of the corrected force from g while the bell
+    /// moves, over g: small when the angle is read right.
+    misfit: f64,
 }
 
 fn angle(log: &AccelLog, bad: &[bool], given: Option<f64>, interval: f64) -> Angle {
@@ -378,7 +378,16 @@ fn angle(log: &AccelLog, bad: &[bool], given: Option<f64>, interval: f64) -> Ang
         let corrected: Vec<f64> = (0..n).map(|k| raw(h, &d1, &d2, k)).collect();
         theta = unwrap_fill(&log.t, &corrected, bad);
     }
-    let (smooth, rate, _) = quadratic_fits(&log.t, &theta, bad, w);
+    let (smooth, rate, acc) = quadratic_fits(&log.t, &theta, bad, w);
+    let misfit = median(
+        (0..n)
+            .filter(|&k| !bad[k] && rate[k].abs() > 0.5)
+            .map(|k| {
+                let (a, b) = (log.tangential[k] + h * acc[k], log.radial[k] + h * rate[k] * rate[k]);
+                (a.hypot(b) - G).abs() / G
+            })
+            .collect(),
+    );
     // Across a burst the fit bridges better than a straight line, unless
     // the burst is so long that the fit has little to stand on (then the
     // two disagree, and the line is kept).
@@ -397,6 +406,7 @@ fn angle(log: &AccelLog, bad: &[bool], given: Option<f64>, interval: f64) -> Ang
         rate,
         h,
         fitted,
+        misfit,
     }
 }
 
@@ -552,6 +562,7 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         rate: d1,
         h,
         fitted,
+        misfit,
     } = angle(log, &burst, opts.sensor_along, interval);
     if fitted {
         warnings.push(format!(
@@ -567,7 +578,15 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
     // Rests by the slope over ±0.5 s: still to a few hundredths of a rad/s.
     let (level, slow, _) = quadratic_fits(&log.t, &theta, &burst, 0.5);
     let rests = rests(&log.t, &level, &slow, interval);
-    let mut strokes = strokes(log, &theta, &smooth, &d1, (&burst, &onsets), &rests);
+    let mut strokes = if misfit <= MAX_MISFIT {
+        strokes(log, &theta, &smooth, &d1, (&burst, &onsets), &rests)
+    } else {
+        warnings.push(format!(
+            "the swing's own accelerations at the sensor are too large to read the angle (the corrected force is {:.0} % off g): bottoms from the tangential reading's zeros, amplitudes from the turning points",
+            100.0 * misfit
+        ));
+        strokes_by_zeros(log, &theta, (&burst, &onsets), &rests)
+    };
     let phases = phases(&log.t, &rests, &mut strokes, &theta, opts.full_swing);
     // The side the bell was set on before it was rung.
     let set_side = phases
@@ -581,9 +600,8 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         });
     let hand_side = set_side.unwrap_or(1.0);
     for s in &mut strokes {
-        // A handstroke falls from the hand side: moving away from it.
-        let k = log.t.partition_point(|&t| t < s.bdc).min(n - 1);
-        s.hand = d1[k].signum() == -hand_side;
+        // A handstroke falls from the hand side.
+        s.hand = s.from_side == hand_side;
     }
     let odd_struck = odd_struck(&strokes);
     let clappering_starts = strokes
@@ -720,6 +738,89 @@ fn strokes(
             strike: strike_at.map(|j| t[j]),
             strike_theta: strike_at.map(|j| theta[j]),
             amplitude,
+            from_side: side,
+            phase: PhaseKind::Ringing,
+        });
+    }
+    out
+}
+
+/// Above this misfit (the corrected force's median departure from g, over
+/// g) the angle is not trusted: 0.1 g. Logs the model makes read about
+/// 0.01; a light bell with the sensor well off its pivot, whose
+/// centripetal acceleration at the bottom passes g, reads far more.
+const MAX_MISFIT: f64 = 0.1;
+
+/// Strokes without the angle (when it cannot be read): a bottom dead
+/// centre is a zero of the tangential reading while it changes fast (at
+/// least 5 m/s³; at the bottom θ'' is near zero and the reading moves as g
+/// θ') and swings past 0.15 g on both sides within 0.25 s; the side it
+/// fell from is the slope's sign; the amplitude is read
+/// at the turning point, halfway between bottoms, where θ' = 0 and the
+/// radial reading is exactly g cos A.
+fn strokes_by_zeros(
+    log: &AccelLog,
+    theta: &[f64],
+    (burst, onsets): (&[bool], &[usize]),
+    rests: &[(f64, f64, f64)],
+) -> Vec<LogStroke> {
+    let (t, f) = (&log.t, &log.tangential);
+    let n = t.len();
+    let resting = |time: f64| rests.iter().any(|r| time >= r.0 && time <= r.1);
+    let mut cands: Vec<(f64, f64, f64)> = vec![];
+    for j in 0..n - 1 {
+        if burst[j] || burst[j + 1] || f[j] == 0.0 || f[j].signum() == f[j + 1].signum() {
+            continue;
+        }
+        let slope = (f[j + 1] - f[j]) / (t[j + 1] - t[j]);
+        let tc = t[j] + (t[j + 1] - t[j]) * f[j] / (f[j] - f[j + 1]);
+        if slope.abs() < 5.0 || resting(tc) {
+            continue;
+        }
+        // Through the bottom the reading swings well away from zero on both
+        // sides within a quarter of a second; a bell wobbling at the
+        // balance (the ringer holding it) only flickers across.
+        let reach =
+            |range: std::ops::Range<usize>| range.filter(|&q| !burst[q]).map(|q| f[q].abs()).fold(0.0, f64::max);
+        let (a, b) = (
+            t.partition_point(|&x| x < tc - 0.25),
+            t.partition_point(|&x| x <= tc + 0.25),
+        );
+        if reach(a..j + 1).min(reach(j + 1..b)) < 0.15 * G {
+            continue;
+        }
+        // Rising through zero: moving toward θ > 0, so it fell from θ < 0.
+        cands.push((tc, -slope.signum(), slope.abs()));
+    }
+    let mut bdcs: Vec<(f64, f64)> = vec![];
+    for &(tc, side, _) in &cands {
+        if bdcs.last().is_none_or(|&(p, _)| tc - p >= 0.3) {
+            bdcs.push((tc, side));
+        }
+    }
+    let angle_at = |time: f64| {
+        let k = t.partition_point(|&x| x < time).min(n - 1);
+        let pts: Vec<usize> = (k.saturating_sub(2)..(k + 3).min(n)).filter(|&q| !burst[q]).collect();
+        let m = pts.len().max(1) as f64;
+        let (ft, fr) = pts.iter().fold((0.0, 0.0), |a, &q| (a.0 + f[q], a.1 + log.radial[q]));
+        (ft / m).atan2(fr / m).abs()
+    };
+    let mut out = Vec::with_capacity(bdcs.len());
+    for (i, &(bdc, side)) in bdcs.iter().enumerate() {
+        let before = if i == 0 { bdc - 1.5 } else { bdcs[i - 1].0 };
+        let amplitude = match rests.iter().rev().find(|r| r.1 < bdc && r.1 > before) {
+            Some(r) => r.2.abs(),
+            None => angle_at(0.5 * (before + bdc)),
+        };
+        let until = bdcs.get(i + 1).map_or(f64::INFINITY, |b| b.0);
+        let strike_at = onsets.iter().copied().find(|&j| t[j] > bdc && t[j] < until);
+        out.push(LogStroke {
+            bdc,
+            hand: true,
+            strike: strike_at.map(|j| t[j]),
+            strike_theta: strike_at.map(|j| theta[j]),
+            amplitude,
+            from_side: side,
             phase: PhaseKind::Ringing,
         });
     }

@@ -177,3 +177,53 @@ fn bad_logs_are_refused_with_a_reason() {
         vec![PhaseKind::Down]
     );
 }
+
+#[test]
+fn a_sensor_far_from_the_pivot_falls_back_to_the_tangential_zeros() {
+    // The lab bell (fast) with the sensor 0.4 m above its pivot: at the
+    // bottom the centripetal acceleration is several g, and the angle
+    // cannot be read; bottoms, strikes and sides still can.
+    let mut spec = LogSpec::new(Bell::lab(), 3);
+    spec.sensor.along = 0.4;
+    spec.strokes = 20;
+    spec.burst = 80.0;
+    spec.clip = 16.0 * clapper_core::bell::G;
+    let (log, truth) = synth_log(&spec).expect("synthesised");
+    let got = analyse_log(
+        &log,
+        &LogOptions {
+            clip: 16.0 * clapper_core::bell::G,
+            ..LogOptions::default()
+        },
+    )
+    .expect("read");
+    assert!(
+        got.warnings.iter().any(|w| w.contains("too large to read the angle")),
+        "{:?}",
+        got.warnings
+    );
+    let ringing: Vec<_> = truth.strokes.iter().filter(|t| t.phase == PhaseKind::Ringing).collect();
+    let mut found = 0;
+    for t in &ringing {
+        let Some(g) = got.strokes.iter().find(|g| (g.bdc - t.bdc).abs() < 0.05) else {
+            continue;
+        };
+        found += 1;
+        assert!(
+            (g.bdc - t.bdc).abs() <= 2.0 * interval_at(&log, t.bdc),
+            "BDC at {}: {}",
+            t.bdc,
+            g.bdc
+        );
+        assert_eq!(g.hand, t.hand, "side at {}", t.bdc);
+        if let (Some(a), Some(b)) = (g.strike, t.strike) {
+            assert!((a - b).abs() <= interval_at(&log, b), "strike at {b}: {a}");
+        }
+    }
+    eprintln!("fallback: {found} of {} ringing strokes", ringing.len());
+    assert!(
+        found as f64 >= 0.9 * ringing.len() as f64,
+        "{found} of {}",
+        ringing.len()
+    );
+}
