@@ -755,7 +755,8 @@ const MAX_MISFIT: f64 = 0.1;
 /// centre is a zero of the tangential reading while it changes fast (at
 /// least 5 m/s³; at the bottom θ'' is near zero and the reading moves as g
 /// θ') and swings past 0.15 g on both sides within 0.25 s; the side it
-/// fell from is the slope's sign; the amplitude is read
+/// fell from is the slope's sign, and sides alternate (of two in a row
+/// from one side, the bottom is the one the reading swings further about); the amplitude is read
 /// at the turning point, halfway between bottoms, where θ' = 0 and the
 /// radial reading is exactly g cos A.
 fn strokes_by_zeros(
@@ -786,18 +787,30 @@ fn strokes_by_zeros(
             t.partition_point(|&x| x < tc - 0.25),
             t.partition_point(|&x| x <= tc + 0.25),
         );
-        if reach(a..j + 1).min(reach(j + 1..b)) < 0.15 * G {
+        let swing = reach(a..j + 1).min(reach(j + 1..b));
+        if swing < 0.15 * G {
             continue;
         }
         // Rising through zero: moving toward θ > 0, so it fell from θ < 0.
-        cands.push((tc, -slope.signum(), slope.abs()));
+        cands.push((tc, -slope.signum(), swing));
     }
-    let mut bdcs: Vec<(f64, f64)> = vec![];
-    for &(tc, side, _) in &cands {
-        if bdcs.last().is_none_or(|&(p, _)| tc - p >= 0.3) {
-            bdcs.push((tc, side));
+    // Swings alternate: a bottom falls from the side the last one rose to.
+    // Two in a row from one side are a bottom and a wobble at the balance
+    // (the ringer holding the bell jolts the reading, faster than through
+    // the bottom): keep the one the reading swings further about.
+    let mut kept: Vec<(f64, f64, f64)> = vec![];
+    for &c in &cands {
+        match kept.last_mut() {
+            Some(last) if c.0 - last.0 < 0.3 => {}
+            Some(last) if last.1 == c.1 && c.0 - last.0 < 4.0 => {
+                if c.2 > last.2 {
+                    *last = c;
+                }
+            }
+            _ => kept.push(c),
         }
     }
+    let bdcs: Vec<(f64, f64)> = kept.iter().map(|c| (c.0, c.1)).collect();
     let angle_at = |time: f64| {
         let k = t.partition_point(|&x| x < time).min(n - 1);
         let pts: Vec<usize> = (k.saturating_sub(2)..(k + 3).min(n)).filter(|&q| !burst[q]).collect();
