@@ -731,18 +731,31 @@ fn strokes(
             .map(|j| smooth[j].abs())
             .fold(0.0, f64::max);
         let until = bdcs.get(i + 1).map_or(f64::INFINITY, |b| b.0);
-        let strike_at = onsets.iter().copied().find(|&j| t[j] > bdc && t[j] < until);
-        out.push(LogStroke {
-            bdc,
-            hand: true,
-            strike: strike_at.map(|j| t[j]),
-            strike_theta: strike_at.map(|j| theta[j]),
-            amplitude,
-            from_side: side,
-            phase: PhaseKind::Ringing,
-        });
+        out.push(stroke_between(t, theta, onsets, (bdc, until), amplitude, side));
     }
     out
+}
+
+/// The stroke with bottom dead centre `bdc`, struck at the first burst
+/// onset before `until` (the next bottom); its hand set later.
+fn stroke_between(
+    t: &[f64],
+    theta: &[f64],
+    onsets: &[usize],
+    (bdc, until): (f64, f64),
+    amplitude: f64,
+    from_side: f64,
+) -> LogStroke {
+    let strike_at = onsets.iter().copied().find(|&j| t[j] > bdc && t[j] < until);
+    LogStroke {
+        bdc,
+        hand: true,
+        strike: strike_at.map(|j| t[j]),
+        strike_theta: strike_at.map(|j| theta[j]),
+        amplitude,
+        from_side,
+        phase: PhaseKind::Ringing,
+    }
 }
 
 /// Above this misfit (the corrected force's median departure from g, over
@@ -826,16 +839,7 @@ fn strokes_by_zeros(
             None => angle_at(0.5 * (before + bdc)),
         };
         let until = bdcs.get(i + 1).map_or(f64::INFINITY, |b| b.0);
-        let strike_at = onsets.iter().copied().find(|&j| t[j] > bdc && t[j] < until);
-        out.push(LogStroke {
-            bdc,
-            hand: true,
-            strike: strike_at.map(|j| t[j]),
-            strike_theta: strike_at.map(|j| theta[j]),
-            amplitude,
-            from_side: side,
-            phase: PhaseKind::Ringing,
-        });
+        out.push(stroke_between(t, theta, onsets, (bdc, until), amplitude, side));
     }
     out
 }
