@@ -15,6 +15,7 @@ use clapper_core::prelude::*;
 use clapper_core::ringing::odd_struck;
 use clapper_io::LoadedBell;
 use clapper_signal::ringing_log::{analyse_log, AccelLog, LogAnalysis, LogOptions, LogStroke, PhaseKind};
+use clapper_signal::striking::mean_sd;
 use serde::Serialize;
 
 use crate::AppError;
@@ -158,15 +159,12 @@ fn hand(s: &LogStroke) -> &'static str {
 }
 
 fn spread(v: &[f64]) -> Spread {
-    let n = v.len();
-    let mean = (n > 0).then(|| v.iter().sum::<f64>() / n as f64);
-    let sd = mean
-        .filter(|_| n > 1)
-        .map(|m| (v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (n - 1) as f64).sqrt());
+    let ms = mean_sd(v);
     Spread {
-        mean_ms: mean.map(|m| m * 1e3),
-        n,
-        sd_ms: sd.map(|s| s * 1e3),
+        mean_ms: ms.map(|(m, _)| m * 1e3),
+        n: v.len(),
+        // One strike has no spread.
+        sd_ms: ms.filter(|_| v.len() > 1).map(|(_, sd)| sd * 1e3),
     }
 }
 
@@ -275,15 +273,10 @@ fn model_times(b: &LoadedBell, a: &LogAnalysis) -> Result<ModelTimes, AppError> 
     Ok(out)
 }
 
+/// `clapper simulate`'s settings for the bell: R and R2 the file's, else
+/// the defaults (θ0 is set per stroke).
 fn config(b: &LoadedBell) -> Result<SimConfig, AppError> {
-    // R and R2 the file's, else the defaults (R = 0.2, R2 = R).
-    let cfg = SimConfig {
-        restitution: b.restitution.unwrap_or(crate::simulate::DEFAULT_RESTITUTION),
-        restitution_later: b.restitution_later,
-        ..SimConfig::default()
-    };
-    cfg.validate()?;
-    Ok(cfg)
+    crate::simulate::SimulateRequest::default().config_for(b)
 }
 
 fn model_report(b: &LoadedBell, a: &LogAnalysis) -> Result<ModelReport, AppError> {

@@ -7,6 +7,7 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use clapper_app::ringing_log::{read_log, text, LogReport};
+use clapper_app::simulate::{Preset, SimulateRequest};
 use clapper_core::bell::G;
 use clapper_core::sensor::SensorPlace;
 use clapper_io::accel_log::{load_accel_log, write_sleuth_log, Axes};
@@ -192,12 +193,18 @@ pub struct SynthLogArgs {
 }
 
 pub fn synth_log_cmd(args: SynthLogArgs) -> Result<()> {
-    let mut bell = match (&args.source.bell, args.source.preset, args.source.chart_point) {
-        (Some(p), ..) => clapper_io::load_bell(p)?.bell,
-        (_, Some(preset), _) => preset.loaded().bell,
-        (_, _, Some((x, y))) => clapper_core::bell::ChartConstruction::default().bell(x, y)?,
-        _ => clapper_core::bell::Bell::gsm_tenor(),
+    // The bell as `simulate` names it, the tenor when none is named.
+    let file = args.source.file()?;
+    let preset = match (args.source.given(), args.source.preset) {
+        (false, _) => Some(Preset::GsmTenor),
+        (true, p) => p,
     };
+    let req = SimulateRequest {
+        preset,
+        chart_point: args.source.chart_point.map(|(x, y)| [x, y]),
+        ..SimulateRequest::default()
+    };
+    let mut bell = req.bell(file)?.bell;
     bell.hanging.pivot_offset = args.offset_mm * 1e-3;
     let mut spec = LogSpec::new(bell, args.seed);
     spec.rate = args.rate;

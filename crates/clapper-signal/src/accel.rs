@@ -3,6 +3,7 @@
 //! integral across the spike with the local baseline (sensor offset, drift)
 //! removed.
 
+use crate::median;
 use crate::{Signal, SignalError};
 
 /// Options of [`velocity_jumps`].
@@ -32,16 +33,6 @@ pub struct Jump {
     pub t: f64,
     /// Velocity jump (signal units × s), signed.
     pub dv: f64,
-}
-
-fn median(v: &[f64]) -> f64 {
-    let mut s = v.to_vec();
-    s.sort_by(f64::total_cmp);
-    if s.is_empty() {
-        0.0
-    } else {
-        s[s.len() / 2]
-    }
 }
 
 /// The velocity: the integral of the acceleration less its median, with the

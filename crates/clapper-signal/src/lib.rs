@@ -20,6 +20,17 @@ pub mod striking;
 pub mod synth;
 pub mod tower;
 
+/// The median of `v` (the upper of the middle two), 0 for none.
+pub(crate) fn median(v: &[f64]) -> f64 {
+    let mut s = v.to_vec();
+    s.sort_by(f64::total_cmp);
+    if s.is_empty() {
+        0.0
+    } else {
+        s[s.len() / 2]
+    }
+}
+
 /// A signal: samples at a fixed rate.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Signal {

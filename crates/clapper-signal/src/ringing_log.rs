@@ -34,7 +34,8 @@
 //!    starts from the side the bell was set on is a handstroke (with no
 //!    set, the side with θ > 0 on the sensor's axes).
 
-use crate::SignalError;
+use crate::striking::mean_sd;
+use crate::{median, SignalError};
 use clapper_core::bell::G;
 
 /// An accelerometer log, its axes already named (m/s², s).
@@ -185,14 +186,6 @@ pub struct LogAnalysis {
     pub warnings: Vec<String>,
 }
 
-fn median(mut v: Vec<f64>) -> f64 {
-    if v.is_empty() {
-        return 0.0;
-    }
-    v.sort_by(f64::total_cmp);
-    v[v.len() / 2]
-}
-
 /// Check a log: enough samples, finite, time increasing.
 fn check(log: &AccelLog) -> Result<(), SignalError> {
     let n = log.t.len();
@@ -227,7 +220,7 @@ fn check(log: &AccelLog) -> Result<(), SignalError> {
 fn bursts(log: &AccelLog, clip: f64) -> (Vec<bool>, Vec<usize>) {
     let n = log.t.len();
     let axes = [&log.radial, &log.tangential, &log.axle];
-    let interval = median(log.t.windows(2).map(|w| w[1] - w[0]).collect());
+    let interval = median(&log.t.windows(2).map(|w| w[1] - w[0]).collect::<Vec<_>>());
     let mut d = vec![0.0; n];
     for k in 2..n {
         // Across a gap the swing has moved on: no prediction.
@@ -244,7 +237,7 @@ fn bursts(log: &AccelLog, clip: f64) -> (Vec<bool>, Vec<usize>) {
             .sum::<f64>()
             .sqrt();
     }
-    let typical = median(d[2..].to_vec());
+    let typical = median(&d[2..]);
     let threshold = (6.0 * 1.4826 * typical).max(1.5);
     let clipped = |k: usize| axes.iter().any(|a| a[k].abs() >= 0.99 * clip);
     let mut mask = vec![false; n];
@@ -380,13 +373,13 @@ fn angle(log: &AccelLog, bad: &[bool], given: Option<f64>, interval: f64) -> Ang
     }
     let (smooth, rate, acc) = quadratic_fits(&log.t, &theta, bad, w);
     let misfit = median(
-        (0..n)
+        &(0..n)
             .filter(|&k| !bad[k] && rate[k].abs() > 0.5)
             .map(|k| {
                 let (a, b) = (log.tangential[k] + h * acc[k], log.radial[k] + h * rate[k] * rate[k]);
                 (a.hypot(b) - G).abs() / G
             })
-            .collect(),
+            .collect::<Vec<_>>(),
     );
     // Across a burst the fit bridges better than a straight line, unless
     // the burst is so long that the fit has little to stand on (then the
@@ -514,7 +507,7 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         )));
     }
     let n = log.t.len();
-    let interval = median(log.t.windows(2).map(|w| w[1] - w[0]).collect());
+    let interval = median(&log.t.windows(2).map(|w| w[1] - w[0]).collect::<Vec<_>>());
     let mut warnings = vec![];
     let gaps = log.t.windows(2).filter(|w| w[1] - w[0] > 5.0 * interval).count();
     if gaps > 0 {
@@ -935,7 +928,7 @@ fn segment(
     // The ringing: swings that fall from near the ringing's height and rise
     // back to it (3 deg below the full swings' median); raising before,
     // lowering from the first swing that does not rise back.
-    let threshold = median(fulls) - 3f64.to_radians();
+    let threshold = median(&fulls) - 3f64.to_radians();
     let core = |p: usize| amp(idx[p]) >= threshold && idx.get(p + 1).is_none_or(|&q| amp(q) >= threshold);
     let first = (0..idx.len()).find(|&p| core(p)).unwrap_or(0);
     let last = (0..idx.len()).rev().find(|&p| core(p)).unwrap_or(idx.len() - 1);
@@ -982,11 +975,8 @@ fn odd_struck(strokes: &[LogStroke]) -> Option<(f64, f64)> {
     if h.len() < 2 || b.len() < 2 {
         return None;
     }
-    let stats = |v: &[f64]| {
-        let m = v.iter().sum::<f64>() / v.len() as f64;
-        let var = v.iter().map(|x| (x - m).powi(2)).sum::<f64>() / (v.len() - 1) as f64;
-        (m, var / v.len() as f64)
-    };
-    let ((mh, vh), (mb, vb)) = (stats(&h), stats(&b));
+    // The mean and its variance, sd²/n.
+    let stats = |v: &[f64]| mean_sd(v).map(|(m, sd)| (m, sd * sd / v.len() as f64));
+    let ((mh, vh), (mb, vb)) = (stats(&h)?, stats(&b)?);
     Some((mh - mb, (vh + vb).sqrt()))
 }

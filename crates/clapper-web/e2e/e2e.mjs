@@ -142,7 +142,7 @@ try {
   const [phi1, theta1] = [await phiAt(), Number(await anim.getAttribute("data-theta"))];
   check(Math.abs(theta1 - theta0) > 20, `the animation plays and the bell swings (theta ${theta0.toFixed(1)} to ${theta1.toFixed(1)} deg) and the clapper moves (phi ${phi0.toFixed(1)} to ${phi1.toFixed(1)} deg)`);
   await page.waitForFunction(() => Number(document.querySelector("#stroke-anim").dataset.strikesShown) > 0, null, { timeout: 15000 });
-  check(true, `a strike is shown (${await anim.getAttribute("data-strikes-shown")} flashed)`);
+  check(Number(await anim.getAttribute("data-strikes-shown")) > 0, `a strike is shown (${await anim.getAttribute("data-strikes-shown")} flashed)`);
   // Pictures drawn in one second of playing: the browser's frame rate if
   // the player keeps up (60 on a display; headless Chromium may run slower).
   const d0 = Number(await anim.getAttribute("data-draws"));
@@ -172,7 +172,7 @@ try {
   await page.click("#stroke-anim .cp-play");
   await anim.scrollIntoViewIfNeeded();
   await page.screenshot({ path: `${out}/03c-side-by-side.png`, fullPage: false });
-  check(true, "two bells side by side play on one clock, strikes shown");
+  check(await anim.getAttribute("data-bells") === "2", `two bells side by side play on one clock (${await anim.getAttribute("data-strikes-shown")} strikes shown)`);
 
   // The README's odd-struck bell: the tenor by tower measurements with the
   // tape's gaps (253 and 247 mm, ball 0.8 m below the pivot).
@@ -293,7 +293,7 @@ try {
   await own.click("#player .cp-play");
   await own.waitForFunction(() => Number(document.querySelector("#player").dataset.strikesShown) >= 8, null, { timeout: 20000 });
   await own.click("#player .cp-play");
-  check(true, `the rounds page plays from a file, its striking diagram drawn (${await own.getAttribute("#player", "data-strikes-shown")} strikes flashed)`);
+  check(await own.getAttribute("#player", "data-bells") === "8", `the rounds page plays its 8 bells from a file, its striking diagram drawn (${await own.getAttribute("#player", "data-strikes-shown")} strikes flashed)`);
   await own.screenshot({ path: `${out}/08-rounds.png`, fullPage: true });
   await own.close();
 

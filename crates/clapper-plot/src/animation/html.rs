@@ -5,7 +5,7 @@
 use base64::Engine as _;
 use serde_json::{json, Value};
 
-use super::Animation;
+use super::{esc, Animation};
 use crate::PlotError;
 
 /// The canvas player: `ClapperPlayer.mount(element, data, audioUrl)`,
@@ -47,10 +47,6 @@ pub fn player_json(anim: &Animation) -> Value {
         "rounds_interval_s": anim.rounds_interval,
         "bells": bells,
     })
-}
-
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;").replace('<', "&lt;").replace('>', "&gt;")
 }
 
 /// A page that plays the animation with its sound (`wav`: a WAV file's

@@ -193,6 +193,14 @@ pub(crate) fn caption(anim: &Animation, b: &BellMotion) -> String {
     }
 }
 
+/// Text made safe inside SVG or HTML, in text or in an attribute.
+pub(crate) fn esc(s: &str) -> String {
+    s.replace('&', "&amp;")
+        .replace('<', "&lt;")
+        .replace('>', "&gt;")
+        .replace('"', "&quot;")
+}
+
 /// Check a picture size (px): 64 to 4096 a side.
 pub(crate) fn check_size(width: u32, height: u32) -> Result<(), PlotError> {
     if (64..=4096).contains(&width) && (64..=4096).contains(&height) {

@@ -8,8 +8,8 @@
 //
 // `data` is what `player_json` writes. The player keeps, on `element`,
 // data-t (s), data-theta and data-phi (deg, the first bell as drawn),
-// data-strikes-shown (strikes flashed since the page loaded) and data-draws
-// (pictures drawn), for tests.
+// data-strikes-shown (strikes flashed since the page loaded), data-draws
+// (pictures drawn) and data-bells (bells drawn), for tests.
 (function (global) {
   "use strict";
   const FLASH = 0.08; // s of the viewer's time a strike's flash stays
@@ -91,6 +91,7 @@
       this.playing = false;
       this.flashed = new Set();
       root.dataset.strikesShown = "0";
+      root.dataset.bells = String(this.bells.length);
       this.button.addEventListener("click", () => (this.playing ? this.pause() : this.play()));
       this.speedBox.addEventListener("change", () => this.setSpeed(Number(this.speedBox.value)));
       this.slider.addEventListener("input", () => this.seek((Number(this.slider.value) / 1000) * this.duration));

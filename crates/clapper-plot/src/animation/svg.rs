@@ -6,15 +6,8 @@
 use std::fmt::Write as _;
 
 use super::figure::{colours, Part, Shape};
-use super::{caption, check_size, Animation, Layout, FLASH_S};
+use super::{caption, check_size, esc, Animation, Layout, FLASH_S};
 use crate::PlotError;
-
-fn esc(s: &str) -> String {
-    s.replace('&', "&amp;")
-        .replace('<', "&lt;")
-        .replace('>', "&gt;")
-        .replace('"', "&quot;")
-}
 
 fn part_svg(o: &mut String, p: &Part) {
     let paint = format!(
