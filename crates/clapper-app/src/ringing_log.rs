@@ -134,6 +134,8 @@ pub struct LogReport {
     pub sample_interval_ms: f64,
     /// The sensor's distance above the pivot (m).
     pub sensor_m: f64,
+    /// The sensor's distance across the bell's axis (m), fitted.
+    pub sensor_across_m: f64,
     /// Whether it was fitted from the log (not given).
     pub sensor_fitted: bool,
     /// Every swing.
@@ -240,6 +242,7 @@ pub fn read_log(log: &AccelLog, opts: &LogOptions, bell: Option<LoadedBell>) -> 
             .collect(),
         sample_interval_ms: a.interval * 1e3,
         sensor_m: a.sensor_along,
+        sensor_across_m: a.sensor_across,
         sensor_fitted: a.sensor_fitted,
         strokes,
         warnings: a.warnings.clone(),
@@ -352,12 +355,13 @@ pub fn text(r: &LogReport) -> String {
     let mut o = String::new();
     let _ = writeln!(
         o,
-        "{}: {} swing(s), samples every {:.1} ms, sensor {:.3} m above the pivot{}",
+        "{}: {} swing(s), samples every {:.1} ms, sensor {:.3} m above the pivot{} and {:.3} m across",
         r.bell.as_deref().unwrap_or("the bell"),
         r.strokes.len(),
         r.sample_interval_ms,
         r.sensor_m,
-        if r.sensor_fitted { " (fitted)" } else { "" }
+        if r.sensor_fitted { " (fitted)" } else { "" },
+        r.sensor_across_m
     );
     for p in &r.phases {
         let _ = writeln!(o, "  {:<9} {:>8.1} s to {:>8.1} s", p.kind, p.start_s, p.end_s);

@@ -169,6 +169,9 @@ pub struct LogAnalysis {
     pub clappering_starts: Option<ClapperingStart>,
     /// The sensor's distance above the pivot used (m), given or fitted.
     pub sensor_along: f64,
+    /// The sensor's distance across the bell's axis, toward the back side
+    /// (m), fitted (a nut or bracket off the axis line).
+    pub sensor_across: f64,
     /// Whether it was fitted.
     pub sensor_fitted: bool,
     /// Median sample interval (s).
@@ -339,6 +342,8 @@ struct Angle {
     smooth: Vec<f64>,
     rate: Vec<f64>,
     h: f64,
+    /// The sensor's distance across the axis (m), fitted.
+    d: f64,
     fitted: bool,
     /// The median departure of the corrected force from g while the bell
     /// moves, over g: small when the angle is read right.
@@ -347,40 +352,29 @@ struct Angle {
 
 fn angle(log: &AccelLog, bad: &[bool], given: Option<f64>, interval: f64) -> Angle {
     let n = log.t.len();
-    let raw = |h: f64, d1: &[f64], d2: &[f64], k: usize| {
-        (log.tangential[k] + h * d2[k]).atan2(log.radial[k] + h * d1[k] * d1[k])
-    };
-    let zeros = vec![0.0; n];
-    let mut theta = unwrap_fill(
-        &log.t,
-        &(0..n).map(|k| raw(0.0, &zeros, &zeros, k)).collect::<Vec<_>>(),
-        bad,
-    );
-    // ±0.3 s: θ'' from a narrower fit is so noisy that the correction
-    // (h θ'', fed back) amplifies the noise (at 100 Hz and ±0.12 s by 4.5 a
-    // pass); over ±0.3 s the gain is 0.15, and a swing (seconds long) is
-    // still a parabola there.
-    let w = (5.0 * interval).max(0.3);
-    let (mut h, mut fitted) = (given.unwrap_or(0.0), false);
-    for _ in 0..3 {
-        let (_, d1, d2) = quadratic_fits(&log.t, &theta, bad, w);
-        if given.is_none() {
-            h = fit_sensor(log, bad, &d1, &d2);
-            fitted = true;
-        }
-        let corrected: Vec<f64> = (0..n).map(|k| raw(h, &d1, &d2, k)).collect();
-        theta = unwrap_fill(&log.t, &corrected, bad);
+    // From several starts (below), the one whose corrected force is
+    // nearest g; the first (no correction) wins ties, so a log read well
+    // without them reads the same.
+    let best = STARTS
+        .iter()
+        .map(|&kappa| first_pass(log, bad, given, interval, kappa))
+        .reduce(|best, a| if a.misfit < best.misfit - 1e-3 { a } else { best })
+        .expect("STARTS is not empty");
+    let (mut theta, mut place) = (best.theta, best.place);
+    // Then θ, θ', θ'' fitted to both readings at once over ±0.15 s (at
+    // least 4 samples), and the sensor's place refitted from them; twice.
+    let jw = (4.0 * interval).max(0.15);
+    let mut derivatives = None;
+    for _ in 0..2 {
+        let (_, q1, q2) = quadratic_fits(&log.t, &theta, bad, best.window);
+        let j = joint_fits(log, bad, &theta, place, jw, (&q1, &q2));
+        place = fit_sensor(log, bad, &j.d1, &j.d2, given);
+        theta = unwrap_fill(&log.t, &j.theta, bad);
+        derivatives = Some((j.d1, j.d2));
     }
-    let (smooth, rate, acc) = quadratic_fits(&log.t, &theta, bad, w);
-    let misfit = median(
-        &(0..n)
-            .filter(|&k| !bad[k] && rate[k].abs() > 0.5)
-            .map(|k| {
-                let (a, b) = (log.tangential[k] + h * acc[k], log.radial[k] + h * rate[k] * rate[k]);
-                (a.hypot(b) - G).abs() / G
-            })
-            .collect::<Vec<_>>(),
-    );
+    let (d1, d2) = derivatives.expect("two passes");
+    let misfit = misfit(log, bad, place, &d1, &d2);
+    let (smooth, rate, _) = quadratic_fits(&log.t, &theta, bad, best.window);
     // Across a burst the fit bridges better than a straight line, unless
     // the burst is so long that the fit has little to stand on (then the
     // two disagree, and the line is kept).
@@ -397,9 +391,85 @@ fn angle(log: &AccelLog, bad: &[bool], given: Option<f64>, interval: f64) -> Ang
         theta,
         smooth,
         rate,
-        h,
-        fitted,
+        h: place.0,
+        d: place.1,
+        fitted: given.is_none(),
         misfit,
+    }
+}
+
+/// The median departure of the corrected force from g while the bell
+/// moves (|θ'| > 0.5 rad/s), over g.
+fn misfit(log: &AccelLog, bad: &[bool], (h, d): (f64, f64), d1: &[f64], d2: &[f64]) -> f64 {
+    median(
+        &(0..log.t.len())
+            .filter(|&k| !bad[k] && d1[k].abs() > 0.5)
+            .map(|k| {
+                let w2 = d1[k] * d1[k];
+                let (a, b) = (
+                    log.tangential[k] + h * d2[k] + d * w2,
+                    log.radial[k] + h * w2 - d * d2[k],
+                );
+                (a.hypot(b) - G).abs() / G
+            })
+            .collect::<Vec<_>>(),
+    )
+}
+
+/// Starting guesses of κ = h/L (sensor height over the bell's equivalent
+/// pendulum length) for the angle's first pass. With the sensor well above
+/// the pivot (κ ≳ 0.25) the uncorrected angle is wrong in kind, not just
+/// in size: at the bottom of a full swing the centripetal term outweighs
+/// gravity, the radial reading goes negative, atan2 says "at the top", and
+/// the derivatives that would correct it are taken from that wrong angle,
+/// so the correction never gets started. A free pendulum has
+/// g sin θ = f_t / (1 + κ) and, swinging from the balance,
+/// g cos θ = (f_r + 2 g κ) / (1 − 2 κ); that first guess passes through
+/// the bottom where it should (for smaller swings it reads them smaller,
+/// but on the right side of the horizontal), and the correction refines it.
+const STARTS: [f64; 5] = [0.0, 0.1, 0.2, 0.3, 0.4];
+
+/// The angle's first pass from start κ: θ unwrapped, the sensor's place,
+/// the misfit, and the smoothing window used (s).
+struct FirstPass {
+    theta: Vec<f64>,
+    place: (f64, f64),
+    misfit: f64,
+    window: f64,
+}
+
+fn first_pass(log: &AccelLog, bad: &[bool], given: Option<f64>, interval: f64, kappa: f64) -> FirstPass {
+    let n = log.t.len();
+    let (ft, fr) = (&log.tangential, &log.radial);
+    // g (sin θ, cos θ) from the readings and the swing's accelerations at
+    // p = (d across, h along): docs/model.md §13, clapper_core::sensor.
+    let raw = |(h, d): (f64, f64), d1: &[f64], d2: &[f64], k: usize| {
+        let w2 = d1[k] * d1[k];
+        (ft[k] + h * d2[k] + d * w2).atan2(fr[k] + h * w2 - d * d2[k])
+    };
+    let first: Vec<f64> = (0..n)
+        .map(|k| (ft[k] / (1.0 + kappa)).atan2((fr[k] + 2.0 * G * kappa) / (1.0 - 2.0 * kappa)))
+        .collect();
+    let mut theta = unwrap_fill(&log.t, &first, bad);
+    // ±0.3 s: θ'' from a narrower fit is so noisy that the correction
+    // (h θ'', fed back) amplifies the noise (at 100 Hz and ±0.12 s by 4.5 a
+    // pass); over ±0.3 s the gain is 0.15, and a swing (seconds long) is
+    // still a parabola there. (The joint fits that follow have no such
+    // feedback.)
+    let window = (5.0 * interval).max(0.3);
+    let mut place = (given.unwrap_or(0.0), 0.0);
+    for _ in 0..3 {
+        let (_, d1, d2) = quadratic_fits(&log.t, &theta, bad, window);
+        place = fit_sensor(log, bad, &d1, &d2, given);
+        let corrected: Vec<f64> = (0..n).map(|k| raw(place, &d1, &d2, k)).collect();
+        theta = unwrap_fill(&log.t, &corrected, bad);
+    }
+    let (_, d1, d2) = quadratic_fits(&log.t, &theta, bad, window);
+    FirstPass {
+        misfit: misfit(log, bad, place, &d1, &d2),
+        theta,
+        place,
+        window,
     }
 }
 
@@ -471,30 +541,184 @@ fn unwrap_fill(t: &[f64], a: &[f64], bad: &[bool]) -> Vec<f64> {
     out
 }
 
-/// The sensor's height h above the pivot that makes the corrected force g
-/// throughout (least squares over moving, good samples; golden section on
-/// −1 to 1 m).
-fn fit_sensor(log: &AccelLog, bad: &[bool], d1: &[f64], d2: &[f64]) -> f64 {
-    let cost = |h: f64| {
-        (0..log.t.len())
-            .filter(|&k| !bad[k] && d1[k].abs() > 0.5)
-            .map(|k| {
-                let (a, b) = (log.tangential[k] + h * d2[k], log.radial[k] + h * d1[k] * d1[k]);
-                (a.hypot(b) - G).powi(2)
-            })
-            .sum::<f64>()
-    };
-    let (mut lo, mut hi) = (-1.0f64, 1.0f64);
-    let r = (5f64.sqrt() - 1.0) / 2.0;
-    for _ in 0..60 {
-        let (x1, x2) = (hi - r * (hi - lo), lo + r * (hi - lo));
-        if cost(x1) < cost(x2) {
-            hi = x2;
-        } else {
-            lo = x1;
+/// θ, θ' and θ'' at every sample from a local cubic θ(t) over ±`w` s
+/// fitted to both readings at once (Gauss-Newton from `theta`), the
+/// readings being g (sin θ, cos θ) less the swing's accelerations at the
+/// sensor's `place` (h along, d across). Unlike differentiating a
+/// smoothed θ, nothing is fed back, so the window can be short enough to
+/// follow a light bell's fast swing through the bottom. Samples with too
+/// few good neighbours keep `theta` and the derivatives `fallback`.
+fn joint_fits(
+    log: &AccelLog,
+    bad: &[bool],
+    theta: &[f64],
+    (h, d): (f64, f64),
+    w: f64,
+    fallback: (&[f64], &[f64]),
+) -> JointFits {
+    let n = log.t.len();
+    let (t, ft, fr) = (&log.t, &log.tangential, &log.radial);
+    let (mut th, mut d1, mut d2) = (theta.to_vec(), fallback.0.to_vec(), fallback.1.to_vec());
+    let (mut lo, mut hi) = (0, 0);
+    for k in 0..n {
+        while t[k] - t[lo] > w {
+            lo += 1;
+        }
+        while hi + 1 < n && t[hi + 1] - t[k] <= w {
+            hi += 1;
+        }
+        // At most some 40 samples a window: more adds time, not accuracy.
+        let stride = (hi + 1 - lo).div_ceil(40).max(1);
+        let good: Vec<usize> = (lo..=hi)
+            .filter(|&j| !bad[j] && (j == k || j.abs_diff(k) % stride == 0))
+            .collect();
+        if good.len() < 8 {
+            continue;
+        }
+        // Start: the cubic through `theta` (linear least squares).
+        let mut ata = [[0.0f64; 4]; 4];
+        let mut atb = [0.0f64; 4];
+        for &j in &good {
+            let x = t[j] - t[k];
+            let p = [1.0, x, x * x, x * x * x];
+            for i in 0..4 {
+                atb[i] += p[i] * theta[j];
+                for l in 0..4 {
+                    ata[i][l] += p[i] * p[l];
+                }
+            }
+        }
+        let Some(mut a) = solve4(ata, atb) else { continue };
+        for _ in 0..4 {
+            let mut jtj = [[0.0f64; 4]; 4];
+            let mut jtr = [0.0f64; 4];
+            for &j in &good {
+                let x = t[j] - t[k];
+                let q = a[0] + x * (a[1] + x * (a[2] + x * a[3]));
+                let q1 = a[1] + x * (2.0 * a[2] + 3.0 * x * a[3]);
+                let q2 = 2.0 * a[2] + 6.0 * x * a[3];
+                let (sn, cs) = q.sin_cos();
+                let rt = G * sn - h * q2 - d * q1 * q1 - ft[j];
+                let rr = G * cs - h * q1 * q1 + d * q2 - fr[j];
+                let p = [1.0, x, x * x, x * x * x];
+                let p1 = [0.0, 1.0, 2.0 * x, 3.0 * x * x];
+                let p2 = [0.0, 0.0, 2.0, 6.0 * x];
+                let mut jt = [0.0; 4];
+                let mut jr = [0.0; 4];
+                for i in 0..4 {
+                    jt[i] = G * cs * p[i] - h * p2[i] - 2.0 * d * q1 * p1[i];
+                    jr[i] = -G * sn * p[i] - 2.0 * h * q1 * p1[i] + d * p2[i];
+                }
+                for i in 0..4 {
+                    jtr[i] -= jt[i] * rt + jr[i] * rr;
+                    for l in 0..4 {
+                        jtj[i][l] += jt[i] * jt[l] + jr[i] * jr[l];
+                    }
+                }
+            }
+            let Some(step) = solve4(jtj, jtr) else { break };
+            for i in 0..4 {
+                a[i] += step[i];
+            }
+            if step[0].abs() < 1e-7 {
+                break;
+            }
+        }
+        if a.iter().all(|v| v.is_finite()) && (a[0] - theta[k]).abs() < 1.0 {
+            th[k] = a[0];
+            d1[k] = a[1];
+            d2[k] = 2.0 * a[2];
         }
     }
-    0.5 * (lo + hi)
+    JointFits { theta: th, d1, d2 }
+}
+
+/// What [`joint_fits`] gives: θ, θ', θ'' at every sample (rad, rad/s,
+/// rad/s²).
+struct JointFits {
+    theta: Vec<f64>,
+    d1: Vec<f64>,
+    d2: Vec<f64>,
+}
+
+/// Solve a 4 × 4 system by Gaussian elimination with partial pivoting;
+/// `None` if singular.
+fn solve4(mut a: [[f64; 4]; 4], mut b: [f64; 4]) -> Option<[f64; 4]> {
+    for c in 0..4 {
+        let p = (c..4).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))?;
+        if a[p][c].abs() < 1e-300 || !a[p][c].is_finite() {
+            return None;
+        }
+        a.swap(c, p);
+        b.swap(c, p);
+        for r in c + 1..4 {
+            let f = a[r][c] / a[c][c];
+            let top = a[c];
+            for (x, y) in a[r].iter_mut().zip(top).skip(c) {
+                *x -= f * y;
+            }
+            b[r] -= f * b[c];
+        }
+    }
+    let mut x = [0.0; 4];
+    for r in (0..4).rev() {
+        let s: f64 = (r + 1..4).map(|l| a[r][l] * x[l]).sum();
+        x[r] = (b[r] - s) / a[r][r];
+    }
+    Some(x)
+}
+
+/// The sensor's place (h along the axis above the pivot, d across it; m)
+/// that makes the corrected force g throughout: least squares over the
+/// moving, good samples by Gauss-Newton from the middle, each within
+/// ±1 m; h held at `given` when known.
+fn fit_sensor(log: &AccelLog, bad: &[bool], d1: &[f64], d2: &[f64], given: Option<f64>) -> (f64, f64) {
+    let (ft, fr) = (&log.tangential, &log.radial);
+    let moving: Vec<usize> = (0..log.t.len()).filter(|&k| !bad[k] && d1[k].abs() > 0.5).collect();
+    let (mut h, mut d) = (given.unwrap_or(0.0), 0.0);
+    // A handful of steps: the residual is nearly linear in (h, d).
+    for _ in 0..20 {
+        // Normal equations J'J δ = −J'r, r = |F| − g.
+        let (mut a, mut b) = ([[0.0f64; 2]; 2], [0.0f64; 2]);
+        for &k in &moving {
+            let w2 = d1[k] * d1[k];
+            let (x, y) = (ft[k] + h * d2[k] + d * w2, fr[k] + h * w2 - d * d2[k]);
+            let m = x.hypot(y);
+            if m < 1e-9 {
+                continue;
+            }
+            let r = m - G;
+            let j = [(x * d2[k] + y * w2) / m, (x * w2 - y * d2[k]) / m];
+            for i in 0..2 {
+                b[i] -= j[i] * r;
+                for l in 0..2 {
+                    a[i][l] += j[i] * j[l];
+                }
+            }
+        }
+        let step = if given.is_some() {
+            if a[1][1] > 0.0 {
+                (0.0, b[1] / a[1][1])
+            } else {
+                (0.0, 0.0)
+            }
+        } else {
+            let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+            if det.abs() < 1e-12 * (a[0][0] * a[1][1]).abs().max(1e-300) {
+                break;
+            }
+            (
+                (b[0] * a[1][1] - b[1] * a[0][1]) / det,
+                (a[0][0] * b[1] - a[1][0] * b[0]) / det,
+            )
+        };
+        h = (h + step.0).clamp(-1.0, 1.0);
+        d = (d + step.1).clamp(-1.0, 1.0);
+        if step.0.abs().max(step.1.abs()) < 1e-6 {
+            break;
+        }
+    }
+    (h, d)
 }
 
 /// Read `log` (module docs).
@@ -521,32 +745,53 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         )));
     }
     // A sensor not square on its nut reads the bell at rest as tilted:
-    // the bell hangs plumb when down, so its rest's angle is the tilt.
+    // the bell hangs plumb when down, so its rest's angle is the tilt. And
+    // a sensor's scale is often a few per cent out (an ADXL345 may read g
+    // as 10.2 m/s²): every rest, down or up, reads g, which sets it.
     let tilted;
     let log = {
-        let first = angle(log, &burst, Some(0.0), interval);
-        let (level, slow, _) = quadratic_fits(&log.t, &first.theta, &burst, 0.5);
-        let mut downs: Vec<f64> = rests(&log.t, &level, &slow, interval)
-            .iter()
-            .map(|r| r.2)
-            .filter(|m| m.abs() < 0.5)
-            .collect();
+        let plain: Vec<f64> = (0..n).map(|k| log.tangential[k].atan2(log.radial[k])).collect();
+        let (level, slow, _) = quadratic_fits(&log.t, &unwrap_fill(&log.t, &plain, &burst), &burst, 0.5);
+        let still = rests(&log.t, &level, &slow, interval);
+        let mut downs: Vec<f64> = still.iter().map(|r| r.2).filter(|m| m.abs() < 0.5).collect();
         downs.sort_by(f64::total_cmp);
-        match downs.get(downs.len() / 2) {
-            Some(&tilt) if tilt.abs() > 0.2f64.to_radians() => {
-                warnings.push(format!(
-                    "the sensor reads the bell at rest {:.1} deg off plumb: taken as its tilt and removed",
-                    tilt.to_degrees()
-                ));
-                let (s, c) = tilt.sin_cos();
-                tilted = AccelLog {
-                    tangential: (0..n).map(|k| log.tangential[k] * c - log.radial[k] * s).collect(),
-                    radial: (0..n).map(|k| log.tangential[k] * s + log.radial[k] * c).collect(),
-                    ..log.clone()
-                };
-                &tilted
-            }
-            _ => log,
+        let tilt = downs
+            .get(downs.len() / 2)
+            .copied()
+            .filter(|t| t.abs() > 0.2f64.to_radians());
+        let at_rest: Vec<f64> = (0..n)
+            .filter(|&k| !burst[k] && still.iter().any(|r| log.t[k] >= r.0 && log.t[k] <= r.1))
+            .map(|k| log.radial[k].hypot(log.tangential[k]).hypot(log.axle[k]))
+            .collect();
+        let gain = if at_rest.len() >= 20 { median(&at_rest) / G } else { 1.0 };
+        let gain = if (gain - 1.0).abs() > 0.01 && (0.5..2.0).contains(&gain) {
+            warnings.push(format!(
+                "the sensor reads g at rest as {:.2} m/s²: its readings are scaled by {:.3}",
+                gain * G,
+                1.0 / gain
+            ));
+            gain
+        } else {
+            1.0
+        };
+        if let Some(tilt) = tilt {
+            warnings.push(format!(
+                "the sensor reads the bell at rest {:.1} deg off plumb: taken as its tilt and removed",
+                tilt.to_degrees()
+            ));
+        }
+        if tilt.is_some() || gain != 1.0 {
+            let (s, c) = tilt.unwrap_or(0.0).sin_cos();
+            let (s, c) = (s / gain, c / gain);
+            tilted = AccelLog {
+                tangential: (0..n).map(|k| log.tangential[k] * c - log.radial[k] * s).collect(),
+                radial: (0..n).map(|k| log.tangential[k] * s + log.radial[k] * c).collect(),
+                axle: log.axle.iter().map(|a| a / gain).collect(),
+                ..log.clone()
+            };
+            &tilted
+        } else {
+            log
         }
     };
     let Angle {
@@ -554,13 +799,13 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         smooth,
         rate: d1,
         h,
+        d: across,
         fitted,
         misfit,
     } = angle(log, &burst, opts.sensor_along, interval);
     if fitted {
         warnings.push(format!(
-            "sensor place fitted: {:.3} m above the pivot (give --sensor-m when known)",
-            h
+            "sensor place fitted: {h:.3} m above the pivot, {across:.3} m across the axis (give --sensor-m when known)"
         ));
     }
     // The angle continuous but held within ±200 deg of the bottom: a bell
@@ -572,7 +817,7 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
     let (level, slow, _) = quadratic_fits(&log.t, &theta, &burst, 0.5);
     let rests = rests(&log.t, &level, &slow, interval);
     let mut strokes = if misfit <= MAX_MISFIT {
-        strokes(log, &theta, &smooth, &d1, (&burst, &onsets), &rests)
+        strokes(log, &theta, &smooth, (&d1, across), (&burst, &onsets), &rests)
     } else {
         warnings.push(format!(
             "the swing's own accelerations at the sensor are too large to read the angle (the corrected force is {:.0} % off g): bottoms from the tangential reading's zeros, amplitudes from the turning points",
@@ -611,6 +856,7 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         odd_struck,
         clappering_starts,
         sensor_along: h,
+        sensor_across: across,
         sensor_fitted: fitted,
         interval,
         theta,
@@ -652,13 +898,20 @@ fn strokes(
     log: &AccelLog,
     theta: &[f64],
     smooth: &[f64],
-    d1: &[f64],
+    (d1, across): (&[f64], f64),
     (burst, onsets): (&[bool], &[usize]),
     rests: &[(f64, f64, f64)],
 ) -> Vec<LogStroke> {
     let t = &log.t;
     let n = t.len();
     let resting = |time: f64| rests.iter().any(|r| time >= r.0 && time <= r.1);
+    // The tangential reading is g sin θ less h θ'' less d θ'², and θ''
+    // is near zero at the bottom (gravity's torque is; the clapper's and a
+    // rope's are small), while the estimate of θ'' that corrects the angle
+    // is smoothed and can be off there by a few rad/s². θ'² is at its flat
+    // maximum there, so its smoothed value corrects well for a sensor off
+    // the axis (d).
+    let f: Vec<f64> = (0..n).map(|j| log.tangential[j] + across * d1[j] * d1[j]).collect();
     let mut bdcs: Vec<(f64, usize)> = vec![];
     for k in 0..n - 1 {
         let (a, b) = (theta[k], theta[k + 1]);
@@ -668,12 +921,7 @@ fn strokes(
             if resting(tc) || bdcs.last().is_some_and(|&(p, _)| tc - p < 0.3) {
                 continue;
             }
-            // The tangential reading's own zero, where clean: it is g sin θ
-            // less h θ'', and θ'' is near zero at the bottom (gravity's
-            // torque is; the clapper's and a rope's are small), while the
-            // estimate of θ'' that corrects the angle is smoothed over
-            // ±0.3 s and can be off there by a few rad/s².
-            let f = &log.tangential;
+            // The tangential reading's own zero, where clean (`f`).
             let near = (k.saturating_sub(4)..(k + 5).min(n - 1))
                 .filter(|&j| !burst[j] && !burst[j + 1] && f[j].signum() != f[j + 1].signum() && f[j] != 0.0)
                 .min_by_key(|&j| j.abs_diff(k));
