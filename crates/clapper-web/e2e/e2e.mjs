@@ -199,7 +199,12 @@ try {
   const parts = { shaft_length_m: "0.69", shaft_diameter_m: "0.05", ball_diameter_m: "0.14", ball_position_m: "0.76", flight_length_m: "0.2", flight_diameter_m: "0.05" };
   for (const [k, v] of Object.entries(parts)) await page.fill(`#clapper-fields input[data-key="${k}"]`, v);
   await page.dispatchEvent('#clapper-fields input[data-key="flight_diameter_m"]', "change");
-  await page.waitForFunction(() => document.querySelector("#clapper-figures").textContent.includes("T_c"), null, { timeout: 30000 });
+  // The figures may still show the last clapper's when "T_c" first
+  // appears: wait for the parts' own mass (a wrong one times out and fails
+  // the check below).
+  await page
+    .waitForFunction(() => /m 24\.\d+ kg/.test(document.querySelector("#clapper-figures").textContent), null, { timeout: 30000 })
+    .catch(() => {});
   check(/m 24\.\d+ kg/.test(await page.textContent("#clapper-figures")), "the parts give the clapper's mass as typed");
   await page.click("#add-bell");
   const toml = await page.textContent("#ring-toml");
