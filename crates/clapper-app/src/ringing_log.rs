@@ -136,6 +136,9 @@ pub struct LogReport {
     pub sensor_m: f64,
     /// The sensor's distance across the bell's axis (m), fitted.
     pub sensor_across_m: f64,
+    /// How well the angle was read: the corrected force's median departure
+    /// from g while the bell moves, as a fraction of g.
+    pub angle_misfit_g: f64,
     /// Whether it was fitted from the log (not given).
     pub sensor_fitted: bool,
     /// Every swing.
@@ -243,6 +246,7 @@ pub fn read_log(log: &AccelLog, opts: &LogOptions, bell: Option<LoadedBell>) -> 
         sample_interval_ms: a.interval * 1e3,
         sensor_m: a.sensor_along,
         sensor_across_m: a.sensor_across,
+        angle_misfit_g: a.angle_misfit,
         sensor_fitted: a.sensor_fitted,
         strokes,
         warnings: a.warnings.clone(),

@@ -35,6 +35,7 @@ pub mod elliptic;
 pub mod frame;
 pub mod hanging;
 pub mod liftoff;
+pub mod linalg;
 pub mod listening;
 pub mod ode;
 pub mod restitution;

@@ -218,31 +218,6 @@ fn model(p: &[f64; 4], a: f64, dt: f64) -> f64 {
     -(((a - p[0]) * (dt - p[1]) - p[2]) / (2.0 * p[3].abs().max(1e-9))).tanh()
 }
 
-fn solve4(m: [[f64; 4]; 4], v: [f64; 4]) -> Option<[f64; 4]> {
-    let mut a = [[0.0; 5]; 4];
-    for i in 0..4 {
-        a[i][..4].copy_from_slice(&m[i]);
-        a[i][4] = v[i];
-    }
-    for c in 0..4 {
-        let p = (c..4).max_by(|&x, &y| a[x][c].abs().total_cmp(&a[y][c].abs()))?;
-        a.swap(c, p);
-        if a[c][c].abs() < 1e-300 {
-            return None;
-        }
-        let pivot = a[c];
-        for (r, row) in a.iter_mut().enumerate() {
-            if r != c {
-                let f = row[c] / pivot[c];
-                for (x, p) in row.iter_mut().zip(pivot.iter()).skip(c) {
-                    *x -= f * p;
-                }
-            }
-        }
-    }
-    Some(std::array::from_fn(|i| a[i][4] / a[i][i]))
-}
-
 /// Fit (A − a)(Δt − b) = c (with a transition width) to the score map by
 /// Levenberg–Marquardt (at most 500 iterations), started from the algebraic
 /// least-squares fit of the map's zero crossings. A cell's mean of n answers
@@ -304,7 +279,7 @@ pub fn fit_hyperbola(scores: &[[f64; 10]; 10], counts: &[[f64; 10]; 10]) -> Opti
             }
         }
         m[3][3] = 1.0;
-        if let Some(q) = solve4(m, v) {
+        if let Some(q) = crate::linalg::solve(m, v) {
             // A Δt = b A + a Δt + (c − a b)... residual form: AΔt − bA − aΔt + (ab − c).
             let (b, a, k) = (q[0], q[1], q[2]);
             let c = a * b - k;
@@ -354,7 +329,9 @@ pub fn fit_hyperbola(scores: &[[f64; 10]; 10], counts: &[[f64; 10]; 10]) -> Opti
         for d in 0..4 {
             m[d][d] += lambda * jtj[d][d].max(1e-12);
         }
-        let Some(step) = solve4(m, jtr) else { break };
+        let Some(step) = crate::linalg::solve(m, jtr) else {
+            break;
+        };
         let trial: [f64; 4] = std::array::from_fn(|k| p[k] + step[k]);
         let next = wsse(&trial, &w);
         if next < cur {
@@ -389,7 +366,7 @@ pub fn fit_hyperbola(scores: &[[f64; 10]; 10], counts: &[[f64; 10]; 10]) -> Opti
     let sigma: [f64; 3] = std::array::from_fn(|k| {
         let mut e = [0.0; 4];
         e[k] = 1.0;
-        solve4(jtj, e).map_or(f64::NAN, |col| (var * col[k]).max(0.0).sqrt())
+        crate::linalg::solve(jtj, e).map_or(f64::NAN, |col| (var * col[k]).max(0.0).sqrt())
     });
     let ok = p.iter().all(|v| v.is_finite()) && sigma.iter().all(|s| s.is_finite());
     ok.then_some(Hyperbola {

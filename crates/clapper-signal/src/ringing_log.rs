@@ -37,6 +37,8 @@
 use crate::striking::mean_sd;
 use crate::{median, SignalError};
 use clapper_core::bell::G;
+use clapper_core::linalg::solve;
+use clapper_core::sensor::{specific_force, SensorPlace};
 
 /// An accelerometer log, its axes already named (m/s², s).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -174,6 +176,10 @@ pub struct LogAnalysis {
     pub sensor_across: f64,
     /// Whether it was fitted.
     pub sensor_fitted: bool,
+    /// How well the angle was read: the corrected force's median departure
+    /// from g while the bell moves, over g (about 0.01 on logs the model
+    /// makes; above 0.1 the strokes are read without the angle).
+    pub angle_misfit: f64,
     /// Median sample interval (s).
     pub interval: f64,
     /// The reconstructed angle at every sample (rad): continuous, the
@@ -295,34 +301,13 @@ fn quadratic_fits(t: &[f64], y: &[f64], bad: &[bool], w: f64) -> (Vec<f64>, Vec<
             continue;
         }
         let a = [[s[0], s[1], s[2]], [s[1], s[2], s[3]], [s[2], s[3], s[4]]];
-        if let Some(sol) = solve3(a, r) {
+        if let Some(sol) = solve(a, r) {
             v[k] = sol[0];
             d1[k] = sol[1];
             d2[k] = 2.0 * sol[2];
         }
     }
     (v, d1, d2)
-}
-
-/// Solve a 3 × 3 system by Cramer's rule; `None` if singular.
-fn solve3(a: [[f64; 3]; 3], r: [f64; 3]) -> Option<[f64; 3]> {
-    let det = |m: [[f64; 3]; 3]| {
-        m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0])
-            + m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0])
-    };
-    let d = det(a);
-    if d.abs() < 1e-300 || !d.is_finite() {
-        return None;
-    }
-    let mut out = [0.0; 3];
-    for (i, o) in out.iter_mut().enumerate() {
-        let mut m = a;
-        for row in 0..3 {
-            m[row][i] = r[row];
-        }
-        *o = det(m) / d;
-    }
-    Some(out)
 }
 
 fn wrap(a: f64) -> f64 {
@@ -398,18 +383,24 @@ fn angle(log: &AccelLog, bad: &[bool], given: Option<f64>, interval: f64) -> Ang
     }
 }
 
+/// Gravity's part of the reading at sample `k`, g (sin θ, cos θ) (m/s²;
+/// tangential, radial): the reading less the swing's own acceleration at
+/// the sensor's place (h along, d across; m) with θ' = `rate` (rad/s) and
+/// θ'' = `acc` (rad/s²). The forward formula is clapper_core::sensor's
+/// (docs/model.md §13).
+fn gravity_part(log: &AccelLog, k: usize, (h, d): (f64, f64), rate: f64, acc: f64) -> [f64; 2] {
+    let swing = specific_force(SensorPlace { along: h, across: d }, 0.0, rate, acc);
+    [log.tangential[k] - swing[0], log.radial[k] - (swing[1] - G)]
+}
+
 /// The median departure of the corrected force from g while the bell
 /// moves (|θ'| > 0.5 rad/s), over g.
-fn misfit(log: &AccelLog, bad: &[bool], (h, d): (f64, f64), d1: &[f64], d2: &[f64]) -> f64 {
+fn misfit(log: &AccelLog, bad: &[bool], place: (f64, f64), d1: &[f64], d2: &[f64]) -> f64 {
     median(
         &(0..log.t.len())
             .filter(|&k| !bad[k] && d1[k].abs() > 0.5)
             .map(|k| {
-                let w2 = d1[k] * d1[k];
-                let (a, b) = (
-                    log.tangential[k] + h * d2[k] + d * w2,
-                    log.radial[k] + h * w2 - d * d2[k],
-                );
+                let [a, b] = gravity_part(log, k, place, d1[k], d2[k]);
                 (a.hypot(b) - G).abs() / G
             })
             .collect::<Vec<_>>(),
@@ -441,11 +432,9 @@ struct FirstPass {
 fn first_pass(log: &AccelLog, bad: &[bool], given: Option<f64>, interval: f64, kappa: f64) -> FirstPass {
     let n = log.t.len();
     let (ft, fr) = (&log.tangential, &log.radial);
-    // g (sin θ, cos θ) from the readings and the swing's accelerations at
-    // p = (d across, h along): docs/model.md §13, clapper_core::sensor.
-    let raw = |(h, d): (f64, f64), d1: &[f64], d2: &[f64], k: usize| {
-        let w2 = d1[k] * d1[k];
-        (ft[k] + h * d2[k] + d * w2).atan2(fr[k] + h * w2 - d * d2[k])
+    let raw = |place: (f64, f64), d1: &[f64], d2: &[f64], k: usize| {
+        let [s, c] = gravity_part(log, k, place, d1[k], d2[k]);
+        s.atan2(c)
     };
     let first: Vec<f64> = (0..n)
         .map(|k| (ft[k] / (1.0 + kappa)).atan2((fr[k] + 2.0 * G * kappa) / (1.0 - 2.0 * kappa)))
@@ -588,7 +577,7 @@ fn joint_fits(
                 }
             }
         }
-        let Some(mut a) = solve4(ata, atb) else { continue };
+        let Some(mut a) = solve(ata, atb) else { continue };
         for _ in 0..4 {
             let mut jtj = [[0.0f64; 4]; 4];
             let mut jtr = [0.0f64; 4];
@@ -598,8 +587,8 @@ fn joint_fits(
                 let q1 = a[1] + x * (2.0 * a[2] + 3.0 * x * a[3]);
                 let q2 = 2.0 * a[2] + 6.0 * x * a[3];
                 let (sn, cs) = q.sin_cos();
-                let rt = G * sn - h * q2 - d * q1 * q1 - ft[j];
-                let rr = G * cs - h * q1 * q1 + d * q2 - fr[j];
+                let model = specific_force(SensorPlace { along: h, across: d }, q, q1, q2);
+                let (rt, rr) = (model[0] - ft[j], model[1] - fr[j]);
                 let p = [1.0, x, x * x, x * x * x];
                 let p1 = [0.0, 1.0, 2.0 * x, 3.0 * x * x];
                 let p2 = [0.0, 0.0, 2.0, 6.0 * x];
@@ -616,7 +605,7 @@ fn joint_fits(
                     }
                 }
             }
-            let Some(step) = solve4(jtj, jtr) else { break };
+            let Some(step) = solve(jtj, jtr) else { break };
             for i in 0..4 {
                 a[i] += step[i];
             }
@@ -641,39 +630,11 @@ struct JointFits {
     d2: Vec<f64>,
 }
 
-/// Solve a 4 × 4 system by Gaussian elimination with partial pivoting;
-/// `None` if singular.
-fn solve4(mut a: [[f64; 4]; 4], mut b: [f64; 4]) -> Option<[f64; 4]> {
-    for c in 0..4 {
-        let p = (c..4).max_by(|&i, &j| a[i][c].abs().total_cmp(&a[j][c].abs()))?;
-        if a[p][c].abs() < 1e-300 || !a[p][c].is_finite() {
-            return None;
-        }
-        a.swap(c, p);
-        b.swap(c, p);
-        for r in c + 1..4 {
-            let f = a[r][c] / a[c][c];
-            let top = a[c];
-            for (x, y) in a[r].iter_mut().zip(top).skip(c) {
-                *x -= f * y;
-            }
-            b[r] -= f * b[c];
-        }
-    }
-    let mut x = [0.0; 4];
-    for r in (0..4).rev() {
-        let s: f64 = (r + 1..4).map(|l| a[r][l] * x[l]).sum();
-        x[r] = (b[r] - s) / a[r][r];
-    }
-    Some(x)
-}
-
 /// The sensor's place (h along the axis above the pivot, d across it; m)
 /// that makes the corrected force g throughout: least squares over the
 /// moving, good samples by Gauss-Newton from the middle, each within
 /// ±1 m; h held at `given` when known.
 fn fit_sensor(log: &AccelLog, bad: &[bool], d1: &[f64], d2: &[f64], given: Option<f64>) -> (f64, f64) {
-    let (ft, fr) = (&log.tangential, &log.radial);
     let moving: Vec<usize> = (0..log.t.len()).filter(|&k| !bad[k] && d1[k].abs() > 0.5).collect();
     let (mut h, mut d) = (given.unwrap_or(0.0), 0.0);
     // A handful of steps: the residual is nearly linear in (h, d).
@@ -682,7 +643,7 @@ fn fit_sensor(log: &AccelLog, bad: &[bool], d1: &[f64], d2: &[f64], given: Optio
         let (mut a, mut b) = ([[0.0f64; 2]; 2], [0.0f64; 2]);
         for &k in &moving {
             let w2 = d1[k] * d1[k];
-            let (x, y) = (ft[k] + h * d2[k] + d * w2, fr[k] + h * w2 - d * d2[k]);
+            let [x, y] = gravity_part(log, k, (h, d), d1[k], d2[k]);
             let m = x.hypot(y);
             if m < 1e-9 {
                 continue;
@@ -857,6 +818,7 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         clappering_starts,
         sensor_along: h,
         sensor_across: across,
+        angle_misfit: misfit,
         sensor_fitted: fitted,
         interval,
         theta,
@@ -911,7 +873,9 @@ fn strokes(
     // is smoothed and can be off there by a few rad/s². θ'² is at its flat
     // maximum there, so its smoothed value corrects well for a sensor off
     // the axis (d).
-    let f: Vec<f64> = (0..n).map(|j| log.tangential[j] + across * d1[j] * d1[j]).collect();
+    let f: Vec<f64> = (0..n)
+        .map(|j| gravity_part(log, j, (0.0, across), d1[j], 0.0)[0])
+        .collect();
     let mut bdcs: Vec<(f64, usize)> = vec![];
     for k in 0..n - 1 {
         let (a, b) = (theta[k], theta[k + 1]);
