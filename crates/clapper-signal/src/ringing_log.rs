@@ -14,15 +14,16 @@
 //!    m/s²), or is clipped. A strike is the first burst sample.
 //! 2. **The angle**: θ = atan2(tangential, radial) on the samples that
 //!    are not bursts (interpolated across those that are), then corrected
-//!    for the swing's own accelerations at the sensor, g sin θ = f_t + h θ''
-//!    and g cos θ = f_r + h θ'² (h the sensor's distance above the pivot,
-//!    given or fitted so that the corrected force is g throughout), θ' and
-//!    θ'' from local quadratic fits; twice.
+//!    for the swing's own accelerations at the sensor,
+//!    g sin θ = f_t + h θ'' + d θ'² and g cos θ = f_r + h θ'² − d θ'' (h the sensor's distance
+//!    above the pivot, d across the axis: read from the bell's free falls
+//!    from the balance, else given or fitted so that the corrected force
+//!    is g throughout), θ' and θ'' from local fits; twice.
 //! 3. **Strokes**: each crossing of θ = 0 while the bell moves is a bottom
-//!    dead centre, timed by the tangential reading's own zero (interpolated
-//!    between samples; θ'' is near zero there, so the reading is g sin θ);
-//!    the stroke's amplitude is the turning point it fell from; its strike
-//!    the first burst after it.
+//!    dead centre, timed by the zero of the tangential reading corrected
+//!    by h θ'' + d θ'² (a line over ±12 deg of the bottom); the stroke's
+//!    amplitude is the turning point it fell from; its strike the first
+//!    burst after it.
 //! 4. **Phases**: rests (no motion for 1.5 s or more) are down (near
 //!    θ = 0) or up (near the balance); what moves between two rests is
 //!    raising (from down to up), ringing (from up; the full swings), and
@@ -326,23 +327,41 @@ struct Angle {
     theta: Vec<f64>,
     smooth: Vec<f64>,
     rate: Vec<f64>,
+    /// θ' from the joint fits (rad/s): not smoothed over ±0.3 s, which
+    /// reads a swing's fastest (at the bottom) slow.
+    joint_rate: Vec<f64>,
+    /// θ'' from the joint fits (rad/s²).
+    acc: Vec<f64>,
     h: f64,
     /// The sensor's distance across the axis (m), fitted.
     d: f64,
     fitted: bool,
+    /// Read from this many falls from the balance, the bell's equivalent
+    /// pendulum length (m) with it.
+    falls: Option<(usize, f64)>,
     /// The median departure of the corrected force from g while the bell
     /// moves, over g: small when the angle is read right.
     misfit: f64,
 }
 
-fn angle(log: &AccelLog, bad: &[bool], given: Option<f64>, interval: f64) -> Angle {
+fn angle(log: &AccelLog, bad: &[bool], given: Option<f64>, falls: Option<&Falls>, interval: f64) -> Angle {
     let n = log.t.len();
+    // The place read from falls is kept (h given wins); else fitted.
+    let known = match falls {
+        Some(f) => Known(Some(given.unwrap_or(f.along)), Some(f.across)),
+        None => Known(given, None),
+    };
     // From several starts (below), the one whose corrected force is
     // nearest g; the first (no correction) wins ties, so a log read well
-    // without them reads the same.
-    let best = STARTS
+    // without them reads the same. With falls read, their κ.
+    let from_falls = falls.map(|f| [given.map_or(f.kappa, |h| h / f.length)]);
+    let starts: &[f64] = match &from_falls {
+        Some(k) => k,
+        None => &STARTS,
+    };
+    let best = starts
         .iter()
-        .map(|&kappa| first_pass(log, bad, given, interval, kappa))
+        .map(|&kappa| first_pass(log, bad, known, interval, kappa))
         .reduce(|best, a| if a.misfit < best.misfit - 1e-3 { a } else { best })
         .expect("STARTS is not empty");
     let (mut theta, mut place) = (best.theta, best.place);
@@ -353,7 +372,7 @@ fn angle(log: &AccelLog, bad: &[bool], given: Option<f64>, interval: f64) -> Ang
     for _ in 0..2 {
         let (_, q1, q2) = quadratic_fits(&log.t, &theta, bad, best.window);
         let j = joint_fits(log, bad, &theta, place, jw, (&q1, &q2));
-        place = fit_sensor(log, bad, &j.d1, &j.d2, given);
+        place = fit_sensor(log, bad, &j.d1, &j.d2, known);
         theta = unwrap_fill(&log.t, &j.theta, bad);
         derivatives = Some((j.d1, j.d2));
     }
@@ -376,9 +395,12 @@ fn angle(log: &AccelLog, bad: &[bool], given: Option<f64>, interval: f64) -> Ang
         theta,
         smooth,
         rate,
+        joint_rate: d1,
+        acc: d2,
         h: place.0,
         d: place.1,
         fitted: given.is_none(),
+        falls: falls.map(|f| (f.count, f.length)),
         misfit,
     }
 }
@@ -429,7 +451,7 @@ struct FirstPass {
     window: f64,
 }
 
-fn first_pass(log: &AccelLog, bad: &[bool], given: Option<f64>, interval: f64, kappa: f64) -> FirstPass {
+fn first_pass(log: &AccelLog, bad: &[bool], known: Known, interval: f64, kappa: f64) -> FirstPass {
     let n = log.t.len();
     let (ft, fr) = (&log.tangential, &log.radial);
     let raw = |place: (f64, f64), d1: &[f64], d2: &[f64], k: usize| {
@@ -446,10 +468,10 @@ fn first_pass(log: &AccelLog, bad: &[bool], given: Option<f64>, interval: f64, k
     // still a parabola there. (The joint fits that follow have no such
     // feedback.)
     let window = (5.0 * interval).max(0.3);
-    let mut place = (given.unwrap_or(0.0), 0.0);
+    let mut place = (known.0.unwrap_or(0.0), known.1.unwrap_or(0.0));
     for _ in 0..3 {
         let (_, d1, d2) = quadratic_fits(&log.t, &theta, bad, window);
-        place = fit_sensor(log, bad, &d1, &d2, given);
+        place = fit_sensor(log, bad, &d1, &d2, known);
         let corrected: Vec<f64> = (0..n).map(|k| raw(place, &d1, &d2, k)).collect();
         theta = unwrap_fill(&log.t, &corrected, bad);
     }
@@ -561,7 +583,11 @@ fn joint_fits(
         let good: Vec<usize> = (lo..=hi)
             .filter(|&j| !bad[j] && (j == k || j.abs_diff(k) % stride == 0))
             .collect();
-        if good.len() < 8 {
+        // A cubic with samples on one side only (at a gap's edge, or the
+        // log's) extrapolates: there `theta` is kept (at a gap in a swing's
+        // top it read 5 deg past the balance).
+        let before = good.iter().filter(|&&j| j < k).count();
+        if good.len() < 8 || (std::env::var("NOEDGE").is_err() && (before < 3 || good.len() - before < 4)) {
             continue;
         }
         // Start: the cubic through `theta` (linear least squares).
@@ -622,6 +648,210 @@ fn joint_fits(
     JointFits { theta: th, d1, d2 }
 }
 
+/// The sensor's place read from the bell's falls from rest at the balance
+/// (method step 2, first): from a set bell's release to its first strike
+/// the bell swings free, θ'' = −(g/L) sin θ and θ'² = (2g/L)(cos θ − c₀),
+/// so the readings over g are
+/// f_t = (1 + κ) sin θ − 2δ (cos θ − c₀) and
+/// f_r = cos θ − 2κ (cos θ − c₀) − δ sin θ, κ = h/L and δ = d/L, functions
+/// of θ alone: κ, δ, c₀ and each sample's θ are fitted to both readings
+/// (c₀ free: the ringer's pull off the balance adds a little energy), then
+/// L from the time the fall took, ∫ dθ / √((2g/L)(cos θ − c₀)). Unlike the
+/// fit over the whole log (which takes θ'' from the angle it corrects, and
+/// reads h short where the strikes shake the headstock), nothing here is
+/// differentiated. The median over the falls; `None` without one.
+struct Falls {
+    /// Above the pivot, along the axis (m).
+    along: f64,
+    /// Across the axis (m).
+    across: f64,
+    /// κ = h/L, for the angle's first pass.
+    kappa: f64,
+    /// The bell's equivalent pendulum length L (m).
+    length: f64,
+    /// How many falls were read.
+    count: usize,
+}
+
+/// One fall's fit: (κ, δ, c₀), θ at each sample, and the rms misfit (in g).
+fn fit_fall(ft: &[f64], fr: &[f64], rest: f64, kappa0: f64) -> Option<([f64; 3], Vec<f64>, f64)> {
+    let n = ft.len();
+    let mut p = [kappa0, 0.0, rest.cos()];
+    // The first guess: the free pendulum's readings solved for θ, with δ = 0.
+    let mut th: Vec<f64> = (0..n)
+        .map(|k| (ft[k] / (1.0 + kappa0)).atan2((fr[k] - 2.0 * kappa0 * p[2]) / (1.0 - 2.0 * kappa0)))
+        .collect();
+    let mut last = rest;
+    for v in &mut th {
+        *v = last + wrap(*v - last);
+        last = *v;
+    }
+    let resid = |p: &[f64; 3], th: &[f64]| -> f64 {
+        (0..n)
+            .map(|k| {
+                let (s, c) = th[k].sin_cos();
+                let rt = (1.0 + p[0]) * s - 2.0 * p[1] * (c - p[2]) - ft[k];
+                let rr = c - 2.0 * p[0] * (c - p[2]) - p[1] * s - fr[k];
+                rt * rt + rr * rr
+            })
+            .sum()
+    };
+    let mut cost = resid(&p, &th);
+    // Gauss-Newton, each θ_k eliminated (it touches only its own sample's
+    // two residuals): a 3 × 3 system a step.
+    for _ in 0..40 {
+        let mut s = [[0.0f64; 3]; 3];
+        let mut rhs = [0.0f64; 3];
+        let mut local = Vec::with_capacity(n);
+        for k in 0..n {
+            let (sn, cs) = th[k].sin_cos();
+            let ct = cs - p[2];
+            let r = [
+                (1.0 + p[0]) * sn - 2.0 * p[1] * ct - ft[k],
+                cs - 2.0 * p[0] * ct - p[1] * sn - fr[k],
+            ];
+            let jt = [(1.0 + p[0]) * cs + 2.0 * p[1] * sn, -sn + 2.0 * p[0] * sn - p[1] * cs];
+            let jp = [[sn, -2.0 * ct, 2.0 * p[1]], [-2.0 * ct, -sn, 2.0 * p[0]]];
+            let a = jt[0] * jt[0] + jt[1] * jt[1];
+            if a < 1e-12 {
+                return None;
+            }
+            let b: [f64; 3] = std::array::from_fn(|i| jt[0] * jp[0][i] + jt[1] * jp[1][i]);
+            let g = jt[0] * r[0] + jt[1] * r[1];
+            for i in 0..3 {
+                rhs[i] -= jp[0][i] * r[0] + jp[1][i] * r[1] - b[i] * g / a;
+                for l in 0..3 {
+                    s[i][l] += jp[0][i] * jp[0][l] + jp[1][i] * jp[1][l] - b[i] * b[l] / a;
+                }
+            }
+            local.push((a, b, g));
+        }
+        let dp = solve(s, rhs)?;
+        let dth: Vec<f64> = local
+            .iter()
+            .map(|(a, b, g)| -(g + b[0] * dp[0] + b[1] * dp[1] + b[2] * dp[2]) / a)
+            .collect();
+        // Halve the step until the misfit falls (a few times at most).
+        let mut scale = 1.0;
+        let mut accepted = false;
+        for _ in 0..6 {
+            let q: [f64; 3] = std::array::from_fn(|i| p[i] + scale * dp[i]);
+            let t2: Vec<f64> = th.iter().zip(&dth).map(|(t, d)| t + scale * d).collect();
+            let c2 = resid(&q, &t2);
+            if c2 <= cost {
+                p = q;
+                th = t2;
+                cost = c2;
+                accepted = true;
+                break;
+            }
+            scale *= 0.5;
+        }
+        if !accepted || dp.iter().all(|v| v.abs() < 1e-8) {
+            break;
+        }
+    }
+    (p.iter().all(|v| v.is_finite())).then(|| (p, th, (cost / (2 * n) as f64).sqrt()))
+}
+
+/// Falls longer than this (s) are cut: from the balance to the first strike
+/// takes a second or two.
+const FALL_MAX_S: f64 = 3.0;
+
+/// A fall's misfit above this (m/s²) is not a free fall (a ringer checking
+/// it, the clapper moving in the bell): left out.
+const FALL_MAX_MISFIT: f64 = 0.5;
+
+fn place_from_falls(log: &AccelLog, bad: &[bool], rests: &[(f64, f64, f64)], interval: f64) -> Option<Falls> {
+    let (t, n) = (&log.t, log.t.len());
+    // (κ, δ, L) of each fall read.
+    let mut found: Vec<[f64; 3]> = vec![];
+    // (The rests' angles may be unwrapped by turns.)
+    for (_, r1, rest) in rests
+        .iter()
+        .map(|r| (r.0, r.1, wrap(r.2)))
+        .filter(|r| r.2.abs() > 150f64.to_radians())
+    {
+        let j = t.partition_point(|&x| x <= r1);
+        let mut e = j;
+        // To the first strike, or a gap.
+        while e < n && !bad[e] && t[e] - t[j] < FALL_MAX_S && (e == j || t[e] - t[e - 1] < 3.0 * interval) {
+            e += 1;
+        }
+        if e - j < 20 {
+            continue;
+        }
+        let ft: Vec<f64> = log.tangential[j..e].iter().map(|v| v / G).collect();
+        let fr: Vec<f64> = log.radial[j..e].iter().map(|v| v / G).collect();
+        let Some((p, th, rms)) = [0.0, 0.15, 0.3, 0.45]
+            .iter()
+            .filter_map(|&k0| fit_fall(&ft, &fr, rest, k0))
+            .min_by(|a, b| a.2.total_cmp(&b.2))
+        else {
+            continue;
+        };
+        // A fall passes the bottom; and the energy is that of a bell near
+        // the balance.
+        let passes = th.iter().any(|v| wrap(*v).abs() < 0.2);
+        if rms * G > FALL_MAX_MISFIT || !passes || !(-1.3..-0.8).contains(&p[2]) {
+            continue;
+        }
+        // √(L/2g) from the time taken: t against ∫ dθ / √(cos θ − c₀), a
+        // straight line's slope, where the bell moves well (cos θ − c₀ >
+        // 0.2: away from the balance, where the fall's start is slow and
+        // its timing uncertain). Signed steps, so the angle's noise
+        // cancels rather than adds.
+        let fast: Vec<usize> = (0..th.len()).filter(|&k| th[k].cos() - p[2] > 0.2).collect();
+        let (Some(&k0), Some(&k1)) = (fast.first(), fast.last()) else {
+            continue;
+        };
+        if k1 < k0 + 10 {
+            continue;
+        }
+        let sense = (0..th.len() - 1).map(|k| wrap(th[k + 1] - th[k])).sum::<f64>().signum();
+        let mut integral = vec![0.0; k1 - k0 + 1];
+        for k in k0..k1 {
+            let cb = ((0.5 * (th[k] + th[k + 1])).cos() - p[2]).max(0.05);
+            integral[k + 1 - k0] = integral[k - k0] + sense * wrap(th[k + 1] - th[k]) / cb.sqrt();
+        }
+        let m = integral.len() as f64;
+        let (mi, mt) = (
+            integral.iter().sum::<f64>() / m,
+            (k0..=k1).map(|k| t[j + k]).sum::<f64>() / m,
+        );
+        let (mut num, mut den) = (0.0, 0.0);
+        for (i, k) in (k0..=k1).enumerate() {
+            num += (integral[i] - mi) * (t[j + k] - mt);
+            den += (integral[i] - mi).powi(2);
+        }
+        if den <= 0.0 || num <= 0.0 {
+            continue;
+        }
+        // The slope is √(L/2g).
+        let length = 2.0 * G * (num / den).powi(2);
+        if (0.05..10.0).contains(&length) {
+            found.push([p[0], p[1], length]);
+        }
+    }
+    if found.is_empty() {
+        return None;
+    }
+    let pick = |i: usize| median(&found.iter().map(|x| x[i]).collect::<Vec<_>>());
+    let (kappa, delta, length) = (pick(0), pick(1), pick(2));
+    Some(Falls {
+        along: kappa * length,
+        across: delta * length,
+        kappa,
+        length,
+        count: found.len(),
+    })
+}
+
+/// The sensor's place where known, (h along, d across; m): given, or read
+/// from the falls.
+#[derive(Clone, Copy)]
+struct Known(Option<f64>, Option<f64>);
+
 /// What [`joint_fits`] gives: θ, θ', θ'' at every sample (rad, rad/s,
 /// rad/s²).
 struct JointFits {
@@ -633,8 +863,12 @@ struct JointFits {
 /// The sensor's place (h along the axis above the pivot, d across it; m)
 /// that makes the corrected force g throughout: least squares over the
 /// moving, good samples by Gauss-Newton from the middle, each within
-/// ±1 m; h held at `given` when known.
-fn fit_sensor(log: &AccelLog, bad: &[bool], d1: &[f64], d2: &[f64], given: Option<f64>) -> (f64, f64) {
+/// ±1 m; h (and d) held where known.
+fn fit_sensor(log: &AccelLog, bad: &[bool], d1: &[f64], d2: &[f64], known: Known) -> (f64, f64) {
+    if let Known(Some(h), Some(d)) = known {
+        return (h, d);
+    }
+    let given = known.0;
     let moving: Vec<usize> = (0..log.t.len()).filter(|&k| !bad[k] && d1[k].abs() > 0.5).collect();
     let (mut h, mut d) = (given.unwrap_or(0.0), 0.0);
     // A handful of steps: the residual is nearly linear in (h, d).
@@ -710,7 +944,7 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
     // a sensor's scale is often a few per cent out (an ADXL345 may read g
     // as 10.2 m/s²): every rest, down or up, reads g, which sets it.
     let tilted;
-    let log = {
+    let (log, still) = {
         let plain: Vec<f64> = (0..n).map(|k| log.tangential[k].atan2(log.radial[k])).collect();
         let (level, slow, _) = quadratic_fits(&log.t, &unwrap_fill(&log.t, &plain, &burst), &burst, 0.5);
         let still = rests(&log.t, &level, &slow, interval);
@@ -750,24 +984,32 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
                 axle: log.axle.iter().map(|a| a / gain).collect(),
                 ..log.clone()
             };
-            &tilted
+            (&tilted, still)
         } else {
-            log
+            (log, still)
         }
     };
+    let falls = place_from_falls(log, &burst, &still, interval);
     let Angle {
         theta: theta_u,
         smooth,
         rate: d1,
+        joint_rate: j1,
+        acc: d2,
         h,
         d: across,
         fitted,
+        falls,
         misfit,
-    } = angle(log, &burst, opts.sensor_along, interval);
-    if fitted {
-        warnings.push(format!(
+    } = angle(log, &burst, opts.sensor_along, falls.as_ref(), interval);
+    match (fitted, falls) {
+        (true, Some((count, length))) => warnings.push(format!(
+            "sensor place read from {count} fall(s) from the balance: {h:.3} m above the pivot, {across:.3} m across the axis (the bell's equivalent pendulum {length:.3} m; give --sensor-m when known)"
+        )),
+        (true, None) => warnings.push(format!(
             "sensor place fitted: {h:.3} m above the pivot, {across:.3} m across the axis (give --sensor-m when known)"
-        ));
+        )),
+        _ => {}
     }
     // The angle continuous but held within ±200 deg of the bottom: a bell
     // set past the balance (185 deg, say) reads more than 180 deg, not a
@@ -778,7 +1020,19 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
     let (level, slow, _) = quadratic_fits(&log.t, &theta, &burst, 0.5);
     let rests = rests(&log.t, &level, &slow, interval);
     let mut strokes = if misfit <= MAX_MISFIT {
-        strokes(log, &theta, &smooth, (&d1, across), (&burst, &onsets), &rests)
+        // Two bottoms come at least half a small swing apart (π √(L/g) for
+        // a free pendulum, the shortest): within 60 % of that the second is
+        // the strike's shaking read as a crossing. Without L, 0.3 s.
+        let min_gap = falls.map_or(0.3, |f| (0.6 * std::f64::consts::PI * (f.1 / G).sqrt()).max(0.3));
+        strokes(
+            log,
+            &theta,
+            &smooth,
+            (&d1, &j1, &d2, h, across),
+            (&burst, &onsets),
+            &rests,
+            min_gap,
+        )
     } else {
         warnings.push(format!(
             "the swing's own accelerations at the sensor are too large to read the angle (the corrected force is {:.0} % off g): bottoms from the tangential reading's zeros, amplitudes from the turning points",
@@ -860,21 +1114,22 @@ fn strokes(
     log: &AccelLog,
     theta: &[f64],
     smooth: &[f64],
-    (d1, across): (&[f64], f64),
+    (d1, j1, d2, h, across): (&[f64], &[f64], &[f64], f64, f64),
     (burst, onsets): (&[bool], &[usize]),
     rests: &[(f64, f64, f64)],
+    min_gap: f64,
 ) -> Vec<LogStroke> {
     let t = &log.t;
     let n = t.len();
     let resting = |time: f64| rests.iter().any(|r| time >= r.0 && time <= r.1);
-    // The tangential reading is g sin θ less h θ'' less d θ'², and θ''
-    // is near zero at the bottom (gravity's torque is; the clapper's and a
-    // rope's are small), while the estimate of θ'' that corrects the angle
-    // is smoothed and can be off there by a few rad/s². θ'² is at its flat
-    // maximum there, so its smoothed value corrects well for a sensor off
-    // the axis (d).
+    // The tangential reading is g sin θ less h θ'' less d θ'²; corrected
+    // by both, its zero is the bottom. θ'' matters there: a rope's pull that
+    // stops or starts at the bottom leaves h θ'' on one side only, which
+    // moved a small swing's bottom 3 ms the way of the pull (θ'' from the
+    // joint fits, smoothed across the step, takes off half of it on each
+    // side, and what is left is odd about the bottom).
     let f: Vec<f64> = (0..n)
-        .map(|j| gravity_part(log, j, (0.0, across), d1[j], 0.0)[0])
+        .map(|j| gravity_part(log, j, (h, across), j1[j], d2[j])[0])
         .collect();
     let mut bdcs: Vec<(f64, usize)> = vec![];
     for k in 0..n - 1 {
@@ -882,7 +1137,7 @@ fn strokes(
         // A crossing of 0 while the bell moves.
         if a.signum() != b.signum() && a.abs() < 1.5 && b.abs() < 1.5 && (d1[k].abs() > 0.3 || d1[k + 1].abs() > 0.3) {
             let mut tc = t[k] + (t[k + 1] - t[k]) * a / (a - b);
-            if resting(tc) || bdcs.last().is_some_and(|&(p, _)| tc - p < 0.3) {
+            if resting(tc) || bdcs.last().is_some_and(|&(p, _)| tc - p < min_gap) {
                 continue;
             }
             // The tangential reading's own zero, where clean (`f`).
@@ -891,27 +1146,7 @@ fn strokes(
                 .min_by_key(|&j| j.abs_diff(k));
             if let Some(j) = near {
                 tc = t[j] + (t[j + 1] - t[j]) * f[j] / (f[j] - f[j + 1]);
-                // A straight line through the clean samples within ±5 ms
-                // (at least the two each side) averages the noise down.
-                let half = (0.005f64).max(1.5 * (t[j + 1] - t[j]));
-                let pts: Vec<usize> = (j.saturating_sub(4)..(j + 6).min(n))
-                    .filter(|&q| !burst[q] && (t[q] - tc).abs() <= half)
-                    .collect();
-                if pts.len() >= 3 {
-                    let m = pts.len() as f64;
-                    let (sx, sy) = pts.iter().fold((0.0, 0.0), |a, &q| (a.0 + t[q] - tc, a.1 + f[q]));
-                    let (mx, my) = (sx / m, sy / m);
-                    let (sxy, sxx) = pts.iter().fold((0.0, 0.0), |a, &q| {
-                        (a.0 + (t[q] - tc - mx) * (f[q] - my), a.1 + (t[q] - tc - mx).powi(2))
-                    });
-                    if sxx > 0.0 && sxy != 0.0 {
-                        let slope = sxy / sxx;
-                        let zero = tc + mx - my / slope;
-                        if (zero - tc).abs() <= half {
-                            tc = zero;
-                        }
-                    }
-                }
+                tc = bottom_time(t, &f, burst, tc, G * 0.5 * (d1[k] + d1[k + 1]));
             }
             bdcs.push((tc, k));
         }
@@ -940,6 +1175,50 @@ fn strokes(
     }
     out
 }
+
+/// The zero of the corrected tangential reading `f` near `tc` (s), where
+/// it moves at about `slope` (m/s³, g θ'): a straight line through the
+/// clean samples while |f| is within [`BOTTOM_SPAN`] (at least ±5 ms and
+/// 1.5 samples, at most ±0.12 s). Through the bottom f is g sin θ, odd
+/// about it, so a symmetric window adds no bias, and a long one averages
+/// the noise down where a small swing moves slowly (at 400 Hz a 20 deg
+/// swing's bottom moved 2 samples either way in a ±5 ms window).
+fn bottom_time(t: &[f64], f: &[f64], burst: &[bool], tc: f64, slope: f64) -> f64 {
+    let n = t.len();
+    let k = t.partition_point(|&x| x < tc).clamp(1, n - 1);
+    let dt = t[k] - t[k - 1];
+    // (At a gap the interval is long: the window stays within ±0.12 s.)
+    let shortest = 0.005f64.max(1.5 * dt).min(0.12);
+    let half = (BOTTOM_SPAN / slope.abs().max(1e-9)).clamp(shortest, 0.12);
+    let (a, b) = (
+        t.partition_point(|&x| x < tc - half),
+        t.partition_point(|&x| x <= tc + half),
+    );
+    let pts: Vec<usize> = (a..b).filter(|&q| !burst[q]).collect();
+    if pts.len() < 3 {
+        return tc;
+    }
+    let m = pts.len() as f64;
+    let (sx, sy) = pts.iter().fold((0.0, 0.0), |a, &q| (a.0 + t[q] - tc, a.1 + f[q]));
+    let (mx, my) = (sx / m, sy / m);
+    let (sxy, sxx) = pts.iter().fold((0.0, 0.0), |a, &q| {
+        (a.0 + (t[q] - tc - mx) * (f[q] - my), a.1 + (t[q] - tc - mx).powi(2))
+    });
+    if sxx <= 0.0 || sxy == 0.0 {
+        return tc;
+    }
+    let zero = tc + mx - my * sxx / sxy;
+    if (zero - tc).abs() <= half {
+        zero
+    } else {
+        tc
+    }
+}
+
+/// The reading's span either side of a bottom that [`bottom_time`] fits a
+/// line over (m/s²): 2 m/s² is g sin θ within ±12 deg of the bottom, where
+/// sin θ departs from a line by 0.7 %, and that symmetrically.
+const BOTTOM_SPAN: f64 = 2.0;
 
 /// The stroke with bottom dead centre `bdc`, struck at the first burst
 /// onset before `until` (the next bottom); its hand set later.
@@ -1191,4 +1470,62 @@ fn odd_struck(strokes: &[LogStroke]) -> Option<(f64, f64)> {
     let stats = |v: &[f64]| mean_sd(v).map(|(m, sd)| (m, sd * sd / v.len() as f64));
     let ((mh, vh), (mb, vb)) = (stats(&h)?, stats(&b)?);
     Some((mh - mb, (vh + vb).sqrt()))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A free pendulum (L = 0.66 m) released at 179 deg, integrated here by
+    /// RK4 and read through clapper_core::sensor's forward formula at a
+    /// place off the axis: the falls give the place and L back, though
+    /// their fit never differentiates and the formula is not theirs.
+    #[test]
+    fn a_free_fall_from_the_balance_gives_the_sensor_place_and_the_length() {
+        let (length, place) = (
+            0.66,
+            SensorPlace {
+                along: 0.2,
+                across: 0.07,
+            },
+        );
+        let acc = |th: f64| -G / length * th.sin();
+        let (mut th, mut w, mut now) = (179f64.to_radians(), 0.0, 0.0);
+        let (dt, every) = (1e-4, 50); // 200 Hz samples
+        let mut log = AccelLog::default();
+        for k in 0..(4.2 / dt) as usize {
+            if k % every == 0 {
+                // At rest for the first 2 s, then released.
+                let (a, b, c) = if now < 2.0 {
+                    (179f64.to_radians(), 0.0, 0.0)
+                } else {
+                    (th, w, acc(th))
+                };
+                let f = specific_force(place, a, b, c);
+                log.t.push(now);
+                log.tangential.push(f[0]);
+                log.radial.push(f[1]);
+                log.axle.push(0.0);
+            }
+            if now >= 2.0 {
+                let k1 = (w, acc(th));
+                let k2 = (w + 0.5 * dt * k1.1, acc(th + 0.5 * dt * k1.0));
+                let k3 = (w + 0.5 * dt * k2.1, acc(th + 0.5 * dt * k2.0));
+                let k4 = (w + dt * k3.1, acc(th + dt * k3.0));
+                th += dt / 6.0 * (k1.0 + 2.0 * k2.0 + 2.0 * k3.0 + k4.0);
+                w += dt / 6.0 * (k1.1 + 2.0 * k2.1 + 2.0 * k3.1 + k4.1);
+            }
+            now += dt;
+        }
+        // A strike ends the fall 2 s after the release.
+        let bad: Vec<bool> = log.t.iter().map(|&x| x > 4.0).collect();
+        let falls = place_from_falls(&log, &bad, &[(0.0, 2.0, 179f64.to_radians())], 1.0 / 200.0).expect("a fall read");
+        assert_eq!(falls.count, 1);
+        assert!((falls.along - 0.2).abs() < 1e-3, "along {}", falls.along);
+        assert!((falls.across - 0.07).abs() < 1e-3, "across {}", falls.across);
+        assert!((falls.length - length).abs() < 0.01 * length, "L {}", falls.length);
+        assert!((falls.kappa - 0.2 / length).abs() < 1e-3, "κ {}", falls.kappa);
+        // No rest at the balance, no fall.
+        assert!(place_from_falls(&log, &bad, &[(0.0, 2.0, 0.1)], 1.0 / 200.0).is_none());
+    }
 }

@@ -203,6 +203,51 @@ fn gauss(rng: &mut Pcg64) -> f64 {
     (-2.0 * u.ln()).sqrt() * (2.0 * std::f64::consts::PI * v).cos()
 }
 
+/// The restart protocol puts each ringing stroke back at ±θ0 from where
+/// the one before turned, a degree or two lower (what its strikes took),
+/// and the lowering starts at θ0 too: the bell would jump at the top, which
+/// no real bell does and no reader should be asked to follow. Here the
+/// ringer's pull restores it instead over the rise after each bottom: θ
+/// gains δ smoothstep(u) from the bottom (u = 0) to the turn (u = 1), δ
+/// the jump. The bottoms, the strikes' times and the amplitudes (each
+/// stroke's start) are as simulated; the rope's pull is a step in θ'' at
+/// the bottom, as [`clapper_core::ringer`]'s is.
+fn restore_between_restarts(pieces: &[Piece], times: &[f64], kin: &mut [[f64; 3]]) {
+    for (p, piece) in pieces.iter().enumerate() {
+        let Motion::Sim(Run::Ring, sign, strokes) = &piece.motion else {
+            continue;
+        };
+        let after = pieces.get(p + 1).map(|q| match &q.motion {
+            Motion::Hold(a) | Motion::Ramp(a, _) => *a,
+            Motion::Sim(_, s, st) => st.first().map_or(0.0, |x| s * x.start.y[0]),
+        });
+        for (i, st) in strokes.iter().enumerate() {
+            let target = match strokes.get(i + 1) {
+                Some(next) => sign * next.start.y[0],
+                None => match after {
+                    Some(a) => a,
+                    None => continue,
+                },
+            };
+            let Some(bottom) = st.bottom else { continue };
+            let (t0, t1) = (piece.start + bottom.t, piece.start + st.end.t);
+            let delta = target - sign * st.end.y[0];
+            // Only a restart at the top: not a stroke that ends elsewhere.
+            if t1 <= t0 || delta.abs() > 0.2 {
+                continue;
+            }
+            let span = t1 - t0;
+            let (a, b) = (times.partition_point(|&x| x < t0), times.partition_point(|&x| x < t1));
+            for (x, v) in times[a..b].iter().zip(&mut kin[a..b]) {
+                let (s0, s1, s2) = smoothstep((x - t0) / span);
+                v[0] += delta * s0;
+                v[1] += delta * s1 / span;
+                v[2] += delta * s2 / (span * span);
+            }
+        }
+    }
+}
+
 /// Synthesise a log and its truth.
 pub fn synth_log(spec: &LogSpec) -> Result<(AccelLog, LogTruth), SignalError> {
     if !(spec.rate.is_finite() && (5.0..=5000.0).contains(&spec.rate)) {
@@ -339,6 +384,7 @@ pub fn synth_log(spec: &LogSpec) -> Result<(AccelLog, LogTruth), SignalError> {
         }
         i = j;
     }
+    restore_between_restarts(&pieces, &times, &mut kin);
 
     // Bursts, scaled to a ringing stroke's strike.
     let reference = {

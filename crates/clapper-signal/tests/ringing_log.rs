@@ -22,8 +22,8 @@ struct Score {
     /// Worst BDC error (samples) of swings of 45 deg or more...
     bdc_worst: f64,
     /// ... and of the small swings of raising and lowering (20-45 deg),
-    /// slow through the bottom (noise moves the zero further), and there
-    /// the rope's pull, which stops at the bottom, puts a step in θ''.
+    /// slow through the bottom (noise moves the zero further), where the
+    /// rope's pull, which stops or starts at the bottom, puts a step in θ''.
     bdc_worst_small: f64,
     /// Strikes read at a weaker impact before the truth's (a clapper that
     /// just touches, seen or not depending on where the samples fall).
@@ -103,7 +103,17 @@ fn score(log: &AccelLog, truth: &LogTruth, got: &LogAnalysis, s: &mut Score) {
 fn synthetic_logs_are_read_within_a_sample() {
     let mut s = Score::default();
     let mut odd_seen = vec![];
-    for (seed, rate) in [(1u64, 50.0), (2, 100.0), (3, 100.0), (4, 200.0), (5, 400.0), (6, 100.0)] {
+    let mut place_worst = 0.0f64;
+    for (seed, rate) in [
+        (1u64, 50.0),
+        (2, 100.0),
+        (3, 100.0),
+        (4, 200.0),
+        (5, 400.0),
+        (6, 100.0),
+        (7, 137.0),
+        (8, 400.0),
+    ] {
         let mut spec = LogSpec::new(odd_tenor(), seed);
         spec.rate = rate;
         spec.strokes = 20;
@@ -112,12 +122,18 @@ fn synthetic_logs_are_read_within_a_sample() {
         let (log, truth) = synth_log(&spec).expect("synthesised");
         let got = analyse_log(&log, &LogOptions::default()).expect("read");
         score(&log, &truth, &got, &mut s);
+        // The place read from the fall from the balance into the ringing.
+        assert!(got.warnings.iter().any(|w| w.contains("1 fall(s)")), "{:?}", got.warnings);
+        place_worst = place_worst
+            .max((got.sensor_along - spec.sensor.along).abs())
+            .max((got.sensor_across - spec.sensor.across).abs());
         odd_seen.push((
             truth.odd_struck.unwrap_or(f64::NAN) * 1e3,
             got.odd_struck.map_or(f64::NAN, |o| o.0 * 1e3),
         ));
     }
-    eprintln!("{s:?}\nodd-struck (truth, read) ms: {odd_seen:?}");
+    eprintln!("{s:?}\nodd-struck (truth, read) ms: {odd_seen:?}\nsensor place off by {place_worst} m");
+    assert!(place_worst < 0.005, "sensor place off by {place_worst} m");
     assert!(
         s.found as f64 >= 0.99 * s.strokes as f64,
         "{} of {} strokes found",
@@ -126,7 +142,7 @@ fn synthetic_logs_are_read_within_a_sample() {
     );
     assert!(s.bdc_worst <= 1.0, "BDC off by {} samples", s.bdc_worst);
     assert!(
-        s.bdc_worst_small <= 3.0,
+        s.bdc_worst_small <= 1.0,
         "BDC of a small swing off by {} samples",
         s.bdc_worst_small
     );
@@ -230,7 +246,7 @@ fn a_sensor_far_from_the_pivot_falls_back_to_the_tangential_zeros() {
 
 /// A sensor that reads 4.5 % high and sits 0.05 m off the bell's axis (a
 /// bracket beside the nut): the scale is found from the rests, the place
-/// across the axis is fitted, and the bottoms and strikes are read as well
+/// is read from the fall from the balance, and the bottoms and strikes are read as well
 /// as from a true sensor on the axis.
 #[test]
 fn a_scaled_sensor_off_the_axis_is_read_within_a_sample() {
@@ -259,15 +275,17 @@ fn a_scaled_sensor_off_the_axis_is_read_within_a_sample() {
         "{:?}",
         got.warnings
     );
-    assert!((got.sensor_across - 0.05).abs() < 0.01, "across {}", got.sensor_across);
-    assert!((got.sensor_along - 0.15).abs() < 0.03, "along {}", got.sensor_along);
+    assert!((got.sensor_across - 0.05).abs() < 0.005, "across {}", got.sensor_across);
+    assert!((got.sensor_along - 0.15).abs() < 0.005, "along {}", got.sensor_along);
     assert_eq!(s.found, s.strokes, "strokes found");
-    assert!(s.bdc_worst <= 1.0, "BDC off by {} samples", s.bdc_worst);
+    assert!(
+        s.bdc_worst.max(s.bdc_worst_small) <= 1.0,
+        "BDC off by {} samples",
+        s.bdc_worst
+    );
     assert_eq!(s.strikes_found, s.strikes, "strikes found");
     assert!(s.strike_worst <= 1.0, "strike off by {} samples", s.strike_worst);
-    // Not the 2 deg: off the axis, one swing of the raising near
-    // the balance (162 deg) reads 2.2-2.5 deg out, against 0.8 deg for the
-    // same log with the sensor on the axis; an open shortfall.
-    assert!(s.amplitude_worst <= 2.5, "amplitude off by {} deg", s.amplitude_worst);
+    assert!(s.amplitude_worst <= 2.0, "amplitude off by {} deg", s.amplitude_worst);
     assert_eq!(s.hand_wrong, 0, "hand/back labels");
+    assert!(s.odd_worst <= 5.0, "odd-struckness off by {} ms", s.odd_worst);
 }
