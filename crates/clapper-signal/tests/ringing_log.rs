@@ -123,7 +123,11 @@ fn synthetic_logs_are_read_within_a_sample() {
         let got = analyse_log(&log, &LogOptions::default()).expect("read");
         score(&log, &truth, &got, &mut s);
         // The place read from the fall from the balance into the ringing.
-        assert!(got.warnings.iter().any(|w| w.contains("1 fall(s)")), "{:?}", got.warnings);
+        assert!(
+            got.warnings.iter().any(|w| w.contains("1 fall(s)")),
+            "{:?}",
+            got.warnings
+        );
         place_worst = place_worst
             .max((got.sensor_along - spec.sensor.along).abs())
             .max((got.sensor_across - spec.sensor.across).abs());
