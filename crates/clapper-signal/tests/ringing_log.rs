@@ -99,6 +99,16 @@ fn score(log: &AccelLog, truth: &LogTruth, got: &LogAnalysis, s: &mut Score) {
     }
 }
 
+/// The bounds on strikes (every one found, within a sample),
+/// amplitude (2 deg), hand and back, and odd-struckness (5 ms).
+fn assert_strikes_amplitudes_sides(s: &Score) {
+    assert_eq!(s.strikes_found, s.strikes, "strikes found");
+    assert!(s.strike_worst <= 1.0, "strike off by {} samples", s.strike_worst);
+    assert!(s.amplitude_worst <= 2.0, "amplitude off by {} deg", s.amplitude_worst);
+    assert_eq!(s.hand_wrong, 0, "hand/back labels");
+    assert!(s.odd_worst <= 5.0, "odd-struckness off by {} ms", s.odd_worst);
+}
+
 #[test]
 fn synthetic_logs_are_read_within_a_sample() {
     let mut s = Score::default();
@@ -155,12 +165,8 @@ fn synthetic_logs_are_read_within_a_sample() {
         "{} strikes read at a weaker impact",
         s.weak_first
     );
-    assert_eq!(s.strikes_found, s.strikes, "strikes found");
-    assert!(s.strike_worst <= 1.0, "strike off by {} samples", s.strike_worst);
-    assert!(s.amplitude_worst <= 2.0, "amplitude off by {} deg", s.amplitude_worst);
-    assert_eq!(s.hand_wrong, 0, "hand/back labels");
     assert!(s.phase_worst <= 1.0, "a phase boundary off by {} s", s.phase_worst);
-    assert!(s.odd_worst <= 5.0, "odd-struckness off by {} ms", s.odd_worst);
+    assert_strikes_amplitudes_sides(&s);
 }
 
 #[test]
@@ -287,9 +293,5 @@ fn a_scaled_sensor_off_the_axis_is_read_within_a_sample() {
         "BDC off by {} samples",
         s.bdc_worst
     );
-    assert_eq!(s.strikes_found, s.strikes, "strikes found");
-    assert!(s.strike_worst <= 1.0, "strike off by {} samples", s.strike_worst);
-    assert!(s.amplitude_worst <= 2.0, "amplitude off by {} deg", s.amplitude_worst);
-    assert_eq!(s.hand_wrong, 0, "hand/back labels");
-    assert!(s.odd_worst <= 5.0, "odd-struckness off by {} ms", s.odd_worst);
+    assert_strikes_amplitudes_sides(&s);
 }
