@@ -62,7 +62,8 @@ pub struct AccelLog {
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct LogOptions {
     /// The sensor's distance above the pivot along the bell's axis (m), if
-    /// known; fitted from the log otherwise.
+    /// known; otherwise read from the bell's falls from the balance, or
+    /// without one fitted from the whole log.
     pub sensor_along: Option<f64>,
     /// The sensor's range (m/s²): readings at 99 % of it or more are taken
     /// as clipped. Default 2 g, an ADXL345 at its ±2 g setting.
@@ -170,12 +171,14 @@ pub struct LogAnalysis {
     pub odd_struck: Option<(f64, f64)>,
     /// Clappering's start while raising.
     pub clappering_starts: Option<ClapperingStart>,
-    /// The sensor's distance above the pivot used (m), given or fitted.
+    /// The sensor's distance above the pivot used (m), given, read from the
+    /// falls from the balance, or fitted.
     pub sensor_along: f64,
     /// The sensor's distance across the bell's axis, toward the back side
-    /// (m), fitted (a nut or bracket off the axis line).
+    /// (m; a nut or bracket off the axis line), read from the falls or
+    /// fitted.
     pub sensor_across: f64,
-    /// Whether it was fitted.
+    /// Whether `sensor_along` was read from the log (not given).
     pub sensor_fitted: bool,
     /// How well the angle was read: the corrected force's median departure
     /// from g while the bell moves, over g (about 0.01 on logs the model
@@ -336,9 +339,6 @@ struct Angle {
     /// The sensor's distance across the axis (m), fitted.
     d: f64,
     fitted: bool,
-    /// Read from this many falls from the balance, the bell's equivalent
-    /// pendulum length (m) with it.
-    falls: Option<(usize, f64)>,
     /// The median departure of the corrected force from g while the bell
     /// moves, over g: small when the angle is read right.
     misfit: f64,
@@ -348,8 +348,14 @@ fn angle(log: &AccelLog, bad: &[bool], given: Option<f64>, falls: Option<&Falls>
     let n = log.t.len();
     // The place read from falls is kept (h given wins); else fitted.
     let known = match falls {
-        Some(f) => Known(Some(given.unwrap_or(f.along)), Some(f.across)),
-        None => Known(given, None),
+        Some(f) => Known {
+            along: Some(given.unwrap_or(f.place().0)),
+            across: Some(f.place().1),
+        },
+        None => Known {
+            along: given,
+            across: None,
+        },
     };
     // From several starts (below), the one whose corrected force is
     // nearest g; the first (no correction) wins ties, so a log read well
@@ -400,7 +406,6 @@ fn angle(log: &AccelLog, bad: &[bool], given: Option<f64>, falls: Option<&Falls>
         h: place.0,
         d: place.1,
         fitted: given.is_none(),
-        falls: falls.map(|f| (f.count, f.length)),
         misfit,
     }
 }
@@ -442,6 +447,14 @@ fn misfit(log: &AccelLog, bad: &[bool], place: (f64, f64), d1: &[f64], d2: &[f64
 /// but on the right side of the horizontal), and the correction refines it.
 const STARTS: [f64; 5] = [0.0, 0.1, 0.2, 0.3, 0.4];
 
+/// The angle of a free pendulum that fell from rest at cos θ = `c0` (a
+/// sensor on its axis at κ = h/L) from its readings `ft`, `fr` in units of
+/// `g` (m/s², or 1 for readings over g): ft = g (1 + κ) sin θ and
+/// fr = g (cos θ − 2κ (cos θ − c₀)) solved for θ.
+fn free_fall_angle(ft: f64, fr: f64, kappa: f64, c0: f64, g: f64) -> f64 {
+    (ft / (1.0 + kappa)).atan2((fr - 2.0 * g * kappa * c0) / (1.0 - 2.0 * kappa))
+}
+
 /// The angle's first pass from start κ: θ unwrapped, the sensor's place,
 /// the misfit, and the smoothing window used (s).
 struct FirstPass {
@@ -458,9 +471,7 @@ fn first_pass(log: &AccelLog, bad: &[bool], known: Known, interval: f64, kappa: 
         let [s, c] = gravity_part(log, k, place, d1[k], d2[k]);
         s.atan2(c)
     };
-    let first: Vec<f64> = (0..n)
-        .map(|k| (ft[k] / (1.0 + kappa)).atan2((fr[k] + 2.0 * G * kappa) / (1.0 - 2.0 * kappa)))
-        .collect();
+    let first: Vec<f64> = (0..n).map(|k| free_fall_angle(ft[k], fr[k], kappa, -1.0, G)).collect();
     let mut theta = unwrap_fill(&log.t, &first, bad);
     // ±0.3 s: θ'' from a narrower fit is so noisy that the correction
     // (h θ'', fed back) amplifies the noise (at 100 Hz and ±0.12 s by 4.5 a
@@ -468,7 +479,7 @@ fn first_pass(log: &AccelLog, bad: &[bool], known: Known, interval: f64, kappa: 
     // still a parabola there. (The joint fits that follow have no such
     // feedback.)
     let window = (5.0 * interval).max(0.3);
-    let mut place = (known.0.unwrap_or(0.0), known.1.unwrap_or(0.0));
+    let mut place = (known.along.unwrap_or(0.0), known.across.unwrap_or(0.0));
     for _ in 0..3 {
         let (_, d1, d2) = quadratic_fits(&log.t, &theta, bad, window);
         place = fit_sensor(log, bad, &d1, &d2, known);
@@ -661,12 +672,10 @@ fn joint_fits(
 /// reads h short where the strikes shake the headstock), nothing here is
 /// differentiated. The median over the falls; `None` without one.
 struct Falls {
-    /// Above the pivot, along the axis (m).
-    along: f64,
-    /// Across the axis (m).
-    across: f64,
-    /// κ = h/L, for the angle's first pass.
+    /// κ = h/L (h above the pivot, along the axis).
     kappa: f64,
+    /// δ = d/L (d across the axis).
+    delta: f64,
     /// The bell's equivalent pendulum length L (m).
     length: f64,
     /// How many falls were read.
@@ -679,7 +688,7 @@ fn fit_fall(ft: &[f64], fr: &[f64], rest: f64, kappa0: f64) -> Option<([f64; 3],
     let mut p = [kappa0, 0.0, rest.cos()];
     // The first guess: the free pendulum's readings solved for θ, with δ = 0.
     let mut th: Vec<f64> = (0..n)
-        .map(|k| (ft[k] / (1.0 + kappa0)).atan2((fr[k] - 2.0 * kappa0 * p[2]) / (1.0 - 2.0 * kappa0)))
+        .map(|k| free_fall_angle(ft[k], fr[k], kappa0, p[2], 1.0))
         .collect();
     let mut last = rest;
     for v in &mut th {
@@ -839,18 +848,26 @@ fn place_from_falls(log: &AccelLog, bad: &[bool], rests: &[(f64, f64, f64)], int
     let pick = |i: usize| median(&found.iter().map(|x| x[i]).collect::<Vec<_>>());
     let (kappa, delta, length) = (pick(0), pick(1), pick(2));
     Some(Falls {
-        along: kappa * length,
-        across: delta * length,
         kappa,
+        delta,
         length,
         count: found.len(),
     })
 }
 
-/// The sensor's place where known, (h along, d across; m): given, or read
-/// from the falls.
+impl Falls {
+    /// The sensor's place (h along, d across; m).
+    fn place(&self) -> (f64, f64) {
+        (self.kappa * self.length, self.delta * self.length)
+    }
+}
+
+/// The sensor's place where known (m): given, or read from the falls.
 #[derive(Clone, Copy)]
-struct Known(Option<f64>, Option<f64>);
+struct Known {
+    along: Option<f64>,
+    across: Option<f64>,
+}
 
 /// What [`joint_fits`] gives: θ, θ', θ'' at every sample (rad, rad/s,
 /// rad/s²).
@@ -865,10 +882,14 @@ struct JointFits {
 /// moving, good samples by Gauss-Newton from the middle, each within
 /// ±1 m; h (and d) held where known.
 fn fit_sensor(log: &AccelLog, bad: &[bool], d1: &[f64], d2: &[f64], known: Known) -> (f64, f64) {
-    if let Known(Some(h), Some(d)) = known {
+    if let Known {
+        along: Some(h),
+        across: Some(d),
+    } = known
+    {
         return (h, d);
     }
-    let given = known.0;
+    let given = known.along;
     let moving: Vec<usize> = (0..log.t.len()).filter(|&k| !bad[k] && d1[k].abs() > 0.5).collect();
     let (mut h, mut d) = (given.unwrap_or(0.0), 0.0);
     // A handful of steps: the residual is nearly linear in (h, d).
@@ -989,6 +1010,8 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
             (log, still)
         }
     };
+    // (The rests were found before the tilt was turned out: their angles
+    // are a few degrees off, which only starts the falls' fits.)
     let falls = place_from_falls(log, &burst, &still, interval);
     let Angle {
         theta: theta_u,
@@ -999,12 +1022,12 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         h,
         d: across,
         fitted,
-        falls,
         misfit,
     } = angle(log, &burst, opts.sensor_along, falls.as_ref(), interval);
-    match (fitted, falls) {
-        (true, Some((count, length))) => warnings.push(format!(
-            "sensor place read from {count} fall(s) from the balance: {h:.3} m above the pivot, {across:.3} m across the axis (the bell's equivalent pendulum {length:.3} m; give --sensor-m when known)"
+    match (fitted, &falls) {
+        (true, Some(f)) => warnings.push(format!(
+            "sensor place read from {} fall(s) from the balance: {h:.3} m above the pivot, {across:.3} m across the axis (the bell's equivalent pendulum {:.3} m; give --sensor-m when known)",
+            f.count, f.length
         )),
         (true, None) => warnings.push(format!(
             "sensor place fitted: {h:.3} m above the pivot, {across:.3} m across the axis (give --sensor-m when known)"
@@ -1023,7 +1046,9 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         // Two bottoms come at least half a small swing apart (π √(L/g) for
         // a free pendulum, the shortest): within 60 % of that the second is
         // the strike's shaking read as a crossing. Without L, 0.3 s.
-        let min_gap = falls.map_or(0.3, |f| (0.6 * std::f64::consts::PI * (f.1 / G).sqrt()).max(0.3));
+        let min_gap = falls
+            .as_ref()
+            .map_or(0.3, |f| (0.6 * std::f64::consts::PI * (f.length / G).sqrt()).max(0.3));
         strokes(
             log,
             &theta,
@@ -1521,8 +1546,9 @@ mod tests {
         let bad: Vec<bool> = log.t.iter().map(|&x| x > 4.0).collect();
         let falls = place_from_falls(&log, &bad, &[(0.0, 2.0, 179f64.to_radians())], 1.0 / 200.0).expect("a fall read");
         assert_eq!(falls.count, 1);
-        assert!((falls.along - 0.2).abs() < 1e-3, "along {}", falls.along);
-        assert!((falls.across - 0.07).abs() < 1e-3, "across {}", falls.across);
+        let (along, across) = falls.place();
+        assert!((along - 0.2).abs() < 1e-3, "along {along}");
+        assert!((across - 0.07).abs() < 1e-3, "across {across}");
         assert!((falls.length - length).abs() < 0.01 * length, "L {}", falls.length);
         assert!((falls.kappa - 0.2 / length).abs() < 1e-3, "κ {}", falls.kappa);
         // No rest at the balance, no fall.
