@@ -49,6 +49,10 @@ pub struct StrokeReport {
     pub stroke: &'static str,
     /// The clapper's first strike (s).
     pub strike_s: Option<f64>,
+    /// True when a gap in the log hides the strike (`strike_s` is null:
+    /// not known, rather than not struck); left out when false.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub strike_hidden: bool,
     /// The bell's angle at the strike (deg).
     pub strike_theta_deg: Option<f64>,
 }
@@ -194,6 +198,7 @@ pub fn read_log(log: &AccelLog, opts: &LogOptions, bell: Option<LoadedBell>) -> 
             phase: s.phase.name(),
             stroke: hand(s),
             strike_s: s.strike,
+            strike_hidden: s.strike_hidden,
             strike_theta_deg: s.strike_theta.map(f64::to_degrees),
         })
         .collect();

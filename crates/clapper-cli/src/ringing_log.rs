@@ -136,6 +136,7 @@ fn csv(r: &LogReport) -> Result<String> {
         "bdc_to_strike_ms",
         "strike_theta_deg",
         "model_bdc_to_strike_ms",
+        "strike_hidden",
     ]
     .map(String::from)];
     let f = |v: Option<f64>, d: usize| v.map_or(String::new(), |x| format!("{x:.d$}"));
@@ -149,6 +150,7 @@ fn csv(r: &LogReport) -> Result<String> {
             f(s.bdc_to_strike_ms, 1),
             f(s.strike_theta_deg, 2),
             f(s.model_bdc_to_strike_ms, 1),
+            s.strike_hidden.to_string(),
         ]);
     }
     clapper_io::strike_file::csv_text(&rows).map_err(anyhow::Error::msg)

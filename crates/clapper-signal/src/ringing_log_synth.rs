@@ -103,7 +103,7 @@ pub struct TrueLogStroke {
     /// The phase it is in.
     pub phase: PhaseKind,
     /// Whether a gap in the log hides its bottom, its strike or the turning
-    /// point it fell from.
+    /// point it fell from, or lies between its bottom and its strike.
     pub hidden: bool,
 }
 
@@ -423,7 +423,10 @@ pub fn synth_log(spec: &LogSpec) -> Result<(AccelLog, LogTruth), SignalError> {
     }
     let near_gap = |x: f64| gaps.iter().any(|g| x > g.0 - 2.0 * dt && x < g.1 + 2.0 * dt);
     for s in &mut truth_strokes {
-        s.hidden = near_gap(s.bdc) || s.strike.is_some_and(near_gap) || near_gap(s.turned);
+        // A gap between the bottom and the strike leaves a reader unable to
+        // tell whether it struck in the gap.
+        let between = |x: f64| gaps.iter().any(|g| g.1 > s.bdc && g.0 < x);
+        s.hidden = near_gap(s.bdc) || s.strike.is_some_and(|x| near_gap(x) || between(x)) || near_gap(s.turned);
     }
 
     // The readings.
