@@ -131,8 +131,8 @@ pub struct LogStroke {
     pub hand: bool,
     /// The clapper's first strike after bottom dead centre (s), if any.
     pub strike: Option<f64>,
-    /// Whether a gap in the log (samples lost: an interval over 1.75 times
-    /// the usual) lies between bottom dead centre and the first burst after
+    /// Whether a gap in the log (samples lost: an interval over [`GAP`]
+    /// times the usual) lies between bottom dead centre and the first burst after
     /// it: the clapper may have struck in the gap, so `strike` is `None`
     /// (not known, rather than not struck).
     pub strike_hidden: bool,
@@ -1215,9 +1215,10 @@ fn strokes(
 /// about it, so a symmetric window adds no bias, and a long one averages
 /// the noise down where a small swing moves slowly (at 400 Hz a 20 deg
 /// swing's bottom moved 2 samples either way in a ±5 ms window). A gap in
-/// the log (an interval over 1.75 `interval`) narrows the window on both
-/// sides: one-sided, the curve of f beyond the line (sin θ, a rope's pull)
-/// moved a small swing's bottom 7 ms (1.8 samples at 250 Hz).
+/// the log ([`GAP`]) narrows the window on both sides: one-sided, the curve
+/// of f beyond the line (sin θ, a rope's pull) put a slow swing's bottom,
+/// 60 ms before a gap, 7.2 ms early (1.8 samples at 250 Hz); symmetric,
+/// 4.9 ms (the θ'' fits there still have few samples after it).
 fn bottom_time(t: &[f64], f: &[f64], burst: &[bool], (tc, interval): (f64, f64), slope: f64) -> f64 {
     let n = t.len();
     let k = t.partition_point(|&x| x < tc).clamp(1, n - 1);
@@ -1225,7 +1226,7 @@ fn bottom_time(t: &[f64], f: &[f64], burst: &[bool], (tc, interval): (f64, f64),
     // (At a gap the interval is long: the window stays within ±0.12 s.)
     let shortest = 0.005f64.max(1.5 * dt).min(0.12);
     let mut half = (BOTTOM_SPAN / slope.abs().max(1e-9)).clamp(shortest, 0.12);
-    let gap = |q: usize| t[q] - t[q - 1] > 1.75 * interval;
+    let gap = |q: usize| t[q] - t[q - 1] > GAP * interval;
     let (mut lo, mut hi) = (k - 1, k);
     while lo > 0 && tc - t[lo] < half && !gap(lo) {
         lo -= 1;
@@ -1258,6 +1259,11 @@ fn bottom_time(t: &[f64], f: &[f64], burst: &[bool], (tc, interval): (f64, f64),
         tc
     }
 }
+
+/// An interval over this many times the median is a gap (samples lost):
+/// past the 2 % jitter of a logger like belfry-sleuth's with room to
+/// spare, short of one lost sample (2).
+pub const GAP: f64 = 1.75;
 
 /// The reading's span either side of a bottom that [`bottom_time`] fits a
 /// line over (m/s²): 2 m/s² is g sin θ within ±12 deg of the bottom, where
@@ -1510,7 +1516,7 @@ fn hide_strikes_after_gaps(t: &[f64], interval: f64, strokes: &mut [LogStroke], 
             t.partition_point(|&x| x <= s.bdc).max(1),
             t.partition_point(|&x| x <= ts),
         );
-        if (a..b).any(|k| t[k] - t[k - 1] > 1.75 * interval) {
+        if (a..b).any(|k| t[k] - t[k - 1] > GAP * interval) {
             s.strike = None;
             s.strike_theta = None;
             s.strike_hidden = true;
