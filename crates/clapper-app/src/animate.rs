@@ -34,7 +34,7 @@ pub const MAX_STROKES: usize = 200;
 #[serde(rename_all = "kebab-case")]
 pub enum Arrangement {
     /// Every bell starts at once and rings its own strokes (one bell, or
-    /// two compared side by side), with [`AnimateOptions::gap`] before each
+    /// two compared side by side), with the sound's handstroke gap (`AnimateOptions::sound`) before each
     /// handstroke.
     #[default]
     SideBySide,

@@ -20,7 +20,7 @@ pub struct AnimateArgs {
     /// --trace and --plot aside).
     #[command(flatten)]
     pub sim: SimulateArgs,
-    /// A ring file (as `diagnose` takes: TOML [[bell]] tables or CSV): its
+    /// A ring file (as `diagnose` takes: TOML `[[bell]]` tables or CSV): its
     /// bells ring rounds together, each with the options above.
     #[arg(long, value_name = "FILE", conflicts_with_all = ["preset", "bell", "chart_point"])]
     pub ring: Option<PathBuf>,

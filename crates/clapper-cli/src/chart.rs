@@ -195,7 +195,7 @@ pub struct ChartArgs {
     /// Draw the chart (.svg or .png).
     #[arg(long, value_name = "FILE")]
     pub out: Option<PathBuf>,
-    /// Mark these bells on the chart (a bell file, or [[bell]] tables).
+    /// Mark these bells on the chart (a bell file, or `[[bell]]` tables).
     #[arg(long, value_name = "FILE")]
     pub bells: Option<PathBuf>,
     /// Compute only shard I of N (1-based) of the sweep, into --csv, for a

@@ -11,7 +11,7 @@ use clapper_io::bell_file::LoadedBell;
 
 #[derive(Args, Debug)]
 pub struct DiagnoseArgs {
-    /// A bell file (TOML), a ring ([[bell]] tables, or CSV with one bell a row).
+    /// A bell file (TOML), a ring (`[[bell]]` tables, or CSV with one bell a row).
     #[arg(value_name = "FILE", required_unless_present = "preset", conflicts_with = "preset")]
     pub file: Option<PathBuf>,
     /// A bell of the paper's Table 1.

@@ -267,7 +267,15 @@ fn bursts(log: &AccelLog, clip: f64) -> (Vec<bool>, Vec<usize>) {
         if hot {
             // A new burst unless one is still ringing (within 60 ms).
             if last_hot.is_none_or(|t| log.t[k] - t > 0.06) {
-                onsets.push(k);
+                // An impact just before a sample can read small there
+                // (the ring near a node on every axis): the burst starts
+                // one sample early when that sample already departs from
+                // its prediction by half the threshold, far above noise.
+                // (That sample stays out of the mask: under the threshold
+                // it does the angle little harm, and masking it too moved
+                // a real log's unwrapped angle while raising by a turn.)
+                let early = k > 2 && d[k - 1] > 0.5 * threshold && !mask[k - 1];
+                onsets.push(if early { k - 1 } else { k });
             }
             last_hot = Some(log.t[k]);
         }
@@ -341,6 +349,9 @@ struct Angle {
     joint_rate: Vec<f64>,
     /// θ'' from the joint fits (rad/s²).
     acc: Vec<f64>,
+    /// Whether the joint fit's cubic gave the sample's θ' and θ'' (not
+    /// the fallback's, one-sided at a gap or the log's ends).
+    cubic: Vec<bool>,
     h: f64,
     /// The sensor's distance across the axis (m), fitted.
     d: f64,
@@ -386,9 +397,9 @@ fn angle(log: &AccelLog, bad: &[bool], given: Option<f64>, falls: Option<&Falls>
         let j = joint_fits(log, bad, &theta, place, jw, (&q1, &q2));
         place = fit_sensor(log, bad, &j.d1, &j.d2, known);
         theta = unwrap_fill(&log.t, &j.theta, bad);
-        derivatives = Some((j.d1, j.d2));
+        derivatives = Some((j.d1, j.d2, j.cubic));
     }
-    let (d1, d2) = derivatives.expect("two passes");
+    let (d1, d2, cubic) = derivatives.expect("two passes");
     let misfit = misfit(log, bad, place, &d1, &d2);
     let (smooth, rate, _) = quadratic_fits(&log.t, &theta, bad, best.window);
     // Across a burst the fit bridges better than a straight line, unless
@@ -409,6 +420,7 @@ fn angle(log: &AccelLog, bad: &[bool], given: Option<f64>, falls: Option<&Falls>
         rate,
         joint_rate: d1,
         acc: d2,
+        cubic,
         h: place.0,
         d: place.1,
         fitted: given.is_none(),
@@ -587,6 +599,7 @@ fn joint_fits(
     let n = log.t.len();
     let (t, ft, fr) = (&log.t, &log.tangential, &log.radial);
     let (mut th, mut d1, mut d2) = (theta.to_vec(), fallback.0.to_vec(), fallback.1.to_vec());
+    let mut cubic = vec![false; n];
     let (mut lo, mut hi) = (0, 0);
     for k in 0..n {
         while t[k] - t[lo] > w {
@@ -660,9 +673,15 @@ fn joint_fits(
             th[k] = a[0];
             d1[k] = a[1];
             d2[k] = 2.0 * a[2];
+            cubic[k] = true;
         }
     }
-    JointFits { theta: th, d1, d2 }
+    JointFits {
+        theta: th,
+        d1,
+        d2,
+        cubic,
+    }
 }
 
 /// The sensor's place read from the bell's falls from rest at the balance
@@ -881,6 +900,8 @@ struct JointFits {
     theta: Vec<f64>,
     d1: Vec<f64>,
     d2: Vec<f64>,
+    /// Whether the cubic was fitted at the sample (else the fallback).
+    cubic: Vec<bool>,
 }
 
 /// The sensor's place (h along the axis above the pivot, d across it; m)
@@ -1025,6 +1046,7 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         rate: d1,
         joint_rate: j1,
         acc: d2,
+        cubic,
         h,
         d: across,
         fitted,
@@ -1060,7 +1082,7 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
             &theta,
             &smooth,
             (&d1, &j1, &d2, h, across),
-            (&burst, &onsets),
+            (&burst, &onsets, &cubic),
             &rests,
             (min_gap, interval),
         )
@@ -1147,7 +1169,7 @@ fn strokes(
     theta: &[f64],
     smooth: &[f64],
     (d1, j1, d2, h, across): (&[f64], &[f64], &[f64], f64, f64),
-    (burst, onsets): (&[bool], &[usize]),
+    (burst, onsets, cubic): (&[bool], &[usize], &[bool]),
     rests: &[(f64, f64, f64)],
     (min_gap, interval): (f64, f64),
 ) -> Vec<LogStroke> {
@@ -1178,7 +1200,7 @@ fn strokes(
                 .min_by_key(|&j| j.abs_diff(k));
             if let Some(j) = near {
                 tc = t[j] + (t[j + 1] - t[j]) * f[j] / (f[j] - f[j + 1]);
-                tc = bottom_time(t, &f, burst, (tc, interval), G * 0.5 * (d1[k] + d1[k + 1]));
+                tc = bottom_time(t, &f, (burst, cubic), (tc, interval), G * 0.5 * (d1[k] + d1[k + 1]));
             }
             bdcs.push((tc, k));
         }
@@ -1215,11 +1237,20 @@ fn strokes(
 /// about it, so a symmetric window adds no bias, and a long one averages
 /// the noise down where a small swing moves slowly (at 400 Hz a 20 deg
 /// swing's bottom moved 2 samples either way in a ±5 ms window). A gap in
-/// the log ([`GAP`]) narrows the window on both sides: one-sided, the curve
-/// of f beyond the line (sin θ, a rope's pull) put a slow swing's bottom,
-/// 60 ms before a gap, 7.2 ms early (1.8 samples at 250 Hz); symmetric,
-/// 4.9 ms (the θ'' fits there still have few samples after it).
-fn bottom_time(t: &[f64], f: &[f64], burst: &[bool], (tc, interval): (f64, f64), slope: f64) -> f64 {
+/// the log ([`GAP`]) narrows the window on both sides, and so does a clean
+/// sample whose θ'' is not the angle's cubic (`cubic` false: the fallback,
+/// one-sided, near a gap or the log's ends): one-sided, the curve of f
+/// beyond the line (sin θ, a rope's pull) put a slow swing's bottom, 60 ms
+/// before a gap, 7.2 ms early (1.8 samples at 250 Hz); symmetric at the
+/// gap, 4.9 ms, its last 16 ms corrected by the fallback's θ''; symmetric
+/// short of those, 0.04 ms.
+fn bottom_time(
+    t: &[f64],
+    f: &[f64],
+    (burst, cubic): (&[bool], &[bool]),
+    (tc, interval): (f64, f64),
+    slope: f64,
+) -> f64 {
     let n = t.len();
     let k = t.partition_point(|&x| x < tc).clamp(1, n - 1);
     let dt = t[k] - t[k - 1];
@@ -1227,11 +1258,13 @@ fn bottom_time(t: &[f64], f: &[f64], burst: &[bool], (tc, interval): (f64, f64),
     let shortest = 0.005f64.max(1.5 * dt).min(0.12);
     let mut half = (BOTTOM_SPAN / slope.abs().max(1e-9)).clamp(shortest, 0.12);
     let gap = |q: usize| t[q] - t[q - 1] > GAP * interval;
+    // A clean sample whose θ'' is not the cubic's is one-sided: an edge.
+    let edge = |q: usize| !burst[q] && !cubic[q];
     let (mut lo, mut hi) = (k - 1, k);
-    while lo > 0 && tc - t[lo] < half && !gap(lo) {
+    while lo > 0 && tc - t[lo] < half && !gap(lo) && !edge(lo - 1) {
         lo -= 1;
     }
-    while hi + 1 < n && t[hi] - tc < half && !gap(hi + 1) {
+    while hi + 1 < n && t[hi] - tc < half && !gap(hi + 1) && !edge(hi + 1) {
         hi += 1;
     }
     half = half.min(tc - t[lo]).min(t[hi] - tc);
@@ -1570,8 +1603,84 @@ mod tests {
             .map(|&x| 2.0 * (x - t0) + 60.0 * (x - t0) * (x - t0).abs())
             .collect();
         let burst = vec![false; t.len()];
-        let got = bottom_time(&t, &f, &burst, (t0, 0.01), 2.0);
+        let cubic = vec![true; t.len()];
+        let got = bottom_time(&t, &f, (&burst, &cubic), (t0, 0.01), 2.0);
         assert!((got - t0).abs() < 1e-9, "{got}");
+    }
+
+    /// Two bottoms come at least `min_gap` apart: the angle shaken back
+    /// across zero 0.1 s after a bottom (as a strike's burst can read) is
+    /// not taken for two more bottoms.
+    #[test]
+    fn a_crossing_soon_after_a_bottom_is_not_a_bottom() {
+        // A 1 rad swing of period 2 s (bottoms at 1, 2, 3, 4 s), 100 Hz,
+        // the sensor at the pivot.
+        let t: Vec<f64> = (0..500).map(|k| k as f64 * 0.01).collect();
+        let w = std::f64::consts::PI;
+        let mut theta: Vec<f64> = t.iter().map(|&x| (w * x).sin()).collect();
+        let d1: Vec<f64> = t.iter().map(|&x| w * (w * x).cos()).collect();
+        let d2: Vec<f64> = theta.iter().map(|&q| -w * w * q).collect();
+        let log = AccelLog {
+            name: None,
+            radial: theta.iter().map(|q| G * q.cos()).collect(),
+            tangential: theta.iter().map(|q| G * q.sin()).collect(),
+            axle: vec![0.0; t.len()],
+            t: t.clone(),
+        };
+        // Shaken back below zero for two samples 0.1 s after the bottom at 2 s.
+        theta[210] = -0.02;
+        theta[211] = -0.01;
+        let (burst, cubic) = (vec![false; t.len()], vec![true; t.len()]);
+        let bottoms = |min_gap: f64| -> Vec<f64> {
+            strokes(
+                &log,
+                &theta,
+                &theta,
+                (&d1, &d1, &d2, 0.0, 0.0),
+                (&burst, &[], &cubic),
+                &[],
+                (min_gap, 0.01),
+            )
+            .iter()
+            .map(|s| s.bdc)
+            .collect()
+        };
+        let got = bottoms(0.3);
+        assert_eq!(got.len(), 4, "{got:?}");
+        for (b, want) in got.iter().zip([1.0, 2.0, 3.0, 4.0]) {
+            assert!((b - want).abs() < 1e-3, "{got:?}");
+        }
+        // Without the rule the shaking reads as two more bottoms.
+        assert_eq!(bottoms(0.0).len(), 6);
+    }
+
+    /// Where the angle's cubic could not be fitted (near the log's end, a
+    /// gap's edge) θ'' is one-sided and the reading there is not trusted:
+    /// the bottom's window stops short of it on both sides, as at a gap.
+    #[test]
+    fn samples_without_the_cubic_cut_a_bottoms_window_on_both_sides() {
+        let t0 = 1.005;
+        let t: Vec<f64> = (0..300).map(|k| k as f64 * 0.01).collect();
+        // The reading odd about t0 up to t0 + 0.04 s, then skewed.
+        let f: Vec<f64> = t
+            .iter()
+            .map(|&x| {
+                2.0 * (x - t0)
+                    + if x > t0 + 0.04 {
+                        3.0
+                    } else {
+                        60.0 * (x - t0) * (x - t0).abs()
+                    }
+            })
+            .collect();
+        let burst = vec![false; t.len()];
+        let mut cubic: Vec<bool> = t.iter().map(|&x| x < t0 + 0.04).collect();
+        let got = bottom_time(&t, &f, (&burst, &cubic), (t0, 0.01), 2.0);
+        assert!((got - t0).abs() < 1e-9, "{got}");
+        // Trusted everywhere, the skewed samples pull the line off.
+        cubic.fill(true);
+        let all = bottom_time(&t, &f, (&burst, &cubic), (t0, 0.01), 2.0);
+        assert!((all - t0).abs() > 1e-3, "{all}");
     }
 
     /// A gap between a bottom and the burst read after it leaves the

@@ -27,7 +27,7 @@ use crate::{Signal, SignalError};
 /// One bell of the ring.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct RingBell {
-    /// Nominal frequency (Hz): the partials are [`typical_partials`] scaled to it.
+    /// Nominal frequency (Hz): the partials are [`typical_partials`](crate::synth::typical_partials) scaled to it.
     pub nominal_hz: f64,
     /// Mass (kg): sets the partials' effective masses and the strike's impulse.
     pub mass_kg: f64,

@@ -363,18 +363,13 @@ fn thirty_varied_logs_are_read_within_a_sample() {
         s.found,
         s.strokes
     );
-    // One bottom in 500 may be past one sample: a slow swing of lowering
-    // beside a gap (37.6 deg, 60 ms before one: 1.23 samples at 250 Hz),
-    // where the fits of θ'' that correct the reading have few samples
-    // after it.
+    // Every bottom within a sample, the slow swings of raising and lowering
+    // too (the last, a 37.6 deg swing of lowering 60 ms before a gap, read
+    // 1.23 samples off before its window stopped short of the samples
+    // without the angle's cubic).
+    assert_eq!(s.bdc_over, 0, "bottoms past one sample");
     assert!(
-        s.bdc_over * 500 <= s.found,
-        "{} of {} bottoms past one sample",
-        s.bdc_over,
-        s.found
-    );
-    assert!(
-        s.bdc_worst.max(s.bdc_worst_small) <= 1.5,
+        s.bdc_worst.max(s.bdc_worst_small) <= 1.0,
         "BDC off by {} samples",
         s.bdc_worst.max(s.bdc_worst_small)
     );
@@ -385,17 +380,10 @@ fn thirty_varied_logs_are_read_within_a_sample() {
     );
     assert!(s.phase_worst <= 1.0, "a phase boundary off by {} s", s.phase_worst);
     assert!(place_worst < 0.008, "sensor place off by {place_worst} m");
-    // Every strike found; one in 500 may be read a sample late, where the
-    // first sample after the impact caught the burst's ring near a node on
-    // every axis (0.68 ms after a 34 m/s² impact, it read 2 m/s²).
-    assert_eq!(s.strikes_found, s.strikes, "strikes found");
-    assert!(
-        s.strike_over * 500 <= s.strikes,
-        "{} strikes past one sample",
-        s.strike_over
-    );
-    assert!(s.strike_worst <= 2.0, "strike off by {} samples", s.strike_worst);
-    assert!(s.amplitude_worst <= 2.0, "amplitude off by {} deg", s.amplitude_worst);
-    assert_eq!(s.hand_wrong, 0, "hand/back labels");
-    assert!(s.odd_worst <= 5.0, "odd-struckness off by {} ms", s.odd_worst);
+    // Every strike within a sample, the one too (0.68 ms after a 34 m/s²
+    // impact, its ring near a node on every axis) whose first sample read
+    // 2 m/s², under the burst threshold: it is taken as the onset because
+    // it departs from its prediction by over half the threshold.
+    assert_eq!(s.strike_over, 0, "strikes past one sample");
+    assert_strikes_amplitudes_sides(&s);
 }

@@ -2,10 +2,10 @@
 //! with any contact law (docs/model.md §3, §4), and every quantity of a
 //! stroke.
 //!
-//! [`run_stroke`] is a short loop: build the [`segment`] for the clapper's
-//! state, let the stepper run it to its first event, hand a contact event
-//! to the [`ContactLaw`](crate::contact::ContactLaw), and tell the
-//! [`recorder`] what happened.
+//! [`run_stroke`] is a short loop: build the segment (`segment.rs`) for
+//! the clapper's state, let the stepper run it to its first event, hand a
+//! contact event to the [`ContactLaw`], and tell the recorder
+//! (`recorder.rs`) what happened.
 
 mod recorder;
 mod segment;
