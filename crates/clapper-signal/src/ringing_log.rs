@@ -1242,8 +1242,8 @@ fn strokes(
 /// one-sided, near a gap or the log's ends): one-sided, the curve of f
 /// beyond the line (sin θ, a rope's pull) put a slow swing's bottom, 60 ms
 /// before a gap, 7.2 ms early (1.8 samples at 250 Hz); symmetric at the
-/// gap, 4.9 ms, its last 16 ms corrected by the fallback's θ''; symmetric
-/// short of those, 0.04 ms.
+/// gap, 4.9 ms, its last samples corrected by the fallback's θ'';
+/// symmetric short of those, 0.04 ms.
 fn bottom_time(
     t: &[f64],
     f: &[f64],

@@ -472,9 +472,6 @@ const SHARED_BAND_QUIET: f64 = 0.2;
 /// One band to listen in: centre (Hz), weight, box length (samples).
 type BandSpec = (f64, f64, usize);
 
-/// What a bell is heard in: its bands, and the strong partials it shares
-/// with other bells (with those bells, from 0) that are left out of them,
-/// to be fitted for a double strike where no sharing bell strikes.
 /// A band of a bell's partial that other bells (`with`) share: its change
 /// ([`change`]) and typical step kept, for timing and double strikes
 /// between the sharers' strikes.
@@ -492,6 +489,9 @@ impl SharedBand {
     }
 }
 
+/// What a bell is heard in: its bands, and the strong partials it shares
+/// with other bells (with those bells, from 0) that are left out of them,
+/// to be fitted for a double strike where no sharing bell strikes.
 struct BandPlan {
     bands: Vec<BandSpec>,
     shared: Vec<(BandSpec, Vec<usize>)>,
@@ -824,9 +824,9 @@ impl BellHearing {
     /// own and those it shares (where no sharing bell strikes nearby), on
     /// one footing: in a room each band hears a bell's strikes late (or
     /// early) by the same amount every time (the room's sound at that
-    /// partial), so each band's lateness is learned over the strikes (its
-    /// median against the strikes' times) and taken off, and the lateness
-    /// the bell is heard with is the weighted median of the bands'. A band
+    /// partial), so each band's lateness is learned over the strikes and
+    /// taken off ([`on_one_footing`]), and the lateness the bell is heard
+    /// with is the weighted median of the bands'. A band
     /// heard in some strikes and not others (a shared band, quiet only
     /// between the sharers' strikes) then moves none of them against the
     /// rest: a handstroke and a backstroke have different neighbours.
@@ -1094,8 +1094,9 @@ fn box3_reaches(level: f64) -> f64 {
 }
 
 /// The onset heard in band `b` (with its change `c`) near band sample `m`
-/// (s), and its weight (shorter boxes and clearer steps weigh more), if
-/// the strike is heard there ([`ONSET_LEVEL`]). A shared band (`faint`)
+/// (s), timed `level` of the way up its rise ([`ONSET_LEVEL`] for the
+/// times reported), and its weight (shorter boxes and clearer steps weigh
+/// more), if the strike is heard there. A shared band (`faint`)
 /// is used only where what rings there before the strike is small beside
 /// the strike's step.
 fn band_onset(b: &Band, c: &[f64], m: usize, faint: bool, level: f64) -> Option<(f64, f64)> {
