@@ -100,11 +100,13 @@ fn a_reverberant_tower_does_not_pass_for_double_strikes() {
 /// hum and tierce, whose long boxes cannot tell a second strike sooner
 /// than about 120 ms. The partials it shares are fitted for a double
 /// strike where no sharing bell strikes nearby and what rings there
-/// before the strike is faint: most of its short doubles are flagged, with
-/// their delay within 20 ms (its first strike is timed in the long boxes).
+/// before the strike is faint, and its own bands from 1.5 boxes: most of
+/// its short doubles are flagged, nine in ten with their delay within
+/// 10 ms and all within 30 ms (its first strike is timed in long boxes).
 #[test]
 fn a_double_strike_is_told_in_a_band_shared_with_another_bell() {
     let (mut found, mut put, mut false_doubles) = (0, 0, 0);
+    let mut delay_errors = vec![];
     for seed in 1..=4 {
         let bells = major_scale(8, 1400.0).expect("at most 16 bells");
         let doubles = [(3, 45.0), (7, 55.0), (11, 65.0), (15, 50.0), (19, 60.0), (23, 80.0)]
@@ -129,16 +131,21 @@ fn a_double_strike_is_told_in_a_band_shared_with_another_bell() {
         found += sc.doubles_found;
         for (dd, dr) in &sc.double_errors {
             assert!(
-                dd.abs() < 0.02 && dr.abs() < 0.35,
+                dd.abs() < 0.03 && dr.abs() < 0.35,
                 "seed {seed}: double off by {dd} s, ratio {dr}"
             );
+            delay_errors.push(dd.abs());
         }
         put += sc.doubles_put;
         false_doubles += sc.false_doubles;
     }
-    // Measured: 20 of 24 (7 of 24 in its own bands alone), 2 false.
-    assert!(found >= 16, "{found} of {put} doubles of bell 6 flagged");
-    assert!(false_doubles <= 2, "{false_doubles} false doubles");
+    // Measured: 24 of 24, 3 false, delays 23 within 6 ms and one 25 ms
+    // off (before its own bands were fitted from 1.5 boxes and strikes
+    // slid: 20 of 24, 2 false; in its own bands alone 7 of 24).
+    assert!(found >= 20, "{found} of {put} doubles of bell 6 flagged");
+    assert!(false_doubles <= 3, "{false_doubles} false doubles");
+    let close = delay_errors.iter().filter(|e| **e < 0.01).count();
+    assert!(close * 10 >= delay_errors.len() * 9, "{delay_errors:?}");
 }
 
 #[test]
