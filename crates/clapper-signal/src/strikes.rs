@@ -1465,9 +1465,9 @@ impl Fitted<'_> {
         (g, r, zz)
     }
 
-    /// The strike fitted alone (error `e1`) and with a second copy
-    /// later: (error alone, error with both, first's size, second's size).
-    fn pair(&self, sh: &Shifted, single: &Single, e1: f64) -> (f64, f64, f64, f64) {
+    /// The strike fitted with a second copy later: (error with both,
+    /// first's size, second's size).
+    fn pair(&self, sh: &Shifted, single: &Single) -> (f64, f64, f64) {
         let (z, g, r, zz) = single;
         let g3 = vec![
             vec![g[0][0], g[0][1], sh.sum],
@@ -1476,7 +1476,7 @@ impl Fitted<'_> {
         ];
         let r3 = vec![r[0], r[1], dot(&sh.r2, z)];
         let (e2, c) = fit_gram(&g3, &r3, *zz);
-        (e1, e2, c[1].0.hypot(c[1].1), c[2].0.hypot(c[2].1))
+        (e2, c[1].0.hypot(c[1].1), c[2].0.hypot(c[2].1))
     }
 }
 
@@ -1577,15 +1577,13 @@ fn second_strike(fits: &[&Fitted], t: f64, opts: &StrikeOptions) -> Option<Heard
     }
     let (k_best, e1_best, _) = alone?;
     let e1_best: Vec<Option<f64>> = e1_best.iter().map(|e| e.map(|x| x.0)).collect();
-    let singles_at = |k: usize| -> Vec<Option<(Single, f64)>> {
+    let singles_at = |k: usize| -> Vec<Option<Single>> {
         fits.iter()
             .zip(&long)
             .map(|(f, z)| {
                 let z = &z.as_ref()?[k..k + f.resp.lead + f.tail];
                 let (g, r, zz) = f.gram_of(z);
-                let single = (z.to_vec(), g, r, zz);
-                let e1 = fit_gram(&single.1, &single.2, single.3).0;
-                Some((single, e1))
+                Some((z.to_vec(), g, r, zz))
             })
             .collect()
     };
@@ -1599,7 +1597,7 @@ fn second_strike(fits: &[&Fitted], t: f64, opts: &StrikeOptions) -> Option<Heard
         for (j, d) in delays(opts, rate).enumerate() {
             let (mut e1, mut e2, mut ratios) = (0.0, 0.0, vec![]);
             for ((f, single), e1b) in fits.iter().zip(singles).zip(&e1_best) {
-                let (Some((single, one)), Some(e1b)) = (single, e1b) else {
+                let (Some(single), Some(e1b)) = (single, e1b) else {
                     continue;
                 };
                 // The band's delays are the window's from its first it can tell.
@@ -1608,7 +1606,7 @@ fn second_strike(fits: &[&Fitted], t: f64, opts: &StrikeOptions) -> Option<Heard
                     continue;
                 };
                 debug_assert!((sh.d - d).abs() < 1e-9);
-                let (_, b, s1, s2) = f.pair(sh, single, *one);
+                let (b, s1, s2) = f.pair(sh, single);
                 if s1 <= 0.0 {
                     continue;
                 }
