@@ -343,9 +343,9 @@ pub fn find_strikes(sig: &Signal, voices: &[BellVoice], opts: &StrikeOptions) ->
     for (b, (h, found)) in heard.iter().zip(firsts).enumerate() {
         // Doubles are fitted about the start times, each strike free to
         // slide a little first (`second_strike`): about the half-way times
-        // (moved by the bell's median lateness) a double of 40 ms with a
-        // second half as loud was fitted up to 64 ms late, its first
-        // strike's rise merged with its second's in the long bands.
+        // (moved by the bell's median lateness) doubles of 52 and 76 ms
+        // were fitted 37 and 64 ms late at RT60 1.2 s, the first strike's
+        // rise merged with the second's in the long bands.
         let timed = h.timed(found, &shared_bands[b], &times);
         let doubles = h.doubles(&timed, &shared_bands[b], &times, opts);
         let found = timed;
