@@ -1536,7 +1536,8 @@ fn second_strike(fits: &[&Fitted], t: f64, opts: &StrikeOptions) -> Option<Heard
     let rate = fits.first()?.band.rate;
     // One strike at its best time: the least error alone within SLIDE_S of
     // t, each band's over its strike's size squared. Each band's window is
-    // read once, long enough for every slide.
+    // read once, long enough for every slide (so a band is not fitted for
+    // a strike within 20 ms of where its window would leave the recording).
     let slide = (SLIDE_S * rate).round() as usize;
     let long: Vec<Option<Vec<C>>> = fits
         .iter()
@@ -1639,7 +1640,7 @@ fn second_strike(fits: &[&Fitted], t: f64, opts: &StrikeOptions) -> Option<Heard
 /// later takes away. Over 40 benchmark recordings per condition, false
 /// doubles in % of strikes at ±6 / ±12 / ±20 ms: at RT60 1.2 s 25 dB
 /// 0.89 / 0.74 / 0.59, without a room 0.72 / 0.48 / 0.41, the doubles
-/// flagged within one of each other.
+/// flagged within three of 240 of each other.
 const SLIDE_S: f64 = 0.02;
 
 /// The share of the one-copy error a second copy must take away to be a
@@ -1655,8 +1656,8 @@ const DOUBLE_MIN_GAIN: f64 = 0.6;
 /// benchmark, heard in its own bands only through 33-44 ms boxes, could be
 /// told no double under 100-130 ms there; at 1.5, over the benchmark's
 /// first 20 recordings at RT60 1.2 s, 115 of 120 doubles were flagged
-/// against 112 (fitted about the half-way times, ±8 ms sliding), false
-/// doubles 0.91 % of strikes against 0.88 %.
+/// against 112 (fitted about the half-way times, ±8 ms sliding, a gain
+/// of 0.5), false doubles 0.91 % of strikes against 0.88 %.
 const DOUBLE_MIN_BOXES: f64 = 1.5;
 
 /// Window `z` fitted by a constant and the response `r` (with Σ r = `s`,
@@ -1690,9 +1691,9 @@ fn fit_alone(z: &[C], r: &[C], s: C, rr: f64) -> Option<(f64, C)> {
 /// was timed before its sound (on noise, or on another bell's partial
 /// beating in a weak band), not a double. A strike is taken as the first
 /// of a double only when the first stands at least half as high as the
-/// second (`first_of_double`), so no double it flags exceeds 2. Over the
-/// benchmark's first 20 recordings at 15 dB and RT60 1.2 s, a third of the
-/// false doubles had ratios of 2.2 to 85; the best second copy within the
+/// second in the onset function (`first_of_double`), the same bound.
+/// Over the benchmark's first 20 recordings at 15 dB and RT60 1.2 s, 26
+/// of 72 false doubles had ratios over 2; the best second copy within the
 /// limit took false doubles from 72 to 57 of 6331 strikes, the doubles
 /// flagged 109 of 120 both ways.
 const MAX_DOUBLE_RATIO: f64 = 2.0;
