@@ -230,6 +230,11 @@ pub struct BellDiagnosisReport {
     pub phi_max_deg: f64,
     /// Properties assumed, not measured.
     pub assumed: Vec<String>,
+    /// What is odd about the bell (simulated anyway): an impossible
+    /// inertia, a place off the chart no tower bell has, a contact angle
+    /// no clapper has ([`clapper_core::bell::BellWarning`]).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub warnings: Vec<String>,
     /// Rings right fully up.
     pub rings_right: bool,
     /// Rings wrong fully up.
@@ -344,12 +349,9 @@ fn odd_struck_report(bell: &Bell, opts: &OddStruckOptions) -> Result<Option<OddS
     };
     let now = ms(fix.odd_struck);
     let mut words = format!(
-        "odd-struck by {now:+.1} ms ({}); {:+.2} ms per mm at the ball, {:+.2} ms per mm at the pivot",
-        if now > 0.0 {
-            "handstroke late"
-        } else {
-            "backstroke late"
-        },
+        "odd-struck by {} ({}); {:+.2} ms per mm at the ball, {:+.2} ms per mm at the pivot",
+        crate::simulate::odd_struck_ms_text(now),
+        crate::simulate::which_stroke_late(now),
         // s per m is ms per mm.
         fix.per_ball_shift,
         fix.per_pivot_shift
@@ -538,6 +540,7 @@ fn bell_json(b: &LoadedBell, d: &BellDiagnosis, outlier: &[String]) -> BellDiagn
         r_mm: bell.r * 1e3,
         phi_max_deg: bell.phi_max.to_degrees(),
         assumed,
+        warnings: bell.warnings().iter().map(ToString::to_string).collect(),
         rings_right: d.right.sustained,
         rings_wrong: d.wrong.sustained,
         verdict: verdict(d).into(),
@@ -631,14 +634,22 @@ pub fn text(rep: &DiagnosisReport, source: &str) -> String {
         "diagnosis of {source}: {} bell(s), fully up from 171 deg, R = 0.2 for the verdicts\n",
         rep.bells.len()
     );
+    // The names whole (it cut "GSM tenor (by its parts)" at 12).
+    let nw = rep
+        .bells
+        .iter()
+        .map(|b| b.name.chars().count())
+        .max()
+        .unwrap_or(0)
+        .max(12);
     let _ = writeln!(
         o,
-        "{:<12} {:>6} {:>7} {:>7} {:>9} {:>8} {:>8} {:>7} {:>7} {:>7} {:>9} {:>7}",
+        "{:<nw$} {:>6} {:>7} {:>7} {:>9} {:>8} {:>8} {:>7} {:>7} {:>7} {:>9} {:>7}",
         "bell", "r/L_c", "L_b/L_c", "rings", "strike", "phi'", "lift-off", "D.05", "D.1", "D.2", "min th0 R", "margin"
     );
     let _ = writeln!(
         o,
-        "{:<12} {:>6} {:>7} {:>7} {:>9} {:>8} {:>8} {:>7} {:>7} {:>7} {:>9} {:>7}",
+        "{:<nw$} {:>6} {:>7} {:>7} {:>9} {:>8} {:>8} {:>7} {:>7} {:>7} {:>9} {:>7}",
         "", "", "", "", "deg", "rad/s", "deg", "", "", "", "deg", "chart"
     );
     for b in &rep.bells {
@@ -648,10 +659,10 @@ pub fn text(rep: &DiagnosisReport, source: &str) -> String {
         } else {
             "  <- stands apart"
         };
-        let name: String = b.name.chars().take(12).collect();
+        let name = &b.name;
         let _ = writeln!(
             o,
-            "{name:<12} {:>6} {:>7} {:>7} {:>9} {:>8} {:>8} {:>7} {:>7} {:>7} {:>9} {:>7}{apart}",
+            "{name:<nw$} {:>6} {:>7} {:>7} {:>9} {:>8} {:>8} {:>7} {:>7} {:>7} {:>9} {:>7}{apart}",
             c[0],
             c[1],
             c[2],
@@ -678,6 +689,9 @@ pub fn text(rep: &DiagnosisReport, source: &str) -> String {
         );
         if !b.assumed.is_empty() {
             let _ = writeln!(o, "  assumed, not measured: {}", b.assumed.join(", "));
+        }
+        for w in &b.warnings {
+            let _ = writeln!(o, "  warning: {w}");
         }
         let usual = b.usual_style.as_deref().unwrap_or("neither way");
         let _ = writeln!(
@@ -880,11 +894,33 @@ pub fn diagnose_bells_with(bells: &[LoadedBell], odd: &OddStruckOptions) -> Resu
 /// The chart of styles with `bells` marked, and a close-up around them,
 /// as SVG text (two 40 x 40 sweeps, about 0.3 s on two cores).
 pub fn chart_svg(bells: &[LoadedBell]) -> Result<String, AppError> {
+    // The chart is drawn for the bells' own contact angle (their median),
+    // not the paper's 26 deg: a ring of 28-30 deg was drawn on a 26 deg chart.
+    let mut phis: Vec<f64> = bells.iter().map(|b| b.bell.phi_max).collect();
+    phis.sort_by(f64::total_cmp);
+    let phi_max = match phis.len() {
+        0 => clapper_core::bell::CHART_PHI_MAX_DEG.to_radians(),
+        n if n % 2 == 1 => phis[n / 2],
+        n => 0.5 * (phis[n / 2 - 1] + phis[n / 2]),
+    };
     let spec = ChartSpec {
         nx: 40,
         ny: 40,
         styles: Styles::Both,
+        construction: clapper_core::bell::ChartConstruction {
+            phi_max,
+            ..Default::default()
+        },
         ..ChartSpec::default()
+    };
+    let phi_words = match (phis.first(), phis.last()) {
+        (Some(lo), Some(hi)) if hi - lo > 0.05f64.to_radians() => format!(
+            "phi_max = {:.1} deg, the bells' median; theirs {:.1} to {:.1} deg",
+            phi_max.to_degrees(),
+            lo.to_degrees(),
+            hi.to_degrees()
+        ),
+        _ => format!("phi_max = {:.1} deg, the bells'", phi_max.to_degrees()),
     };
     let chart = clapper_core::chart::sweep(&spec, &|_| {})?;
     let markers: Vec<Marker> = bells
@@ -898,7 +934,7 @@ pub fn chart_svg(bells: &[LoadedBell]) -> Result<String, AppError> {
     let no_style = || AppError::Request("the chart has no style to show".into());
     let panel = quantity::style_panel(&chart, "").ok_or_else(no_style)?;
     let fig = quantity::figure(
-        "Styles sustained (theta0 = 171 deg, R = 0.2, phi_max = 26 deg)".into(),
+        format!("Styles sustained (theta0 = 171 deg, R = 0.2, {phi_words})"),
         clapper_plot::Quantity::Style,
         vec![panel],
         markers.clone(),

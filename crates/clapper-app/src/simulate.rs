@@ -403,15 +403,37 @@ pub fn summary(r: &SimulationReport) -> String {
     if let Some(odd) = r.odd_struck_ms {
         let _ = writeln!(
             o,
-            "odd-struck: {odd:+.1} ms (bottom dead centre to strike, handstroke minus backstroke{})",
-            if odd > 0.0 {
-                "; handstroke late"
-            } else if odd < 0.0 {
-                "; backstroke late"
-            } else {
-                ""
-            }
+            "odd-struck: {} (bottom dead centre to strike, handstroke minus backstroke; {})",
+            odd_struck_ms_text(odd),
+            which_stroke_late(odd)
         );
     }
     o
+}
+
+/// Below this (ms) an odd-struckness prints as 0.0 at one decimal: half
+/// the printed step, so the words never contradict the figure.
+const EVEN_MS: f64 = 0.05;
+
+/// An odd-struckness (ms, handstroke minus backstroke) at one decimal,
+/// signed, and unsigned `0.0 ms` when it rounds to zero (never `-0.0`).
+pub fn odd_struck_ms_text(ms: f64) -> String {
+    if ms.abs() < EVEN_MS {
+        "0.0 ms".into()
+    } else {
+        format!("{ms:+.1} ms")
+    }
+}
+
+/// Which stroke an odd-struckness (ms, handstroke minus backstroke) makes
+/// late, in words; "evenly struck" when it prints as 0.0 ms (a symmetric
+/// bell gives ±1e-12 ms by rounding, which is no lateness).
+pub fn which_stroke_late(ms: f64) -> &'static str {
+    if ms >= EVEN_MS {
+        "handstroke late"
+    } else if ms <= -EVEN_MS {
+        "backstroke late"
+    } else {
+        "evenly struck"
+    }
 }

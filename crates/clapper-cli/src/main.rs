@@ -120,15 +120,35 @@ enum Command {
     Serve(serve::ServeArgs),
 }
 
-/// Die quietly on a closed pipe (`clapper chart | head`), as Unix tools
-/// do, instead of panicking in `println!`.
-fn restore_sigpipe() {
-    #[cfg(unix)]
-    // SAFETY: setting a signal disposition to its default before any other
-    // thread exists has no memory-safety preconditions.
-    unsafe {
-        libc::signal(libc::SIGPIPE, libc::SIG_DFL);
-    }
+/// Whether `e` (or one of its causes) is a write into a closed pipe.
+fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
+}
+
+/// End quietly with status 0 when standard output is closed by its reader
+/// (`clapper chart --csv - | head -3`): for a pipe that is a normal end,
+/// not an error. SIGPIPE stays ignored (Rust's default), so a write into
+/// the closed pipe fails with EPIPE: `print!` panics with std's "failed
+/// printing to stdout" message, which this hook turns into a quiet exit;
+/// other writes return the error to `main`, which does the same.
+fn quiet_on_closed_stdout() {
+    let default = std::panic::take_hook();
+    std::panic::set_hook(Box::new(move |info| {
+        let payload = info
+            .payload()
+            .downcast_ref::<String>()
+            .map(String::as_str)
+            .or_else(|| info.payload().downcast_ref::<&str>().copied())
+            .unwrap_or("");
+        let epipe = format!("(os error {})", libc::EPIPE);
+        if payload.starts_with("failed printing to stdout") && payload.contains(&epipe) {
+            std::process::exit(0);
+        }
+        default(info);
+    }));
 }
 
 /// clap's error as one line: the error and its tips ("a similar argument
@@ -156,7 +176,7 @@ fn one_line_error(text: &str, subcommand: Option<&str>) -> String {
 }
 
 fn main() {
-    restore_sigpipe();
+    quiet_on_closed_stdout();
     let cli = match Cli::try_parse() {
         Ok(cli) => cli,
         Err(e) if e.use_stderr() => {
@@ -192,6 +212,9 @@ fn main() {
         Command::Serve(args) => serve::run(args),
     };
     if let Err(e) = result {
+        if is_broken_pipe(&e) {
+            std::process::exit(0);
+        }
         eprintln!("error: {e:#}");
         std::process::exit(1);
     }

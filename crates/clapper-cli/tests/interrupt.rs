@@ -33,7 +33,8 @@ fn a_stopped_trace_leaves_no_partial_file() {
         // Wait until it is writing.
         let t = Instant::now();
         while partials(dir.path(), "long.csv").is_empty() {
-            assert!(t.elapsed() < Duration::from_secs(20), "no partial file appeared");
+            // Against a hang only: generous for a loaded machine.
+            assert!(t.elapsed() < Duration::from_secs(120), "no partial file appeared");
             std::thread::sleep(Duration::from_millis(20));
         }
         std::thread::sleep(Duration::from_millis(200));

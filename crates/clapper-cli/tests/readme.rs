@@ -106,7 +106,7 @@ impl Drop for Server {
 
 fn wait_for_port(port: u16, server: &mut Child) {
     let start = Instant::now();
-    while start.elapsed() < Duration::from_secs(30) {
+    while start.elapsed() < Duration::from_secs(120) {
         if let Ok(Some(status)) = server.try_wait() {
             panic!("README's serve line exited ({status}) instead of serving on port {port}");
         }
@@ -115,7 +115,7 @@ fn wait_for_port(port: u16, server: &mut Child) {
         }
         std::thread::sleep(Duration::from_millis(50));
     }
-    panic!("README's serve line did not listen on port {port} within 30 s");
+    panic!("README's serve line did not listen on port {port} within 120 s");
 }
 
 #[test]
@@ -176,6 +176,266 @@ fn every_readme_command_line_runs_as_written() {
     drop(server);
     eprintln!("ran {ran} of README's {} command lines", lines.len());
     assert!(ran + ELSEWHERE.len() >= lines.len());
+    let rewritten = tracked_files_written(&root, &dir);
+    assert!(
+        rewritten.is_empty(),
+        "README's commands, run in a checkout, would rewrite tracked files: {rewritten:?}"
+    );
+}
+
+/// The files under `scratch` (README's commands run there, over a copy of
+/// `examples/` and an empty `docs/`) that are tracked in the checkout at
+/// `root` and were written: every such file under `docs/` (it started
+/// empty), and any under `examples/` whose bytes changed. Run in the
+/// checkout, those commands would rewrite what git keeps.
+fn tracked_files_written(root: &Path, scratch: &Path) -> Vec<String> {
+    let Ok(out) = Command::new("git").args(["ls-files", "-z"]).current_dir(root).output() else {
+        eprintln!("no git: tracked files not checked");
+        return vec![];
+    };
+    if !out.status.success() {
+        eprintln!("not a git checkout: tracked files not checked");
+        return vec![];
+    }
+    let tracked: std::collections::BTreeSet<String> = String::from_utf8_lossy(&out.stdout)
+        .split('\0')
+        .filter(|p| !p.is_empty())
+        .map(str::to_string)
+        .collect();
+    let mut written = vec![];
+    let mut stack = vec![scratch.to_path_buf()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                stack.push(p);
+                continue;
+            }
+            let rel = p.strip_prefix(scratch).unwrap().to_string_lossy().replace('\\', "/");
+            if !tracked.contains(&rel) {
+                continue;
+            }
+            let changed = rel.starts_with("docs/") || std::fs::read(&p).ok() != std::fs::read(root.join(&rel)).ok();
+            if changed {
+                written.push(rel);
+            }
+        }
+    }
+    written.sort();
+    written
+}
+
+/// README's quoted outputs (```` ```text ```` blocks) with the command
+/// that prints each: the last `` `clapper ...` `` or `` `cargo run
+/// --release -- ...` `` span in the prose just before the block.
+fn quoted_outputs(readme: &str) -> Vec<(usize, String, Vec<String>)> {
+    let lines: Vec<&str> = readme.lines().collect();
+    let mut out = vec![];
+    let mut i = 0;
+    while i < lines.len() {
+        if lines[i].trim() != "```text" {
+            i += 1;
+            continue;
+        }
+        let start = i;
+        let mut block = vec![];
+        i += 1;
+        while i < lines.len() && lines[i].trim() != "```" {
+            block.push(lines[i].to_string());
+            i += 1;
+        }
+        // The paragraph before the block (blank lines between), joined.
+        let mut end = start;
+        while end > 0 && lines[end - 1].trim().is_empty() {
+            end -= 1;
+        }
+        let mut k = end;
+        while k > 0 && !lines[k - 1].trim().is_empty() {
+            k -= 1;
+        }
+        let prose = lines[k..end].join(" ");
+        let command = prose
+            .split('`')
+            .skip(1)
+            .step_by(2)
+            .filter(|c| c.starts_with("clapper ") || c.starts_with("cargo run --release -- "))
+            .last()
+            .unwrap_or_else(|| panic!("README:{}: a quoted output with no command before it", start + 1))
+            .to_string();
+        out.push((start + 1, command, block));
+        i += 1;
+    }
+    out.extend(indented_outputs(&lines));
+    out.sort_by_key(|q| q.0);
+    out
+}
+
+/// README's indented quotes: an indented `cargo run --release -- ...`
+/// command (continued by `\`), blank lines, then the indented block it
+/// prints (indentation taken off).
+fn indented_outputs(lines: &[&str]) -> Vec<(usize, String, Vec<String>)> {
+    let indented = |l: &str| l.starts_with("    ");
+    let mut out = vec![];
+    let mut fenced = false;
+    let mut i = 0;
+    while i < lines.len() {
+        if lines[i].trim_start().starts_with("```") {
+            fenced = !fenced;
+        }
+        if fenced || !lines[i].starts_with("    cargo run --release -- ") || (i > 0 && indented(lines[i - 1])) {
+            i += 1;
+            continue;
+        }
+        let mut command = lines[i].trim().to_string();
+        while command.ends_with('\\') && i + 1 < lines.len() {
+            command.pop();
+            i += 1;
+            command = format!("{} {}", command.trim_end(), lines[i].trim());
+        }
+        i += 1;
+        if i < lines.len() && indented(lines[i]) {
+            continue; // more commands in the block: no output quoted
+        }
+        let mut k = i;
+        while k < lines.len() && lines[k].trim().is_empty() {
+            k += 1;
+        }
+        if k == i || k >= lines.len() || !indented(lines[k]) || lines[k].trim_start().starts_with("cargo run") {
+            continue;
+        }
+        let start = k;
+        let mut block = vec![];
+        while k < lines.len() && (indented(lines[k]) || lines[k].trim().is_empty()) {
+            block.push(lines[k].get(4..).unwrap_or("").to_string());
+            k += 1;
+        }
+        while block.last().is_some_and(|l| l.trim().is_empty()) {
+            block.pop();
+        }
+        out.push((start + 1, command, block));
+        i = k;
+    }
+    out
+}
+
+/// A line as compared: a timing (`in 0.13 s on 2 threads (24472
+/// strokes/s)`) is the machine's, so its figures are masked.
+fn comparable(line: &str) -> String {
+    let line = line.trim_end();
+    let timing = line.contains("strokes/s") || (line.contains(" s on ") && line.contains(" thread"));
+    if !timing {
+        return line.to_string();
+    }
+    let mut out = String::new();
+    let mut in_number = false;
+    for c in line.chars() {
+        if c.is_ascii_digit() || (in_number && c == '.') {
+            if !in_number {
+                out.push('#');
+            }
+            in_number = true;
+        } else {
+            in_number = false;
+            out.push(c);
+        }
+    }
+    out
+}
+
+/// Whether `got` is `want`, where a line `...` in `want` stands for any
+/// lines; the first line that differs, if not.
+fn matches_quote(want: &[String], got: &[String]) -> Result<(), String> {
+    let (mut w, mut g) = (0, 0);
+    while w < want.len() {
+        if want[w].trim() == "..." {
+            w += 1;
+            let Some(next) = want.get(w) else { return Ok(()) };
+            while g < got.len() && comparable(&got[g]) != comparable(next) {
+                g += 1;
+            }
+            if g == got.len() {
+                return Err(format!("README's line `{next}` is not printed"));
+            }
+            continue;
+        }
+        match got.get(g) {
+            Some(line) if comparable(line) == comparable(&want[w]) => {}
+            Some(line) => return Err(format!("README says\n  {}\nthe program prints\n  {}", want[w], line)),
+            None => return Err(format!("README's line `{}` is not printed (output ended)", want[w])),
+        }
+        w += 1;
+        g += 1;
+    }
+    if g < got.len() {
+        return Err(format!("the program prints more than README quotes, from `{}`", got[g]));
+    }
+    Ok(())
+}
+
+/// Every output README quotes is what its command prints today (standard
+/// error and output as a terminal shows them), but for timings.
+#[test]
+fn readme_quotes_what_the_program_prints() {
+    let root = root();
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let quotes = quoted_outputs(&readme);
+    assert!(quotes.len() >= 3, "found only {} quoted outputs", quotes.len());
+    let scratch = tempfile::tempdir().unwrap();
+    let dir = scratch.path().join("checkout");
+    copy_dir(&root.join("examples"), &dir.join("examples"));
+    std::fs::create_dir_all(dir.join("docs")).unwrap();
+    let bin = scratch.path().join("bin");
+    std::fs::create_dir_all(&bin).unwrap();
+    std::os::unix::fs::symlink(env!("CARGO_BIN_EXE_clapper"), bin.join("clapper")).unwrap();
+    let mut wrong = vec![];
+    for (n, command, want) in &quotes {
+        let out = bash(&dir, &bin, &format!("{command} 2>&1")).output().unwrap();
+        assert!(out.status.success(), "README:{n}: `{command}` failed");
+        let got: Vec<String> = String::from_utf8_lossy(&out.stdout)
+            .lines()
+            .map(str::to_string)
+            .collect();
+        if let Err(e) = matches_quote(want, &got) {
+            wrong.push(format!("README:{n}: `{command}`: {e}"));
+        }
+    }
+    assert!(wrong.is_empty(), "{}", wrong.join("\n\n"));
+}
+
+#[test]
+fn quotes_match_with_elisions_and_timings() {
+    let s = |v: &[&str]| v.iter().map(|x| x.to_string()).collect::<Vec<_>>();
+    let want = s(&[
+        "a",
+        "  ...",
+        "d",
+        "  3200 strokes in 0.13 s on 2 threads (24472 strokes/s)",
+    ]);
+    let got = s(&[
+        "a",
+        "b",
+        "c",
+        "d",
+        "  3200 strokes in 0.41 s on 1 threads (7800 strokes/s)",
+    ]);
+    assert!(matches_quote(&want, &got).is_ok());
+    assert!(matches_quote(&want, &s(&["a", "d"])).is_err());
+    assert!(matches_quote(&s(&["a", "b"]), &s(&["a", "c"])).is_err());
+    assert!(matches_quote(&s(&["a"]), &s(&["a", "extra"])).is_err());
+    let md = "text\n\n    cargo run --release -- x \\\n        --y 1\n\n    out 1\n      out 2\n\nmore\n\n    cargo run --release -- z\n\nprose\n";
+    assert_eq!(
+        quoted_outputs(md),
+        vec![(
+            6,
+            "cargo run --release -- x --y 1".to_string(),
+            vec!["out 1".to_string(), "  out 2".to_string()]
+        )]
+    );
+    let md = "`clapper a`\n\nRun `clapper x\n--y` and `ls`\nand it prints:\n\n```text\nout\n```\n";
+    assert_eq!(
+        quoted_outputs(md),
+        vec![(7, "clapper x --y".to_string(), vec!["out".to_string()])]
+    );
 }
 
 #[test]

@@ -104,7 +104,7 @@ fn a_killed_run_resumes_to_the_same_bytes() {
             child.try_wait().unwrap().is_none(),
             "the run finished before it could be killed"
         );
-        assert!(start.elapsed() < Duration::from_secs(60), "no progress");
+        assert!(start.elapsed() < Duration::from_secs(300), "no progress (a hang)");
         std::thread::sleep(Duration::from_millis(2));
     }
     // A second run of the same sweep while the first works is refused

@@ -58,7 +58,41 @@ pub enum BellWarning {
         /// M a² (kg m²).
         point_mass_inertia: f64,
     },
+    /// L_b/L_c outside the paper's chart ([`crate::chart::DEFAULT_LB_RANGE`],
+    /// 0.5 to 2.5), where no tower bell we know of lies (Table 1's are 1.65
+    /// and 1.75): usually a clapper period or length typed wrong (a clapper
+    /// period of 5 s beside a bell's 2.3 s gives 0.22).
+    OffTheChartLengths {
+        /// L_b/L_c (dimensionless).
+        lb_over_lc: f64,
+        /// T_b, the bell's small-swing period (s).
+        tb: f64,
+        /// T_c, the clapper's small-swing period (s).
+        tc: f64,
+    },
+    /// r/L_c outside the paper's chart ([`crate::chart::DEFAULT_R_RANGE`],
+    /// -0.3 to 0.7): a clapper pivot further from the bell's axis than any
+    /// hanging the chart was drawn for (Table 1's are 0.44 and 0.23).
+    OffTheChartPivot {
+        /// r/L_c (dimensionless).
+        r_over_lc: f64,
+        /// r (m).
+        r: f64,
+    },
+    /// φ_max outside [`PHI_MAX_PLAUSIBLE_DEG`]: no bell's clapper swings so
+    /// little or so far before it meets the bell; below π/2 "degrees" it
+    /// reads as an angle given in radians.
+    ImplausiblePhiMax {
+        /// φ_max (degrees).
+        phi_max_deg: f64,
+    },
 }
+
+/// The range of φ_max (degrees) a real bell's clapper has, outside which a
+/// bell is warned about: the paper's bells have 26 and 32 deg and the
+/// shapes of tower bells give roughly 20 to 40; the band is wider so only
+/// a mistake (radians typed as degrees, a wrong angle) meets it.
+pub const PHI_MAX_PLAUSIBLE_DEG: (f64, f64) = (10.0, 50.0);
 
 impl std::fmt::Display for BellWarning {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -79,6 +113,42 @@ impl std::fmt::Display for BellWarning {
                 "bell inertia I_b = {inertia:.4} kg m^2 is below M a^2 = {point_mass_inertia:.4} kg m^2: \
                  physically impossible, simulated anyway"
             ),
+            Self::OffTheChartLengths { lb_over_lc, tb, tc } => write!(
+                f,
+                "L_b/L_c = {lb_over_lc:.3} (T_b = {tb:.3} s, T_c = {tc:.3} s) is outside the chart's {:.1} to {:.1}, \
+                 where no tower bell lies{}: check the clapper's period or length; simulated anyway, \
+                 but the verdict is not a real bell's",
+                crate::chart::DEFAULT_LB_RANGE[0],
+                crate::chart::DEFAULT_LB_RANGE[1],
+                if tc > tb {
+                    " (a clapper slower than its bell)"
+                } else {
+                    ""
+                }
+            ),
+            Self::OffTheChartPivot { r_over_lc, r } => write!(
+                f,
+                "r/L_c = {r_over_lc:.3} (r = {r:.3} m) is outside the chart's {:.1} to {:.1}, \
+                 further than any hanging the chart was drawn for: check r (in metres); \
+                 simulated anyway, but the verdict is not a real bell's",
+                crate::chart::DEFAULT_R_RANGE[0],
+                crate::chart::DEFAULT_R_RANGE[1],
+            ),
+            Self::ImplausiblePhiMax { phi_max_deg } => {
+                write!(
+                    f,
+                    "phi_max = {phi_max_deg:.2} deg is outside the {:.0} to {:.0} deg of real clappers",
+                    PHI_MAX_PLAUSIBLE_DEG.0, PHI_MAX_PLAUSIBLE_DEG.1
+                )?;
+                if *phi_max_deg < 90f64.to_radians() {
+                    write!(
+                        f,
+                        "; given in radians? {phi_max_deg} rad is {:.1} deg",
+                        phi_max_deg.to_degrees()
+                    )?;
+                }
+                write!(f, "; simulated anyway")
+            }
         }
     }
 }
@@ -301,8 +371,38 @@ impl Bell {
                 point_mass_inertia: ma2,
             });
         }
+        let outside = |v: f64, [lo, hi]: [f64; 2]| !(lo..=hi).contains(&v);
+        // A hair beyond the edges: chart points on the edge itself are
+        // the chart's own bells.
+        let (lb_range, r_range) = (
+            widen(crate::chart::DEFAULT_LB_RANGE),
+            widen(crate::chart::DEFAULT_R_RANGE),
+        );
+        if outside(self.lb_over_lc(), lb_range) {
+            w.push(BellWarning::OffTheChartLengths {
+                lb_over_lc: self.lb_over_lc(),
+                tb: self.tb(),
+                tc: self.tc(),
+            });
+        }
+        if outside(self.r_over_lc(), r_range) {
+            w.push(BellWarning::OffTheChartPivot {
+                r_over_lc: self.r_over_lc(),
+                r: self.r,
+            });
+        }
+        let phi_max_deg = self.phi_max.to_degrees();
+        if !(PHI_MAX_PLAUSIBLE_DEG.0..=PHI_MAX_PLAUSIBLE_DEG.1).contains(&phi_max_deg) {
+            w.push(BellWarning::ImplausiblePhiMax { phi_max_deg });
+        }
         w
     }
+}
+
+/// A chart range widened by 1e-9 of its span at each end.
+fn widen([lo, hi]: [f64; 2]) -> [f64; 2] {
+    let pad = 1e-9 * (hi - lo);
+    [lo - pad, hi + pad]
 }
 
 fn check_phi_max(phi_max: f64) -> Result<(), ParamError> {
@@ -558,6 +658,38 @@ mod tests {
         assert!((b.r_over_lc() - 0.23).abs() < 0.005);
         assert!((b.lb_over_lc() - 1.75).abs() < 0.005);
         assert!(b.warnings().is_empty());
+    }
+
+    /// Bells no tower has are warned about, each with the reason: a
+    /// clapper slower than its bell, a pivot far off the chart, radians
+    /// typed as degrees; the Table 1 bells and the chart's corners are not.
+    #[test]
+    fn bells_outside_what_real_bells_are_are_warned_about() {
+        let tenor = Bell::gsm_tenor();
+        let slow = Bell {
+            clapper_inertia: tenor.clapper_inertia * (5.0 / tenor.tc()).powi(2),
+            ..tenor
+        };
+        let w = slow.warnings();
+        assert!(matches!(w[..], [BellWarning::OffTheChartLengths { .. }]), "{w:?}");
+        assert!(w[0].to_string().contains("a clapper slower than its bell"), "{}", w[0]);
+        let far = Bell { r: 1.79, ..tenor };
+        assert!(matches!(far.warnings()[..], [BellWarning::OffTheChartPivot { .. }]));
+        let radians = tenor.with_phi_max(0.56f64.to_radians()).unwrap();
+        let w = radians.warnings();
+        assert!(matches!(w[..], [BellWarning::ImplausiblePhiMax { .. }]), "{w:?}");
+        assert!(w[0].to_string().contains("0.56 rad is 32.1 deg"), "{}", w[0]);
+        for (x, y) in [(-0.3, 0.5), (0.7, 2.5), (-0.3, 2.5), (0.7, 0.5)] {
+            let b = ChartConstruction::default().bell(x, y).unwrap();
+            assert!(
+                !b.warnings().iter().any(|w| matches!(
+                    w,
+                    BellWarning::OffTheChartLengths { .. } | BellWarning::OffTheChartPivot { .. }
+                )),
+                "({x}, {y}): {:?}",
+                b.warnings()
+            );
+        }
     }
 
     #[test]

@@ -9,7 +9,7 @@ use plotters::style::{register_font, FontStyle};
 
 /// DejaVu Sans 2.37 (760 kB): Latin, Greek (θ, φ) and the maths signs the
 /// plots use.
-static DEJAVU_SANS: &[u8] = include_bytes!("../fonts/DejaVuSans.ttf");
+pub(crate) static DEJAVU_SANS: &[u8] = include_bytes!("../fonts/DejaVuSans.ttf");
 
 /// The family name the plots ask for; registered as DejaVu Sans.
 pub(crate) const FAMILY: &str = "sans-serif";

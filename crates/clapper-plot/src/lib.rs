@@ -69,7 +69,7 @@ macro_rules! render {
                 root.present().map_err(|e| crate::draw_err(path, e))
             }
             crate::Format::Png => {
-                let root = plotters::prelude::BitMapBackend::new(path, $size).into_drawing_area();
+                let root = crate::bitmap_text::Bitmap::new(path, $size).into_drawing_area();
                 $draw(&root, $($arg),*).map_err(|e| crate::draw_err(path, e))?;
                 root.present().map_err(|e| crate::draw_err(path, e))
             }
@@ -94,6 +94,7 @@ macro_rules! render_svg {
 }
 
 pub mod animation;
+mod bitmap_text;
 pub mod chart;
 mod fonts;
 pub mod quantity;

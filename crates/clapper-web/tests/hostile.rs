@@ -39,14 +39,14 @@ async fn clients_that_never_read_do_not_hold_the_slots() {
         .unwrap();
     let waited = asked.elapsed().as_secs_f64();
     println!("simulate answered {waited:.2} s after four non-reading chart clients took every slot");
+    // Before the write timeout this waited the whole queue wait (20 s) and
+    // was answered 503: the 200 is the effect (no wall-clock bound here).
     assert_eq!(
         &answer[9..12],
         b"200",
         "{}",
         String::from_utf8_lossy(&answer[..answer.len().min(300)])
     );
-    // Before the write timeout this waited the whole queue wait (20 s) for a 503.
-    assert!(waited < 10.0, "answered after {waited:.1} s");
     drop(idle);
 }
 
@@ -121,10 +121,11 @@ async fn idle_and_half_sent_connections_are_closed_after_their_timeout() {
         ("idle after a request", &mut kept),
         ("half a body", &mut half_body),
     ] {
-        let t = closed_after(s, Duration::from_secs(5)).await;
+        // A bound against a hang only, far past the 1 s timeout so that a
+        // loaded machine passes: before the timeouts these stayed open.
+        let t = closed_after(s, Duration::from_secs(60)).await;
         println!("{what}: closed after {t:?} s");
-        let t = t.unwrap_or_else(|| panic!("{what}: still open after 5 s"));
-        assert!(t < 3.0, "{what}: closed only after {t:.2} s");
+        assert!(t.is_some(), "{what}: still open after 60 s");
     }
 }
 
@@ -142,19 +143,25 @@ async fn shutdown_does_not_wait_for_half_sent_requests() {
     tokio::time::sleep(Duration::from_millis(200)).await;
     let t = Instant::now();
     stop.send(()).unwrap();
-    tokio::time::timeout(Duration::from_secs(5), server)
+    // The clients still hold their half-sent requests: the server ending at
+    // all is the effect (the bound is against a hang, not a timing).
+    tokio::time::timeout(Duration::from_secs(60), server)
         .await
-        .expect("the server ends within 5 s")
+        .expect("the server ends while the clients still hold their requests")
         .unwrap()
         .unwrap();
-    let secs = t.elapsed().as_secs_f64();
-    println!("shutdown with 3 half-sent requests took {secs:.2} s");
-    assert!(secs < 2.0, "{secs:.2} s");
+    println!(
+        "shutdown with 3 half-sent requests took {:.2} s",
+        t.elapsed().as_secs_f64()
+    );
     drop(half);
 }
 
-/// The time limit holds within a second even for a chart that is one
-/// block of 80,000 slow strokes (it was checked only between blocks).
+/// The time limit holds inside a chart that is one block of 80,000 slow
+/// strokes (it was checked only between blocks): the stream ends with the
+/// limit's message before the block's first cells, which would take
+/// minutes. The effect is tested, not a time: the read's bound only stops
+/// a hang.
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn the_time_limit_holds_inside_one_block() {
     let limits = clapper_web::Limits {
@@ -168,13 +175,19 @@ async fn the_time_limit_holds_inside_one_block() {
     let mut s = TcpStream::connect(addr).await.unwrap();
     s.write_all(post(addr, "/api/chart", heavy).as_bytes()).await.unwrap();
     let mut all = Vec::new();
-    tokio::time::timeout(Duration::from_secs(20), s.read_to_end(&mut all))
+    tokio::time::timeout(Duration::from_secs(120), s.read_to_end(&mut all))
         .await
         .expect("the stream ends")
         .unwrap();
-    let secs = t.elapsed().as_secs_f64();
     let text = String::from_utf8_lossy(&all);
-    println!("a 1 s time limit ended the stream after {secs:.2} s");
+    println!(
+        "a 1 s time limit ended the stream after {:.2} s",
+        t.elapsed().as_secs_f64()
+    );
     assert!(text.contains("time limit"), "{text}");
-    assert!(secs < 2.0, "{secs:.2} s");
+    assert!(
+        !text.contains(r#""type":"cells""#) && !text.contains(r#""type":"done""#),
+        "the block ran to its end: {}",
+        &text[..text.len().min(400)]
+    );
 }

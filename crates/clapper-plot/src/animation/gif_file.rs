@@ -58,7 +58,7 @@ fn lookup(pal: &[[u8; 3]]) -> Vec<u8> {
 }
 
 struct Pen<'a, 'b> {
-    area: &'a DrawingArea<BitMapBackend<'b>, Shift>,
+    area: &'a DrawingArea<crate::bitmap_text::Bitmap<'b>, Shift>,
     scale: f64,
     centre: [f64; 2],
 }
@@ -170,7 +170,7 @@ pub fn animation_gif(anim: &Animation, width: u32, height: u32) -> Result<Vec<u8
         let caption_font = ("sans-serif", 0.85 * l.font).into_font().color(&rgb(colours::INK));
         for (j, now) in frames.iter().enumerate() {
             {
-                let area = BitMapBackend::with_buffer(&mut rgb_buf, (width, height)).into_drawing_area();
+                let area = crate::bitmap_text::Bitmap::with_buffer(&mut rgb_buf, (width, height)).into_drawing_area();
                 area.fill(&rgb(colours::PAPER)).map_err(|e| draw_err(e.to_string()))?;
                 let (tw, _) = area
                     .estimate_text_size(&anim.title, &title_font)

@@ -1,0 +1,162 @@
+//! What a new user meets in the first hour (issue 42), through the built
+//! binary: a closed pipe, README's quoted outputs, bells no tower has.
+
+mod common;
+
+use std::process::{Command, Stdio};
+
+/// Run `clapper ARGS` with standard output a pipe whose reader has gone
+/// away before clapper writes (as `| head -3` does once it has its lines).
+fn with_stdout_closed(args: &[&str]) -> std::process::Output {
+    let mut child = Command::new(env!("CARGO_BIN_EXE_clapper"))
+        .args(args)
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .unwrap();
+    drop(child.stdout.take());
+    child.wait_with_output().unwrap()
+}
+
+/// A closed standard output is a normal end for a pipe: exit 0, nothing on
+/// standard error (it was killed by SIGPIPE, exit 141 under `pipefail`).
+#[test]
+fn a_closed_pipe_is_a_quiet_success() {
+    // Outputs larger than a pipe's buffer (64 KiB), so a write must fail.
+    for args in [
+        &["chart", "--grid", "60", "--csv", "-"][..],
+        &["simulate", "--preset", "lab", "--strokes", "400"][..],
+        &["simulate", "--preset", "lab", "--strokes", "40", "--json"][..],
+    ] {
+        let out = with_stdout_closed(args);
+        assert_eq!(out.status.code(), Some(0), "{args:?}: {:?}", out.status);
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(
+            !err.contains("error") && !err.contains("panicked") && !err.contains("Broken pipe"),
+            "{args:?}: {err}"
+        );
+    }
+}
+
+/// The GSM tenor as a tower measures it (examples/gsm-tenor-tower.toml)
+/// with one line changed.
+fn tenor_with(dir: &std::path::Path, key: &str, value: &str) -> std::path::PathBuf {
+    let text = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/gsm-tenor-tower.toml"
+    ))
+    .unwrap();
+    let line = text.lines().find(|l| l.starts_with(key)).expect(key);
+    let path = dir.join(format!("{key}.toml"));
+    std::fs::write(&path, text.replace(line, &format!("{key} = {value}"))).unwrap();
+    path
+}
+
+/// Bells no tower has get a warning that says why, from `simulate` and
+/// `diagnose` alike, rather than a confident verdict alone: a clapper
+/// period of 5 s beside the bell's 2.33 s, r = 1.79 m (r/L_c 2.3), and
+/// phi_max 0.56 (radians typed as degrees).
+#[test]
+fn bells_no_tower_has_are_warned_about() {
+    let dir = tempfile::tempdir().unwrap();
+    for (key, value, says) in [
+        ("clapper_period_s", "5.0", "a clapper slower than its bell"),
+        ("r_m", "1.79", "r/L_c = 2.3"),
+        ("phi_max_deg", "0.56", "given in radians? 0.56 rad is 32.1 deg"),
+    ] {
+        let bell = tenor_with(dir.path(), key, value);
+        for cmd in ["simulate", "diagnose"] {
+            let args: Vec<&str> = if cmd == "simulate" {
+                vec![cmd, "--bell", bell.to_str().unwrap()]
+            } else {
+                vec![cmd, bell.to_str().unwrap()]
+            };
+            let out = common::clapper().args(&args).output().unwrap();
+            let all = format!(
+                "{}{}",
+                String::from_utf8_lossy(&out.stdout),
+                String::from_utf8_lossy(&out.stderr)
+            );
+            assert!(
+                all.contains(says) && all.contains("warning"),
+                "{cmd} {key} = {value}: {all}"
+            );
+        }
+    }
+    // The tower's own file gets none of these.
+    let out = common::clapper()
+        .args([
+            "simulate",
+            "--bell",
+            concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/gsm-tenor-tower.toml"),
+        ])
+        .output()
+        .unwrap();
+    assert!(!String::from_utf8_lossy(&out.stderr).contains("outside"), "{out:?}");
+}
+
+/// A symmetric bell is evenly struck: "0.0 ms", and no stroke called late
+/// (it printed "+0.0 ms (...; handstroke late)" from a 1e-12 ms rounding).
+#[test]
+fn a_symmetric_bell_is_evenly_struck_in_words_too() {
+    let out = common::clapper()
+        .args(["simulate", "--preset", "lab"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("odd-struck:"))
+        .expect("an odd-struck line");
+    assert!(
+        line.starts_with("odd-struck: 0.0 ms") && line.contains("evenly struck"),
+        "{line}"
+    );
+    assert!(!line.contains("late"), "{line}");
+    // An offset pivot still says which stroke is late.
+    let out = common::clapper()
+        .args(["simulate", "--preset", "lab", "--pivot-offset", "0.005"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    let line = text
+        .lines()
+        .find(|l| l.starts_with("odd-struck:"))
+        .expect("an odd-struck line");
+    assert!(line.contains("stroke late"), "{line}");
+}
+
+/// The diagnosis table keeps a long name whole (it cut "GSM tenor (by its
+/// parts)" at 12 characters), and a ring's report draws its chart for the
+/// ring's own contact angle, not the paper's 26 deg.
+#[test]
+fn the_diagnosis_shows_whole_names_and_the_rings_own_chart() {
+    let root = concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/");
+    let out = common::clapper()
+        .args(["diagnose", &format!("{root}gsm-tenor-parts.toml")])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    let row = text
+        .lines()
+        .find(|l| l.starts_with("GSM tenor (by its parts) "))
+        .unwrap_or_else(|| panic!("no table row with the whole name:\n{text}"));
+    assert!(row.split_whitespace().count() > 8, "{row}");
+    let dir = tempfile::tempdir().unwrap();
+    let report = dir.path().join("ring.html");
+    common::clapper()
+        .args(["diagnose", &format!("{root}ring-of-eight.csv"), "--report"])
+        .arg(&report)
+        .assert()
+        .success();
+    let page = std::fs::read_to_string(&report).unwrap();
+    // The ring's bells have 28 to 30 deg (examples/ring-of-eight.csv).
+    assert!(
+        !page.contains("φₘₐₓ = 26°"),
+        "the ring drawn on the paper's 26 deg chart"
+    );
+    assert!(
+        page.contains("φₘₐₓ = 28.0°, the bells&apos; median; theirs 28.0 to 30.0°"),
+        "no word of the ring's contact angles"
+    );
+}
