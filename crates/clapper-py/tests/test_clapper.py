@@ -267,6 +267,16 @@ def test_an_option_of_the_wrong_type_is_a_type_error_naming_it():
         clapper.strikes([0.0] * 100, 8000, ["a"])
     with pytest.raises(TypeError, match=r"Bell: bell_period_s must be a finite number, not 'x'"):
         clapper.Bell(bell_period_s="x", clapper_period_s=1.6, r_m=0.1, phi_max_deg=26)
+    with pytest.raises(ValueError, match=r"simulate: theta0 must be a finite number of degrees .*, not 1000"):
+        clapper.simulate(theta0=10**400)
+    with pytest.raises(ValueError, match=r"simulate: strokes must be a whole number of strokes .*, not 1000"):
+        clapper.simulate(strokes=10**30)
+    with pytest.raises(ValueError, match=r"Bell.chart_point: r_over_lc must be a finite number .*, not nan$"):
+        clapper.Bell.chart_point(float("nan"), 1.5)
+    with pytest.raises(TypeError, match=r"Bell.chart_point: lb_over_lc must be a finite number .*, not 'a'$"):
+        clapper.Bell.chart_point(0.3, "a")
+    with pytest.raises(ValueError, match=r"simulate: give the bell once: as the bell argument or as preset=, not both"):
+        clapper.simulate(clapper.preset("lab"), preset="gsm-tenor")
     # numpy numbers are numbers.
     assert clapper.simulate(theta0=np.float32(171), strokes=np.int64(1), trace=False).verdict == "right"
 

@@ -161,6 +161,14 @@ def _shown(value: Any) -> str:
     return (text[:60] + "...") if len(text) > 63 else text
 
 
+def _float(v: Any) -> float:
+    """``float(v)``, an int too large for a float being infinite."""
+    try:
+        return float(v)
+    except OverflowError:
+        return math.inf if v > 0 else -math.inf
+
+
 def _is_number(v: Any) -> bool:
     return isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, (bool, np.bool_))
 
@@ -176,17 +184,18 @@ def _value(fn: str, key: str, value: Any, kind: str, choices: List[str], length:
     if kind == "number":
         if not _is_number(value):
             raise wrong()
-        x = float(value)
+        x = _float(value)
         if not math.isfinite(x):
             raise wrong(ValueError)
         return x
     if kind in ("count", "integer"):
         if not _is_number(value):
             raise wrong()
-        x = float(value)
-        if not (math.isfinite(x) and x.is_integer()) or (kind == "count" and x < 0):
+        x = _float(value)
+        # Beyond 2^63 JSON's reader takes a whole number for a float.
+        if not (math.isfinite(x) and x.is_integer() and abs(x) < 2.0**63) or (kind == "count" and x < 0):
             raise wrong(ValueError)
-        return int(x)
+        return int(value)
     if kind == "choice":
         if not isinstance(value, str):
             raise ArgumentTypeError(f"{fn}: {key} must be one of {_choices(choices)}, not {_shown(value)}")
@@ -401,7 +410,14 @@ class Bell:
     @classmethod
     def chart_point(cls, r_over_lc: float, lb_over_lc: float) -> "Bell":
         """The bell the paper builds at a point of the clapping chart."""
-        return cls._of({"chart_point": [float(r_over_lc), float(lb_over_lc)]})
+        return cls._of(
+            {
+                "chart_point": [
+                    _number("Bell.chart_point", "r_over_lc", r_over_lc, "r/L_c, across the clapping chart"),
+                    _number("Bell.chart_point", "lb_over_lc", lb_over_lc, "L_b/L_c, up the clapping chart"),
+                ]
+            }
+        )
 
     name = property(lambda self: self.properties["name"], doc="The bell's name.")
     r_over_lc = property(lambda self: self.properties["r_over_lc"], doc="r / L_c: across the chart.")
@@ -512,6 +528,9 @@ def simulate(
     :class:`ClapperWarning`.
     """
     req = _source(bell)
+    given = [k for k in ("preset", "bell", "chart_point", "chart-point") if k in options]
+    if bell is not None and given:
+        raise ValueError(f"simulate: give the bell once: as the bell argument or as {given[0]}=, not both")
     req.update(
         _checked(
             "simulate",
@@ -636,7 +655,7 @@ def _number(fn: str, name: str, value: Any, what: str) -> float:
     """A finite float for ``fn``'s argument ``name``; ``what`` says what it is."""
     if not _is_number(value):
         raise ArgumentTypeError(f"{fn}: {name} must be a finite number ({what}), not {_shown(value)}")
-    x = float(value)
+    x = _float(value)
     if not math.isfinite(x):
         raise ValueError(f"{fn}: {name} must be a finite number ({what}), not {x}")
     return x
