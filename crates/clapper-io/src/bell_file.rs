@@ -90,6 +90,14 @@ struct BellFile {
     clapper: Option<ClapperInput>,
 }
 
+/// Reads a bell file's keys from `d` and drops them. It lets a caller
+/// learn the keys a bell file takes, and the kind of value of each, from
+/// serde itself (the Python package names a misspelt key's near ones with
+/// it) while the file's struct stays private.
+pub fn deserialize_bell_file<'de, D: serde::Deserializer<'de>>(d: D) -> Result<(), D::Error> {
+    BellFile::deserialize(d).map(drop)
+}
+
 impl BellFile {
     fn hanging(&self) -> HangingInput {
         HangingInput {

@@ -13,7 +13,9 @@
 //!
 //! Errors: bad input (a request out of range, a bell file that does not
 //! parse) raises `ValueError`; a numerical failure raises `RuntimeError`;
-//! both carry the library's one-line message.
+//! both carry the library's one-line message. The Python half checks
+//! keyword options against `request_keys` first, so that a misspelt or
+//! mistyped option is named in Python's terms rather than serde's.
 
 use clapper_app::chart::ChartRequest;
 use clapper_app::diagnosis::{self, DiagnoseRequest};
@@ -26,9 +28,11 @@ use clapper_core::chart::{sweep, ChartCell};
 use clapper_core::Choice;
 use clapper_io::report::BellReport;
 use clapper_signal::Signal;
-use pyo3::exceptions::{PyRuntimeError, PyValueError};
+use pyo3::exceptions::{PyOSError, PyRuntimeError, PyValueError};
 use pyo3::prelude::*;
 use pyo3::types::{PyBytes, PyDict};
+
+mod schema;
 
 /// The Python exception for an error of the library.
 fn py_err(e: AppError) -> PyErr {
@@ -40,9 +44,45 @@ fn py_err(e: AppError) -> PyErr {
 }
 
 /// A request read from its JSON text; a key the request does not know is
-/// named in the error, as the web API names it.
+/// named in the error, as the web API names it. The Python half checks
+/// keys and values first (see [`request_keys`]), so this is the backstop;
+/// the JSON is the package's own, so its line and column are left out.
 fn request<T: serde::de::DeserializeOwned>(json: &str, what: &str) -> PyResult<T> {
-    serde_json::from_str(json).map_err(|e| PyValueError::new_err(format!("{what}: {e}")))
+    serde_json::from_str(json).map_err(|e| {
+        let text = e.to_string();
+        let at = format!(" at line {} column {}", e.line(), e.column());
+        PyValueError::new_err(format!("{what}: {}", text.strip_suffix(&at).unwrap_or(&text)))
+    })
+}
+
+/// One key of a request: (key, kind, choices, length); see [`request_keys`].
+type RequestKey = (String, String, Vec<String>, usize);
+
+/// The keys a request takes, each with the kind of value it takes:
+/// `(key, kind, choices, length)`, where kind is "number", "count" (a
+/// whole number >= 0), "integer", "text", "bool", "choice" (one of
+/// `choices`), "array of <kind>" (`length` of them) or "other". `what` is
+/// "simulate" (also a bell's and lift-off's request), "chart" or "bell"
+/// (the keys of a bell file).
+#[pyfunction]
+fn request_keys(what: &str) -> PyResult<Vec<RequestKey>> {
+    let fields = match what {
+        "simulate" => schema::fields::<SimulateRequest>(),
+        "chart" => schema::fields::<ChartRequest>(),
+        "bell" => schema::fields::<schema::BellFileKeys>(),
+        _ => {
+            return Err(PyValueError::new_err(format!(
+                "no request {what:?}: simulate, chart or bell"
+            )))
+        }
+    };
+    Ok(fields
+        .into_iter()
+        .map(|(name, kind)| {
+            let (tag, choices, len) = kind.describe();
+            (name.to_string(), tag, choices, len)
+        })
+        .collect())
 }
 
 fn to_json<T: serde::Serialize>(v: &T) -> PyResult<String> {
@@ -257,7 +297,13 @@ fn strikes(
 /// returns (samples as f64 bytes, rate in Hz).
 #[pyfunction]
 fn read_wav<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<(Bound<'py, PyBytes>, f64)> {
-    let sig = clapper_io::signal_file::read_recording(&path).map_err(|e| PyValueError::new_err(e.to_string()))?;
+    use clapper_io::signal_file::SignalFileError;
+    let sig = clapper_io::signal_file::read_recording(&path).map_err(|e| match e {
+        // The Python half has opened the file already (a missing one is
+        // FileNotFoundError there); what fails here is reading it.
+        SignalFileError::Read { .. } | SignalFileError::Write { .. } => PyOSError::new_err(e.to_string()),
+        SignalFileError::Content { .. } => PyValueError::new_err(e.to_string()),
+    })?;
     Ok((f64_bytes(py, sig.samples.iter().copied()), sig.rate))
 }
 
@@ -283,5 +329,6 @@ fn _clapper(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(modes, m)?)?;
     m.add_function(wrap_pyfunction!(strikes, m)?)?;
     m.add_function(wrap_pyfunction!(read_wav, m)?)?;
+    m.add_function(wrap_pyfunction!(request_keys, m)?)?;
     Ok(())
 }

@@ -10,6 +10,7 @@ import subprocess
 import sys
 import threading
 import time
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -107,7 +108,7 @@ def test_pandas_and_xarray_when_installed():
 def test_errors_carry_the_librarys_message():
     with pytest.raises(ValueError, match="restitution = 2 is out of range"):
         clapper.simulate(restitution=2)
-    with pytest.raises(ValueError, match="unknown field `bogus`"):
+    with pytest.raises(ValueError, match="unknown option 'bogus'"):
         clapper.simulate(bogus=1)
     with pytest.raises(ValueError, match="unknown preset"):
         clapper.preset("tenor")
@@ -201,3 +202,169 @@ def test_readmes_python_blocks_run_and_the_fig10_block_is_the_example_file(tmp_p
     out = tmp_path / "fig10.png"
     subprocess.run([sys.executable, str(ROOT / "examples/python/fig10.py"), str(out)], check=True)
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n" and out.stat().st_size > 20_000
+
+
+# Issue 42: the package's messages say what is wrong in the caller's terms.
+
+
+def test_restitution_given_one_flat_list_says_it_takes_drops_of_jumps():
+    with pytest.raises(ValueError, match=r"list of drops, each a list of the clapper's velocity jumps") as e:
+        clapper.restitution([1.0, 0.35, 0.2])
+    msg = str(e.value)
+    assert "at least two a drop" in msg and "one flat list of 3 numbers" in msg
+    assert "[[1.0, 0.35, 0.2]]" in msg and "out of range" not in msg
+    # Which drop is short, and how short.
+    with pytest.raises(ValueError, match=r"drop 2 of 2 has 1 jump$"):
+        clapper.restitution([[1.0, 0.35], [0.5]])
+    with pytest.raises(ValueError, match=r"drop 1, jump 2 is -0.3: .* > 0"):
+        clapper.restitution([[1.0, -0.3]])
+    with pytest.raises(ValueError, match="got no drops"):
+        clapper.restitution([])
+    with pytest.raises(TypeError, match=r"drop 1, jump 2 is 'a': jumps are numbers"):
+        clapper.restitution([[1.0, "a"]])
+    # The hint it gives works.
+    assert clapper.restitution([[1.0, 0.35, 0.2]])["r_first"] > 0
+
+
+def test_a_non_finite_option_names_it_and_its_unit_not_json():
+    with pytest.raises(ValueError, match=r"simulate: theta0 must be a finite number of degrees .*, not nan$") as e:
+        clapper.simulate(theta0=float("nan"))
+    assert "line 1" not in str(e.value) and "column" not in str(e.value)
+    with pytest.raises(ValueError, match=r"chart: stiffness must be a finite number in N m/rad .*, not inf"):
+        clapper.chart(grid=3, stiffness=float("inf"))
+    with pytest.raises(ValueError, match=r"liftoff: theta0 must be a finite number \(degrees"):
+        clapper.liftoff(theta0=float("nan"))
+    with pytest.raises(ValueError, match=r"chart: r_range must be a pair of finite numbers"):
+        clapper.chart(grid=3, r_range=(0.0, float("nan")))
+
+
+def test_an_option_of_the_wrong_type_is_a_type_error_naming_it():
+    with pytest.raises(TypeError, match=r"simulate: theta0 must be a finite number of degrees .*, not 'abc'$") as e:
+        clapper.simulate(theta0="abc")
+    # Still a ValueError, as such errors were before.
+    assert isinstance(e.value, ValueError) and "expected f64" not in str(e.value)
+    with pytest.raises(TypeError, match=r"simulate: strokes must be a whole number of strokes \(1 to 10000\), not 'x'"):
+        clapper.simulate(strokes="x")
+    with pytest.raises(ValueError, match=r"simulate: strokes must be a whole number of strokes .*, not -1$"):
+        clapper.simulate(strokes=-1)
+    with pytest.raises(ValueError, match=r"simulate: style must be one of 'right', 'wrong', not 'rigth'; did you mean 'right'\?"):
+        clapper.simulate(style="rigth")
+    with pytest.raises(ValueError, match=r"chart: style must be one of 'right', 'wrong', 'both', not 'x'$"):
+        clapper.chart(grid=3, style="x")
+    with pytest.raises(TypeError, match=r"chart: grid must be a pair of whole numbers"):
+        clapper.chart(grid="x")
+    with pytest.raises(ValueError, match=r"chart: grid must be a pair of whole numbers"):
+        clapper.chart(grid=(1, 2, 3))
+    with pytest.raises(ValueError, match=r"chart: grid must be a whole number of points .*, not 2.5$"):
+        clapper.chart(grid=2.5)
+    with pytest.raises(ValueError, match=r"preset must be one of 'lab', 'gsm-tenor', not 'tenor'; did you mean 'gsm-tenor'\?$"):
+        clapper.simulate(preset="tenor")
+    with pytest.raises(TypeError, match=r"liftoff: theta0 must be a finite number \(degrees.*not 'x'"):
+        clapper.liftoff(theta0="x")
+    with pytest.raises(TypeError, match=r"modes: rate_hz must be a finite number \(the sample rate in Hz\)"):
+        clapper.modes([0.0, 1.0], "x")
+    with pytest.raises(TypeError, match=r"strikes: nominals_hz\[0\] must be a finite number"):
+        clapper.strikes([0.0] * 100, 8000, ["a"])
+    with pytest.raises(TypeError, match=r"Bell: bell_period_s must be a finite number, not 'x'"):
+        clapper.Bell(bell_period_s="x", clapper_period_s=1.6, r_m=0.1, phi_max_deg=26)
+    with pytest.raises(ValueError, match=r"simulate: theta0 must be a finite number of degrees .*, not 1000"):
+        clapper.simulate(theta0=10**400)
+    with pytest.raises(ValueError, match=r"simulate: strokes must be a whole number of strokes .*, not 1000"):
+        clapper.simulate(strokes=10**30)
+    with pytest.raises(ValueError, match=r"Bell.chart_point: r_over_lc must be a finite number .*, not nan$"):
+        clapper.Bell.chart_point(float("nan"), 1.5)
+    with pytest.raises(TypeError, match=r"Bell.chart_point: lb_over_lc must be a finite number .*, not 'a'$"):
+        clapper.Bell.chart_point(0.3, "a")
+    with pytest.raises(ValueError, match=r"simulate: give the bell once: as the bell argument or as preset=, not both"):
+        clapper.simulate(clapper.preset("lab"), preset="gsm-tenor")
+    # numpy numbers are numbers.
+    assert clapper.simulate(theta0=np.float32(171), strokes=np.int64(1), trace=False).verdict == "right"
+
+
+def test_an_unknown_option_is_named_with_the_near_ones_not_all():
+    with pytest.raises(ValueError, match=r"^simulate: unknown option 'theta'; did you mean 'theta0'\?$"):
+        clapper.simulate(theta=170)
+    with pytest.raises(ValueError, match=r"unknown option 'restitutoin'; did you mean 'restitution'"):
+        clapper.chart(grid=3, restitutoin=0.3)
+    with pytest.raises(ValueError) as e:
+        clapper.simulate(xyzzy=1)
+    assert str(e.value) == "simulate: unknown option 'xyzzy'; see help(clapper.simulate) for its options"
+    with pytest.raises(ValueError, match=r"^Bell: unknown field 'bell_period'; did you mean 'bell_period_s'"):
+        clapper.Bell(bell_period=2.1, clapper_period_s=1.6, r_m=0.1, phi_max_deg=26)
+    # The kebab-case spellings the library takes are still taken.
+    assert clapper.simulate(trace=False, **{"phi-max": 26}).verdict == "right"
+
+
+def test_every_number_an_option_takes_has_its_unit_for_messages():
+    from clapper import _clapper, _OPTION_WORDS
+
+    for request in ("simulate", "chart"):
+        for key, kind, _choices, _n in _clapper.request_keys(request):
+            if kind == "number" or kind.startswith("array of") or kind == "count":
+                assert key.replace("-", "_") in _OPTION_WORDS, (request, key)
+
+
+def test_diagnose_given_a_recording_says_it_takes_bell_files_and_where_recordings_go(tmp_path):
+    wav = tmp_path / "x.wav"
+    rate = 8000
+    pcm = (np.sin(np.arange(rate) * 0.1) * 3000).astype("<i2").tobytes()
+    header = b"RIFF" + (36 + len(pcm)).to_bytes(4, "little") + b"WAVEfmt " + (16).to_bytes(4, "little")
+    header += (1).to_bytes(2, "little") + (1).to_bytes(2, "little") + rate.to_bytes(4, "little")
+    header += (2 * rate).to_bytes(4, "little") + (2).to_bytes(2, "little") + (16).to_bytes(2, "little")
+    wav.write_bytes(header + b"data" + len(pcm).to_bytes(4, "little") + pcm)
+    with pytest.raises(ValueError, match=r"diagnose: .*x\.wav is a recording \(WAV\).*bell or ring file \(TOML, or CSV") as e:
+        clapper.diagnose(str(wav))
+    assert "clapper.read_wav" in str(e.value) and "clapper.strikes" in str(e.value)
+    # The functions it points at take it.
+    samples, r = clapper.read_wav(wav)
+    assert r == rate and len(samples) == rate
+    with pytest.raises(ValueError, match="Bell.from_file: .* is a recording"):
+        clapper.Bell.from_file(wav)
+    binary = tmp_path / "bell.toml"
+    binary.write_bytes(b"\xff\xfe\x00junk")
+    with pytest.raises(ValueError, match=r"is not a text file \(byte 0 is not UTF-8\); diagnose reads"):
+        clapper.diagnose(binary)
+
+
+def test_a_missing_file_is_file_not_found_in_every_call_that_reads_one(tmp_path):
+    for call in (
+        lambda p: clapper.diagnose(p),
+        lambda p: clapper.Bell.from_file(p),
+        lambda p: clapper.read_wav(p),
+    ):
+        for name in ("absent.toml", "absent.csv", "absent.wav"):
+            with pytest.raises(FileNotFoundError):
+                call(tmp_path / name)
+            with pytest.raises(FileNotFoundError):
+                call(str(tmp_path / name))
+
+
+def test_a_bells_path_given_as_its_text_points_at_from_file():
+    with pytest.raises(ValueError, match=r"looks like a file's path.*Bell\.from_file\('tenor\.toml'\)"):
+        clapper.Bell("tenor.toml")
+
+
+IMPOSSIBLE = dict(
+    name="Odd",
+    bell_mass_kg=45.8,
+    clapper_mass_kg=1.65,
+    a_m=0.24,
+    b_m=0.25,
+    bell_inertia_kg_m2=4.1,
+    clapper_inertia_kg_m2=0.093,
+    r_m=0.10,
+    phi_max_deg=26,
+)
+
+
+def test_model_warnings_are_python_warnings_and_stay_in_sim_warnings():
+    bell = clapper.Bell(**IMPOSSIBLE)
+    with pytest.warns(clapper.ClapperWarning, match=r"physically impossible") as caught:
+        sim = clapper.simulate(bell, trace=False)
+    assert issubclass(clapper.ClapperWarning, UserWarning)
+    assert sim.warnings and [str(w.message) for w in caught] == sim.warnings
+    # Pointing at the caller's line, not the package's.
+    assert caught[0].filename == __file__
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert clapper.simulate(clapper.preset("gsm-tenor"), trace=False).warnings == []

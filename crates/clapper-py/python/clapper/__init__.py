@@ -18,13 +18,21 @@ copies (``theta_deg``, ``phi_deg``).
 'right'
 
 Errors: bad input raises ``ValueError``, a numerical failure
-``RuntimeError``; both carry the library's one-line message.
+``RuntimeError``; both carry the library's one-line message. A keyword
+option the function does not take is named with the near ones; a value of
+the wrong type raises :class:`ArgumentTypeError` (a ``TypeError``, and a
+``ValueError`` as before); a file that is not there ``FileNotFoundError``.
+What the model warns of (a bell that is physically impossible, say) is
+issued as a :class:`ClapperWarning` too.
 """
 
 from __future__ import annotations
 
+import difflib
 import json
+import math
 import os
+import warnings as _warnings
 from typing import Any, Dict, Iterable, List, Mapping, Optional, Sequence, Tuple, Union
 
 import numpy as np
@@ -45,7 +53,9 @@ DEFAULT_DOUBLE_MIN_RATIO: float = _clapper.DEFAULT_DOUBLE_MIN_RATIO
 DEFAULT_MODES_RANGE_DB: float = _clapper.DEFAULT_MODES_RANGE_DB
 
 __all__ = [
+    "ArgumentTypeError",
     "Bell",
+    "ClapperWarning",
     "Chart",
     "Report",
     "Simulation",
@@ -65,13 +75,197 @@ __all__ = [
 PathLike = Union[str, "os.PathLike[str]"]
 
 
+class ClapperWarning(UserWarning):
+    """What the model warns of, such as a bell that is physically
+    impossible but simulated anyway. The same words are in
+    ``Simulation.warnings``."""
+
+
+class ArgumentTypeError(TypeError, ValueError):
+    """An argument of the wrong type, such as text where a number of
+    degrees belongs. A ``TypeError``, and a ``ValueError`` too: such
+    arguments raised ``ValueError`` before."""
+
+
+# What each numeric option of a request takes, for messages: its unit
+# (None: a plain number) and what it is. The test suite checks that every
+# number the library's requests take is here.
+_OPTION_WORDS: Dict[str, Tuple[Optional[str], str]] = {
+    "theta0": ("degrees", "the bell's starting angle at rest, 0 to 180"),
+    "phi_max": ("degrees", "the clapper's contact angle, 0 to 90"),
+    "restitution": (None, "the coefficient of restitution R of a strike, 0 < R <= 1"),
+    "restitution_later": (None, "the restitution R2 of the bounces after a strike, 0 < R2 <= 1"),
+    "stiffness": ("N m/rad", "the penalty contact's stiffness"),
+    "rtol": (None, "the integrator's tolerance, 1e-14 to 1e-2"),
+    "pivot_offset": ("m", "the clapper pivot's sideways offset"),
+    "phi_max_hand": ("degrees", "the contact angle of the side struck at handstroke"),
+    "phi_max_back": ("degrees", "the contact angle of the side struck at backstroke"),
+    "gap_hand": ("mm", "the ball-to-rim gap on the hand side, bell down"),
+    "gap_back": ("mm", "the ball-to-rim gap on the back side, bell down"),
+    "ball_below_pivot": ("m", "the ball's centre below the clapper pivot"),
+    "bell_damping": ("N m s/rad", "viscous damping at the bell's bearings"),
+    "bell_friction": ("N m", "friction torque at the bell's bearings"),
+    "clapper_damping": ("N m s/rad", "viscous damping at the clapper's pivot"),
+    "clapper_friction": ("N m", "friction torque at the clapper's pivot"),
+    "bell_swings_to_halve": (None, "swings for the bell's small swing to halve, clapper tied"),
+    "clapper_swings_to_halve": (None, "swings for the clapper's small swing to halve, bell still"),
+    "swing_amplitude": ("degrees", "the timed swing's starting amplitude"),
+    "strokes": ("strokes", "1 to 10000"),
+    "chart_point": (None, "[r/L_c, L_b/L_c], a point of the clapping chart"),
+    "r_range": (None, "the range of r/L_c swept, low and high"),
+    "lb_range": (None, "the range of L_b/L_c swept, low and high"),
+    "grid": ("points", "along r/L_c and along L_b/L_c"),
+}
+
+_KEYS_CACHE: Dict[str, Dict[str, Tuple[str, List[str], int]]] = {}
+
+
+def _keys(request: str) -> Dict[str, Tuple[str, List[str], int]]:
+    """The keys a request takes (as the library reads them), each with its
+    kind of value, choices and array length."""
+    if request not in _KEYS_CACHE:
+        _KEYS_CACHE[request] = {k: (kind, list(ch), n) for k, kind, ch, n in _clapper.request_keys(request)}
+    return _KEYS_CACHE[request]
+
+
+def _near(word: str, names: Iterable[str]) -> str:
+    """'; did you mean ...?' for the names close to ``word``, or ''."""
+    close = difflib.get_close_matches(word, _spellings(list(names)), n=3, cutoff=0.6)
+    if not close:
+        return ""
+    return "; did you mean " + " or ".join(repr(c) for c in close) + "?"
+
+
+def _what(key: str, kind: str) -> str:
+    """What ``key`` takes, in words: 'a finite number of degrees (the bell's ...)'."""
+    unit, meaning = _OPTION_WORDS.get(key.replace("-", "_"), (None, ""))
+    if kind in ("count", "integer"):
+        words = "a whole number" + (f" of {unit}" if unit else " >= 0" if kind == "count" else "")
+    elif kind == "number":
+        words = "a finite number" + (f" of {unit}" if unit == "degrees" else f" in {unit}" if unit else "")
+    elif kind.startswith("array of "):
+        inner = kind[len("array of "):]
+        words = "a pair of " + ("whole numbers" if inner in ("count", "integer") else "finite numbers")
+        words += f" of {unit}" if unit else ""
+    elif kind == "text":
+        words = "text"
+    elif kind == "bool":
+        words = "True or False"
+    else:
+        words = "a value"
+    return f"{words} ({meaning})" if meaning else words
+
+
+def _shown(value: Any) -> str:
+    text = repr(value)
+    return (text[:60] + "...") if len(text) > 63 else text
+
+
+def _float(v: Any) -> float:
+    """``float(v)``, an int too large for a float being infinite."""
+    try:
+        return float(v)
+    except OverflowError:
+        return math.inf if v > 0 else -math.inf
+
+
+def _is_number(v: Any) -> bool:
+    return isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, (bool, np.bool_))
+
+
+def _value(fn: str, key: str, value: Any, kind: str, choices: List[str], length: int) -> Any:
+    """``value`` checked against what ``key`` takes and made JSON-ready;
+    a value of the wrong type raises ArgumentTypeError, one of the right
+    type that cannot be (NaN, an unknown choice) ValueError, both naming
+    ``key`` and saying what it takes."""
+    def wrong(exc: type = ArgumentTypeError, shown: Any = value) -> Exception:
+        return exc(f"{fn}: {key} must be {_what(key, kind)}, not {_shown(shown)}")
+
+    if kind == "number":
+        if not _is_number(value):
+            raise wrong()
+        x = _float(value)
+        if not math.isfinite(x):
+            raise wrong(ValueError)
+        return x
+    if kind in ("count", "integer"):
+        if not _is_number(value):
+            raise wrong()
+        x = _float(value)
+        # Beyond 2^63 JSON's reader takes a whole number for a float.
+        if not (math.isfinite(x) and x.is_integer() and abs(x) < 2.0**63) or (kind == "count" and x < 0):
+            raise wrong(ValueError)
+        return int(value)
+    if kind == "choice":
+        if not isinstance(value, str):
+            raise ArgumentTypeError(f"{fn}: {key} must be one of {_choices(choices)}, not {_shown(value)}")
+        if value not in choices:
+            raise ValueError(f"{fn}: {key} must be one of {_choices(choices)}, not {value!r}{_near(value, choices)}")
+        return value
+    if kind == "text":
+        if not isinstance(value, str):
+            raise wrong()
+        return value
+    if kind == "bool":
+        if not isinstance(value, (bool, np.bool_)):
+            raise wrong()
+        return bool(value)
+    if kind.startswith("array of "):
+        inner = kind[len("array of "):]
+        if isinstance(value, (str, bytes, Mapping)) or not isinstance(value, (Sequence, np.ndarray)):
+            raise wrong()
+        items = list(value)
+        if len(items) != length:
+            raise wrong(ValueError)
+        try:
+            return [_value(fn, key, v, inner, choices, 0) for v in items]
+        except ValueError as e:
+            # Say what the whole pair should be, not one element.
+            raise wrong(type(e)) from None
+    return value
+
+
+def _spellings(names: List[str]) -> List[str]:
+    """One spelling of each name: the kebab one where serde also takes a
+    snake alias ("gsm-tenor"), in order."""
+    seen = set(names)
+    out = [n for n in names if not ("_" in n and n.replace("_", "-") in seen)]
+    return list(dict.fromkeys(out))
+
+
+def _choices(choices: List[str]) -> str:
+    return ", ".join(repr(c) for c in _spellings(choices))
+
+
+def _checked(fn: str, request: str, options: Mapping[str, Any], own: Iterable[str] = ()) -> Dict[str, Any]:
+    """Keyword ``options`` of ``fn`` checked against the keys ``request``
+    takes, made JSON-ready. ``own`` are ``fn``'s own keyword parameters,
+    suggested too."""
+    keys = _keys(request)
+    out: Dict[str, Any] = {}
+    for key, value in options.items():
+        if key not in keys:
+            # Suggest the snake-case spellings only (Python's keywords).
+            names = [k for k in keys if "-" not in k] + list(own)
+            hint = _near(key, names) or f"; see help(clapper.{fn}) for its options"
+            raise ValueError(f"{fn}: unknown option {key!r}{hint}")
+        kind, choices, length = keys[key]
+        out[key] = _value(fn, key, value, kind, choices, length)
+    return out
+
+
 def _f64(data: bytes) -> np.ndarray:
     """Little-endian float64 bytes from the native module as a writable array."""
     return np.frombuffer(data, dtype="<f8").astype(np.float64)
 
 
 def _as_f64_bytes(values: Any, what: str) -> bytes:
-    arr = np.ascontiguousarray(values, dtype="<f8")
+    try:
+        arr = np.ascontiguousarray(values, dtype="<f8")
+    except (TypeError, ValueError):
+        raise ArgumentTypeError(
+            f"{what}: expected a one-dimensional array of numbers, not {_shown(values)}"
+        ) from None
     if arr.ndim != 1:
         raise ValueError(f"{what}: expected a one-dimensional array, got shape {arr.shape}")
     return arr.tobytes()
@@ -94,6 +288,41 @@ def _toml_value(v: Any, key: str) -> str:
     if isinstance(v, (list, tuple)):
         return "[" + ", ".join(_toml_value(x, key) for x in v) + "]"
     raise TypeError(f"{key}: cannot write a {type(v).__name__} into a bell file")
+
+
+def _bell_fields(fields: Mapping[str, Any]) -> Dict[str, Any]:
+    """A bell's keyword fields checked against the keys a bell file takes."""
+    keys = _keys("bell")
+    out: Dict[str, Any] = {}
+    for key, value in fields.items():
+        if key not in keys:
+            hint = _near(key, keys) or "; see help(clapper.Bell) and docs for a bell file's keys"
+            raise ValueError(f"Bell: unknown field {key!r}{hint}")
+        kind, choices, length = keys[key]
+        # A table ([clapper]) goes through as given; the library checks it.
+        out[key] = value if kind == "other" else _value("Bell", key, value, kind, choices, length)
+    return out
+
+
+def _read_text(path: PathLike, fn: str, takes: str) -> str:
+    """The text of a bell or ring file. A missing file raises
+    FileNotFoundError (from open); a recording, or any file that is not
+    text, ValueError saying what ``fn`` takes."""
+    path = os.fspath(path)
+    with open(path, "rb") as f:
+        raw = f.read()
+    if raw[:4] == b"RIFF" or str(path).lower().endswith(".wav"):
+        raise ValueError(
+            f"{fn}: {path} is a recording (WAV), and {fn} reads {takes}. "
+            "For a recording's strikes: samples, rate = clapper.read_wav(path), then "
+            "clapper.strikes(samples, rate, nominals_hz); for one strike's partials, clapper.modes(samples, rate)"
+        )
+    try:
+        return raw.decode("utf-8")
+    except UnicodeDecodeError as e:
+        raise ValueError(
+            f"{fn}: {path} is not a text file (byte {e.start} is not UTF-8); {fn} reads {takes}"
+        ) from None
 
 
 def _bell_toml(fields: Mapping[str, Any]) -> str:
@@ -150,7 +379,16 @@ class Bell:
                     "give a bell file's text or its fields, e.g. "
                     "Bell(bell_period_s=2.1, clapper_period_s=1.6, r_m=0.1, phi_max_deg=26)"
                 )
-            toml = _bell_toml(fields)
+            toml = _bell_toml(_bell_fields(fields))
+        elif not isinstance(toml, str):
+            raise ArgumentTypeError(
+                f"Bell: expected a bell file's text (TOML), not {_shown(toml)}; "
+                "for a bell file on disk use clapper.Bell.from_file(path)"
+            )
+        elif "\n" not in toml and "=" not in toml and toml.strip().lower().endswith(".toml"):
+            raise ValueError(
+                f"Bell: {toml!r} looks like a file's path, not its text: use clapper.Bell.from_file({toml!r})"
+            )
         self._init({"bell": toml})
 
     def _init(self, source: Dict[str, Any]) -> None:
@@ -165,14 +403,21 @@ class Bell:
 
     @classmethod
     def from_file(cls, path: PathLike) -> "Bell":
-        """The bell of a bell file (TOML)."""
-        with open(path, encoding="utf-8") as f:
-            return cls(f.read())
+        """The bell of a bell file (TOML). A file that is not there raises
+        ``FileNotFoundError``."""
+        return cls(_read_text(path, "Bell.from_file", "a bell file (TOML)"))
 
     @classmethod
     def chart_point(cls, r_over_lc: float, lb_over_lc: float) -> "Bell":
         """The bell the paper builds at a point of the clapping chart."""
-        return cls._of({"chart_point": [float(r_over_lc), float(lb_over_lc)]})
+        return cls._of(
+            {
+                "chart_point": [
+                    _number("Bell.chart_point", "r_over_lc", r_over_lc, "r/L_c, across the clapping chart"),
+                    _number("Bell.chart_point", "lb_over_lc", lb_over_lc, "L_b/L_c, up the clapping chart"),
+                ]
+            }
+        )
 
     name = property(lambda self: self.properties["name"], doc="The bell's name.")
     r_over_lc = property(lambda self: self.properties["r_over_lc"], doc="r / L_c: across the chart.")
@@ -277,11 +522,26 @@ def simulate(
     ``theta0`` (deg), ``restitution``, ``restitution_later``, ``contact``
     ("impact" or "penalty"), ``stiffness``, ``phi_max`` (deg),
     ``integrator``, ``rtol``, and the rest of ``clapper simulate --help``.
-    An option the library does not know raises ``ValueError`` naming it.
+    An option the library does not know raises ``ValueError`` naming it
+    and the near ones; a value of the wrong type ``ArgumentTypeError``.
+    What the model warns of is in ``.warnings`` and issued as
+    :class:`ClapperWarning`.
     """
     req = _source(bell)
-    req.update(style=style, strokes=int(strokes), protocol=protocol, **options)
+    given = [k for k in ("preset", "bell", "chart_point", "chart-point") if k in options]
+    if bell is not None and given:
+        raise ValueError(f"simulate: give the bell once: as the bell argument or as {given[0]}=, not both")
+    req.update(
+        _checked(
+            "simulate",
+            "simulate",
+            dict(style=style, strokes=strokes, protocol=protocol, **options),
+            own=("bell", "trace"),
+        )
+    )
     data, text, warnings, columns = _clapper.simulate(json.dumps(req), bool(trace))
+    for w in warnings:
+        _warnings.warn(w, ClapperWarning, stacklevel=2)
     return Simulation(json.loads(data), text, warnings, None if columns is None else Trace(columns))
 
 
@@ -355,8 +615,9 @@ def chart(*, grid: Union[int, Sequence[int]] = 40, style: str = "both", **option
     ``r_range``, ``lb_range`` (pairs), ``phi_max`` (deg), ``theta0`` (deg),
     ``restitution``, ``contact`` and the rest.
     """
-    g = [int(grid), int(grid)] if np.isscalar(grid) else [int(v) for v in grid]  # type: ignore[arg-type]
-    req = dict(grid=g, style=style, **options)
+    # One number for both: checked as the one number given.
+    g = [_value("chart", "grid", grid, "count", [], 0)] * 2 if _is_number(grid) else grid
+    req = _checked("chart", "chart", dict(grid=g, style=style, **options))
     return Chart(_clapper.chart(json.dumps(req)))
 
 
@@ -365,7 +626,9 @@ def diagnose(bells: Union[Bell, PathLike, None] = None) -> Report:
     how near an edge, whether it goes up right, what to change. ``bells``
     is a :class:`Bell` (a preset or one made from a bell file), or the path
     of a bell or ring file (``.toml``, or ``.csv`` one bell a row); None is
-    the lab bell."""
+    the lab bell. A file that is not there raises ``FileNotFoundError``; a
+    recording (WAV) ``ValueError`` (its strikes: :func:`read_wav`, then
+    :func:`strikes`)."""
     if bells is None:
         req: Dict[str, Any] = {"preset": "lab"}
     elif isinstance(bells, Bell):
@@ -376,13 +639,26 @@ def diagnose(bells: Union[Bell, PathLike, None] = None) -> Report:
             req = {"toml": src["bell"]}
         else:
             raise ValueError("diagnose takes a bell from a bell file or a preset, not a chart point")
-    else:
+    elif isinstance(bells, (str, os.PathLike)):
         path = os.fspath(bells)
-        with open(path, encoding="utf-8") as f:
-            text = f.read()
-        req = {"csv": text} if path.lower().endswith(".csv") else {"toml": text}
+        text = _read_text(path, "diagnose", "a bell or ring file (TOML, or CSV one bell a row)")
+        req = {"csv": text} if str(path).lower().endswith(".csv") else {"toml": text}
+    else:
+        raise ArgumentTypeError(
+            f"diagnose: bells must be a clapper.Bell or the path of a bell or ring file, not {_shown(bells)}"
+        )
     data, text = _clapper.diagnose(json.dumps(req))
     return Report(json.loads(data), text)
+
+
+def _number(fn: str, name: str, value: Any, what: str) -> float:
+    """A finite float for ``fn``'s argument ``name``; ``what`` says what it is."""
+    if not _is_number(value):
+        raise ArgumentTypeError(f"{fn}: {name} must be a finite number ({what}), not {_shown(value)}")
+    x = _float(value)
+    if not math.isfinite(x):
+        raise ValueError(f"{fn}: {name} must be a finite number ({what}), not {x}")
+    return x
 
 
 def liftoff(
@@ -399,18 +675,64 @@ def liftoff(
     if lb_over_lc is not None:
         if bell is not None:
             raise ValueError("give a bell or lb_over_lc, not both")
-        data, text = _clapper.liftoff_formula(float(lb_over_lc), float(phi_max_deg))
+        data, text = _clapper.liftoff_formula(
+            _number("liftoff", "lb_over_lc", lb_over_lc, "L_b/L_c, up the clapping chart"),
+            _number("liftoff", "phi_max_deg", phi_max_deg, "degrees: the contact angle"),
+        )
     else:
-        data, text = _clapper.liftoff_bell(json.dumps(_source(bell)), float(theta0))
+        data, text = _clapper.liftoff_bell(
+            json.dumps(_source(bell)),
+            _number("liftoff", "theta0", theta0, "degrees: the angle the bell is released from"),
+        )
     return Report(json.loads(data), text)
+
+
+_DROPS = (
+    "restitution takes a list of drops, each a list of the clapper's velocity jumps "
+    "at its impacts in order (at least two a drop: the strike and a bounce)"
+)
+
+
+def _drops(jumps: Any) -> List[List[float]]:
+    """The drops of :func:`restitution`, checked, as lists of floats."""
+    if isinstance(jumps, (str, bytes, Mapping)) or not isinstance(jumps, (Sequence, np.ndarray)):
+        raise ArgumentTypeError(f"{_DROPS}; got {_shown(jumps)}")
+    drops = list(jumps)
+    if not drops:
+        raise ValueError(f"{_DROPS}; got no drops")
+    if all(_is_number(d) for d in drops):
+        n = len(drops)
+        raise ValueError(
+            f"{_DROPS}; got one flat list of {n} number{'s' if n != 1 else ''}: "
+            f"for one drop, give [{_shown(list(map(float, drops)))}]"
+        )
+    out = []
+    for k, d in enumerate(drops, 1):
+        if isinstance(d, (str, bytes, Mapping)) or not isinstance(d, (Sequence, np.ndarray)):
+            raise ArgumentTypeError(f"{_DROPS}; drop {k} is {_shown(d)}, not a list of jumps")
+        values = list(np.ravel(np.asarray(d, dtype=object)))
+        for j, v in enumerate(values, 1):
+            if not _is_number(v):
+                raise ArgumentTypeError(f"restitution: drop {k}, jump {j} is {_shown(v)}: jumps are numbers")
+            if not (math.isfinite(float(v)) and float(v) > 0):
+                raise ValueError(
+                    f"restitution: drop {k}, jump {j} is {float(v)}: each jump is the size of a change "
+                    "of the clapper's velocity, finite and > 0"
+                )
+        if len(values) < 2:
+            raise ValueError(
+                f"{_DROPS}; drop {k} of {len(drops)} has {len(values)} jump{'s' if len(values) != 1 else ''}"
+            )
+        out.append([float(v) for v in values])
+    return out
 
 
 def restitution(jumps: Sequence[Sequence[float]]) -> Report:
     """R and R2 from drops of the clapper (Section 3.2): ``jumps`` holds,
     for each drop, the clapper's velocity jumps at its impacts in order
-    (any one unit). ``report["r_first"]``, ``report["r_later"]``."""
-    drops = [[float(v) for v in np.ravel(np.asarray(d, dtype=float))] for d in jumps]
-    data, text = _clapper.restitution(drops)
+    (any one unit), at least two a drop: ``[[1.0, 0.35, 0.2]]`` is one
+    drop. ``report["r_first"]``, ``report["r_later"]``."""
+    data, text = _clapper.restitution(_drops(jumps))
     return Report(json.loads(data), text)
 
 
@@ -420,8 +742,21 @@ def modes(
     """The partials of one strike of a bell, ``signal`` (a 1-D array) sampled
     at ``rate_hz``: frequency (Hz), level (dB) and Q of each within
     ``range_db`` of the strongest, in ``report["modes"]``."""
-    data, text = _clapper.modes(_as_f64_bytes(signal, "signal"), float(rate_hz), float(range_db), name)
+    data, text = _clapper.modes(
+        _as_f64_bytes(signal, "modes: signal"),
+        _number("modes", "rate_hz", rate_hz, "the sample rate in Hz"),
+        _number("modes", "range_db", range_db, "dB below the strongest partial"),
+        name,
+    )
     return Report(json.loads(data), text)
+
+
+def _nominals(nominals_hz: Any) -> List[float]:
+    """The bells' nominals of :func:`strikes`, checked."""
+    what = "the bells' nominal frequencies in Hz, treble first"
+    if isinstance(nominals_hz, (str, bytes, Mapping)) or not isinstance(nominals_hz, (Sequence, np.ndarray)):
+        raise ArgumentTypeError(f"strikes: nominals_hz must be a list of numbers ({what}), not {_shown(nominals_hz)}")
+    return [_number("strikes", f"nominals_hz[{k}]", f, what) for k, f in enumerate(nominals_hz)]
 
 
 def strikes(
@@ -437,16 +772,22 @@ def strikes(
     ``clapper strikes --json``: ``report["strikes"]``, ``report["per_bell"]``,
     ``report["summary"]``."""
     data, text = _clapper.strikes(
-        _as_f64_bytes(recording, "recording"),
-        float(rate_hz),
-        [float(f) for f in nominals_hz],
-        float(double_min_ratio),
+        _as_f64_bytes(recording, "strikes: recording"),
+        _number("strikes", "rate_hz", rate_hz, "the sample rate in Hz"),
+        _nominals(nominals_hz),
+        _number("strikes", "double_min_ratio", double_min_ratio, "the least amplitude ratio of a double strike"),
         name,
     )
     return Report(json.loads(data), text)
 
 
 def read_wav(path: PathLike) -> Tuple[np.ndarray, float]:
-    """A WAV file's samples (channels mixed to one) and its rate (Hz)."""
-    data, rate = _clapper.read_wav(os.fspath(path))
+    """A WAV file's samples (channels mixed to one) and its rate (Hz). A
+    file that is not there raises ``FileNotFoundError``."""
+    path = os.fspath(path)
+    # Opened here first so that a missing or unreadable file raises what
+    # open() raises (FileNotFoundError, PermissionError), as elsewhere.
+    with open(path, "rb"):
+        pass
+    data, rate = _clapper.read_wav(path)
     return _f64(data), rate
