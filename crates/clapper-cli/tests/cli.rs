@@ -799,7 +799,8 @@ fn design_clapper_prints_and_writes_a_clapper_a_bell_file_reads() {
         .unwrap();
     assert!(!bad.status.success());
     let err = String::from_utf8_lossy(&bad.stderr);
-    assert!(err.contains("shaft_length_m") && err.lines().count() == 1, "{err}");
+    // Named by its option, as the user gave it.
+    assert!(err.contains("--shaft-length 0.8") && err.lines().count() == 1, "{err}");
 }
 
 /// Frame loads in newtons come from a weighed bell: the tower file (the

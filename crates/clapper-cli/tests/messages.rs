@@ -60,7 +60,7 @@ fn a_bad_number_in_a_ring_csv_names_its_line_column_and_value() {
     let typo = put("typo.csv", "2,1.38,1.08,0.111,", "2,1.38,1.08,0.1x1,");
     let err = stderr_of(&["diagnose", &typo], 1);
     assert!(
-        err.contains(&format!("{typo}: line 3, column r_m: '0.1x1' is not a number")),
+        err.contains(&format!("{typo}: row 2 (line 3), column r_m: '0.1x1' is not a number")),
         "{err}"
     );
     // A decimal comma in a quoted cell, and one that splits a cell in two.
@@ -68,14 +68,15 @@ fn a_bad_number_in_a_ring_csv_names_its_line_column_and_value() {
     let err = stderr_of(&["diagnose", &quoted], 1);
     assert!(
         err.contains(&format!(
-            "{quoted}: line 2, column bell_period_s: '1,30' is not a number (decimal comma? write 1.30)"
+            "{quoted}: row 1 (line 2), column bell_period_s: '1,30' is not a number (decimal comma? write 1.30)"
         )),
         "{err}"
     );
     let split = put("split.csv", "3,1.45,", "3,1,45,");
     let err = stderr_of(&["diagnose", &split], 1);
     assert!(
-        err.contains(&format!("{split}: line 4: 8 cells where the header has 7")) && err.contains("decimal comma"),
+        err.contains(&format!("{split}: row 3 (line 4): 8 cells where the header has 7"))
+            && err.contains("decimal comma"),
         "{err}"
     );
 }

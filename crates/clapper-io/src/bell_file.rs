@@ -290,23 +290,27 @@ pub fn load_bells(path: &Path) -> Result<Vec<LoadedBell>, BellFileError> {
 
 /// Parse a ring from CSV: a header row of bell-file keys (`name` first is
 /// usual; any form, empty cells for keys a row does not use), one bell a row.
-/// A cell that cannot be read is named by its line, column and value.
+/// A cell that cannot be read is named by its row, line, column and value.
 pub fn parse_ring_csv(text: &str) -> Result<Vec<LoadedBell>, BellFileError> {
     let mut rdr = csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
         .from_reader(text.as_bytes());
-    let header = rdr.headers().map_err(|e| BellFileError::Syntax(csv_error(&e)))?.clone();
+    let header = rdr
+        .headers()
+        .map_err(|e| BellFileError::Syntax(csv_error(&e, None)))?
+        .clone();
     let mut out = vec![];
     for (k, row) in rdr.records().enumerate() {
-        let row = row.map_err(|e| BellFileError::Syntax(csv_error(&e)))?;
+        let row = row.map_err(|e| BellFileError::Syntax(csv_error(&e, Some(k + 1))))?;
         // The header is line 1; a quoted cell may span lines, so ask.
         let line = row.position().map_or(k as u64 + 2, csv::Position::line);
+        let at = format!("row {} (line {line})", k + 1);
         let f: BellFile = row
             .deserialize(Some(&header))
-            .map_err(|e| BellFileError::Syntax(csv_cell_error(&e, &header, &row, line)))?;
+            .map_err(|e| BellFileError::Syntax(csv_cell_error(&e, &header, &row, &at)))?;
         out.push(bell_from_fields(f, &format!("bell {}", k + 1)).map_err(|e| match e {
-            BellFileError::Syntax(m) => BellFileError::Syntax(format!("row {}: {m}", k + 1)),
-            BellFileError::Param(p) => BellFileError::Syntax(format!("row {}: {p}", k + 1)),
+            BellFileError::Syntax(m) => BellFileError::Syntax(format!("{at}: {m}")),
+            BellFileError::Param(p) => BellFileError::Syntax(format!("{at}: {p}")),
             other => other,
         })?);
     }
@@ -316,41 +320,49 @@ pub fn parse_ring_csv(text: &str) -> Result<Vec<LoadedBell>, BellFileError> {
     Ok(out)
 }
 
-/// A CSV reader's error as one line that says where: a row with more
-/// cells than the header (most often a decimal comma that split a number).
-fn csv_error(e: &csv::Error) -> String {
+/// A CSV reader's error as one line that says where (`row`, counting
+/// from 1 after the header, and the line): a row with more cells than the
+/// header is most often a decimal comma that split a number.
+fn csv_error(e: &csv::Error, row: Option<usize>) -> String {
+    let line = e.position().map(csv::Position::line);
+    let at = match (row, line) {
+        (Some(r), Some(l)) => format!("row {r} (line {l}): "),
+        (Some(r), None) => format!("row {r}: "),
+        (None, Some(l)) => format!("line {l}: "),
+        (None, None) => String::new(),
+    };
     match e.kind() {
-        csv::ErrorKind::UnequalLengths { pos, expected_len, len } => {
-            let line = pos.as_ref().map_or(String::new(), |p| format!("line {}: ", p.line()));
+        csv::ErrorKind::UnequalLengths { expected_len, len, .. } => {
             let hint = if len > expected_len {
                 " (a decimal comma splits a number in two: write 0.05, not 0,05)"
             } else {
                 ""
             };
-            format!("{line}{len} cells where the header has {expected_len}{hint}")
+            format!("{at}{len} cells where the header has {expected_len}{hint}")
         }
-        _ => e.to_string().replace('\n', " "),
+        _ => format!("{at}{}", cut(&e.to_string().replace('\n', " "))),
     }
 }
 
 /// A cell of a ring CSV that does not read as its column's key wants:
-/// the line, the column's header and the value.
-fn csv_cell_error(e: &csv::Error, header: &csv::StringRecord, row: &csv::StringRecord, line: u64) -> String {
+/// where (`at`: its row and line), the column's header and the value.
+fn csv_cell_error(e: &csv::Error, header: &csv::StringRecord, row: &csv::StringRecord, at: &str) -> String {
     let csv::ErrorKind::Deserialize { err, .. } = e.kind() else {
-        return format!("line {line}: {}", csv_error(e));
+        return format!("{at}: {}", cut(&e.to_string().replace('\n', " ")));
     };
     let Some(i) = err.field().and_then(|i| usize::try_from(i).ok()) else {
         // Not one cell's fault (an unknown column): serde's words.
-        return format!("line {line}: {}", cut(&err.kind().to_string().replace('\n', " ")));
+        return format!("{at}: {}", cut(&err.kind().to_string().replace('\n', " ")));
     };
-    let column = header.get(i).unwrap_or("?");
-    let value = cut(row.get(i).unwrap_or(""));
+    // Escaped: a quoted cell may hold a line break, and the message is one line.
+    let column = cut(&header.get(i).unwrap_or("?").escape_debug().to_string());
+    let value = cut(&row.get(i).unwrap_or("").escape_debug().to_string());
     match err.kind() {
         csv::DeserializeErrorKind::ParseFloat(_) => {
             let hint = decimal_comma(&value).map_or(String::new(), |w| format!(" ({w})"));
-            format!("line {line}, column {column}: '{value}' is not a number{hint}")
+            format!("{at}, column {column}: '{value}' is not a number{hint}")
         }
-        other => format!("line {line}, column {column}: '{value}': {}", cut(&other.to_string())),
+        other => format!("{at}, column {column}: '{value}': {}", cut(&other.to_string())),
     }
 }
 
@@ -741,7 +753,11 @@ mod tests {
         let bad = parse_ring_csv("name,colour\nx,red\n").unwrap_err().to_string();
         assert!(bad.contains("row 1") && bad.contains("colour"), "{bad}");
         let bad = parse_ring_csv("name,bell_period_s,clapper_period_s,r_m,phi_max_deg\nx,abc,1,0.1,30\n").unwrap_err();
-        assert!(bad.to_string().contains("row 1"), "{bad}");
+        assert!(
+            bad.to_string()
+                .contains("row 1 (line 2), column bell_period_s: 'abc' is not a number"),
+            "{bad}"
+        );
         assert!(parse_ring_csv("name,r_m\n").is_err());
     }
 
