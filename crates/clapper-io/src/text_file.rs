@@ -99,12 +99,15 @@ impl NotText {
     }
 }
 
-/// Why a text file could not be read.
-#[derive(Debug)]
+/// Why a text file could not be read. Callers put an `Io` error in
+/// their own words ("cannot read bell file ..."); `NotText` names the file.
+#[derive(Debug, thiserror::Error)]
 pub enum ReadTextError {
     /// The file could not be read at all (missing, no permission).
+    #[error("{0}")]
     Io(std::io::Error),
     /// It was read, but is not text.
+    #[error("{0}")]
     NotText(NotText),
 }
 
