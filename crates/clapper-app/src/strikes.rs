@@ -524,7 +524,7 @@ pub fn beside(diag: &crate::diagnosis::DiagnosisReport, heard: &StrikesReport, f
                         format!("odd-struckness heard {o:+.1} ± {se:.1} ms agrees with the model's {sim_odd:+.1} ms")
                     } else {
                         format!(
-                            "odd-struckness heard {o:+.1} ± {se:.1} ms where the model gives {sim_odd:+.1} ms: measure the clapper pivot's offset and the contact angles (--pivot-offset, --contact-angles), or the ringer is holding it up at one stroke"
+                            "odd-struckness heard {o:+.1} ± {se:.1} ms where the model gives {sim_odd:+.1} ms: measure the clapper pivot's offset and the two contact angles (--pivot-offset, --phi-max-hand and --phi-max-back, or the tape's --gap-hand, --gap-back and --ball-below-pivot), or the ringer is holding it up at one stroke"
                         )
                     });
                 }

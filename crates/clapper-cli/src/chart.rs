@@ -382,7 +382,7 @@ pub fn run(args: ChartArgs) -> Result<()> {
 
 /// A chart read back from its CSV (values to the file's six decimals).
 pub fn read_chart(csv: &Path, spec: ChartSpec) -> Result<Chart> {
-    let text = std::fs::read_to_string(csv).with_context(|| format!("cannot read {}", csv.display()))?;
+    let text = crate::files::read_text(csv, "a chart CSV")?;
     chart_of_csv(&text, &csv.display().to_string(), spec)
 }
 
@@ -496,6 +496,11 @@ pub struct MergeArgs {
     /// What the drawing shows.
     #[arg(long, value_enum, default_value = "style")]
     pub quantity: QuantityArg,
+    /// Keep each shard's .shard.json description. Without it they are
+    /// removed once the joined CSV is written (the shards' CSVs are kept;
+    /// merging them again needs the descriptions).
+    #[arg(long)]
+    pub keep_shard_json: bool,
 }
 
 /// `clapper merge`: join the shards of a sweep.
@@ -510,7 +515,8 @@ pub fn merge(args: MergeArgs) -> Result<()> {
         let meta_path = crate::sweep_file::shard_meta_path(csv);
         let text = std::fs::read_to_string(&meta_path).with_context(|| {
             format!(
-                "cannot read {} (is {} a finished shard of `clapper chart --shard`?)",
+                "cannot read {} (is {} a finished shard of `clapper chart --shard`? \
+                 A merge removes the descriptions of the shards it joined, unless --keep-shard-json)",
                 meta_path.display(),
                 csv.display()
             )
@@ -518,7 +524,7 @@ pub fn merge(args: MergeArgs) -> Result<()> {
         let meta: SweepMeta = serde_json::from_str(&text)
             .with_context(|| format!("{} is not a shard description", meta_path.display()))?;
         metas.push(meta);
-        texts.push(std::fs::read_to_string(csv).with_context(|| format!("cannot read {}", csv.display()))?);
+        texts.push(crate::files::read_text(csv, "a shard's CSV")?);
     }
     let parts = metas
         .into_iter()
@@ -551,6 +557,22 @@ pub fn merge(args: MergeArgs) -> Result<()> {
         let title = format!("Clapping chart: {} ({})", quantity.label(), settings_words(&chart.spec));
         draw(path, &quantity::figure(title, quantity, panels, vec![]))?;
         crate::say!("drawn to {}", path.display());
+    }
+    // All written: the shards' descriptions are no longer needed (and
+    // would be left lying about after every sharded run). Kept on any
+    // failure above, so that the same merge can be run again.
+    let mut removed = 0;
+    if !args.keep_shard_json {
+        for csv in &args.shards {
+            let meta_path = crate::sweep_file::shard_meta_path(csv);
+            match std::fs::remove_file(&meta_path) {
+                Ok(()) => removed += 1,
+                Err(e) => eprintln!("warning: could not remove {}: {e}", meta_path.display()),
+            }
+        }
+    }
+    if removed > 0 {
+        crate::say!("removed the shards' {removed} .shard.json files (--keep-shard-json keeps them)");
     }
     Ok(())
 }

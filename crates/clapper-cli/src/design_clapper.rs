@@ -94,10 +94,42 @@ impl DesignArgs {
     }
 }
 
+/// The request's keys, as messages name them, and this command's options
+/// for them.
+const OPTIONS: [(&str, &str); 14] = [
+    ("shaft_length_m", "--shaft-length"),
+    ("shaft_diameter_m", "--shaft-diameter"),
+    ("shaft_material", "--shaft-material"),
+    ("ball_diameter_m", "--ball-diameter"),
+    ("ball_mass_kg", "--ball-mass"),
+    ("ball_position_m", "--ball-position"),
+    ("ball_material", "--ball-material"),
+    ("flight_length_m", "--flight-length"),
+    ("flight_diameter_m", "--flight-diameter"),
+    ("flight_mass_kg", "--flight-mass"),
+    ("flight_material", "--flight-material"),
+    ("pivot_m", "--pivot"),
+    ("bell_period_s", "--bell-period"),
+    ("target_period_s", "--target-period"),
+];
+
+/// A message about the request put in the words of the command line: each
+/// key (`shaft_diameter_m`) as its option (`--shaft-diameter`), `key = v`
+/// as `--option v`.
+fn in_option_names(message: &str) -> String {
+    let mut out = message.to_string();
+    for (key, option) in OPTIONS {
+        out = out
+            .replace(&format!("{key} = "), &format!("{option} "))
+            .replace(key, option);
+    }
+    out
+}
+
 /// `clapper design-clapper`.
 pub fn run(args: DesignArgs) -> Result<()> {
     crate::files::claim_stdout(&[("--out", args.out.as_deref())], args.json)?;
-    let report = design(&args.request())?;
+    let report = design(&args.request()).map_err(|e| anyhow::anyhow!(in_option_names(&e.to_string())))?;
     if let Some(path) = &args.out {
         // The figures of the clapper written: the designed one if found.
         let (m, b, ic, tc) = match report.design.as_ref().and_then(|d| d.clapper.as_ref()) {

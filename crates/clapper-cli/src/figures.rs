@@ -4,7 +4,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Args;
 use clapper_app::figures::{figures, Drawing};
 use clapper_core::chart::Styles;
@@ -23,7 +23,7 @@ pub struct FiguresArgs {
 
 pub fn run(args: FiguresArgs) -> Result<()> {
     let out = &args.out;
-    std::fs::create_dir_all(out).with_context(|| format!("cannot create {}", out.display()))?;
+    crate::files::make_folder(out, "--out")?;
     let pool = args.sweep.pool()?;
     let base = args.sweep.spec(Styles::Both)?;
     let set = figures(&base, &mut |spec, what| {

@@ -185,6 +185,39 @@ pub fn title_name(path: &Path) -> String {
         .map_or_else(|| path.display().to_string(), |n| n.to_string_lossy().into_owned())
 }
 
+/// The text of `path`, which should be `wanted` ("a chart CSV"); a
+/// recording or an image given instead is named as one.
+pub fn read_text(path: &Path, wanted: &'static str) -> Result<String> {
+    use clapper_io::text_file::ReadTextError;
+    clapper_io::text_file::read_text(path, wanted).map_err(|e| match e {
+        ReadTextError::Io(e) => anyhow::anyhow!("cannot read {}: {e}", path.display()),
+        ReadTextError::NotText(e) => e.into(),
+    })
+}
+
+/// Make the folder `dir` for an output option (`--out DIR`) if it is
+/// missing; refuse, saying so, a file where the folder or one above it
+/// should be (rather than "File exists (os error 17)").
+pub fn make_folder(dir: &Path, option: &str) -> Result<()> {
+    if let Some(file) = dir
+        .ancestors()
+        .find(|a| !a.as_os_str().is_empty() && a.exists() && !a.is_dir())
+    {
+        if file == dir {
+            anyhow::bail!(
+                "{option} must be a folder, and {} is a file: give a folder to write into (made if missing)",
+                dir.display()
+            );
+        }
+        anyhow::bail!(
+            "{option} {} cannot be made: {} is a file, not a folder",
+            dir.display(),
+            file.display()
+        );
+    }
+    std::fs::create_dir_all(dir).with_context(|| format!("cannot make the folder {}", dir.display()))
+}
+
 /// Refuse, naming `path`, an output whose folder does not exist (before
 /// any file beside it, temporary or lock, is tried and named instead).
 pub fn ensure_folder(path: &Path) -> Result<()> {

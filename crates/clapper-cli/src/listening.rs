@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use clap::{Args, Subcommand};
 use clapper_app::listening::{figure, text, Stimulus, StimulusSet};
 use clapper_io::answers::{answer_sheet_csv, SheetRow};
@@ -68,7 +68,7 @@ fn make(args: MakeArgs) -> Result<()> {
         bail!("--listeners {} must be 1 to 1000", args.listeners);
     }
     let dir = &args.out;
-    std::fs::create_dir_all(dir).with_context(|| format!("cannot create {}", dir.display()))?;
+    crate::files::make_folder(dir, "--out")?;
     let set = StimulusSet::new(args.rate)?;
     write_bytes(&dir.join("reference.wav"), set.wav(&set.reference)?)?;
     for s in &set.stimuli {

@@ -68,7 +68,8 @@ enum Command {
     /// a bell rings right or wrong and how it strikes.
     Chart(chart::ChartArgs),
     /// Join the shards of a sweep (`chart --shard I/N`) into one CSV, the
-    /// same bytes as one run of the whole sweep.
+    /// same bytes as one run of the whole sweep; then remove the shards'
+    /// .shard.json files (--keep-shard-json keeps them).
     Merge(chart::MergeArgs),
     /// Reproduce the paper's figures 7, 9-12 and 14-16 into a folder.
     Figures(figures::FiguresArgs),

@@ -4,13 +4,13 @@
 
 use std::path::PathBuf;
 
-use anyhow::{bail, Context, Result};
+use anyhow::{bail, Result};
 use clap::Args;
 use clapper_app::ringing_log::{read_log, text, LogReport};
 use clapper_app::simulate::{Preset, SimulateRequest};
 use clapper_core::bell::G;
 use clapper_core::sensor::SensorPlace;
-use clapper_io::accel_log::{load_accel_log, write_sleuth_log, Axes};
+use clapper_io::accel_log::{load_accel_log, write_sleuth_log, Axes, LogFileError};
 use clapper_plot::ringing_log::{ringing_log_plot, LogPhase, LogPlot, LogSwing};
 use clapper_signal::ringing_log::{LogOptions, PhaseKind};
 use clapper_signal::ringing_log_synth::{synth_log, LogSpec};
@@ -62,7 +62,11 @@ pub fn ringing_log(args: RingingLogArgs) -> Result<()> {
         bail!("--clip-g {} must be a number of g above 0", args.clip_g);
     }
     let axes = Axes::parse(&args.axes)?;
-    let log = load_accel_log(&args.file, axes).with_context(|| format!("reading {}", args.file.display()))?;
+    let log = load_accel_log(&args.file, axes).map_err(|e| match e {
+        // Names the file itself.
+        e @ (LogFileError::NotText(_) | LogFileError::Read { .. }) => anyhow::Error::from(e),
+        e => anyhow::Error::from(e).context(format!("reading {}", args.file.display())),
+    })?;
     let bell = match &args.bell {
         Some(p) => Some(clapper_io::load_bell(p)?),
         None => None,

@@ -3,7 +3,7 @@
 
 use std::path::PathBuf;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use clap::Args;
 
 /// Arguments of `clapper sample-data`.
@@ -17,7 +17,7 @@ pub struct SampleDataArgs {
 
 /// Write every sample file into `--out`.
 pub fn run(args: SampleDataArgs) -> Result<()> {
-    std::fs::create_dir_all(&args.out).with_context(|| format!("cannot make the folder {}", args.out.display()))?;
+    crate::files::make_folder(&args.out, "--out")?;
     let files = clapper_app::sample_data::sample_files()?;
     for f in &files {
         crate::files::write_bytes(&args.out.join(f.name), &f.bytes)?;

@@ -82,16 +82,60 @@ pub fn run(args: ServeArgs) -> Result<()> {
     served
 }
 
-/// Ask the desktop to open `url`; say so if it cannot.
-fn open_browser(url: &str) {
-    let opener = if cfg!(target_os = "macos") {
-        "open"
-    } else if cfg!(windows) {
-        "explorer"
-    } else {
-        "xdg-open"
-    };
-    if std::process::Command::new(opener).arg(url).spawn().is_err() {
-        eprintln!("could not open a browser ({opener}); open {url} yourself");
+/// The command that opens a URL in a browser: `$BROWSER` (a program and
+/// its options) if set, else the desktop's own opener.
+fn browser_command() -> Vec<String> {
+    if let Some(b) = std::env::var("BROWSER").ok().filter(|b| !b.trim().is_empty()) {
+        // A list of browsers to try is `:`-separated; the first is taken.
+        let first = b.split(':').next().unwrap_or(&b);
+        return first.split_whitespace().map(String::from).collect();
     }
+    let cmd: &[&str] = if cfg!(target_os = "macos") {
+        &["open"]
+    } else if cfg!(windows) {
+        &["cmd", "/C", "start", ""]
+    } else {
+        &["xdg-open"]
+    };
+    cmd.iter().map(|s| s.to_string()).collect()
+}
+
+/// How long an opener has to fail in for its failure to be said: after
+/// that, its exit is the browser's own (xdg-open may wait for it).
+const OPENER_GRACE: std::time::Duration = std::time::Duration::from_secs(10);
+
+/// Ask the desktop to open `url`, without its output (xdg-open with no
+/// browser prints a line for every browser it tried); if it cannot, say so
+/// in one line. Not `opener`: it discards xdg-open's exit status, so a
+/// failure could not be said at all.
+fn open_browser(url: &str) {
+    let cmd = browser_command();
+    let spawned = std::process::Command::new(&cmd[0])
+        .args(&cmd[1..])
+        .arg(url)
+        .stdin(std::process::Stdio::null())
+        .stdout(std::process::Stdio::null())
+        .stderr(std::process::Stdio::null())
+        .spawn();
+    match spawned {
+        Err(_) => cannot_open(url),
+        // Waited for on a thread of its own (which also reaps it): the
+        // server is already answering.
+        Ok(mut child) => {
+            let started = std::time::Instant::now();
+            let url = url.to_string();
+            std::thread::spawn(move || {
+                if let Ok(status) = child.wait() {
+                    if !status.success() && started.elapsed() < OPENER_GRACE {
+                        cannot_open(&url);
+                    }
+                }
+            });
+        }
+    }
+}
+
+/// The one line said when no browser could be opened.
+fn cannot_open(url: &str) {
+    eprintln!("could not open a browser: open {url} yourself");
 }

@@ -799,7 +799,8 @@ fn design_clapper_prints_and_writes_a_clapper_a_bell_file_reads() {
         .unwrap();
     assert!(!bad.status.success());
     let err = String::from_utf8_lossy(&bad.stderr);
-    assert!(err.contains("shaft_length_m") && err.lines().count() == 1, "{err}");
+    // Named by its option, as the user gave it.
+    assert!(err.contains("--shaft-length 0.8") && err.lines().count() == 1, "{err}");
 }
 
 /// Frame loads in newtons come from a weighed bell: the tower file (the
@@ -1017,7 +1018,22 @@ fn diagnose_sets_a_recording_beside_the_model() {
         "bell 4 heard {odd} ms odd-struck (planted 15)"
     );
     assert_eq!(b4["simulated_odd_struck_ms"].as_f64().unwrap(), 0.0);
-    assert!(b4["words"][0].as_str().unwrap().contains("where the model gives"));
+    let advice = b4["words"][0].as_str().unwrap();
+    assert!(advice.contains("where the model gives"));
+    // The advice names options that exist (it once named --contact-angles).
+    let help = clapper().args(["diagnose", "--help"]).output().unwrap();
+    let help = String::from_utf8_lossy(&help.stdout);
+    let named: Vec<&str> = advice
+        .split(|c: char| !(c.is_ascii_alphanumeric() || c == '-'))
+        .filter(|w| w.starts_with("--"))
+        .collect();
+    assert!(named.contains(&"--pivot-offset"), "{advice}");
+    for option in named {
+        assert!(
+            help.contains(&format!("{option} ")),
+            "{option} is no option of diagnose: {advice}"
+        );
+    }
     // The others agree with the model's even hanging, most of them: in
     // rounds, bell 4 lends its neighbours a little of its odd-struckness in
     // the opposite sense (docs/strikes.md).

@@ -24,6 +24,9 @@ pub enum LogFileError {
         /// Why.
         reason: String,
     },
+    /// Not text at all: a recording given as a log.
+    #[error("{0}")]
+    NotText(crate::text_file::NotText),
     /// Nothing in it.
     #[error("the log is empty: no samples")]
     Empty,
@@ -229,9 +232,13 @@ fn push(xyz: &mut Vec<[f64; 3]>, t: &mut Vec<f64>, v: [f64; 3], time: f64, line:
 
 /// Read a log from a file.
 pub fn load_accel_log(path: &std::path::Path, axes: Axes) -> Result<AccelLog, LogFileError> {
-    let text = std::fs::read_to_string(path).map_err(|e| LogFileError::Read {
-        path: path.display().to_string(),
-        reason: e.to_string(),
+    use crate::text_file::{read_text, ReadTextError};
+    let text = read_text(path, "an accelerometer log").map_err(|e| match e {
+        ReadTextError::Io(e) => LogFileError::Read {
+            path: path.display().to_string(),
+            reason: e.to_string(),
+        },
+        ReadTextError::NotText(e) => LogFileError::NotText(e),
     })?;
     parse_accel_log(&text, axes)
 }

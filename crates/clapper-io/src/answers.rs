@@ -18,9 +18,16 @@ pub struct AnswersError {
 
 /// Read one answer sheet.
 pub fn read_answers(path: &Path) -> Result<Vec<Answer>, AnswersError> {
-    let text = std::fs::read_to_string(path).map_err(|e| AnswersError {
-        path: path.display().to_string(),
-        message: format!("cannot read: {e}"),
+    use crate::text_file::{read_text, ReadTextError};
+    let text = read_text(path, "an answer sheet").map_err(|e| match e {
+        ReadTextError::Io(e) => AnswersError {
+            path: path.display().to_string(),
+            message: format!("cannot read: {e}"),
+        },
+        ReadTextError::NotText(e) => AnswersError {
+            path: path.display().to_string(),
+            message: e.what(),
+        },
     })?;
     parse_answers(&text, &path.display().to_string())
 }

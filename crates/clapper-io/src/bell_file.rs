@@ -211,6 +211,9 @@ pub enum BellFileError {
         /// command line would say it twice).
         reason: std::io::Error,
     },
+    /// Not text at all: a recording or an image given as a bell file.
+    #[error("{0}")]
+    NotText(crate::text_file::NotText),
     /// Not valid TOML, an unknown key, or a value of the wrong type.
     #[error("{0}")]
     Syntax(String),
@@ -246,10 +249,16 @@ impl From<crate::clapper_input::ClapperInputError> for BellFileError {
 }
 
 /// The file's text and stem (the default name of an unnamed bell).
-fn read_text(path: &Path) -> Result<(String, String), BellFileError> {
-    let text = std::fs::read_to_string(path).map_err(|reason| BellFileError::Read {
-        path: path.display().to_string(),
-        reason,
+/// `wanted` is what the file should be ("a bell file"), for the message
+/// when it is not text.
+fn read_text(path: &Path, wanted: &'static str) -> Result<(String, String), BellFileError> {
+    use crate::text_file::{read_text, ReadTextError};
+    let text = read_text(path, wanted).map_err(|e| match e {
+        ReadTextError::Io(reason) => BellFileError::Read {
+            path: path.display().to_string(),
+            reason,
+        },
+        ReadTextError::NotText(e) => BellFileError::NotText(e),
     })?;
     let stem = path
         .file_stem()
@@ -268,14 +277,14 @@ fn in_file<T>(path: &Path, r: Result<T, BellFileError>) -> Result<T, BellFileErr
 
 /// Read and validate a bell file.
 pub fn load_bell(path: &Path) -> Result<LoadedBell, BellFileError> {
-    let (text, stem) = read_text(path)?;
+    let (text, stem) = read_text(path, "a bell file")?;
     in_file(path, parse_bell(&text, &stem))
 }
 
 /// Read a file of one bell, or of several as `[[bell]]` tables (each with
 /// the keys of a one-bell file), or a ring as CSV (by the `.csv` extension).
 pub fn load_bells(path: &Path) -> Result<Vec<LoadedBell>, BellFileError> {
-    let (text, stem) = read_text(path)?;
+    let (text, stem) = read_text(path, "a bell or ring file")?;
     let is_csv = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("csv"));
     in_file(
         path,
@@ -289,17 +298,27 @@ pub fn load_bells(path: &Path) -> Result<Vec<LoadedBell>, BellFileError> {
 
 /// Parse a ring from CSV: a header row of bell-file keys (`name` first is
 /// usual; any form, empty cells for keys a row does not use), one bell a row.
+/// A cell that cannot be read is named by its row, line, column and value.
 pub fn parse_ring_csv(text: &str) -> Result<Vec<LoadedBell>, BellFileError> {
     let mut rdr = csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
         .from_reader(text.as_bytes());
+    let header = rdr
+        .headers()
+        .map_err(|e| BellFileError::Syntax(csv_error(&e, None)))?
+        .clone();
     let mut out = vec![];
-    for (k, row) in rdr.deserialize::<BellFile>().enumerate() {
-        let f =
-            row.map_err(|e| BellFileError::Syntax(format!("row {}: {}", k + 1, e.to_string().replace('\n', " "))))?;
+    for (k, row) in rdr.records().enumerate() {
+        let row = row.map_err(|e| BellFileError::Syntax(csv_error(&e, Some(k + 1))))?;
+        // The header is line 1; a quoted cell may span lines, so ask.
+        let line = row.position().map_or(k as u64 + 2, csv::Position::line);
+        let at = format!("row {} (line {line})", k + 1);
+        let f: BellFile = row
+            .deserialize(Some(&header))
+            .map_err(|e| BellFileError::Syntax(csv_cell_error(&e, &header, &row, &at)))?;
         out.push(bell_from_fields(f, &format!("bell {}", k + 1)).map_err(|e| match e {
-            BellFileError::Syntax(m) => BellFileError::Syntax(format!("row {}: {m}", k + 1)),
-            BellFileError::Param(p) => BellFileError::Syntax(format!("row {}: {p}", k + 1)),
+            BellFileError::Syntax(m) => BellFileError::Syntax(format!("{at}: {m}")),
+            BellFileError::Param(p) => BellFileError::Syntax(format!("{at}: {p}")),
             other => other,
         })?);
     }
@@ -307,6 +326,72 @@ pub fn parse_ring_csv(text: &str) -> Result<Vec<LoadedBell>, BellFileError> {
         return Err(BellFileError::Missing("every bell: the ring file has no rows".into()));
     }
     Ok(out)
+}
+
+/// A CSV reader's error as one line that says where (`row`, counting
+/// from 1 after the header, and the line): a row with more cells than the
+/// header is most often a decimal comma that split a number.
+fn csv_error(e: &csv::Error, row: Option<usize>) -> String {
+    let line = e.position().map(csv::Position::line);
+    let at = match (row, line) {
+        (Some(r), Some(l)) => format!("row {r} (line {l}): "),
+        (Some(r), None) => format!("row {r}: "),
+        (None, Some(l)) => format!("line {l}: "),
+        (None, None) => String::new(),
+    };
+    match e.kind() {
+        csv::ErrorKind::UnequalLengths { expected_len, len, .. } => {
+            let hint = if len > expected_len {
+                " (a decimal comma splits a number in two: write 0.05, not 0,05)"
+            } else {
+                ""
+            };
+            format!("{at}{len} cells where the header has {expected_len}{hint}")
+        }
+        _ => format!("{at}{}", cut(&e.to_string().replace('\n', " "))),
+    }
+}
+
+/// A cell of a ring CSV that does not read as its column's key wants:
+/// where (`at`: its row and line), the column's header and the value.
+fn csv_cell_error(e: &csv::Error, header: &csv::StringRecord, row: &csv::StringRecord, at: &str) -> String {
+    let csv::ErrorKind::Deserialize { err, .. } = e.kind() else {
+        return format!("{at}: {}", cut(&e.to_string().replace('\n', " ")));
+    };
+    let Some(i) = err.field().and_then(|i| usize::try_from(i).ok()) else {
+        // Not one cell's fault (an unknown column): serde's words.
+        return format!("{at}: {}", cut(&err.kind().to_string().replace('\n', " ")));
+    };
+    // Escaped: a quoted cell may hold a line break, and the message is one line.
+    let column = cut(&header.get(i).unwrap_or("?").escape_debug().to_string());
+    let value = cut(&row.get(i).unwrap_or("").escape_debug().to_string());
+    match err.kind() {
+        csv::DeserializeErrorKind::ParseFloat(_) => {
+            let hint = decimal_comma(&value).map_or(String::new(), |w| format!(" ({w})"));
+            format!("{at}, column {column}: '{value}' is not a number{hint}")
+        }
+        other => format!("{at}, column {column}: '{value}': {}", cut(&other.to_string())),
+    }
+}
+
+/// Advice for a number written with a decimal comma (`0,05`): write it
+/// with a point. `None` when `value` is not such a number.
+fn decimal_comma(value: &str) -> Option<String> {
+    let v = value.trim();
+    let (int, frac) = v.split_once(',')?;
+    let digits = |s: &str| !s.is_empty() && s.bytes().all(|c| c.is_ascii_digit());
+    if !(digits(int.trim_start_matches(['+', '-'])) && digits(frac)) {
+        return None;
+    }
+    let point = format!("{int}.{frac}");
+    // 1,000 is as likely a thousand as a decimal comma.
+    Some(
+        if frac.len() == 3 && !int.trim_start_matches(['+', '-', '0']).is_empty() {
+            format!("a thousands separator or a decimal comma? write {int}{frac} or {point}")
+        } else {
+            format!("decimal comma? write {point}")
+        },
+    )
 }
 
 /// Parse one bell, or several as `[[bell]]` tables.
@@ -380,14 +465,22 @@ pub fn bell_texts(text: &str, csv: bool, default_name: &str) -> Result<Vec<Strin
     }
 }
 
-/// One line from a TOML error: where, which key, and what is wrong.
+/// One line from a TOML error: where, which key, and what is wrong; a
+/// number written with a decimal comma (`r_m = 0,05`, which TOML reads as
+/// 0 followed by junk) is named as such.
 fn one_line(text: &str, err: &toml::de::Error) -> String {
     let msg = err.message().replace('\n', " ");
     match err.span() {
         Some(span) => {
             let line = text[..span.start.min(text.len())].matches('\n').count() + 1;
-            let src = cut(text.lines().nth(line - 1).unwrap_or("").trim());
-            format!("line {line} (`{src}`): {}", cut(&msg))
+            let src = text.lines().nth(line - 1).unwrap_or("");
+            // The value: after the key's `=`, before any comment.
+            let value = src.split_once('=').map(|(_, v)| v.split('#').next().unwrap_or(v));
+            let src = cut(src.trim());
+            match value.and_then(decimal_comma) {
+                Some(advice) => format!("line {line} (`{src}`): {advice}"),
+                None => format!("line {line} (`{src}`): {}", cut(&msg)),
+            }
         }
         None => cut(&msg),
     }
@@ -668,7 +761,11 @@ mod tests {
         let bad = parse_ring_csv("name,colour\nx,red\n").unwrap_err().to_string();
         assert!(bad.contains("row 1") && bad.contains("colour"), "{bad}");
         let bad = parse_ring_csv("name,bell_period_s,clapper_period_s,r_m,phi_max_deg\nx,abc,1,0.1,30\n").unwrap_err();
-        assert!(bad.to_string().contains("row 1"), "{bad}");
+        assert!(
+            bad.to_string()
+                .contains("row 1 (line 2), column bell_period_s: 'abc' is not a number"),
+            "{bad}"
+        );
         assert!(parse_ring_csv("name,r_m\n").is_err());
     }
 

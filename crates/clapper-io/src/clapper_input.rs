@@ -66,6 +66,15 @@ pub enum ClapperInputError {
     /// A mass given for a part with no length or position.
     #[error("clapper: {0} needs {1}")]
     Needs(&'static str, &'static str),
+    /// No part with any mass: nothing given, or parts given in half (a
+    /// shaft's length without its diameter). Says which, and what each
+    /// part needs.
+    #[error(
+        "clapper: no part has any mass{0}: a shaft needs shaft_length_m and shaft_diameter_m, \
+         a ball ball_diameter_m (or ball_mass_kg) and ball_position_m, \
+         a flight flight_length_m and flight_diameter_m (or flight_mass_kg)"
+    )]
+    NoMass(String),
     /// A value out of range.
     #[error("clapper: {0}")]
     Param(#[from] ParamError),
@@ -109,8 +118,48 @@ impl ClapperInput {
             flight_diameter,
             flight_material,
         };
+        let sizes = [
+            parts.shaft_length,
+            parts.shaft_diameter,
+            parts.ball_diameter,
+            parts.ball_position,
+            parts.flight_length,
+            parts.flight_diameter,
+        ];
+        // Sizes out of range are validate's to name; a clapper of no mass
+        // is named here, where what was given is known.
+        if sizes.iter().all(|v| v.is_finite() && *v >= 0.0) && parts.parts().iter().map(|p| p.mass).sum::<f64>() <= 0.0
+        {
+            return Err(ClapperInputError::NoMass(self.half_given()));
+        }
         parts.validate()?;
         Ok(parts)
+    }
+
+    /// The parts given in half, as " (shaft_length_m needs
+    /// shaft_diameter_m)", or "" when none is.
+    fn half_given(&self) -> String {
+        let given = |v: Option<f64>| v.is_some_and(|x| x != 0.0);
+        let mut half = vec![];
+        match (given(self.shaft_length_m), given(self.shaft_diameter_m)) {
+            (true, false) => half.push("shaft_length_m needs shaft_diameter_m"),
+            (false, true) => half.push("shaft_diameter_m needs shaft_length_m"),
+            _ => {}
+        }
+        if given(self.ball_position_m) && !given(self.ball_diameter_m) && !given(self.ball_mass_kg) {
+            half.push("ball_position_m needs ball_diameter_m or ball_mass_kg");
+        }
+        let flight_thickness = given(self.flight_diameter_m) || given(self.flight_mass_kg);
+        match (given(self.flight_length_m), flight_thickness) {
+            (true, false) => half.push("flight_length_m needs flight_diameter_m or flight_mass_kg"),
+            (false, true) => half.push("flight_diameter_m needs flight_length_m"),
+            _ => {}
+        }
+        if half.is_empty() {
+            String::new()
+        } else {
+            format!(" ({})", half.join("; "))
+        }
     }
 
     /// The table that describes `parts` (diameters, every material named),
@@ -191,5 +240,22 @@ mod tests {
         .parts()
         .unwrap_err();
         assert!(e.to_string().contains("ball_position_m"), "{e}");
+    }
+
+    #[test]
+    fn a_clapper_of_no_mass_says_what_each_part_needs() {
+        let e = ClapperInput {
+            shaft_length_m: Some(0.69),
+            ..Default::default()
+        }
+        .parts()
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("no part has any mass (shaft_length_m needs shaft_diameter_m)"),
+            "{e}"
+        );
+        let e = ClapperInput::default().parts().unwrap_err().to_string();
+        assert!(e.contains("no part has any mass: a shaft needs"), "{e}");
     }
 }

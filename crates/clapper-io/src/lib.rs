@@ -16,6 +16,7 @@ pub mod hanging_input;
 pub mod report;
 pub mod signal_file;
 pub mod strike_file;
+pub mod text_file;
 pub mod trace;
 
 pub use bell_file::{

@@ -145,19 +145,24 @@ fn read_wav(path: &Path, channel: usize) -> Result<Signal, SignalFileError> {
     })
 }
 
-/// A CSV reader with a header row and trimmed cells.
-fn csv_reader(path: &Path) -> Result<csv::Reader<std::fs::File>, SignalFileError> {
-    csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .from_path(path)
-        .map_err(|e| SignalFileError::Read {
+/// A CSV reader with a header row and trimmed cells over the text of
+/// `path`, which should be `wanted` ("a modes file").
+fn csv_reader(path: &Path, wanted: &'static str) -> Result<csv::Reader<std::io::Cursor<String>>, SignalFileError> {
+    use crate::text_file::{read_text, ReadTextError};
+    let text = read_text(path, wanted).map_err(|e| match e {
+        ReadTextError::Io(e) => SignalFileError::Read {
             path: path.display().to_string(),
             message: e.to_string(),
-        })
+        },
+        ReadTextError::NotText(e) => content(path, e.what()),
+    })?;
+    Ok(csv::ReaderBuilder::new()
+        .trim(csv::Trim::All)
+        .from_reader(std::io::Cursor::new(text)))
 }
 
 fn read_csv(path: &Path, channel: usize) -> Result<Signal, SignalFileError> {
-    let mut rdr = csv_reader(path)?;
+    let mut rdr = csv_reader(path, "a CSV signal")?;
     let headers = rdr.headers().map_err(|e| content(path, e.to_string()))?.clone();
     if headers.len() < 2 + channel {
         return Err(content(
@@ -250,7 +255,7 @@ pub fn read_modes(path: &Path) -> Result<Vec<Mode>, SignalFileError> {
         freq_hz: f64,
         effective_mass_kg: f64,
     }
-    let mut rdr = csv_reader(path)?;
+    let mut rdr = csv_reader(path, "a modes file")?;
     let mut out = vec![];
     for (k, row) in rdr.deserialize::<Row>().enumerate() {
         let r = row.map_err(|e| content(path, format!("row {}: {}", k + 1, e.to_string().replace('\n', " "))))?;
