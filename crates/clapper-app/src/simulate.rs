@@ -95,6 +95,19 @@ crate::stroke_options::with_stroke_options! {
     }
 }
 
+/// A chart coordinate for a bell's name: at most three decimals, trailing
+/// zeros dropped (`0.45`, `0.273`): a point a page clicked carries the
+/// grid's sixteen digits, which only crowd a title or caption.
+fn chart_coordinate(v: f64) -> String {
+    let s = format!("{v:.3}");
+    let s = s.trim_end_matches('0').trim_end_matches('.');
+    if s == "-0" {
+        "0".into()
+    } else {
+        s.into()
+    }
+}
+
 impl SimulateRequest {
     /// The bell the request names, with any φ_max override applied.
     /// `file` (a bell file already read by the caller) takes the place of
@@ -115,7 +128,7 @@ impl SimulateRequest {
             (Some(f), ..) => f,
             (_, Some(text), ..) => clapper_io::parse_bell(text, "bell")?,
             (_, _, Some([x, y]), _) => LoadedBell::new(
-                format!("chart point ({x}, {y})"),
+                format!("chart point ({}, {})", chart_coordinate(x), chart_coordinate(y)),
                 ChartConstruction::default().bell(x, y)?,
                 BellSource::MassProperties,
             ),

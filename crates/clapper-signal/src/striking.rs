@@ -231,6 +231,71 @@ fn typical_row(strikes: &[Timed], bells: usize, order: &[usize]) -> f64 {
     gaps.get(gaps.len() / 2).copied().unwrap_or(2.0)
 }
 
+/// How many bells the strikes' spacing leaves room for: heard with fewer
+/// bells' nominals than ring, each bell still strikes once a row, but the
+/// strikes of the bells listened for are as close as the interval between
+/// successive bells of the whole ring.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct RingRoom {
+    /// About how many bells ring: `row_s / interval_s - ½` (a bell strikes
+    /// every n + ½ intervals, half the handstroke gap on average).
+    pub bells: f64,
+    /// The median over bells' strikes of half the time from a strike to
+    /// the strike after next (s): a row and half the handstroke gap, which
+    /// the median of single intervals, alternately short and long, is not.
+    pub row_s: f64,
+    /// The interval between successive bells (s), which bells not listened
+    /// for leave as it is: the median of the times between successive
+    /// strikes of two different bells that lie within half and one and a
+    /// half times their lower quartile (the quartile alone is shortened by
+    /// striking errors: a bell's strike early, its neighbour's late).
+    pub interval_s: f64,
+}
+
+/// The room the strikes (any order) leave for bells: `None` with strikes
+/// of fewer than two bells, or fewer than three strikes of a bell or eight
+/// spacings between different bells.
+pub fn ring_room(strikes: &[Timed]) -> Option<RingRoom> {
+    let mut order: Vec<usize> = (0..strikes.len()).collect();
+    order.sort_by(|&a, &b| strikes[a].t.total_cmp(&strikes[b].t));
+    let bells = strikes.iter().map(|s| s.bell).max().unwrap_or(0);
+    let with_three = (1..=bells)
+        .filter(|&b| strikes.iter().filter(|s| s.bell == b).count() >= 3)
+        .count();
+    let mut apart: Vec<f64> = order
+        .windows(2)
+        .filter(|w| strikes[w[0]].bell != strikes[w[1]].bell)
+        .map(|w| strikes[w[1]].t - strikes[w[0]].t)
+        .collect();
+    if with_three < 2 || apart.len() < 8 {
+        return None;
+    }
+    apart.sort_by(f64::total_cmp);
+    let quartile = apart[apart.len() / 4];
+    let near: Vec<f64> = apart
+        .iter()
+        .copied()
+        .filter(|d| (0.5 * quartile..=1.5 * quartile).contains(d))
+        .collect();
+    let interval_s = near[near.len() / 2];
+    let mut pulls = vec![];
+    for bell in 1..=bells {
+        let mine: Vec<f64> = order
+            .iter()
+            .filter(|&&i| strikes[i].bell == bell)
+            .map(|&i| strikes[i].t)
+            .collect();
+        pulls.extend(mine.windows(3).map(|w| 0.5 * (w[2] - w[0])));
+    }
+    pulls.sort_by(f64::total_cmp);
+    let row_s = pulls[pulls.len() / 2];
+    (interval_s > 0.0).then(|| RingRoom {
+        bells: row_s / interval_s - 0.5,
+        row_s,
+        interval_s,
+    })
+}
+
 /// Least-squares line y = a + b x: (a, b); `None` for fewer than two
 /// distinct x.
 fn line(pts: &[(f64, f64)]) -> Option<(f64, f64)> {
@@ -363,5 +428,30 @@ mod tests {
         let timed: Vec<Timed> = truth.iter().map(|s| Timed { bell: s.bell, t: s.t }).collect();
         assert!(!rhythm(&timed, 6).strokes_known);
         assert!(rhythm(&[], 6).placed.is_empty());
+    }
+
+    #[test]
+    fn the_strikes_of_three_bells_of_eight_leave_room_for_eight() {
+        let mut s = spec(Method::PlainHunt);
+        s.bells = (0..8)
+            .map(|i| RingBell {
+                nominal_hz: 1000.0 - 50.0 * i as f64,
+                mass_kg: 200.0,
+                odd_struck_ms: 0.0,
+            })
+            .collect();
+        s.rows = 12;
+        s.jitter = 0.02;
+        let truth = tower_strikes(&s).unwrap();
+        let timed: Vec<Timed> = truth.iter().map(|s| Timed { bell: s.bell, t: s.t }).collect();
+        let all = ring_room(&timed).unwrap();
+        assert!((all.bells - 8.0).abs() < 1.0, "{all:?}");
+        for bells in [[1, 2, 3], [6, 7, 8], [1, 4, 8]] {
+            let some: Vec<Timed> = timed.iter().copied().filter(|t| bells.contains(&t.bell)).collect();
+            let room = ring_room(&some).unwrap();
+            assert!(room.bells > 6.0, "{bells:?}: {room:?}");
+        }
+        let one: Vec<Timed> = timed.iter().copied().filter(|t| t.bell == 1).collect();
+        assert_eq!(ring_room(&one), None);
     }
 }

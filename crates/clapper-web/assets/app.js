@@ -34,6 +34,8 @@ function selectTab(name) {
   for (const b of document.querySelectorAll("button.tab")) b.classList.toggle("active", b.dataset.tab === name);
   for (const s of document.querySelectorAll("section.panel")) s.hidden = s.id !== "tab-" + name;
   if (name === "chart" && !chart.cells && !chart.running) drawChart();
+  // The markers' names are placed by their drawn sizes, which a hidden tab has not.
+  if (name === "chart") renderMarkers();
 }
 
 // ---------- chart explorer ----------
@@ -63,9 +65,45 @@ function viridis(t) {
   return `rgb(${c[0]},${c[1]},${c[2]})`;
 }
 
-function num(id) {
-  const v = Number($(id).value);
+// A number field's number. Empty, it means the page's default: the
+// field's first value, shown as its placeholder (undefined where it has
+// none, or where `given` asks for what was typed only, for the caller to
+// leave the option out); never 0. Text that is not a number is refused
+// with a message beside the field.
+function fieldNumber(inp, given = false) {
+  clearFieldError(inp);
+  const text = inp.value.trim();
+  if (text === "" && !(inp.validity && inp.validity.badInput)) {
+    const d = given ? "" : inp.defaultValue.trim();
+    return d === "" ? undefined : Number(d);
+  }
+  const v = Number(text);
+  if (text === "" || !Number.isFinite(v)) throw fieldError(inp, "not a number");
   return v;
+}
+function num(id) { return fieldNumber($(id)); }
+
+function fieldError(inp, text) {
+  clearFieldError(inp);
+  const label = inp.closest("label");
+  const name = (label ? label.textContent : inp.id || inp.dataset.key || "a field").trim();
+  const span = document.createElement("span");
+  span.className = "field-error error";
+  span.textContent = text;
+  inp.after(span);
+  inp.setAttribute("aria-invalid", "true");
+  inp.focus();
+  return new Error(`${name}: ${text}`);
+}
+function clearFieldError(inp) {
+  if (inp.nextElementSibling && inp.nextElementSibling.classList.contains("field-error")) inp.nextElementSibling.remove();
+  inp.removeAttribute("aria-invalid");
+}
+// Each number field with a default shows it when emptied; the bell form's
+// values are an example, not defaults.
+for (const inp of document.querySelectorAll("input[type=number]")) {
+  if (!inp.placeholder && inp.defaultValue !== "" && !inp.closest("#bell-form")) inp.placeholder = inp.defaultValue;
+  inp.addEventListener("input", () => clearFieldError(inp));
 }
 
 function chartRequest() {
@@ -80,11 +118,14 @@ function chartRequest() {
   };
   if ($("contact").value === "penalty") { req.contact = "penalty"; req.stiffness = num("stiffness"); }
   // R2: left empty, the bounces after the first impact take R too.
-  if ($("restitution-later").value.trim() !== "") req.restitution_later = num("restitution-later");
+  const r2 = num("restitution-later");
+  if (r2 !== undefined) req.restitution_later = r2;
   // An odd-struck bell: pivot offset (mm here, m in the API) and unequal contact angles.
-  if ($("pivot-offset").value.trim() !== "") req.pivot_offset = num("pivot-offset") / 1000;
-  if ($("phi-max-hand").value.trim() !== "") req.phi_max_hand = num("phi-max-hand");
-  if ($("phi-max-back").value.trim() !== "") req.phi_max_back = num("phi-max-back");
+  const offset = num("pivot-offset");
+  if (offset !== undefined) req.pivot_offset = offset / 1000;
+  const [hand, back] = [num("phi-max-hand"), num("phi-max-back")];
+  if (hand !== undefined) req.phi_max_hand = hand;
+  if (back !== undefined) req.phi_max_back = back;
   return req;
 }
 
@@ -96,9 +137,9 @@ async function drawChart() {
   const status = $("chart-status");
   showStatus(status, "Starting the sweep…");
   $("chart-box").dataset.done = "0";
-  const req = chartRequest();
   const t0 = performance.now();
   try {
+    const req = chartRequest();
     const res = await fetch("/api/chart", {
       method: "POST", headers: { "Content-Type": "application/json" }, body: JSON.stringify(req), signal: controller.signal,
     });
@@ -334,11 +375,17 @@ function renderScale(q, range) {
   g.fillText(QUANTITIES[q].label + ", " + $("show-style").value, 0, 0); g.restore();
 }
 
+// The diagnosed bells on the chart, each with its name beside it. Bells
+// of a ring sit close together: each name takes the first place, right or
+// left of its marker and then stepping up and down, that covers no other
+// name or marker, with a line to its marker when moved off its row.
+const MARKER_R = 9, LABEL_MAX = 24;
 function renderMarkers() {
   const box = $("markers");
   box.innerHTML = "";
   if (!chart.spec) return;
   const a = plotArea();
+  const shown = [];
   chart.markers.forEach((m, k) => {
     const [px, py] = toPx(m.x, m.y);
     if (px < a.x || px > a.x + a.w || py < a.y || py > a.y + a.h) return;
@@ -347,9 +394,53 @@ function renderMarkers() {
     d.dataset.index = k;
     d.style.left = px + 1 + "px"; d.style.top = py + 1 + "px";
     d.title = `${m.label}: r/L_c = ${m.x.toFixed(3)}, L_b/L_c = ${m.y.toFixed(3)}; click for its stroke`;
-    d.innerHTML = `<span>${esc(m.label)}</span>`;
+    const name = m.label.length > LABEL_MAX ? m.label.slice(0, LABEL_MAX - 1) + "…" : m.label;
+    d.innerHTML = `<span>${esc(name)}</span>`;
     box.appendChild(d);
+    shown.push({ d });
   });
+  // Where each marker is drawn, in #chart-box's px: its centre, and the
+  // corner its name is placed from.
+  const origin = $("chart-box").getBoundingClientRect();
+  for (const s of shown) {
+    const r = s.d.getBoundingClientRect();
+    s.x = r.left + r.width / 2 - origin.left; s.y = r.top + r.height / 2 - origin.top;
+    s.ox = r.left + s.d.clientLeft - origin.left; s.oy = r.top + s.d.clientTop - origin.top;
+  }
+  const lines = document.createElementNS("http://www.w3.org/2000/svg", "svg");
+  lines.setAttribute("class", "marker-lines");
+  lines.setAttribute("width", $("chart-canvas").width); lines.setAttribute("height", $("chart-canvas").height);
+  box.prepend(lines);
+  const taken = shown.map((s) => ({ x0: s.x - MARKER_R, y0: s.y - MARKER_R, x1: s.x + MARKER_R, y1: s.y + MARKER_R }));
+  const clear = (r) => r.x0 >= a.x && r.x1 <= a.x + a.w && r.y0 >= a.y && r.y1 <= a.y + a.h &&
+    taken.every((t) => r.x1 <= t.x0 || r.x0 >= t.x1 || r.y1 <= t.y0 || r.y0 >= t.y1);
+  // Top to bottom, so that a cluster's names stack in its order.
+  for (const s of [...shown].sort((p, q) => p.y - q.y)) {
+    const span = s.d.querySelector("span");
+    const w = span.offsetWidth, h = span.offsetHeight;
+    let place = null;
+    for (let step = 0; step <= 12 && !place; step++) {
+      for (const dy of step ? [step, -step] : [0]) {
+        for (const right of [true, false]) {
+          const x0 = right ? s.x + MARKER_R + 3 : s.x - MARKER_R - 3 - w;
+          const y0 = s.y - h / 2 + dy * (h + 2);
+          const r = { x0, y0, x1: x0 + w, y1: y0 + h };
+          if (clear(r)) { place = r; break; }
+        }
+        if (place) break;
+      }
+    }
+    // Nowhere free: the name stays in the marker's tooltip only.
+    if (!place) { span.hidden = true; continue; }
+    taken.push(place);
+    span.style.left = place.x0 - s.ox + "px"; span.style.top = place.y0 - s.oy + "px";
+    if (Math.abs(place.y0 + h / 2 - s.y) > 1) {
+      const l = document.createElementNS("http://www.w3.org/2000/svg", "line");
+      const ex = place.x0 > s.x ? place.x0 : place.x1;
+      l.setAttribute("x1", s.x); l.setAttribute("y1", s.y); l.setAttribute("x2", ex); l.setAttribute("y2", place.y0 + h / 2);
+      lines.appendChild(l);
+    }
+  }
 }
 
 function pointAt(ev) {
@@ -401,6 +492,7 @@ $("chart-box").addEventListener("click", (ev) => {
 // measurements, its own R), ringing the way it usually rings.
 async function showBellStroke(m) {
   if (!m.source) return;
+  $("stroke-panel").dataset.bell = "1";
   const body = { ...m.source, style: m.style, strokes: 2 };
   const title = `Stroke of ${m.label} (r/L_c = ${m.x.toFixed(3)}, L_b/L_c = ${m.y.toFixed(3)}), ringing ${m.style}`;
   await simulateStroke(body, title);
@@ -445,10 +537,12 @@ $("cmp-go").addEventListener("click", () => {
   const other = { ...strokeBody };
   const style = $("cmp-style").value;
   if (style) other.style = style;
-  for (const [id, key] of [["cmp-theta0", "theta0"], ["cmp-restitution", "restitution"], ["cmp-phi-max", "phi_max"]]) {
-    const v = $(id).value.trim();
-    if (v !== "") other[key] = Number(v);
-  }
+  try {
+    for (const [id, key] of [["cmp-theta0", "theta0"], ["cmp-restitution", "restitution"], ["cmp-phi-max", "phi_max"]]) {
+      const v = num(id);
+      if (v !== undefined) other[key] = v;
+    }
+  } catch (e) { showError($("anim-status"), e); return; }
   animateStrokes([strokeBody, other]);
 });
 
@@ -464,6 +558,7 @@ async function showStroke(p) {
   if (req.contact) { body.contact = req.contact; body.stiffness = req.stiffness; }
   if (req.restitution_later !== undefined) body.restitution_later = req.restitution_later;
   for (const k of ["pivot_offset", "phi_max_hand", "phi_max_back"]) if (req[k] !== undefined) body[k] = req[k];
+  $("stroke-panel").dataset.bell = "0";
   await simulateStroke(body, `Stroke at r/L_c = ${p.x.toFixed(3)}, L_b/L_c = ${p.y.toFixed(3)} (the chart's bell), ringing ${style}`);
 }
 
@@ -507,10 +602,10 @@ $("add-bell").addEventListener("click", () => {
   const fields = { name: $("bell-name").value.trim() || `bell ${ring.bells.length + 1}` };
   const inputs = [...$(kind === "tower" ? "tower-fields" : "mass-fields").querySelectorAll("input"), ...$("hanging-fields").querySelectorAll("input")];
   for (const inp of inputs) {
-    if (inp.value.trim() === "") continue;
-    const v = Number(inp.value);
-    if (!Number.isFinite(v)) { showError($("diagnosis-status"), `${inp.dataset.key}: '${inp.value}' is not a number`); return; }
-    fields[inp.dataset.key] = v;
+    let v;
+    // A measurement left empty is not given (the form's values are an example).
+    try { v = fieldNumber(inp, true); } catch (e) { showError($("diagnosis-status"), e); return; }
+    if (v !== undefined) fields[inp.dataset.key] = v;
   }
   const clapper = clapperParts();
   if (clapper === null) return;
@@ -524,6 +619,7 @@ $("add-bell").addEventListener("click", () => {
   }
   if (ring.text) { ring.text = null; ring.bells = []; }
   ring.bells.push({ kind, fields });
+  forgetDiagnosis();
   showStatus($("diagnosis-status"), `${ring.bells.length} bell(s) entered.${note} Press “Diagnose”.`);
   renderRing();
 });
@@ -533,12 +629,10 @@ $("add-bell").addEventListener("click", () => {
 function clapperParts() {
   const parts = {};
   for (const inp of $("clapper-fields").querySelectorAll("input, select")) {
-    const text = inp.value.trim();
-    if (text === "") continue;
-    if (inp.tagName === "SELECT") { parts[inp.dataset.key] = text; continue; }
-    const v = Number(text);
-    if (!Number.isFinite(v)) { showError($("diagnosis-status"), `${inp.dataset.key}: '${text}' is not a number`); return null; }
-    parts[inp.dataset.key] = v;
+    if (inp.tagName === "SELECT") { if (inp.value) parts[inp.dataset.key] = inp.value; continue; }
+    let v;
+    try { v = fieldNumber(inp, true); } catch (e) { showError($("diagnosis-status"), e); return null; }
+    if (v !== undefined) parts[inp.dataset.key] = v;
   }
   return parts;
 }
@@ -583,27 +677,105 @@ function renderRing() {
   ring.bells.forEach((b, k) => {
     const tr = document.createElement("tr");
     tr.innerHTML = `<td>${esc(b.fields.name)}</td><td>${b.kind === "tower" ? "tower measurements" : "mass properties"}</td><td><button type="button">remove</button></td>`;
-    tr.querySelector("button").addEventListener("click", () => { ring.bells.splice(k, 1); renderRing(); });
+    tr.querySelector("button").addEventListener("click", () => { ring.bells.splice(k, 1); forgetDiagnosis(); renderRing(); });
     body.appendChild(tr);
   });
   $("ring-toml").textContent = ring.bells.length ? ringToml() : "";
 }
 
+// What the server takes (bytes), from /api/health; its defaults until then.
+const serverLimits = { max_body_bytes: 1 << 20, max_recording_bytes: 64 << 20 };
+const mb = (bytes) => (bytes / (1 << 20)).toFixed(bytes < 10 << 20 ? 1 : 0) + " MB";
+const SOUND_NAME = /\.(wav|wave|bwf|rf64|mp3|flac|ogg|oga|opus|m4a|aac|aif|aiff|caf|wma)$/i;
+
+// Is `f` a sound file, by its name or its first bytes?
+async function isSound(f) {
+  const magic = String.fromCharCode(...new Uint8Array(await f.slice(0, 12).arrayBuffer()));
+  return SOUND_NAME.test(f.name) || /^(RIFF|RIFX|RF64|ID3|fLaC|OggS|FORM)/.test(magic) || magic.slice(4, 8) === "ftyp";
+}
+
+// Why a file picked as a text file of the page's (`kind`, in words) is
+// not one, or null: a recording, a binary file, or one too large for the
+// server to take (a ring of 64 bells is a few tens of kB, as are 100
+// listeners' answers). Asked when the file is picked, not when the server
+// refuses it.
+async function notATextFile(f, kind) {
+  if (await isSound(f)) return `${f.name} is a recording, not ${kind}. The strikes in a recording are heard on the “Strikes from a recording” tab.`;
+  const head = new Uint8Array(await f.slice(0, 4096).arrayBuffer());
+  if (head.includes(0)) return `${f.name} is not a text file: not ${kind}.`;
+  // The request carries the text, quoted, and a little more.
+  if (f.size > serverLimits.max_body_bytes - 1024) return `${f.name} is ${mb(f.size)}: more than ${kind} holds and more than this server takes (${mb(serverLimits.max_body_bytes)}).`;
+  return null;
+}
+const RING_FILE = "a ring file (a bell file in TOML or a ring CSV)";
+
 $("ring-file").addEventListener("change", async (ev) => {
-  const f = ev.target.files[0];
+  const inp = ev.target, f = inp.files[0];
+  clearFieldError(inp);
   if (!f) return;
+  const why = await notATextFile(f, RING_FILE);
+  if (why) {
+    inp.value = "";
+    fieldError(inp, why);
+    showError($("diagnosis-status"), why);
+    if (await isSound(f)) offerRecording(f);
+    return;
+  }
   ring.text = await f.text();
   ring.kind = /\.csv$/i.test(f.name) ? "csv" : "toml";
   ring.fileName = f.name;
   ring.bells = [];
+  forgetDiagnosis();
   showStatus($("diagnosis-status"), `Read ${f.name}. Press “Diagnose”.`);
   renderRing();
 });
+
+// A button beside the ring file's message that takes the recording to the
+// Strikes tab's Recording field.
+function offerRecording(f) {
+  const msg = $("ring-file").nextElementSibling;
+  if (!msg) return;
+  const b = document.createElement("button");
+  b.type = "button"; b.id = "use-as-recording"; b.textContent = "Listen to it on the Strikes tab";
+  b.addEventListener("click", () => {
+    const dt = new DataTransfer();
+    dt.items.add(f);
+    $("recording").files = dt.files;
+    clearFieldError($("ring-file"));
+    showStatus($("diagnosis-status"), "");
+    selectTab("strikes");
+    showStatus($("strikes-status"), `${f.name} is ready: give the bells' nominals (Hz), treble first, and press “Find the strikes”.`);
+    $("nominals").focus();
+  });
+  msg.append(" ", b);
+}
+
 $("clear-bells").addEventListener("click", () => {
-  ring.bells = []; ring.text = null; chart.markers = []; renderRing(); renderMarkers();
-  $("diagnosis").innerHTML = ""; showStatus($("diagnosis-status"), "");
-  $("rounds-box").hidden = true;
+  ring.bells = []; ring.text = null; renderRing();
+  forgetDiagnosis();
+  showStatus($("diagnosis-status"), "");
 });
+
+// The diagnosed ring is forgotten wherever it is used once the bells
+// change: its table, its markers on the chart and a marker's stroke, the
+// ring in rounds, and the Strikes tab's bells set beside what is heard.
+function forgetDiagnosis() {
+  lastDiagnosis = null;
+  chart.markers = [];
+  renderMarkers();
+  $("diagnosis").innerHTML = "";
+  if (roundsPlayer && roundsPlayer.playing) roundsPlayer.pause();
+  roundsPlayer = null;
+  $("rounds-anim").innerHTML = "";
+  showStatus($("rounds-status"), "");
+  $("rounds-box").hidden = true;
+  if ($("stroke-panel").dataset.bell === "1") {
+    if (player && player.playing) player.pause();
+    $("stroke-panel").hidden = true;
+    strokeBody = null;
+  }
+  if (lastStrikes) renderStrikes();
+}
 
 function diagnoseRequest() {
   if (ring.text) return ring.kind === "csv" ? { csv: ring.text } : { toml: ring.text };
@@ -625,6 +797,7 @@ $("diagnose").addEventListener("click", async () => {
     $("rounds-box").hidden = rep.bells.length < 2;
     showStatus(status, `${rep.bells.length} bell(s) diagnosed; they are marked on the clapping chart.`);
     renderMarkers();
+    if (lastStrikes) renderStrikes();
   } catch (e) { showError(status, e); }
 });
 
@@ -721,8 +894,8 @@ $("start-listener").addEventListener("click", async () => {
   if (!name) { $("answer-count").textContent = "Give the listener a name."; return; }
   const names = [...new Set(listen.answers.map((a) => a.listener))];
   const index = names.includes(name) ? names.indexOf(name) : names.length;
-  const seed = Math.max(0, Math.floor(num("seed")) || 0);
   try {
+    const seed = Math.max(0, Math.floor(num("seed")));
     const res = await fetch(`/api/listening/sheet?listener=${index}&seed=${seed}`);
     if (!res.ok) throw new Error((await res.json()).error);
     listen.sheet = await res.json();
@@ -791,7 +964,10 @@ $("download-answers").addEventListener("click", () => {
 
 $("upload-answers").addEventListener("change", async (ev) => {
   const f = ev.target.files[0];
+  clearFieldError(ev.target);
   if (!f) return;
+  const why = await notATextFile(f, "an answers file (CSV)");
+  if (why) { ev.target.value = ""; fieldError(ev.target, why); showError($("answer-count"), why); return; }
   try {
     const res = await (await postJson("/api/listening/parse", { csv: await f.text() })).json();
     listen.answers.push(...res.answers);
@@ -805,7 +981,10 @@ $("clear-answers").addEventListener("click", () => {
 });
 
 // ---------- start ----------
-fetch("/api/health").then((r) => r.json()).then((h) => { $("version").textContent = h.version; }).catch(() => {});
+fetch("/api/health").then((r) => r.json()).then((h) => {
+  $("version").textContent = h.version;
+  for (const k of Object.keys(serverLimits)) if (Number.isFinite(h[k])) serverLimits[k] = h[k];
+}).catch(() => {});
 saveAnswers();
 renderRing();
 selectTab("chart");
@@ -828,7 +1007,7 @@ $("listen-recording").addEventListener("click", async () => {
     if (!file) throw new Error("choose a recording (.wav) first");
     const nominals = $("nominals").value.split(/[,\s]+/).filter((v) => v !== "");
     if (nominals.length === 0) throw new Error("give the bells' nominals (Hz), treble first");
-    const q = new URLSearchParams({ nominals: nominals.join(","), double_min_ratio: $("double-min-ratio").value });
+    const q = new URLSearchParams({ nominals: nominals.join(","), double_min_ratio: num("double-min-ratio") });
     showStatus(status, `Listening to ${file.name}…`);
     const res = await fetch("/api/strikes?" + q, { method: "POST", headers: { "Content-Type": "audio/wav" }, body: file });
     if (!res.ok) {
@@ -837,14 +1016,30 @@ $("listen-recording").addEventListener("click", async () => {
       throw new Error(msg);
     }
     lastStrikes = await res.json();
-    $("strikes-result").innerHTML = strikesHtml(lastStrikes.report);
-    $("download-strikes-json").addEventListener("click", () =>
-      download("strikes.json", "application/json", JSON.stringify(lastStrikes.report, null, 2)));
-    $("download-strikes-csv").addEventListener("click", () => download("strikes.csv", "text/csv", lastStrikes.csv));
+    renderStrikes();
     const s = lastStrikes.report.summary;
-    showStatus(status, `${s.strikes} strike(s) heard in ${fmt(s.duration_s, 1)} s.` + (s.warnings.length ? " " + s.warnings.join("; ") : ""));
+    showStatus(status, `${s.strikes} strike(s) heard in ${fmt(s.duration_s, 1)} s.` + (s.warnings.length ? ` ${s.warnings.length} warning(s): see below.` : ""));
   } catch (e) { showError(status, e); }
 });
+
+// A recording is checked when picked: a sound file, within what the server takes.
+$("recording").addEventListener("change", async (ev) => {
+  const inp = ev.target, f = inp.files[0];
+  clearFieldError(inp);
+  if (!f) return;
+  let why = null;
+  if (!(await isSound(f))) why = `${f.name} is not a recording: give a WAV file (a bell file or ring CSV goes on the “Your bells” tab).`;
+  else if (f.size > serverLimits.max_recording_bytes) why = `${f.name} is ${mb(f.size)}, more than this server takes (${mb(serverLimits.max_recording_bytes)}): cut it, or use clapper strikes.`;
+  if (why) { inp.value = ""; fieldError(inp, why); showError($("strikes-status"), why); }
+});
+
+// The last recording's striking, beside the bells diagnosed now (if any).
+function renderStrikes() {
+  $("strikes-result").innerHTML = strikesHtml(lastStrikes.report);
+  $("download-strikes-json").addEventListener("click", () =>
+    download("strikes.json", "application/json", JSON.stringify(lastStrikes.report, null, 2)));
+  $("download-strikes-csv").addEventListener("click", () => download("strikes.csv", "text/csv", lastStrikes.csv));
+}
 
 function strikesHtml(r) {
   const s = r.summary;
@@ -854,6 +1049,7 @@ function strikesHtml(r) {
     ${s.double_strikes} double strike(s).
     <button type="button" id="download-strikes-json">Download JSON</button>
     <button type="button" id="download-strikes-csv">Download CSV</button></p>`;
+  if (s.warnings.length) h += `<ul id="strikes-warnings" class="warnings">${s.warnings.map((w) => `<li class="problem">Warning: ${esc(w)}</li>`).join("")}</ul>`;
   h += "<table id=\"strikes-table\"><tr><th>bell</th><th>strikes</th><th>hand mean ± sd (ms)</th><th>back mean ± sd (ms)</th><th>odd-struck (ms)</th><th>double strikes</th><th>mean D</th>";
   if (beside) h += "<th>bell diagnosed</th><th>odd-struck, model (ms)</th><th>D, model (R = 0.1)</th>";
   h += "</tr>";

@@ -6,11 +6,16 @@
 // the lab bell's stroke and plays its animation (alone and beside the same
 // bell ringing wrong), answers three listening-test stimuli and shows the
 // result, uploads a synthetic recording of a ring and sees its striking,
-// saving a screenshot at each step.
+// saving a screenshot at each step. And the faults a new user met (issue
+// 42): an emptied number field read as 0, "Clear" leaving the bells the
+// Strikes tab compares against, a WAV picked as a ring file, too few
+// nominals for a recording heard without a warning, a chart point's
+// caption of sixteen digits over its neighbour's, markers' names over
+// each other.
 //
 //   CLAPPER_BIN=target/release/clapper E2E_OUT=target/e2e node crates/clapper-web/e2e/e2e.mjs
 import { spawn, spawnSync } from "node:child_process";
-import { mkdirSync } from "node:fs";
+import { mkdirSync, readFileSync, writeFileSync } from "node:fs";
 import { dirname, resolve } from "node:path";
 import { fileURLToPath } from "node:url";
 import { chromium } from "playwright-core";
@@ -58,6 +63,38 @@ try {
   await page.waitForSelector('#chart-box[data-done="1"]', { timeout: 120000 });
   check((await page.textContent("#chart-status")).includes("strokes in"), "the default chart streams in and finishes");
   await page.screenshot({ path: `${out}/01-chart.png` });
+
+  // An emptied number field means the default its placeholder shows,
+  // never 0: θ0 emptied sweeps from 171 deg (at 0 the bell would not
+  // swing, and no cell would sustain), R emptied is 0.2.
+  const chartBody = () => page.waitForRequest((r) => r.url().endsWith("/api/chart")).then((r) => JSON.parse(r.postData()));
+  await page.fill("#theta0", "");
+  await page.fill("#restitution", "");
+  check(await page.getAttribute("#theta0", "placeholder") === "171", "an emptied θ0 shows its default, 171, as its placeholder");
+  let sent = chartBody();
+  await page.click("#draw-chart");
+  sent = await sent;
+  await page.waitForSelector('#chart-box[data-done="1"]', { timeout: 120000 });
+  check(sent.theta0 === 171 && sent.restitution === 0.2, `an emptied θ0 and R are sent as their defaults (theta0 ${sent.theta0}, R ${sent.restitution}), not 0`);
+  const cbEmpty = await page.locator("#chart-canvas").boundingBox();
+  await page.mouse.move(cbEmpty.x + cbEmpty.width * 0.7, cbEmpty.y + cbEmpty.height * 0.3);
+  check(/: sustained/.test(await page.textContent("#tooltip")), "the chart swept with θ0 emptied has sustained ringing: " + (await page.textContent("#tooltip")).replace(/\n/g, "; "));
+  // Text that is not a number is refused beside its field, and nothing is sent.
+  let chartPosts = 0;
+  const countChart = (r) => { if (r.url().endsWith("/api/chart")) chartPosts++; };
+  page.on("request", countChart);
+  await page.locator("#phi-max").fill("");
+  await page.locator("#phi-max").pressSequentially("2e");
+  await page.click("#draw-chart");
+  await page.waitForTimeout(300);
+  page.off("request", countChart);
+  check(chartPosts === 0 && (await page.textContent("#tab-chart .field-error")).includes("not a number") &&
+    (await page.textContent("#chart-status")).includes("not a number"),
+    "a φmax that is not a number is refused beside the field, and no chart is asked for: " + await page.textContent("#chart-status"));
+  await page.fill("#phi-max", "26");
+  check(await page.locator("#tab-chart .field-error").count() === 0, "typing in the field takes its message away");
+  await page.fill("#theta0", "171");
+  await page.fill("#restitution", "0.2");
 
   // A 200 x 200 chart: from the API alone (the whole stream read), then
   // drawn in the page (request to the last cell drawn), then the API again.
@@ -174,6 +211,34 @@ try {
   await page.screenshot({ path: `${out}/03c-side-by-side.png`, fullPage: false });
   check(await anim.getAttribute("data-bells") === "2", `two bells side by side play on one clock (${await anim.getAttribute("data-strikes-shown")} strikes shown)`);
 
+  // A point of the chart clicked, then animated beside itself ringing
+  // wrong: its name carries the point to three decimals, not the grid's
+  // sixteen digits, and each caption fits its own half of the player.
+  await page.locator("#chart-canvas").scrollIntoViewIfNeeded();
+  const cbp = await page.locator("#chart-canvas").boundingBox();
+  await page.mouse.click(cbp.x + cbp.width * 0.55, cbp.y + cbp.height * 0.4);
+  await page.waitForFunction(() => document.querySelector("#stroke-title").textContent.includes("(the chart's bell)") &&
+    !document.querySelector("#stroke-title").textContent.includes("simulating"), null, { timeout: 30000 });
+  await page.waitForFunction(() => !document.querySelector("#anim-status").textContent.includes("animating"), null, { timeout: 30000 });
+  await page.click("#cmp-go");
+  await page.waitForFunction(() => document.querySelector("#stroke-anim").dataset.bells === "2" &&
+    !document.querySelector("#anim-status").textContent.includes("animating"), null, { timeout: 30000 });
+  const plotTitle = await page.textContent("#stroke-plot svg");
+  const caps = JSON.parse(await anim.getAttribute("data-captions"));
+  const longNumber = /\d\.\d{4,}/;
+  check(caps.length === 2 && caps.every((c) => c.lines.every((l) => l.startsWith("chart point") || /ringing/.test(l))) &&
+    !caps.some((c) => c.lines.some((l) => longNumber.test(l))) && !longNumber.test(plotTitle),
+    "a chart point's name gives it to three decimals, in the captions and the plot: " + caps.map((c) => c.lines.join(" / ")).join(" | "));
+  const fits = await page.evaluate((list) => {
+    const canvas = document.querySelector("#stroke-anim canvas.cp-bells");
+    const cell = canvas.getBoundingClientRect().width / list.length;
+    const g = document.createElement("canvas").getContext("2d");
+    return list.map((c) => { g.font = `${c.px}px sans-serif`; return Math.max(...c.lines.map((l) => g.measureText(l).width)) <= cell; });
+  }, caps);
+  check(fits.every(Boolean), "each caption fits its own half of the player, off its neighbour's");
+  await anim.scrollIntoViewIfNeeded();
+  await page.screenshot({ path: `${out}/03d-chart-point-captions.png`, fullPage: false });
+
   // The README's odd-struck bell: the tenor by tower measurements with the
   // tape's gaps (253 and 247 mm, ball 0.8 m below the pivot).
   await page.click('button[data-tab="bells"]');
@@ -269,7 +334,63 @@ try {
   check((await page.textContent("#strikes-status")).includes("120 strike(s)"), "all 120 strikes are heard");
   check((await page.textContent("#strikes-table")).includes("model"), "the bells diagnosed stand beside what is heard");
   check(await page.locator("#strikes-result svg").count() === 1, "the striking diagram is drawn");
+  check(!/room for/.test(await page.textContent("#strikes-result")), "every bell's nominal given, no warning that more bells ring");
   await page.screenshot({ path: `${out}/07-strikes.png`, fullPage: true });
+
+  // "Clear" on the Your bells tab forgets the bells everywhere: the
+  // Strikes tab no longer sets them beside what is heard, now or when it
+  // listens again, and the chart has no markers.
+  await page.click('button[data-tab="bells"]');
+  await page.click("#clear-bells");
+  check(await page.textContent("#diagnosis") === "" && await page.isHidden("#rounds-box"), "Clear takes the diagnosis away");
+  await page.click('button[data-tab="strikes"]');
+  check(!(await page.textContent("#strikes-table")).includes("model"), "after Clear, the striking shown sets no bells beside it");
+  await page.click("#listen-recording");
+  await page.waitForFunction(() => document.querySelector("#strikes-status").textContent.includes("strike(s) heard"), null, { timeout: 60000 });
+  check(!(await page.textContent("#strikes-table")).includes("model"), "after Clear, the recording heard again sets no bells beside it");
+  await page.click('button[data-tab="chart"]');
+  check(await page.locator(".marker").count() === 0, "after Clear, no bell is marked on the chart");
+
+  // A recording picked as a ring file is told apart when picked (by its
+  // name and its first bytes), not refused later as "request body too
+  // large", and can go to the Strikes tab; so is a text file too large.
+  await page.click('button[data-tab="bells"]');
+  await page.setInputFiles("#ring-file", ringWav);
+  const said = await page.textContent("#tab-bells .field-error");
+  check(said.includes("ring.wav is a recording, not a ring file") && said.includes("Strikes from a recording") &&
+    (await page.textContent("#diagnosis-status")).includes("is a recording"), "a WAV picked as a ring file is named a recording at once: " + said);
+  check(!(await page.textContent("#ring-list")).includes("ring.wav"), "the recording is not taken as the ring");
+  const renamed = `${out}/ring-file.toml`;
+  writeFileSync(renamed, readFileSync(ringWav));
+  await page.setInputFiles("#ring-file", renamed);
+  check((await page.textContent("#tab-bells .field-error")).includes("is a recording"), "a WAV named .toml is told by its first bytes");
+  const bigFile = `${out}/big-ring.csv`;
+  writeFileSync(bigFile, "name,bell_period_s\n" + "bell,2.0\n".repeat(200000));
+  await page.setInputFiles("#ring-file", bigFile);
+  check((await page.textContent("#tab-bells .field-error")).includes("more than this server takes"), "a text file too large for the server is refused when picked: " + await page.textContent("#tab-bells .field-error"));
+  await page.setInputFiles("#ring-file", ringWav);
+  await page.screenshot({ path: `${out}/07b-wav-as-ring-file.png`, fullPage: false });
+  await page.click("#use-as-recording");
+  check(await page.isVisible("#tab-strikes") && await page.evaluate(() => document.querySelector("#recording").files[0].name) === "ring.wav",
+    "the recording goes to the Strikes tab at a click");
+
+  // Three nominals for a recording of eight bells (README's tower.wav):
+  // the page warns that the strikes leave room for more bells.
+  const tower = resolve(root, "examples/data/tower.wav");
+  const eight = JSON.parse(readFileSync(resolve(root, "examples/data/tower-nominals.json"), "utf8"));
+  await page.setInputFiles("#recording", tower);
+  await page.fill("#nominals", eight.slice(0, 3).map((f) => f.toFixed(1)).join(", "));
+  await page.fill("#double-min-ratio", "");
+  const strikesUrl = page.waitForRequest((r) => r.url().includes("/api/strikes")).then((r) => r.url());
+  await page.click("#listen-recording");
+  check((await strikesUrl).includes("double_min_ratio=0.3"), "an emptied double-strike ratio is sent as its default, 0.3");
+  await page.waitForSelector("#strikes-warnings", { timeout: 60000 });
+  const warned = await page.textContent("#strikes-warnings");
+  check(/3 nominal\(s\) given, but the strikes leave room for about [6-9] bells/.test(warned),
+    "three nominals for eight bells are warned of: " + warned);
+  await page.locator("#strikes-warnings").scrollIntoViewIfNeeded();
+  await page.screenshot({ path: `${out}/07c-too-few-nominals.png`, fullPage: false });
+  await page.fill("#double-min-ratio", "0.3");
 
   // A ring file diagnosed, then rung in rounds in the page.
   await page.click('button[data-tab="bells"]');
@@ -277,6 +398,23 @@ try {
   await page.setInputFiles("#ring-file", resolve(root, "examples/ring-of-eight.csv"));
   await page.click("#diagnose");
   await page.waitForFunction(() => document.querySelectorAll("tr.bell-row").length === 8, null, { timeout: 60000 });
+  // Its bells' names on the chart, seven of them close together: none
+  // over another name or another bell's marker.
+  await page.click('button[data-tab="chart"]');
+  const boxes = await page.evaluate(() => [...document.querySelectorAll(".marker")].map((m) => {
+    const s = m.querySelector("span"), r = s.getBoundingClientRect(), c = m.getBoundingClientRect();
+    return { shown: !s.hidden, name: s.textContent, l: r.left, t: r.top, r: r.right, b: r.bottom, cx: c.left + c.width / 2, cy: c.top + c.height / 2 };
+  }));
+  const overlaps = [];
+  for (const p of boxes) for (const q of boxes) {
+    if (p === q || !p.shown) continue;
+    if (q.shown && p.name < q.name && p.l < q.r && q.l < p.r && p.t < q.b && q.t < p.b) overlaps.push(`${p.name}/${q.name}`);
+    if (q.cx > p.l - 6 && q.cx < p.r + 6 && q.cy > p.t - 6 && q.cy < p.b + 6) overlaps.push(`${p.name} on ${q.name}'s marker`);
+  }
+  check(boxes.length === 8 && boxes.every((b) => b.shown) && overlaps.length === 0,
+    `the ring's 8 names on the chart cover no other name or marker${overlaps.length ? ": " + overlaps.join(", ") : ""}`);
+  await page.locator("#chart-box").screenshot({ path: `${out}/10-ring-markers.png` });
+  await page.click('button[data-tab="bells"]');
   await page.click("#ring-rounds");
   await page.waitForSelector("#rounds-anim canvas.cp-diagram", { timeout: 60000 });
   await page.click("#rounds-anim .cp-play");

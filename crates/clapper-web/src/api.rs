@@ -75,9 +75,15 @@ impl<S: Send + Sync, T: serde::de::DeserializeOwned> axum::extract::FromRequest<
     }
 }
 
-/// `GET /api/health`.
-pub(crate) async fn health() -> Json<serde_json::Value> {
-    Json(json!({"status": "ok", "version": env!("CARGO_PKG_VERSION")}))
+/// `GET /api/health`: `{"status": "ok", "version", "max_body_bytes",
+/// "max_recording_bytes"}`, the last two the largest request body and
+/// recording this server takes (bytes), for a page to check a file
+/// against when it is picked.
+pub(crate) async fn health(State(s): State<AppState>) -> Json<serde_json::Value> {
+    Json(json!({
+        "status": "ok", "version": env!("CARGO_PKG_VERSION"),
+        "max_body_bytes": s.limits.max_body_bytes, "max_recording_bytes": s.limits.max_recording_bytes,
+    }))
 }
 
 /// `GET /api/presets`: the bells of Table 1 and where they sit on the chart.
@@ -328,11 +334,36 @@ pub(crate) async fn chart(State(s): State<AppState>, req: Body_<ChartRequest>) -
         .into_response())
 }
 
+/// A recording sent as a bell file's or ring CSV's text (a sound file read
+/// as text) is refused as such, not parsed: a parser's message about its
+/// first bytes would not say what is wrong.
+fn refuse_recording(req: &DiagnoseRequest) -> Result<(), ApiError> {
+    for text in [&req.toml, &req.csv].into_iter().flatten() {
+        let head = text.trim_start_matches('\u{feff}');
+        let sound = ["RIFF", "RIFX", "RF64", "ID3", "fLaC", "OggS", "FORM"]
+            .iter()
+            .any(|m| head.starts_with(m));
+        if sound || text.contains('\0') {
+            return Err(ApiError::BadRequest(format!(
+                "this is {}, not a bell file (TOML) or ring CSV; the strikes in a recording are heard by \
+                 POST /api/strikes (the page's Strikes tab)",
+                if sound {
+                    "a recording (a sound file)"
+                } else {
+                    "a binary file"
+                }
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// `POST /api/diagnose`: a preset, bell file text or ring CSV in; the
 /// object of `clapper diagnose --json` out, with `simulate`: each bell's
 /// source for `/api/simulate` (`{"bell": its own file}` or `{"preset"}`).
 pub(crate) async fn diagnose(State(s): State<AppState>, req: Body_<DiagnoseRequest>) -> Result<Response, ApiError> {
     let req = body(req)?;
+    refuse_recording(&req)?;
     let (bells, _) = req.bells()?;
     let sources = req.one_bell_sources()?;
     let rep = s.jobs.run(move || Ok(diagnose_bells(&bells)?)).await?;
@@ -357,6 +388,7 @@ pub(crate) async fn diagnose_report(
     req: Body_<DiagnoseRequest>,
 ) -> Result<Response, ApiError> {
     let req = body(req)?;
+    refuse_recording(&req)?;
     let (bells, source) = req.bells()?;
     let html = s
         .jobs

@@ -584,6 +584,87 @@ async fn a_recording_is_heard_through_the_api() {
     assert!(String::from_utf8_lossy(&body).contains("clapper strikes"));
 }
 
+/// A recording read as text and sent as a ring file (a page's upload of a
+/// WAV) is named a recording, not parsed as TOML or CSV; the health
+/// answer says how large a body the server takes, for the page to check
+/// a file when it is picked.
+#[tokio::test]
+async fn a_recording_sent_as_a_ring_file_is_named_one() {
+    let app = router(Limits::default());
+    let wav_text = "RIFF$\u{0}\u{0}\u{0}WAVEfmt \u{10}\u{0}\u{0}\u{0}\u{1}\u{0}";
+    for (key, path) in [
+        ("toml", "/api/diagnose"),
+        ("csv", "/api/diagnose"),
+        ("toml", "/api/diagnose/report"),
+    ] {
+        let body = serde_json::json!({ key: wav_text }).to_string();
+        let (status, bytes) = send(&app, "POST", path, Some(&body)).await;
+        assert_eq!(status, StatusCode::BAD_REQUEST, "{path} {key}");
+        let msg = json(&bytes)["error"].as_str().unwrap().to_string();
+        assert!(
+            msg.contains("a recording (a sound file), not a bell file") && msg.contains("/api/strikes"),
+            "{msg}"
+        );
+    }
+    let body = serde_json::json!({ "csv": "name,bell_period_s\n\u{0}\u{1}" }).to_string();
+    let (status, bytes) = send(&app, "POST", "/api/diagnose", Some(&body)).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert!(String::from_utf8_lossy(&bytes).contains("a binary file"));
+    let (status, bytes) = send(&app, "GET", "/api/health", None).await;
+    assert_eq!(status, StatusCode::OK);
+    let h = json(&bytes);
+    assert_eq!(h["max_body_bytes"], Limits::default().max_body_bytes);
+    assert_eq!(h["max_recording_bytes"], Limits::default().max_recording_bytes);
+}
+
+/// Three nominals given for a recording of eight bells: the JSON warns
+/// that more bells ring than were given (the strikes leave room for
+/// eight); all eight given, it does not.
+#[tokio::test]
+async fn fewer_nominals_than_bells_ringing_are_warned_of() {
+    use clapper_signal::tower::*;
+    let spec = TowerSpec {
+        rate: 16_000.0,
+        rows: 12,
+        jitter: 0.01,
+        seed: 5,
+        method: Method::PlainHunt,
+        variation: Variation::NONE,
+        snr_db: Some(25.0),
+        ..TowerSpec::new(major_scale(8, 1400.0).expect("at most 16 bells"))
+    };
+    let (sig, _) = tower_recording(&spec).unwrap();
+    let wav = clapper_io::signal_file::wav_bytes(&sig, 0.5).unwrap();
+    let nominals: Vec<String> = spec.bells.iter().map(|b| format!("{:.2}", b.nominal_hz)).collect();
+    let app = router(Limits::default());
+    let warnings = |body: &[u8]| -> Vec<String> {
+        json(body)["report"]["summary"]["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|w| w.as_str().unwrap().to_string())
+            .collect()
+    };
+    for given in [&nominals[..3], &nominals[5..]] {
+        let uri = format!("/api/strikes?nominals={}", given.join(","));
+        let (status, body) = send_wav(&app, &uri, wav.clone()).await;
+        assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&body));
+        let w = warnings(&body);
+        let room = w
+            .iter()
+            .find(|w| w.starts_with("3 nominal(s) given"))
+            .and_then(|w| w.split("room for about ").nth(1))
+            .and_then(|r| r.split(' ').next())
+            .and_then(|n| n.parse::<u32>().ok());
+        assert!(room.is_some_and(|n| (7..=9).contains(&n)), "{given:?}: {w:?}");
+    }
+    let uri = format!("/api/strikes?nominals={}", nominals.join(","));
+    let (status, body) = send_wav(&app, &uri, wav).await;
+    assert_eq!(status, StatusCode::OK);
+    let w = warnings(&body);
+    assert!(!w.iter().any(|w| w.contains("room for")), "{w:?}");
+}
+
 /// The Host and Origin check through the router: another site's name gets
 /// 403 with a one-line reason, loopback names and IP literals are served,
 /// a request without Host (not a browser's) too.

@@ -53,6 +53,27 @@
     g.setLineDash([]);
   }
 
+  // A caption that fits `width` px: one line at 12 px, or down to 10 px;
+  // else two lines (the name, then how it rings) as large as fit; a line
+  // still too long is cut with an ellipsis.
+  function fitCaption(text, width) {
+    const g = document.createElement("canvas").getContext("2d");
+    const wide = (t, px) => { g.font = `${px}px sans-serif`; return g.measureText(t).width; };
+    for (const px of [12, 11, 10]) if (wide(text, px) <= width) return { px, lines: [text] };
+    const cut = text.indexOf(": ");
+    const lines = cut > 0 ? [text.slice(0, cut + 1), text.slice(cut + 2)] : [text];
+    let px = 12;
+    while (px > 9 && lines.some((l) => wide(l, px) > width)) px -= 1;
+    return {
+      px,
+      lines: lines.map((l) => {
+        if (wide(l, px) <= width) return l;
+        while (l.length > 1 && wide(l + "…", px) > width) l = l.slice(0, -1);
+        return l + "…";
+      }),
+    };
+  }
+
   class ClapperPlayer {
     constructor(root, data, audioUrl) {
       this.root = root;
@@ -110,10 +131,13 @@
       const ratio = window.devicePixelRatio || 1;
       const size = (c, h) => { c.width = Math.round(w * ratio); c.height = Math.round(h * ratio); c.style.width = w + "px"; c.style.height = h + "px"; };
       // The bells' layout, as the SVG and GIF lay them out: one row up to
-      // four bells, else two; one scale for all.
+      // four bells, else two; one scale for all. Each caption fits its
+      // cell (never over its neighbour's): smaller, else on two lines, for
+      // which one or two bells keep a deeper band.
       const cols = n > 4 ? Math.ceil(n / 2) : n, rows = Math.ceil(n / cols);
-      const font = 13, top = 6, band = 1.6 * font;
+      const font = 13, top = 6, band = (n > 2 ? 1.6 : 2.7) * font;
       const cell = w / cols;
+      this.captionLines = this.bells.map((b) => fitCaption(n > 2 ? b.name : `${b.name}: ${b.caption}`, cell - 10));
       const rowHeight = n === 1 ? Math.min(w, 440) : Math.min(440, cell * 1.05 + band);
       const bellsHeight = top + rows * rowHeight + 4;
       size(this.canvas, bellsHeight);
@@ -124,6 +148,7 @@
       this.scale = Math.min(...this.bells.map((b) => (0.48 * Math.min(cell, area)) / b.figure.reach));
       this.centres = this.bells.map((_, i) => [cell * ((i % cols) + 0.5), top + Math.floor(i / cols) * rowHeight + area / 2]);
       this.captions = this.bells.map((_, i) => [cell * ((i % cols) + 0.5), top + (Math.floor(i / cols) + 1) * rowHeight - 0.5 * font]);
+      this.root.dataset.captions = JSON.stringify(this.captionLines);
       this.renderPlot();
       if (this.diagram) this.renderDiagram();
     }
@@ -293,9 +318,10 @@
           if (!this.flashed.has(key)) { this.flashed.add(key); this.root.dataset.strikesShown = String(this.flashed.size); }
         }
         g.setTransform(r, 0, 0, r, 0, 0);
-        g.fillStyle = "#222"; g.font = "12px sans-serif"; g.textAlign = "center";
-        const cap = this.captions[k];
-        g.fillText(this.bells.length > 2 ? b.name : `${b.name}: ${b.caption}`, cap[0], cap[1]);
+        g.fillStyle = "#222"; g.textAlign = "center";
+        const cap = this.captions[k], fit = this.captionLines[k];
+        g.font = `${fit.px}px sans-serif`;
+        fit.lines.forEach((line, j) => g.fillText(line, cap[0], cap[1] - (fit.lines.length - 1 - j) * (fit.px + 2)));
         g.textAlign = "start";
         if (k === 0) {
           this.root.dataset.theta = String((theta * 180) / Math.PI);
