@@ -449,7 +449,7 @@ fn change_words(bell: &Bell, h: &HangerChange) -> String {
             format!("fit an ash shaft in place of the {from} one ({dm:+.2} kg)")
         }
         ClapperChange::NewClapper { dtc } => format!(
-            "a new, {} clapper (clapper design-clapper --target-period {:.2} designs one)",
+            "a new, {} clapper (clapper design-clapper with its parts and --target-period {:.2} designs one)",
             if dtc > 0.0 { "longer" } else { "shorter" },
             bell.tc() + dtc
         ),
@@ -920,6 +920,7 @@ pub fn chart_svg(bells: &[LoadedBell]) -> Result<String, AppError> {
             lo.to_degrees(),
             hi.to_degrees()
         ),
+        _ if bells.len() == 1 => format!("phi_max = {:.1} deg, the bell's", phi_max.to_degrees()),
         _ => format!("phi_max = {:.1} deg, the bells'", phi_max.to_degrees()),
     };
     let chart = clapper_core::chart::sweep(&spec, &|_| {})?;

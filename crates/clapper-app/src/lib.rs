@@ -54,15 +54,27 @@ pub enum AppError {
     /// A parameter is out of its physical range.
     #[error(transparent)]
     Param(#[from] ParamError),
-    /// The simulation failed numerically.
+    /// The simulation failed numerically. Its cause is in the message
+    /// (not a `source` too, which printed it twice in an error chain).
     #[error("simulation failed: {0}")]
-    Simulation(#[from] SimError),
+    Simulation(SimError),
     /// A plot could not be drawn.
     #[error(transparent)]
     Plot(#[from] clapper_plot::PlotError),
     /// Sound could not be synthesised or encoded.
     #[error("sound: {0}")]
     Sound(String),
+}
+
+impl From<SimError> for AppError {
+    /// A parameter out of range is the request's fault and says so as
+    /// such; anything else is a failed simulation.
+    fn from(e: SimError) -> Self {
+        match e {
+            SimError::Param(p) => AppError::Param(p),
+            other => AppError::Simulation(other),
+        }
+    }
 }
 
 impl AppError {

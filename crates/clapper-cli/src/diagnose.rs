@@ -56,7 +56,8 @@ pub fn run(args: DiagnoseArgs) -> Result<()> {
         }
     };
     if let Some(p) = &args.report {
-        if !p.extension().is_some_and(|e| e.eq_ignore_ascii_case("html")) {
+        // `-` is standard output (the help says so); a file names its kind.
+        if !crate::files::is_stdout(p) && !p.extension().is_some_and(|e| e.eq_ignore_ascii_case("html")) {
             bail!("report file {} must end in .html", p.display());
         }
     }

@@ -160,3 +160,61 @@ fn the_diagnosis_shows_whole_names_and_the_rings_own_chart() {
         "no word of the ring's contact angles"
     );
 }
+
+/// `diagnose --report -` writes the page to standard output, as its help
+/// says (it was refused: "must end in .html").
+#[test]
+fn a_report_on_standard_output() {
+    let out = common::clapper()
+        .args(["diagnose", "--preset", "lab", "--report", "-"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let page = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        page.trim_start().starts_with("<!DOCTYPE html") || page.contains("<html"),
+        "{}",
+        &page[..page.len().min(200)]
+    );
+}
+
+/// A bell whose handstroke contact angle differs is diagnosed (the
+/// odd-struckness fix's Newton step asked for an impossible contact angle
+/// and failed the whole diagnosis, naming an angle nobody gave, twice).
+#[test]
+fn an_unequal_contact_angle_is_diagnosed() {
+    for hand in ["20", "28"] {
+        let out = common::clapper()
+            .args(["diagnose", "--preset", "gsm-tenor", "--phi-max-hand", hand])
+            .output()
+            .unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success(), "--phi-max-hand {hand}: {err}");
+        assert!(String::from_utf8_lossy(&out.stdout).contains("GSM tenor"), "{hand}");
+    }
+}
+
+/// A gap that tips a contact angle past 90 deg is named as the gap given,
+/// not as a contact angle the user never typed (`phi_max_hand_deg =
+/// 128.40...`).
+#[test]
+fn an_impossible_gap_is_named_as_given() {
+    let out = common::clapper()
+        .args([
+            "simulate",
+            "--preset",
+            "gsm-tenor",
+            "--gap-hand",
+            "2530",
+            "--gap-back",
+            "247",
+            "--ball-below-pivot",
+            "0.8",
+        ])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success());
+    assert!(err.contains("2530") && err.contains("gap"), "{err}");
+    assert!(!err.contains("phi_max_hand"), "{err}");
+}

@@ -116,14 +116,15 @@ impl std::fmt::Display for BellWarning {
             Self::OffTheChartLengths { lb_over_lc, tb, tc } => write!(
                 f,
                 "L_b/L_c = {lb_over_lc:.3} (T_b = {tb:.3} s, T_c = {tc:.3} s) is outside the chart's {:.1} to {:.1}, \
-                 where no tower bell lies{}: check the clapper's period or length; simulated anyway, \
-                 but the verdict is not a real bell's",
+                 where no tower bell lies{}; simulated anyway, but the verdict is not a real bell's",
                 crate::chart::DEFAULT_LB_RANGE[0],
                 crate::chart::DEFAULT_LB_RANGE[1],
                 if tc > tb {
-                    " (a clapper slower than its bell)"
+                    " (a clapper slower than its bell): check the clapper's period or length"
+                } else if *lb_over_lc > 1.0 {
+                    " (a bell far slower than its clapper): check the bell's period or length, then the clapper's"
                 } else {
-                    ""
+                    ": check the bell's and the clapper's periods or lengths"
                 }
             ),
             Self::OffTheChartPivot { r_over_lc, r } => write!(

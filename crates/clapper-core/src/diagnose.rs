@@ -509,6 +509,11 @@ pub fn odd_struck_fix(
             phi_max_skew: h0.phi_max_skew + (x + p) * per_m_skew,
             ..h0
         });
+        // A move no bell can take (a contact angle past 0 or 90 deg, as a
+        // Newton step from a steep slope asks) is no fix, not an error.
+        if moved.validate().is_err() {
+            return Ok(None);
+        }
         Ok(odd_struck(&moved, cfg, Style::Right)?.odd_struck())
     };
     let Some(now) = odd(0.0, 0.0)? else { return Ok(None) };

@@ -148,7 +148,27 @@ pub fn skew_from_gaps(gap_hand: f64, gap_back: f64, ball_below_pivot: f64, phi_m
             allowed: "a finite length > 0",
         });
     }
-    Ok(0.5 * (gap_hand - gap_back) / (ball_below_pivot * phi_max.cos()))
+    let skew = 0.5 * (gap_hand - gap_back) / (ball_below_pivot * phi_max.cos());
+    // Gaps that would tip a contact angle past 0 or 90 deg are named as
+    // the gaps given, not as an angle the user never typed.
+    let (hand, back) = contact_angles(phi_max, skew);
+    let right = |a: f64| a > 0.0 && a < std::f64::consts::FRAC_PI_2;
+    if !(right(hand) && right(back)) {
+        // In mm as given (to a nanometre: the m -> mm product is not exact).
+        let mm = |g: f64| (g * 1e9).round() / 1e6;
+        let (field, value) = if gap_hand > gap_back {
+            ("gap_hand_mm", mm(gap_hand))
+        } else {
+            ("gap_back_mm", mm(gap_back))
+        };
+        return Err(ParamError {
+            field,
+            value,
+            allowed: "a gap that, beside the other and the ball's depth below the pivot, keeps both contact \
+                      angles between 0 and 90 deg (the two gaps differ by a few mm on a real bell)",
+        });
+    }
+    Ok(skew)
 }
 
 /// The ball's sideways movement (m, toward the back side) that changes the
