@@ -218,3 +218,30 @@ fn an_impossible_gap_is_named_as_given() {
     assert!(err.contains("2530") && err.contains("gap"), "{err}");
     assert!(!err.contains("phi_max_hand"), "{err}");
 }
+
+/// A ring CSV's empty cell and a misspelt column are named where they are
+/// (the empty cell said "bell file is missing phi_max_deg" with the wrong
+/// advice; the column "row 1 (line 2)" for a fault of line 1).
+#[test]
+fn a_ring_csvs_empty_cell_and_misspelt_column_are_placed() {
+    let dir = tempfile::tempdir().unwrap();
+    let ring =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../../examples/ring-of-eight.csv")).unwrap();
+    let mut lines: Vec<String> = ring.lines().map(str::to_string).collect();
+    // Row 3 (line 4): its phi_max_deg (the fifth cell) emptied.
+    let mut cells: Vec<&str> = lines[3].split(',').collect();
+    cells[4] = "";
+    lines[3] = cells.join(",");
+    let empty = dir.path().join("empty.csv");
+    std::fs::write(&empty, lines.join("\n")).unwrap();
+    let misspelt = dir.path().join("misspelt.csv");
+    std::fs::write(&misspelt, ring.replacen("r_m", "r_mm", 1)).unwrap();
+    for (file, says) in [
+        (&empty, "row 3 (line 4): no phi_max_deg (an empty cell?"),
+        (&misspelt, "line 1 (the header): unknown column `r_mm`"),
+    ] {
+        let out = common::clapper().arg("diagnose").arg(file).output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(!out.status.success() && err.contains(says), "{err}");
+    }
+}

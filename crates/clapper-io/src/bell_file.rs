@@ -319,6 +319,13 @@ pub fn parse_ring_csv(text: &str) -> Result<Vec<LoadedBell>, BellFileError> {
         out.push(bell_from_fields(f, &format!("bell {}", k + 1)).map_err(|e| match e {
             BellFileError::Syntax(m) => BellFileError::Syntax(format!("{at}: {m}")),
             BellFileError::Param(p) => BellFileError::Syntax(format!("{at}: {p}")),
+            // Said of the row, in a CSV's words: an empty cell, most often.
+            BellFileError::Missing(m) => {
+                BellFileError::Syntax(format!("{at}: no {m} (an empty cell? every row needs a value for it)"))
+            }
+            BellFileError::Mixed(m) => BellFileError::Syntax(format!(
+                "{at}: {m} cannot be combined with bell_period_s / clapper_period_s in one row"
+            )),
             other => other,
         })?);
     }
@@ -359,8 +366,15 @@ fn csv_cell_error(e: &csv::Error, header: &csv::StringRecord, row: &csv::StringR
         return format!("{at}: {}", cut(&e.to_string().replace('\n', " ")));
     };
     let Some(i) = err.field().and_then(|i| usize::try_from(i).ok()) else {
-        // Not one cell's fault (an unknown column): serde's words.
-        return format!("{at}: {}", cut(&err.kind().to_string().replace('\n', " ")));
+        // Not one cell's fault: an unknown column is the header's (line 1).
+        let words = cut(&err.kind().to_string().replace('\n', " "));
+        if words.starts_with("unknown field") {
+            return format!(
+                "line 1 (the header): {}",
+                words.replacen("unknown field", "unknown column", 1)
+            );
+        }
+        return format!("{at}: {words}");
     };
     // Escaped: a quoted cell may hold a line break, and the message is one line.
     let column = cut(&header.get(i).unwrap_or("?").escape_debug().to_string());
@@ -758,8 +772,20 @@ mod tests {
         let ring = parse_ring_csv(csv).unwrap();
         assert_eq!(ring.len(), 2);
         assert_eq!(ring[1].name, "tenor");
+        // An unknown column is the header's fault (line 1), not the first row's.
         let bad = parse_ring_csv("name,colour\nx,red\n").unwrap_err().to_string();
-        assert!(bad.contains("row 1") && bad.contains("colour"), "{bad}");
+        assert!(
+            bad.contains("line 1 (the header): unknown column") && bad.contains("colour"),
+            "{bad}"
+        );
+        // An empty cell is named with its row and line, in a CSV's words.
+        let bad = parse_ring_csv("name,bell_period_s,clapper_period_s,r_m,phi_max_deg\nx,2,1.5,0.1,30\ny,2,1.5,0.1,\n")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            bad.starts_with("row 2 (line 3): no phi_max_deg (an empty cell?"),
+            "{bad}"
+        );
         let bad = parse_ring_csv("name,bell_period_s,clapper_period_s,r_m,phi_max_deg\nx,abc,1,0.1,30\n").unwrap_err();
         assert!(
             bad.to_string()
