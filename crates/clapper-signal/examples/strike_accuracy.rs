@@ -4,9 +4,12 @@
 //! each with its own seed, so its own voices (partials detuned within ±15
 //! cents and ±3 dB), in four conditions, scored against the truth.
 //!
-//! cargo run --release -p clapper-signal --example strike_accuracy [RECORDINGS] [CONDITIONS]
+//! cargo run --release -p clapper-signal --example strike_accuracy [RECORDINGS] [CONDITIONS] [FIRST_SEED]
 //!
-//! CONDITIONS picks rows by number from 1, e.g. `1,3` (default all four).
+//! CONDITIONS picks rows by number from 1, e.g. `1,3` (default all four);
+//! FIRST_SEED is the first recording's seed (default 1), so that seeds a
+//! choice was not tuned on can be measured (e.g. `20 1,2,3,4 21`: seeds
+//! 21-40).
 
 use clapper_signal::strikes::{find_strikes, BellVoice, StrikeOptions};
 use clapper_signal::striking::{mean_sd, rhythm, Timed};
@@ -52,6 +55,7 @@ fn main() {
         .nth(2)
         .map(|s| s.split(',').filter_map(|x| x.trim().parse().ok()).collect())
         .unwrap_or_else(|| (1..=conditions.len()).collect());
+    let first: u64 = std::env::args().nth(3).and_then(|s| s.parse().ok()).unwrap_or(1);
     println!("| condition | recordings | strikes | recall | precision | bell labels right | onset error median / p95 (ms) | hand/back right | doubles flagged | false doubles | odd-struck bell 4 (planted 15 ms) | heard against the true times, worst | listening time per minute |");
     println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for (k, (name, snr, room)) in conditions.into_iter().enumerate() {
@@ -65,7 +69,7 @@ fn main() {
         let mut odd_vs_truth = vec![];
         let mut secs = 0.0;
         let mut audio = 0.0;
-        for seed in 1..=recordings {
+        for seed in first..first + recordings {
             let sp = spec(seed, snr, room);
             let (sig, truth) = tower_recording(&sp).unwrap();
             let voices: Vec<BellVoice> = sp.bells.iter().map(|b| BellVoice::from_nominal(b.nominal_hz)).collect();
