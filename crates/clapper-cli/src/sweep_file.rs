@@ -116,6 +116,29 @@ pub struct RunFile<'a> {
     pub keep: bool,
 }
 
+/// Refuse to write shard `meta` over another shard of the same sweep in
+/// `csv` (found by hand: `--shard 2/2 --csv a.csv` after `--shard 1/2
+/// --csv a.csv` replaced the first, and `merge` then found it missing).
+fn refuse_another_shard(csv: &Path, meta: &SweepMeta) -> Result<()> {
+    let Ok(text) = std::fs::read_to_string(shard_meta_path(csv)) else {
+        return Ok(());
+    };
+    let Ok(there) = serde_json::from_str::<SweepMeta>(&text) else {
+        return Ok(());
+    };
+    if meta.shard[1] > 1 && there.key == meta.key && there.shard != meta.shard && csv.exists() {
+        bail!(
+            "{} already holds shard {} of {} of this sweep: give each shard its own --csv file \
+             (e.g. part{}.csv), then clapper merge them",
+            csv.display(),
+            there.shard[0] + 1,
+            there.shard[1],
+            meta.shard[0] + 1
+        );
+    }
+    Ok(())
+}
+
 /// Compute `meta.range` of `plan` into `csv`, resuming an interrupted run.
 pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result<Outcome> {
     let columns = plan.columns();
@@ -128,6 +151,7 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
     // Two runs writing one sweep would interleave their blocks.
     let lock_path = with_suffix(csv, ".lock");
     let _lock = lock(&lock_path)?;
+    refuse_another_shard(csv, &meta)?;
 
     let (mut done, mut bytes, resumed_from, mut sum) = match std::fs::read_to_string(&journal_path) {
         Ok(text) => {

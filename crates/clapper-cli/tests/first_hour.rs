@@ -99,31 +99,25 @@ fn bells_no_tower_has_are_warned_about() {
 /// (it printed "+0.0 ms (...; handstroke late)" from a 1e-12 ms rounding).
 #[test]
 fn a_symmetric_bell_is_evenly_struck_in_words_too() {
-    let out = common::clapper()
-        .args(["simulate", "--preset", "lab"])
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&out.stdout);
-    let line = text
-        .lines()
-        .find(|l| l.starts_with("odd-struck:"))
-        .expect("an odd-struck line");
+    let line = odd_struck_line(&["simulate", "--preset", "lab"]);
     assert!(
         line.starts_with("odd-struck: 0.0 ms") && line.contains("evenly struck"),
         "{line}"
     );
     assert!(!line.contains("late"), "{line}");
     // An offset pivot still says which stroke is late.
-    let out = common::clapper()
-        .args(["simulate", "--preset", "lab", "--pivot-offset", "0.005"])
-        .output()
-        .unwrap();
-    let text = String::from_utf8_lossy(&out.stdout);
-    let line = text
-        .lines()
-        .find(|l| l.starts_with("odd-struck:"))
-        .expect("an odd-struck line");
+    let line = odd_struck_line(&["simulate", "--preset", "lab", "--pivot-offset", "0.005"]);
     assert!(line.contains("stroke late"), "{line}");
+}
+
+/// The `odd-struck:` line that `clapper ARGS` prints.
+fn odd_struck_line(args: &[&str]) -> String {
+    let out = common::clapper().args(args).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    text.lines()
+        .find(|l| l.starts_with("odd-struck:"))
+        .unwrap_or_else(|| panic!("{args:?}: no odd-struck line"))
+        .to_string()
 }
 
 /// The diagnosis table keeps a long name whole (it cut "GSM tenor (by its
@@ -244,4 +238,33 @@ fn a_ring_csvs_empty_cell_and_misspelt_column_are_placed() {
         let err = String::from_utf8_lossy(&out.stderr);
         assert!(!out.status.success() && err.contains(says), "{err}");
     }
+}
+
+/// A second shard written to the first one's file is refused, rather than
+/// replacing it (the merge then said "shard(s) 1 of 2 missing").
+#[test]
+fn a_shard_is_not_written_over_another() {
+    let dir = tempfile::tempdir().unwrap();
+    let shard = |i: &str| {
+        common::clapper()
+            .current_dir(dir.path())
+            .args(["chart", "--shard", i, "--grid", "4", "--csv", "a.csv"])
+            .output()
+            .unwrap()
+    };
+    assert!(shard("1/2").status.success());
+    let before = std::fs::read(dir.path().join("a.csv")).unwrap();
+    let out = shard("2/2");
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        !out.status.success() && err.contains("already holds shard 1 of 2"),
+        "{err}"
+    );
+    assert_eq!(
+        std::fs::read(dir.path().join("a.csv")).unwrap(),
+        before,
+        "shard 1 was replaced"
+    );
+    // The same shard again is a fresh run of it, as before.
+    assert!(shard("1/2").status.success());
 }

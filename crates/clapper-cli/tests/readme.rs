@@ -118,13 +118,9 @@ fn wait_for_port(port: u16, server: &mut Child) {
     panic!("README's serve line did not listen on port {port} within 120 s");
 }
 
-#[test]
-fn every_readme_command_line_runs_as_written() {
-    let root = root();
-    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
-    let lines = command_lines(&readme);
-    assert!(lines.len() > 30, "found only {} command lines", lines.len());
-
+/// A scratch folder for README's commands: `checkout/` with a copy of
+/// `examples/` and an empty `docs/`, and `bin/` with `clapper` in it.
+fn scratch_checkout(root: &Path) -> (tempfile::TempDir, PathBuf, PathBuf) {
     let scratch = tempfile::tempdir().unwrap();
     let dir = scratch.path().join("checkout");
     copy_dir(&root.join("examples"), &dir.join("examples"));
@@ -132,6 +128,17 @@ fn every_readme_command_line_runs_as_written() {
     let bin = scratch.path().join("bin");
     std::fs::create_dir_all(&bin).unwrap();
     std::os::unix::fs::symlink(env!("CARGO_BIN_EXE_clapper"), bin.join("clapper")).unwrap();
+    (scratch, dir, bin)
+}
+
+#[test]
+fn every_readme_command_line_runs_as_written() {
+    let root = root();
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let lines = command_lines(&readme);
+    assert!(lines.len() > 30, "found only {} command lines", lines.len());
+
+    let (_scratch, dir, bin) = scratch_checkout(&root);
 
     let mut server: Option<Server> = None;
     let mut ran = 0;
@@ -380,13 +387,7 @@ fn readme_quotes_what_the_program_prints() {
     let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
     let quotes = quoted_outputs(&readme);
     assert!(quotes.len() >= 3, "found only {} quoted outputs", quotes.len());
-    let scratch = tempfile::tempdir().unwrap();
-    let dir = scratch.path().join("checkout");
-    copy_dir(&root.join("examples"), &dir.join("examples"));
-    std::fs::create_dir_all(dir.join("docs")).unwrap();
-    let bin = scratch.path().join("bin");
-    std::fs::create_dir_all(&bin).unwrap();
-    std::os::unix::fs::symlink(env!("CARGO_BIN_EXE_clapper"), bin.join("clapper")).unwrap();
+    let (_scratch, dir, bin) = scratch_checkout(&root);
     let mut wrong = vec![];
     for (n, command, want) in &quotes {
         let out = bash(&dir, &bin, &format!("{command} 2>&1")).output().unwrap();

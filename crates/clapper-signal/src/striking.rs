@@ -216,15 +216,20 @@ pub fn rhythm(strikes: &[Timed], bells: usize) -> Rhythm {
     }
 }
 
+/// `bell`'s strike times (s), in `order`.
+fn times_of(strikes: &[Timed], order: &[usize], bell: usize) -> Vec<f64> {
+    order
+        .iter()
+        .filter(|&&i| strikes[i].bell == bell)
+        .map(|&i| strikes[i].t)
+        .collect()
+}
+
 /// The median time between a bell's successive strikes (s): a row's length.
 fn typical_row(strikes: &[Timed], bells: usize, order: &[usize]) -> f64 {
     let mut gaps = vec![];
     for bell in 1..=bells {
-        let mine: Vec<f64> = order
-            .iter()
-            .filter(|&&i| strikes[i].bell == bell)
-            .map(|&i| strikes[i].t)
-            .collect();
+        let mine = times_of(strikes, order, bell);
         gaps.extend(mine.windows(2).map(|w| w[1] - w[0]));
     }
     gaps.sort_by(f64::total_cmp);
@@ -280,11 +285,7 @@ pub fn ring_room(strikes: &[Timed]) -> Option<RingRoom> {
     let interval_s = near[near.len() / 2];
     let mut pulls = vec![];
     for bell in 1..=bells {
-        let mine: Vec<f64> = order
-            .iter()
-            .filter(|&&i| strikes[i].bell == bell)
-            .map(|&i| strikes[i].t)
-            .collect();
+        let mine = times_of(strikes, &order, bell);
         pulls.extend(mine.windows(3).map(|w| 0.5 * (w[2] - w[0])));
     }
     pulls.sort_by(f64::total_cmp);
