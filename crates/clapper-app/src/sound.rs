@@ -156,10 +156,18 @@ impl Synthesis {
     /// The readable summary, for the output file `out`.
     pub fn text(&self, out: &str) -> String {
         let r = &self.report;
+        // "2 of lab bell" read as nonsense: the bell first, then what it did.
+        let how = if r.chime {
+            "chimed once".to_string()
+        } else {
+            format!(
+                "rung full circle, {} stroke{}",
+                self.strokes,
+                if self.strokes == 1 { "" } else { "s" }
+            )
+        };
         let mut o = format!(
-            "{}: {} of {}, {} strike(s) over {:.2} s at {} Hz, written to {out}\n",
-            if r.chime { "chimed strike" } else { "rung full circle" },
-            if r.chime { 1 } else { self.strokes },
+            "{} {how}: {} impact(s), strikes and bounces, over {:.2} s at {} Hz, written to {out}\n",
             r.bell,
             r.strikes.len(),
             r.duration_s,

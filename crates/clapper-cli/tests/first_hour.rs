@@ -268,3 +268,18 @@ fn a_shard_is_not_written_over_another() {
     // The same shard again is a fresh run of it, as before.
     assert!(shard("1/2").status.success());
 }
+
+/// `synth` says which bell did what ("rung full circle: 2 of lab bell" read
+/// as nonsense).
+#[test]
+fn synth_says_which_bell_rang_how() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = common::clapper()
+        .current_dir(dir.path())
+        .args(["synth", "--preset", "lab", "--out", "s.wav"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.starts_with("lab bell rung full circle, 2 strokes: "), "{text}");
+    assert!(text.contains("impact(s), strikes and bounces"), "{text}");
+}
