@@ -4,6 +4,7 @@
 use std::fmt::Write as _;
 
 use clapper_core::prelude::*;
+use clapper_core::ringing::odd_struck_of;
 use clapper_core::stroke::Sample;
 use clapper_io::bell_file::{BellSource, LoadedBell};
 use clapper_io::report::{BellReport, SimulationReport, SimulationSettings};
@@ -266,10 +267,14 @@ fn run<O: Observer>(
     );
     // Odd-struckness of the first two strokes, each on its own clock
     // under the restart protocol (so exactly 0 for a symmetric bell).
+    // Only between two strokes that keep one style (else why not).
     let odd = match (protocol, &ringing.strokes[..]) {
-        (_, [] | [_]) => None,
-        (Protocol::Restart, _) => clapper_core::ringing::odd_struck(bell, &cfg, style)?.odd_struck(),
-        (Protocol::Free, [hand, back, ..]) => hand.bdc_to_strike().zip(back.bdc_to_strike()).map(|(h, b)| h - b),
+        (_, [] | [_]) => Err("one stroke only".to_string()),
+        (Protocol::Restart, _) => {
+            let pair = clapper_core::ringing::odd_struck(bell, &cfg, style)?;
+            odd_struck_of(&pair.hand, &pair.back).map_err(|e| e.to_string())
+        }
+        (Protocol::Free, [hand, back, ..]) => odd_struck_of(hand, back).map_err(|e| e.to_string()),
     };
     let report = SimulationReport::new(
         BellReport::new(&loaded.name, bell, &loaded.source),
@@ -420,6 +425,8 @@ pub fn summary(r: &SimulationReport) -> String {
             odd_struck_ms_text(odd),
             which_stroke_late(odd)
         );
+    } else if let Some(why) = r.odd_struck_undefined.as_deref().filter(|_| r.strokes.len() > 1) {
+        let _ = writeln!(o, "odd-struck: not defined ({why}: it compares strokes of one style)");
     }
     o
 }

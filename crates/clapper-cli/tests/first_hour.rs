@@ -106,7 +106,7 @@ fn a_symmetric_bell_is_evenly_struck_in_words_too() {
     );
     assert!(!line.contains("late"), "{line}");
     // An offset pivot still says which stroke is late.
-    let line = odd_struck_line(&["simulate", "--preset", "lab", "--pivot-offset", "0.005"]);
+    let line = odd_struck_line(&["simulate", "--preset", "lab", "--pivot-offset", "0.002"]);
     assert!(line.contains("stroke late"), "{line}");
 }
 
@@ -282,4 +282,51 @@ fn synth_says_which_bell_rang_how() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.starts_with("lab bell rung full circle, 2 strokes: "), "{text}");
     assert!(text.contains("impact(s), strikes and bounces"), "{text}");
+}
+
+/// Odd-struckness compares two strokes of one style: a right handstroke
+/// beside a wrong backstroke gives none, with the reason, in text and JSON
+/// (it printed -363.7 ms), and a chart leaves it empty wherever a style is
+/// not sustained.
+#[test]
+fn odd_struckness_needs_one_style_at_both_strokes() {
+    let line = odd_struck_line(&["simulate", "--chart-point=-0.2,2.3"]);
+    assert!(
+        line.starts_with("odd-struck: not defined (the handstroke does not sustain"),
+        "{line}"
+    );
+    let v = common::json(&["simulate", "--chart-point=-0.2,2.3"]);
+    assert!(v["odd_struck_ms"].is_null(), "{v}");
+    assert!(
+        v["odd_struck_undefined"].as_str().unwrap().contains("handstroke"),
+        "{v}"
+    );
+    let v = common::json(&["simulate", "--preset", "lab"]);
+    assert_eq!(v["odd_struck_ms"], 0.0);
+    assert!(v.get("odd_struck_undefined").is_none());
+    let out = common::clapper()
+        .args(["chart", "--grid", "8", "--pivot-offset", "0.005", "--csv", "-"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    // Numbers, a style and true/false: no quoted cells.
+    let mut lines = text.lines();
+    let header: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| header.iter().position(|h| *h == name).unwrap();
+    let (sustained, odd) = (col("sustained"), col("odd_struck_ms"));
+    let (mut filled, mut empty) = (0, 0);
+    for line in lines {
+        let row: Vec<&str> = line.split(',').collect();
+        if row[sustained].eq_ignore_ascii_case("true") {
+            filled += usize::from(!row[odd].is_empty());
+        } else {
+            assert!(
+                row[odd].is_empty(),
+                "odd_struck_ms {} where not sustained: {row:?}",
+                &row[odd]
+            );
+            empty += 1;
+        }
+    }
+    assert!(filled > 0 && empty > 0, "{filled} filled, {empty} empty");
 }

@@ -207,7 +207,9 @@ impl StrokeSummary {
     pub fn of_pair(hand: &Stroke, back: &Stroke) -> Self {
         Self {
             sustained: hand.sustained() && back.sustained(),
-            odd_struck: hand.bdc_to_strike().zip(back.bdc_to_strike()).map(|(h, b)| h - b),
+            // Only where the style is sustained: a right handstroke beside
+            // a wrong backstroke is no odd-struckness (docs/model.md §10.3).
+            odd_struck: crate::ringing::odd_struck_of(hand, back).ok(),
             ..Self::from(hand)
         }
     }
@@ -218,7 +220,7 @@ impl From<&Stroke> for StrokeSummary {
     /// mirror image (bit for bit), so the odd-struckness is 0 if it strikes.
     fn from(s: &Stroke) -> Self {
         Self {
-            odd_struck: s.bdc_to_strike().map(|_| 0.0),
+            odd_struck: s.bdc_to_strike().filter(|_| s.sustained()).map(|_| 0.0),
             sustained: s.sustained(),
             strike_theta: s.strike_angle(),
             strike_phidot: s.strike_velocity(),

@@ -67,11 +67,46 @@ impl OddStruck {
     /// Odd-struckness (s): handstroke minus backstroke time from bottom dead
     /// centre to the strike. Positive: the handstroke strikes late.
     /// Exactly 0 for a symmetric bell, exactly antisymmetric under the
-    /// mirror (d → −d, or the two contact angles swapped).
+    /// mirror (d → −d, or the two contact angles swapped). `None` unless
+    /// both strokes strike and keep their style ([`odd_struck_of`]).
     pub fn odd_struck(&self) -> Option<f64> {
-        let (h, b) = self.bdc_to_strike()?;
-        Some(h - b)
+        odd_struck_of(&self.hand, &self.back).ok()
     }
+}
+
+/// Why a handstroke and backstroke have no odd-struckness: it compares
+/// the strike times of two strokes of one style, and a right handstroke
+/// beside a wrong backstroke is no measure of how evenly a bell strikes.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, thiserror::Error)]
+pub enum NoOddStruck {
+    /// The handstroke does not strike.
+    #[error("the handstroke does not strike")]
+    HandNoStrike,
+    /// The handstroke does not sustain its style, so the backstroke
+    /// starts in the other one.
+    #[error("the handstroke does not sustain its style, so the backstroke rings the other one")]
+    HandChangesStyle,
+    /// The backstroke does not strike.
+    #[error("the backstroke does not strike")]
+    BackNoStrike,
+    /// The backstroke does not sustain the style.
+    #[error("the backstroke does not sustain the style")]
+    BackChangesStyle,
+}
+
+/// Odd-struckness (s) of `hand` and the `back` after it: handstroke minus
+/// backstroke time from bottom dead centre to the first strike, when both
+/// strike and both sustain their style (docs/model.md §10.3); else why not.
+pub fn odd_struck_of(hand: &Stroke, back: &Stroke) -> Result<f64, NoOddStruck> {
+    let h = hand.bdc_to_strike().ok_or(NoOddStruck::HandNoStrike)?;
+    if !hand.sustained() {
+        return Err(NoOddStruck::HandChangesStyle);
+    }
+    let b = back.bdc_to_strike().ok_or(NoOddStruck::BackNoStrike)?;
+    if !back.sustained() {
+        return Err(NoOddStruck::BackChangesStyle);
+    }
+    Ok(h - b)
 }
 
 /// The handstroke and backstroke of `bell` in `style` under the restart

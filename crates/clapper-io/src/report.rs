@@ -304,8 +304,12 @@ pub struct SimulationReport {
     /// Odd-struckness (ms): handstroke minus backstroke time from bottom dead
     /// centre to the first strike, of the first two strokes (positive: the
     /// handstroke strikes late); 0 for a symmetric bell; null unless both
-    /// strike.
+    /// strike and both keep their style (then `odd_struck_undefined` says
+    /// why).
     pub odd_struck_ms: Option<f64>,
+    /// Why `odd_struck_ms` is null, when it is.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub odd_struck_undefined: Option<String>,
     /// The strokes.
     pub strokes: Vec<StrokeReport>,
 }
@@ -313,7 +317,12 @@ pub struct SimulationReport {
 impl SimulationReport {
     /// The report of `ringing` of `bell`, with the odd-struckness (s) of
     /// its first two strokes.
-    pub fn new(bell: BellReport, settings: SimulationSettings, ringing: &Ringing, odd_struck: Option<f64>) -> Self {
+    pub fn new(
+        bell: BellReport,
+        settings: SimulationSettings,
+        ringing: &Ringing,
+        odd_struck: Result<f64, String>,
+    ) -> Self {
         let sustained = ringing.sustained();
         Self {
             bell,
@@ -325,7 +334,8 @@ impl SimulationReport {
             } else {
                 "neither".into()
             },
-            odd_struck_ms: odd_struck.map(|t| t * 1e3),
+            odd_struck_ms: odd_struck.as_ref().ok().map(|t| t * 1e3),
+            odd_struck_undefined: odd_struck.err(),
             strokes: ringing
                 .strokes
                 .iter()
@@ -358,7 +368,7 @@ mod tests {
             BellReport::new("lab", &bell, &BellSource::MassProperties),
             SimulationSettings::new(&cfg, Protocol::Restart, 2),
             &r,
-            Some(0.0),
+            Ok(0.0),
         );
         let v = serde_json::to_value(&rep).unwrap();
         for k in ["r_over_lc", "lb_over_lc", "lb_m", "lc_m", "tb_s", "tc_s"] {

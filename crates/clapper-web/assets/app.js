@@ -563,7 +563,9 @@ async function showStroke(p) {
 }
 
 function strokeTable(r) {
-  let h = `<p><b>The bell ${r.sustained ? "sustains" : "does not sustain"} ringing ${esc(r.style)}</b> · T<sub>b</sub> = ${fmt(r.bell.tb_s, 3)} s, T<sub>c</sub> = ${fmt(r.bell.tc_s, 3)} s, φ<sub>max</sub> = ${fmt(r.bell.phi_max_deg, 1)} deg · odd-struck ${fmt(r.odd_struck_ms, 1)} ms (handstroke minus backstroke)</p>`;
+  let h = `<p><b>The bell ${r.sustained ? "sustains" : "does not sustain"} ringing ${esc(r.style)}</b> · T<sub>b</sub> = ${fmt(r.bell.tb_s, 3)} s, T<sub>c</sub> = ${fmt(r.bell.tc_s, 3)} s, φ<sub>max</sub> = ${fmt(r.bell.phi_max_deg, 1)} deg · ${r.odd_struck_ms === null || r.odd_struck_ms === undefined
+    ? `odd-struck not defined${r.odd_struck_undefined ? ` (${esc(r.odd_struck_undefined)}: it compares strokes of one style)` : ""}`
+    : `odd-struck ${fmt(r.odd_struck_ms, 1)} ms (handstroke minus backstroke)`}</p>`;
   h += "<table><tr><th>stroke</th><th>style</th><th>lift-off (deg)</th><th>first strike θ (deg)</th><th>at (s)</th><th>bottom to strike (ms)</th><th>φ' (rad/s)</th><th>2nd impact after (ms)</th><th>amplitude ratio</th><th>D</th><th>impacts</th><th>sustained</th></tr>";
   for (const s of r.strokes) {
     const f = s.first_strike || {};
