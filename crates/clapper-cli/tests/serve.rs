@@ -177,15 +177,17 @@ fn ctrl_c_stops_the_server_with_half_sent_requests_open() {
         .status()
         .unwrap();
     assert!(ok.success());
-    loop {
+    // Stopping at all while the clients still hold their requests is the
+    // effect; the polls are a loop bound against a hang, not a timing.
+    let mut stopped = None;
+    for _ in 0..3000 {
         if let Some(status) = server.child.try_wait().unwrap() {
-            println!("stopped {:.2} s after SIGINT ({status})", t.elapsed().as_secs_f64());
+            stopped = Some(status);
             break;
         }
-        // Against a hang only (the clients still hold their requests, so
-        // stopping at all is the effect); no wall-clock bound on a busy machine.
-        assert!(t.elapsed().as_secs_f64() < 60.0, "still running 60 s after SIGINT");
         std::thread::sleep(std::time::Duration::from_millis(20));
     }
+    let status = stopped.expect("still running after 3000 polls since SIGINT");
+    println!("stopped {:.2} s after SIGINT ({status})", t.elapsed().as_secs_f64());
     drop(half);
 }
