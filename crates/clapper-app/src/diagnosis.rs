@@ -626,15 +626,9 @@ fn cells(b: &BellDiagnosisReport) -> [String; 10] {
     ]
 }
 
-/// The diagnosis as text: a table of all bells, then bell by bell.
-pub fn text(rep: &DiagnosisReport, source: &str) -> String {
-    let mut o = String::new();
-    let _ = writeln!(
-        o,
-        "diagnosis of {source}: {} bell(s), fully up from 171 deg, R = 0.2 for the verdicts\n",
-        rep.bells.len()
-    );
-    // The names whole (it cut "GSM tenor (by its parts)" at 12).
+/// The diagnosis table: a row a bell, its names whole (it cut "GSM tenor
+/// (by its parts)" at 12 characters).
+fn table(o: &mut String, rep: &DiagnosisReport) {
     let nw = rep
         .bells
         .iter()
@@ -676,6 +670,17 @@ pub fn text(rep: &DiagnosisReport, source: &str) -> String {
             opt(b.margin.as_ref().and_then(|m| m.chart_units), 3),
         );
     }
+}
+
+/// The diagnosis as text: a table of all bells, then bell by bell.
+pub fn text(rep: &DiagnosisReport, source: &str) -> String {
+    let mut o = String::new();
+    let _ = writeln!(
+        o,
+        "diagnosis of {source}: {} bell(s), fully up from 171 deg, R = 0.2 for the verdicts\n",
+        rep.bells.len()
+    );
+    table(&mut o, rep);
     for b in rep.bells.iter().filter(|b| b.odd_struck.is_some()) {
         if let Some(odd) = &b.odd_struck {
             let _ = writeln!(o, "\n{}: {}", b.name, odd.words);
