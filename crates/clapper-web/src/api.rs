@@ -59,10 +59,8 @@ impl<S: Send + Sync, T: serde::de::DeserializeOwned> axum::extract::FromRequest<
         }
         // Within the route's body limit, as every extractor of the body.
         let bytes = Bytes::from_request(req, state).await.map_err(|r| {
-            ApiError::Limit(
-                r.status(),
-                format!("request body too large: {}", r.body_text().replace('\n', " ")),
-            )
+            let text = r.body_text().replace('\n', " ");
+            crate::uploads::body_rejection(r, || format!("request body too large: {text}"))
         })?;
         if bytes.iter().find(|b| !b.is_ascii_whitespace()) != Some(&b'{') {
             return Err(ApiError::BadRequest(
@@ -619,18 +617,12 @@ pub(crate) async fn strikes(
 ) -> Result<Response, ApiError> {
     let q = q?.0;
     let wav = wav.map_err(|r| {
-        let status = r.status();
-        if status == axum::http::StatusCode::PAYLOAD_TOO_LARGE {
-            ApiError::Limit(
-                status,
-                format!(
-                    "recording too large: at most {} MiB here; longer ones belong to clapper strikes",
-                    s.limits.max_recording_bytes >> 20
-                ),
+        crate::uploads::body_rejection(r, || {
+            format!(
+                "recording too large: at most {} MiB here; longer ones belong to clapper strikes",
+                s.limits.max_recording_bytes >> 20
             )
-        } else {
-            ApiError::BadRequest(r.body_text())
-        }
+        })
     })?;
     let nominals: Vec<f64> = q
         .nominals

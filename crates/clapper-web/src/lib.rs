@@ -32,6 +32,7 @@ mod assets;
 mod error;
 mod hosts;
 mod jobs;
+mod uploads;
 
 use std::future::Future;
 use std::sync::Arc;
@@ -88,6 +89,19 @@ pub struct Limits {
     /// How long a request body may pause between its parts. Default 10 s,
     /// for the same reason: an upload that stalls longer has stopped.
     pub body_timeout: Duration,
+    /// Least rate a request body must keep once [`Limits::body_timeout`]
+    /// has passed since it began (bytes/s). Default 8 KiB/s (64 kbit/s,
+    /// below any phone network): a client trickling bytes to hold a
+    /// connection is cut off after 10 s, and a 64 MiB recording may take
+    /// up to two hours.
+    pub min_upload_rate: u64,
+    /// Most bytes of recordings being received at once, over all uploads
+    /// (bytes); an upload beyond it is answered 503 at once. Each upload
+    /// counts what its Content-Length announces (or the largest recording
+    /// if it does not say). Default 256 MiB: four recordings of the
+    /// largest size, which keeps the server's memory for bodies under
+    /// that whatever the clients do.
+    pub max_upload_bytes_in_flight: usize,
     /// Most connections open at once; further ones wait to be accepted
     /// until one closes. Default 512: under the usual limit of 1024 open
     /// files, and with the header timeout a flood of idle connections
@@ -112,6 +126,8 @@ impl Default for Limits {
             write_timeout: Duration::from_secs(3),
             header_timeout: Duration::from_secs(10),
             body_timeout: Duration::from_secs(10),
+            min_upload_rate: 8 << 10,
+            max_upload_bytes_in_flight: 256 << 20,
             max_connections: 512,
             shutdown_grace: Duration::from_secs(1),
         }
@@ -166,6 +182,10 @@ pub fn router_with(limits: Limits, hosts: AllowedHosts) -> Router {
         .method_not_allowed_fallback(error::method_not_allowed)
         .layer(DefaultBodyLimit::max(limits.max_body_bytes))
         .with_state(state)
+        .layer(axum::middleware::from_fn_with_state(
+            uploads::Uploads::new(limits),
+            uploads::gate,
+        ))
         .layer(axum::middleware::from_fn_with_state(hosts, hosts::check))
         .layer(tower_http::timeout::RequestBodyTimeoutLayer::new(limits.body_timeout))
 }
