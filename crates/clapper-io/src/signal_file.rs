@@ -73,24 +73,7 @@ pub fn read_recording(path: &Path) -> Result<Signal, SignalFileError> {
 /// as [`read_recording`]; `name` is how errors name it.
 pub fn recording_from_bytes(bytes: &[u8], name: &str) -> Result<Signal, SignalFileError> {
     let here = Path::new(name);
-    let mut r = hound::WavReader::new(std::io::Cursor::new(bytes))
-        .map_err(|e| content(here, format!("not a WAV file this reads ({e})")))?;
-    let spec = r.spec();
-    let nch = usize::from(spec.channels.max(1));
-    let all: Vec<f64> = match spec.sample_format {
-        hound::SampleFormat::Float => r
-            .samples::<f32>()
-            .map(|s| s.map(f64::from))
-            .collect::<Result<_, _>>()
-            .map_err(|e| content(here, e.to_string()))?,
-        hound::SampleFormat::Int => {
-            let scale = 2f64.powi(spec.bits_per_sample as i32 - 1);
-            r.samples::<i32>()
-                .map(|s| s.map(|v| f64::from(v) / scale))
-                .collect::<Result<_, _>>()
-                .map_err(|e| content(here, e.to_string()))?
-        }
-    };
+    let (rate, nch, all) = decode_wav(bytes).map_err(|m| content(here, m))?;
     let samples: Vec<f64> = all
         .chunks_exact(nch)
         .map(|f| f.iter().sum::<f64>() / nch as f64)
@@ -98,51 +81,131 @@ pub fn recording_from_bytes(bytes: &[u8], name: &str) -> Result<Signal, SignalFi
     if samples.is_empty() {
         return Err(content(here, "no samples"));
     }
-    let sig = Signal {
-        rate: f64::from(spec.sample_rate),
-        samples,
-    };
+    let sig = Signal { rate, samples };
     sig.validate().map_err(|e| content(here, e.to_string()))?;
     Ok(sig)
 }
 
 fn read_wav(path: &Path, channel: usize) -> Result<Signal, SignalFileError> {
-    std::fs::metadata(path).map_err(|e| SignalFileError::Read {
+    let bytes = std::fs::read(path).map_err(|e| SignalFileError::Read {
         path: path.display().to_string(),
         message: e.to_string(),
     })?;
-    // The file is there: whatever hound cannot parse is not a WAV it reads.
-    let mut r = hound::WavReader::open(path).map_err(|e| content(path, format!("not a WAV file this reads ({e})")))?;
-    let spec = r.spec();
-    let nch = spec.channels as usize;
+    let (rate, nch, all) = decode_wav(&bytes).map_err(|m| content(path, m))?;
     if channel >= nch {
         return Err(content(
             path,
             format!("channel {channel} asked, the file has {nch} (0 to {})", nch - 1),
         ));
     }
+    let samples: Vec<f64> = all.iter().skip(channel).step_by(nch).copied().collect();
+    if samples.is_empty() {
+        return Err(content(path, "no samples"));
+    }
+    Ok(Signal { rate, samples })
+}
+
+/// The chunks of a RIFF WAVE file that matter: the format's bytes and the
+/// samples' bytes (cut to what the file holds).
+struct WavChunks<'a> {
+    fmt: &'a [u8],
+    data: &'a [u8],
+    /// Whether the file is laid out as hound reads it: no chunk of odd
+    /// length before the samples (RIFF pads those to an even length, which
+    /// hound does not skip; Python's `wave` and most editors write them,
+    /// e.g. an odd-length LIST chunk of tags).
+    plain: bool,
+}
+
+/// Walk the RIFF chunks of `bytes`, honouring the pad byte after a chunk
+/// of odd length. `None` if it is not RIFF WAVE with `fmt ` and `data`.
+fn wav_chunks(bytes: &[u8]) -> Option<WavChunks<'_>> {
+    if bytes.len() < 12 || &bytes[..4] != b"RIFF" || &bytes[8..12] != b"WAVE" {
+        return None;
+    }
+    let (mut at, mut fmt, mut plain) = (12usize, None, true);
+    // Each step moves on by at least 8 bytes: bounded by the length.
+    while at + 8 <= bytes.len() {
+        let id = &bytes[at..at + 4];
+        let size = u32::from_le_bytes(bytes[at + 4..at + 8].try_into().ok()?) as usize;
+        let body = at + 8;
+        let end = body.saturating_add(size).min(bytes.len());
+        if id == b"data" {
+            return Some(WavChunks {
+                fmt: fmt?,
+                data: &bytes[body..end],
+                plain,
+            });
+        }
+        if id == b"fmt " {
+            fmt = Some(&bytes[body..end]);
+        }
+        plain &= size % 2 == 0;
+        at = body.saturating_add(size).saturating_add(size % 2);
+    }
+    None
+}
+
+/// Sample rate (Hz), channels and interleaved samples (full scale 1) of
+/// a WAV file's bytes: integer PCM of 8 to 32 bits and float of 32 bits by
+/// hound; 64-bit float (which hound refuses) and files with padded odd
+/// chunks read here.
+fn decode_wav(bytes: &[u8]) -> Result<(f64, usize, Vec<f64>), String> {
+    let chunks = wav_chunks(bytes);
+    if let Some(c) = chunks.as_ref().filter(|c| c.fmt.len() >= 16) {
+        let u16_at = |i: usize| u16::from_le_bytes([c.fmt[i], c.fmt[i + 1]]);
+        let mut tag = u16_at(0);
+        // WAVE_FORMAT_EXTENSIBLE: the format is the sub-format GUID's first two bytes.
+        if tag == 0xFFFE && c.fmt.len() >= 26 {
+            tag = u16_at(24);
+        }
+        let nch = usize::from(u16_at(2)).max(1);
+        let rate = f64::from(u32::from_le_bytes(c.fmt[4..8].try_into().map_err(|_| "short fmt chunk")?));
+        let bits = u16_at(14);
+        if tag == 3 && bits == 64 {
+            let all = c
+                .data
+                .chunks_exact(8)
+                .map(|b| f64::from_le_bytes(b.try_into().expect("8 bytes")))
+                .collect();
+            return Ok((rate, nch, all));
+        }
+        if !c.plain {
+            // The same format and samples, laid out as hound reads them.
+            let mut tidy = Vec::with_capacity(c.data.len() + c.fmt.len() + 28);
+            tidy.extend_from_slice(b"RIFF");
+            tidy.extend_from_slice(&((c.data.len() + c.fmt.len() + 20) as u32).to_le_bytes());
+            tidy.extend_from_slice(b"WAVEfmt ");
+            tidy.extend_from_slice(&(c.fmt.len() as u32).to_le_bytes());
+            tidy.extend_from_slice(c.fmt);
+            tidy.extend_from_slice(b"data");
+            tidy.extend_from_slice(&(c.data.len() as u32).to_le_bytes());
+            tidy.extend_from_slice(c.data);
+            return decode_with_hound(&tidy);
+        }
+    }
+    decode_with_hound(bytes)
+}
+
+fn decode_with_hound(bytes: &[u8]) -> Result<(f64, usize, Vec<f64>), String> {
+    let mut r = hound::WavReader::new(std::io::Cursor::new(bytes)).map_err(|e| format!("not a WAV file this reads ({e})"))?;
+    let spec = r.spec();
+    let nch = usize::from(spec.channels.max(1));
     let all: Vec<f64> = match spec.sample_format {
         hound::SampleFormat::Float => r
             .samples::<f32>()
             .map(|s| s.map(f64::from))
             .collect::<Result<_, _>>()
-            .map_err(|e| content(path, e.to_string()))?,
+            .map_err(|e| e.to_string())?,
         hound::SampleFormat::Int => {
             let scale = 2f64.powi(spec.bits_per_sample as i32 - 1);
             r.samples::<i32>()
                 .map(|s| s.map(|v| f64::from(v) / scale))
                 .collect::<Result<_, _>>()
-                .map_err(|e| content(path, e.to_string()))?
+                .map_err(|e| e.to_string())?
         }
     };
-    let samples: Vec<f64> = all.iter().skip(channel).step_by(nch).copied().collect();
-    if samples.is_empty() {
-        return Err(content(path, "no samples"));
-    }
-    Ok(Signal {
-        rate: f64::from(spec.sample_rate),
-        samples,
-    })
+    Ok((f64::from(spec.sample_rate), nch, all))
 }
 
 /// A CSV reader with a header row and trimmed cells over the text of
@@ -302,6 +365,44 @@ mod tests {
         let s = read_signal(&p2, 1).unwrap();
         assert!((s.samples[10] - 10000.0 / 8388608.0).abs() < 1e-12);
         assert!(read_signal(&p2, 2).unwrap_err().to_string().contains("channel 2"));
+    }
+
+    /// A WAV with a LIST chunk of odd length (padded, as RIFF wants) before
+    /// its samples, and one of 64-bit floats: both read, as Python's
+    /// `wave` and sound editors read them.
+    #[test]
+    fn padded_chunks_and_double_floats_are_read() {
+        fn wav(tag: u16, bits: u16, extra: &[u8], data: &[u8]) -> Vec<u8> {
+            let mut fmt = vec![];
+            fmt.extend(tag.to_le_bytes());
+            fmt.extend(1u16.to_le_bytes());
+            fmt.extend(8000u32.to_le_bytes());
+            fmt.extend((8000 * u32::from(bits / 8)).to_le_bytes());
+            fmt.extend((bits / 8).to_le_bytes());
+            fmt.extend(bits.to_le_bytes());
+            let mut b = b"RIFF\0\0\0\0WAVEfmt ".to_vec();
+            b.extend((fmt.len() as u32).to_le_bytes());
+            b.extend(&fmt);
+            b.extend(extra);
+            b.extend(b"data");
+            b.extend((data.len() as u32).to_le_bytes());
+            b.extend(data);
+            let n = (b.len() - 8) as u32;
+            b[4..8].copy_from_slice(&n.to_le_bytes());
+            b
+        }
+        let pcm: Vec<u8> = [1000i16, -2000, 3000].iter().flat_map(|v| v.to_le_bytes()).collect();
+        let mut list = b"LIST".to_vec();
+        list.extend(5u32.to_le_bytes());
+        list.extend(b"INFOa\0");
+        let padded = wav(1, 16, &list, &pcm);
+        let sig = recording_from_bytes(&padded, "padded.wav").unwrap();
+        assert_eq!(sig.samples.len(), 3);
+        assert!((sig.samples[1] + 2000.0 / 32768.0).abs() < 1e-12);
+        let doubles: Vec<u8> = [0.25f64, -0.5, 0.125].iter().flat_map(|v| v.to_le_bytes()).collect();
+        let sig = recording_from_bytes(&wav(3, 64, &[], &doubles), "f64.wav").unwrap();
+        assert_eq!(sig.samples, vec![0.25, -0.5, 0.125]);
+        assert_eq!(sig.rate, 8000.0);
     }
 
     #[test]

@@ -111,16 +111,56 @@ pub enum ReadTextError {
     NotText(NotText),
 }
 
+/// How much of a text input is looked at before the rest is read (bytes).
+pub const HEAD_BYTES: usize = 64 << 10;
+
+/// The largest text input read (bytes): 512 MiB. A 10 kHz accelerometer
+/// log of an hour is about 1.4 GB and is better decimated; a 100 Hz log of
+/// a day, 350 MB, fits.
+pub const MAX_TEXT_BYTES: usize = 512 << 20;
+
 /// Read `path` as text; `wanted` is what the caller expects it to be
 /// ("a bell file"), for the message when it is not text.
+///
+/// Bounded: the first [`HEAD_BYTES`] are looked at before the rest is
+/// read (`/dev/zero` or a disk image is named as not text at once, not
+/// read until memory runs out), and a text longer than [`MAX_TEXT_BYTES`]
+/// is refused with its size.
 pub fn read_text(path: &Path, wanted: &'static str) -> Result<String, ReadTextError> {
-    let bytes = std::fs::read(path).map_err(ReadTextError::Io)?;
-    if let Some(kind) = BinaryKind::of(&bytes) {
-        return Err(ReadTextError::NotText(NotText {
+    use std::io::Read as _;
+    let not_text = |kind| {
+        ReadTextError::NotText(NotText {
             path: path.display().to_string(),
             kind,
             wanted,
-        }));
+        })
+    };
+    let mut file = std::fs::File::open(path).map_err(ReadTextError::Io)?;
+    let mut bytes = Vec::new();
+    (&mut file)
+        .take(HEAD_BYTES as u64)
+        .read_to_end(&mut bytes)
+        .map_err(ReadTextError::Io)?;
+    // The head may end inside a character: only bytes that cannot start
+    // one, or a NUL, make it binary here.
+    let head_kind = match std::str::from_utf8(&bytes) {
+        Err(e) if e.error_len().is_none() => BinaryKind::of(&bytes[..e.valid_up_to()]),
+        _ => BinaryKind::of(&bytes),
+    };
+    if let Some(kind) = head_kind {
+        return Err(not_text(kind));
+    }
+    file.take((MAX_TEXT_BYTES - HEAD_BYTES) as u64 + 1)
+        .read_to_end(&mut bytes)
+        .map_err(ReadTextError::Io)?;
+    if bytes.len() > MAX_TEXT_BYTES {
+        return Err(ReadTextError::Io(std::io::Error::other(format!(
+            "larger than {} MiB, the most a text input may be here (split it, or decimate a log)",
+            MAX_TEXT_BYTES >> 20
+        ))));
+    }
+    if let Some(kind) = BinaryKind::of(&bytes) {
+        return Err(not_text(kind));
     }
     // Checked by `BinaryKind::of`.
     String::from_utf8(bytes).map_err(|e| ReadTextError::Io(std::io::Error::new(std::io::ErrorKind::InvalidData, e)))
@@ -129,6 +169,24 @@ pub fn read_text(path: &Path, wanted: &'static str) -> Result<String, ReadTextEr
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn an_endless_device_is_named_not_read() {
+        // /dev/zero has no end: read whole, it filled memory.
+        if Path::new("/dev/zero").exists() {
+            match read_text(Path::new("/dev/zero"), "an accelerometer log") {
+                Err(ReadTextError::NotText(e)) => assert_eq!(e.kind, BinaryKind::Unknown),
+                other => panic!("{other:?}"),
+            }
+        }
+        // A character cut by the head's end is still text.
+        let dir = tempfile::tempdir().unwrap();
+        let p = dir.path().join("t.txt");
+        let mut text = "a".repeat(HEAD_BYTES - 1);
+        text.push_str("° and more\n");
+        std::fs::write(&p, &text).unwrap();
+        assert_eq!(read_text(&p, "a log").unwrap(), text);
+    }
 
     #[test]
     fn binary_files_are_told_by_their_first_bytes() {
