@@ -48,6 +48,7 @@ pub fn run(args: ServeArgs) -> Result<()> {
     let limits = Limits {
         max_jobs: args.max_jobs,
         max_chart_points: args.max_chart_points,
+        max_connections: connection_room(),
         ..Limits::default()
     };
     let runtime = tokio::runtime::Builder::new_multi_thread()
@@ -80,6 +81,25 @@ pub fn run(args: ServeArgs) -> Result<()> {
     // for: the process is ending.
     runtime.shutdown_timeout(std::time::Duration::from_millis(200));
     served
+}
+
+/// Most connections to hold open: half the open files this process may
+/// have, after raising its soft limit as far as the system lets (to
+/// 65,536 at most), between 512 and 16,384. Clients that trickle their
+/// requests are cut off within seconds (`Limits::min_upload_rate`), but
+/// while they last a thousand of them must still leave room for the page
+/// and `/api/health`; the other half of the files is for the server's own.
+fn connection_room() -> usize {
+    const FLOOR: usize = 512;
+    #[cfg(unix)]
+    {
+        let files = rlimit::increase_nofile_limit(65_536).unwrap_or(1024);
+        usize::try_from(files / 2).unwrap_or(FLOOR).clamp(FLOOR, 16_384)
+    }
+    #[cfg(not(unix))]
+    {
+        FLOOR
+    }
 }
 
 /// The command that opens a URL in a browser: `$BROWSER` (a program and
