@@ -128,6 +128,15 @@ impl SimulateRequest {
         let mut loaded = match (file, &self.bell, self.chart_point, self.preset) {
             (Some(f), ..) => f,
             (_, Some(text), ..) => clapper_io::parse_bell(text, "bell")?,
+            (_, _, Some([x, y]), _) if !in_tested_domain(x, y) => {
+                let ([x0, x1], [y0, y1]) = TESTED_CHART_DOMAIN;
+                return Err(AppError::Request(format!(
+                    "chart point ({}, {}) is outside the domain clapper is tested over: r/L_c from {x0} to {x1}, \
+                     L_b/L_c from {y0} to {y1} (a bell's own are near -0.3 to 0.7 and 0.5 to 2.5)",
+                    chart_coordinate(x),
+                    chart_coordinate(y)
+                )));
+            }
             (_, _, Some([x, y]), _) => LoadedBell::new(
                 format!("chart point ({}, {})", chart_coordinate(x), chart_coordinate(y)),
                 ChartConstruction::default().bell(x, y)?,
@@ -160,6 +169,18 @@ impl SimulateRequest {
         }
         Ok(cfg)
     }
+}
+
+/// The chart points a single bell may be asked at (r/L_c, L_b/L_c): the
+/// domain the property tests cover (crates/clapper-core/tests/properties.rs),
+/// a wide margin around any real bell's. Far outside it a bell is no bell
+/// (at r/L_c = -5 the clapper hangs five of its lengths above the bell's
+/// axis) and ringing it up had no end.
+pub const TESTED_CHART_DOMAIN: ([f64; 2], [f64; 2]) = ([-1.0, 2.0], [0.2, 5.0]);
+
+fn in_tested_domain(x: f64, y: f64) -> bool {
+    let ([x0, x1], [y0, y1]) = TESTED_CHART_DOMAIN;
+    (x0..=x1).contains(&x) && (y0..=y1).contains(&y)
 }
 
 /// A simulation's answer: the report (what `clapper simulate --json`

@@ -76,7 +76,8 @@ impl Default for SynthOptions {
 }
 
 impl SynthOptions {
-    /// Refuse a gap, pulse or tail outside 0-600.
+    /// Refuse a gap, pulse or tail outside 0-600 (s or ms), a nominal
+    /// outside 20-20,000 Hz, rest damping outside 1-10,000.
     pub fn check(&self) -> Result<(), AppError> {
         for (flag, v) in [
             ("--gap", self.gap),
@@ -86,6 +87,19 @@ impl SynthOptions {
             if !(v.is_finite() && (0.0..=600.0).contains(&v)) {
                 return Err(AppError::Request(format!("{flag} {v} must be between 0 and 600")));
             }
+        }
+        // Heard partials: a nominal from a handbell's top to a bourdon's.
+        if !(20.0..=20_000.0).contains(&self.nominal) {
+            return Err(AppError::Request(format!(
+                "--nominal {} Hz: a bell's nominal is from 20 to 20,000 Hz",
+                self.nominal
+            )));
+        }
+        if !(1.0..=1e4).contains(&self.rest_damping) {
+            return Err(AppError::Request(format!(
+                "--rest-damping {}: from 1 (a resting clapper damps nothing) to 10,000 times faster",
+                self.rest_damping
+            )));
         }
         Ok(())
     }

@@ -37,7 +37,7 @@ mod sound;
 mod strikes;
 mod sweep_file;
 
-use clap::{CommandFactory, Parser, Subcommand};
+use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
 /// Dynamics of church bells rung full circle: a bell and its clapper as
 /// coupled pendulums, after Woodhouse, Swallowe, Bumpus & Smith (2012).
@@ -176,9 +176,46 @@ fn one_line_error(text: &str, subcommand: Option<&str>) -> String {
     format!("{message} (see {help})")
 }
 
+/// A number option's value: any finite number. NaN and infinities are
+/// refused here, once for every option, so that no command computes with
+/// them ("T_c inf ... meets the rule", a log read as all "down").
+fn finite_number(s: &str) -> Result<f64, String> {
+    let v: f64 = s.trim().parse().map_err(|_| format!("'{s}' is not a number"))?;
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        Err(format!("{s} is not a finite number"))
+    }
+}
+
+/// The command line of every command: a number option takes only a
+/// finite value ([`finite_number`]), and any option's value may be a
+/// negative number (`--pivot-offset -0.005`; clap would read `-0.005` as
+/// an option and suggest `-- -0.005`, which does not work for an
+/// option's value), so that a sign is refused by its meaning, in the
+/// option's own words.
+fn command_line(cmd: clap::Command) -> clap::Command {
+    let cmd = cmd.mut_args(|a| {
+        if !a.get_action().takes_values() {
+            return a;
+        }
+        let number = a.get_value_parser().type_id() == std::any::TypeId::of::<f64>();
+        let a = a.allow_negative_numbers(true);
+        if number {
+            a.value_parser(finite_number)
+        } else {
+            a
+        }
+    });
+    cmd.mut_subcommands(command_line)
+}
+
 fn main() {
     quiet_on_closed_stdout();
-    let cli = match Cli::try_parse() {
+    let parsed = command_line(Cli::command())
+        .try_get_matches()
+        .and_then(|m| Cli::from_arg_matches(&m));
+    let cli = match parsed {
         Ok(cli) => cli,
         Err(e) if e.use_stderr() => {
             eprintln!("{}", one_line_error(&e.to_string(), std::env::args().nth(1).as_deref()));

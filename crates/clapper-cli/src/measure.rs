@@ -192,6 +192,12 @@ pub fn spectrogram_cmd(args: SpectrogramArgs) -> Result<()> {
         args.overlap * 100.0,
         args.range_db
     );
+    if !(args.fmax > 0.0) {
+        anyhow::bail!(
+            "--fmax {}: the highest frequency shown must be more than 0 Hz",
+            args.fmax
+        );
+    }
     let p = clapper_plot::SpectrogramPlot {
         title: &title,
         times: &s.times,

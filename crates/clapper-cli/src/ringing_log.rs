@@ -198,7 +198,28 @@ pub struct SynthLogArgs {
     pub name: String,
 }
 
+/// Most strokes of a synthetic log: a peal's worth for one bell, twice.
+const MAX_LOG_STROKES: usize = 10_000;
+/// Most runs of lost samples in a synthetic log.
+const MAX_LOG_GAPS: usize = 1_000;
+
 pub fn synth_log_cmd(args: SynthLogArgs) -> Result<()> {
+    // Counts bounded before anything is allocated for them.
+    if args.strokes > MAX_LOG_STROKES {
+        anyhow::bail!(
+            "--strokes {}: at most {MAX_LOG_STROKES} (a peal is about 5,000)",
+            args.strokes
+        );
+    }
+    if args.gaps > MAX_LOG_GAPS {
+        anyhow::bail!("--gaps {}: at most {MAX_LOG_GAPS} runs of lost samples", args.gaps);
+    }
+    if !(0.0..=100.0).contains(&args.noise) {
+        anyhow::bail!("--noise {} m/s²: from 0 to 100 (a sensor's is about 0.04)", args.noise);
+    }
+    if !(-2.0..=2.0).contains(&args.sensor_m) {
+        anyhow::bail!("--sensor-m {} m: within 2 m of the pivot", args.sensor_m);
+    }
     // The bell as `simulate` names it, the tenor when none is named.
     let file = args.source.file()?;
     let preset = match (args.source.given(), args.source.preset) {

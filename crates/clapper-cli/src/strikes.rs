@@ -21,7 +21,11 @@ pub struct Nominals(pub Vec<f64>);
 
 pub(crate) fn parse_list(s: &str) -> std::result::Result<Nominals, String> {
     s.split(',')
-        .map(|v| v.trim().parse::<f64>().map_err(|_| format!("'{v}' is not a number")))
+        .map(|v| match v.trim().parse::<f64>() {
+            Ok(f) if f.is_finite() => Ok(f),
+            Ok(_) => Err(format!("{v} is not a finite number")),
+            Err(_) => Err(format!("'{v}' is not a number")),
+        })
         .collect::<std::result::Result<Vec<f64>, String>>()
         .map(Nominals)
 }

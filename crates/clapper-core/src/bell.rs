@@ -263,6 +263,7 @@ impl Bell {
         }
         check_phi_max(self.phi_max)?;
         self.hanging.validate()?;
+        self.check_hanging_against_the_bell()?;
         let (hand, back) = self.contact_angles();
         for (field, value) in [("phi_max_hand_deg", hand), ("phi_max_back_deg", back)] {
             if !(value > 0.0 && value < PI / 2.0) {
@@ -271,6 +272,58 @@ impl Bell {
                     value: value.to_degrees(),
                     allowed: "between 0 and 90 deg, exclusive",
                 });
+            }
+        }
+        Ok(())
+    }
+
+    /// The hanging's sizes against the bell's own, where a value past them
+    /// means no bell that swings (docs/model.md §10): a pivot offset past
+    /// a quarter of L_c (a real one is millimetres), a Coulomb torque at
+    /// least the joint's largest gravity torque (M g a for the bell, m g b
+    /// for the clapper: it would hold the joint at every angle), viscous
+    /// damping at least critical (2 sqrt(I M g a): the joint would creep
+    /// back without swinging, and the integrator's steps shrink to nothing).
+    fn check_hanging_against_the_bell(&self) -> Result<(), ParamError> {
+        let h = &self.hanging;
+        if h.pivot_offset.abs() > 0.25 * self.lc() {
+            return Err(ParamError {
+                field: "pivot_offset_m",
+                value: h.pivot_offset,
+                allowed: "within a quarter of L_c either way (a real bell's is a few millimetres)",
+            });
+        }
+        let f = &h.friction;
+        let (bell_torque, clapper_torque) = (self.bell_mass * G * self.a, self.clapper_mass * G * self.b);
+        let over = [
+            (
+                "bell_friction_n_m",
+                f.bell_friction,
+                bell_torque,
+                "below the bell's largest gravity torque M g a (one as large holds the bell at every angle)",
+            ),
+            (
+                "clapper_friction_n_m",
+                f.clapper_friction,
+                clapper_torque,
+                "below the clapper's largest gravity torque m g b (one as large holds the clapper at every angle)",
+            ),
+            (
+                "bell_damping_n_m_s",
+                f.bell_damping,
+                2.0 * (self.bell_inertia * bell_torque).sqrt(),
+                "below critical damping 2 sqrt(I_b M g a) (a bell damped more does not swing)",
+            ),
+            (
+                "clapper_damping_n_m_s",
+                f.clapper_damping,
+                2.0 * (self.clapper_inertia * clapper_torque).sqrt(),
+                "below critical damping 2 sqrt(I_c m g b) (a clapper damped more does not swing)",
+            ),
+        ];
+        for (field, value, limit, allowed) in over {
+            if value >= limit {
+                return Err(ParamError { field, value, allowed });
             }
         }
         Ok(())
@@ -612,6 +665,37 @@ mod tests {
 
     /// Positive but meaningless inputs are refused with the derived
     /// quantity named, and tiny numbers are printed readably.
+    #[test]
+    fn a_hanging_that_stops_the_bell_swinging_is_refused() {
+        let lab = Bell::lab();
+        let with = |f: &dyn Fn(&mut Hanging)| {
+            let mut h = Hanging::default();
+            f(&mut h);
+            lab.with_hanging(h).validate()
+        };
+        // Real sizes pass: 10 mm offset, a little friction and damping.
+        assert!(with(&|h| {
+            h.pivot_offset = 0.010;
+            h.friction.bell_friction = 0.5;
+            h.friction.clapper_damping = 0.01;
+        })
+        .is_ok());
+        let field = |r: Result<(), ParamError>| r.unwrap_err().field;
+        assert_eq!(field(with(&|h| h.pivot_offset = -1.0)), "pivot_offset_m");
+        let mga = lab.bell_mass * G * lab.a;
+        assert_eq!(field(with(&|h| h.friction.bell_friction = mga)), "bell_friction_n_m");
+        assert!(with(&|h| h.friction.bell_friction = 0.99 * mga).is_ok());
+        assert_eq!(
+            field(with(&|h| h.friction.clapper_friction = 1e9)),
+            "clapper_friction_n_m"
+        );
+        assert_eq!(field(with(&|h| h.friction.bell_damping = 1e9)), "bell_damping_n_m_s");
+        assert_eq!(
+            field(with(&|h| h.friction.clapper_damping = 1e9)),
+            "clapper_damping_n_m_s"
+        );
+    }
+
     #[test]
     fn a_bell_that_is_no_pendulum_is_refused_readably() {
         let bad = Bell {

@@ -160,7 +160,9 @@ fn decode_wav(bytes: &[u8]) -> Result<(f64, usize, Vec<f64>), String> {
             tag = u16_at(24);
         }
         let nch = usize::from(u16_at(2)).max(1);
-        let rate = f64::from(u32::from_le_bytes(c.fmt[4..8].try_into().map_err(|_| "short fmt chunk")?));
+        let rate = f64::from(u32::from_le_bytes(
+            c.fmt[4..8].try_into().map_err(|_| "short fmt chunk")?,
+        ));
         let bits = u16_at(14);
         if tag == 3 && bits == 64 {
             let all = c
@@ -188,7 +190,8 @@ fn decode_wav(bytes: &[u8]) -> Result<(f64, usize, Vec<f64>), String> {
 }
 
 fn decode_with_hound(bytes: &[u8]) -> Result<(f64, usize, Vec<f64>), String> {
-    let mut r = hound::WavReader::new(std::io::Cursor::new(bytes)).map_err(|e| format!("not a WAV file this reads ({e})"))?;
+    let mut r =
+        hound::WavReader::new(std::io::Cursor::new(bytes)).map_err(|e| format!("not a WAV file this reads ({e})"))?;
     let spec = r.spec();
     let nch = usize::from(spec.channels.max(1));
     let all: Vec<f64> = match spec.sample_format {

@@ -156,6 +156,13 @@ fn track(x: &[f64], rate: f64, freq: f64, n: usize) -> Vec<(f64, f64)> {
 /// Find the strong partials of a single strike in `sig`.
 pub fn find_modes(sig: &Signal, opts: &ModeOptions) -> Result<Vec<Partial>, SignalError> {
     sig.validate()?;
+    let max_db = crate::spectrogram::MAX_RANGE_DB;
+    if !(opts.range_db > 0.0 && opts.range_db <= max_db) {
+        return Err(SignalError::Option(format!(
+            "dB range {}: more than 0, at most {max_db} dB",
+            opts.range_db
+        )));
+    }
     let n_win = (opts.decay_window_s * sig.rate).round() as usize;
     // The strike: from the largest sample on.
     let start = sig

@@ -41,6 +41,10 @@ impl Spectrogram {
     }
 }
 
+/// The widest range of levels below the loudest that is drawn or
+/// reported (dB): a 24-bit recording's whole span is 144 dB.
+pub const MAX_RANGE_DB: f64 = 200.0;
+
 /// The periodic Hann window of length n.
 pub fn hann(n: usize) -> Vec<f64> {
     (0..n)
@@ -75,8 +79,10 @@ pub fn spectrogram_columns(
     if !(0.0..=0.99).contains(&overlap) {
         return Err(SignalError::Option(format!("overlap {overlap}: from 0 to 0.99")));
     }
-    if !(range_db.is_finite() && range_db > 0.0) {
-        return Err(SignalError::Option(format!("dB range {range_db}: a number > 0")));
+    if !(range_db.is_finite() && range_db > 0.0 && range_db <= MAX_RANGE_DB) {
+        return Err(SignalError::Option(format!(
+            "dB range {range_db}: more than 0, at most {MAX_RANGE_DB} dB (a 24-bit recording spans 144)"
+        )));
     }
     if columns == 0 {
         return Err(SignalError::Option("a spectrogram of no columns".into()));

@@ -66,7 +66,10 @@ pub(crate) struct SlowUpload {
 /// The message for a body that could not be read: a slow upload is a 408
 /// with its reason, a body over its limit a 413; anything else keeps its
 /// status (a stalled body's 408, say).
-pub(crate) fn body_rejection(r: axum::extract::rejection::BytesRejection, too_large: impl FnOnce() -> String) -> ApiError {
+pub(crate) fn body_rejection(
+    r: axum::extract::rejection::BytesRejection,
+    too_large: impl FnOnce() -> String,
+) -> ApiError {
     let mut source: Option<&(dyn std::error::Error + 'static)> = Some(&r);
     while let Some(e) = source {
         if let Some(slow) = e.downcast_ref::<SlowUpload>() {

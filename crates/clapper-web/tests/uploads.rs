@@ -86,7 +86,10 @@ async fn trickled_uploads_are_cut_off_and_the_server_answers_others() {
     assert!(h.starts_with("HTTP/1.1 200"), "health: {h}");
     let first = tricklers.remove(0).await.unwrap();
     assert!(first.starts_with("HTTP/1.1 408"), "{first}");
-    assert!(first.contains("upload too slow") && first.contains("1 KiB/s"), "{first}");
+    assert!(
+        first.contains("upload too slow") && first.contains("1 KiB/s"),
+        "{first}"
+    );
 }
 
 /// A recording announced at 10^12 bytes is refused (413) before its body:
@@ -95,7 +98,10 @@ async fn trickled_uploads_are_cut_off_and_the_server_answers_others() {
 #[tokio::test(flavor = "multi_thread", worker_threads = 2)]
 async fn a_length_past_the_limit_is_refused_before_the_body() {
     let addr = start_with(clapper_web::Limits::default()).await;
-    for (path, kind) in [("/api/strikes?nominals=400", "audio/wav"), ("/api/simulate", "application/json")] {
+    for (path, kind) in [
+        ("/api/strikes?nominals=400", "audio/wav"),
+        ("/api/simulate", "application/json"),
+    ] {
         let mut s = TcpStream::connect(addr).await.unwrap();
         let req = head(path, 1_000_000_000_000).replace("audio/wav", kind);
         s.write_all(req.as_bytes()).await.unwrap();

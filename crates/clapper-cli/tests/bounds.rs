@@ -1,0 +1,85 @@
+//! Issue 46's reproductions through the built binary: each ran away,
+//! aborted, or printed nonsense with exit 0; each is now refused at once
+//! with a message in the option's own words (exit 1 or 2).
+
+use assert_cmd::Command;
+
+fn refused(args: &[&str], says: &str) {
+    let out = Command::cargo_bin("clapper").unwrap().args(args).output().unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        matches!(out.status.code(), Some(1 | 2)),
+        "{args:?}: {:?} {err}",
+        out.status
+    );
+    assert!(err.contains(says), "{args:?}: {err}");
+    assert_eq!(err.trim().lines().count(), 1, "{args:?}: {err}");
+}
+
+#[test]
+fn runaways_and_aborts_are_refused_before_they_start() {
+    // Ran for more than 600 s with no output.
+    refused(
+        &["ring-up", "--chart-point", "-5,0.2"],
+        "outside the domain clapper is tested over",
+    );
+    refused(&["ring-down", "--chart-point", "-5,0.5"], "r/L_c from -1 to 2");
+    // Aborted allocating 272 GB; passed 8 GiB in seconds.
+    refused(
+        &["synth-log", "--out", "x.txt", "--strokes", "1000000000"],
+        "--strokes 1000000000: at most",
+    );
+    refused(
+        &["synth-log", "--out", "x.txt", "--gaps", "1000000000"],
+        "--gaps 1000000000: at most",
+    );
+    // A chart of a bell damped past critical did not end.
+    refused(
+        &["chart", "--grid", "3", "--bell-damping", "1e9"],
+        "below critical damping",
+    );
+    refused(&["simulate", "--bell-friction", "1e9"], "gravity torque");
+    refused(&["simulate", "--pivot-offset", "1"], "pivot_offset_m");
+}
+
+#[test]
+fn numbers_must_be_finite_and_may_be_negative() {
+    refused(
+        &["ringing-log", "x.txt", "--sensor-m", "NaN"],
+        "NaN is not a finite number",
+    );
+    refused(
+        &["synth-log", "--out", "x.txt", "--noise", "NaN"],
+        "NaN is not a finite number",
+    );
+    refused(
+        &["design-clapper", "--ball-position", "inf"],
+        "inf is not a finite number",
+    );
+    // A negative value is read as a value and refused by its meaning, not
+    // taken for an option ("use '-- -1'", which does not work for a value).
+    refused(
+        &["synth", "--out", "b.wav", "--nominal", "-1"],
+        "a bell's nominal is from 20 to 20,000 Hz",
+    );
+    refused(
+        &[
+            "spectrogram",
+            "../../examples/data/strike.wav",
+            "--out",
+            "s.png",
+            "--fmax",
+            "-1",
+        ],
+        "--fmax -1: the highest frequency",
+    );
+    refused(&["synth-log", "--out", "x.txt", "--noise", "-1"], "--noise -1 m/s²");
+}
+
+#[test]
+fn an_endless_input_is_named_not_read() {
+    if std::path::Path::new("/dev/zero").exists() {
+        refused(&["ringing-log", "/dev/zero"], "not a text file");
+        refused(&["diagnose", "/dev/zero"], "not a text file");
+    }
+}
