@@ -192,7 +192,7 @@ pub fn spectrogram_cmd(args: SpectrogramArgs) -> Result<()> {
         args.overlap * 100.0,
         args.range_db
     );
-    if !(args.fmax > 0.0) {
+    if args.fmax <= 0.0 {
         anyhow::bail!(
             "--fmax {}: the highest frequency shown must be more than 0 Hz",
             args.fmax

@@ -220,7 +220,7 @@ mod tests {
             grace: Duration::from_secs(5),
             min_rate: 1024,
         };
-        let err = slow.collect().await.err().expect("a trickle is cut");
+        let err = slow.collect().await.expect_err("a trickle is cut");
         let msg = err.to_string();
         assert!(msg.contains("upload too slow") && msg.contains("1 KiB/s"), "{msg}");
 
