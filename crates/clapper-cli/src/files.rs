@@ -221,6 +221,14 @@ pub fn make_folder(dir: &Path, option: &str) -> Result<()> {
 /// Refuse, naming `path`, an output whose folder does not exist (before
 /// any file beside it, temporary or lock, is tried and named instead).
 pub fn ensure_folder(path: &Path) -> Result<()> {
+    // Found before anything is written: a move onto a folder fails only at
+    // the end, after the work, and left the temporary file beside it.
+    if path.is_dir() {
+        anyhow::bail!(
+            "cannot write {}: it is a folder; give a file's name (in it, or beside it)",
+            path.display()
+        );
+    }
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         if !dir.is_dir() {
             anyhow::bail!(
@@ -264,9 +272,10 @@ pub fn write_atomically(path: &Path, write: impl FnOnce(&Path) -> Result<()>) ->
             let message = format!("{e:#}").replace(&tmp.display().to_string(), &path.display().to_string());
             Err(anyhow::anyhow!(message))
         }
-        Ok(()) => {
-            std::fs::rename(&tmp, path).with_context(|| format!("cannot move output into place at {}", path.display()))
-        }
+        Ok(()) => std::fs::rename(&tmp, path).map_err(|e| {
+            let _ = std::fs::remove_file(&tmp);
+            anyhow::anyhow!("cannot move output into place at {}: {e}", path.display())
+        }),
     };
     unregister(&tmp);
     done
@@ -293,6 +302,27 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains(&out.display().to_string()) && !e.contains("partial"), "{e}");
+    }
+
+    #[test]
+    fn a_folder_is_refused_as_an_output_before_anything_is_written() {
+        let dir = tempfile::tempdir().unwrap();
+        let mut ran = false;
+        let e = write_atomically(dir.path(), |_| {
+            ran = true;
+            Ok(())
+        })
+        .unwrap_err()
+        .to_string();
+        assert!(e.contains("it is a folder"), "{e}");
+        assert!(!ran);
+        assert_eq!(
+            std::fs::read_dir(dir.path().parent().unwrap())
+                .unwrap()
+                .filter(|f| f.as_ref().unwrap().file_name().to_string_lossy().contains("partial"))
+                .count(),
+            0
+        );
     }
 
     #[test]

@@ -83,3 +83,27 @@ fn an_endless_input_is_named_not_read() {
         refused(&["diagnose", "/dev/zero"], "not a text file");
     }
 }
+
+/// An output that is a folder is refused before anything is written, and leaves no
+/// `.NAME.PID.partial.EXT` beside it (which the next run then took for
+/// the litter of a stopped run).
+#[test]
+fn a_folder_given_as_an_output_is_refused_and_leaves_nothing() {
+    let dir = tempfile::tempdir().unwrap();
+    let out = dir.path().join("afolder");
+    std::fs::create_dir(&out).unwrap();
+    let o = out.display().to_string();
+    refused(&["simulate", "--preset", "lab", "--trace", &o], "it is a folder");
+    let png = dir.path().join("pic.png");
+    std::fs::create_dir(&png).unwrap();
+    refused(
+        &["chart", "--grid", "3", "--out", &png.display().to_string()],
+        "it is a folder",
+    );
+    let litter: Vec<_> = std::fs::read_dir(dir.path())
+        .unwrap()
+        .map(|f| f.unwrap().file_name().to_string_lossy().into_owned())
+        .filter(|n| n != "afolder" && n != "pic.png")
+        .collect();
+    assert!(litter.is_empty(), "{litter:?}");
+}
