@@ -19,6 +19,7 @@ use crate::AppError;
 #[serde(deny_unknown_fields)]
 pub struct DesignRequest {
     /// The clapper's parts (the `[clapper]` table's keys).
+    #[serde(deserialize_with = "a_table")]
     pub clapper: ClapperInput,
     /// The bell's small-swing period T_b (s), to place the clapper on the
     /// chart and check the rule T_c ≥ 0.9 T_b.
@@ -33,6 +34,27 @@ pub struct DesignRequest {
     /// What to change for the target [default: the flight's length].
     #[serde(default)]
     pub adjust: Option<Adjust>,
+}
+
+/// A table of named values only: serde would also read a struct from a
+/// list by position (`{"clapper": [1, 2]}` was a shaft 1 m long and 2 m
+/// thick, a 24-tonne clapper).
+fn a_table<'de, D, T>(d: D) -> Result<T, D::Error>
+where
+    D: serde::Deserializer<'de>,
+    T: Deserialize<'de>,
+{
+    struct Table<T>(std::marker::PhantomData<T>);
+    impl<'de, T: Deserialize<'de>> serde::de::Visitor<'de> for Table<T> {
+        type Value = T;
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("a table of the clapper's parts by name, such as {\"shaft_length_m\": 0.69, ...}")
+        }
+        fn visit_map<A: serde::de::MapAccess<'de>>(self, map: A) -> Result<T, A::Error> {
+            T::deserialize(serde::de::value::MapAccessDeserializer::new(map))
+        }
+    }
+    d.deserialize_map(Table(std::marker::PhantomData))
 }
 
 /// One part's share.

@@ -802,3 +802,46 @@ async fn animate_answers_frames_and_sound_for_one_or_two_bells() {
     assert_eq!(status, StatusCode::OK);
     assert!(String::from_utf8_lossy(&body).contains("class ClapperPlayer"));
 }
+
+/// Every `curl` example on the API page (assets/api.html) is answered 200:
+/// the page's design-clapper example had been answered 400 (no flight for
+/// its target period to change).
+#[tokio::test]
+async fn the_api_pages_own_examples_are_answered() {
+    let page = include_str!("../assets/api.html");
+    let mut tried = 0;
+    for part in page.split("curl ").skip(1) {
+        let Some(at) = part.find("localhost:8080") else {
+            continue;
+        };
+        let route: String = part[at + "localhost:8080".len()..]
+            .chars()
+            .take_while(|c| !c.is_whitespace())
+            .collect();
+        let Some(d) = part.find("-d '") else { continue };
+        let body = &part[d + 4..];
+        let body = &body[..body.find('\'').unwrap()];
+        // HTML entities as a browser shows them.
+        let body = body.replace("&lt;", "<").replace("&gt;", ">").replace("&amp;", "&");
+        let app = router(Limits::default());
+        let (status, bytes) = send(&app, "POST", &route, Some(&body)).await;
+        assert_eq!(
+            status,
+            StatusCode::OK,
+            "{route} {body}: {}",
+            String::from_utf8_lossy(&bytes)
+        );
+        tried += 1;
+    }
+    assert!(tried >= 5, "only {tried} examples found on the page");
+}
+
+/// A clapper given as a list, not a table of named parts, is refused: it
+/// was read by position as a shaft 1 m long and 2 m thick (24 tonnes).
+#[tokio::test]
+async fn a_clapper_given_as_a_list_is_refused() {
+    let app = router(Limits::default());
+    let (status, bytes) = send(&app, "POST", "/api/design-clapper", Some(r#"{"clapper": [1, 2]}"#)).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST, "{}", String::from_utf8_lossy(&bytes));
+    assert!(String::from_utf8_lossy(&bytes).contains("a table of the clapper's parts"));
+}
