@@ -136,6 +136,18 @@ pub fn voices_from_nominals(nominals: &[f64]) -> Result<Vec<BellVoice>, AppError
             i + 1
         )));
     }
+    // Half a percent is a twelfth of a semitone: no two bells of a ring are
+    // tuned so close, and their partials could not be told apart.
+    for (i, a) in nominals.iter().enumerate() {
+        if let Some(j) = nominals[i + 1..].iter().position(|b| (a - b).abs() < 0.005 * a.max(*b)) {
+            return Err(AppError::Request(format!(
+                "bells {} and {} have nominals {a} and {} Hz, within half a percent: one bell given twice?",
+                i + 1,
+                i + j + 2,
+                nominals[i + j + 1]
+            )));
+        }
+    }
     Ok(nominals.iter().map(|&f| BellVoice::from_nominal(f)).collect())
 }
 

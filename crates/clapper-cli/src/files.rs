@@ -44,6 +44,16 @@ pub fn claim_stdout(outputs: &[(&str, Option<&Path>)], json: bool) -> Result<()>
         .filter(|(_, p)| p.is_some_and(is_stdout))
         .map(|(name, _)| *name)
         .collect();
+    // Two outputs naming one file: the second would overwrite the first.
+    let files: Vec<(&str, &Path)> = outputs
+        .iter()
+        .filter_map(|(name, p)| p.filter(|p| !is_stdout(p)).map(|p| (*name, p)))
+        .collect();
+    for (i, (a, pa)) in files.iter().enumerate() {
+        if let Some((b, _)) = files[i + 1..].iter().find(|(_, pb)| same_file(pa, pb)) {
+            anyhow::bail!("{a} and {b} both name {}: give each its own file", pa.display());
+        }
+    }
     match dashes[..] {
         [] => {}
         [one] if json => anyhow::bail!("{one} - and --json both want standard output: give {one} a file name"),
@@ -55,6 +65,22 @@ pub fn claim_stdout(outputs: &[(&str, Option<&Path>)], json: bool) -> Result<()>
         ),
     }
     Ok(())
+}
+
+/// Whether two paths name one file: the same as written, or the same
+/// file name in the same folder however the folder is written.
+fn same_file(a: &Path, b: &Path) -> bool {
+    if a == b {
+        return true;
+    }
+    let folder = |p: &Path| {
+        let dir = p
+            .parent()
+            .filter(|d| !d.as_os_str().is_empty())
+            .unwrap_or(Path::new("."));
+        std::fs::canonicalize(dir).ok()
+    };
+    a.file_name() == b.file_name() && folder(a).is_some() && folder(a) == folder(b)
 }
 
 /// The files being written now, removed if the run is stopped.

@@ -76,6 +76,14 @@ pub(crate) fn template_voices(dir: &std::path::Path) -> Result<Vec<BellVoice>> {
             dir.display()
         );
     }
+    // A bell's recording past a gap in the numbers would be left out without a word.
+    let next = voices.len() + 1;
+    if let Some(later) = (next + 1..=64).find(|b| dir.join(format!("{b}.wav")).exists()) {
+        bail!(
+            "{}: {later}.wav but no {next}.wav; name the recordings 1.wav, 2.wav, ... without a gap, one per bell",
+            dir.display()
+        );
+    }
     Ok(voices)
 }
 

@@ -107,3 +107,40 @@ fn a_folder_given_as_an_output_is_refused_and_leaves_nothing() {
         .collect();
     assert!(litter.is_empty(), "{litter:?}");
 }
+
+/// Said, not done silently: two outputs naming one file (the second
+/// overwrote the first), a template folder with a gap (3.wav was left
+/// out), one bell's nominal given twice.
+#[test]
+fn mistakes_that_were_silent_are_said() {
+    let dir = tempfile::tempdir().unwrap();
+    let wav = "../../examples/data/tower.wav";
+    let f = dir.path().join("out.csv").display().to_string();
+    let also = format!("{}/./out.csv", dir.path().display());
+    refused(
+        &[
+            "strikes",
+            wav,
+            "--nominals",
+            "1400,1247.3",
+            "--csv",
+            &f,
+            "--lowndes",
+            &also,
+        ],
+        "--csv and --lowndes both name",
+    );
+    let t = dir.path().join("t");
+    std::fs::create_dir(&t).unwrap();
+    for n in ["1", "3"] {
+        std::fs::copy("../../examples/data/strike.wav", t.join(format!("{n}.wav"))).unwrap();
+    }
+    refused(
+        &["strikes", wav, "--templates", &t.display().to_string()],
+        "3.wav but no 2.wav",
+    );
+    refused(
+        &["strikes", wav, "--nominals", "1400,1400,1111"],
+        "bells 1 and 2 have nominals 1400 and 1400 Hz",
+    );
+}
