@@ -56,7 +56,8 @@ pub fn read_signal(path: &Path, channel: usize) -> Result<Signal, SignalFileErro
 }
 
 /// Read a recording of a ring: a WAV file (mono or more channels, mixed
-/// to one by their mean; 16- or 24-bit integer or float samples).
+/// to one by their mean, or the loudest if their mean cancels; 8- to
+/// 32-bit integer or 32- or 64-bit float samples).
 pub fn read_recording(path: &Path) -> Result<Signal, SignalFileError> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     if ext.as_deref() != Some("wav") {
@@ -74,16 +75,37 @@ pub fn read_recording(path: &Path) -> Result<Signal, SignalFileError> {
 pub fn recording_from_bytes(bytes: &[u8], name: &str) -> Result<Signal, SignalFileError> {
     let here = Path::new(name);
     let (rate, nch, all) = decode_wav(bytes).map_err(|m| content(here, m))?;
-    let samples: Vec<f64> = all
-        .chunks_exact(nch)
-        .map(|f| f.iter().sum::<f64>() / nch as f64)
-        .collect();
+    let samples = mix_to_one(&all, nch);
     if samples.is_empty() {
         return Err(content(here, "no samples"));
     }
     let sig = Signal { rate, samples };
     sig.validate().map_err(|e| content(here, e.to_string()))?;
     Ok(sig)
+}
+
+/// Interleaved channels mixed to one: their mean, unless that cancels
+/// (a microphone wired in antiphase, or stereo made by inverting one
+/// side: the mean of the two holds less than a quarter of their power,
+/// and a ring would read as silence), when the loudest channel is taken.
+fn mix_to_one(all: &[f64], nch: usize) -> Vec<f64> {
+    let mean: Vec<f64> = all
+        .chunks_exact(nch)
+        .map(|f| f.iter().sum::<f64>() / nch as f64)
+        .collect();
+    if nch < 2 {
+        return mean;
+    }
+    let power = |k: usize| all.iter().skip(k).step_by(nch).map(|v| v * v).sum::<f64>();
+    let powers: Vec<f64> = (0..nch).map(power).collect();
+    let mean_power: f64 = mean.iter().map(|v| v * v).sum();
+    let channel_power = powers.iter().sum::<f64>() / nch as f64;
+    if mean_power >= 0.25 * channel_power {
+        return mean;
+    }
+    // The first of the loudest (max_by would take the last of equals).
+    let loudest = (1..nch).fold(0, |best, k| if powers[k] > powers[best] { k } else { best });
+    all.iter().skip(loudest).step_by(nch).copied().collect()
 }
 
 fn read_wav(path: &Path, channel: usize) -> Result<Signal, SignalFileError> {
@@ -406,6 +428,16 @@ mod tests {
         let sig = recording_from_bytes(&wav(3, 64, &[], &doubles), "f64.wav").unwrap();
         assert_eq!(sig.samples, vec![0.25, -0.5, 0.125]);
         assert_eq!(sig.rate, 8000.0);
+    }
+
+    #[test]
+    fn channels_in_antiphase_are_not_mixed_to_silence() {
+        let wave: Vec<f64> = (0..100).map(|k| (k as f64 * 0.3).sin() * 0.5).collect();
+        let anti: Vec<f64> = wave.iter().flat_map(|&v| [v, -v]).collect();
+        assert_eq!(mix_to_one(&anti, 2), wave);
+        let same: Vec<f64> = wave.iter().flat_map(|&v| [v, 0.5 * v]).collect();
+        let mixed = mix_to_one(&same, 2);
+        assert!((mixed[7] - 0.75 * wave[7]).abs() < 1e-15);
     }
 
     #[test]
