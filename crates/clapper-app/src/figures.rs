@@ -150,8 +150,51 @@ pub fn figures(base: &ChartSpec, run_chart: &mut ChartRunner<'_>) -> Result<Figu
     let base = *base;
     let mut set = FigureSet::default();
     let mut entries: Vec<Entry> = vec![];
+    fig07(base, run_chart, &mut set, &mut entries)?;
+    fig09(base, &mut set, &mut entries)?;
+    let full = figs10_to_14(base, run_chart, &mut set, &mut entries)?;
+    fig15(base, run_chart, &mut set, &mut entries)?;
+    fig16(base, run_chart, &full, &mut set, &mut entries)?;
+    let words = settings_words(&base);
+    let (md, html) = index(&entries, &words, full.secs);
+    set.files.push(("index.md".into(), md));
+    set.files.push(("index.html".into(), html));
+    set.count = entries.len();
+    Ok(set)
+}
 
-    // Fig 7: lift-off at r = 0 by (15), (16), with the simulated r = 0 column.
+/// What the fully-up chart of Figs 10-14 found, for Fig 16 to compare
+/// with: the points sustaining right (their mean L_b/L_c) and wrong, and
+/// the chart's wall time (s).
+struct FullUp {
+    nr: usize,
+    yr: f64,
+    nw: usize,
+    secs: f64,
+}
+
+/// Whether the chart cell nearest the lab bell sustains `s`.
+fn lab_cell(c: &Chart, s: Style) -> bool {
+    let lab = Bell::lab();
+    let xs = c.spec.xs();
+    let ys = c.spec.ys();
+    let near = |v: &[f64], t: f64| {
+        (0..v.len())
+            .min_by(|&a, &b| (v[a] - t).abs().total_cmp(&(v[b] - t).abs()))
+            .unwrap_or(0)
+    };
+    c.cell(near(&xs, lab.r_over_lc()), near(&ys, lab.lb_over_lc()), s)
+        .and_then(|c| c.sustained())
+        .is_some()
+}
+
+/// Fig 7: lift-off at r = 0 by (15), (16), with the simulated r = 0 column.
+fn fig07(
+    base: ChartSpec,
+    run_chart: &mut ChartRunner<'_>,
+    set: &mut FigureSet,
+    entries: &mut Vec<Entry>,
+) -> Result<(), AppError> {
     let column = ChartSpec {
         domain: Domain {
             x: (0.0, 0.0),
@@ -186,6 +229,41 @@ pub fn figures(base: &ChartSpec, run_chart: &mut ChartRunner<'_>) -> Result<Figu
                 .map(|&(y, t)| (t - liftoff_angles(y, phi).expect("valid").wrong.to_degrees()).abs()),
         )
         .fold(0.0f64, f64::max);
+    let series = fig07_series(&col, &formula, &sim_r, &sim_w);
+    let title = format!("Fig 7: lift-off angle for r = 0, phi_max = {:.0} deg", phi.to_degrees());
+    set.drawings.push((
+        "fig07".into(),
+        Drawing::Lines {
+            title,
+            x_label: "L_b / L_c".into(),
+            y_label: "lift-off angle θ (deg)".into(),
+            series: series.to_vec(),
+        },
+    ));
+    let csv = fig07_csv(&col, phi);
+    set.files.push(("fig07.csv".into(), csv));
+    entries.push(Entry {
+        name: "fig07".into(),
+        title: "Fig 7: lift-off angle at r = 0".into(),
+        says: format!(
+            "As L_b/L_c grows, lift-off ringing right comes earlier in the swing (at a higher angle) and \
+             ringing wrong later; dashed where the r = 0 bell cannot keep ringing in that style (Fig 12). \
+             The {} simulated points lie on the curves of (15) and (16) to within {worst:.1e} deg.",
+            sim_r.len() + sim_w.len()
+        ),
+        data: vec!["fig07.csv".into()],
+    });
+    Ok(())
+}
+
+/// Fig 7's curves: each formula solid where its style is sustained and
+/// dashed where not, and the simulated points.
+fn fig07_series(
+    col: &Chart,
+    formula: &[(f64, LiftoffAngles)],
+    sim_r: &[(f64, f64)],
+    sim_w: &[(f64, f64)],
+) -> [Series; 6] {
     let blue = RGBColor(31, 90, 180);
     let orange = RGBColor(220, 100, 20);
     // The paper draws each formula dashed where the r = 0 bell cannot keep
@@ -222,36 +300,30 @@ pub fn figures(base: &ChartSpec, run_chart: &mut ChartRunner<'_>) -> Result<Figu
         dashed,
         colour,
     };
-    let series = [
+    [
         line("ringing right, formula (15)", right_on, false, blue),
         line("ringing right, not sustained", right_off, true, blue),
         line("ringing wrong, formula (16)", wrong_on, false, orange),
         line("ringing wrong, not sustained", wrong_off, true, orange),
         Series {
             label: "ringing right, simulated".into(),
-            points: sim_r.clone(),
+            points: sim_r.to_vec(),
             markers: true,
             dashed: false,
             colour: blue,
         },
         Series {
             label: "ringing wrong, simulated".into(),
-            points: sim_w.clone(),
+            points: sim_w.to_vec(),
             markers: true,
             dashed: false,
             colour: orange,
         },
-    ];
-    let title = format!("Fig 7: lift-off angle for r = 0, phi_max = {:.0} deg", phi.to_degrees());
-    set.drawings.push((
-        "fig07".into(),
-        Drawing::Lines {
-            title,
-            x_label: "L_b / L_c".into(),
-            y_label: "lift-off angle θ (deg)".into(),
-            series: series.to_vec(),
-        },
-    ));
+    ]
+}
+
+/// Fig 7's data: the formulae and the simulated column, a row per L_b/L_c.
+fn fig07_csv(col: &Chart, phi: f64) -> String {
     let mut csv =
         String::from("lb_over_lc,formula_right_deg,formula_wrong_deg,simulated_right_deg,simulated_wrong_deg\n");
     for c in col.cells.iter().filter(|c| c.style == Style::Right) {
@@ -274,20 +346,11 @@ pub fn figures(base: &ChartSpec, run_chart: &mut ChartRunner<'_>) -> Result<Figu
             s(Style::Wrong)
         );
     }
-    set.files.push(("fig07.csv".into(), csv));
-    entries.push(Entry {
-        name: "fig07".into(),
-        title: "Fig 7: lift-off angle at r = 0".into(),
-        says: format!(
-            "As L_b/L_c grows, lift-off ringing right comes earlier in the swing (at a higher angle) and \
-             ringing wrong later; dashed where the r = 0 bell cannot keep ringing in that style (Fig 12). \
-             The {} simulated points lie on the curves of (15) and (16) to within {worst:.1e} deg.",
-            sim_r.len() + sim_w.len()
-        ),
-        data: vec!["fig07.csv".into()],
-    });
+    csv
+}
 
-    // Fig 9: time histories.
+/// Fig 9: time histories.
+fn fig09(base: ChartSpec, set: &mut FigureSet, entries: &mut Vec<Entry>) -> Result<(), AppError> {
     for (name, what, bell, style) in fig9_bells() {
         // The charts' settings, solver options included (--rtol, --integrator).
         let cfg = base.config;
@@ -330,26 +393,21 @@ pub fn figures(base: &ChartSpec, run_chart: &mut ChartRunner<'_>) -> Result<Figu
             },
         ));
     }
+    Ok(())
+}
 
-    // Figs 10, 11, 12, 14: one sweep of both styles at the base settings.
+/// Figs 10, 11, 12, 14: one sweep of both styles at the base settings.
+fn figs10_to_14(
+    base: ChartSpec,
+    run_chart: &mut ChartRunner<'_>,
+    set: &mut FigureSet,
+    entries: &mut Vec<Entry>,
+) -> Result<FullUp, AppError> {
     let (chart, secs) = run_chart(&base, "figs 10-12, 14")?;
     set.files.push(("chart-base.csv".into(), chart_csv(&chart)?));
     let (nr, yr) = region_stats(&chart, Style::Right);
     let (nw, yw) = region_stats(&chart, Style::Wrong);
     let words = settings_words(&base);
-    let lab = Bell::lab();
-    let lab_cell = |c: &Chart, s: Style| {
-        let xs = c.spec.xs();
-        let ys = c.spec.ys();
-        let near = |v: &[f64], t: f64| {
-            (0..v.len())
-                .min_by(|&a, &b| (v[a] - t).abs().total_cmp(&(v[b] - t).abs()))
-                .unwrap_or(0)
-        };
-        c.cell(near(&xs, lab.r_over_lc()), near(&ys, lab.lb_over_lc()), s)
-            .and_then(|c| c.sustained())
-            .is_some()
-    };
     for (name, q, title, says) in [
         (
             "fig10",
@@ -397,8 +455,16 @@ pub fn figures(base: &ChartSpec, run_chart: &mut ChartRunner<'_>) -> Result<Figu
             data: vec!["chart-base.csv".into()],
         });
     }
+    Ok(FullUp { nr, yr, nw, secs })
+}
 
-    // Fig 15: D ringing right for R = 0.1 and 0.05.
+/// Fig 15: D ringing right for R = 0.1 and 0.05.
+fn fig15(
+    base: ChartSpec,
+    run_chart: &mut ChartRunner<'_>,
+    set: &mut FigureSet,
+    entries: &mut Vec<Entry>,
+) -> Result<(), AppError> {
     let mut panels = vec![];
     let mut data = vec![];
     let mut d_counts = vec![];
@@ -448,8 +514,18 @@ pub fn figures(base: &ChartSpec, run_chart: &mut ChartRunner<'_>) -> Result<Figu
             + ". The double-strike region shrinks as R falls and what stays is near the lab bell, as the paper                says; but the paper reports D > 1 in only a small region at R = 0.05, where here D stays above 1                over much of the right region (in the 1 to 10 band).",
         data,
     });
+    Ok(())
+}
 
-    // Fig 16: half-up (theta0 = 90 deg).
+/// Fig 16: half-up (theta0 = 90 deg), beside the fully-up chart.
+fn fig16(
+    base: ChartSpec,
+    run_chart: &mut ChartRunner<'_>,
+    full: &FullUp,
+    set: &mut FigureSet,
+    entries: &mut Vec<Entry>,
+) -> Result<(), AppError> {
+    let FullUp { nr, yr, nw, .. } = *full;
     let half = ChartSpec {
         config: SimConfig {
             theta0: 90f64.to_radians(),
@@ -482,12 +558,7 @@ pub fn figures(base: &ChartSpec, run_chart: &mut ChartRunner<'_>) -> Result<Figu
         ),
         data: vec!["chart-theta0-90.csv".into()],
     });
-
-    let (md, html) = index(&entries, &words, secs);
-    set.files.push(("index.md".into(), md));
-    set.files.push(("index.html".into(), html));
-    set.count = entries.len();
-    Ok(set)
+    Ok(())
 }
 
 fn chart_csv(chart: &Chart) -> Result<String, AppError> {

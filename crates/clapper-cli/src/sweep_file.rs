@@ -139,6 +139,102 @@ fn refuse_another_shard(csv: &Path, meta: &SweepMeta) -> Result<()> {
     Ok(())
 }
 
+/// Where a run stands: strokes done (absolute index), bytes of the partial
+/// file vouched for, where it resumed from (if it did), and the checksum.
+type Standing = (usize, u64, Option<usize>, u64);
+
+/// Take up an interrupted run from its journal `text`, after checking
+/// the journal and the partial file agree.
+fn resume(text: &str, journal_path: &Path, partial: &Path, meta: &SweepMeta, range: &Range<usize>) -> Result<Standing> {
+    let j: Journal = serde_json::from_str(text).with_context(|| {
+        format!(
+            "{} is not a sweep journal; delete it to start afresh",
+            journal_path.display()
+        )
+    })?;
+    if j.meta.format != meta.format {
+        bail!(
+            "{} is a journal of another clapper version (format {}, this one writes {}); delete it and {} to start afresh",
+            journal_path.display(),
+            j.meta.format,
+            meta.format,
+            partial.display()
+        );
+    }
+    if j.meta != *meta {
+        bail!(
+            "{} holds an unfinished run of different options; run the same command to resume it, or delete {} and {} to start afresh",
+            journal_path.display(),
+            journal_path.display(),
+            partial.display()
+        );
+    }
+    let len = std::fs::metadata(partial).map(|m| m.len()).unwrap_or(0);
+    if len < j.bytes {
+        bail!(
+            "{} is shorter than its journal says ({len} < {} bytes); delete it and {} to start afresh",
+            partial.display(),
+            j.bytes,
+            journal_path.display()
+        );
+    }
+    // The rows the journal vouches for must be the file's: as many
+    // as strokes done, and the same bytes.
+    let mut kept = vec![0u8; j.bytes as usize];
+    std::io::Read::read_exact(
+        &mut File::open(partial).with_context(|| format!("cannot read {}", partial.display()))?,
+        &mut kept,
+    )
+    .with_context(|| format!("cannot read {}", partial.display()))?;
+    let rows = kept.iter().filter(|&&b| b == b'\n').count().saturating_sub(1);
+    let sum = fnv1a(FNV_START, &kept);
+    if j.checksum != Some(sum) || Some(rows) != j.done.checked_sub(range.start) {
+        bail!(
+            "{} does not match {} ({} strokes done by the journal, {rows} rows in the file{}): \
+             one of them was changed or damaged; delete both to start afresh (nothing else was touched)",
+            journal_path.display(),
+            partial.display(),
+            j.done.saturating_sub(range.start),
+            if j.checksum == Some(sum) {
+                ""
+            } else {
+                ", and a different checksum"
+            }
+        );
+    }
+    // Drop a block that was being written when the run stopped.
+    OpenOptions::new().write(true).open(partial)?.set_len(j.bytes)?;
+    Ok((j.done, j.bytes, Some(j.done), sum))
+}
+
+/// Start the partial file (its header) and its journal.
+fn start_afresh(
+    journal_path: &Path,
+    partial: &Path,
+    meta: &SweepMeta,
+    range: &Range<usize>,
+    columns: clapper_io::Columns,
+) -> Result<Standing> {
+    let mut head = Vec::new();
+    clapper_io::write_chart_rows(&mut head, std::iter::empty(), columns, true)?;
+    let mut p = File::create(partial).with_context(|| format!("cannot create {}", partial.display()))?;
+    p.write_all(&head)
+        .and_then(|()| p.sync_all())
+        .with_context(|| format!("cannot write {}", partial.display()))?;
+    let bytes = head.len() as u64;
+    let sum = fnv1a(FNV_START, &head);
+    write_json_atomically(
+        journal_path,
+        &Journal {
+            meta: meta.clone(),
+            done: range.start,
+            bytes,
+            checksum: Some(sum),
+        },
+    )?;
+    Ok((range.start, bytes, None, sum))
+}
+
 /// Compute `meta.range` of `plan` into `csv`, resuming an interrupted run.
 pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result<Outcome> {
     let columns = plan.columns();
@@ -154,86 +250,9 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
     refuse_another_shard(csv, &meta)?;
 
     let (mut done, mut bytes, resumed_from, mut sum) = match std::fs::read_to_string(&journal_path) {
-        Ok(text) => {
-            let j: Journal = serde_json::from_str(&text).with_context(|| {
-                format!(
-                    "{} is not a sweep journal; delete it to start afresh",
-                    journal_path.display()
-                )
-            })?;
-            if j.meta.format != meta.format {
-                bail!(
-                    "{} is a journal of another clapper version (format {}, this one writes {}); delete it and {} to start afresh",
-                    journal_path.display(),
-                    j.meta.format,
-                    meta.format,
-                    partial.display()
-                );
-            }
-            if j.meta != meta {
-                bail!(
-                    "{} holds an unfinished run of different options; run the same command to resume it, or delete {} and {} to start afresh",
-                    journal_path.display(),
-                    journal_path.display(),
-                    partial.display()
-                );
-            }
-            let len = std::fs::metadata(&partial).map(|m| m.len()).unwrap_or(0);
-            if len < j.bytes {
-                bail!(
-                    "{} is shorter than its journal says ({len} < {} bytes); delete it and {} to start afresh",
-                    partial.display(),
-                    j.bytes,
-                    journal_path.display()
-                );
-            }
-            // The rows the journal vouches for must be the file's: as many
-            // as strokes done, and the same bytes.
-            let mut kept = vec![0u8; j.bytes as usize];
-            std::io::Read::read_exact(
-                &mut File::open(&partial).with_context(|| format!("cannot read {}", partial.display()))?,
-                &mut kept,
-            )
-            .with_context(|| format!("cannot read {}", partial.display()))?;
-            let rows = kept.iter().filter(|&&b| b == b'\n').count().saturating_sub(1);
-            let sum = fnv1a(FNV_START, &kept);
-            if j.checksum != Some(sum) || Some(rows) != j.done.checked_sub(range.start) {
-                bail!(
-                    "{} does not match {} ({} strokes done by the journal, {rows} rows in the file{}): \
-                     one of them was changed or damaged; delete both to start afresh (nothing else was touched)",
-                    journal_path.display(),
-                    partial.display(),
-                    j.done.saturating_sub(range.start),
-                    if j.checksum == Some(sum) {
-                        ""
-                    } else {
-                        ", and a different checksum"
-                    }
-                );
-            }
-            // Drop a block that was being written when the run stopped.
-            OpenOptions::new().write(true).open(&partial)?.set_len(j.bytes)?;
-            (j.done, j.bytes, Some(j.done), sum)
-        }
+        Ok(text) => resume(&text, &journal_path, &partial, &meta, &range)?,
         Err(e) if e.kind() == std::io::ErrorKind::NotFound => {
-            let mut head = Vec::new();
-            clapper_io::write_chart_rows(&mut head, std::iter::empty(), columns, true)?;
-            let mut p = File::create(&partial).with_context(|| format!("cannot create {}", partial.display()))?;
-            p.write_all(&head)
-                .and_then(|()| p.sync_all())
-                .with_context(|| format!("cannot write {}", partial.display()))?;
-            let bytes = head.len() as u64;
-            let sum = fnv1a(FNV_START, &head);
-            write_json_atomically(
-                &journal_path,
-                &Journal {
-                    meta: meta.clone(),
-                    done: range.start,
-                    bytes,
-                    checksum: Some(sum),
-                },
-            )?;
-            (range.start, bytes, None, sum)
+            start_afresh(&journal_path, &partial, &meta, &range, columns)?
         }
         Err(e) => return Err(e).with_context(|| format!("cannot read {}", journal_path.display())),
     };

@@ -3,8 +3,8 @@
 //! code), plus root location of events on the dense output.
 
 use super::{
-    begin, check_options, crossed, sign, split_exp2, split_exponent, DenseOutput, Direction, ErrorWeights, NextSegment,
-    Observe, OdeError, Options, Run, Segment, Span, Stats, Stepper, Stop, System, MAX_EVENTS,
+    begin, check_options, crossed, sign, split_exp2, split_exponent, DenseOutput, Direction, ErrorWeights, Event,
+    NextSegment, Observe, OdeError, Options, Run, Segment, Span, Stats, Stepper, Stop, System, MAX_EVENTS,
 };
 
 // Butcher tableau of Dormand & Prince (1980).
@@ -208,21 +208,8 @@ impl<const N: usize, S: System<N> + ?Sized> Stepper<N, S> for Dopri5<N> {
             return Ok(done);
         }
         let events = sys.events();
-        let n_ev = events.len();
         let weights = sys.error_weights(self.opts.atol, self.opts.rtol);
-
-        // Event bookkeeping: last value, the sign it is known to have, and
-        // whether it starts exactly at zero (a restart at its own root).
-        let mut g_prev = [0.0f64; MAX_EVENTS];
-        let mut s_prev = [0i8; MAX_EVENTS];
-        let mut at_zero = [false; MAX_EVENTS];
-        for i in 0..n_ev {
-            let g = sys.event_value(&events[i], t0, &y0);
-            g_prev[i] = g;
-            s_prev[i] = sign(g);
-            at_zero[i] = g == 0.0;
-        }
-        let mut first_step = true;
+        let mut watch = EventWatch::new(sys, events, t0, &y0);
 
         let mut t = t0;
         let mut y = y0;
@@ -235,8 +222,10 @@ impl<const N: usize, S: System<N> + ?Sized> Stepper<N, S> for Dopri5<N> {
             Some(h) => h.min(self.opts.h_max),
             None => self.initial_step(sys, &weights, t, &y, &k1),
         };
-        let mut fac_old = 1e-4f64;
-        let mut last_rejected = false;
+        let mut control = Control {
+            fac_old: 1e-4,
+            last_rejected: false,
+        };
 
         loop {
             // Rejected attempts count too, so that no input can loop forever.
@@ -255,127 +244,30 @@ impl<const N: usize, S: System<N> + ?Sized> Stepper<N, S> for Dopri5<N> {
                 return Err(OdeError::StepSizeUnderflow { h, t });
             }
 
-            // The six new stages (k7 is f at the new point, reused as the next k1).
-            let yt: [f64; N] = std::array::from_fn(|i| y[i] + h * A21 * k1[i]);
-            let k2 = sys.rhs(t + C2 * h, &yt);
-            let yt: [f64; N] = std::array::from_fn(|i| y[i] + h * (A31 * k1[i] + A32 * k2[i]));
-            let k3 = sys.rhs(t + C3 * h, &yt);
-            let yt: [f64; N] = std::array::from_fn(|i| y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i]));
-            let k4 = sys.rhs(t + C4 * h, &yt);
-            let yt: [f64; N] =
-                std::array::from_fn(|i| y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i]));
-            let k5 = sys.rhs(t + C5 * h, &yt);
-            let yt: [f64; N] = std::array::from_fn(|i| {
-                y[i] + h * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i])
-            });
             let t_new = if last { t_end } else { t + h };
-            let k6 = sys.rhs(t_new, &yt);
-            let y_new: [f64; N] = std::array::from_fn(|i| {
-                y[i] + h * (A71 * k1[i] + A73 * k3[i] + A74 * k4[i] + A75 * k5[i] + A76 * k6[i])
-            });
-            let k7 = sys.rhs(t_new, &y_new);
+            let st = Stages::of(sys, t, &y, k1, h, t_new);
             self.stats.rhs_evals += 6;
-            let e: [f64; N] = std::array::from_fn(|i| {
-                h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i])
-            });
-            let err = self.err_norm(&weights, &y, &y_new, &e);
+            let err = self.err_norm(&weights, &y, &st.y_new, &st.e);
 
-            if !err.is_finite() {
-                // Treat like a failed step: shrink hard and try again.
-                self.stats.rejected += 1;
-                h *= 0.1;
-                last_rejected = true;
-                if h.is_nan() || h <= 1e-14 * t.abs().max(1.0) {
-                    return Err(OdeError::NonFinite { t });
+            let h_new = match control.judge(err, h, &self.opts, &mut self.stats) {
+                Judged::Retry(h_retry) => {
+                    h = h_retry;
+                    if !err.is_finite() && (h.is_nan() || h <= 1e-14 * t.abs().max(1.0)) {
+                        return Err(OdeError::NonFinite { t });
+                    }
+                    continue;
                 }
-                continue;
-            }
-
-            let fac11 = pow_approx(err, EXPO1);
-            if err > 1.0 {
-                self.stats.rejected += 1;
-                h /= (fac11 / SAFETY).min(1.0 / FAC_MIN);
-                last_rejected = true;
-                continue;
-            }
-
-            // Accepted.
-            self.stats.steps += 1;
-            let fac = (fac11 / pow_approx(fac_old, BETA) / SAFETY).clamp(1.0 / FAC_MAX, 1.0 / FAC_MIN);
-            let mut h_new = (h / fac).min(self.opts.h_max);
-            if last_rejected {
-                h_new = h_new.min(h);
-            }
-            fac_old = err.max(1e-4);
-            last_rejected = false;
-
-            let dense = {
-                let mut r = [[0.0; N]; 5];
-                for i in 0..N {
-                    let ydiff = y_new[i] - y[i];
-                    let bspl = h * k1[i] - ydiff;
-                    r[0][i] = y[i];
-                    r[1][i] = ydiff;
-                    r[2][i] = bspl;
-                    r[3][i] = ydiff - h * k7[i] - bspl;
-                    r[4][i] = h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
-                }
-                Dense {
-                    span: Span { t0: t, h },
-                    r,
-                }
+                Judged::Accept(h_new) => h_new,
             };
 
-            // An event that starts exactly at zero takes the sign it has just
-            // after the start (probed on the dense output, well inside any
-            // real flight); only if that is still zero, the side its
-            // direction comes from. So it neither fires again at the restart
-            // point nor misses a return to zero within the first step.
-            let mut t_left = [t; MAX_EVENTS];
-            if first_step {
-                first_step = false;
-                let tp = t + (1e-9 * h).max(4.0 * f64::EPSILON * t.abs());
-                for i in 0..n_ev {
-                    if at_zero[i] && tp < t_new {
-                        let gp = sys.event_value(&events[i], tp, &dense.eval(tp));
-                        s_prev[i] = match (sign(gp), events[i].direction) {
-                            (0, Direction::Rising) => -1,
-                            (0, Direction::Falling) => 1,
-                            (s, _) => s,
-                        };
-                        g_prev[i] = gp;
-                        t_left[i] = tp;
-                    }
-                }
-            }
-
-            // Events: the earliest root among those that crossed in their direction.
-            let mut best: Option<(f64, usize)> = None;
-            let mut g_new = [0.0f64; MAX_EVENTS];
-            for i in 0..n_ev {
-                let g1 = sys.event_value(&events[i], t_new, &y_new);
-                g_new[i] = g1;
-                let s0 = s_prev[i];
-                let s1 = sign(g1);
-                if crossed(events[i].direction, s0, s1) {
-                    let root = locate_root(
-                        |tt| sys.event_value(&events[i], tt, &dense.eval(tt)),
-                        t_left[i],
-                        g_prev[i],
-                        s0,
-                        t_new,
-                        g1,
-                        self.opts.event_time_tol,
-                    );
-                    if best.is_none_or(|(tb, _)| root < tb) {
-                        best = Some((root, i));
-                    }
-                }
-            }
+            let dense = st.dense(t, h, &y);
+            let t_left = watch.left_ends(sys, events, t, t_new, h, &dense);
+            let (best, g_new) =
+                watch.earliest(sys, events, &t_left, t_new, &st.y_new, &dense, self.opts.event_time_tol);
 
             if let Some((t_ev, i)) = best {
                 observe(&dense, t_ev);
-                let y_ev = if t_ev >= t_new { y_new } else { dense.eval(t_ev) };
+                let y_ev = if t_ev >= t_new { st.y_new } else { dense.eval(t_ev) };
                 self.h_next = Some(h_new.max(h));
                 return Ok(Segment {
                     t: t_ev,
@@ -385,16 +277,10 @@ impl<const N: usize, S: System<N> + ?Sized> Stepper<N, S> for Dopri5<N> {
             }
 
             observe(&dense, t_new);
-            for i in 0..n_ev {
-                g_prev[i] = g_new[i];
-                let s1 = sign(g_new[i]);
-                if s1 != 0 {
-                    s_prev[i] = s1;
-                }
-            }
+            watch.advance(events.len(), &g_new);
             t = t_new;
-            y = y_new;
-            k1 = k7;
+            y = st.y_new;
+            k1 = st.k[6];
             if y.iter().chain(k1.iter()).any(|v| !v.is_finite()) {
                 return Err(OdeError::NonFinite { t });
             }
@@ -407,6 +293,217 @@ impl<const N: usize, S: System<N> + ?Sized> Stepper<N, S> for Dopri5<N> {
                 });
             }
             h = h_new;
+        }
+    }
+}
+
+/// Hairer's step-size control (DOPRI5's, with its PI factor): what the
+/// last accepted step's error was and whether the last attempt failed.
+struct Control {
+    fac_old: f64,
+    last_rejected: bool,
+}
+
+/// A step judged: tried again with a smaller size, or accepted with the
+/// size for the next step.
+enum Judged {
+    Retry(f64),
+    Accept(f64),
+}
+
+impl Control {
+    /// Judge a step of size `h` whose error norm is `err`, counting it.
+    #[inline]
+    fn judge(&mut self, err: f64, h: f64, opts: &Options, stats: &mut Stats) -> Judged {
+        if !err.is_finite() {
+            // Treat like a failed step: shrink hard and try again.
+            stats.rejected += 1;
+            self.last_rejected = true;
+            return Judged::Retry(h * 0.1);
+        }
+        let fac11 = pow_approx(err, EXPO1);
+        if err > 1.0 {
+            stats.rejected += 1;
+            self.last_rejected = true;
+            return Judged::Retry(h / (fac11 / SAFETY).min(1.0 / FAC_MIN));
+        }
+        stats.steps += 1;
+        let fac = (fac11 / pow_approx(self.fac_old, BETA) / SAFETY).clamp(1.0 / FAC_MAX, 1.0 / FAC_MIN);
+        let mut h_new = (h / fac).min(opts.h_max);
+        if self.last_rejected {
+            h_new = h_new.min(h);
+        }
+        self.fac_old = err.max(1e-4);
+        self.last_rejected = false;
+        Judged::Accept(h_new)
+    }
+}
+
+/// One step's stages from (t, y), k1 = f(t, y): k1 to k7 (k7 is f at the
+/// new point, reused as the next step's k1), the fifth-order solution and
+/// its error estimate.
+struct Stages<const N: usize> {
+    k: [[f64; N]; 7],
+    y_new: [f64; N],
+    e: [f64; N],
+}
+
+impl<const N: usize> Stages<N> {
+    #[inline]
+    fn of<S: System<N> + ?Sized>(sys: &S, t: f64, y: &[f64; N], k1: [f64; N], h: f64, t_new: f64) -> Self {
+        let yt: [f64; N] = std::array::from_fn(|i| y[i] + h * A21 * k1[i]);
+        let k2 = sys.rhs(t + C2 * h, &yt);
+        let yt: [f64; N] = std::array::from_fn(|i| y[i] + h * (A31 * k1[i] + A32 * k2[i]));
+        let k3 = sys.rhs(t + C3 * h, &yt);
+        let yt: [f64; N] = std::array::from_fn(|i| y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i]));
+        let k4 = sys.rhs(t + C4 * h, &yt);
+        let yt: [f64; N] = std::array::from_fn(|i| y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i]));
+        let k5 = sys.rhs(t + C5 * h, &yt);
+        let yt: [f64; N] =
+            std::array::from_fn(|i| y[i] + h * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]));
+        let k6 = sys.rhs(t_new, &yt);
+        let y_new: [f64; N] =
+            std::array::from_fn(|i| y[i] + h * (A71 * k1[i] + A73 * k3[i] + A74 * k4[i] + A75 * k5[i] + A76 * k6[i]));
+        let k7 = sys.rhs(t_new, &y_new);
+        let e: [f64; N] =
+            std::array::from_fn(|i| h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]));
+        Self {
+            k: [k1, k2, k3, k4, k5, k6, k7],
+            y_new,
+            e,
+        }
+    }
+
+    /// The step's 4th-order dense output over [t, t + h].
+    #[inline]
+    fn dense(&self, t: f64, h: f64, y: &[f64; N]) -> Dense<N> {
+        let [k1, _, k3, k4, k5, k6, k7] = &self.k;
+        let y_new = &self.y_new;
+        let mut r = [[0.0; N]; 5];
+        for i in 0..N {
+            let ydiff = y_new[i] - y[i];
+            let bspl = h * k1[i] - ydiff;
+            r[0][i] = y[i];
+            r[1][i] = ydiff;
+            r[2][i] = bspl;
+            r[3][i] = ydiff - h * k7[i] - bspl;
+            r[4][i] = h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
+        }
+        Dense {
+            span: Span { t0: t, h },
+            r,
+        }
+    }
+}
+
+/// Event bookkeeping across steps: each event's last value, the sign it
+/// is known to have, and whether it started exactly at zero (a restart at
+/// its own root).
+struct EventWatch {
+    g_prev: [f64; MAX_EVENTS],
+    s_prev: [i8; MAX_EVENTS],
+    at_zero: [bool; MAX_EVENTS],
+    first_step: bool,
+}
+
+impl EventWatch {
+    fn new<const N: usize, S: System<N> + ?Sized>(sys: &S, events: &[Event], t0: f64, y0: &[f64; N]) -> Self {
+        let mut w = Self {
+            g_prev: [0.0f64; MAX_EVENTS],
+            s_prev: [0i8; MAX_EVENTS],
+            at_zero: [false; MAX_EVENTS],
+            first_step: true,
+        };
+        for (i, e) in events.iter().enumerate() {
+            let g = sys.event_value(e, t0, y0);
+            w.g_prev[i] = g;
+            w.s_prev[i] = sign(g);
+            w.at_zero[i] = g == 0.0;
+        }
+        w
+    }
+
+    /// Where each event's search starts in the step from `t`. An event
+    /// that starts exactly at zero takes the sign it has just after the
+    /// start (probed on the dense output, well inside any real flight);
+    /// only if that is still zero, the side its direction comes from. So
+    /// it neither fires again at the restart point nor misses a return to
+    /// zero within the first step.
+    fn left_ends<const N: usize, S: System<N> + ?Sized>(
+        &mut self,
+        sys: &S,
+        events: &[Event],
+        t: f64,
+        t_new: f64,
+        h: f64,
+        dense: &Dense<N>,
+    ) -> [f64; MAX_EVENTS] {
+        let mut t_left = [t; MAX_EVENTS];
+        if self.first_step {
+            self.first_step = false;
+            let tp = t + (1e-9 * h).max(4.0 * f64::EPSILON * t.abs());
+            for (i, e) in events.iter().enumerate() {
+                if self.at_zero[i] && tp < t_new {
+                    let gp = sys.event_value(e, tp, &dense.eval(tp));
+                    self.s_prev[i] = match (sign(gp), e.direction) {
+                        (0, Direction::Rising) => -1,
+                        (0, Direction::Falling) => 1,
+                        (s, _) => s,
+                    };
+                    self.g_prev[i] = gp;
+                    t_left[i] = tp;
+                }
+            }
+        }
+        t_left
+    }
+
+    /// The earliest root among the events that crossed in their direction
+    /// in the step to `t_new`, and every event's value at `t_new`.
+    #[allow(clippy::too_many_arguments)] // one step's ends and its dense output
+    fn earliest<const N: usize, S: System<N> + ?Sized>(
+        &self,
+        sys: &S,
+        events: &[Event],
+        t_left: &[f64; MAX_EVENTS],
+        t_new: f64,
+        y_new: &[f64; N],
+        dense: &Dense<N>,
+        tol: f64,
+    ) -> (Option<(f64, usize)>, [f64; MAX_EVENTS]) {
+        let mut best: Option<(f64, usize)> = None;
+        let mut g_new = [0.0f64; MAX_EVENTS];
+        for (i, e) in events.iter().enumerate() {
+            let g1 = sys.event_value(e, t_new, y_new);
+            g_new[i] = g1;
+            let s0 = self.s_prev[i];
+            let s1 = sign(g1);
+            if crossed(e.direction, s0, s1) {
+                let root = locate_root(
+                    |tt| sys.event_value(e, tt, &dense.eval(tt)),
+                    t_left[i],
+                    self.g_prev[i],
+                    s0,
+                    t_new,
+                    g1,
+                    tol,
+                );
+                if best.is_none_or(|(tb, _)| root < tb) {
+                    best = Some((root, i));
+                }
+            }
+        }
+        (best, g_new)
+    }
+
+    /// Past an accepted step with no event: its end values become the last.
+    fn advance(&mut self, n_ev: usize, g_new: &[f64; MAX_EVENTS]) {
+        for (i, &g) in g_new.iter().enumerate().take(n_ev) {
+            self.g_prev[i] = g;
+            let s1 = sign(g);
+            if s1 != 0 {
+                self.s_prev[i] = s1;
+            }
         }
     }
 }
