@@ -78,6 +78,7 @@ impl FramePlace {
 
 /// The tower: its sway in two directions.
 #[derive(Clone, Copy, Debug, PartialEq, serde::Serialize, serde::Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Tower {
     /// East-west sway (the x direction).
     pub east_west: Sway,

@@ -10,6 +10,7 @@ use crate::TowerError;
 
 /// One direction of the tower's sway (its first mode).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Sway {
     /// Natural frequency (Hz).
     pub frequency_hz: f64,

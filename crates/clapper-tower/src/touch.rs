@@ -23,6 +23,8 @@ pub struct RingBell {
     pub bell: Bell,
     /// Its place in the frame.
     pub place: FramePlace,
+    /// Its clapper's R, if its own (else the configuration's).
+    pub restitution: Option<f64>,
 }
 
 /// How the band rings.

@@ -47,6 +47,7 @@ fn ring(bells: &[Bell], swing: impl Fn(usize) -> f64) -> Vec<RingBell> {
                 y_m: if i < 4 { -1.0 } else { 1.0 },
                 pivot_height_m: 20.0,
             },
+            restitution: None,
         })
         .collect()
 }
