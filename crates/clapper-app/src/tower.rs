@@ -259,6 +259,37 @@ fn touch_spec(req: &TowerRequest, n_bells: usize) -> Result<(TouchSpec, String),
     ))
 }
 
+/// A ring, its tower and what to ring, as the web API and Python take
+/// them: `{"toml": RING} or {"csv": RING}, "tower": TOML?, "request": {...}}`.
+#[derive(Clone, Debug, Default, PartialEq, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TowerInput {
+    /// The ring as TOML text (`[[bell]]` tables; may hold `[tower]`).
+    #[serde(default)]
+    pub toml: Option<String>,
+    /// The ring as CSV text, one bell a row.
+    #[serde(default)]
+    pub csv: Option<String>,
+    /// The tower file's text.
+    #[serde(default)]
+    pub tower: Option<String>,
+    /// What to ring.
+    #[serde(default)]
+    pub request: TowerRequest,
+}
+
+/// [`tower`] on a [`TowerInput`], refusing touches of more than
+/// `max_rows` rows (a server's bound on its memory: 5,040 rows of eight
+/// bells hold about 100 MB of histories).
+pub fn tower_input(input: &TowerInput, max_rows: Option<usize>) -> Result<TowerAnswer, AppError> {
+    let (text, csv) = match (&input.toml, &input.csv) {
+        (Some(t), None) => (t, false),
+        (None, Some(c)) => (c, true),
+        _ => return Err(AppError::Request("give the ring as one of toml or csv".into())),
+    };
+    tower_bounded(&input.request, text, csv, "bell", input.tower.as_deref(), max_rows)
+}
+
 /// Ring `req` on the ring read from `ring_text` (CSV when `csv`), in the
 /// tower read from `tower_text` or else the ring's own `[tower]` table.
 pub fn tower(
@@ -267,6 +298,17 @@ pub fn tower(
     csv: bool,
     name: &str,
     tower_text: Option<&str>,
+) -> Result<TowerAnswer, AppError> {
+    tower_bounded(req, ring_text, csv, name, tower_text, None)
+}
+
+fn tower_bounded(
+    req: &TowerRequest,
+    ring_text: &str,
+    csv: bool,
+    name: &str,
+    tower_text: Option<&str>,
+    max_rows: Option<usize>,
 ) -> Result<TowerAnswer, AppError> {
     let loaded = if csv {
         clapper_io::parse_ring_csv(ring_text)?
@@ -281,7 +323,20 @@ pub fn tower(
     let (bells, assumed) = ring_bells(&loaded, &req.turn)?;
     let n = bells.len();
     let (spec, touch) = touch_spec(req, n)?;
+    if let (Some(max), TouchSpec::Rounds { rows: k }) = (max_rows, &spec) {
+        if *k > max {
+            return Err(AppError::Request(format!("{k} rows: at most {max} here")));
+        }
+    }
+    if let (Some(max), TouchSpec::Method { changes: Some(k), .. }) = (max_rows, &spec) {
+        if *k > max {
+            return Err(AppError::Request(format!("{k} changes: at most {max} here")));
+        }
+    }
     let rows = touch_rows(&spec, n).map_err(request_error)?;
+    if let Some(max) = max_rows.filter(|m| rows.len() > m + 1) {
+        return Err(AppError::Request(format!("{} rows: at most {max} here", rows.len())));
+    }
     if !(req.peal_hours.is_finite() && req.peal_hours > 0.0) {
         return Err(AppError::Request(format!(
             "peal speed {} h: more than 0",
