@@ -34,6 +34,7 @@ pub mod sound;
 pub mod strikes;
 pub mod stroke_options;
 pub mod sweep;
+pub mod tower;
 
 use clapper_core::bell::ParamError;
 use clapper_core::stroke::SimError;

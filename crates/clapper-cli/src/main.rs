@@ -36,6 +36,7 @@ mod simulate;
 mod sound;
 mod strikes;
 mod sweep_file;
+mod tower;
 
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
@@ -116,6 +117,10 @@ enum Command {
     /// commands read (examples/data): a strike, a modes file, a contact
     /// detector, clapper drops, a ring in a tower, with their truth.
     SampleData(sample_data::SampleDataArgs),
+    /// A ring rung through a touch in its tower: the forces of all its bells
+    /// on the frame, their spectrum, the tower's sway and resonance, and
+    /// which bells to turn (docs/tower.md).
+    Tower(tower::TowerArgs),
     /// The web application: chart explorer, diagnosis and listening test in
     /// a browser, with a JSON API, on a local port.
     Serve(serve::ServeArgs),
@@ -248,6 +253,7 @@ fn main() {
         Command::ListeningTest(args) => listening::run(args),
         Command::SampleData(args) => sample_data::run(args),
         Command::Serve(args) => serve::run(args),
+        Command::Tower(args) => tower::run(args),
     };
     if let Err(e) = result {
         if is_broken_pipe(&e) {

@@ -88,6 +88,15 @@ struct BellFile {
     swing_amplitude_deg: Option<f64>,
     /// The clapper by its parts.
     clapper: Option<ClapperInput>,
+    /// The bell's place in its frame (`clapper tower`): its swing by name
+    /// ("N-S", "E-W", "NE-SW", "NW-SE") or as an azimuth (deg, clockwise
+    /// from north), its pivot's position east and north of the tower's
+    /// centre line (m) and its height above the tower's base (m).
+    swing: Option<String>,
+    swing_deg: Option<f64>,
+    frame_x_m: Option<f64>,
+    frame_y_m: Option<f64>,
+    pivot_height_m: Option<f64>,
 }
 
 /// Reads a bell file's keys from `d` and drops them. It lets a caller
@@ -182,6 +191,71 @@ pub struct LoadedBell {
     /// The clapper's parts, if the file gave them: where a diagnosis
     /// proposes changes to the flight, the ball or the shaft.
     pub clapper_parts: Option<ClapperParts>,
+    /// Its place in the frame, where the file gives it.
+    pub frame: FrameInput,
+}
+
+/// A bell's place in its frame as a ring file gives it (`clapper tower`);
+/// every key optional (the command says what it assumes).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct FrameInput {
+    /// Azimuth of the swing (deg, clockwise from north, towards positive θ).
+    pub swing_deg: Option<f64>,
+    /// Pivot east of the tower's centre line (m).
+    pub x_m: Option<f64>,
+    /// Pivot north of the tower's centre line (m).
+    pub y_m: Option<f64>,
+    /// Pivot's height above the tower's base (m).
+    pub pivot_height_m: Option<f64>,
+}
+
+/// A swing direction by name: N-S 0 deg, NE-SW 45, E-W 90, NW-SE 135.
+fn swing_by_name(name: &str) -> Result<f64, BellFileError> {
+    let key: String = name
+        .chars()
+        .filter(|c| c.is_ascii_alphabetic())
+        .collect::<String>()
+        .to_ascii_uppercase();
+    match key.as_str() {
+        "NS" | "SN" => Ok(0.0),
+        "NESW" | "SWNE" => Ok(45.0),
+        "EW" | "WE" => Ok(90.0),
+        "NWSE" | "SENW" => Ok(135.0),
+        _ => Err(BellFileError::Syntax(format!(
+            "swing = '{name}': N-S, E-W, NE-SW or NW-SE (or swing_deg, an azimuth in degrees)"
+        ))),
+    }
+}
+
+impl BellFile {
+    fn frame(&self) -> Result<FrameInput, BellFileError> {
+        let swing_deg = match (&self.swing, self.swing_deg) {
+            (Some(_), Some(_)) => return Err(BellFileError::Mixed("swing and swing_deg: give one".into())),
+            (Some(name), None) => Some(swing_by_name(name)?),
+            (None, d) => d,
+        };
+        for (field, v) in [
+            ("swing_deg", swing_deg),
+            ("frame_x_m", self.frame_x_m),
+            ("frame_y_m", self.frame_y_m),
+            ("pivot_height_m", self.pivot_height_m),
+        ] {
+            if let Some(v) = v.filter(|v| !v.is_finite()) {
+                return Err(ParamError {
+                    field,
+                    value: v,
+                    allowed: "a finite number",
+                }
+                .into());
+            }
+        }
+        Ok(FrameInput {
+            swing_deg,
+            x_m: self.frame_x_m,
+            y_m: self.frame_y_m,
+            pivot_height_m: self.pivot_height_m,
+        })
+    }
 }
 
 impl LoadedBell {
@@ -195,6 +269,7 @@ impl LoadedBell {
             restitution_later: None,
             ball_below_pivot_m: None,
             clapper_parts: None,
+            frame: FrameInput::default(),
         }
     }
 }
@@ -413,9 +488,10 @@ pub fn parse_bells(text: &str, default_name: &str) -> Result<Vec<LoadedBell>, Be
     let table: toml::Table = toml::from_str(text).map_err(|e| BellFileError::Syntax(one_line(text, &e)))?;
     match table.get("bell") {
         Some(toml::Value::Array(list)) => {
-            if table.len() > 1 {
+            // A ring may carry its tower's sway (`clapper tower`).
+            if table.keys().any(|k| k != "bell" && k != "tower") {
                 return Err(BellFileError::Syntax(
-                    "a file of several bells holds only [[bell]] tables".into(),
+                    "a file of several bells holds only [[bell]] tables (and a [tower] table)".into(),
                 ));
             }
             list.iter()
@@ -545,6 +621,7 @@ fn bell_from_fields(f: BellFile, default_name: &str) -> Result<LoadedBell, BellF
         }
     }
     let (restitution, restitution_later) = (f.restitution, f.restitution_later);
+    let frame = f.frame()?;
     let hanging = f.hanging();
     let (f, clapper_parts) = with_clapper_parts(f)?;
     let mut loaded = bell_from_measures(f, default_name)?;
@@ -554,6 +631,7 @@ fn bell_from_fields(f: BellFile, default_name: &str) -> Result<LoadedBell, BellF
         restitution_later,
         ball_below_pivot_m: hanging.ball_below_pivot_m,
         clapper_parts,
+        frame,
         ..loaded
     })
 }

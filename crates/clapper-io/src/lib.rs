@@ -17,10 +17,12 @@ pub mod report;
 pub mod signal_file;
 pub mod strike_file;
 pub mod text_file;
+pub mod tower_file;
 pub mod trace;
 
 pub use bell_file::{
-    bell_texts, load_bell, load_bells, parse_bell, parse_bells, parse_ring_csv, BellFileError, BellSource, LoadedBell,
+    bell_texts, load_bell, load_bells, parse_bell, parse_bells, parse_ring_csv, BellFileError, BellSource, FrameInput,
+    LoadedBell,
 };
 pub use chart_csv::{read_chart_csv, write_chart_csv, write_chart_rows, write_goes_up_csv, Columns};
 pub use report::{SimulationReport, SimulationSettings};

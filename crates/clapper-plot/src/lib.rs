@@ -101,6 +101,7 @@ pub mod quantity;
 pub mod ringing_log;
 pub mod signal;
 pub mod striking;
+pub mod tower;
 
 pub use chart::{
     chart_figure, chart_figure_svg, line_plot, line_plot_scaled, ChartFigure, Marker, Panel, Scale, Series,

@@ -229,6 +229,38 @@ fn diagnose(py: Python<'_>, request_json: &str) -> PyResult<(String, String)> {
     Ok((to_json(&rep)?, diagnosis::text(&rep, &source)))
 }
 
+/// A ring rung through a touch in its tower (`clapper tower`): the request
+/// is the web API's (`{"toml"|"csv": RING, "tower": TOML?, "request": {..}}`);
+/// returns (report JSON, text, the histories as f64 bytes by column name:
+/// the columns of `clapper tower --csv`, sway only with a tower).
+#[pyfunction]
+fn tower<'py>(py: Python<'py>, request_json: &str) -> PyResult<(String, String, Bound<'py, PyDict>)> {
+    let input: clapper_app::tower::TowerInput = request(request_json, "tower")?;
+    let ans = py
+        .detach(|| clapper_app::tower::tower_input(&input, None))
+        .map_err(py_err)?;
+    let r = &ans.result;
+    let out = PyDict::new(py);
+    out.set_item("time_s", f64_bytes(py, (0..r.force_east.len()).map(|i| r.time(i))))?;
+    for (name, v) in [
+        ("force_east_n", &r.force_east),
+        ("force_north_n", &r.force_north),
+        ("vertical_n", &r.vertical),
+        ("moment_east_n_m", &r.moment_east),
+        ("moment_north_n_m", &r.moment_north),
+        ("torsion_n_m", &r.torsion),
+    ] {
+        out.set_item(name, f64_bytes(py, v.iter().copied()))?;
+    }
+    if let Some([e, n]) = &r.sway {
+        out.set_item("sway_east_m", f64_bytes(py, e.displacement.iter().copied()))?;
+        out.set_item("sway_north_m", f64_bytes(py, n.displacement.iter().copied()))?;
+        out.set_item("accel_east_m_s2", f64_bytes(py, e.acceleration.iter().copied()))?;
+        out.set_item("accel_north_m_s2", f64_bytes(py, n.acceleration.iter().copied()))?;
+    }
+    Ok((to_json(&ans.report)?, ans.report.text(), out))
+}
+
 /// The closed-form lift-off angles of (15), (16) for r = 0: returns
 /// (report JSON, text).
 #[pyfunction]
@@ -323,6 +355,7 @@ fn _clapper(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(simulate, m)?)?;
     m.add_function(wrap_pyfunction!(chart, m)?)?;
     m.add_function(wrap_pyfunction!(diagnose, m)?)?;
+    m.add_function(wrap_pyfunction!(tower, m)?)?;
     m.add_function(wrap_pyfunction!(liftoff_formula, m)?)?;
     m.add_function(wrap_pyfunction!(liftoff_bell, m)?)?;
     m.add_function(wrap_pyfunction!(restitution, m)?)?;

@@ -368,3 +368,20 @@ def test_model_warnings_are_python_warnings_and_stay_in_sim_warnings():
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert clapper.simulate(clapper.preset("gsm-tenor"), trace=False).warnings == []
+
+
+def test_tower_rings_the_example_ring_as_the_command_line_does():
+    ring = ROOT / "examples/ring-of-eight-tower.toml"
+    rep = clapper.tower(ring, "Plain Bob Major", leads=1, striking_sd_ms=10.0, turn=[8])
+    args = ["tower", str(ring), "--method", "Plain Bob Major", "--leads", "1", "--striking-sd", "10", "--turn", "8"]
+    text = subprocess.run([cli(), *args], capture_output=True, text=True, check=True).stdout
+    assert str(rep).strip() == text.strip()
+    assert rep["rows"] == 17 and rep["last_row"] == "13527486"
+    h = rep.history
+    assert len(h["time_s"]) == len(h["force_east_n"]) == len(h["sway_north_m"])
+    # The turned tenor's force is the east-west force; the sway peak is the report's.
+    assert np.abs(h["force_east_n"]).max() > 1000.0
+    peak = np.hypot(h["sway_east_m"], h["sway_north_m"]).max()
+    assert abs(peak - rep["peak_sway_m"]) < 1e-12 * max(peak, 1.0)
+    with pytest.raises(ValueError, match="no method 'Plain Bobb Major'"):
+        clapper.tower(ring, "Plain Bobb Major")

@@ -371,6 +371,24 @@ pub(crate) async fn diagnose(State(s): State<AppState>, req: Body_<DiagnoseReque
     Ok(Json(out).into_response())
 }
 
+/// Most rows `POST /api/tower` rings: a peal's 5,040.
+const MAX_TOWER_ROWS: usize = 5040;
+
+/// `POST /api/tower`: `{"toml": RING} or {"csv": RING}, "tower": TOML?,
+/// "request": {...the options of clapper tower...}}` in; the object of
+/// `clapper tower --json` out.
+pub(crate) async fn tower(
+    State(s): State<AppState>,
+    req: Body_<clapper_app::tower::TowerInput>,
+) -> Result<Response, ApiError> {
+    let req = body(req)?;
+    let report = s
+        .jobs
+        .run(move || Ok(clapper_app::tower::tower_input(&req, Some(MAX_TOWER_ROWS))?.report))
+        .await?;
+    Ok(Json(report).into_response())
+}
+
 /// `POST /api/design-clapper`: `{"clapper": {...the [clapper] keys...},
 /// "bell_period_s", "pivot_m", "target_period_s", "adjust"}` in; the object
 /// of `clapper design-clapper --json` out.

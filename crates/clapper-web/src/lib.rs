@@ -170,6 +170,7 @@ pub fn router_with(limits: Limits, hosts: AllowedHosts) -> Router {
         .route("/api/diagnose", post(api::diagnose))
         .route("/api/diagnose/report", post(api::diagnose_report))
         .route("/api/design-clapper", post(api::design_clapper))
+        .route("/api/tower", post(api::tower))
         .route("/api/listening/sheet", get(api::listening_sheet))
         .route("/api/listening/stimulus/{name}", get(api::listening_stimulus))
         .route("/api/listening/parse", post(api::listening_parse))

@@ -844,4 +844,35 @@ async fn a_clapper_given_as_a_list_is_refused() {
     let (status, bytes) = send(&app, "POST", "/api/design-clapper", Some(r#"{"clapper": [1, 2]}"#)).await;
     assert_eq!(status, StatusCode::BAD_REQUEST, "{}", String::from_utf8_lossy(&bytes));
     assert!(String::from_utf8_lossy(&bytes).contains("a table of the clapper's parts"));
+
+/// `POST /api/tower` answers what `clapper tower --json` prints: the
+/// example ring through a lead of Plain Bob Major in its own tower, and a
+/// touch longer than a peal refused.
+#[tokio::test]
+async fn a_ring_is_rung_in_its_tower_through_the_api() {
+    let app = router(Limits::default());
+    let ring = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../../examples/ring-of-eight-tower.toml"
+    ))
+    .unwrap();
+    let body = serde_json::json!({
+        "toml": ring,
+        "request": {"method": "Plain Bob Major", "leads": 1, "striking_sd_ms": 10.0, "turn": [8]},
+    });
+    let (status, bytes) = send(&app, "POST", "/api/tower", Some(&body.to_string())).await;
+    assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&bytes));
+    let v = json(&bytes);
+    assert_eq!(v["rows"], 17);
+    assert_eq!(v["last_row"], "13527486");
+    assert_eq!(v["bells"][7]["place"]["swing_deg"], 90.0);
+    assert_eq!(v["sway"].as_array().unwrap().len(), 2);
+    assert!(
+        v["peaks"]["force_east_n"].as_f64().unwrap() > 1000.0,
+        "the turned tenor pulls east-west"
+    );
+    let long = serde_json::json!({"toml": ring, "request": {"changes": 6000}});
+    let (status, bytes) = send(&app, "POST", "/api/tower", Some(&long.to_string())).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    assert!(json(&bytes)["error"].as_str().unwrap().contains("at most 5040"));
 }

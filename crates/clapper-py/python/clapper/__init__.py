@@ -69,6 +69,7 @@ __all__ = [
     "restitution",
     "simulate",
     "strikes",
+    "tower",
     "PRESETS",
 ]
 
@@ -649,6 +650,46 @@ def diagnose(bells: Union[Bell, PathLike, None] = None) -> Report:
         )
     data, text = _clapper.diagnose(json.dumps(req))
     return Report(json.loads(data), text)
+
+
+def tower(
+    ring: PathLike,
+    method: Optional[str] = None,
+    *,
+    tower: Optional[PathLike] = None,
+    rows: Optional[Sequence[str]] = None,
+    **options: Any,
+) -> Report:
+    """Ring a touch on a ring in its tower, as ``clapper tower`` does
+    (docs/tower.md): ``ring`` is the path of a ring file (TOML, with each
+    bell's ``swing``, ``frame_x_m``, ``frame_y_m``, ``pivot_height_m`` and a
+    ``[tower]`` table, or CSV); ``method`` a title ("Plain Bob Major") or
+    "rounds"; ``tower`` a tower file's path; ``rows`` rows as text
+    ("12345678"). Other options are ``clapper tower``'s in snake case:
+    ``leads``, ``changes``, ``place_notation``, ``stage``, ``peal_hours``,
+    ``interval_ms``, ``handstroke_gap``, ``striking_sd_ms``, ``seed``,
+    ``dt_s``, ``theta0_deg``, ``restitution``, ``turn`` (bells from 1).
+    Returns a :class:`Report` (the JSON of ``--json``, the text) whose
+    ``history`` is a dict of numpy arrays: ``time_s``, ``force_east_n``,
+    ``force_north_n``, ``vertical_n``, the moments and, with a tower,
+    ``sway_east_m``, ``sway_north_m`` and the accelerations."""
+    if not isinstance(ring, (str, os.PathLike)):
+        raise ArgumentTypeError(f"tower: ring must be the path of a ring file, not {_shown(ring)}")
+    path = os.fspath(ring)
+    text = _read_text(path, "tower", "a ring file (TOML, or CSV one bell a row)")
+    req: Dict[str, Any] = {"csv": text} if str(path).lower().endswith(".csv") else {"toml": text}
+    if tower is not None:
+        req["tower"] = _read_text(os.fspath(tower), "tower", "a tower file (TOML)")
+    request: Dict[str, Any] = dict(options)
+    if method is not None:
+        request["method"] = method
+    if rows is not None:
+        request["rows"] = [str(r) for r in rows]
+    req["request"] = request
+    data, text, columns = _clapper.tower(json.dumps(req))
+    rep = Report(json.loads(data), text)
+    rep.history = {k: _f64(v) for k, v in columns.items()}  # type: ignore[attr-defined]
+    return rep
 
 
 def _number(fn: str, name: str, value: Any, what: str) -> float:
