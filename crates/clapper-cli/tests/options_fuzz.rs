@@ -20,7 +20,7 @@ const VALUES: [&str; 4] = ["NaN", "-1", "1e300", "1000000000"];
 const BOUND: Duration = Duration::from_secs(120);
 
 /// Options that name files or folders (not numbers), skipped.
-const FILE_OPTIONS: [&str; 14] = [
+const FILE_OPTIONS: [&str; 15] = [
     "--out",
     "--plot",
     "--csv",
@@ -35,6 +35,7 @@ const FILE_OPTIONS: [&str; 14] = [
     "--shard",
     "--answers",
     "--sweep",
+    "--tower",
 ];
 
 /// Each command with the least arguments that make it run (files in `d`).
@@ -80,6 +81,7 @@ fn commands(d: &Path) -> Vec<(&'static str, Vec<String>)> {
         ("animate", vec!["--out".into(), p("a.svg")]),
         ("ringing-log", vec![p("log.txt")]),
         ("synth-log", vec!["--out".into(), p("l.txt")]),
+        ("tower", vec![p("ring-of-eight-tower.toml"), "--leads".into(), "1".into()]),
     ]
 }
 
@@ -92,6 +94,8 @@ fn value_options(cmd: &str) -> Vec<String> {
         .collect::<Vec<_>>()
         .windows(2)
         .filter(|w| w[0].starts_with("--") && w[1].starts_with('<'))
+        // Files and folders by their placeholder (`--rows <FILE>`).
+        .filter(|w| !["FILE", "DIR", "PATH"].iter().any(|f| w[1].contains(f)))
         .map(|w| w[0].trim_end_matches(',').to_string())
         .filter(|o| !FILE_OPTIONS.contains(&o.as_str()))
         .collect();
