@@ -844,6 +844,7 @@ async fn a_clapper_given_as_a_list_is_refused() {
     let (status, bytes) = send(&app, "POST", "/api/design-clapper", Some(r#"{"clapper": [1, 2]}"#)).await;
     assert_eq!(status, StatusCode::BAD_REQUEST, "{}", String::from_utf8_lossy(&bytes));
     assert!(String::from_utf8_lossy(&bytes).contains("a table of the clapper's parts"));
+}
 
 /// `POST /api/tower` answers what `clapper tower --json` prints: the
 /// example ring through a lead of Plain Bob Major in its own tower, and a
