@@ -413,7 +413,7 @@ pub fn summary(r: &SimulationReport) -> String {
     let basis = match r.settings.protocol {
         Protocol::Restart => "handstroke and backstroke, restart protocol",
         Protocol::Free => {
-            "handstroke and backstroke, restart protocol; free protocol: later strokes decay, see each stroke's style"
+            "steady ringing, a handstroke and a backstroke each from theta0; free protocol: later strokes decay, see each stroke's style"
         }
     };
     let _ = writeln!(
