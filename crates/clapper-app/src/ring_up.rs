@@ -178,7 +178,7 @@ impl RingReport {
             Ending::SwingsRanOut if up => (
                 "not set",
                 Some(format!(
-                    "the pull did not bring it to the balance in {} swings (too weak for the bell's losses: raise --swings' pull with --pull-force)",
+                    "the pull did not bring it to the balance in {} swings: too weak for the bell's losses, raise it with --pull-force",
                     r.swings.len()
                 )),
             ),
