@@ -3,7 +3,10 @@
 
 use std::fmt::Write as _;
 
-use clapper_core::ringer::{ring_down, ring_up, PullPhase, RingerConfig, RingingUpDown, Settles};
+use clapper_core::ringer::{
+    pull_margin, ring_down, ring_up, Ending, PullMargin, PullPhase, RingerConfig, RingingUpDown, Settles,
+};
+use clapper_core::stroke::EndReason;
 use clapper_core::stroke::Side;
 use clapper_io::bell_file::LoadedBell;
 use serde::Serialize;
@@ -28,6 +31,43 @@ pub struct SwingReport {
     pub strike_t_s: Option<f64>,
     /// Bell angle at that strike (deg).
     pub strike_theta_deg: Option<f64>,
+    /// The swing's duration (s).
+    pub duration_s: f64,
+    /// Ringing up, the swing that set the bell (its pull eased; not judged).
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub sets: bool,
+}
+
+/// The rope forces over which the verdict holds.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct MarginReport {
+    /// The force used (N).
+    pub force_n: f64,
+    /// The least force tried at which the verdict holds (N).
+    pub holds_from_n: f64,
+    /// The greatest (N).
+    pub holds_to_n: f64,
+    /// The force below at which it changes, if within those tried (N).
+    pub changes_below_n: Option<f64>,
+    /// The force above at which it changes (N).
+    pub changes_above_n: Option<f64>,
+    /// Whether it changes within 1 % of the force: a knife-edge verdict,
+    /// which a 1e-6 change of the bell may change too.
+    pub knife_edge: bool,
+}
+
+impl From<PullMargin> for MarginReport {
+    fn from(m: PullMargin) -> Self {
+        let near = |f: Option<f64>| f.is_some_and(|f| (f / m.force - 1.0).abs() <= 0.01 + 1e-12);
+        Self {
+            force_n: m.force,
+            holds_from_n: m.low,
+            holds_to_n: m.high,
+            changes_below_n: m.flips_below,
+            changes_above_n: m.flips_above,
+            knife_edge: near(m.flips_below) || near(m.flips_above),
+        }
+    }
 }
 
 /// A change of striking style while ringing up or down.
@@ -61,8 +101,34 @@ pub struct RingReport {
     pub turns_right_at_deg: Option<f64>,
     /// Every change of striking style.
     pub changes: Vec<StyleChange>,
-    /// Whether it reached the stay (up) or came down (down).
+    /// Whether it was set at the balance (up) or came down (down).
     pub finished: bool,
+    /// How it ended: "set" (up: set at the balance, on the stay), "down",
+    /// or "not set" / "not down" (`why_not` says why).
+    pub ended: &'static str,
+    /// Set: where the bell rests on the stay (deg from the bottom the way
+    /// it came up; past 180).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub set_at_deg: Option<f64>,
+    /// Set: how fast it went over the balance (rad/s).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub over_balance_rad_s: Option<f64>,
+    /// Set: the eased rope force of the last swing (N).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub eased_pull_force_n: Option<f64>,
+    /// Not finished: why.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub why_not: Option<String>,
+    /// The swings the verdict is judged from (up and set: those before
+    /// the swing that set it).
+    pub judged_swings: usize,
+    /// Whether the verdict rests on the last swing: without the last
+    /// striking swing judged, or with the swing that set the bell, it
+    /// would differ.
+    pub rests_on_last_swing: bool,
+    /// The rope forces over which the verdict holds, if asked for.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pull_margin: Option<MarginReport>,
     /// The rope force (N) and wheel radius (m) used; the torque is their
     /// product.
     pub pull_force_n: f64,
@@ -106,6 +172,35 @@ impl RingReport {
         let turns_right_at_deg = (up && r.settles() == Settles::Right)
             .then(|| changes.iter().rev().find(|c| c.to == "right").map(|c| c.amplitude_deg))
             .flatten();
+        let (ended, why_not) = match r.ending {
+            Ending::Set { .. } => ("set", None),
+            Ending::Down => ("down", None),
+            Ending::SwingsRanOut if up => (
+                "not set",
+                Some(format!(
+                    "the pull did not bring it to the balance in {} swings: too weak for the bell's losses, raise it with --pull-force",
+                    r.swings.len()
+                )),
+            ),
+            Ending::SwingsRanOut => ("not down", Some(format!("not down within {} swings", r.swings.len()))),
+            Ending::Stopped(e) => (
+                if up { "not set" } else { "not down" },
+                Some(
+                    match e {
+                        EndReason::OverTheBalance => "a swing went over the balance",
+                        EndReason::Held => "friction held the bell",
+                        EndReason::TimeLimit => "a swing ran out of time",
+                        EndReason::TurningPoint => "a swing stopped",
+                    }
+                    .to_string(),
+                ),
+            ),
+        };
+        let set = match r.ending {
+            Ending::Set { angle, rate, torque } => Some((angle, rate, torque)),
+            _ => None,
+        };
+        let n = r.swings.len();
         Self {
             bell: bell.to_string(),
             direction: if up { "up" } else { "down" },
@@ -114,6 +209,14 @@ impl RingReport {
             turns_right_at_deg,
             changes,
             finished: r.finished,
+            ended,
+            set_at_deg: set.map(|s| s.0.to_degrees()),
+            over_balance_rad_s: set.map(|s| s.1),
+            eased_pull_force_n: set.map(|s| s.2 / ringer.wheel_radius),
+            why_not,
+            judged_swings: r.judged().len(),
+            rests_on_last_swing: r.rests_on_last_swing(),
+            pull_margin: None,
             pull_force_n: r.pull_force,
             wheel_radius_m: ringer.wheel_radius,
             pull_window_deg: ringer.window.to_degrees(),
@@ -127,6 +230,8 @@ impl RingReport {
                     style: s.strike.map(|k| style_name(k.style)),
                     strike_t_s: s.strike.map(|k| k.t),
                     strike_theta_deg: s.strike.map(|k| k.theta.to_degrees()),
+                    duration_s: s.duration,
+                    sets: set.is_some() && s.number == n,
                 })
                 .collect(),
         }
@@ -148,7 +253,10 @@ pub fn ring(
     } else {
         ring_down(&bell.bell, &cfg, ringer, &mut ())?
     };
-    Ok(RingReport::new(&bell.name, &r, ringer))
+    let mut report = RingReport::new(&bell.name, &r, ringer);
+    let phase = if up { PullPhase::Raise } else { PullPhase::Check };
+    report.pull_margin = Some(pull_margin(&bell.bell, &cfg, ringer, phase)?.into());
+    Ok(report)
 }
 
 /// The report in words: a line a swing, then the verdict.
@@ -165,7 +273,12 @@ pub fn summary(r: &RingReport) -> String {
             (Some(st), Some(th), Some(t)) => format!("{st:<5} at {th:+7.1} deg, {t:.3} s into the swing"),
             _ => "-".into(),
         };
-        let _ = writeln!(o, "  {:>5}  {:>13.1}  {strike}", s.number, s.amplitude_deg);
+        let sets = if s.sets {
+            "  (sets it: the pull eased, over the balance onto the stay)"
+        } else {
+            ""
+        };
+        let _ = writeln!(o, "  {:>5}  {:>13.1}  {strike}{sets}", s.number, s.amplitude_deg);
     }
     let verdict = r.goes_up.or(r.goes_down).unwrap_or("no strike");
     let mut line = match (r.direction, verdict) {
@@ -177,16 +290,55 @@ pub fn summary(r: &RingReport) -> String {
     if let Some(a) = r.turns_right_at_deg {
         let _ = write!(line, " (strikes wrong at first, right from {a:.0} deg)");
     }
-    if !r.finished {
-        line += if r.direction == "up" {
-            "; it did not reach the stay (pull too weak for the bell's losses: raise --swings' pull with --pull-force)"
-        } else {
-            "; it did not come down within the swings allowed"
-        };
+    if let Some(why) = &r.why_not {
+        let _ = write!(
+            line,
+            "; {} ({why})",
+            if r.direction == "up" { "not set" } else { "not down" }
+        );
     }
     let _ = writeln!(o, "{line}");
     for c in &r.changes {
         let _ = writeln!(o, "  changes from {} to {} at {:.0} deg", c.from, c.to, c.amplitude_deg);
+    }
+    if let (Some(at), Some(rate), Some(f)) = (r.set_at_deg, r.over_balance_rad_s, r.eased_pull_force_n) {
+        let _ = writeln!(
+            o,
+            "  set at the balance: the last pull eased to {f:.0} N, over the balance at {rate:.3} rad/s, at rest on the stay at {at:.1} deg; judged from the {} swings before",
+            r.judged_swings
+        );
+    }
+    if r.rests_on_last_swing {
+        let _ = writeln!(
+            o,
+            "  the verdict rests on the last swing: without its last striking swing, or with the swing that set it, it would differ"
+        );
+    }
+    if let Some(m) = &r.pull_margin {
+        let pct = |f: f64| 100.0 * (f / m.force_n - 1.0);
+        let mut l = if m.holds_from_n == m.holds_to_n {
+            format!("  the verdict holds only at the pull used, {:.2} N", m.force_n)
+        } else {
+            format!(
+                "  the verdict holds for rope forces from {:.2} N to {:.2} N ({:+.2} % to {:+.2} % of the pull)",
+                m.holds_from_n,
+                m.holds_to_n,
+                pct(m.holds_from_n),
+                pct(m.holds_to_n)
+            )
+        };
+        let flips: Vec<String> = [m.changes_below_n, m.changes_above_n]
+            .iter()
+            .flatten()
+            .map(|f| format!("{f:.2} N ({:+.2} %)", pct(*f)))
+            .collect();
+        if !flips.is_empty() {
+            let _ = write!(l, "; it changes at {}", flips.join(" and "));
+        }
+        if m.knife_edge {
+            l += ": a knife-edge verdict (a change of the bell as small as 1e-6 may change it)";
+        }
+        let _ = writeln!(o, "{l}");
     }
     o
 }

@@ -286,21 +286,23 @@ fn run<O: Observer>(
         bell.r_over_lc(),
         bell.lb_over_lc()
     );
-    // Odd-struckness of the first two strokes, each on its own clock
-    // under the restart protocol (so exactly 0 for a symmetric bell).
-    // Only between two strokes that keep one style (else why not).
+    // The verdict from steady ringing: the handstroke and the backstroke
+    // after it under the restart protocol, each on its own clock, whatever
+    // the protocol and number of strokes asked (as the chart and diagnose
+    // judge it; a bell and its mirror image get one verdict).
+    let pair = clapper_core::ringing::odd_struck(bell, &cfg, style)?;
+    // Odd-struckness of the first two strokes (so exactly 0 for a
+    // symmetric bell), only between two strokes that keep one style.
     let odd = match (protocol, &ringing.strokes[..]) {
         (_, [] | [_]) => Err("one stroke only".to_string()),
-        (Protocol::Restart, _) => {
-            let pair = clapper_core::ringing::odd_struck(bell, &cfg, style)?;
-            odd_struck_of(&pair.hand, &pair.back).map_err(|e| e.to_string())
-        }
+        (Protocol::Restart, _) => odd_struck_of(&pair.hand, &pair.back).map_err(|e| e.to_string()),
         (Protocol::Free, [hand, back, ..]) => odd_struck_of(hand, back).map_err(|e| e.to_string()),
     };
     let report = SimulationReport::new(
         BellReport::new(&loaded.name, bell, &loaded.source),
         SimulationSettings::new(&cfg, protocol, req.strokes),
         &ringing,
+        pair.sustained(),
         odd,
     );
     Ok(Simulation {
@@ -427,11 +429,13 @@ pub fn summary(r: &SimulationReport) -> String {
             st.end_theta_deg, st.duration_s, st.end_reason, st.end_clapper, st.end_side, st.continues_as
         );
     }
-    // The verdict is the first stroke's; under the free protocol the
-    // later strokes decay and may change style, which each stroke shows.
+    // The verdict is steady ringing's; under the free protocol the later
+    // strokes decay and may change style, which each stroke shows.
     let basis = match r.settings.protocol {
-        Protocol::Restart => "first stroke, restart protocol",
-        Protocol::Free => "first stroke; free protocol: later strokes decay, see each stroke's style",
+        Protocol::Restart => "handstroke and backstroke, restart protocol",
+        Protocol::Free => {
+            "steady ringing, a handstroke and a backstroke each from theta0; free protocol: later strokes decay, see each stroke's style"
+        }
     };
     let _ = writeln!(
         o,

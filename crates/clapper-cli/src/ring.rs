@@ -30,8 +30,9 @@ pub struct RingArgs {
     /// Half-width of the pulled part of each swing, from the bottom (deg).
     #[arg(long, value_name = "DEG", default_value_t = DEFAULT_PULL_WINDOW_DEG)]
     pub pull_window: f64,
-    /// Ringing up: the bell is set when a swing reaches this angle (deg);
-    /// ringing down: it starts here.
+    /// The stay (deg, measured round the far side of the balance): the set
+    /// bell rests on it, 180 minus this past the balance; ringing up ends
+    /// set on it, ringing down starts from it.
     #[arg(long, value_name = "DEG", default_value_t = DEFAULT_STAY_DEG)]
     pub stay: f64,
     /// Ringing down: finished when a swing reaches no further (deg).

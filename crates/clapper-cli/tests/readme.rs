@@ -449,3 +449,62 @@ fn the_parser_finds_shell_blocks_and_indented_cargo_lines_only() {
         ["clapper a   # note", "clapper b  --x 1", "cargo run --release -- d"]
     );
 }
+
+/// The figures (`N %`, `N ms`) in `text`, in order.
+fn figures(text: &str, unit: &str) -> Vec<f64> {
+    let words: Vec<&str> = text.split_whitespace().collect();
+    words
+        .windows(2)
+        .filter(|w| w[1].trim_end_matches([',', ';', ')', '.', ':']) == unit)
+        .filter_map(|w| w[0].trim_start_matches(['(', '+']).parse().ok())
+        .collect()
+}
+
+/// The README paragraph that starts with `start`, as one line.
+fn paragraph(readme: &str, start: &str) -> String {
+    let from = readme
+        .find(start)
+        .unwrap_or_else(|| panic!("README has no paragraph `{start}`"));
+    let rest = &readme[from..];
+    rest[..rest.find("\n\n").unwrap_or(rest.len())].replace('\n', " ")
+}
+
+/// Figures README quotes in its prose, not in a quoted output, are the
+/// program's: the goes-up chart's agreement with the CCCBR rule (every
+/// percentage the chart prints, and no other), and the odd-struckness that
+/// "gaps equal to within 1 mm" allows (half the ms per mm at the ball that
+/// `diagnose` prints: 1 mm of gap difference is half a mm of ball).
+#[test]
+fn readme_prose_figures_are_the_programs() {
+    let root = root();
+    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
+    let (_scratch, dir, bin) = scratch_checkout(&root);
+    let run = |command: &str| {
+        let out = bash(&dir, &bin, &format!("{command} 2>&1")).output().unwrap();
+        assert!(out.status.success(), "`{command}` failed");
+        String::from_utf8_lossy(&out.stdout).into_owned()
+    };
+    let printed = run("clapper chart --quantity goes-up --grid 40 --out goes-up.svg");
+    let mut got = figures(&printed, "%");
+    let prose = paragraph(
+        &readme,
+        "On the paper's plane (R = 0.2, φ_max 26°) the rule and the model agree",
+    );
+    let mut want = figures(&prose, "%");
+    assert_eq!(got.len(), 5, "the chart prints five percentages: {printed}");
+    got.sort_by(f64::total_cmp);
+    want.sort_by(f64::total_cmp);
+    assert_eq!(want, got, "README's goes-up figures: {prose}");
+
+    let printed = run("clapper diagnose --preset gsm-tenor --gap-hand 253 --gap-back 247 --ball-below-pivot 0.8");
+    let per_mm = printed
+        .split(" ms per mm at the ball")
+        .next()
+        .and_then(|s| s.rsplit(' ').next())
+        .and_then(|s| s.trim_start_matches('+').parse::<f64>().ok())
+        .unwrap_or_else(|| panic!("no ms per mm at the ball in {printed}"));
+    let prose = paragraph(&readme, "(8 ms per mm of ball movement");
+    assert_eq!(figures(&prose, "ms")[0], per_mm.round(), "{prose}");
+    let allowed = figures(&prose[prose.find("within 1 mm").unwrap()..], "ms")[0];
+    assert_eq!(allowed, (per_mm / 2.0).round(), "1 mm of gap difference: {prose}");
+}

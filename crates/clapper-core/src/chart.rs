@@ -9,7 +9,7 @@ use rayon::prelude::*;
 
 use crate::bell::{ChartConstruction, ParamError};
 use crate::hanging::Hanging;
-use crate::ringing::{first_stroke, odd_struck};
+use crate::ringing::{backstroke, first_stroke};
 use crate::stroke::{SimConfig, SimError, Stroke, Style};
 
 /// The most points one chart may have: 2000 x 2000 (a chart of both styles
@@ -348,11 +348,15 @@ pub fn sweep_cells_until(
                 .map(|bell| bell.with_hanging(spec.hanging))
                 .map_err(SimError::from)
                 .and_then(|bell| {
-                    if spec.hanging.is_ideal() {
-                        first_stroke(&bell, &spec.config, style).map(|s| StrokeSummary::from(&s))
+                    let hand = first_stroke(&bell, &spec.config, style)?;
+                    // No mirror symmetry: the backstroke too, where it can
+                    // change the answer (after a handstroke that keeps its
+                    // style; else the style is not sustained and has no
+                    // odd-struckness, as `of_pair` would say).
+                    if spec.hanging.is_ideal() || !hand.sustained() {
+                        Ok(StrokeSummary::from(&hand))
                     } else {
-                        // No mirror symmetry: both strokes.
-                        odd_struck(&bell, &spec.config, style).map(|p| StrokeSummary::of_pair(&p.hand, &p.back))
+                        backstroke(&bell, &spec.config, &hand).map(|back| StrokeSummary::of_pair(&hand, &back))
                     }
                 });
             progress(done.fetch_add(1, Ordering::Relaxed) + 1);

@@ -12,7 +12,7 @@ use crate::clapper_parts::ClapperParts;
 use crate::dynamics::Dynamics;
 use crate::frame::{frame_peaks, FramePeaks};
 use crate::ringer::{RingerConfig, Settles};
-use crate::ringing::first_stroke;
+use crate::ringing::{first_stroke, keeps_style};
 use crate::stroke::{run_stroke, SimConfig, SimError, StrokeStart, Style, TraceRecorder};
 
 /// Thresholds and search ranges of a diagnosis.
@@ -86,7 +86,8 @@ pub fn adjusted(bell: &Bell, dtc: f64, dr: f64) -> Result<Bell, ParamError> {
 /// How a bell strikes in one style.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct StyleOutcome {
-    /// Sustained when fully up.
+    /// Sustained when fully up, in steady ringing: the handstroke and the
+    /// backstroke after it both keep the style.
     pub sustained: bool,
     /// θ at the first strike (rad).
     pub strike_theta: Option<f64>,
@@ -176,7 +177,7 @@ pub(crate) fn outcome(bell: &Bell, cfg: &DiagnoseConfig, style: Style) -> Result
         d[k] = first_stroke(bell, &sim, style)?.double_strike_index();
     }
     Ok(StyleOutcome {
-        sustained: s.sustained(),
+        sustained: keeps_style(bell, &cfg.sim, &s)?,
         strike_theta: s.strike_angle(),
         strike_phidot: s.strike_velocity(),
         liftoff_theta: s.liftoff_angle(),
@@ -184,8 +185,10 @@ pub(crate) fn outcome(bell: &Bell, cfg: &DiagnoseConfig, style: Style) -> Result
     })
 }
 
+/// The verdict in steady ringing (both strokes, [`crate::ringing::sustains`]);
+/// a stroke that fails does not sustain.
 fn sustains(bell: &Bell, cfg: &SimConfig, style: Style) -> bool {
-    first_stroke(bell, cfg, style).is_ok_and(|s| s.sustained())
+    crate::ringing::sustains(bell, cfg, style).unwrap_or(false)
 }
 
 /// Index of R = 0.1 in the configured list (or the middle one).

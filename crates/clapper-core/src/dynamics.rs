@@ -36,7 +36,7 @@ pub struct Dynamics {
     /// m b d (kg m²): the pivot offset's share of the coupling.
     mbd: f64,
     /// m g d (N m): the offset pivot's gravity torque on the bell.
-    gravity_offset: f64,
+    pub(crate) gravity_offset: f64,
     /// d ≠ 0. A bell with its pivot on the axis runs the paper's equations
     /// as written, bit for bit and with no extra work (docs/model.md §10).
     pub(crate) offset: bool,
@@ -180,7 +180,7 @@ impl Dynamics {
     /// The coupling m b (r cos φ + d sin φ) and its derivative's negative
     /// m b (r sin φ − d cos φ) (kg m²), from sin φ and cos φ.
     #[inline]
-    fn coupling(&self, sp: f64, cp: f64) -> (f64, f64) {
+    pub(crate) fn coupling(&self, sp: f64, cp: f64) -> (f64, f64) {
         if self.offset {
             (self.mrb * cp + self.mbd * sp, self.mrb * sp - self.mbd * cp)
         } else {

@@ -66,7 +66,7 @@ impl Pull {
 /// Default half-width of the pulled part of a swing (deg): a ringer pulls
 /// through the lower part of the swing.
 pub const DEFAULT_PULL_WINDOW_DEG: f64 = 60.0;
-/// Default stay angle (deg): near the balance, where a stay would hold it.
+/// Default stay angle (deg): the set bell rests 5 deg past the balance.
 pub const DEFAULT_STAY_DEG: f64 = 175.0;
 /// Default angle of "down" (deg): the ringer then lets the bell come to rest.
 pub const DEFAULT_DOWN_DEG: f64 = 15.0;
@@ -90,8 +90,12 @@ pub struct RingerConfig {
     /// Half-width of the part of each swing pulled over (rad). Default 60
     /// deg: a ringer pulls through the lower part of the swing.
     pub window: f64,
-    /// Ring-up: the bell is set when a swing reaches this angle (rad).
-    /// Default 175 deg: near the balance, where a stay would hold it.
+    /// The stay (rad): the set bell rests on it this far round from the
+    /// bottom on the far side of the balance, that is π − `stay` past the
+    /// balance. Ring-up: the ringer eases the last pull so that the bell
+    /// just goes over the balance and comes to rest on the stay (set);
+    /// ring-down starts from the set bell, at rest at `stay`. Default 175
+    /// deg: 5 deg past the balance.
     pub stay: f64,
     /// Ring-up: the first tug leaves the bell at rest this far from the
     /// bottom (rad). Default 5 deg.
@@ -238,17 +242,55 @@ pub struct SwingStrike {
     pub style: Style,
 }
 
-/// One swing (stroke) of ringing up or down.
+/// One swing of ringing up or down: from one turning point through the
+/// bottom to the next. An impact that turns the bell back at its turning
+/// point (a few ms after it) starts no swing of its own: that stroke and
+/// the next are one swing.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Swing {
     /// Counting from 1.
     pub number: usize,
-    /// The amplitude it reached: |θ| where it ended (rad).
+    /// The amplitude it reached: |θ| where it ended (rad); for the swing
+    /// that sets the bell, where the stay holds it (past π).
     pub amplitude: f64,
     /// The clapper's first strike in it, if any.
     pub strike: Option<SwingStrike>,
     /// How it ended.
     pub end: EndReason,
+    /// Its duration (s).
+    pub duration: f64,
+}
+
+/// How ringing up or down ended.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Ending {
+    /// Ringing up: set at the balance. The last swing, its pull eased to
+    /// `torque` (N m), went over the balance at `rate` (rad/s, the least
+    /// the easing found) and came to rest on the stay at `angle` (rad from
+    /// the bottom the way it came up: 2π − stay).
+    Set {
+        /// Where the bell rests on the stay (rad, > π).
+        angle: f64,
+        /// |θ'| as it went over the balance (rad/s).
+        rate: f64,
+        /// The eased pull of the last swing (N m).
+        torque: f64,
+    },
+    /// Ringing down: a swing reached no further than `down`.
+    Down,
+    /// The swings allowed ran out first (ringing up: the pull cannot bring
+    /// the bell to the balance against its losses).
+    SwingsRanOut,
+    /// A swing ended otherwise: over the balance while ringing down, held
+    /// by friction, or out of time.
+    Stopped(EndReason),
+}
+
+impl Ending {
+    /// Whether it finished: set (up) or down (down).
+    pub fn finished(&self) -> bool {
+        matches!(self, Ending::Set { .. } | Ending::Down)
+    }
 }
 
 /// Which way a bell settles while ringing up or down.
@@ -275,29 +317,63 @@ pub struct RingingUpDown {
     pub pull_force: f64,
     /// The swings.
     pub swings: Vec<Swing>,
-    /// Whether it finished: set at the stay (up) or down (down).
+    /// Whether it finished: set at the balance (up) or down (down).
     pub finished: bool,
-    /// The strokes themselves (impacts, bottom, end), one a swing.
+    /// How it ended.
+    pub ending: Ending,
+    /// The strokes themselves (impacts, bottom, end), in order: one a
+    /// swing, or two where an impact turned the bell back at a turning
+    /// point.
     pub strokes: Vec<Stroke>,
 }
 
+fn settles_of<'a>(swings: impl DoubleEndedIterator<Item = &'a Swing>) -> Settles {
+    match swings.rev().find_map(|s| s.strike) {
+        Some(s) if s.style == Style::Right => Settles::Right,
+        Some(_) => Settles::Wrong,
+        None => Settles::NoStrike,
+    }
+}
+
 impl RingingUpDown {
-    /// The style of the last striking swing (ringing up: the style it goes
-    /// up in; ringing down: the style it comes down in at the end).
-    pub fn settles(&self) -> Settles {
-        match self.swings.iter().rev().find_map(|s| s.strike) {
-            Some(s) if s.style == Style::Right => Settles::Right,
-            Some(_) => Settles::Wrong,
-            None => Settles::NoStrike,
+    /// The swings the verdict is judged from: ringing up and set, those
+    /// before the swing that set it (whose pull the ringer eased); else all.
+    pub fn judged(&self) -> &[Swing] {
+        match self.ending {
+            Ending::Set { .. } => &self.swings[..self.swings.len().saturating_sub(1)],
+            _ => &self.swings,
         }
     }
 
-    /// Where the striking style changes: (the amplitude of the first swing
-    /// in the new style (rad), the style before, the style after).
+    /// The style of the last striking swing judged ([`Self::judged`]):
+    /// ringing up, the style it goes up in; ringing down, the style it
+    /// comes down in at the end.
+    pub fn settles(&self) -> Settles {
+        settles_of(self.judged().iter())
+    }
+
+    /// Whether the verdict rests on the last swing: judged without the
+    /// last striking swing, or with the swing that set the bell, it would
+    /// differ.
+    pub fn rests_on_last_swing(&self) -> bool {
+        let judged = self.judged();
+        let verdict = self.settles();
+        let with_set = settles_of(self.swings.iter());
+        let last_striking = judged.iter().rposition(|s| s.strike.is_some());
+        let without_last = match last_striking {
+            Some(k) => settles_of(judged[..k].iter()),
+            None => Settles::NoStrike,
+        };
+        with_set != verdict || (last_striking.is_some() && without_last != verdict)
+    }
+
+    /// Where the striking style changes in the swings judged: (the
+    /// amplitude of the first swing in the new style (rad), the style
+    /// before, the style after).
     pub fn changes(&self) -> Vec<(f64, Style, Style)> {
         let mut out = vec![];
         let mut last: Option<Style> = None;
-        for s in &self.swings {
+        for s in self.judged() {
             if let Some(st) = s.strike {
                 if let Some(prev) = last.filter(|p| *p != st.style) {
                     out.push((s.amplitude, prev, st.style));
@@ -309,54 +385,155 @@ impl RingingUpDown {
     }
 }
 
-fn swing_of(number: usize, stroke: &Stroke) -> Swing {
+/// The strike of `stroke` as a swing's, its time counted from `t0` (s).
+fn strike_of(stroke: &Stroke, t0: f64) -> Option<SwingStrike> {
     // The bell moves from the side it started on toward the other.
     let motion = -stroke.start.y[0].signum();
+    stroke.first_strike().map(|i| SwingStrike {
+        t: i.t - t0,
+        theta: i.theta,
+        side: i.side,
+        style: if i.side.sign() == motion {
+            Style::Right
+        } else {
+            Style::Wrong
+        },
+    })
+}
+
+/// Whether `stroke` is no swing of its own: an impact turned the bell back
+/// at its turning point before it reached the bottom (docs/model.md §4).
+fn turned_back_by_impact(stroke: &Stroke) -> bool {
+    stroke.end.reason == EndReason::TurningPoint
+        && stroke.bottom.is_none()
+        && stroke.impacts.last().is_some_and(|i| i.t == stroke.end.t)
+}
+
+/// The swing numbered `number` made of `strokes` (one, or two where an
+/// impact turned the bell back at the turning point it started from).
+fn swing_of(number: usize, strokes: &[Stroke]) -> Swing {
+    let (first, last) = (&strokes[0], &strokes[strokes.len() - 1]);
     Swing {
         number,
-        amplitude: stroke.end.y[0].abs(),
-        strike: stroke.first_strike().map(|i| SwingStrike {
-            t: i.t - stroke.start.t,
-            theta: i.theta,
-            side: i.side,
-            style: if i.side.sign() == motion {
-                Style::Right
-            } else {
-                Style::Wrong
-            },
-        }),
-        end: stroke.end.reason,
+        amplitude: last.end.y[0].abs(),
+        strike: strokes.iter().find_map(|s| strike_of(s, first.start.t)),
+        end: last.end.reason,
+        duration: last.end.t - first.start.t,
     }
 }
 
+fn next_start(stroke: &Stroke) -> StrokeStart {
+    StrokeStart {
+        t: stroke.end.t,
+        y: stroke.end.y,
+        clapper: stroke.end.clapper,
+    }
+}
+
+/// Bisection steps on the eased pull of the swing that sets the bell: the
+/// pull to 2^-16 of the full pull, so the bell goes over the balance with
+/// almost nothing to spare.
+const EASING_STEPS: usize = 16;
+
+/// The swing from `start` that sets the bell: the least pull up to `pull`
+/// (which takes it over the balance, giving `over`) found by bisection
+/// that still takes it over. The trials are unobserved; the stroke kept
+/// is rerun for `observer`.
+fn eased<O: Observer>(
+    bell: &Bell,
+    cfg: &SimConfig,
+    pull: Pull,
+    start: StrokeStart,
+    over: Stroke,
+    observer: &mut O,
+) -> Result<(Stroke, f64), SimError> {
+    let (mut lo, mut hi) = (0.0, pull.torque);
+    let mut kept = over;
+    for _ in 0..EASING_STEPS {
+        let torque = 0.5 * (lo + hi);
+        let s = run_stroke_pulled(bell, cfg, start, Some(Pull { torque, ..pull }), &mut ())?;
+        if s.end.reason == EndReason::OverTheBalance {
+            (hi, kept) = (torque, s);
+        } else {
+            lo = torque;
+        }
+    }
+    if !O::SILENT {
+        kept = run_stroke_pulled(bell, cfg, start, Some(Pull { torque: hi, ..pull }), observer)?;
+    }
+    Ok((kept, hi))
+}
+
 /// Strokes one after another under `pull` from `start`, until `done` says
-/// the last swing finished it or the swings run out (at most 4 × the
-/// asked number + 20: a bound, not a target).
+/// a swing finished it or the swings run out (at most 4 × the asked
+/// number + 20: a bound, not a target). Ringing up (`set`), a swing that
+/// would go over the balance at full pull is rung again with the pull
+/// eased, and sets the bell on the stay.
+#[allow(clippy::too_many_arguments)]
 fn ring<O: Observer>(
     bell: &Bell,
     cfg: &SimConfig,
     ringer: &RingerConfig,
     pull: Pull,
     mut start: StrokeStart,
+    set: bool,
     done: impl Fn(&Swing) -> bool,
     observer: &mut O,
 ) -> Result<RingingUpDown, SimError> {
-    let mut swings = vec![];
-    let mut strokes = vec![];
-    let mut finished = false;
-    for number in 1..=4 * ringer.swings + 20 {
-        let stroke = run_stroke_pulled(bell, cfg, start, Some(pull), observer)?;
-        let swing = swing_of(number, &stroke);
-        let end = swing.end;
-        finished = done(&swing);
-        swings.push(swing);
-        start = StrokeStart {
-            t: stroke.end.t,
-            y: stroke.end.y,
-            clapper: stroke.end.clapper,
+    let mut swings: Vec<Swing> = vec![];
+    let mut strokes: Vec<Stroke> = vec![];
+    // Strokes of the swing under way (the first of two when an impact
+    // turned the bell back at its turning point).
+    let mut pending = 0;
+    let mut ending = Ending::SwingsRanOut;
+    let max = 4 * ringer.swings + 20;
+    while swings.len() < max {
+        // Ringing up, the full pull is tried unobserved first: a swing
+        // that goes over is
+        // eased (unless nothing watches, so that no observer sees it).
+        let mut stroke = if set && !O::SILENT {
+            run_stroke_pulled(bell, cfg, start, Some(pull), &mut ())?
+        } else {
+            run_stroke_pulled(bell, cfg, start, Some(pull), observer)?
         };
+        let mut set_by = None;
+        if set && stroke.end.reason == EndReason::OverTheBalance {
+            let (s, torque) = eased(bell, cfg, pull, start, stroke, observer)?;
+            set_by = Some(torque);
+            stroke = s;
+        } else if set && !O::SILENT {
+            // Rerun observed: the same stroke, bit for bit.
+            stroke = run_stroke_pulled(bell, cfg, start, Some(pull), observer)?;
+        }
+        start = next_start(&stroke);
         strokes.push(stroke);
-        if finished || end != EndReason::TurningPoint {
+        let last = &strokes[strokes.len() - 1];
+        if pending == 0 && turned_back_by_impact(last) && !swings.is_empty() {
+            pending = 1;
+            continue;
+        }
+        let mut swing = swing_of(swings.len() + 1, &strokes[strokes.len() - 1 - pending..]);
+        pending = 0;
+        let end = swing.end;
+        if let Some(torque) = set_by {
+            let angle = 2.0 * PI - ringer.stay;
+            swing.amplitude = angle;
+            ending = Ending::Set {
+                angle,
+                rate: last.end.y[2].abs(),
+                torque,
+            };
+            swings.push(swing);
+            break;
+        }
+        let finished = done(&swing);
+        swings.push(swing);
+        if finished {
+            ending = Ending::Down;
+            break;
+        }
+        if end != EndReason::TurningPoint {
+            ending = Ending::Stopped(end);
             break;
         }
     }
@@ -365,21 +542,25 @@ fn ring<O: Observer>(
         pull,
         pull_force: pull.torque / ringer.wheel_radius,
         swings,
-        finished,
+        finished: ending.finished(),
+        ending,
         strokes,
     })
 }
 
 /// Ring `bell` up from rest: the first tug leaves it at `ringer.start`
-/// with the clapper hanging, and each swing the ringer pulls with it until
-/// a swing reaches the stay (or goes over the balance, where the stay
-/// catches it).
+/// with the clapper hanging, and each swing the ringer pulls with it; the
+/// swing that would take it over the balance the ringer eases, so that it
+/// just goes over and comes to rest on the stay (set, [`Ending::Set`]).
+/// The verdict is judged from the swings before that one
+/// ([`RingingUpDown::settles`]).
 ///
 /// ```
-/// use clapper_core::{bell::Bell, ringer::{ring_up, RingerConfig}, stroke::SimConfig};
+/// use clapper_core::{bell::Bell, ringer::{ring_up, Ending, RingerConfig}, stroke::SimConfig};
 ///
 /// let up = ring_up(&Bell::lab(), &SimConfig::default(), &RingerConfig::default(), &mut ()).unwrap();
 /// assert!(up.finished);
+/// assert!(matches!(up.ending, Ending::Set { .. }));
 /// assert!(up.swings.len() > 10);
 /// ```
 pub fn ring_up<O: Observer>(
@@ -396,21 +577,13 @@ pub fn ring_up<O: Observer>(
         y: [th, -th, 0.0, 0.0],
         clapper: ClapperState::FLYING,
     };
-    let stay = ringer.stay;
-    ring(
-        bell,
-        cfg,
-        ringer,
-        pull,
-        start,
-        |s| s.amplitude >= stay || s.end == EndReason::OverTheBalance,
-        observer,
-    )
+    ring(bell, cfg, ringer, pull, start, true, |_| false, observer)
 }
 
-/// Ring `bell` down from the stay: it starts at rest at `ringer.stay`,
-/// ringing right (the clapper on the trailing side), and each swing the
-/// ringer checks it until a swing reaches no further than `ringer.down`.
+/// Ring `bell` down from the set bell: it starts at rest at `ringer.stay`,
+/// ringing right (the clapper on the trailing side, where it lies in the
+/// set bell), and each swing the ringer checks it until a swing reaches no
+/// further than `ringer.down`.
 pub fn ring_down<O: Observer>(
     bell: &Bell,
     cfg: &SimConfig,
@@ -421,7 +594,74 @@ pub fn ring_down<O: Observer>(
     let th = ringer.stay;
     let start = StrokeStart::at_rest(bell, cfg, 0.0, th, Style::Right.side(th));
     let down = ringer.down;
-    ring(bell, cfg, ringer, pull, start, |s| s.amplitude <= down, observer)
+    ring(bell, cfg, ringer, pull, start, false, |s| s.amplitude <= down, observer)
+}
+
+/// The range of rope forces, around the one used, over which the verdict
+/// of ringing up or down holds: how much a verdict can be trusted. A
+/// verdict that changes within a per cent of the pull is on a knife-edge
+/// (a 1e-6 change of the bell may change it too).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PullMargin {
+    /// The rope force used (N).
+    pub force: f64,
+    /// The least force tried at which the verdict still holds (N).
+    pub low: f64,
+    /// The greatest (N).
+    pub high: f64,
+    /// The force just below `low` at which it changes, if it does within
+    /// the forces tried (N).
+    pub flips_below: Option<f64>,
+    /// The force just above `high` at which it changes (N).
+    pub flips_above: Option<f64>,
+}
+
+/// Relative changes of the pull [`pull_margin`] tries, each way, nearest first.
+pub const MARGIN_STEPS: [f64; 6] = [1e-4, 1e-3, 1e-2, 0.05, 0.1, 0.2];
+
+/// Ring `bell` up (`phase` Raise) or down again at rope forces from
+/// [`MARGIN_STEPS`] each side of `ringer`'s, outward until the verdict
+/// changes: the range over which it holds.
+pub fn pull_margin(
+    bell: &Bell,
+    cfg: &SimConfig,
+    ringer: &RingerConfig,
+    phase: PullPhase,
+) -> Result<PullMargin, SimError> {
+    let go = |r: &RingerConfig| match phase {
+        PullPhase::Raise => ring_up(bell, cfg, r, &mut ()),
+        PullPhase::Check => ring_down(bell, cfg, r, &mut ()),
+    };
+    let base = go(ringer)?;
+    let force = base.pull_force;
+    let verdict = base.settles();
+    let mut m = PullMargin {
+        force,
+        low: force,
+        high: force,
+        flips_below: None,
+        flips_above: None,
+    };
+    for sign in [-1.0, 1.0] {
+        for step in MARGIN_STEPS {
+            let f = force * (1.0 + sign * step);
+            let r = go(&RingerConfig {
+                pull_force: Some(f),
+                ..*ringer
+            })?;
+            let holds = r.finished == base.finished && r.settles() == verdict;
+            match (holds, sign < 0.0) {
+                (true, true) => m.low = f,
+                (true, false) => m.high = f,
+                (false, true) => m.flips_below = Some(f),
+                (false, false) => m.flips_above = Some(f),
+            }
+            if !holds {
+                break;
+            }
+        }
+    }
+    Ok(m)
 }
 
 /// The CCCBR rule of thumb: a bell goes up right if its clapper's small

@@ -32,11 +32,16 @@ pub struct Ringing {
 }
 
 impl Ringing {
-    /// Whether the bell sustains the style it started in, judged by the first
-    /// stroke alone under the restart protocol (its first stroke is the same
-    /// under either protocol).
+    /// Whether the strokes rung keep the style they started in: the first
+    /// stroke, and under the restart protocol the second too. The bell's
+    /// verdict is [`sustains`] (steady ringing, both strokes, whatever the
+    /// number of strokes rung).
     pub fn sustained(&self) -> bool {
-        self.strokes.first().is_some_and(Stroke::sustained)
+        let n = match self.protocol {
+            Protocol::Restart => 2,
+            Protocol::Free => 1,
+        };
+        !self.strokes.is_empty() && self.strokes.iter().take(n).all(Stroke::sustained)
     }
 }
 
@@ -44,6 +49,48 @@ impl Ringing {
 pub fn first_stroke(bell: &Bell, cfg: &SimConfig, style: Style) -> Result<Stroke, SimError> {
     let start = StrokeStart::at_rest(bell, cfg, 0.0, cfg.theta0, style.side(cfg.theta0));
     run_stroke(bell, cfg, start, &mut ())
+}
+
+/// The backstroke after `hand` under the restart protocol: from rest at
+/// −θ0 with the clapper where the handstroke left it, on its own clock.
+pub fn backstroke(bell: &Bell, cfg: &SimConfig, hand: &Stroke) -> Result<Stroke, SimError> {
+    let start = StrokeStart::at_rest(bell, cfg, 0.0, -cfg.theta0, hand.end.side());
+    run_stroke(bell, cfg, start, &mut ())
+}
+
+/// Whether `bell` sustains a style in steady ringing, given its handstroke
+/// `hand` in that style from +θ0 (docs/model.md §4): under the restart
+/// protocol the style is sustained when the handstroke and the backstroke
+/// after it both keep it (the third stroke is then the first again). A
+/// bell with an ideal hanging is its own mirror image, so its backstroke
+/// is the handstroke mirrored, bit for bit, and is not rung; any other
+/// bell rings it. A bell and its mirror image (d → −d, the contact angles
+/// swapped) get the same verdict: each one's handstroke is the other's
+/// backstroke mirrored.
+pub fn keeps_style(bell: &Bell, cfg: &SimConfig, hand: &Stroke) -> Result<bool, SimError> {
+    if !hand.sustained() {
+        return Ok(false);
+    }
+    if bell.hanging.is_ideal() {
+        return Ok(true);
+    }
+    Ok(backstroke(bell, cfg, hand)?.sustained())
+}
+
+/// Whether `bell` sustains `style` in steady ringing ([`keeps_style`]):
+/// the verdict of `simulate`, `diagnose` and the chart alike.
+///
+/// ```
+/// use clapper_core::{bell::Bell, hanging::Hanging, ringing::sustains, stroke::{SimConfig, Style}};
+///
+/// let cfg = SimConfig::default();
+/// assert!(sustains(&Bell::lab(), &cfg, Style::Right).unwrap());
+/// // A bell and its mirror image: one verdict.
+/// let off = |d| Bell::lab().with_hanging(Hanging { pivot_offset: d, ..Hanging::default() });
+/// assert_eq!(sustains(&off(0.005), &cfg, Style::Right).unwrap(), sustains(&off(-0.005), &cfg, Style::Right).unwrap());
+/// ```
+pub fn sustains(bell: &Bell, cfg: &SimConfig, style: Style) -> Result<bool, SimError> {
+    keeps_style(bell, cfg, &first_stroke(bell, cfg, style)?)
 }
 
 /// Odd-struckness: when a bell strikes at handstroke and at backstroke
@@ -71,6 +118,12 @@ impl OddStruck {
     /// both strokes strike and keep their style ([`odd_struck_of`]).
     pub fn odd_struck(&self) -> Option<f64> {
         odd_struck_of(&self.hand, &self.back).ok()
+    }
+
+    /// Whether the style is sustained in steady ringing: both strokes keep
+    /// it ([`keeps_style`]).
+    pub fn sustained(&self) -> bool {
+        self.hand.sustained() && self.back.sustained()
     }
 }
 
@@ -125,8 +178,7 @@ pub fn odd_struck_of(hand: &Stroke, back: &Stroke) -> Result<f64, NoOddStruck> {
 /// ```
 pub fn odd_struck(bell: &Bell, cfg: &SimConfig, style: Style) -> Result<OddStruck, SimError> {
     let hand = first_stroke(bell, cfg, style)?;
-    let start = StrokeStart::at_rest(bell, cfg, 0.0, -cfg.theta0, hand.end.side());
-    let back = run_stroke(bell, cfg, start, &mut ())?;
+    let back = backstroke(bell, cfg, &hand)?;
     Ok(OddStruck { hand, back })
 }
 

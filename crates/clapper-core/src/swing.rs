@@ -46,6 +46,11 @@ pub struct RestingSwing {
     q_sin: f64,
     q_cos: f64,
     q_const: f64,
+    /// ±1: the swing is worked out for the bell angle m θ (a bell off the
+    /// ideal released from θ₀ < 0 as its mirror image from −θ₀), so that
+    /// a bell and its mirror image get the same numbers, bit for bit; the
+    /// fields above are the mirrored swing's. +1 for an ideal bell.
+    m: f64,
 }
 
 impl RestingSwing {
@@ -54,12 +59,28 @@ impl RestingSwing {
     /// no swing to describe in this form: at the balance point (|α₀| within
     /// 1e-6 rad of 0 or π) or for a bell with no weight.
     pub fn from_rest(d: &Dynamics, t0: f64, theta0: f64, phi: f64) -> Option<Self> {
-        let (sp, cp) = d.sin_cos_phi(phi);
-        let j = d.j0 + 2.0 * d.mrb * cp;
-        let w12 = d.ic + d.mrb * cp;
+        // A bell off the ideal is worked out as released from θ₀ > 0 (its
+        // mirror image if θ₀ < 0: θ, φ, d and the skew change sign), so
+        // that the closed form is exactly odd; an ideal bell as it is.
+        let m = if d.bell().hanging.is_ideal() || theta0 >= 0.0 {
+            1.0
+        } else {
+            -1.0
+        };
+        let theta0 = m * theta0;
         let gc = d.gravity_clapper;
-        // G_b sin θ + G_c sin(θ + φ) = ca sin θ + sa cos θ = A sin(θ + β).
-        let (ca, sa) = (d.gravity_bell + gc * cp, gc * sp);
+        let (sp, cp) = d.sin_cos_phi(phi);
+        // The coupling m b c(φ) and m b s(φ) (docs/model.md §10.1; m r b cos φ
+        // and m r b sin φ without a pivot offset, bit for bit).
+        let (mbc, mbs) = d.coupling(sp, cp);
+        // G_b sin θ + G_c sin(θ + φ) (+ m g d cos θ with an offset)
+        // = ca sin θ + sa cos θ = A sin(θ + β).
+        let sa = if d.offset { gc * sp + d.gravity_offset } else { gc * sp };
+        // Mirrored: the odd ones change sign.
+        let (sp, mbs, sa) = (m * sp, m * mbs, m * sa);
+        let ca = d.gravity_bell + gc * cp;
+        let j = d.j0 + 2.0 * mbc;
+        let w12 = d.ic + mbc;
         let amp = ca.hypot(sa);
         let beta = sa.atan2(ca);
         let alpha = theta0 + beta;
@@ -69,11 +90,11 @@ impl RestingSwing {
         }
         let alpha0 = alpha.abs();
         let (k, kc) = (0.5 * alpha0).sin_cos();
-        // Q_φ = W₁₂ θ'' + m r b θ'² sin φ + G_c sin(θ + φ), with
+        // Q_φ = W₁₂ θ'' + m b s(φ) θ'² + G_c sin(θ + φ), with
         // θ'' = −(ca sin θ + sa cos θ)/J and θ'² = 2 (V(θ₀) − V(θ))/J,
         // V(θ) = −ca cos θ + sa sin θ.
         let (s0, c0) = theta0.sin_cos();
-        let c2 = 2.0 * d.mrb * sp / j;
+        let c2 = 2.0 * mbs / j;
         Some(Self {
             t0,
             phi,
@@ -88,6 +109,7 @@ impl RestingSwing {
             q_sin: -w12 / j * ca - c2 * sa + gc * cp,
             q_cos: -w12 / j * sa + c2 * ca + gc * sp,
             q_const: c2 * (-ca * c0 + sa * s0),
+            m,
         })
     }
 
@@ -103,12 +125,12 @@ impl RestingSwing {
 
     /// The path coordinate σ of bell angle `theta` (rad).
     pub fn sigma(&self, theta: f64) -> f64 {
-        self.dir * (theta + self.beta)
+        self.dir * (self.m * theta + self.beta)
     }
 
     /// The bell angle θ (rad) at path coordinate `sigma`.
     pub fn theta(&self, sigma: f64) -> f64 {
-        self.dir * sigma - self.beta
+        self.m * (self.dir * sigma - self.beta)
     }
 
     /// |α₀| (rad): σ runs from this down to its negative.
@@ -118,7 +140,7 @@ impl RestingSwing {
 
     /// The direction θ moves in over the half swing: +1 or −1.
     pub fn theta_direction(&self) -> f64 {
-        -self.dir
+        -self.dir * self.m
     }
 
     /// The state at path coordinate `sigma` (clamped to the half swing).
@@ -126,7 +148,7 @@ impl RestingSwing {
         let s = sigma.clamp(-self.alpha0, self.alpha0);
         let (a, b) = ((0.5 * (self.alpha0 - s)).sin(), (0.5 * (self.alpha0 + s)).sin());
         let speed = (self.four_a_over_j * a * b).max(0.0).sqrt();
-        [self.theta(s), self.phi, -self.dir * speed, 0.0]
+        [self.theta(s), self.phi, self.m * (-self.dir * speed), 0.0]
     }
 
     /// Time from release to path coordinate `sigma` (s), in
@@ -160,14 +182,14 @@ impl RestingSwing {
         let (sn, cn, dn) = jacobi(u, self.k, self.kc);
         let sigma = 2.0 * (self.k * cn / dn).clamp(-1.0, 1.0).asin();
         let sigma_dot = -2.0 * self.k * self.kc * self.omega * sn / dn;
-        [self.theta(sigma), self.phi, self.dir * sigma_dot, 0.0]
+        [self.theta(sigma), self.phi, self.m * (self.dir * sigma_dot), 0.0]
     }
 
     /// The holding force Q_φ (N m) when the bell is at `theta` (rad) on
     /// this swing.
     pub fn holding_force(&self, theta: f64) -> f64 {
-        let (s, c) = theta.sin_cos();
-        self.q_sin * s + self.q_cos * c + self.q_const
+        let (s, c) = (self.m * theta).sin_cos();
+        self.m * (self.q_sin * s + self.q_cos * c + self.q_const)
     }
 
     /// The first point after path coordinate `from` (and before the end of
@@ -184,7 +206,8 @@ impl RestingSwing {
         let mut best: Option<f64> = None;
         for base in [a - psi, PI - a - psi] {
             for m in -2..=2 {
-                let sigma = self.sigma(base + 2.0 * PI * m as f64);
+                // σ of the mirrored swing's angle (θ itself when m = 1).
+                let sigma = self.dir * (base + 2.0 * PI * m as f64 + self.beta);
                 if sigma < from && sigma > -self.alpha0 && best.is_none_or(|b| sigma > b) {
                     best = Some(sigma);
                 }

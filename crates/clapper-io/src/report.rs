@@ -297,9 +297,11 @@ pub struct SimulationReport {
     pub settings: SimulationSettings,
     /// The style asked for.
     pub style: String,
-    /// Whether the bell sustains that style (first stroke, restart protocol).
+    /// Whether the bell sustains that style in steady ringing: its
+    /// handstroke and the backstroke after it both keep it (restart
+    /// protocol, whatever the protocol of the strokes listed).
     pub sustained: bool,
-    /// "right", "wrong" or "neither": the style the first stroke sustains.
+    /// "right", "wrong" or "neither": the style asked for if sustained.
     pub verdict: String,
     /// Odd-struckness (ms): handstroke minus backstroke time from bottom dead
     /// centre to the first strike, of the first two strokes (positive: the
@@ -315,15 +317,16 @@ pub struct SimulationReport {
 }
 
 impl SimulationReport {
-    /// The report of `ringing` of `bell`, with the odd-struckness (s) of
-    /// its first two strokes.
+    /// The report of `ringing` of `bell`, with the verdict `sustained`
+    /// (steady ringing, [`clapper_core::ringing::sustains`]) and the
+    /// odd-struckness (s) of its first two strokes or why it has none.
     pub fn new(
         bell: BellReport,
         settings: SimulationSettings,
         ringing: &Ringing,
+        sustained: bool,
         odd_struck: Result<f64, String>,
     ) -> Self {
-        let sustained = ringing.sustained();
         Self {
             bell,
             settings,
@@ -368,6 +371,7 @@ mod tests {
             BellReport::new("lab", &bell, &BellSource::MassProperties),
             SimulationSettings::new(&cfg, Protocol::Restart, 2),
             &r,
+            r.sustained(),
             Ok(0.0),
         );
         let v = serde_json::to_value(&rep).unwrap();

@@ -686,9 +686,14 @@ pub trait Observer {
     /// At every event and at the start of every stroke: the state just
     /// before and just after (they differ at an impact or a restart).
     fn on_jump(&mut self, _before: &Sample, _after: &Sample) {}
+    /// Whether it watches nothing (then a caller that tries strokes
+    /// before keeping one need not run the kept one again for it).
+    const SILENT: bool = false;
 }
 
-impl Observer for () {}
+impl Observer for () {
+    const SILENT: bool = true;
+}
 
 /// Samples a trace every `interval` seconds of simulated time, plus both
 /// sides of every jump, and hands each sample to `sink` as it comes: a

@@ -298,7 +298,9 @@ impl SeriesSystem<4> for Segment<'_> {
 
 impl SwingSystem for Segment<'_> {
     fn resting_dynamics(&self) -> Option<&Dynamics> {
-        // The closed form is the paper's rigid pendulum: no offset, no friction.
-        (self.law == ForceLaw::Resting && self.load.is_none() && self.d.bell().hanging.is_ideal()).then_some(self.d)
+        // The closed form is a rigid pendulum: the bell with its clapper at
+        // a stop (either contact angle, any pivot offset), without friction
+        // or a pull.
+        (self.law == ForceLaw::Resting && self.load.is_none()).then_some(self.d)
     }
 }
