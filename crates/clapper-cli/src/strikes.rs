@@ -10,7 +10,7 @@ use clapper_app::strikes::{strike_options, voices_from_nominals, StrikesReport, 
 use clapper_io::signal_file::{read_recording, write_wav};
 use clapper_io::strike_file::{csv_text, lowndes};
 use clapper_signal::strikes::BellVoice;
-use clapper_signal::tower::{major_scale, tower_recording, DoubleStrikeSpec, Method, Room, TowerSpec};
+use clapper_signal::tower::{major_scale, tower_recording, DoubleStrikeSpec, Doublets, Method, Room, Swing, TowerSpec};
 
 use crate::files::write_bytes;
 use crate::measure::print_report;
@@ -156,6 +156,22 @@ pub struct SynthRingArgs {
     /// Seed of the striking errors, voices, room and noise.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Doublets as real bells have them: each partial of each bell two
+    /// components split by an amount drawn within LOW:HIGH (Hz, e.g. 0.1:3),
+    /// fixed per bell; omit for every partial a 0.5 Hz doublet of equal halves.
+    #[arg(long, value_name = "LOW_HZ:HIGH_HZ")]
+    pub doublets: Option<String>,
+    /// The lower component's share of each doublet's strength, drawn within
+    /// LOW:HIGH (0 to 1); with --doublets.
+    #[arg(long, default_value = "0.2:0.8", value_name = "LOW:HIGH", requires = "doublets")]
+    pub doublet_shares: String,
+    /// The bells' swing heard from below: the level rises by this much (dB)
+    /// from a strike (mouth up) to mid-stroke (mouth down); real bells 6 to 15 dB.
+    #[arg(long, default_value_t = 0.0, value_name = "DB", allow_hyphen_values = true)]
+    pub swing_db: f64,
+    /// The swing's Doppler shift: its peak in each stroke (% of the frequency; real bells up to about 1 %).
+    #[arg(long, default_value_t = 0.0, value_name = "PCT", allow_hyphen_values = true)]
+    pub doppler_pct: f64,
 }
 
 fn fields(s: &str, n: usize, what: &str) -> Result<Vec<f64>> {
@@ -215,6 +231,21 @@ pub fn synth_ring(args: SynthRingArgs) -> Result<()> {
         },
         room: (args.rt60 > 0.0).then_some(Room::chamber(args.rt60)),
         snr_db: args.snr,
+        doublets: match &args.doublets {
+            None => None,
+            Some(d) => {
+                let split = fields(d, 2, "--doublets is LOW_HZ:HIGH_HZ, e.g. 0.1:3")?;
+                let share = fields(&args.doublet_shares, 2, "--doublet-shares is LOW:HIGH, e.g. 0.2:0.8")?;
+                Some(Doublets {
+                    split_hz: (split[0], split[1]),
+                    share: (share[0], share[1]),
+                })
+            }
+        },
+        swing: (args.swing_db != 0.0 || args.doppler_pct != 0.0).then_some(Swing {
+            level_db: args.swing_db,
+            doppler: args.doppler_pct * 1e-2,
+        }),
         ..TowerSpec::new(bells.clone())
     };
     let (sig, truth) = tower_recording(&spec)?;

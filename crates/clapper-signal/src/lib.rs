@@ -19,6 +19,7 @@ pub mod strikes;
 pub mod striking;
 pub mod synth;
 pub mod tower;
+pub mod tower_effects;
 
 /// The median of `v` (the upper of the middle two), 0 for none.
 pub(crate) fn median(v: &[f64]) -> f64 {

@@ -376,6 +376,8 @@ mod tests {
             variation: Variation::NONE,
             room: None,
             snr_db: None,
+            doublets: None,
+            swing: None,
         }
     }
 

@@ -22,6 +22,7 @@ use rand_pcg::Pcg64;
 use realfft::RealFftPlanner;
 
 use crate::synth::{synthesize, Strike, SynthMode, SynthSpec};
+pub use crate::tower_effects::{Doublets, Swing};
 use crate::{Signal, SignalError};
 
 /// One bell of the ring.
@@ -83,6 +84,11 @@ pub struct TowerSpec {
     /// Signal-to-noise ratio (dB): white noise whose power is this far
     /// below the mean power of the ringing; `None`: no noise.
     pub snr_db: Option<f64>,
+    /// Doublets of unequal halves fixed per bell and partial; `None`: every
+    /// partial a 0.5 Hz doublet of equal halves (the voice before issue 43).
+    pub doublets: Option<Doublets>,
+    /// The bells' swing heard (level and Doppler); `None`: bells heard still.
+    pub swing: Option<Swing>,
 }
 
 impl TowerSpec {
@@ -109,6 +115,8 @@ impl TowerSpec {
             variation: Variation::TUNED,
             room: None,
             snr_db: None,
+            doublets: None,
+            swing: None,
         }
     }
 }
@@ -263,6 +271,12 @@ fn check(spec: &TowerSpec) -> Result<(), SignalError> {
             return bad(format!("SNR {snr} dB: above -20 dB"));
         }
     }
+    if let Some(d) = spec.doublets {
+        d.check()?;
+    }
+    if let Some(s) = spec.swing {
+        s.check()?;
+    }
     for d in &spec.doubles {
         let ok = (1..=spec.bells.len()).contains(&d.bell)
             && d.row < spec.rows
@@ -384,6 +398,7 @@ pub fn tower_recording(spec: &TowerSpec) -> Result<(Signal, Vec<TrueStrike>), Si
     // Voices, room and noise draw from their own streams, so changing one
     // leaves the others (and the strike times) as they were.
     let mut voice_rng = Pcg64::seed_from_u64(spec.seed ^ 0x5eed_0001);
+    let mut doublet_rng = Pcg64::seed_from_u64(spec.seed ^ 0x5eed_0004);
     let mut mix: Vec<f64> = vec![];
     for (i, b) in spec.bells.iter().enumerate() {
         // An impulse of a tenth of the bell's mass (N s) sets its nominal
@@ -404,15 +419,24 @@ pub fn tower_recording(spec: &TowerSpec) -> Result<(Signal, Vec<TrueStrike>), Si
                 });
             }
         }
-        let sound = synthesize(&SynthSpec {
+        let mut modes = bell_voice(b, spec.variation, spec.rate, &mut voice_rng);
+        if let Some(d) = spec.doublets {
+            modes = crate::tower_effects::split_doublets(&modes, d, &mut doublet_rng).0;
+        }
+        // The swing turns from strike to strike; a double strike is within one stroke.
+        let strike_times: Vec<f64> = strikes.iter().filter(|s| s.bell == i + 1).map(|s| s.t).collect();
+        let mut sound = synthesize(&SynthSpec {
             rate: spec.rate,
             duration: end,
-            modes: bell_voice(b, spec.variation, spec.rate, &mut voice_rng),
+            modes,
             strikes: hits,
             rests: vec![],
             rest_damping: 1.0,
             acceleration: false,
         })?;
+        if let Some(swing) = spec.swing {
+            sound.samples = swing.apply(&sound.samples, spec.rate, &strike_times);
+        }
         if mix.is_empty() {
             mix = sound.samples;
         } else {
@@ -625,7 +649,158 @@ mod tests {
             variation: Variation::NONE,
             room: None,
             snr_db: None,
+            doublets: None,
+            swing: None,
         }
+    }
+
+    /// One bell of nominal 1000 Hz struck on every stroke, its partials
+    /// single components unless a test says otherwise.
+    fn one_bell(rows: usize) -> TowerSpec {
+        let mut spec = ring(1);
+        spec.bells[0].nominal_hz = 1000.0;
+        spec.rows = rows;
+        spec.interval = 1.0;
+        spec.tail = 3.0;
+        spec.doublets = Some(Doublets::NONE);
+        spec
+    }
+
+    /// The band about `f` (Hz): the signal turned down by `f` and averaged
+    /// over Hann windows `win` (s) long a hop of `win`/4 apart (the other
+    /// partials, 250 Hz and more away, left out): (time s, re, im).
+    fn band(sig: &Signal, f: f64, win: f64) -> Vec<(f64, f64, f64)> {
+        let n = (win * sig.rate) as usize;
+        let w = 2.0 * PI * f / sig.rate;
+        (0..(sig.samples.len() - n) / (n / 4))
+            .map(|k| {
+                let a = k * n / 4;
+                let (mut re, mut im) = (0.0, 0.0);
+                for i in a..a + n {
+                    let hann = 1.0 - (2.0 * PI * (i - a) as f64 / n as f64).cos();
+                    re += hann * sig.samples[i] * (w * i as f64).cos();
+                    im -= hann * sig.samples[i] * (w * i as f64).sin();
+                }
+                ((a as f64 + n as f64 / 2.0) / sig.rate, re / n as f64, im / n as f64)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_doublet_beats_at_its_split_with_the_depth_its_shares_give() {
+        let mut spec = one_bell(1);
+        spec.tail = 3.0;
+        spec.doublets = Some(Doublets {
+            split_hz: (1.25, 1.25),
+            share: (0.3, 0.3),
+        });
+        let (sig, truth) = tower_recording(&spec).unwrap();
+        // The nominal's envelope (dB), its exponential decay taken out by a
+        // straight line through it: what is left is the beat.
+        // Three seconds of it, while the nominal is 50 dB above the others' leak.
+        let env: Vec<(f64, f64)> = band(&sig, 1000.0, 0.05)
+            .into_iter()
+            .filter(|p| p.0 > truth[0].t + 0.05 && p.0 < truth[0].t + 3.0)
+            .map(|(t, re, im)| (t, 20.0 * re.hypot(im).log10()))
+            .collect();
+        let n = env.len() as f64;
+        let (mt, my) = (
+            env.iter().map(|p| p.0).sum::<f64>() / n,
+            env.iter().map(|p| p.1).sum::<f64>() / n,
+        );
+        let slope = env.iter().map(|p| (p.0 - mt) * (p.1 - my)).sum::<f64>()
+            / env.iter().map(|p| (p.0 - mt).powi(2)).sum::<f64>();
+        let rest: Vec<(f64, f64)> = env.iter().map(|p| (p.0, p.1 - my - slope * (p.0 - mt))).collect();
+        // The beat's frequency: the strongest line of the residue from 0.2 to 5 Hz.
+        let power = |f: f64| {
+            let (c, s) = rest.iter().fold((0.0, 0.0), |(c, s), p| {
+                (
+                    c + p.1 * (2.0 * PI * f * p.0).cos(),
+                    s + p.1 * (2.0 * PI * f * p.0).sin(),
+                )
+            });
+            c * c + s * s
+        };
+        let beat = (20..=500)
+            .map(|k| k as f64 / 100.0)
+            .max_by(|a, b| power(*a).total_cmp(&power(*b)))
+            .unwrap();
+        assert!((1.0 / beat - 0.8).abs() < 0.03, "beat period {} s", 1.0 / beat);
+        let depth =
+            rest.iter().map(|p| p.1).fold(f64::MIN, f64::max) - rest.iter().map(|p| p.1).fold(f64::MAX, f64::min);
+        let want = crate::tower_effects::beat_depth_db(0.3);
+        assert!(
+            (depth - want).abs() < 1.5,
+            "beats {depth:.1} dB deep, shares give {want:.1} dB"
+        );
+    }
+
+    #[test]
+    fn the_swing_changes_the_level_by_the_range_asked_and_keeps_the_strike_times() {
+        let still = one_bell(3);
+        let swing = TowerSpec {
+            swing: Some(Swing {
+                level_db: 12.0,
+                doppler: 0.0,
+            }),
+            ..still.clone()
+        };
+        let (a, truth) = tower_recording(&still).unwrap();
+        let (b, truth_b) = tower_recording(&swing).unwrap();
+        assert_eq!(truth, truth_b, "the truth is the same");
+        // The nominal's level swinging over still, through the second stroke.
+        let (ea, eb) = (band(&a, 1000.0, 0.02), band(&b, 1000.0, 0.02));
+        let db: Vec<f64> = ea
+            .iter()
+            .zip(&eb)
+            .filter(|(p, _)| p.0 > truth[1].t + 0.02 && p.0 < truth[2].t - 0.02)
+            .map(|(p, q)| 20.0 * (q.1.hypot(q.2) / p.1.hypot(p.2)).log10())
+            .collect();
+        let hi = db.iter().copied().fold(f64::MIN, f64::max);
+        let lo = db.iter().copied().fold(f64::MAX, f64::min);
+        // Peak normalising scales the whole recording: the range is what counts.
+        assert!((hi - lo - 12.0).abs() < 0.5, "the level ranges over {:.2} dB", hi - lo);
+        // The strike is heard when it was made: the first sound of the
+        // recording within a millisecond of the first strike.
+        let first = b.samples.iter().position(|v| v.abs() > 1e-3).unwrap() as f64 / b.rate;
+        assert!(
+            (first - truth[0].t).abs() < 1e-3,
+            "heard at {first}, struck at {}",
+            truth[0].t
+        );
+    }
+
+    #[test]
+    fn the_swing_shifts_the_frequency_by_the_doppler_asked() {
+        let spec = TowerSpec {
+            swing: Some(Swing {
+                level_db: 0.0,
+                doppler: 0.01,
+            }),
+            ..one_bell(3)
+        };
+        let (sig, truth) = tower_recording(&spec).unwrap();
+        // The nominal's frequency from its phase's turn from one window to
+        // the next (a hop of 10 ms), through the second stroke.
+        let e = band(&sig, 1000.0, 0.04);
+        let hop = e[1].0 - e[0].0;
+        let shift: Vec<(f64, f64)> = e
+            .windows(2)
+            .filter(|w| w[0].0 > truth[1].t + 0.03 && w[1].0 < truth[2].t - 0.03)
+            .map(|w| {
+                let turn = (w[1].2 * w[0].1 - w[1].1 * w[0].2).atan2(w[1].1 * w[0].1 + w[1].2 * w[0].2);
+                (w[0].0, turn / (2.0 * PI * hop) / 1000.0)
+            })
+            .collect();
+        let hi = shift.iter().map(|p| p.1).fold(f64::MIN, f64::max);
+        let lo = shift.iter().map(|p| p.1).fold(f64::MAX, f64::min);
+        assert!(
+            (hi - 0.01).abs() < 0.0005 && (lo + 0.01).abs() < 0.0005,
+            "shifts {hi} and {lo}"
+        );
+        // Up while the bell comes nearer (the first half of the stroke).
+        let mid = 0.5 * (truth[1].t + truth[2].t);
+        assert!(shift.iter().filter(|p| p.0 < mid - 0.2).all(|p| p.1 > -0.002));
     }
 
     #[test]
