@@ -215,3 +215,82 @@ fn nonsense_is_refused_with_a_reason() {
         assert!(!err.contains("panicked"), "{args:?}: {err}");
     }
 }
+
+#[test]
+fn methods_tunings_handbells_and_noise_through_the_binary() {
+    let dir = tempfile::tempdir().unwrap();
+    // Plain Bob Minor, minor tuning from a 250 Hz tenor, handbells, traffic.
+    let args = [
+        "--bells",
+        "6",
+        "--rows",
+        "16",
+        "--method",
+        "plain-bob",
+        "--tuning",
+        "minor",
+        "--tenor-hz",
+        "250",
+        "--handbells",
+        "--noise",
+        "traffic",
+        "--snr",
+        "20",
+        "--interval-ms",
+        "150",
+    ];
+    let (rate, x, truth) = synth(dir.path(), "bob", &args);
+    // Row 2, the first change (x): 214365; row 3 (16): 241635.
+    let row = |r: usize| -> Vec<usize> {
+        let mut v: Vec<(usize, usize)> = truth
+            .lines()
+            .skip(1)
+            .map(|l| l.split(',').collect::<Vec<_>>())
+            .filter(|f| f[1] == r.to_string())
+            .map(|f| (f[2].parse().unwrap(), f[0].parse().unwrap()))
+            .collect();
+        v.sort();
+        v.into_iter().map(|p| p.1).collect()
+    };
+    assert_eq!(
+        (row(1), row(2), row(3)),
+        (vec![1, 2, 3, 4, 5, 6], vec![2, 1, 4, 3, 6, 5], vec![2, 4, 1, 6, 3, 5])
+    );
+    assert_eq!(
+        truth.lines().next().unwrap(),
+        "bell,row,place,stroke,t_s,ideal_t_s,double_delay_ms,double_amplitude_ratio"
+    );
+    // The tenor's strike note is 250 Hz and there is no hum at 62.5 Hz:
+    // at the tenor's first strike, 250 Hz stands 25 dB over 62.5 Hz.
+    let t = times(&truth);
+    let tenor = truth.lines().skip(1).position(|l| l.starts_with("6,")).unwrap();
+    let level = |f: f64| {
+        band(rate, &x, f, 0.1)
+            .iter()
+            .filter(|p| (p.0 - t[tenor] - 0.1).abs() < 0.03)
+            .map(|p| 20.0 * p.1.hypot(p.2).log10())
+            .fold(f64::MIN, f64::max)
+    };
+    assert!(level(250.0) > level(62.5) + 25.0, "{} {}", level(250.0), level(62.5));
+    let out = clapper()
+        .args([
+            "synth-ring",
+            "--bells",
+            "6",
+            "--tuning",
+            "minor",
+            "--tenor-hz",
+            "250",
+            "--rows",
+            "2",
+            "--out",
+        ])
+        .arg(dir.path().join("n.wav"))
+        .output()
+        .unwrap();
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        said.contains("--nominals 396.9,374.6,333.7,297.3,280.6,250.0"),
+        "{said}"
+    );
+}

@@ -11,6 +11,7 @@
 
 pub mod accel;
 pub mod contacts;
+pub mod methods;
 pub mod modes;
 pub mod ringing_log;
 pub mod ringing_log_synth;

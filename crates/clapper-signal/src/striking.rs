@@ -378,6 +378,8 @@ mod tests {
             snr_db: None,
             doublets: None,
             swing: None,
+            voice: crate::tower::Voice::Tower,
+            noise: crate::tower::Noise::White,
         }
     }
 

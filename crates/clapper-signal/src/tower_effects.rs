@@ -10,7 +10,139 @@ use rand::Rng;
 use rand_pcg::Pcg64;
 
 use crate::synth::SynthMode;
+use crate::tower::{gaussian, TUNED_PARTIALS};
 use crate::SignalError;
+
+/// The scale a ring is tuned to, up from the tenor (the key note).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Scale {
+    /// The major scale.
+    Major,
+    /// The natural minor scale.
+    Minor,
+}
+
+impl Scale {
+    /// Semitones above the tenor of up to 16 bells, tenor first.
+    pub fn semitones(self) -> [i32; 16] {
+        match self {
+            Scale::Major => [0, 2, 4, 5, 7, 9, 11, 12, 14, 16, 17, 19, 21, 23, 24, 26],
+            Scale::Minor => [0, 2, 3, 5, 7, 8, 10, 12, 14, 15, 17, 19, 20, 22, 24, 26],
+        }
+    }
+}
+
+/// A bell's voice.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Voice {
+    /// A tuned tower bell: [`TUNED_PARTIALS`].
+    Tower,
+    /// A handbell: [`HANDBELL_PARTIALS`], no hum, shorter decays.
+    Handbell,
+}
+
+impl Voice {
+    /// Its partials: (ratio to the nominal, Q, strength to the nominal's).
+    pub fn partials(self) -> &'static [(f64, f64, f64)] {
+        match self {
+            Voice::Tower => &TUNED_PARTIALS,
+            Voice::Handbell => &HANDBELL_PARTIALS,
+        }
+    }
+}
+
+/// A handbell's partials as measured (docs/strikes.md, "What real bells
+/// sound like": 17 handbells, 392 to 1770 Hz): the strike note (the
+/// "nominal" here) and its twelfth at 2.9-3.0 times, 11-19 dB down, then
+/// weak partials at about 4.4 and 6 times; no hum or prime. Decays: the
+/// strike note's T60 from 2.2 s (1770 Hz) to 6 s (400-600 Hz), a Q of about
+/// 1700; the upper partials die a little sooner.
+pub const HANDBELL_PARTIALS: [(f64, f64, f64); 4] = [
+    (1.0, 1700.0, 1.0),
+    (2.95, 4300.0, 0.16),
+    (4.4, 4400.0, 0.08),
+    (6.05, 4400.0, 0.035),
+];
+
+/// The kind of noise heard at the recording's signal-to-noise ratio.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Noise {
+    /// White noise, steady.
+    White,
+    /// Wind on the microphone and the louvres: noise mostly below 300 Hz,
+    /// in gusts (its level wandering by a factor of 2 or so over a second
+    /// or two).
+    Wind,
+    /// Traffic: a steady rumble below 150 Hz and vehicles passing every 8 s
+    /// or so, each rising and falling over about 3 s, engine harmonics
+    /// (40-120 Hz) and tyre noise below 800 Hz.
+    Traffic,
+}
+
+impl Noise {
+    /// `n` samples of the noise at `rate` (Hz), its mean power 1.
+    pub fn make(self, n: usize, rate: f64, rng: &mut Pcg64) -> Vec<f64> {
+        // A one-pole low-pass of white noise, corner `fc` Hz.
+        let lowpass = |fc: f64, rng: &mut Pcg64| -> Vec<f64> {
+            let a = (-2.0 * PI * fc / rate).exp();
+            let mut y = 0.0;
+            (0..n)
+                .map(|_| {
+                    y = a * y + (1.0 - a) * gaussian(rng);
+                    y
+                })
+                .collect()
+        };
+        let mut out = match self {
+            Noise::White => (0..n).map(|_| gaussian(rng)).collect(),
+            Noise::Wind => {
+                let base = lowpass(300.0, rng);
+                // Gusts: a slowly wandering log-level (time constant 1.5 s).
+                let b = (-1.0 / (1.5 * rate)).exp();
+                let kick = (1.0 - b * b).sqrt();
+                let mut g = 0.0;
+                base.into_iter()
+                    .map(|v| {
+                        g = b * g + kick * gaussian(rng);
+                        v * (0.8 * g).exp()
+                    })
+                    .collect()
+            }
+            Noise::Traffic => {
+                let mut y = lowpass(150.0, rng);
+                let tyres = lowpass(800.0, rng);
+                let p = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>() / v.len().max(1) as f64;
+                let (py, pt) = (p(&y).max(1e-300), p(&tyres).max(1e-300));
+                let dur = n as f64 / rate;
+                let mut t = rng.random_range(0.0..8.0);
+                while t < dur + 3.0 {
+                    let level = 3.0 * (0.5 * gaussian(rng)).exp();
+                    let engine = rng.random_range(40.0..120.0);
+                    let mut phase = 0.0;
+                    let from = ((t - 6.0) * rate).max(0.0) as usize;
+                    let to = (((t + 6.0) * rate) as usize).min(n);
+                    for i in from..to {
+                        let dt = i as f64 / rate - t;
+                        let env = level * (-0.5 * (dt / 1.5).powi(2)).exp();
+                        // The engine's pitch falls as the vehicle passes (±3 %).
+                        let f = engine * (1.0 - 0.03 * (dt / 0.5).tanh());
+                        phase += 2.0 * PI * f / rate;
+                        let tone = phase.sin() + 0.5 * (2.0 * phase).sin() + 0.25 * (3.0 * phase).sin();
+                        y[i] += env * (py.sqrt() * tone + (py / pt).sqrt() * tyres[i]);
+                    }
+                    t += 2.0 + rng.random_range(0.0..12.0);
+                }
+                y
+            }
+        };
+        let power = out.iter().map(|v| v * v).sum::<f64>() / n.max(1) as f64;
+        if power > 0.0 {
+            let k = 1.0 / power.sqrt();
+            out.iter_mut().for_each(|v| *v *= k);
+        }
+        out
+    }
+}
 
 /// Doublets: every partial of every bell two components a small split
 /// apart, drawn once per bell and partial (fixed for the whole recording,
