@@ -11,8 +11,8 @@ use clapper_io::signal_file::{read_recording, write_wav};
 use clapper_io::strike_file::{csv_text, lowndes};
 use clapper_signal::strikes::BellVoice;
 use clapper_signal::tower::{
-    major_scale, tower_recording, tuned_ring, DoubleStrikeSpec, Doublets, Method, Noise, PlainCourse, Room, Scale,
-    Swing, TowerSpec, Voice,
+    major_scale, tower_recording, tuned_ring, Attack, DoubleStrikeSpec, Doublets, Method, Noise, PlainCourse, Room,
+    Scale, Swing, TowerSpec, Voice,
 };
 
 use crate::files::write_bytes;
@@ -195,6 +195,11 @@ pub struct SynthRingArgs {
     /// The swing's Doppler shift: its peak in each stroke (% of the frequency; real bells up to about 1 %).
     #[arg(long, default_value_t = 0.0, value_name = "PCT", allow_hyphen_values = true)]
     pub doppler_pct: f64,
+    /// The clapper's knock: a burst of noise at each strike, DB against the
+    /// strike's loudest 5.8 ms (real tower bells about -24) falling 20 dB in
+    /// MS milliseconds; omit for strikes that are pure partials.
+    #[arg(long, value_name = "DB:MS", allow_hyphen_values = true)]
+    pub attack: Option<String>,
 }
 
 /// A scale for --tuning.
@@ -301,6 +306,16 @@ pub fn synth_ring(args: SynthRingArgs) -> Result<()> {
             Some(MethodArg::PlainBob) => Method::Course(PlainCourse::PlainBob),
             Some(MethodArg::Grandsire) => Method::Course(PlainCourse::Grandsire),
             Some(MethodArg::Stedman) => Method::Course(PlainCourse::Stedman),
+        },
+        attack: match &args.attack {
+            None => None,
+            Some(a) => {
+                let v = fields(a, 2, "--attack is DB:MS, e.g. -24:30")?;
+                Some(Attack {
+                    level_db: v[0],
+                    length_ms: v[1],
+                })
+            }
         },
         voice: if args.handbells { Voice::Handbell } else { Voice::Tower },
         noise: match args.noise {

@@ -182,7 +182,7 @@ fn no_new_option_leaves_the_recording_as_it_was() {
     let with: Vec<&str> = base
         .iter()
         .copied()
-        .chain(["--doublets", "0.1:3", "--swing-db", "10"])
+        .chain(["--doublets", "0.1:3", "--swing-db", "10", "--attack", "-24:30"])
         .collect();
     let (_, other, truth_other) = synth(dir.path(), "other", &with);
     assert_eq!(truth, truth_other, "the effects leave the strikes where they were");
@@ -202,6 +202,21 @@ fn nonsense_is_refused_with_a_reason() {
             &["--doublets", "0.1:3", "--doublet-shares", "0.2:1.5"][..],
             "doublet shares 0.2 to 1.5",
         ),
+        (&["--method", "grandsire"][..], "Grandsire on 3 bells: 5 to 12 bells"),
+        (
+            &["--method", "cambridge"][..],
+            "invalid value 'cambridge' for '--method",
+        ),
+        (&["--noise", "wind"][..], "--noise: say how loud with --snr DB"),
+        (
+            &["--tuning", "minor", "--tenor-hz", "5"][..],
+            "--tenor-hz 5: from 20 Hz",
+        ),
+        (&["--tenor-hz", "300"][..], "--tuning"),
+        (&["--tuning", "major", "--treble-hz", "900"][..], "cannot be used with"),
+        (&["--plain-hunt", "--method", "stedman"][..], "cannot be used with"),
+        (&["--attack", "-24"][..], "--attack is DB:MS"),
+        (&["--attack", "6:30"][..], "attack 6 dB, 30 ms: from -80 to 0 dB"),
     ] {
         let o = clapper()
             .args(["synth-ring", "--bells", "3", "--rows", "2"])

@@ -12,8 +12,8 @@
 //! seeds 21-40). Rows 5 on (issue 43) add what real bells do to row 1,
 //! each alone (doublets, the swing's level and Doppler, 10 and 12 bells,
 //! a minor ring with a 250 Hz tenor, handbells, peal speed, wind, traffic,
-//! methods), and all of the swing and doublets together in a room (`all`
-//! picks every row).
+//! methods), all of the swing and doublets together in a room, and the
+//! clapper's knock (`all` picks every row).
 
 use clapper_signal::strikes::{find_strikes, BellVoice, StrikeOptions};
 use clapper_signal::striking::{mean_sd, rhythm, Timed};
@@ -124,6 +124,12 @@ fn conditions() -> Vec<Condition> {
                 });
             },
         ),
+        c("row 1 + the clapper's knock, -24 dB, 30 ms", 25.0, None, eight, |s| {
+            s.attack = Some(Attack {
+                level_db: -24.0,
+                length_ms: 30.0,
+            })
+        }),
     ]
 }
 

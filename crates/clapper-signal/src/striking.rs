@@ -380,6 +380,7 @@ mod tests {
             swing: None,
             voice: crate::tower::Voice::Tower,
             noise: crate::tower::Noise::White,
+            attack: None,
         }
     }
 

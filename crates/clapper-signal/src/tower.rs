@@ -23,7 +23,7 @@ use realfft::RealFftPlanner;
 
 pub use crate::methods::PlainCourse;
 use crate::synth::{synthesize, Strike, SynthMode, SynthSpec};
-pub use crate::tower_effects::{Doublets, Noise, Scale, Swing, Voice};
+pub use crate::tower_effects::{Attack, Doublets, Noise, Scale, Swing, Voice};
 use crate::{Signal, SignalError};
 
 /// One bell of the ring.
@@ -94,6 +94,8 @@ pub struct TowerSpec {
     pub voice: Voice,
     /// The noise heard at `snr_db`: white, wind or traffic.
     pub noise: Noise,
+    /// The strike's broadband knock; `None`: strikes are ideal impulses.
+    pub attack: Option<Attack>,
 }
 
 impl TowerSpec {
@@ -124,6 +126,7 @@ impl TowerSpec {
             swing: None,
             voice: Voice::Tower,
             noise: Noise::White,
+            attack: None,
         }
     }
 }
@@ -348,6 +351,9 @@ fn check(spec: &TowerSpec) -> Result<(), SignalError> {
     if let Some(s) = spec.swing {
         s.check()?;
     }
+    if let Some(a) = spec.attack {
+        a.check()?;
+    }
     for d in &spec.doubles {
         let ok = (1..=spec.bells.len()).contains(&d.bell)
             && d.row < spec.rows
@@ -476,6 +482,7 @@ pub fn tower_recording(spec: &TowerSpec) -> Result<(Signal, Vec<TrueStrike>), Si
     // leaves the others (and the strike times) as they were.
     let mut voice_rng = Pcg64::seed_from_u64(spec.seed ^ 0x5eed_0001);
     let mut doublet_rng = Pcg64::seed_from_u64(spec.seed ^ 0x5eed_0004);
+    let mut attack_rng = Pcg64::seed_from_u64(spec.seed ^ 0x5eed_0005);
     let mut mix: Vec<f64> = vec![];
     for (i, b) in spec.bells.iter().enumerate() {
         // An impulse of a tenth of the bell's mass (N s) sets its nominal
@@ -511,6 +518,14 @@ pub fn tower_recording(spec: &TowerSpec) -> Result<(Signal, Vec<TrueStrike>), Si
             rest_damping: 1.0,
             acceleration: false,
         })?;
+        if let Some(attack) = spec.attack {
+            let knocks: Vec<(f64, f64)> = strikes
+                .iter()
+                .filter(|s| s.bell == i + 1)
+                .flat_map(|s| std::iter::once((s.t, 1.0)).chain(s.double.map(|(d, r)| (s.t + d, r))))
+                .collect();
+            attack.add(&mut sound.samples, spec.rate, &knocks, &mut attack_rng);
+        }
         if let Some(swing) = spec.swing {
             sound.samples = swing.apply(&sound.samples, spec.rate, &strike_times);
         }
@@ -740,6 +755,7 @@ mod tests {
             swing: None,
             voice: Voice::Tower,
             noise: Noise::White,
+            attack: None,
         }
     }
 
@@ -1038,6 +1054,54 @@ mod tests {
         spec.snr_db = Some(10.0);
         spec.noise = Noise::Traffic;
         assert!(tower_recording(&spec).is_ok());
+    }
+
+    #[test]
+    fn the_knock_is_as_loud_and_as_long_as_asked() {
+        let plain = TowerSpec {
+            rate: 22_050.0,
+            ..one_bell(1)
+        };
+        let knock = TowerSpec {
+            attack: Some(Attack {
+                level_db: -20.0,
+                length_ms: 30.0,
+            }),
+            ..plain.clone()
+        };
+        let (a, truth) = tower_recording(&plain).unwrap();
+        let (b, _) = tower_recording(&knock).unwrap();
+        // The two agree but for scale once the knock has died (80 dB down
+        // after 120 ms): find the scale there, and the knock is the rest.
+        let late = ((truth[0].t + 0.3) * a.rate) as usize;
+        let k = b.samples[late..]
+            .iter()
+            .zip(&a.samples[late..])
+            .map(|(x, y)| x * y)
+            .sum::<f64>()
+            / a.samples[late..].iter().map(|y| y * y).sum::<f64>();
+        let plain: Vec<f64> = a.samples.iter().map(|v| k * v).collect();
+        let burst: Vec<f64> = b.samples.iter().zip(&plain).map(|(x, y)| x - y).collect();
+        let frame = (crate::tower_effects::ATTACK_FRAME_S * a.rate).round() as usize;
+        let energy = |x: &[f64], from: usize| x[from..from + frame].iter().map(|v| v * v).sum::<f64>();
+        let at = (truth[0].t * a.rate).ceil() as usize;
+        let loudest = (at..at + 2000).map(|i| energy(&plain, i)).fold(0.0, f64::max);
+        let level = 10.0 * (energy(&burst, at) / loudest).log10();
+        assert!((level + 20.0).abs() < 1.5, "knock {level:.1} dB");
+        // 20 dB down 30 ms on, over a few frames.
+        let later = (0..4)
+            .map(|j| energy(&burst, at + (0.03 * a.rate) as usize + j * frame))
+            .sum::<f64>();
+        let first = (0..4).map(|j| energy(&burst, at + j * frame)).sum::<f64>();
+        let fall = 10.0 * (first / later).log10();
+        assert!((fall - 20.0).abs() < 2.0, "falls {fall:.1} dB in 30 ms");
+        assert!(burst[..at].iter().all(|v| v.abs() < 1e-12), "nothing before the strike");
+        assert!(Attack {
+            level_db: 5.0,
+            length_ms: 30.0
+        }
+        .check()
+        .is_err());
     }
 
     #[test]

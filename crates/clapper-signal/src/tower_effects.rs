@@ -362,6 +362,69 @@ impl Swing {
     }
 }
 
+/// The strike's broadband part: the clapper's knock, a burst of white
+/// noise from each strike falling exponentially, heard over the partials.
+/// Real bells (docs/strikes.md, "What real bells sound like"): −22 to −27
+/// dB against the strike's loudest frame (tower), falling to the level
+/// between the partials in up to 150-250 ms.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Attack {
+    /// The burst's energy in its first [`ATTACK_FRAME_S`] over the bell's
+    /// loudest frame of that length (dB), for a full-strength strike (a
+    /// double's second strike's burst is scaled by its amplitude ratio).
+    pub level_db: f64,
+    /// The time the burst takes to fall 20 dB (ms).
+    pub length_ms: f64,
+}
+
+/// The frame over which an [`Attack`]'s level is set (s): 256 samples at
+/// 44.1 kHz, as it was measured.
+pub const ATTACK_FRAME_S: f64 = 256.0 / 44_100.0;
+
+impl Attack {
+    /// Refuse a level outside −80 to 0 dB or a length outside 0.5 to 500 ms.
+    pub fn check(&self) -> Result<(), SignalError> {
+        let ok = self.level_db.is_finite()
+            && (-80.0..=0.0).contains(&self.level_db)
+            && self.length_ms.is_finite()
+            && (0.5..=500.0).contains(&self.length_ms);
+        if !ok {
+            return Err(SignalError::Option(format!(
+                "attack {} dB, {} ms: from -80 to 0 dB and 0.5 to 500 ms",
+                self.level_db, self.length_ms
+            )));
+        }
+        Ok(())
+    }
+
+    /// Add the bursts of `strikes` (time s, amplitude ratio) to `samples`
+    /// (one bell's sound at `rate` Hz), drawing the noise from `rng`.
+    pub fn add(&self, samples: &mut [f64], rate: f64, strikes: &[(f64, f64)], rng: &mut Pcg64) {
+        let frame = ((ATTACK_FRAME_S * rate).round() as usize).max(1);
+        // The bell's loudest frame, by energy (a running sum over `frame` samples).
+        let (mut run, mut loudest) = (0.0f64, 0.0f64);
+        for i in 0..samples.len() {
+            run += samples[i] * samples[i];
+            if i >= frame {
+                run -= samples[i - frame] * samples[i - frame];
+            }
+            loudest = loudest.max(run);
+        }
+        // Amplitude falls 20 dB (a factor 10) in `length_ms`.
+        let k = 10f64.ln() / (self.length_ms * 1e-3 * rate);
+        let first: f64 = (0..frame).map(|i| (-2.0 * k * i as f64).exp()).sum();
+        let sd = (loudest * 10f64.powf(self.level_db / 10.0) / first).sqrt();
+        // The burst is let run until it has fallen 80 dB.
+        let len = (4.0 * 10f64.ln() / k).ceil() as usize;
+        for &(t, ratio) in strikes {
+            let at = (t * rate).ceil() as usize;
+            for i in 0..len.min(samples.len().saturating_sub(at)) {
+                samples[at + i] += ratio * sd * (-k * i as f64).exp() * gaussian(rng);
+            }
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
