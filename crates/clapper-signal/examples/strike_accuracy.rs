@@ -12,8 +12,9 @@
 //! seeds 21-40). Rows 5 on (issue 43) add what real bells do to row 1,
 //! each alone (doublets, the swing's level and Doppler, 10 and 12 bells,
 //! a minor ring with a 250 Hz tenor, handbells, peal speed, wind, traffic,
-//! methods), all of the swing and doublets together in a room, and the
-//! clapper's knock (`all` picks every row).
+//! methods), all of the swing and doublets together in a room, the
+//! clapper's knock, doublets of near-even halves, a 6 dB swing (`all`
+//! picks every row).
 
 use clapper_signal::strikes::{find_strikes, BellVoice, StrikeOptions};
 use clapper_signal::striking::{mean_sd, rhythm, Timed};
@@ -128,6 +129,18 @@ fn conditions() -> Vec<Condition> {
             s.attack = Some(Attack {
                 level_db: -24.0,
                 length_ms: 30.0,
+            })
+        }),
+        c("row 1 + doublets 0.1-3 Hz, shares 0.4-0.6", 25.0, None, eight, |s| {
+            s.doublets = Some(Doublets {
+                split_hz: (0.1, 3.0),
+                share: (0.4, 0.6),
+            })
+        }),
+        c("row 1 + swing 6 dB", 25.0, None, eight, |s| {
+            s.swing = Some(Swing {
+                level_db: 6.0,
+                doppler: 0.0,
             })
         }),
     ]
