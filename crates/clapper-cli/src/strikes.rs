@@ -182,11 +182,17 @@ pub struct SynthRingArgs {
     /// Doublets as real bells have them: each partial of each bell two
     /// components split by an amount drawn within LOW:HIGH (Hz, e.g. 0.1:3),
     /// fixed per bell; omit for every partial a 0.5 Hz doublet of equal halves.
-    #[arg(long, value_name = "LOW_HZ:HIGH_HZ")]
+    #[arg(long, value_name = "LOW_HZ:HIGH_HZ", allow_hyphen_values = true)]
     pub doublets: Option<String>,
     /// The lower component's share of each doublet's strength, drawn within
     /// LOW:HIGH (0 to 1); with --doublets.
-    #[arg(long, default_value = "0.2:0.8", value_name = "LOW:HIGH", requires = "doublets")]
+    #[arg(
+        long,
+        default_value = "0.2:0.8",
+        value_name = "LOW:HIGH",
+        requires = "doublets",
+        allow_hyphen_values = true
+    )]
     pub doublet_shares: String,
     /// The bells' swing heard from below: the level rises by this much (dB)
     /// from a strike (mouth up) to mid-stroke (mouth down); real bells 6 to 15 dB.

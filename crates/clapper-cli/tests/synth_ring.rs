@@ -199,6 +199,10 @@ fn nonsense_is_refused_with_a_reason() {
         (&["--doublets", "3:1"][..], "doublet splits 3 to 1 Hz"),
         (&["--doublets", "fast"][..], "--doublets is LOW_HZ:HIGH_HZ"),
         (
+            &["--doublets", "-1:2"][..],
+            "doublet splits -1 to 2 Hz: from 0 to 20 Hz",
+        ),
+        (
             &["--doublets", "0.1:3", "--doublet-shares", "0.2:1.5"][..],
             "doublet shares 0.2 to 1.5",
         ),
