@@ -282,10 +282,7 @@ fn readme() -> String {
         r2 = DROP_R.1,
         nb = t.bells.len(),
         rows = t.rows,
-        method = match t.method {
-            Method::PlainHunt => "plain hunt",
-            Method::Rounds => "rounds",
-        },
+        method = t.method.name(),
         rt60 = t.room.map_or(0.0, |r| r.rt60_s),
         snr = t.snr_db.unwrap_or(f64::INFINITY),
         rate = t.rate,

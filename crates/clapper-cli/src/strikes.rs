@@ -10,7 +10,10 @@ use clapper_app::strikes::{strike_options, voices_from_nominals, StrikesReport, 
 use clapper_io::signal_file::{read_recording, write_wav};
 use clapper_io::strike_file::{csv_text, lowndes};
 use clapper_signal::strikes::BellVoice;
-use clapper_signal::tower::{major_scale, tower_recording, DoubleStrikeSpec, Method, Room, TowerSpec};
+use clapper_signal::tower::{
+    major_scale, tower_recording, tuned_ring, Attack, DoubleStrikeSpec, Doublets, Method, Noise, PlainCourse, Room,
+    Scale, Swing, TowerSpec, Voice,
+};
 
 use crate::files::write_bytes;
 use crate::measure::print_report;
@@ -129,18 +132,34 @@ pub struct SynthRingArgs {
     /// time (CSV); `-` is standard output.
     #[arg(long, value_name = "FILE")]
     pub truth: Option<PathBuf>,
-    /// Bells in the ring (tuned to a major scale down from the treble).
+    /// Bells in the ring (without --tuning: steps of 2, 2, 1, 2, 2, 2, 1
+    /// semitones down from the treble, as before).
     #[arg(long, default_value_t = 8)]
     pub bells: usize,
     /// The treble's nominal (Hz).
     #[arg(long, default_value_t = 1400.0, value_name = "HZ")]
     pub treble_hz: f64,
+    /// Tune the ring to a major or minor scale up from the tenor (the key
+    /// note), the tenor's nominal --tenor-hz.
+    #[arg(long, value_enum, value_name = "SCALE", conflicts_with = "treble_hz")]
+    pub tuning: Option<TuningArg>,
+    /// The tenor's nominal (Hz), with --tuning [default: 600] (250 Hz: a heavy ring).
+    #[arg(long, value_name = "HZ", requires = "tuning", allow_hyphen_values = true)]
+    pub tenor_hz: Option<f64>,
+    /// Handbells: each a strike note and its twelfth, no hum, decays of a few seconds.
+    #[arg(long)]
+    pub handbells: bool,
     /// Rows rung (handstroke first).
     #[arg(long, default_value_t = 24)]
     pub rows: usize,
     /// Plain hunt after two rows of rounds (else rounds throughout).
-    #[arg(long)]
+    #[arg(long, conflicts_with = "method")]
     pub plain_hunt: bool,
+    /// What the bells ring after two rows of rounds: a method's plain course
+    /// over and over (Plain Bob on 4-12 bells; Grandsire and Stedman on 5-12,
+    /// the tenor covering on an even number).
+    #[arg(long, value_enum, value_name = "METHOD")]
+    pub method: Option<MethodArg>,
     /// Time between successive bells (ms).
     #[arg(long, default_value_t = 220.0, value_name = "MS")]
     pub interval_ms: f64,
@@ -160,14 +179,80 @@ pub struct SynthRingArgs {
     #[arg(long, default_value_t = 0.0, value_name = "S")]
     pub rt60: f64,
     /// Signal-to-noise ratio (dB); omit for no noise.
-    #[arg(long, value_name = "DB")]
+    #[arg(long, value_name = "DB", allow_hyphen_values = true)]
     pub snr: Option<f64>,
+    /// The noise heard at --snr: white, wind (gusts below 300 Hz) or
+    /// traffic (rumble and passing vehicles below 800 Hz).
+    #[arg(long, value_enum, default_value = "white")]
+    pub noise: NoiseArg,
     /// Sample rate (Hz).
     #[arg(long, default_value_t = 22050.0)]
     pub rate: f64,
     /// Seed of the striking errors, voices, room and noise.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Doublets as real bells have them: each partial of each bell two
+    /// components split by an amount drawn within LOW:HIGH (Hz, e.g. 0.1:3),
+    /// fixed per bell; omit for every partial a 0.5 Hz doublet of equal halves.
+    #[arg(long, value_name = "LOW_HZ:HIGH_HZ", allow_hyphen_values = true)]
+    pub doublets: Option<String>,
+    /// The lower component's share of each doublet's strength, drawn within
+    /// LOW:HIGH (0 to 1); with --doublets.
+    #[arg(
+        long,
+        default_value = "0.2:0.8",
+        value_name = "LOW:HIGH",
+        requires = "doublets",
+        allow_hyphen_values = true
+    )]
+    pub doublet_shares: String,
+    /// The bells' swing heard from below: the level rises by this much (dB)
+    /// from a strike (mouth up) to mid-stroke (mouth down); real bells 6 to 15 dB.
+    #[arg(long, default_value_t = 0.0, value_name = "DB", allow_hyphen_values = true)]
+    pub swing_db: f64,
+    /// The swing's Doppler shift: its peak in each stroke (% of the frequency; real bells up to about 1 %).
+    #[arg(long, default_value_t = 0.0, value_name = "PCT", allow_hyphen_values = true)]
+    pub doppler_pct: f64,
+    /// The clapper's knock: a burst of noise at each strike, DB against the
+    /// strike's loudest 5.8 ms (real tower bells about -24) falling 20 dB in
+    /// MS milliseconds; omit for strikes that are pure partials.
+    #[arg(long, value_name = "DB:MS", allow_hyphen_values = true)]
+    pub attack: Option<String>,
+}
+
+/// A scale for --tuning.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum TuningArg {
+    /// The major scale up from the tenor.
+    Major,
+    /// The natural minor scale up from the tenor.
+    Minor,
+}
+
+/// A method for --method.
+#[derive(Clone, Copy, Debug, clap::ValueEnum)]
+pub enum MethodArg {
+    /// Rounds throughout.
+    Rounds,
+    /// Plain hunt.
+    PlainHunt,
+    /// Plain Bob.
+    PlainBob,
+    /// Grandsire.
+    Grandsire,
+    /// Stedman.
+    Stedman,
+}
+
+/// A kind of noise for --noise.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum NoiseArg {
+    /// White noise.
+    White,
+    /// Wind.
+    Wind,
+    /// Traffic.
+    Traffic,
 }
 
 fn fields(s: &str, n: usize, what: &str) -> Result<Vec<f64>> {
@@ -187,7 +272,19 @@ pub fn synth_ring(args: SynthRingArgs) -> Result<()> {
     if !(1..=16).contains(&args.bells) {
         bail!("{} bells: 1 to 16", args.bells);
     }
-    let Some(mut bells) = major_scale(args.bells, args.treble_hz) else {
+    if args.noise != NoiseArg::White && args.snr.is_none() {
+        bail!("--noise: say how loud with --snr DB");
+    }
+    let tenor_hz = args.tenor_hz.unwrap_or(600.0);
+    let ring = match args.tuning {
+        None => major_scale(args.bells, args.treble_hz),
+        Some(_) if !(tenor_hz.is_finite() && tenor_hz >= 20.0 && tenor_hz < 0.45 * args.rate) => {
+            bail!("--tenor-hz {tenor_hz}: from 20 Hz to under 0.45 of the sample rate")
+        }
+        Some(TuningArg::Major) => tuned_ring(args.bells, tenor_hz, Scale::Major),
+        Some(TuningArg::Minor) => tuned_ring(args.bells, tenor_hz, Scale::Minor),
+    };
+    let Some(mut bells) = ring else {
         bail!("{} bells: 1 to 16", args.bells);
     };
     for o in &args.odd {
@@ -220,13 +317,47 @@ pub fn synth_ring(args: SynthRingArgs) -> Result<()> {
         seed: args.seed,
         doubles,
         tail: 3.0,
-        method: if args.plain_hunt {
-            Method::PlainHunt
-        } else {
-            Method::Rounds
+        method: match args.method {
+            _ if args.plain_hunt => Method::PlainHunt,
+            None | Some(MethodArg::Rounds) => Method::Rounds,
+            Some(MethodArg::PlainHunt) => Method::PlainHunt,
+            Some(MethodArg::PlainBob) => Method::Course(PlainCourse::PlainBob),
+            Some(MethodArg::Grandsire) => Method::Course(PlainCourse::Grandsire),
+            Some(MethodArg::Stedman) => Method::Course(PlainCourse::Stedman),
+        },
+        attack: match &args.attack {
+            None => None,
+            Some(a) => {
+                let v = fields(a, 2, "--attack is DB:MS, e.g. -24:30")?;
+                Some(Attack {
+                    level_db: v[0],
+                    length_ms: v[1],
+                })
+            }
+        },
+        voice: if args.handbells { Voice::Handbell } else { Voice::Tower },
+        noise: match args.noise {
+            NoiseArg::White => Noise::White,
+            NoiseArg::Wind => Noise::Wind,
+            NoiseArg::Traffic => Noise::Traffic,
         },
         room: (args.rt60 > 0.0).then_some(Room::chamber(args.rt60)),
         snr_db: args.snr,
+        doublets: match &args.doublets {
+            None => None,
+            Some(d) => {
+                let split = fields(d, 2, "--doublets is LOW_HZ:HIGH_HZ, e.g. 0.1:3")?;
+                let share = fields(&args.doublet_shares, 2, "--doublet-shares is LOW:HIGH, e.g. 0.2:0.8")?;
+                Some(Doublets {
+                    split_hz: (split[0], split[1]),
+                    share: (share[0], share[1]),
+                })
+            }
+        },
+        swing: (args.swing_db != 0.0 || args.doppler_pct != 0.0).then_some(Swing {
+            level_db: args.swing_db,
+            doppler: args.doppler_pct * 1e-2,
+        }),
         ..TowerSpec::new(bells.clone())
     };
     let (sig, truth) = tower_recording(&spec)?;

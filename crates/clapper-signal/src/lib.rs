@@ -11,6 +11,7 @@
 
 pub mod accel;
 pub mod contacts;
+pub mod methods;
 pub mod modes;
 pub mod ringing_log;
 pub mod ringing_log_synth;
@@ -19,6 +20,7 @@ pub mod strikes;
 pub mod striking;
 pub mod synth;
 pub mod tower;
+pub mod tower_effects;
 
 /// The median of `v` (the upper of the middle two), 0 for none.
 pub(crate) fn median(v: &[f64]) -> f64 {

@@ -376,6 +376,11 @@ mod tests {
             variation: Variation::NONE,
             room: None,
             snr_db: None,
+            doublets: None,
+            swing: None,
+            voice: crate::tower::Voice::Tower,
+            noise: crate::tower::Noise::White,
+            attack: None,
         }
     }
 

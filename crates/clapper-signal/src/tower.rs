@@ -21,7 +21,9 @@ use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 use realfft::RealFftPlanner;
 
+pub use crate::methods::PlainCourse;
 use crate::synth::{synthesize, Strike, SynthMode, SynthSpec};
+pub use crate::tower_effects::{Attack, Doublets, Noise, Scale, Swing, Voice};
 use crate::{Signal, SignalError};
 
 /// One bell of the ring.
@@ -83,6 +85,17 @@ pub struct TowerSpec {
     /// Signal-to-noise ratio (dB): white noise whose power is this far
     /// below the mean power of the ringing; `None`: no noise.
     pub snr_db: Option<f64>,
+    /// Doublets of unequal halves fixed per bell and partial; `None`: every
+    /// partial a 0.5 Hz doublet of equal halves (the voice before issue 43).
+    pub doublets: Option<Doublets>,
+    /// The bells' swing heard (level and Doppler); `None`: bells heard still.
+    pub swing: Option<Swing>,
+    /// The bells' voice: tower bells (hum to upper partials) or handbells.
+    pub voice: Voice,
+    /// The noise heard at `snr_db`: white, wind or traffic.
+    pub noise: Noise,
+    /// The strike's broadband knock; `None`: strikes are ideal impulses.
+    pub attack: Option<Attack>,
 }
 
 impl TowerSpec {
@@ -109,6 +122,11 @@ impl TowerSpec {
             variation: Variation::TUNED,
             room: None,
             snr_db: None,
+            doublets: None,
+            swing: None,
+            voice: Voice::Tower,
+            noise: Noise::White,
+            attack: None,
         }
     }
 }
@@ -121,6 +139,49 @@ pub enum Method {
     /// Two rows of rounds, then plain hunt (every bell moves one place a
     /// row, leading and lying behind for two), back to rounds and again.
     PlainHunt,
+    /// Two rows of rounds, then the method's plain course over and over
+    /// ([`PlainCourse`]: Plain Bob, Grandsire, Stedman).
+    Course(PlainCourse),
+}
+
+impl Method {
+    /// The method's name: "rounds", "plain hunt", "Plain Bob", ...
+    pub fn name(&self) -> &'static str {
+        match self {
+            Method::Rounds => "rounds",
+            Method::PlainHunt => "plain hunt",
+            Method::Course(c) => c.name(),
+        }
+    }
+}
+
+/// The bells in the order they strike (from 0, the treble) in each of
+/// `rows` rows of `method` on `n` bells.
+fn method_rows(method: Method, n: usize, rows: usize) -> Result<Vec<Vec<usize>>, SignalError> {
+    let mut order: Vec<usize> = (0..n).collect();
+    let course = match method {
+        Method::Course(c) => c.course(n)?,
+        _ => vec![],
+    };
+    let mut out = Vec::with_capacity(rows);
+    for row in 0..rows {
+        match method {
+            Method::Rounds => {}
+            Method::PlainHunt if row >= 2 => {
+                // Swap pairs from the lead on even changes, from second place on odd.
+                for k in ((row % 2)..n.saturating_sub(1)).step_by(2) {
+                    order.swap(k, k + 1);
+                }
+            }
+            Method::PlainHunt => {}
+            // Rows 0 and 1 rounds, then the course from its first change,
+            // round to rounds and on.
+            Method::Course(_) if row >= 2 => order = course[(row - 1) % course.len()].clone(),
+            Method::Course(_) => {}
+        }
+        out.push(order.clone());
+    }
+    Ok(out)
 }
 
 /// How far a bell's partials stray from the typical tuned bell, drawn per
@@ -161,6 +222,27 @@ pub fn major_scale(bells: usize, treble_hz: f64) -> Option<Vec<RingBell>> {
                 nominal_hz: treble_hz * 2f64.powf(-f64::from(s) / 12.0),
                 mass_kg: 150.0 * 2f64.powf(f64::from(s) / 4.0),
                 odd_struck_ms: 0.0,
+            })
+            .collect()
+    })
+}
+
+/// A ring of `bells` (1 to 16) tuned to `scale` up from the tenor's
+/// nominal `tenor_hz` (Hz): the tenor the key note, the treble highest, as
+/// rings are hung (an eight the octave; ten and twelve going on above it).
+/// Masses as [`major_scale`]'s: a bell's as the cube of its size, 150 kg at
+/// a 1400 Hz nominal. `None` for more than 16 bells.
+pub fn tuned_ring(bells: usize, tenor_hz: f64, scale: Scale) -> Option<Vec<RingBell>> {
+    let steps = scale.semitones();
+    (bells <= steps.len()).then(|| {
+        (0..bells)
+            .map(|i| {
+                let f = tenor_hz * 2f64.powf(f64::from(steps[bells - 1 - i]) / 12.0);
+                RingBell {
+                    nominal_hz: f,
+                    mass_kg: 150.0 * (1400.0 / f).powi(3),
+                    odd_struck_ms: 0.0,
+                }
             })
             .collect()
     })
@@ -263,6 +345,15 @@ fn check(spec: &TowerSpec) -> Result<(), SignalError> {
             return bad(format!("SNR {snr} dB: above -20 dB"));
         }
     }
+    if let Some(d) = spec.doublets {
+        d.check()?;
+    }
+    if let Some(s) = spec.swing {
+        s.check()?;
+    }
+    if let Some(a) = spec.attack {
+        a.check()?;
+    }
     for d in &spec.doubles {
         let ok = (1..=spec.bells.len()).contains(&d.bell)
             && d.row < spec.rows
@@ -285,15 +376,9 @@ pub fn tower_strikes(spec: &TowerSpec) -> Result<Vec<TrueStrike>, SignalError> {
     let n = spec.bells.len();
     let mut rng = Pcg64::seed_from_u64(spec.seed);
     let mut out = vec![];
-    let mut order: Vec<usize> = (0..n).collect();
-    for row in 0..spec.rows {
+    let orders = method_rows(spec.method, n, spec.rows)?;
+    for (row, order) in orders.iter().enumerate() {
         let hand = row % 2 == 0;
-        if spec.method == Method::PlainHunt && row >= 2 {
-            // Swap pairs from the lead on even changes, from second place on odd.
-            for k in ((row % 2)..n.saturating_sub(1)).step_by(2) {
-                order.swap(k, k + 1);
-            }
-        }
         let row_start = spec.lead_in + spec.interval * ((row * n) as f64 + (row / 2) as f64 * spec.handstroke_gap);
         for (i, b) in spec.bells.iter().enumerate() {
             let place = order.iter().position(|&x| x == i).unwrap_or(i);
@@ -346,8 +431,20 @@ pub const TUNED_PARTIALS: [(f64, f64, f64); 9] = [
 /// the sample rate are left out. Strength is set through the effective
 /// mass (a third of the bell's mass for the nominal).
 pub fn bell_voice(b: &RingBell, variation: Variation, rate: f64, rng: &mut Pcg64) -> Vec<SynthMode> {
+    voice_of(&TUNED_PARTIALS, b, variation, rate, rng)
+}
+
+/// One bell's partials `partials` (ratio to the nominal, Q, strength to
+/// the nominal's) as heard, as [`bell_voice`] makes them.
+pub fn voice_of(
+    partials: &[(f64, f64, f64)],
+    b: &RingBell,
+    variation: Variation,
+    rate: f64,
+    rng: &mut Pcg64,
+) -> Vec<SynthMode> {
     let mut out = vec![];
-    for &(ratio, q, strength) in &TUNED_PARTIALS {
+    for &(ratio, q, strength) in partials {
         let cents = if variation.detune_cents > 0.0 && ratio != 1.0 {
             rng.random_range(-variation.detune_cents..variation.detune_cents)
         } else {
@@ -384,6 +481,8 @@ pub fn tower_recording(spec: &TowerSpec) -> Result<(Signal, Vec<TrueStrike>), Si
     // Voices, room and noise draw from their own streams, so changing one
     // leaves the others (and the strike times) as they were.
     let mut voice_rng = Pcg64::seed_from_u64(spec.seed ^ 0x5eed_0001);
+    let mut doublet_rng = Pcg64::seed_from_u64(spec.seed ^ 0x5eed_0004);
+    let mut attack_rng = Pcg64::seed_from_u64(spec.seed ^ 0x5eed_0005);
     let mut mix: Vec<f64> = vec![];
     for (i, b) in spec.bells.iter().enumerate() {
         // An impulse of a tenth of the bell's mass (N s) sets its nominal
@@ -404,15 +503,32 @@ pub fn tower_recording(spec: &TowerSpec) -> Result<(Signal, Vec<TrueStrike>), Si
                 });
             }
         }
-        let sound = synthesize(&SynthSpec {
+        let mut modes = voice_of(spec.voice.partials(), b, spec.variation, spec.rate, &mut voice_rng);
+        if let Some(d) = spec.doublets {
+            modes = crate::tower_effects::split_doublets(&modes, d, &mut doublet_rng).0;
+        }
+        // The swing turns from strike to strike; a double strike is within one stroke.
+        let strike_times: Vec<f64> = strikes.iter().filter(|s| s.bell == i + 1).map(|s| s.t).collect();
+        let mut sound = synthesize(&SynthSpec {
             rate: spec.rate,
             duration: end,
-            modes: bell_voice(b, spec.variation, spec.rate, &mut voice_rng),
+            modes,
             strikes: hits,
             rests: vec![],
             rest_damping: 1.0,
             acceleration: false,
         })?;
+        if let Some(attack) = spec.attack {
+            let knocks: Vec<(f64, f64)> = strikes
+                .iter()
+                .filter(|s| s.bell == i + 1)
+                .flat_map(|s| std::iter::once((s.t, 1.0)).chain(s.double.map(|(d, r)| (s.t + d, r))))
+                .collect();
+            attack.add(&mut sound.samples, spec.rate, &knocks, &mut attack_rng);
+        }
+        if let Some(swing) = spec.swing {
+            sound.samples = swing.apply(&sound.samples, spec.rate, &strike_times);
+        }
         if mix.is_empty() {
             mix = sound.samples;
         } else {
@@ -433,8 +549,18 @@ pub fn tower_recording(spec: &TowerSpec) -> Result<(Signal, Vec<TrueStrike>), Si
         let power = ringing.iter().map(|v| v * v).sum::<f64>() / ringing.len().max(1) as f64;
         let sd = (power / 10f64.powf(snr / 10.0)).sqrt();
         let mut rng = Pcg64::seed_from_u64(spec.seed ^ 0x5eed_0003);
-        for m in &mut mix {
-            *m += sd * gaussian(&mut rng);
+        match spec.noise {
+            Noise::White => {
+                for m in &mut mix {
+                    *m += sd * gaussian(&mut rng);
+                }
+            }
+            kind => {
+                let noise = kind.make(mix.len(), spec.rate, &mut rng);
+                for (m, v) in mix.iter_mut().zip(noise) {
+                    *m += sd * v;
+                }
+            }
         }
     }
     let peak = mix.iter().fold(0.0f64, |p, v| p.max(v.abs()));
@@ -453,7 +579,7 @@ pub fn tower_recording(spec: &TowerSpec) -> Result<(Signal, Vec<TrueStrike>), Si
 }
 
 /// A standard normal deviate (Box–Muller).
-fn gaussian(rng: &mut Pcg64) -> f64 {
+pub(crate) fn gaussian(rng: &mut Pcg64) -> f64 {
     let u: f64 = 1.0 - rng.random::<f64>();
     let v: f64 = rng.random::<f64>();
     (-2.0 * u.ln()).sqrt() * (2.0 * PI * v).cos()
@@ -625,7 +751,357 @@ mod tests {
             variation: Variation::NONE,
             room: None,
             snr_db: None,
+            doublets: None,
+            swing: None,
+            voice: Voice::Tower,
+            noise: Noise::White,
+            attack: None,
         }
+    }
+
+    /// One bell of nominal 1000 Hz struck on every stroke, its partials
+    /// single components unless a test says otherwise.
+    fn one_bell(rows: usize) -> TowerSpec {
+        let mut spec = ring(1);
+        spec.bells[0].nominal_hz = 1000.0;
+        spec.rows = rows;
+        spec.interval = 1.0;
+        spec.tail = 3.0;
+        spec.doublets = Some(Doublets::NONE);
+        spec
+    }
+
+    /// The band about `f` (Hz): the signal turned down by `f` and averaged
+    /// over Hann windows `win` (s) long a hop of `win`/4 apart (the other
+    /// partials, 250 Hz and more away, left out): (time s, re, im).
+    fn band(sig: &Signal, f: f64, win: f64) -> Vec<(f64, f64, f64)> {
+        let n = (win * sig.rate) as usize;
+        let w = 2.0 * PI * f / sig.rate;
+        (0..(sig.samples.len() - n) / (n / 4))
+            .map(|k| {
+                let a = k * n / 4;
+                let (mut re, mut im) = (0.0, 0.0);
+                for i in a..a + n {
+                    let hann = 1.0 - (2.0 * PI * (i - a) as f64 / n as f64).cos();
+                    re += hann * sig.samples[i] * (w * i as f64).cos();
+                    im -= hann * sig.samples[i] * (w * i as f64).sin();
+                }
+                ((a as f64 + n as f64 / 2.0) / sig.rate, re / n as f64, im / n as f64)
+            })
+            .collect()
+    }
+
+    #[test]
+    fn a_doublet_beats_at_its_split_with_the_depth_its_shares_give() {
+        let mut spec = one_bell(1);
+        spec.tail = 3.0;
+        spec.doublets = Some(Doublets {
+            split_hz: (1.25, 1.25),
+            share: (0.3, 0.3),
+        });
+        let (sig, truth) = tower_recording(&spec).unwrap();
+        // The nominal's envelope (dB), its exponential decay taken out by a
+        // straight line through it: what is left is the beat.
+        // Three seconds of it, while the nominal is 50 dB above the others' leak.
+        let env: Vec<(f64, f64)> = band(&sig, 1000.0, 0.05)
+            .into_iter()
+            .filter(|p| p.0 > truth[0].t + 0.05 && p.0 < truth[0].t + 3.0)
+            .map(|(t, re, im)| (t, 20.0 * re.hypot(im).log10()))
+            .collect();
+        let n = env.len() as f64;
+        let (mt, my) = (
+            env.iter().map(|p| p.0).sum::<f64>() / n,
+            env.iter().map(|p| p.1).sum::<f64>() / n,
+        );
+        let slope = env.iter().map(|p| (p.0 - mt) * (p.1 - my)).sum::<f64>()
+            / env.iter().map(|p| (p.0 - mt).powi(2)).sum::<f64>();
+        let rest: Vec<(f64, f64)> = env.iter().map(|p| (p.0, p.1 - my - slope * (p.0 - mt))).collect();
+        // The beat's frequency: the strongest line of the residue from 0.2 to 5 Hz.
+        let power = |f: f64| {
+            let (c, s) = rest.iter().fold((0.0, 0.0), |(c, s), p| {
+                (
+                    c + p.1 * (2.0 * PI * f * p.0).cos(),
+                    s + p.1 * (2.0 * PI * f * p.0).sin(),
+                )
+            });
+            c * c + s * s
+        };
+        let beat = (20..=500)
+            .map(|k| k as f64 / 100.0)
+            .max_by(|a, b| power(*a).total_cmp(&power(*b)))
+            .unwrap();
+        assert!((1.0 / beat - 0.8).abs() < 0.03, "beat period {} s", 1.0 / beat);
+        let depth =
+            rest.iter().map(|p| p.1).fold(f64::MIN, f64::max) - rest.iter().map(|p| p.1).fold(f64::MAX, f64::min);
+        let want = crate::tower_effects::beat_depth_db(0.3);
+        assert!(
+            (depth - want).abs() < 1.5,
+            "beats {depth:.1} dB deep, shares give {want:.1} dB"
+        );
+    }
+
+    #[test]
+    fn the_swing_changes_the_level_by_the_range_asked_and_keeps_the_strike_times() {
+        let still = one_bell(3);
+        let swing = TowerSpec {
+            swing: Some(Swing {
+                level_db: 12.0,
+                doppler: 0.0,
+            }),
+            ..still.clone()
+        };
+        let (a, truth) = tower_recording(&still).unwrap();
+        let (b, truth_b) = tower_recording(&swing).unwrap();
+        assert_eq!(truth, truth_b, "the truth is the same");
+        // The nominal's level swinging over still, through the second stroke.
+        let (ea, eb) = (band(&a, 1000.0, 0.02), band(&b, 1000.0, 0.02));
+        let db: Vec<f64> = ea
+            .iter()
+            .zip(&eb)
+            .filter(|(p, _)| p.0 > truth[1].t + 0.02 && p.0 < truth[2].t - 0.02)
+            .map(|(p, q)| 20.0 * (q.1.hypot(q.2) / p.1.hypot(p.2)).log10())
+            .collect();
+        let hi = db.iter().copied().fold(f64::MIN, f64::max);
+        let lo = db.iter().copied().fold(f64::MAX, f64::min);
+        // Peak normalising scales the whole recording: the range is what counts.
+        assert!((hi - lo - 12.0).abs() < 0.5, "the level ranges over {:.2} dB", hi - lo);
+        // The strike is heard when it was made: the first sound of the
+        // recording within a millisecond of the first strike.
+        let first = b.samples.iter().position(|v| v.abs() > 1e-3).unwrap() as f64 / b.rate;
+        assert!(
+            (first - truth[0].t).abs() < 1e-3,
+            "heard at {first}, struck at {}",
+            truth[0].t
+        );
+    }
+
+    #[test]
+    fn the_swing_shifts_the_frequency_by_the_doppler_asked() {
+        let spec = TowerSpec {
+            swing: Some(Swing {
+                level_db: 0.0,
+                doppler: 0.01,
+            }),
+            ..one_bell(3)
+        };
+        let (sig, truth) = tower_recording(&spec).unwrap();
+        // The nominal's frequency from its phase's turn from one window to
+        // the next (a hop of 10 ms), through the second stroke.
+        let e = band(&sig, 1000.0, 0.04);
+        let hop = e[1].0 - e[0].0;
+        let shift: Vec<(f64, f64)> = e
+            .windows(2)
+            .filter(|w| w[0].0 > truth[1].t + 0.03 && w[1].0 < truth[2].t - 0.03)
+            .map(|w| {
+                let turn = (w[1].2 * w[0].1 - w[1].1 * w[0].2).atan2(w[1].1 * w[0].1 + w[1].2 * w[0].2);
+                (w[0].0, turn / (2.0 * PI * hop) / 1000.0)
+            })
+            .collect();
+        let hi = shift.iter().map(|p| p.1).fold(f64::MIN, f64::max);
+        let lo = shift.iter().map(|p| p.1).fold(f64::MAX, f64::min);
+        assert!(
+            (hi - 0.01).abs() < 0.0005 && (lo + 0.01).abs() < 0.0005,
+            "shifts {hi} and {lo}"
+        );
+        // Up while the bell comes nearer (the first half of the stroke).
+        let mid = 0.5 * (truth[1].t + truth[2].t);
+        assert!(shift.iter().filter(|p| p.0 < mid - 0.2).all(|p| p.1 > -0.002));
+    }
+
+    #[test]
+    fn tuned_rings_are_major_and_minor_scales_up_from_the_tenor() {
+        let semis = |r: &[RingBell], a: usize, b: usize| 12.0 * (r[a].nominal_hz / r[b].nominal_hz).log2();
+        let major = tuned_ring(8, 250.0, Scale::Major).unwrap();
+        assert!((major[7].nominal_hz - 250.0).abs() < 1e-9 && (semis(&major, 0, 7) - 12.0).abs() < 1e-9);
+        // Up from the tenor: tone, tone, semitone (the fourth bell from the back a major third up).
+        assert!((semis(&major, 6, 7) - 2.0).abs() < 1e-9 && (semis(&major, 4, 7) - 5.0).abs() < 1e-9);
+        let minor = tuned_ring(6, 250.0, Scale::Minor).unwrap();
+        assert!(
+            (semis(&minor, 3, 5) - 3.0).abs() < 1e-9,
+            "a minor third above the tenor"
+        );
+        let twelve = tuned_ring(12, 300.0, Scale::Major).unwrap();
+        assert!(
+            (semis(&twelve, 0, 11) - 19.0).abs() < 1e-9,
+            "twelve bells span an octave and a fifth"
+        );
+        assert!(twelve
+            .windows(2)
+            .all(|w| w[0].nominal_hz > w[1].nominal_hz && w[0].mass_kg < w[1].mass_kg));
+        assert!(tuned_ring(17, 300.0, Scale::Minor).is_none());
+    }
+
+    #[test]
+    fn methods_ring_their_plain_courses_after_two_rows_of_rounds() {
+        for (course, n) in [
+            (PlainCourse::PlainBob, 6),
+            (PlainCourse::Grandsire, 8),
+            (PlainCourse::Stedman, 7),
+        ] {
+            let mut spec = ring(n);
+            spec.method = Method::Course(course);
+            spec.rows = 40;
+            let s = tower_strikes(&spec).unwrap();
+            let rows = course.course(n).unwrap();
+            for row in 0..40 {
+                let mut r: Vec<&TrueStrike> = s.iter().filter(|x| x.row == row).collect();
+                r.sort_by_key(|x| x.place);
+                let heard: Vec<usize> = r.iter().map(|x| x.bell - 1).collect();
+                let want = if row < 2 {
+                    (0..n).collect()
+                } else {
+                    rows[(row - 1) % rows.len()].clone()
+                };
+                assert_eq!(heard, want, "{} row {row}", course.name());
+            }
+        }
+        let mut spec = ring(4);
+        spec.method = Method::Course(PlainCourse::Stedman);
+        assert!(tower_strikes(&spec)
+            .unwrap_err()
+            .to_string()
+            .contains("Stedman on 4 bells"));
+    }
+
+    #[test]
+    fn a_peal_speed_twelve_keeps_its_rhythm() {
+        let mut spec = ring(12);
+        spec.interval = 0.15;
+        spec.jitter = 0.01;
+        spec.method = Method::PlainHunt;
+        let s = tower_strikes(&spec).unwrap();
+        assert_eq!(s.len(), 48);
+        assert!(s.iter().all(|x| (x.t - x.ideal_t).abs() <= 0.01));
+        assert!(s.windows(2).all(|w| w[1].t - w[0].t > 0.15 - 0.02 - 1e-9));
+        spec.jitter = 0.08;
+        assert!(
+            tower_strikes(&spec).is_err(),
+            "errors of half an interval mix places up"
+        );
+    }
+
+    #[test]
+    fn a_handbell_has_no_hum_and_dies_away_in_seconds() {
+        let tower = TowerSpec {
+            tail: 4.0,
+            ..one_bell(1)
+        };
+        let hand = TowerSpec {
+            voice: Voice::Handbell,
+            ..tower.clone()
+        };
+        let (a, ta) = tower_recording(&tower).unwrap();
+        let (b, _) = tower_recording(&hand).unwrap();
+        let level = |sig: &Signal, f: f64, t: f64| {
+            band(sig, f, 0.1)
+                .iter()
+                .filter(|p| (p.0 - t).abs() < 0.05)
+                .map(|p| 20.0 * p.1.hypot(p.2).log10())
+                .fold(f64::MIN, f64::max)
+        };
+        let t0 = ta[0].t;
+        // The hum (250 Hz) 30 dB or more under the strike note in the
+        // handbell, within 20 dB in the tower bell.
+        assert!(level(&b, 250.0, t0 + 0.2) < level(&b, 1000.0, t0 + 0.2) - 30.0);
+        assert!(level(&a, 250.0, t0 + 0.2) > level(&a, 1000.0, t0 + 0.2) - 20.0);
+        // Three seconds on, the tower bell's hum still rings: the whole
+        // sound has fallen far less than the handbell's.
+        let rms = |sig: &Signal, t: f64| {
+            let i = (t * sig.rate) as usize;
+            (sig.samples[i..i + 2000].iter().map(|v| v * v).sum::<f64>() / 2000.0).sqrt()
+        };
+        let fall = |sig: &Signal| 20.0 * (rms(sig, t0 + 0.1) / rms(sig, t0 + 2.9)).log10();
+        assert!(
+            fall(&b) > 35.0 && fall(&a) < 25.0,
+            "fell {:.1} dB, tower {:.1} dB",
+            fall(&b),
+            fall(&a)
+        );
+        // A handbell's twelfth: a partial at 2.95 times the strike note.
+        assert!(level(&b, 2950.0, t0 + 0.2) > level(&b, 2000.0, t0 + 0.2) + 30.0);
+    }
+
+    #[test]
+    fn wind_and_traffic_are_low_and_come_and_go() {
+        let rate = 8000.0;
+        let n = 60 * 8000;
+        for kind in [Noise::White, Noise::Wind, Noise::Traffic] {
+            let x = kind.make(n, rate, &mut Pcg64::seed_from_u64(5));
+            let p: f64 = x.iter().map(|v| v * v).sum::<f64>() / n as f64;
+            assert!((p - 1.0).abs() < 1e-9, "{kind:?}: mean power 1");
+            // Power below 500 Hz: a one-pole high-pass at 500 Hz leaves the rest.
+            let a = (-2.0 * PI * 500.0 / rate).exp();
+            let (mut lp, mut high) = (0.0, 0.0);
+            for v in &x {
+                lp = a * lp + (1.0 - a) * v;
+                high += (v - lp) * (v - lp);
+            }
+            let above = high / n as f64;
+            // Its level in half-second windows: the loudest over the quietest.
+            let w: Vec<f64> = x.chunks(4000).map(|c| c.iter().map(|v| v * v).sum::<f64>()).collect();
+            let swing = 10.0
+                * (w.iter().copied().fold(f64::MIN, f64::max) / w.iter().copied().fold(f64::MAX, f64::min)).log10();
+            match kind {
+                Noise::White => assert!(above > 0.4 && swing < 1.0, "{kind:?}: {above} {swing}"),
+                _ => assert!(
+                    above < 0.25 && swing > 6.0,
+                    "{kind:?}: {above} above 500 Hz, level swings {swing:.1} dB"
+                ),
+            }
+        }
+        // In a recording, at the SNR asked (on average over the recording).
+        let mut spec = ring(3);
+        spec.snr_db = Some(10.0);
+        spec.noise = Noise::Traffic;
+        assert!(tower_recording(&spec).is_ok());
+    }
+
+    #[test]
+    fn the_knock_is_as_loud_and_as_long_as_asked() {
+        let plain = TowerSpec {
+            rate: 22_050.0,
+            ..one_bell(1)
+        };
+        let knock = TowerSpec {
+            attack: Some(Attack {
+                level_db: -20.0,
+                length_ms: 30.0,
+            }),
+            ..plain.clone()
+        };
+        let (a, truth) = tower_recording(&plain).unwrap();
+        let (b, _) = tower_recording(&knock).unwrap();
+        // The two agree but for scale once the knock has died (80 dB down
+        // after 120 ms): find the scale there, and the knock is the rest.
+        let late = ((truth[0].t + 0.3) * a.rate) as usize;
+        let k = b.samples[late..]
+            .iter()
+            .zip(&a.samples[late..])
+            .map(|(x, y)| x * y)
+            .sum::<f64>()
+            / a.samples[late..].iter().map(|y| y * y).sum::<f64>();
+        let plain: Vec<f64> = a.samples.iter().map(|v| k * v).collect();
+        let burst: Vec<f64> = b.samples.iter().zip(&plain).map(|(x, y)| x - y).collect();
+        let frame = (crate::tower_effects::ATTACK_FRAME_S * a.rate).round() as usize;
+        let energy = |x: &[f64], from: usize| x[from..from + frame].iter().map(|v| v * v).sum::<f64>();
+        let at = (truth[0].t * a.rate).ceil() as usize;
+        let loudest = (at..at + 2000).map(|i| energy(&plain, i)).fold(0.0, f64::max);
+        let level = 10.0 * (energy(&burst, at) / loudest).log10();
+        assert!((level + 20.0).abs() < 1.5, "knock {level:.1} dB");
+        // 20 dB down 30 ms on, over a few frames.
+        let later = (0..4)
+            .map(|j| energy(&burst, at + (0.03 * a.rate) as usize + j * frame))
+            .sum::<f64>();
+        let first = (0..4).map(|j| energy(&burst, at + j * frame)).sum::<f64>();
+        let fall = 10.0 * (first / later).log10();
+        assert!((fall - 20.0).abs() < 2.0, "falls {fall:.1} dB in 30 ms");
+        assert!(burst[..at].iter().all(|v| v.abs() < 1e-12), "nothing before the strike");
+        assert!(Attack {
+            level_db: 5.0,
+            length_ms: 30.0
+        }
+        .check()
+        .is_err());
     }
 
     #[test]
