@@ -41,6 +41,9 @@ use clapper_core::bell::G;
 use clapper_core::linalg::solve;
 use clapper_core::sensor::{specific_force, SensorPlace};
 
+mod orient;
+pub use orient::{orientation, Orientation};
+
 /// An accelerometer log, its axes already named (m/s², s).
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct AccelLog {
@@ -71,6 +74,10 @@ pub struct LogOptions {
     /// A stroke rings "full" (ringing, not raising or lowering) when its
     /// amplitude is at least this (rad). Default 150 deg.
     pub full_swing: f64,
+    /// Read which way is down from the log (its small swings: [`orientation`])
+    /// and turn the radial and tangential axes over if they read it upside
+    /// down. Default true; false takes the axes as given.
+    pub find_down: bool,
 }
 
 impl Default for LogOptions {
@@ -79,6 +86,7 @@ impl Default for LogOptions {
             sensor_along: None,
             clip: 2.0 * G,
             full_swing: 150f64.to_radians(),
+            find_down: true,
         }
     }
 }
@@ -201,6 +209,9 @@ pub struct LogAnalysis {
     /// The side the bell was set on (+1 or −1: θ's sign), which makes
     /// handstrokes; `None` if it was never set (θ > 0 taken).
     pub set_side: Option<f64>,
+    /// Which way up the log was read ([`orientation`]); `None` when the
+    /// axes were taken as given.
+    pub orientation: Option<Orientation>,
     /// Things worth knowing (gaps, clipping, a fitted sensor place).
     pub warnings: Vec<String>,
 }
@@ -987,6 +998,32 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
             "{bursty} of {n} samples are clipped or bursts: nothing left to read the swing from (is the range right?)"
         )));
     }
+    // Which way is down (the bursts are the same either way up).
+    let turned;
+    let orientation = opts.find_down.then(|| orientation(log, &burst));
+    let log = match orientation {
+        Some(o) if o.flipped => {
+            warnings.push(format!(
+                "the sensor reads the bell upside down on the axes given ({} small swings to and fro centred near 180 deg): its radial and tangential axes are turned over (give --axes to override)",
+                o.swings
+            ));
+            turned = AccelLog {
+                radial: log.radial.iter().map(|v| -v).collect(),
+                tangential: log.tangential.iter().map(|v| -v).collect(),
+                ..log.clone()
+            };
+            &turned
+        }
+        Some(o) if o.swings < orient::MIN_SWINGS => {
+            warnings.push(format!(
+                "which way is down cannot be told from this log ({} small swing(s) to and fro, {} needed): the axes are taken as given",
+                o.swings,
+                orient::MIN_SWINGS
+            ));
+            log
+        }
+        _ => log,
+    };
     // A sensor not square on its nut reads the bell at rest as tilted:
     // the bell hangs plumb when down, so its rest's angle is the tilt. And
     // a sensor's scale is often a few per cent out (an ADXL345 may read g
@@ -1132,6 +1169,7 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         theta,
         burst,
         set_side,
+        orientation,
         warnings,
     })
 }
