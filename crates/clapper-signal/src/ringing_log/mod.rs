@@ -41,8 +41,15 @@ use clapper_core::bell::G;
 use clapper_core::linalg::solve;
 use clapper_core::sensor::{specific_force, SensorPlace};
 
+mod calibrate;
+pub mod checks;
 mod orient;
+pub use calibrate::{Calibration, CalibrationSe};
 pub use orient::{orientation, Orientation};
+
+/// Fewer free stretches than this (free swings, falls from the balance)
+/// do not calibrate the sensor: the rests alone are used.
+const MIN_FREE: usize = 3;
 
 /// An accelerometer log, its axes already named (m/s², s).
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -152,6 +159,12 @@ pub struct LogStroke {
     pub from_side: f64,
     /// The phase it belongs to.
     pub phase: PhaseKind,
+    /// The moment of greatest speed near the bottom (s): the peak of |θ'|
+    /// ([`checks`]), which needs no zero of the angle; a check on `bdc`.
+    pub speed_peak: Option<f64>,
+    /// The standard error of `bdc` (s) that the sensor's calibration
+    /// leaves (its tilt, offset and place across the axis).
+    pub bdc_se: Option<f64>,
 }
 
 impl LogStroke {
@@ -212,6 +225,9 @@ pub struct LogAnalysis {
     /// Which way up the log was read ([`orientation`]); `None` when the
     /// axes were taken as given.
     pub orientation: Option<Orientation>,
+    /// The sensor's calibration from the log's quiet stretches (`None`:
+    /// too few free swings or falls; the rests' scale and tilt were used).
+    pub calibration: Option<Calibration>,
     /// Things worth knowing (gaps, clipping, a fitted sensor place).
     pub warnings: Vec<String>,
 }
@@ -841,39 +857,9 @@ fn place_from_falls(log: &AccelLog, bad: &[bool], rests: &[(f64, f64, f64)], int
         if rms * G > FALL_MAX_MISFIT || !passes || !(-1.3..-0.8).contains(&p[2]) {
             continue;
         }
-        // √(L/2g) from the time taken: t against ∫ dθ / √(cos θ − c₀), a
-        // straight line's slope, where the bell moves well (cos θ − c₀ >
-        // 0.2: away from the balance, where the fall's start is slow and
-        // its timing uncertain). Signed steps, so the angle's noise
-        // cancels rather than adds.
-        let fast: Vec<usize> = (0..th.len()).filter(|&k| th[k].cos() - p[2] > 0.2).collect();
-        let (Some(&k0), Some(&k1)) = (fast.first(), fast.last()) else {
+        let Some(length) = length_of_fall(&t[j..e], &th, p[2]) else {
             continue;
         };
-        if k1 < k0 + 10 {
-            continue;
-        }
-        let sense = (0..th.len() - 1).map(|k| wrap(th[k + 1] - th[k])).sum::<f64>().signum();
-        let mut integral = vec![0.0; k1 - k0 + 1];
-        for k in k0..k1 {
-            let cb = ((0.5 * (th[k] + th[k + 1])).cos() - p[2]).max(0.05);
-            integral[k + 1 - k0] = integral[k - k0] + sense * wrap(th[k + 1] - th[k]) / cb.sqrt();
-        }
-        let m = integral.len() as f64;
-        let (mi, mt) = (
-            integral.iter().sum::<f64>() / m,
-            (k0..=k1).map(|k| t[j + k]).sum::<f64>() / m,
-        );
-        let (mut num, mut den) = (0.0, 0.0);
-        for (i, k) in (k0..=k1).enumerate() {
-            num += (integral[i] - mi) * (t[j + k] - mt);
-            den += (integral[i] - mi).powi(2);
-        }
-        if den <= 0.0 || num <= 0.0 {
-            continue;
-        }
-        // The slope is √(L/2g).
-        let length = 2.0 * G * (num / den).powi(2);
         if (0.05..10.0).contains(&length) {
             found.push([p[0], p[1], length]);
         }
@@ -889,6 +875,46 @@ fn place_from_falls(log: &AccelLog, bad: &[bool], rests: &[(f64, f64, f64)], int
         length,
         count: found.len(),
     })
+}
+
+/// The equivalent pendulum length L (m) from a free swing's timing: `th`
+/// (rad) at times `t` (s), swinging with cos θ − c₀ ∝ θ'².
+fn length_of_fall(t: &[f64], th: &[f64], c0: f64) -> Option<f64> {
+    // √(L/2g) from the time taken: t against ∫ dθ / √(cos θ − c₀), a
+    // straight line's slope, where the bell moves well (cos θ − c₀ >
+    // 0.2: away from the balance, where the fall's start is slow and
+    // its timing uncertain; for a small swing, the half of it nearest
+    // the bottom). Signed steps, so the angle's noise cancels rather than
+    // adds.
+    let fast_above = 0.2f64.min(0.5 * (1.0 - c0));
+    let fast: Vec<usize> = (0..th.len()).filter(|&k| th[k].cos() - c0 > fast_above).collect();
+    let (Some(&k0), Some(&k1)) = (fast.first(), fast.last()) else {
+        return None;
+    };
+    if k1 < k0 + 10 {
+        return None;
+    }
+    let sense = (0..th.len() - 1).map(|k| wrap(th[k + 1] - th[k])).sum::<f64>().signum();
+    let mut integral = vec![0.0; k1 - k0 + 1];
+    for k in k0..k1 {
+        let cb = ((0.5 * (th[k] + th[k + 1])).cos() - c0).max(0.05f64.min(0.25 * (1.0 - c0)));
+        integral[k + 1 - k0] = integral[k - k0] + sense * wrap(th[k + 1] - th[k]) / cb.sqrt();
+    }
+    let m = integral.len() as f64;
+    let (mi, mt) = (
+        integral.iter().sum::<f64>() / m,
+        (k0..=k1).map(|k| t[k]).sum::<f64>() / m,
+    );
+    let (mut num, mut den) = (0.0, 0.0);
+    for (i, k) in (k0..=k1).enumerate() {
+        num += (integral[i] - mi) * (t[k] - mt);
+        den += (integral[i] - mi).powi(2);
+    }
+    if den <= 0.0 || num <= 0.0 {
+        return None;
+    }
+    // The slope is √(L/2g).
+    Some(2.0 * G * (num / den).powi(2))
 }
 
 impl Falls {
@@ -1024,59 +1050,69 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         }
         _ => log,
     };
-    // A sensor not square on its nut reads the bell at rest as tilted:
-    // the bell hangs plumb when down, so its rest's angle is the tilt. And
-    // a sensor's scale is often a few per cent out (an ADXL345 may read g
-    // as 10.2 m/s²): every rest, down or up, reads g, which sets it.
-    let tilted;
-    let (log, still) = {
-        let plain: Vec<f64> = (0..n).map(|k| log.tangential[k].atan2(log.radial[k])).collect();
+    // The sensor calibrated from the log's quiet stretches (rests, free
+    // swings, falls from the balance): per-axis gains and offsets, its
+    // tilt, and its place.
+    let plain: Vec<f64> = (0..n).map(|k| log.tangential[k].atan2(log.radial[k])).collect();
+    let (level, slow, _) = quadratic_fits(&log.t, &unwrap_fill(&log.t, &plain, &burst), &burst, 0.5);
+    let still0 = rests(&log.t, &level, &slow, interval);
+    let calibration = {
+        let (fine, _, _) = quadratic_fits(&log.t, &unwrap_fill(&log.t, &plain, &burst), &burst, 0.1);
+        let turns = orient::turning_points(&fine, 5f64.to_radians());
+        let stretches = calibrate::quiet_stretches(log, &burst, &still0, (&fine, &turns));
+        calibrate::calibrate(log, &stretches).filter(|c| c.free >= MIN_FREE && c.length.is_some())
+    };
+    let calibrated;
+    let (log, still) = if let Some(c) = &calibration {
+        let gain = 0.5 * (c.gain[0] + c.gain[1]);
+        let (tangential, radial): (Vec<f64>, Vec<f64>) =
+            (0..n).map(|k| c.apply(log.tangential[k], log.radial[k])).unzip();
+        warnings.push(format!(
+            "sensor calibrated on {} rest(s) and {} free swing(s) or fall(s) ({} left out as not free): gains {:.3} ± {:.3} (tangential), {:.3} ± {:.3} (radial); offsets {:+.2} ± {:.2}, {:+.2} ± {:.2} m/s²; tilt {:+.2} ± {:.2} deg",
+            c.rests, c.free, c.dropped, c.gain[0], c.se.gain[0], c.gain[1], c.se.gain[1],
+            c.offset[0], c.se.offset[0], c.offset[1], c.se.offset[1],
+            c.tilt.to_degrees(), c.se.tilt.to_degrees()
+        ));
+        if c.reach < 90f64.to_radians() {
+            warnings.push(format!(
+                "the log's free swings reach only {:.0} deg (no fall from the balance read): the gains and the sensor's place are poorly told",
+                c.reach.to_degrees()
+            ));
+        }
+        calibrated = AccelLog {
+            tangential,
+            radial,
+            axle: log.axle.iter().map(|a| a / gain).collect(),
+            ..log.clone()
+        };
+        // The rests again, on the calibrated readings.
+        let plain: Vec<f64> = (0..n)
+            .map(|k| calibrated.tangential[k].atan2(calibrated.radial[k]))
+            .collect();
         let (level, slow, _) = quadratic_fits(&log.t, &unwrap_fill(&log.t, &plain, &burst), &burst, 0.5);
         let still = rests(&log.t, &level, &slow, interval);
-        let mut downs: Vec<f64> = still.iter().map(|r| r.2).filter(|m| m.abs() < 0.5).collect();
-        downs.sort_by(f64::total_cmp);
-        let tilt = downs
-            .get(downs.len() / 2)
-            .copied()
-            .filter(|t| t.abs() > 0.2f64.to_radians());
-        let at_rest: Vec<f64> = (0..n)
-            .filter(|&k| !burst[k] && still.iter().any(|r| log.t[k] >= r.0 && log.t[k] <= r.1))
-            .map(|k| log.radial[k].hypot(log.tangential[k]).hypot(log.axle[k]))
-            .collect();
-        let gain = if at_rest.len() >= 20 { median(&at_rest) / G } else { 1.0 };
-        let gain = if (gain - 1.0).abs() > 0.01 && (0.5..2.0).contains(&gain) {
-            warnings.push(format!(
-                "the sensor reads g at rest as {:.2} m/s²: its readings are scaled by {:.3}",
-                gain * G,
-                1.0 / gain
-            ));
-            gain
-        } else {
-            1.0
-        };
-        if let Some(tilt) = tilt {
-            warnings.push(format!(
-                "the sensor reads the bell at rest {:.1} deg off plumb: taken as its tilt and removed",
-                tilt.to_degrees()
-            ));
-        }
-        if tilt.is_some() || gain != 1.0 {
-            let (s, c) = tilt.unwrap_or(0.0).sin_cos();
-            let (s, c) = (s / gain, c / gain);
-            tilted = AccelLog {
-                tangential: (0..n).map(|k| log.tangential[k] * c - log.radial[k] * s).collect(),
-                radial: (0..n).map(|k| log.tangential[k] * s + log.radial[k] * c).collect(),
-                axle: log.axle.iter().map(|a| a / gain).collect(),
-                ..log.clone()
-            };
-            (&tilted, still)
-        } else {
-            (log, still)
+        (&calibrated, still)
+    } else {
+        warnings.push(
+            "the log has no free swing nor fall from the balance to calibrate the sensor on: its offsets are not told from a tilt (the bottoms may be off by tens of ms)".into(),
+        );
+        match calibrate_from_rests(log, &burst, &still0, &mut warnings) {
+            Some(l) => {
+                calibrated = l;
+                (&calibrated, still0)
+            }
+            None => (log, still0),
         }
     };
-    // (The rests were found before the tilt was turned out: their angles
-    // are a few degrees off, which only starts the falls' fits.)
-    let falls = place_from_falls(log, &burst, &still, interval);
+    let falls = match &calibration {
+        Some(c) => Some(Falls {
+            kappa: c.kappa,
+            delta: c.delta,
+            length: c.length.unwrap_or(1.0),
+            count: c.free,
+        }),
+        None => place_from_falls(log, &burst, &still, interval),
+    };
     let Angle {
         theta: theta_u,
         smooth,
@@ -1131,6 +1167,10 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         strokes_by_zeros(log, &theta, (&burst, &onsets), &rests)
     };
     hide_strikes_after_gaps(&log.t, interval, &mut strokes, &mut warnings);
+    checks::speed_peaks(&log.t, &j1, &cubic, &burst, &mut strokes);
+    if let Some(c) = &calibration {
+        checks::bottom_errors(c, log, &j1, &mut strokes);
+    }
     let phases = phases(&log.t, &rests, &mut strokes, &theta, opts.full_swing);
     // The side the bell was set on before it was rung.
     let set_side = phases
@@ -1147,7 +1187,22 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         // A handstroke falls from the hand side.
         s.hand = s.from_side == hand_side;
     }
-    let odd_struck = odd_struck(&strokes);
+    // Its standard error: the strokes' spread, and the calibration's share
+    // (an error in the bottoms' zero moves hand and back bottoms opposite
+    // ways, so the difference by twice the mean bottom error).
+    let odd_struck = odd_struck(&strokes).map(|(o, se)| {
+        let ses: Vec<f64> = strokes
+            .iter()
+            .filter(|s| s.phase == PhaseKind::Ringing)
+            .filter_map(|s| s.bdc_se)
+            .collect();
+        let cal = if ses.is_empty() {
+            0.0
+        } else {
+            2.0 * ses.iter().sum::<f64>() / ses.len() as f64
+        };
+        (o, se.hypot(cal))
+    });
     let clappering_starts = strokes
         .iter()
         .find(|s| s.phase == PhaseKind::Raising && (s.strike.is_some() || s.strike_hidden))
@@ -1170,8 +1225,67 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         burst,
         set_side,
         orientation,
+        calibration,
         warnings,
     })
+}
+
+/// Without a free stretch to calibrate on (issue 24's reading): the rests'
+/// magnitude sets one scale for all axes, and the rests down their tilt
+/// (an offset across the axis is read as a tilt). The log turned, if it
+/// needs to be.
+fn calibrate_from_rests(
+    log: &AccelLog,
+    bad: &[bool],
+    still: &[(f64, f64, f64)],
+    warnings: &mut Vec<String>,
+) -> Option<AccelLog> {
+    // A sensor not square on its nut reads the bell at rest as tilted:
+    // the bell hangs plumb when down, so its rest's angle is the tilt. And
+    // a sensor's scale is often a few per cent out (an ADXL345 may read g
+    // as 10.2 m/s²): every rest, down or up, reads g, which sets it.
+    let n = log.t.len();
+    {
+        let mut downs: Vec<f64> = still.iter().map(|r| r.2).filter(|m| m.abs() < 0.5).collect();
+        downs.sort_by(f64::total_cmp);
+        let tilt = downs
+            .get(downs.len() / 2)
+            .copied()
+            .filter(|t| t.abs() > 0.2f64.to_radians());
+        let at_rest: Vec<f64> = (0..n)
+            .filter(|&k| !bad[k] && still.iter().any(|r| log.t[k] >= r.0 && log.t[k] <= r.1))
+            .map(|k| log.radial[k].hypot(log.tangential[k]).hypot(log.axle[k]))
+            .collect();
+        let gain = if at_rest.len() >= 20 { median(&at_rest) / G } else { 1.0 };
+        let gain = if (gain - 1.0).abs() > 0.01 && (0.5..2.0).contains(&gain) {
+            warnings.push(format!(
+                "the sensor reads g at rest as {:.2} m/s²: its readings are scaled by {:.3}",
+                gain * G,
+                1.0 / gain
+            ));
+            gain
+        } else {
+            1.0
+        };
+        if let Some(tilt) = tilt {
+            warnings.push(format!(
+                "the sensor reads the bell at rest {:.1} deg off plumb: taken as its tilt and removed",
+                tilt.to_degrees()
+            ));
+        }
+        if tilt.is_some() || gain != 1.0 {
+            let (s, c) = tilt.unwrap_or(0.0).sin_cos();
+            let (s, c) = (s / gain, c / gain);
+            Some(AccelLog {
+                tangential: (0..n).map(|k| log.tangential[k] * c - log.radial[k] * s).collect(),
+                radial: (0..n).map(|k| log.tangential[k] * s + log.radial[k] * c).collect(),
+                axle: log.axle.iter().map(|a| a / gain).collect(),
+                ..log.clone()
+            })
+        } else {
+            None
+        }
+    }
 }
 
 /// Intervals of rest (s): no motion (|θ'| < 0.05 rad/s over ±0.5 s, and
@@ -1252,16 +1366,22 @@ fn strokes(
         } else {
             bdcs[i - 1].1 + 1
         };
-        // After a rest (set at the balance), it fell from where it rested.
-        if let Some(r) = rests.iter().rev().find(|r| r.1 < bdc && t[from] <= r.1) {
+        // After a rest (set at the balance, or a stand), it fell from where
+        // it rested: the rest's mean angle, read while still (the samples
+        // after a strike, while the headstock rings, overshoot).
+        let side = theta[k].signum();
+        let stood = rests.iter().rev().find(|r| r.1 < bdc && t[from] <= r.1);
+        if let Some(r) = stood {
             from = from.max(t.partition_point(|&x| x < r.1 - 0.5));
         }
         // From the smoothed angle: the largest of noisy samples overshoots.
-        let side = theta[k].signum();
-        let amplitude = (from..=k)
-            .filter(|&j| smooth[j].signum() == side)
-            .map(|j| smooth[j].abs())
-            .fold(0.0, f64::max);
+        let amplitude = match stood {
+            Some(r) if r.2.signum() == side => r.2.abs(),
+            _ => (from..=k)
+                .filter(|&j| smooth[j].signum() == side)
+                .map(|j| smooth[j].abs())
+                .fold(0.0, f64::max),
+        };
         let until = bdcs.get(i + 1).map_or(f64::INFINITY, |b| b.0);
         out.push(stroke_between(t, theta, onsets, (bdc, until), amplitude, side));
     }
@@ -1361,6 +1481,8 @@ fn stroke_between(
         amplitude,
         from_side,
         phase: PhaseKind::Ringing,
+        speed_peak: None,
+        bdc_se: None,
     }
 }
 
@@ -1478,8 +1600,24 @@ fn phases(t: &[f64], rests: &[(f64, f64, f64)], strokes: &mut [LogStroke], theta
             cursor = r.1;
         }
     }
-    out
+    // Stands: a short rest at the balance between two stretches of ringing
+    // is part of the ringing.
+    let mut merged: Vec<Phase> = vec![];
+    for (i, p) in out.iter().enumerate() {
+        let stand = p.kind == PhaseKind::Up
+            && p.end - p.start <= STAND_MAX_S
+            && i > 0
+            && out[i - 1].kind == PhaseKind::Ringing
+            && out.get(i + 1).is_some_and(|q| q.kind == PhaseKind::Ringing);
+        let kind = if stand { PhaseKind::Ringing } else { p.kind };
+        push(&mut merged, kind, p.start, p.end);
+    }
+    merged
 }
+
+/// A rest at the balance between strokes of ringing no longer than this
+/// (s) is a stand, part of the ringing; longer, the bell is set (up).
+pub const STAND_MAX_S: f64 = 5.0;
 
 /// Add a phase, merged with the one before if of the same kind.
 fn push(out: &mut Vec<Phase>, kind: PhaseKind, start: f64, end: f64) {
@@ -1740,6 +1878,8 @@ mod tests {
             amplitude: 3.0,
             from_side: 1.0,
             phase: PhaseKind::Ringing,
+            speed_peak: None,
+            bdc_se: None,
         };
         let mut strokes = [stroke(1.0, 1.4), stroke(2.0, 2.4), stroke(3.4, 3.8)];
         let mut warnings = vec![];
