@@ -85,6 +85,12 @@ pub struct LogOptions {
     /// and turn the radial and tangential axes over if they read it upside
     /// down. Default true; false takes the axes as given.
     pub find_down: bool,
+    /// Read the angle through a strike's ringing headstock: the samples of a
+    /// burst lasting over [`RINGING_S`], after its strikes' first
+    /// [`STRIKE_S`], that are not clipped go into the angle's fits, their
+    /// vibration taken as noise (else the angle is bridged across the whole
+    /// burst). Default true.
+    pub through_ringing: bool,
 }
 
 impl Default for LogOptions {
@@ -94,6 +100,7 @@ impl Default for LogOptions {
             clip: 2.0 * G,
             full_swing: 150f64.to_radians(),
             find_down: true,
+            through_ringing: true,
         }
     }
 }
@@ -309,6 +316,52 @@ fn bursts(log: &AccelLog, clip: f64) -> (Vec<bool>, Vec<usize>) {
         mask[k] = last_hot.is_some_and(|t| log.t[k] - t <= 0.04);
     }
     (mask, onsets)
+}
+
+/// The strike itself: the first this many seconds of a burst (s), left
+/// out of the angle's fits.
+pub const STRIKE_S: f64 = 0.06;
+
+/// A burst lasting longer than this (s) is the headstock ringing.
+pub const RINGING_S: f64 = 0.25;
+
+/// The samples the angle's fits leave out: with `through`, of a burst
+/// lasting over [`RINGING_S`] only the clipped samples and its strikes'
+/// first [`STRIKE_S`]; else (and of shorter bursts) the whole burst.
+fn ringing_masked(log: &AccelLog, burst: &[bool], onsets: &[usize], clip: f64, through: bool) -> Vec<bool> {
+    if !through {
+        return burst.to_vec();
+    }
+    let axes = [&log.radial, &log.tangential, &log.axle];
+    let n = log.t.len();
+    // Each burst run's length (s): only a long one (the headstock ringing,
+    // not a strike's burst that dies in a few hundredths) is read through.
+    let mut long = vec![false; n];
+    let mut k = 0;
+    while k < n {
+        if !burst[k] {
+            k += 1;
+            continue;
+        }
+        let start = k;
+        while k < n && burst[k] {
+            k += 1;
+        }
+        let lasting = log.t[k - 1] - log.t[start] > RINGING_S;
+        long[start..k].fill(lasting);
+    }
+    let mut o = 0;
+    (0..n)
+        .map(|k| {
+            while o + 1 < onsets.len() && onsets[o + 1] <= k {
+                o += 1;
+            }
+            let struck = onsets
+                .get(o)
+                .is_some_and(|&j| j <= k && log.t[k] - log.t[j] <= STRIKE_S);
+            burst[k] && (!long[k] || struck || axes.iter().any(|a| a[k].abs() >= 0.99 * clip))
+        })
+        .collect()
 }
 
 /// Local quadratic fits of `y` (on samples not in `bad`) over ±`w` s:
@@ -1124,7 +1177,13 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         d: across,
         fitted,
         misfit,
-    } = angle(log, &burst, opts.sensor_along, falls.as_ref(), interval);
+    } = angle(
+        log,
+        &ringing_masked(log, &burst, &onsets, opts.clip, opts.through_ringing),
+        opts.sensor_along,
+        falls.as_ref(),
+        interval,
+    );
     match (fitted, &falls) {
         (true, Some(f)) => warnings.push(format!(
             "sensor place read from {} fall(s) from the balance: {h:.3} m above the pivot, {across:.3} m across the axis (the bell's equivalent pendulum {:.3} m; give --sensor-m when known)",
@@ -1179,8 +1238,15 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         .find(|(i, p)| p.kind == PhaseKind::Up && phases.get(i + 1).is_some_and(|q| q.kind == PhaseKind::Ringing))
         .or_else(|| phases.iter().enumerate().find(|(_, p)| p.kind == PhaseKind::Up))
         .map(|(_, p)| {
-            let mid = log.t.partition_point(|&t| t < 0.5 * (p.start + p.end)).min(n - 1);
-            theta[mid].signum()
+            // The side the first stroke after it fell from (the set's own
+            // angle, a degree from the balance, may read either side).
+            strokes.iter().find(|s| s.bdc > p.end).map_or_else(
+                || {
+                    let mid = log.t.partition_point(|&t| t < 0.5 * (p.start + p.end)).min(n - 1);
+                    theta[mid].signum()
+                },
+                |s| s.from_side,
+            )
         });
     let hand_side = set_side.unwrap_or(1.0);
     for s in &mut strokes {
@@ -1582,6 +1648,14 @@ fn phases(t: &[f64], rests: &[(f64, f64, f64)], strokes: &mut [LogStroke], theta
             PhaseKind::Up
         }
     };
+    // The full swings' height: their median over the log.
+    let height = median(
+        &strokes
+            .iter()
+            .map(|s| s.amplitude)
+            .filter(|&x| x >= full)
+            .collect::<Vec<_>>(),
+    );
     let mut out: Vec<Phase> = vec![];
     let mut cursor = t0;
     let mut before: Option<PhaseKind> = None;
@@ -1592,7 +1666,15 @@ fn phases(t: &[f64], rests: &[(f64, f64, f64)], strokes: &mut [LogStroke], theta
             None => (t1, None),
         };
         if seg_end > cursor {
-            segment(t, theta, strokes, full, (cursor, seg_end), (before, after), &mut out);
+            segment(
+                t,
+                theta,
+                strokes,
+                (full, height),
+                (cursor, seg_end),
+                (before, after),
+                &mut out,
+            );
         }
         if let Some(r) = rests.get(k) {
             push(&mut out, rest_kind(r.2), r.0, r.1);
@@ -1615,6 +1697,9 @@ fn phases(t: &[f64], rests: &[(f64, f64, f64)], strokes: &mut [LogStroke], theta
     merged
 }
 
+/// Free swings after lowering (down) are smaller than this (rad): 45 deg.
+const FREE_SWING_MAX: f64 = std::f64::consts::FRAC_PI_4;
+
 /// A rest at the balance between strokes of ringing no longer than this
 /// (s) is a stand, part of the ringing; longer, the bell is set (up).
 pub const STAND_MAX_S: f64 = 5.0;
@@ -1636,7 +1721,7 @@ fn segment(
     t: &[f64],
     theta: &[f64],
     strokes: &mut [LogStroke],
-    full: f64,
+    (full, height): (f64, f64),
     (a, b): (f64, f64),
     (from, to): (Option<PhaseKind>, Option<PhaseKind>),
     out: &mut Vec<Phase>,
@@ -1651,6 +1736,44 @@ fn segment(
         return;
     }
     let amp = |i: usize| strokes[i].amplitude;
+    // Free swings at the end (the bell let go after lowering): six or more
+    // small swings, none struck, each within 3 deg of the one two before.
+    // They are down; what comes before them ends down.
+    if to != Some(PhaseKind::Up) {
+        let free = |p: usize| {
+            let s = &strokes[idx[p]];
+            s.strike.is_none()
+                && !s.strike_hidden
+                && s.amplitude < FREE_SWING_MAX
+                && (p < 2 || (s.amplitude - amp(idx[p - 2])).abs() <= 3f64.to_radians())
+        };
+        let mut p0 = idx.len();
+        while p0 > 0 && free(p0 - 1) {
+            p0 -= 1;
+        }
+        // (The first of the run may fall from a struck swing: from the next.)
+        if idx.len() - p0 >= 6 {
+            let first = p0 + 1;
+            let since = strokes[idx[first - 1]].bdc;
+            let cut = turning_before(t, theta, strokes[idx[first]].bdc, since);
+            for &i in &idx[first..] {
+                strokes[i].phase = PhaseKind::Down;
+            }
+            if cut > a {
+                segment(
+                    t,
+                    theta,
+                    strokes,
+                    (full, height),
+                    (a, cut),
+                    (from, Some(PhaseKind::Down)),
+                    out,
+                );
+            }
+            push(out, PhaseKind::Down, cut.max(a), b);
+            return;
+        }
+    }
     let fulls: Vec<f64> = idx.iter().map(|&i| amp(i)).filter(|&x| x >= full).collect();
     let kind_all = match (from, to) {
         // Raised and set: every swing is raising, even the last full ones.
@@ -1679,8 +1802,17 @@ fn segment(
     // The ringing: swings that fall from near the ringing's height and rise
     // back to it (3 deg below the full swings' median); raising before,
     // lowering from the first swing that does not rise back.
-    let threshold = median(&fulls) - 3f64.to_radians();
+    // (The full swings' height over the whole log: a segment lowered from
+    // its first swing after a set has none that reach it.)
+    let threshold = height - 3f64.to_radians();
     let core = |p: usize| amp(idx[p]) >= threshold && idx.get(p + 1).is_none_or(|&q| amp(q) >= threshold);
+    if from == Some(PhaseKind::Up) && !(0..idx.len()).any(core) {
+        for &i in &idx {
+            strokes[i].phase = PhaseKind::Lowering;
+        }
+        push(out, PhaseKind::Lowering, a, b);
+        return;
+    }
     let first = (0..idx.len()).find(|&p| core(p)).unwrap_or(0);
     let last = (0..idx.len()).rev().find(|&p| core(p)).unwrap_or(idx.len() - 1);
     // The turning point just before the stroke at position p.
