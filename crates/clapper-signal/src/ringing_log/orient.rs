@@ -42,14 +42,19 @@ pub(crate) fn turning_points(a: &[f64], step: f64) -> Vec<usize> {
             if a[k] < a[lo] {
                 lo = k;
             }
+            // (The log's first sample is where it starts, not a turn.)
             if a[hi] - a[k] > step {
                 dir = -1.0;
                 ext = k;
-                out.push(hi);
+                if hi > 0 {
+                    out.push(hi);
+                }
             } else if a[k] - a[lo] > step {
                 dir = 1.0;
                 ext = k;
-                out.push(lo);
+                if lo > 0 {
+                    out.push(lo);
+                }
             }
             continue;
         }
