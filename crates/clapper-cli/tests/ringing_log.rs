@@ -173,6 +173,20 @@ fn a_log_upside_down_is_read_right_way_up_by_default() {
         "{}",
         r["warnings"]
     );
+    // Each ringing bottom beside the moment of greatest speed (issue 44's
+    // check, which needs no zero of the angle), with its standard error key.
+    let ringing: Vec<&Value> = r["strokes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|s| s["phase"] == "ringing")
+        .collect();
+    assert!(!ringing.is_empty());
+    for s in &ringing {
+        let gap = (s["bdc_s"].as_f64().unwrap() - s["speed_peak_s"].as_f64().unwrap()).abs();
+        assert!(gap < 0.005, "bottom {} s from the greatest speed", gap);
+        assert!(s.get("bdc_se_ms").is_some());
+    }
     // The axes given are taken as given: upside down, "down" reads "up".
     let given = read(&["--axes", "y,z"]);
     assert_eq!(kinds(&given)[0], "up", "{:?}", kinds(&given));
