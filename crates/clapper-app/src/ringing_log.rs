@@ -55,6 +55,11 @@ pub struct StrokeReport {
     pub strike_hidden: bool,
     /// The bell's angle at the strike (deg).
     pub strike_theta_deg: Option<f64>,
+    /// The moment of greatest speed near the bottom (s): a check on
+    /// `bdc_s` that needs no zero of the angle.
+    pub speed_peak_s: Option<f64>,
+    /// The standard error of `bdc_s` the sensor's calibration leaves (ms).
+    pub bdc_se_ms: Option<f64>,
 }
 
 /// Mean and spread of a phase's BDC-to-strike at one stroke.
@@ -200,6 +205,8 @@ pub fn read_log(log: &AccelLog, opts: &LogOptions, bell: Option<LoadedBell>) -> 
             strike_s: s.strike,
             strike_hidden: s.strike_hidden,
             strike_theta_deg: s.strike_theta.map(f64::to_degrees),
+            speed_peak_s: s.speed_peak,
+            bdc_se_ms: s.bdc_se.map(|x| x * 1e3),
         })
         .collect();
     let kinds = [PhaseKind::Raising, PhaseKind::Ringing, PhaseKind::Lowering];

@@ -26,9 +26,11 @@ pub struct RingingLogArgs {
     pub file: PathBuf,
     /// Which sensor axis lies along the bell's axis (toward the crown) and
     /// which is tangential: RADIAL,TANGENTIAL, each x, y or z with an
-    /// optional sign (the third lies along the pivot).
-    #[arg(long, default_value = "y,z", allow_hyphen_values = true)]
-    pub axes: String,
+    /// optional sign (the third lies along the pivot). Default y,z, turned
+    /// over if the log reads the bell upside down (which way is down is read
+    /// from its small swings); given, the axes are taken as they are.
+    #[arg(long, allow_hyphen_values = true)]
+    pub axes: Option<String>,
     /// The sensor's distance above the pivot along the bell's axis (m), if
     /// known; fitted from the log otherwise.
     #[arg(long, value_name = "M", allow_hyphen_values = true)]
@@ -61,7 +63,10 @@ pub fn ringing_log(args: RingingLogArgs) -> Result<()> {
     if !(args.clip_g.is_finite() && args.clip_g > 0.0) {
         bail!("--clip-g {} must be a number of g above 0", args.clip_g);
     }
-    let axes = Axes::parse(&args.axes)?;
+    let axes = match &args.axes {
+        Some(a) => Axes::parse(a)?,
+        None => Axes::default(),
+    };
     let log = load_accel_log(&args.file, axes).map_err(|e| match e {
         // Names the file itself.
         e @ (LogFileError::NotText(_) | LogFileError::Read { .. }) => anyhow::Error::from(e),
@@ -74,6 +79,7 @@ pub fn ringing_log(args: RingingLogArgs) -> Result<()> {
     let opts = LogOptions {
         sensor_along: args.sensor_m,
         clip: args.clip_g * G,
+        find_down: args.axes.is_none(),
         ..LogOptions::default()
     };
     let reading = read_log(&log, &opts, bell)?;

@@ -109,3 +109,87 @@ fn bad_logs_are_refused_with_a_reason() {
         .unwrap();
     assert!(String::from_utf8_lossy(&out.stderr).contains("--axes"));
 }
+
+/// Issue 44: a sensor mounted upside down on the default axes (as
+/// belfry-sleuth's Data141 reads: y is −g at rest down) is turned over by
+/// default, its small swings telling which way is down; `--axes` given
+/// takes the axes as they are.
+#[test]
+fn a_log_upside_down_is_read_right_way_up_by_default() {
+    let dir = tempfile::tempdir().unwrap();
+    let (log, truth) = (dir.path().join("log.txt"), dir.path().join("truth.json"));
+    clapper()
+        .args([
+            "synth-log",
+            "--out",
+            log.to_str().unwrap(),
+            "--truth",
+            truth.to_str().unwrap(),
+        ])
+        .args(["--strokes", "6", "--seed", "2"])
+        .assert()
+        .success();
+    // y (radial) negated: upside down and mirrored, as Data141.
+    let text: String = std::fs::read_to_string(&log)
+        .unwrap()
+        .lines()
+        .map(|l| {
+            let mut c: Vec<String> = l.split_whitespace().map(String::from).collect();
+            if c.len() >= 4 {
+                let y: f64 = c[1].parse().unwrap();
+                c[1] = format!("{:.3}", -y);
+            }
+            c.join(" ") + "\n"
+        })
+        .collect();
+    let flipped = dir.path().join("flipped.txt");
+    std::fs::write(&flipped, text).unwrap();
+    let truth: Value = serde_json::from_str(&std::fs::read_to_string(&truth).unwrap()).unwrap();
+    let kinds = |r: &Value| -> Vec<String> {
+        r["phases"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|p| p["kind"].as_str().unwrap().to_string())
+            .collect()
+    };
+    let read = |extra: &[&str]| -> Value {
+        let out = clapper()
+            .args(["ringing-log", flipped.to_str().unwrap(), "--json"])
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let r = read(&[]);
+    assert_eq!(kinds(&r), kinds(&truth));
+    assert!(
+        r["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .any(|w| w.as_str().unwrap().contains("upside down")),
+        "{}",
+        r["warnings"]
+    );
+    // Each ringing bottom beside the moment of greatest speed (issue 44's
+    // check, which needs no zero of the angle), with its standard error key.
+    let ringing: Vec<&Value> = r["strokes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|s| s["phase"] == "ringing")
+        .collect();
+    assert!(!ringing.is_empty());
+    for s in &ringing {
+        let gap = (s["bdc_s"].as_f64().unwrap() - s["speed_peak_s"].as_f64().unwrap()).abs();
+        assert!(gap < 0.005, "bottom {} s from the greatest speed", gap);
+        assert!(s.get("bdc_se_ms").is_some());
+    }
+    // The axes given are taken as given: upside down, "down" reads "up".
+    let given = read(&["--axes", "y,z"]);
+    assert_eq!(kinds(&given)[0], "up", "{:?}", kinds(&given));
+    // And given the right way, as read by default.
+    assert_eq!(kinds(&read(&["--axes", "-y,z"])), kinds(&truth));
+}

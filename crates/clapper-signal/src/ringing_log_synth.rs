@@ -52,6 +52,27 @@ pub struct LogSpec {
     pub burst: f64,
     /// Seed of the noise, jitter and gaps.
     pub seed: u64,
+    /// Each axis's zero offset (radial, tangential, axle; m/s²): an
+    /// ADXL345's may be up to about 1 m/s² (its data sheet's ±150 mg at
+    /// ±2 g on x and y, more on z).
+    pub offset: [f64; 3],
+    /// Each axis's gain (radial, tangential, axle): its reading of g over g
+    /// (a few per cent from 1).
+    pub gain: [f64; 3],
+    /// The headstock's ringing after a ringing stroke's strike (m/s²; others
+    /// scale with their impulse): a slower mode than the burst's, dying
+    /// over [`LogSpec::ring_s`], below the burst threshold for most of it.
+    pub ring: f64,
+    /// The ringing's time constant (s): it lasts some four of these.
+    pub ring_s: f64,
+    /// Every this many ringing strokes (0: none) the bell stands on the
+    /// stay for [`LogSpec::stand_s`] before the next is pulled off.
+    pub stand_every: usize,
+    /// How long each stand lasts (s).
+    pub stand_s: f64,
+    /// After lowering, the bell let go to swing freely for this long (s; 0:
+    /// stopped at once), then stopped: these swings are "down".
+    pub free_s: f64,
 }
 
 impl LogSpec {
@@ -79,6 +100,13 @@ impl LogSpec {
             strokes: 40,
             burst: 40.0,
             seed,
+            offset: [0.0; 3],
+            gain: [1.0; 3],
+            ring: 0.0,
+            ring_s: 0.25,
+            stand_every: 0,
+            stand_s: 2.0,
+            free_s: 0.0,
         }
     }
 }
@@ -124,6 +152,21 @@ struct Piece {
     start: f64,
     len: f64,
     motion: Motion,
+    /// Stands within a simulation's strokes: (its time when the bell
+    /// reaches the stay (s), how long it stands there (s), the angle (rad)).
+    holds: Vec<(f64, f64, f64)>,
+}
+
+impl Piece {
+    /// A simulation's time as the piece's (the stands before it added).
+    fn local(&self, sim: f64) -> f64 {
+        sim + self
+            .holds
+            .iter()
+            .filter(|h| h.0 < sim - 1e-12)
+            .map(|h| h.1)
+            .sum::<f64>()
+    }
 }
 
 enum Motion {
@@ -133,6 +176,32 @@ enum Motion {
     Ramp(f64, f64),
     /// A simulation's strokes, θ mirrored by the sign, its time from 0.
     Sim(Run, f64, Vec<Stroke>),
+    /// Swinging freely: θ, θ', θ'' every millisecond from 0.
+    Free(Vec<[f64; 3]>),
+}
+
+/// A free swing (θ'' = −(g/L) sin θ − c θ', the bell's own L and a light
+/// damping c = 0.005/s) from rest at `theta0` (rad), every millisecond,
+/// ending at the first turning point after `at_least` s.
+fn free_swing(theta0: f64, length: f64, at_least: f64) -> Vec<[f64; 3]> {
+    let acc = |th: f64, w: f64| -G / length * th.sin() - 0.005 * w;
+    let dt = 1e-3;
+    let (mut th, mut w) = (theta0, 0.0);
+    let mut out = vec![[th, w, acc(th, w)]];
+    loop {
+        let k1 = (w, acc(th, w));
+        let k2 = (w + 0.5 * dt * k1.1, acc(th + 0.5 * dt * k1.0, w + 0.5 * dt * k1.1));
+        let k3 = (w + 0.5 * dt * k2.1, acc(th + 0.5 * dt * k2.0, w + 0.5 * dt * k2.1));
+        let k4 = (w + dt * k3.1, acc(th + dt * k3.0, w + dt * k3.1));
+        let w1 = w + dt / 6.0 * (k1.1 + 2.0 * k2.1 + 2.0 * k3.1 + k4.1);
+        th += dt / 6.0 * (k1.0 + 2.0 * k2.0 + 2.0 * k3.0 + k4.0);
+        let turned = w1.signum() != w.signum() && w != 0.0;
+        w = w1;
+        out.push([th, w, acc(th, w)]);
+        if turned && out.len() as f64 * dt >= at_least {
+            return out;
+        }
+    }
 }
 
 #[derive(Clone, Copy, PartialEq, Eq)]
@@ -219,6 +288,7 @@ fn restore_between_restarts(pieces: &[Piece], times: &[f64], kin: &mut [[f64; 3]
         };
         let after = pieces.get(p + 1).map(|q| match &q.motion {
             Motion::Hold(a) | Motion::Ramp(a, _) => *a,
+            Motion::Free(table) => table[0][0],
             Motion::Sim(_, s, st) => st.first().map_or(0.0, |x| s * x.start.y[0]),
         });
         for (i, st) in strokes.iter().enumerate() {
@@ -230,7 +300,7 @@ fn restore_between_restarts(pieces: &[Piece], times: &[f64], kin: &mut [[f64; 3]
                 },
             };
             let Some(bottom) = st.bottom else { continue };
-            let (t0, t1) = (piece.start + bottom.t, piece.start + st.end.t);
+            let (t0, t1) = (piece.start + piece.local(bottom.t), piece.start + piece.local(st.end.t));
             let delta = target - sign * st.end.y[0];
             // Only a restart at the top: not a stroke that ends elsewhere.
             if t1 <= t0 || delta.abs() > 0.2 {
@@ -268,6 +338,7 @@ pub fn synth_log(spec: &LogSpec) -> Result<(AccelLog, LogTruth), SignalError> {
             start: t,
             len,
             motion,
+            holds: vec![],
         });
         t += len;
     };
@@ -290,13 +361,25 @@ pub fn synth_log(spec: &LogSpec) -> Result<(AccelLog, LogTruth), SignalError> {
         ..spec.cfg
     };
     let rung = run(spec, &cfg, &spec.ringer, Run::Ring, &mut ())?;
-    let ring_len = rung.last().map_or(0.0, |s| s.end.t);
+    // Stands: every `stand_every`th stroke rests on the stay at the angle
+    // the next falls from.
+    let holds: Vec<(f64, f64, f64)> = match spec.stand_every {
+        0 => vec![],
+        every => (0..rung.len().saturating_sub(1))
+            .filter(|i| (i + 1) % every == 0)
+            .map(|i| (rung[i].end.t, spec.stand_s, rung[i + 1].start.y[0]))
+            .collect(),
+    };
+    let ring_len = rung.last().map_or(0.0, |s| s.end.t) + holds.iter().map(|h| h.1).sum::<f64>();
     add(
         &mut pieces,
         PhaseKind::Ringing,
         ring_len,
         Motion::Sim(Run::Ring, 1.0, rung),
     );
+    if let Some(p) = pieces.last_mut() {
+        p.holds = holds;
+    }
     let ringer = RingerConfig {
         stay: set,
         ..spec.ringer
@@ -309,7 +392,15 @@ pub fn synth_log(spec: &LogSpec) -> Result<(AccelLog, LogTruth), SignalError> {
         down_len,
         Motion::Sim(Run::Down, 1.0, down),
     );
-    add(&mut pieces, PhaseKind::Lowering, 1.5, Motion::Ramp(down_end, 0.0));
+    if spec.free_s > 0.0 {
+        // Let go: the bell swings freely, then is checked and stopped.
+        let table = free_swing(down_end, spec.bell.lb(), spec.free_s);
+        let (len, end) = ((table.len() - 1) as f64 * 1e-3, table[table.len() - 1][0]);
+        add(&mut pieces, PhaseKind::Down, len, Motion::Free(table));
+        add(&mut pieces, PhaseKind::Down, 1.5, Motion::Ramp(end, 0.0));
+    } else {
+        add(&mut pieces, PhaseKind::Lowering, 1.5, Motion::Ramp(down_end, 0.0));
+    }
     add(&mut pieces, PhaseKind::Down, spec.rest_s, Motion::Hold(0.0));
     let total = t;
 
@@ -339,6 +430,35 @@ pub fn synth_log(spec: &LogSpec) -> Result<(AccelLog, LogTruth), SignalError> {
         let local: Vec<f64> = times[i..j].iter().map(|x| x - p.start).collect();
         match &p.motion {
             Motion::Hold(a) => kin.extend(local.iter().map(|_| [*a, 0.0, 0.0])),
+            Motion::Free(table) => {
+                let at = |u: f64| {
+                    let x = (u / 1e-3).clamp(0.0, (table.len() - 1) as f64);
+                    let (k, f) = ((x.floor() as usize).min(table.len() - 2), x - x.floor());
+                    let v: [f64; 3] = std::array::from_fn(|i| table[k][i] + f * (table[k + 1][i] - table[k][i]));
+                    v
+                };
+                kin.extend(local.iter().map(|&u| at(u)));
+                // Its bottoms, each falling from the turning point before.
+                let mut turn = (0usize, table[0][0]);
+                for k in 1..table.len() {
+                    if table[k][1].signum() != table[k - 1][1].signum() {
+                        turn = (k, table[k][0]);
+                    }
+                    if table[k][0].signum() != table[k - 1][0].signum() && turn.1.abs() > 0.0 {
+                        let f = table[k - 1][0] / (table[k - 1][0] - table[k][0]);
+                        truth_strokes.push(TrueLogStroke {
+                            bdc: p.start + (k as f64 - 1.0 + f) * 1e-3,
+                            hand: turn.1 > 0.0,
+                            strike: None,
+                            amplitude: turn.1.abs(),
+                            turned: p.start + turn.0 as f64 * 1e-3,
+                            impacts: vec![],
+                            phase: p.kind,
+                            hidden: false,
+                        });
+                    }
+                }
+            }
             Motion::Ramp(a, b) => kin.extend(local.iter().map(|&u| {
                 let (s, ds, dds) = smoothstep(u / p.len);
                 [a + (b - a) * s, (b - a) * ds / p.len, (b - a) * dds / (p.len * p.len)]
@@ -348,32 +468,61 @@ pub fn synth_log(spec: &LogSpec) -> Result<(AccelLog, LogTruth), SignalError> {
                     Run::Up => (&spec.cfg, &spec.ringer),
                     _ => (&cfg, &ringer),
                 };
+                // Samples in a stand hold still; the others are the
+                // simulation's, at its own times.
+                let held = |u: f64| {
+                    let mut before = 0.0;
+                    for h in &p.holds {
+                        let at = h.0 + before;
+                        if u >= at && u < at + h.1 {
+                            return Err(h.2);
+                        }
+                        if u >= at + h.1 {
+                            before += h.1;
+                        }
+                    }
+                    Ok(u - before)
+                };
+                let sim: Vec<f64> = local.iter().filter_map(|&u| held(u).ok()).collect();
                 let mut k = Kinematics {
-                    times: &local,
+                    times: &sim,
                     next: 0,
-                    out: Vec::with_capacity(local.len()),
+                    out: Vec::with_capacity(sim.len()),
                 };
                 run(spec, c, r, *which, &mut k)?;
-                if k.out.len() != local.len() {
+                if k.out.len() != sim.len() {
                     return Err(err("the second run did not repeat the first"));
                 }
-                kin.extend(k.out.iter().map(|v| [sign * v[0], sign * v[1], sign * v[2]]));
+                let mut from_sim = k.out.iter();
+                for &u in &local {
+                    match held(u) {
+                        Err(angle) => kin.push([sign * angle, 0.0, 0.0]),
+                        Ok(_) => {
+                            let v = from_sim.next().ok_or_else(|| err("samples out of step"))?;
+                            kin.push([sign * v[0], sign * v[1], sign * v[2]]);
+                        }
+                    }
+                }
                 for st in strokes {
                     let first = st.first_strike_index();
                     for (m, im) in st.impacts.iter().enumerate() {
                         let impulse = spec.bell.clapper_mass
                             * spec.bell.b
                             * (im.phi_dot_before - im.phi_dot_after.unwrap_or(0.0)).abs();
-                        impacts.push((p.start + im.t, impulse, *which == Run::Ring && first == Some(m)));
+                        impacts.push((
+                            p.start + p.local(im.t),
+                            impulse,
+                            *which == Run::Ring && first == Some(m),
+                        ));
                     }
                     if let Some(b) = st.bottom {
                         truth_strokes.push(TrueLogStroke {
-                            bdc: p.start + b.t,
+                            bdc: p.start + p.local(b.t),
                             // Falling from the + side (mirrored): a handstroke.
                             hand: sign * st.start.y[0] > 0.0,
                             strike: None,
                             amplitude: st.start.y[0].abs(),
-                            turned: p.start + st.start.t,
+                            turned: p.start + p.local(st.start.t),
                             impacts: vec![],
                             phase: p.kind,
                             hidden: false,
@@ -394,6 +543,7 @@ pub fn synth_log(spec: &LogSpec) -> Result<(AccelLog, LogTruth), SignalError> {
     };
     const TAU: f64 = 0.012; // s: the headstock's ring dies in a few hundredths
     const F_RING: f64 = 180.0; // Hz
+    const F_HEADSTOCK: f64 = 37.0; // Hz
     let bursts: Vec<(f64, f64, [f64; 3])> = impacts
         .iter()
         .map(|&(ti, j, _)| {
@@ -434,11 +584,17 @@ pub fn synth_log(spec: &LogSpec) -> Result<(AccelLog, LogTruth), SignalError> {
     let mut tangential = Vec::with_capacity(times.len());
     let mut axle = Vec::with_capacity(times.len());
     let mut b0 = 0;
+    // How long a burst (and the headstock's ring) lasts.
+    let reach = if spec.ring > 0.0 {
+        (6.0 * spec.ring_s).max(0.2)
+    } else {
+        0.2
+    };
     for (k, &x) in times.iter().enumerate() {
         let [th, w, a] = kin[k];
         let f = specific_force(spec.sensor, th, w, a);
         let mut v = [f[1], f[0], 0.0];
-        while b0 < bursts.len() && bursts[b0].0 < x - 0.2 {
+        while b0 < bursts.len() && bursts[b0].0 < x - reach {
             b0 += 1;
         }
         for b in &bursts[b0..] {
@@ -447,9 +603,15 @@ pub fn synth_log(spec: &LogSpec) -> Result<(AccelLog, LogTruth), SignalError> {
             }
             let d = x - b.0;
             let env = b.1 * (-d / TAU).exp();
+            // The headstock's slower ring, longer lived.
+            let ring = spec.ring * b.1 / spec.burst.max(1e-9) * (-d / spec.ring_s.max(1e-3)).exp();
             for (axis, val) in v.iter_mut().enumerate() {
                 *val += env * (2.0 * std::f64::consts::PI * F_RING * d + b.2[axis]).cos();
+                *val += ring * (2.0 * std::f64::consts::PI * F_HEADSTOCK * d + 2.0 * b.2[axis]).cos();
             }
+        }
+        for (axis, val) in v.iter_mut().enumerate() {
+            *val = spec.gain[axis] * *val + spec.offset[axis];
         }
         for val in &mut v {
             *val += spec.noise * gauss(&mut rng);

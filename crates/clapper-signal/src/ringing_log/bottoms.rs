@@ -1,0 +1,289 @@
+//! Bottom dead centres, amplitudes and strikes (docs/model.md §13 step 4),
+//! with the angle or, when it cannot be read, from the tangential zeros.
+
+#[allow(unused_imports)]
+use super::*;
+
+/// Bottom dead centres, amplitudes and strikes (method step 3).
+pub(super) fn strokes(
+    log: &AccelLog,
+    theta: &[f64],
+    smooth: &[f64],
+    (d1, j1, d2, h, across): (&[f64], &[f64], &[f64], f64, f64),
+    (burst, onsets, cubic): (&[bool], &[usize], &[bool]),
+    rests: &[(f64, f64, f64)],
+    (min_gap, interval): (f64, f64),
+) -> Vec<LogStroke> {
+    let t = &log.t;
+    let n = t.len();
+    let resting = |time: f64| rests.iter().any(|r| time >= r.0 && time <= r.1);
+    // The tangential reading is g sin θ less h θ'' less d θ'²; corrected
+    // by both, its zero is the bottom. θ'' matters there: a rope's pull that
+    // stops or starts at the bottom leaves h θ'' on one side only, which
+    // moved a small swing's bottom 3 ms the way of the pull (θ'' from the
+    // joint fits, smoothed across the step, takes off half of it on each
+    // side, and what is left is odd about the bottom).
+    let f: Vec<f64> = (0..n)
+        .map(|j| gravity_part(log, j, (h, across), j1[j], d2[j])[0])
+        .collect();
+    let mut bdcs: Vec<(f64, usize)> = vec![];
+    for k in 0..n - 1 {
+        let (a, b) = (theta[k], theta[k + 1]);
+        // A crossing of 0 while the bell moves.
+        if a.signum() != b.signum() && a.abs() < 1.5 && b.abs() < 1.5 && (d1[k].abs() > 0.3 || d1[k + 1].abs() > 0.3) {
+            let mut tc = t[k] + (t[k + 1] - t[k]) * a / (a - b);
+            if resting(tc) || bdcs.last().is_some_and(|&(p, _)| tc - p < min_gap) {
+                continue;
+            }
+            // The tangential reading's own zero, where clean (`f`).
+            let near = (k.saturating_sub(4)..(k + 5).min(n - 1))
+                .filter(|&j| !burst[j] && !burst[j + 1] && f[j].signum() != f[j + 1].signum() && f[j] != 0.0)
+                .min_by_key(|&j| j.abs_diff(k));
+            if let Some(j) = near {
+                tc = t[j] + (t[j + 1] - t[j]) * f[j] / (f[j] - f[j + 1]);
+                tc = bottom_time(t, &f, (burst, cubic), (tc, interval), G * 0.5 * (d1[k] + d1[k + 1]));
+            }
+            bdcs.push((tc, k));
+        }
+    }
+    let mut out = Vec::with_capacity(bdcs.len());
+    for (i, &(bdc, k)) in bdcs.iter().enumerate() {
+        // The turning point it fell from: the largest |θ| since the last
+        // bottom (or in the 3 s before the first), on its side.
+        let mut from = if i == 0 {
+            t.partition_point(|&x| x < bdc - 3.0)
+        } else {
+            bdcs[i - 1].1 + 1
+        };
+        // After a rest (set at the balance, or a stand), it fell from where
+        // it rested: the rest's mean angle, read while still (the samples
+        // after a strike, while the headstock rings, overshoot).
+        let side = theta[k].signum();
+        let stood = rests.iter().rev().find(|r| r.1 < bdc && t[from] <= r.1);
+        if let Some(r) = stood {
+            from = from.max(t.partition_point(|&x| x < r.1 - 0.5));
+        }
+        // From the smoothed angle: the largest of noisy samples overshoots.
+        let amplitude = match stood {
+            Some(r) if r.2.signum() == side => r.2.abs(),
+            _ => (from..=k)
+                .filter(|&j| smooth[j].signum() == side)
+                .map(|j| smooth[j].abs())
+                .fold(0.0, f64::max),
+        };
+        let until = bdcs.get(i + 1).map_or(f64::INFINITY, |b| b.0);
+        out.push(stroke_between(t, theta, onsets, (bdc, until), amplitude, side));
+    }
+    out
+}
+
+/// The zero of the corrected tangential reading `f` near `tc` (s), where
+/// it moves at about `slope` (m/s³, g θ'): a straight line through the
+/// clean samples while |f| is within [`BOTTOM_SPAN`] (at least ±5 ms and
+/// 1.5 samples, at most ±0.12 s). Through the bottom f is g sin θ, odd
+/// about it, so a symmetric window adds no bias, and a long one averages
+/// the noise down where a small swing moves slowly (at 400 Hz a 20 deg
+/// swing's bottom moved 2 samples either way in a ±5 ms window). A gap in
+/// the log ([`GAP`]) narrows the window on both sides, and so does a clean
+/// sample whose θ'' is not the angle's cubic (`cubic` false: the fallback,
+/// one-sided, near a gap or the log's ends): one-sided, the curve of f
+/// beyond the line (sin θ, a rope's pull) put a slow swing's bottom, 60 ms
+/// before a gap, 7.2 ms early (1.8 samples at 250 Hz); symmetric at the
+/// gap, 4.9 ms, its last samples corrected by the fallback's θ'';
+/// symmetric short of those, 0.04 ms.
+pub(super) fn bottom_time(
+    t: &[f64],
+    f: &[f64],
+    (burst, cubic): (&[bool], &[bool]),
+    (tc, interval): (f64, f64),
+    slope: f64,
+) -> f64 {
+    let n = t.len();
+    let k = t.partition_point(|&x| x < tc).clamp(1, n - 1);
+    let dt = t[k] - t[k - 1];
+    // (At a gap the interval is long: the window stays within ±0.12 s.)
+    let shortest = 0.005f64.max(1.5 * dt).min(0.12);
+    let mut half = (BOTTOM_SPAN / slope.abs().max(1e-9)).clamp(shortest, 0.12);
+    let gap = |q: usize| t[q] - t[q - 1] > GAP * interval;
+    // A clean sample whose θ'' is not the cubic's is one-sided: an edge.
+    let edge = |q: usize| !burst[q] && !cubic[q];
+    let (mut lo, mut hi) = (k - 1, k);
+    while lo > 0 && tc - t[lo] < half && !gap(lo) && !edge(lo - 1) {
+        lo -= 1;
+    }
+    while hi + 1 < n && t[hi] - tc < half && !gap(hi + 1) && !edge(hi + 1) {
+        hi += 1;
+    }
+    half = half.min(tc - t[lo]).min(t[hi] - tc);
+    let (a, b) = (
+        t.partition_point(|&x| x < tc - half),
+        t.partition_point(|&x| x <= tc + half),
+    );
+    let pts: Vec<usize> = (a..b).filter(|&q| !burst[q]).collect();
+    if pts.len() < 3 {
+        return tc;
+    }
+    let m = pts.len() as f64;
+    let (sx, sy) = pts.iter().fold((0.0, 0.0), |a, &q| (a.0 + t[q] - tc, a.1 + f[q]));
+    let (mx, my) = (sx / m, sy / m);
+    let (sxy, sxx) = pts.iter().fold((0.0, 0.0), |a, &q| {
+        (a.0 + (t[q] - tc - mx) * (f[q] - my), a.1 + (t[q] - tc - mx).powi(2))
+    });
+    if sxx <= 0.0 || sxy == 0.0 {
+        return tc;
+    }
+    let zero = tc + mx - my * sxx / sxy;
+    if (zero - tc).abs() <= half {
+        zero
+    } else {
+        tc
+    }
+}
+
+/// An interval over this many times the median is a gap (samples lost):
+/// past the 2 % jitter of a logger like belfry-sleuth's with room to
+/// spare, short of one lost sample (2).
+pub const GAP: f64 = 1.75;
+
+/// The reading's span either side of a bottom that [`bottom_time`] fits a
+/// line over (m/s²): 2 m/s² is g sin θ within ±12 deg of the bottom, where
+/// sin θ departs from a line by 0.7 %, and that symmetrically.
+pub(super) const BOTTOM_SPAN: f64 = 2.0;
+
+/// The stroke with bottom dead centre `bdc`, struck at the first burst
+/// onset before `until` (the next bottom); its hand set later.
+pub(super) fn stroke_between(
+    t: &[f64],
+    theta: &[f64],
+    onsets: &[usize],
+    (bdc, until): (f64, f64),
+    amplitude: f64,
+    from_side: f64,
+) -> LogStroke {
+    let strike_at = onsets.iter().copied().find(|&j| t[j] > bdc && t[j] < until);
+    LogStroke {
+        bdc,
+        hand: true,
+        strike: strike_at.map(|j| t[j]),
+        strike_hidden: false,
+        strike_theta: strike_at.map(|j| theta[j]),
+        amplitude,
+        from_side,
+        phase: PhaseKind::Ringing,
+        speed_peak: None,
+        bdc_se: None,
+    }
+}
+
+/// Above this misfit (the corrected force's median departure from g, over
+/// g) the angle is not trusted: 0.1 g. Logs the model makes read about
+/// 0.01; a light bell with the sensor well off its pivot, whose
+/// centripetal acceleration at the bottom passes g, reads far more.
+pub(super) const MAX_MISFIT: f64 = 0.1;
+
+/// Strokes without the angle (when it cannot be read): a bottom dead
+/// centre is a zero of the tangential reading while it changes fast (at
+/// least 5 m/s³; at the bottom θ'' is near zero and the reading moves as g
+/// θ') and swings past 0.15 g on both sides within 0.25 s; the side it
+/// fell from is the slope's sign, and sides alternate (of two in a row
+/// from one side, the bottom is the one the reading swings further about); the amplitude is read
+/// at the turning point, halfway between bottoms, where θ' = 0 and the
+/// radial reading is exactly g cos A.
+pub(super) fn strokes_by_zeros(
+    log: &AccelLog,
+    theta: &[f64],
+    (burst, onsets): (&[bool], &[usize]),
+    rests: &[(f64, f64, f64)],
+) -> Vec<LogStroke> {
+    let (t, f) = (&log.t, &log.tangential);
+    let n = t.len();
+    let resting = |time: f64| rests.iter().any(|r| time >= r.0 && time <= r.1);
+    let mut cands: Vec<(f64, f64, f64)> = vec![];
+    for j in 0..n - 1 {
+        if burst[j] || burst[j + 1] || f[j] == 0.0 || f[j].signum() == f[j + 1].signum() {
+            continue;
+        }
+        let slope = (f[j + 1] - f[j]) / (t[j + 1] - t[j]);
+        let tc = t[j] + (t[j + 1] - t[j]) * f[j] / (f[j] - f[j + 1]);
+        if slope.abs() < 5.0 || resting(tc) {
+            continue;
+        }
+        // Through the bottom the reading swings well away from zero on both
+        // sides within a quarter of a second; a bell wobbling at the
+        // balance (the ringer holding it) only flickers across.
+        let reach =
+            |range: std::ops::Range<usize>| range.filter(|&q| !burst[q]).map(|q| f[q].abs()).fold(0.0, f64::max);
+        let (a, b) = (
+            t.partition_point(|&x| x < tc - 0.25),
+            t.partition_point(|&x| x <= tc + 0.25),
+        );
+        let swing = reach(a..j + 1).min(reach(j + 1..b));
+        if swing < 0.15 * G {
+            continue;
+        }
+        // Rising through zero: moving toward θ > 0, so it fell from θ < 0.
+        cands.push((tc, -slope.signum(), swing));
+    }
+    // Swings alternate: a bottom falls from the side the last one rose to.
+    // Two in a row from one side are a bottom and a wobble at the balance
+    // (the ringer holding the bell jolts the reading, faster than through
+    // the bottom): keep the one the reading swings further about.
+    let mut kept: Vec<(f64, f64, f64)> = vec![];
+    for &c in &cands {
+        match kept.last_mut() {
+            Some(last) if c.0 - last.0 < 0.3 => {}
+            Some(last) if last.1 == c.1 && c.0 - last.0 < 4.0 => {
+                if c.2 > last.2 {
+                    *last = c;
+                }
+            }
+            _ => kept.push(c),
+        }
+    }
+    let bdcs: Vec<(f64, f64)> = kept.iter().map(|c| (c.0, c.1)).collect();
+    let angle_at = |time: f64| {
+        let k = t.partition_point(|&x| x < time).min(n - 1);
+        let pts: Vec<usize> = (k.saturating_sub(2)..(k + 3).min(n)).filter(|&q| !burst[q]).collect();
+        let m = pts.len().max(1) as f64;
+        let (ft, fr) = pts.iter().fold((0.0, 0.0), |a, &q| (a.0 + f[q], a.1 + log.radial[q]));
+        (ft / m).atan2(fr / m).abs()
+    };
+    let mut out = Vec::with_capacity(bdcs.len());
+    for (i, &(bdc, side)) in bdcs.iter().enumerate() {
+        let before = if i == 0 { bdc - 1.5 } else { bdcs[i - 1].0 };
+        let amplitude = match rests.iter().rev().find(|r| r.1 < bdc && r.1 > before) {
+            Some(r) => r.2.abs(),
+            None => angle_at(0.5 * (before + bdc)),
+        };
+        let until = bdcs.get(i + 1).map_or(f64::INFINITY, |b| b.0);
+        out.push(stroke_between(t, theta, onsets, (bdc, until), amplitude, side));
+    }
+    out
+}
+
+/// After a gap between bottom dead centre and the first burst read, the
+/// clapper may have struck in the gap (and its burst died away there, so
+/// the burst read is a bounce): the strike's time is not known, and a
+/// stroke timed from it moves the odd-struckness (one such stroke in 20
+/// moved a synthetic log's by 30 ms).
+pub(super) fn hide_strikes_after_gaps(t: &[f64], interval: f64, strokes: &mut [LogStroke], warnings: &mut Vec<String>) {
+    let mut hidden = 0;
+    for s in strokes.iter_mut() {
+        let Some(ts) = s.strike else { continue };
+        let (a, b) = (
+            t.partition_point(|&x| x <= s.bdc).max(1),
+            t.partition_point(|&x| x <= ts),
+        );
+        if (a..b).any(|k| t[k] - t[k - 1] > GAP * interval) {
+            s.strike = None;
+            s.strike_theta = None;
+            s.strike_hidden = true;
+            hidden += 1;
+        }
+    }
+    if hidden > 0 {
+        warnings.push(format!(
+            "{hidden} strike(s) not timed: a gap in the log lies between the bottom and the first burst after it"
+        ));
+    }
+}

@@ -1,0 +1,522 @@
+//! The sensor calibrated from the log itself (docs/model.md §13.2): each
+//! in-plane axis's gain and zero offset, the sensor's tilt on the
+//! headstock and its place (along and across the bell's axis, over the
+//! bell's equivalent pendulum length), fitted jointly on the log's quiet
+//! stretches, where the bell's motion is known in kind:
+//!
+//! - **rests** (down, or set at the balance): the reading is gravity
+//!   alone, g (sin θ, cos θ), θ fitted when set, and θ = 0 when down (a
+//!   bell at rest hangs plumb);
+//! - **free swings** (half swings clear of any strike, and of the
+//!   headstock's ringing after one, for a second): a pendulum with energy
+//!   of its own, θ'' = −(g/L) sin θ and θ'² = (2g/L)(cos θ − c₀), so each
+//!   reading is a function of θ alone: f_t = (1 + κ) sin θ − 2δ (cos θ −
+//!   c₀), f_r = cos θ − 2κ (cos θ − c₀) − δ sin θ (κ = h/L, δ = d/L);
+//! - **falls from the balance** (from a set bell's release to its first
+//!   strike): the same, c₀ near −1.
+//!
+//! The sensor reads R(α) f, each axis times its gain plus its offset:
+//! t = g G_t (cos α f_t + sin α f_r) + o_t, r = g G_r (cos α f_r − sin α
+//! f_t) + o_r. Every sample's angle is fitted too (eliminated from the
+//! normal equations: each touches only its own two readings). The tilt α
+//! is where the free swings centre: a bell swings about its bottom. A
+//! rest's reading alone cannot tell a tilt from a zero offset (an ADXL345
+//! may read up to ~1 m/s² at zero); the free swings can. Half swings count
+//! as free only when the swing neither grows nor dies from one to the
+//! next by more than 3 % (a ringer's pull does one or the other). Stretches that
+//! do not fit (a ringer's pull, the clapper moving) are dropped and the fit
+//! repeated.
+
+use super::{free_fall_angle, length_of_fall, wrap, AccelLog};
+use crate::median;
+use clapper_core::bell::G;
+
+/// What the calibration found, with standard errors (the fit's, the
+/// residuals' correlation from sample to sample allowed for).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Calibration {
+    /// Each axis's gain (tangential, radial): the reading of g over g.
+    pub gain: [f64; 2],
+    /// Each axis's zero offset (tangential, radial; m/s²).
+    pub offset: [f64; 2],
+    /// The sensor's tilt on the headstock (rad): the bell's bottom reads at
+    /// this angle on the sensor's axes.
+    pub tilt: f64,
+    /// κ = h/L: the sensor's distance above the pivot over the bell's
+    /// equivalent pendulum length.
+    pub kappa: f64,
+    /// δ = d/L: across the bell's axis.
+    pub delta: f64,
+    /// The equivalent pendulum length L (m), from the free swings' timing.
+    pub length: Option<f64>,
+    /// Standard errors of gain, offset (m/s²), tilt (rad), κ, δ.
+    pub se: CalibrationSe,
+    /// The covariance of (tilt, δ, o_t) (rad, 1, m/s²), for what depends
+    /// on them (a bottom's time).
+    pub cov_bottom: [[f64; 3]; 3],
+    /// Rests and free stretches (swings and falls) fitted.
+    pub rests: usize,
+    /// Free stretches fitted (and how many were dropped as not free).
+    pub free: usize,
+    /// Free stretches left out (they did not fit a free pendulum).
+    pub dropped: usize,
+    /// The rms misfit of the fitted samples (m/s²).
+    pub rms: f64,
+    /// The largest angle the free stretches reached (rad): small swings
+    /// alone tell the gains and place poorly.
+    pub reach: f64,
+}
+
+/// Standard errors of [`Calibration`]'s parameters.
+#[derive(Clone, Copy, Debug, PartialEq, Default)]
+pub struct CalibrationSe {
+    /// Gains (tangential, radial).
+    pub gain: [f64; 2],
+    /// Offsets (m/s²).
+    pub offset: [f64; 2],
+    /// Tilt (rad).
+    pub tilt: f64,
+    /// κ.
+    pub kappa: f64,
+    /// δ.
+    pub delta: f64,
+}
+
+impl Calibration {
+    /// The readings in the bell's frame, the sensor's gains, offsets and
+    /// tilt taken out: (tangential, radial), m/s².
+    pub fn apply(&self, t: f64, r: f64) -> (f64, f64) {
+        let tc = (t - self.offset[0]) / self.gain[0];
+        let rc = (r - self.offset[1]) / self.gain[1];
+        let (s, c) = self.tilt.sin_cos();
+        (c * tc - s * rc, s * tc + c * rc)
+    }
+}
+
+/// A quiet stretch: samples `a..b`; `free` a swinging one (else a rest).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Stretch {
+    pub a: usize,
+    pub b: usize,
+    pub free: bool,
+}
+
+/// Global parameters: α, κ, δ, G_t, G_r, o_t, o_r.
+const NG: usize = 7;
+
+/// The model's readings (m/s²) at angle `th` with parameters `p` (the
+/// globals) and the stretch's energy `c0` (`None`: at rest).
+fn model(p: &[f64], c0: Option<f64>, th: f64) -> [f64; 2] {
+    let (s, c) = th.sin_cos();
+    let (ft, fr) = match c0 {
+        Some(c0) => (
+            (1.0 + p[1]) * s - 2.0 * p[2] * (c - c0),
+            c - 2.0 * p[1] * (c - c0) - p[2] * s,
+        ),
+        None => (s, c),
+    };
+    let (sa, ca) = p[0].sin_cos();
+    [
+        G * p[3] * (ca * ft + sa * fr) + p[5],
+        G * p[4] * (ca * fr - sa * ft) + p[6],
+    ]
+}
+
+/// One sample to fit: its readings, weight, stretch (index into the
+/// free stretches' c₀, or none for a rest) and angle.
+#[derive(Clone, Copy)]
+struct Obs {
+    t: f64,
+    r: f64,
+    w: f64,
+    free: Option<usize>,
+    /// A rest down: the bell hangs plumb, θ = 0 (held, not fitted).
+    plumb: bool,
+}
+
+/// Invert a square matrix (Gauss-Jordan with partial pivoting).
+fn invert(mut a: Vec<Vec<f64>>) -> Option<Vec<Vec<f64>>> {
+    let n = a.len();
+    let mut inv: Vec<Vec<f64>> = (0..n)
+        .map(|i| (0..n).map(|j| f64::from(u8::from(i == j))).collect())
+        .collect();
+    for col in 0..n {
+        let piv = (col..n).max_by(|&x, &y| a[x][col].abs().total_cmp(&a[y][col].abs()))?;
+        if a[piv][col].abs() < 1e-300 {
+            return None;
+        }
+        a.swap(col, piv);
+        inv.swap(col, piv);
+        let d = a[col][col];
+        for j in 0..n {
+            a[col][j] /= d;
+            inv[col][j] /= d;
+        }
+        for i in 0..n {
+            if i != col && a[i][col] != 0.0 {
+                let f = a[i][col];
+                for j in 0..n {
+                    a[i][j] -= f * a[col][j];
+                    inv[i][j] -= f * inv[col][j];
+                }
+            }
+        }
+    }
+    Some(inv)
+}
+
+/// The fit's state: globals and each free stretch's c₀, and every
+/// observation's angle.
+struct Fit {
+    p: Vec<f64>,
+    th: Vec<f64>,
+    cost: f64,
+    /// The reduced normal matrix's inverse at the end (the globals' and
+    /// c₀'s covariance over σ²).
+    inv: Vec<Vec<f64>>,
+}
+
+fn cost_of(obs: &[Obs], p: &[f64], th: &[f64]) -> f64 {
+    obs.iter()
+        .zip(th)
+        .map(|(o, &q)| {
+            let m = model(&p[..NG], o.free.map(|j| p[NG + j]), q);
+            o.w * ((m[0] - o.t).powi(2) + (m[1] - o.r).powi(2))
+        })
+        .sum()
+}
+
+/// Gauss-Newton (halving steps that do not lower the cost) from `p`, `th`.
+fn solve_fit(obs: &[Obs], mut p: Vec<f64>, mut th: Vec<f64>) -> Option<Fit> {
+    let np = p.len();
+    let mut cost = cost_of(obs, &p, &th);
+    let mut inv = vec![];
+    for iter in 0..40 {
+        let mut s = vec![vec![0.0; np]; np];
+        let mut rhs = vec![0.0; np];
+        let mut local = Vec::with_capacity(obs.len());
+        for (o, &q) in obs.iter().zip(&th) {
+            let idx: Vec<usize> = (0..NG).chain(o.free.map(|j| NG + j)).collect();
+            let c0 = o.free.map(|j| p[NG + j]);
+            let m = model(&p[..NG], c0, q);
+            let r = [m[0] - o.t, m[1] - o.r];
+            let eps = 1e-6;
+            let mp = model(&p[..NG], c0, q + eps);
+            let jt = [(mp[0] - m[0]) / eps, (mp[1] - m[1]) / eps];
+            let jp: Vec<[f64; 2]> = idx
+                .iter()
+                .map(|&i| {
+                    let mut gl: [f64; NG] = std::array::from_fn(|x| p[x]);
+                    let mut c = c0;
+                    if i < NG {
+                        gl[i] += eps;
+                    } else {
+                        c = c.map(|v| v + eps);
+                    }
+                    let mm = model(&gl, c, q);
+                    [(mm[0] - m[0]) / eps, (mm[1] - m[1]) / eps]
+                })
+                .collect();
+            let a = o.w * (jt[0] * jt[0] + jt[1] * jt[1]);
+            if o.plumb {
+                // θ held at 0: the globals alone.
+                for (x, &i) in idx.iter().enumerate() {
+                    rhs[i] -= o.w * (jp[x][0] * r[0] + jp[x][1] * r[1]);
+                    for (y, &l) in idx.iter().enumerate() {
+                        s[i][l] += o.w * (jp[x][0] * jp[y][0] + jp[x][1] * jp[y][1]);
+                    }
+                }
+                local.push((f64::INFINITY, vec![0.0; idx.len()], 0.0, idx));
+                continue;
+            }
+            if a < 1e-12 {
+                local.push((1.0, vec![0.0; idx.len()], 0.0, idx));
+                continue;
+            }
+            let b: Vec<f64> = jp.iter().map(|j| o.w * (jt[0] * j[0] + jt[1] * j[1])).collect();
+            let g = o.w * (jt[0] * r[0] + jt[1] * r[1]);
+            for (x, &i) in idx.iter().enumerate() {
+                rhs[i] -= o.w * (jp[x][0] * r[0] + jp[x][1] * r[1]) - b[x] * g / a;
+                for (y, &l) in idx.iter().enumerate() {
+                    s[i][l] += o.w * (jp[x][0] * jp[y][0] + jp[x][1] * jp[y][1]) - b[x] * b[y] / a;
+                }
+            }
+            local.push((a, b, g, idx));
+        }
+        inv = invert(s.clone())?;
+        let dp: Vec<f64> = (0..np).map(|i| (0..np).map(|l| inv[i][l] * rhs[l]).sum()).collect();
+        let dth: Vec<f64> = local
+            .iter()
+            .map(|(a, b, g, idx)| -(g + b.iter().zip(idx).map(|(bx, &i)| bx * dp[i]).sum::<f64>()) / a)
+            .collect();
+        let mut scale = 1.0;
+        let mut accepted = false;
+        for _ in 0..8 {
+            let q: Vec<f64> = p.iter().zip(&dp).map(|(x, d)| x + scale * d).collect();
+            let t2: Vec<f64> = th.iter().zip(&dth).map(|(x, d)| x + scale * d).collect();
+            let c2 = cost_of(obs, &q, &t2);
+            if c2 <= cost {
+                p = q;
+                th = t2;
+                cost = c2;
+                accepted = true;
+                break;
+            }
+            scale *= 0.5;
+        }
+        let small = dp.iter().take(NG).all(|v| v.abs() < 1e-9);
+        if (!accepted || small) && iter > 0 {
+            break;
+        }
+    }
+    p.iter().all(|v| v.is_finite()).then_some(Fit { p, th, cost, inv })
+}
+
+/// Calibrate from `stretches` of `log` (readings as oriented). `None`
+/// without a free stretch that fits.
+pub(crate) fn calibrate(log: &AccelLog, stretches: &[Stretch]) -> Option<Calibration> {
+    let mut keep: Vec<Stretch> = stretches.to_vec();
+    let mut dropped = 0;
+    let mut best_kappa: Option<f64> = None;
+    for round in 0..3 {
+        let frees: Vec<Stretch> = keep.iter().copied().filter(|s| s.free).collect();
+        if frees.is_empty() {
+            return None;
+        }
+        // Observations: every free sample; each rest averaged into one,
+        // weighed as up to 50 samples.
+        let mut obs: Vec<Obs> = vec![];
+        let mut owner: Vec<usize> = vec![];
+        let mut c0s: Vec<f64> = vec![];
+        for (i, s) in keep.iter().enumerate() {
+            if s.free {
+                let j = c0s.len();
+                // c₀ from the stretch's widest angle read plainly.
+                let widest = (s.a..s.b)
+                    .map(|k| log.tangential[k].atan2(log.radial[k]).abs())
+                    .fold(0.0, f64::max);
+                c0s.push(widest.cos());
+                for k in s.a..s.b {
+                    obs.push(Obs {
+                        t: log.tangential[k],
+                        r: log.radial[k],
+                        w: 1.0,
+                        free: Some(j),
+                        plumb: false,
+                    });
+                    owner.push(i);
+                }
+            } else {
+                let n = (s.b - s.a) as f64;
+                let (t, r) = (
+                    log.tangential[s.a..s.b].iter().sum::<f64>() / n,
+                    log.radial[s.a..s.b].iter().sum::<f64>() / n,
+                );
+                obs.push(Obs {
+                    t,
+                    r,
+                    w: n.min(50.0),
+                    free: None,
+                    plumb: r > 0.0 && t.abs() < 0.5 * r,
+                });
+                owner.push(i);
+            }
+        }
+        // From a few starting κ, the best (after the first round, from
+        // where it ended).
+        let starts: Vec<f64> = match best_kappa {
+            Some(k) => vec![k],
+            None => vec![0.0, 0.15, 0.3, 0.45],
+        };
+        let fit = starts
+            .iter()
+            .filter_map(|&kappa0| {
+                let mut p = vec![0.0, kappa0, 0.0, 1.0, 1.0, 0.0, 0.0];
+                p.extend(&c0s);
+                let mut last = 0.0;
+                let th: Vec<f64> = obs
+                    .iter()
+                    .map(|o| {
+                        let v = match o.free {
+                            Some(j) => free_fall_angle(o.t / G, o.r / G, kappa0, c0s[j], 1.0),
+                            None if o.plumb => 0.0,
+                            None => o.t.atan2(o.r),
+                        };
+                        last += wrap(v - last);
+                        if o.free.is_some() {
+                            last
+                        } else {
+                            v
+                        }
+                    })
+                    .collect();
+                solve_fit(&obs, p, th)
+            })
+            .min_by(|a, b| a.cost.total_cmp(&b.cost))?;
+        best_kappa = Some(fit.p[1]);
+        // Each free stretch's rms misfit: those well above the rest's are
+        // not free (a ringer's pull, the clapper moving).
+        let mut per: Vec<(usize, f64, usize)> = vec![];
+        for (i, s) in keep.iter().enumerate() {
+            if !s.free {
+                continue;
+            }
+            let (mut sum, mut n) = (0.0, 0);
+            for (o, (&q, &w)) in obs.iter().zip(fit.th.iter().zip(&owner)) {
+                if w == i {
+                    let m = model(&fit.p[..NG], o.free.map(|j| fit.p[NG + j]), q);
+                    sum += (m[0] - o.t).powi(2) + (m[1] - o.r).powi(2);
+                    n += 1;
+                }
+            }
+            per.push((i, (sum / (2 * n.max(1)) as f64).sqrt(), n));
+        }
+        let typical = median(&per.iter().map(|x| x.1).collect::<Vec<_>>());
+        let limit = (2.5 * typical).max(0.08);
+        let bad: Vec<usize> = per.iter().filter(|x| x.1 > limit).map(|x| x.0).collect();
+        if bad.is_empty() || round == 2 {
+            return Some(finish(log, &keep, &obs, &owner, &fit, dropped));
+        }
+        dropped += bad.len();
+        keep = keep
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| !bad.contains(i))
+            .map(|(_, s)| *s)
+            .collect();
+    }
+    None
+}
+
+/// The calibration from a converged fit: standard errors (σ² from the
+/// residuals, times (1 + ρ)/(1 − ρ) for their correlation ρ from sample
+/// to sample) and L from the free stretches' timing.
+fn finish(log: &AccelLog, keep: &[Stretch], obs: &[Obs], owner: &[usize], fit: &Fit, dropped: usize) -> Calibration {
+    let resid: Vec<[f64; 2]> = obs
+        .iter()
+        .zip(&fit.th)
+        .map(|(o, &q)| {
+            let m = model(&fit.p[..NG], o.free.map(|j| fit.p[NG + j]), q);
+            [m[0] - o.t, m[1] - o.r]
+        })
+        .collect();
+    let n = obs.len() as f64;
+    let dof = (2.0 * n - n - fit.p.len() as f64).max(1.0);
+    let sigma2 = fit.cost / dof;
+    // Lag-one correlation of the residuals within free stretches.
+    let (mut num, mut den) = (0.0, 0.0);
+    for k in 1..obs.len() {
+        if obs[k].free.is_some() && owner[k] == owner[k - 1] {
+            for (x, y) in resid[k].iter().zip(&resid[k - 1]) {
+                num += x * y;
+                den += x * x;
+            }
+        }
+    }
+    let rho = if den > 0.0 { (num / den).clamp(0.0, 0.95) } else { 0.0 };
+    let scale = sigma2 * (1.0 + rho) / (1.0 - rho);
+    let var = |i: usize| (scale * fit.inv[i][i]).max(0.0);
+    let cov = |i: usize, l: usize| scale * fit.inv[i][l];
+    let p = &fit.p;
+    let ix = [0, 2, 5];
+    let cov_bottom: [[f64; 3]; 3] = std::array::from_fn(|a| std::array::from_fn(|b| cov(ix[a], ix[b])));
+    // L from each free stretch's timing; the median.
+    let mut lengths = vec![];
+    let mut reach = 0.0f64;
+    for (i, s) in keep.iter().enumerate() {
+        if !s.free {
+            continue;
+        }
+        let ks: Vec<usize> = (0..obs.len()).filter(|&k| owner[k] == i).collect();
+        let Some(j) = obs[ks[0]].free else { continue };
+        let th: Vec<f64> = ks.iter().map(|&k| fit.th[k]).collect();
+        reach = reach.max(th.iter().map(|v| wrap(*v).abs()).fold(0.0, f64::max));
+        if let Some(l) = length_of_fall(&log.t[s.a..s.b], &th, p[NG + j]) {
+            if (0.05..10.0).contains(&l) {
+                lengths.push(l);
+            }
+        }
+    }
+    let rms = (fit.cost / (2.0 * obs.iter().map(|o| o.w).sum::<f64>())).sqrt();
+    Calibration {
+        gain: [p[3], p[4]],
+        offset: [p[5], p[6]],
+        tilt: wrap(p[0]),
+        kappa: p[1],
+        delta: p[2],
+        length: (!lengths.is_empty()).then(|| median(&lengths)),
+        se: CalibrationSe {
+            gain: [var(3).sqrt(), var(4).sqrt()],
+            offset: [var(5).sqrt(), var(6).sqrt()],
+            tilt: var(0).sqrt(),
+            kappa: var(1).sqrt(),
+            delta: var(2).sqrt(),
+        },
+        cov_bottom,
+        rests: keep.iter().filter(|s| !s.free).count(),
+        free: keep.iter().filter(|s| s.free).count(),
+        dropped,
+        rms,
+        reach,
+    }
+}
+
+/// The log's quiet stretches: its rests (`rests`: start, end, s), the
+/// falls from rests near the balance to the first burst (at most 3 s),
+/// and the half swings between `turns` (sample indices of turning points
+/// of the plain angle `level`, rad) that take 0.3 to 3 s with no burst in
+/// them nor in the second before, and swing steadily.
+pub(crate) fn quiet_stretches(
+    log: &AccelLog,
+    bad: &[bool],
+    rests: &[(f64, f64, f64)],
+    (level, turns): (&[f64], &[usize]),
+) -> Vec<Stretch> {
+    let t = &log.t;
+    let n = t.len();
+    let mut out = vec![];
+    let clean = |a: usize, b: usize| !bad[a..b].iter().any(|&x| x);
+    for r in rests {
+        let (a, b) = (t.partition_point(|&x| x < r.0), t.partition_point(|&x| x <= r.1));
+        let good: Vec<usize> = (a..b).filter(|&k| !bad[k]).collect();
+        if good.len() >= 20 && clean(a, b) {
+            out.push(Stretch { a, b, free: false });
+        }
+        if wrap(r.2).abs() > 150f64.to_radians() {
+            let mut e = b;
+            while e < n && !bad[e] && t[e] - t[b.min(n - 1)] < 3.0 {
+                e += 1;
+            }
+            if e > b + 20 {
+                out.push(Stretch { a: b, b: e, free: true });
+            }
+        }
+    }
+    for (i, w) in turns.windows(2).enumerate() {
+        let (a, b) = (w[0], w[1] + 1);
+        let took = t[w[1]] - t[w[0]];
+        // Free: the span as the one before's and the one after's, within 3 %.
+        let span = |x: usize, y: usize| (level[x] - level[y]).abs();
+        let steady = i >= 1
+            && i + 2 < turns.len()
+            && [span(turns[i - 1], turns[i]), span(turns[i + 1], turns[i + 2])]
+                .iter()
+                .all(|&o| (o - span(w[0], w[1])).abs() <= 0.03 * span(w[0], w[1]));
+        if !steady {
+            continue;
+        }
+        let since = t.partition_point(|&x| x < t[a] - 1.0);
+        if (0.3..3.0).contains(&took) && b - a >= 20 && clean(since, b.min(n)) {
+            // Not within a rest.
+            if !rests.iter().any(|r| t[a] >= r.0 - 0.1 && t[w[1]] <= r.1 + 0.1) {
+                out.push(Stretch {
+                    a,
+                    b: b.min(n),
+                    free: true,
+                });
+            }
+        }
+    }
+    out.sort_by_key(|s| s.a);
+    out
+}

@@ -1,0 +1,238 @@
+//! Phases of a session (docs/model.md §13 step 5: down, raising, up,
+//! ringing with its stands, lowering, down) and the ringing's
+//! odd-struckness.
+
+#[allow(unused_imports)]
+use super::*;
+
+/// Phases (method step 4), and each stroke's phase set.
+pub(super) fn phases(
+    t: &[f64],
+    rests: &[(f64, f64, f64)],
+    strokes: &mut [LogStroke],
+    theta: &[f64],
+    full: f64,
+) -> Vec<Phase> {
+    let (t0, t1) = (t[0], t[t.len() - 1]);
+    let rest_kind = |mean: f64| {
+        if mean.abs() < std::f64::consts::FRAC_PI_2 {
+            PhaseKind::Down
+        } else {
+            PhaseKind::Up
+        }
+    };
+    // The full swings' height: their median over the log.
+    let height = median(
+        &strokes
+            .iter()
+            .map(|s| s.amplitude)
+            .filter(|&x| x >= full)
+            .collect::<Vec<_>>(),
+    );
+    let mut out: Vec<Phase> = vec![];
+    let mut cursor = t0;
+    let mut before: Option<PhaseKind> = None;
+    // Each rest, with the moving segment before it; then the last segment.
+    for k in 0..=rests.len() {
+        let (seg_end, after) = match rests.get(k) {
+            Some(r) => (r.0, Some(rest_kind(r.2))),
+            None => (t1, None),
+        };
+        if seg_end > cursor {
+            segment(
+                t,
+                theta,
+                strokes,
+                (full, height),
+                (cursor, seg_end),
+                (before, after),
+                &mut out,
+            );
+        }
+        if let Some(r) = rests.get(k) {
+            push(&mut out, rest_kind(r.2), r.0, r.1);
+            before = Some(rest_kind(r.2));
+            cursor = r.1;
+        }
+    }
+    // Stands: a short rest at the balance between two stretches of ringing
+    // is part of the ringing.
+    let mut merged: Vec<Phase> = vec![];
+    for (i, p) in out.iter().enumerate() {
+        let stand = p.kind == PhaseKind::Up
+            && p.end - p.start <= STAND_MAX_S
+            && i > 0
+            && out[i - 1].kind == PhaseKind::Ringing
+            && out.get(i + 1).is_some_and(|q| q.kind == PhaseKind::Ringing);
+        let kind = if stand { PhaseKind::Ringing } else { p.kind };
+        push(&mut merged, kind, p.start, p.end);
+    }
+    merged
+}
+
+/// Free swings after lowering (down) are smaller than this (rad): 45 deg.
+pub(super) const FREE_SWING_MAX: f64 = std::f64::consts::FRAC_PI_4;
+
+/// A rest at the balance between strokes of ringing no longer than this
+/// (s) is a stand, part of the ringing; longer, the bell is set (up).
+pub const STAND_MAX_S: f64 = 5.0;
+
+/// Add a phase, merged with the one before if of the same kind.
+pub(super) fn push(out: &mut Vec<Phase>, kind: PhaseKind, start: f64, end: f64) {
+    if end <= start {
+        return;
+    }
+    match out.last_mut() {
+        Some(p) if p.kind == kind => p.end = end,
+        _ => out.push(Phase { kind, start, end }),
+    }
+}
+
+/// The phases of one moving segment `(a, b)` between rests of the kinds
+/// `(from, to)` (`None`: the log's start or end), its strokes' phases set.
+pub(super) fn segment(
+    t: &[f64],
+    theta: &[f64],
+    strokes: &mut [LogStroke],
+    (full, height): (f64, f64),
+    (a, b): (f64, f64),
+    (from, to): (Option<PhaseKind>, Option<PhaseKind>),
+    out: &mut Vec<Phase>,
+) {
+    let idx: Vec<usize> = (0..strokes.len())
+        .filter(|&i| strokes[i].bdc >= a && strokes[i].bdc <= b)
+        .collect();
+    if idx.is_empty() {
+        // Motion with no swing through the bottom (a tug, a check): it
+        // belongs with the rest after it.
+        push(out, to.or(from).unwrap_or(PhaseKind::Down), a, b);
+        return;
+    }
+    let amp = |i: usize| strokes[i].amplitude;
+    // Free swings at the end (the bell let go after lowering): six or more
+    // small swings, none struck, each within 3 deg of the one two before.
+    // They are down; what comes before them ends down.
+    if to != Some(PhaseKind::Up) {
+        let free = |p: usize| {
+            let s = &strokes[idx[p]];
+            s.strike.is_none()
+                && !s.strike_hidden
+                && s.amplitude < FREE_SWING_MAX
+                && (p < 2 || (s.amplitude - amp(idx[p - 2])).abs() <= 3f64.to_radians())
+        };
+        let mut p0 = idx.len();
+        while p0 > 0 && free(p0 - 1) {
+            p0 -= 1;
+        }
+        // (The first of the run may fall from a struck swing: from the next.)
+        if idx.len() - p0 >= 6 {
+            let first = p0 + 1;
+            let since = strokes[idx[first - 1]].bdc;
+            let cut = turning_before(t, theta, strokes[idx[first]].bdc, since);
+            for &i in &idx[first..] {
+                strokes[i].phase = PhaseKind::Down;
+            }
+            if cut > a {
+                segment(
+                    t,
+                    theta,
+                    strokes,
+                    (full, height),
+                    (a, cut),
+                    (from, Some(PhaseKind::Down)),
+                    out,
+                );
+            }
+            push(out, PhaseKind::Down, cut.max(a), b);
+            return;
+        }
+    }
+    let fulls: Vec<f64> = idx.iter().map(|&i| amp(i)).filter(|&x| x >= full).collect();
+    let kind_all = match (from, to) {
+        // Raised and set: every swing is raising, even the last full ones.
+        (Some(PhaseKind::Down) | None, Some(PhaseKind::Up)) => Some(PhaseKind::Raising),
+        (Some(PhaseKind::Up), Some(PhaseKind::Up)) => Some(PhaseKind::Ringing),
+        _ if fulls.is_empty() => {
+            // No full swing: rising or falling amplitudes.
+            let (f, l) = (amp(idx[0]), amp(idx[idx.len() - 1]));
+            Some(
+                if from == Some(PhaseKind::Up) || (to == Some(PhaseKind::Down) && l < f) {
+                    PhaseKind::Lowering
+                } else {
+                    PhaseKind::Raising
+                },
+            )
+        }
+        _ => None,
+    };
+    if let Some(kind) = kind_all {
+        for &i in &idx {
+            strokes[i].phase = kind;
+        }
+        push(out, kind, a, b);
+        return;
+    }
+    // The ringing: swings that fall from near the ringing's height and rise
+    // back to it (3 deg below the full swings' median); raising before,
+    // lowering from the first swing that does not rise back.
+    // (The full swings' height over the whole log: a segment lowered from
+    // its first swing after a set has none that reach it.)
+    let threshold = height - 3f64.to_radians();
+    let core = |p: usize| amp(idx[p]) >= threshold && idx.get(p + 1).is_none_or(|&q| amp(q) >= threshold);
+    if from == Some(PhaseKind::Up) && !(0..idx.len()).any(core) {
+        for &i in &idx {
+            strokes[i].phase = PhaseKind::Lowering;
+        }
+        push(out, PhaseKind::Lowering, a, b);
+        return;
+    }
+    let first = (0..idx.len()).find(|&p| core(p)).unwrap_or(0);
+    let last = (0..idx.len()).rev().find(|&p| core(p)).unwrap_or(idx.len() - 1);
+    // The turning point just before the stroke at position p.
+    let before = |p: usize| {
+        let since = if p == 0 { a } else { strokes[idx[p - 1]].bdc };
+        turning_before(t, theta, strokes[idx[p]].bdc, since)
+    };
+    let start_ring = if from == Some(PhaseKind::Up) { a } else { before(first) };
+    let end_ring = if last + 1 < idx.len() { before(last + 1) } else { b };
+    for (p, &i) in idx.iter().enumerate() {
+        strokes[i].phase = if p < first {
+            PhaseKind::Raising
+        } else if p <= last {
+            PhaseKind::Ringing
+        } else {
+            PhaseKind::Lowering
+        };
+    }
+    push(out, PhaseKind::Raising, a, start_ring);
+    push(out, PhaseKind::Ringing, start_ring, end_ring);
+    push(out, PhaseKind::Lowering, end_ring, b);
+}
+
+/// The turning point (largest |θ|) before bottom dead centre `bdc`, after `from`.
+pub(super) fn turning_before(t: &[f64], theta: &[f64], bdc: f64, from: f64) -> f64 {
+    let (i, j) = (t.partition_point(|&x| x < from), t.partition_point(|&x| x < bdc));
+    (i..j)
+        .max_by(|&a, &b| theta[a].abs().total_cmp(&theta[b].abs()))
+        .map_or(from, |k| t[k])
+}
+
+/// Odd-struckness of the ringing: mean hand minus mean back BDC-to-strike
+/// (s) and its standard error.
+pub(super) fn odd_struck(strokes: &[LogStroke]) -> Option<(f64, f64)> {
+    let times = |hand: bool| -> Vec<f64> {
+        strokes
+            .iter()
+            .filter(|s| s.phase == PhaseKind::Ringing && s.hand == hand)
+            .filter_map(LogStroke::bdc_to_strike)
+            .collect()
+    };
+    let (h, b) = (times(true), times(false));
+    if h.len() < 2 || b.len() < 2 {
+        return None;
+    }
+    // The mean and its variance, sd²/n.
+    let stats = |v: &[f64]| mean_sd(v).map(|(m, sd)| (m, sd * sd / v.len() as f64));
+    let ((mh, vh), (mb, vb)) = (stats(&h)?, stats(&b)?);
+    Some((mh - mb, (vh + vb).sqrt()))
+}

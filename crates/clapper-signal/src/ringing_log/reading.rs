@@ -1,0 +1,430 @@
+//! The angle read from the readings (docs/model.md §13 step 3): the first
+//! pass from a free pendulum's start, the joint cubic fits, the sensor's
+//! place fitted where not known.
+
+#[allow(unused_imports)]
+use super::*;
+
+/// The angle, method step 2: θ unwrapped (measured where good, fitted
+/// across bursts), θ smoothed (the fits' values), θ', h, and whether h was
+/// fitted.
+pub(super) struct Angle {
+    pub(super) theta: Vec<f64>,
+    pub(super) smooth: Vec<f64>,
+    pub(super) rate: Vec<f64>,
+    /// θ' from the joint fits (rad/s): not smoothed over ±0.3 s, which
+    /// reads a swing's fastest (at the bottom) slow.
+    pub(super) joint_rate: Vec<f64>,
+    /// θ'' from the joint fits (rad/s²).
+    pub(super) acc: Vec<f64>,
+    /// Whether the joint fit's cubic gave the sample's θ' and θ'' (not
+    /// the fallback's, one-sided at a gap or the log's ends).
+    pub(super) cubic: Vec<bool>,
+    pub(super) h: f64,
+    /// The sensor's distance across the axis (m), fitted.
+    pub(super) d: f64,
+    pub(super) fitted: bool,
+    /// The median departure of the corrected force from g while the bell
+    /// moves, over g: small when the angle is read right.
+    pub(super) misfit: f64,
+}
+
+pub(super) fn angle(log: &AccelLog, bad: &[bool], given: Option<f64>, falls: Option<&Falls>, interval: f64) -> Angle {
+    let n = log.t.len();
+    // The place read from falls is kept (h given wins); else fitted.
+    let known = match falls {
+        Some(f) => Known {
+            along: Some(given.unwrap_or(f.place().0)),
+            across: Some(f.place().1),
+        },
+        None => Known {
+            along: given,
+            across: None,
+        },
+    };
+    // From several starts (below), the one whose corrected force is
+    // nearest g; the first (no correction) wins ties, so a log read well
+    // without them reads the same. With falls read, their κ.
+    let from_falls = falls.map(|f| [given.map_or(f.kappa, |h| h / f.length)]);
+    let starts: &[f64] = match &from_falls {
+        Some(k) => k,
+        None => &STARTS,
+    };
+    let best = starts
+        .iter()
+        .map(|&kappa| first_pass(log, bad, known, interval, kappa))
+        .reduce(|best, a| if a.misfit < best.misfit - 1e-3 { a } else { best })
+        .expect("STARTS is not empty");
+    let (mut theta, mut place) = (best.theta, best.place);
+    // Then θ, θ', θ'' fitted to both readings at once over ±0.15 s (at
+    // least 4 samples), and the sensor's place refitted from them; twice.
+    let jw = (4.0 * interval).max(0.15);
+    let mut derivatives = None;
+    for _ in 0..2 {
+        let (_, q1, q2) = quadratic_fits(&log.t, &theta, bad, best.window);
+        let j = joint_fits(log, bad, &theta, place, jw, (&q1, &q2));
+        place = fit_sensor(log, bad, &j.d1, &j.d2, known);
+        theta = unwrap_fill(&log.t, &j.theta, bad);
+        derivatives = Some((j.d1, j.d2, j.cubic));
+    }
+    let (d1, d2, cubic) = derivatives.expect("two passes");
+    let misfit = misfit(log, bad, place, &d1, &d2);
+    let (smooth, rate, _) = quadratic_fits(&log.t, &theta, bad, best.window);
+    // Across a burst the fit bridges better than a straight line, unless
+    // the burst is so long that the fit has little to stand on (then the
+    // two disagree, and the line is kept).
+    let theta: Vec<f64> = (0..n)
+        .map(|k| {
+            if bad[k] && (smooth[k] - theta[k]).abs() < 0.3 {
+                smooth[k]
+            } else {
+                theta[k]
+            }
+        })
+        .collect();
+    Angle {
+        theta,
+        smooth,
+        rate,
+        joint_rate: d1,
+        acc: d2,
+        cubic,
+        h: place.0,
+        d: place.1,
+        fitted: given.is_none(),
+        misfit,
+    }
+}
+
+/// Gravity's part of the reading at sample `k`, g (sin θ, cos θ) (m/s²;
+/// tangential, radial): the reading less the swing's own acceleration at
+/// the sensor's place (h along, d across; m) with θ' = `rate` (rad/s) and
+/// θ'' = `acc` (rad/s²). The forward formula is clapper_core::sensor's
+/// (docs/model.md §13).
+pub(super) fn gravity_part(log: &AccelLog, k: usize, (h, d): (f64, f64), rate: f64, acc: f64) -> [f64; 2] {
+    let swing = specific_force(SensorPlace { along: h, across: d }, 0.0, rate, acc);
+    [log.tangential[k] - swing[0], log.radial[k] - (swing[1] - G)]
+}
+
+/// The median departure of the corrected force from g while the bell
+/// moves (|θ'| > 0.5 rad/s), over g.
+pub(super) fn misfit(log: &AccelLog, bad: &[bool], place: (f64, f64), d1: &[f64], d2: &[f64]) -> f64 {
+    median(
+        &(0..log.t.len())
+            .filter(|&k| !bad[k] && d1[k].abs() > 0.5)
+            .map(|k| {
+                let [a, b] = gravity_part(log, k, place, d1[k], d2[k]);
+                (a.hypot(b) - G).abs() / G
+            })
+            .collect::<Vec<_>>(),
+    )
+}
+
+/// Starting guesses of κ = h/L (sensor height over the bell's equivalent
+/// pendulum length) for the angle's first pass. With the sensor well above
+/// the pivot (κ ≳ 0.25) the uncorrected angle is wrong in kind, not just
+/// in size: at the bottom of a full swing the centripetal term outweighs
+/// gravity, the radial reading goes negative, atan2 says "at the top", and
+/// the derivatives that would correct it are taken from that wrong angle,
+/// so the correction never gets started. A free pendulum has
+/// g sin θ = f_t / (1 + κ) and, swinging from the balance,
+/// g cos θ = (f_r + 2 g κ) / (1 − 2 κ); that first guess passes through
+/// the bottom where it should (for smaller swings it reads them smaller,
+/// but on the right side of the horizontal), and the correction refines it.
+pub(super) const STARTS: [f64; 5] = [0.0, 0.1, 0.2, 0.3, 0.4];
+
+/// The angle of a free pendulum that fell from rest at cos θ = `c0` (a
+/// sensor on its axis at κ = h/L) from its readings `ft`, `fr` in units of
+/// `g` (m/s², or 1 for readings over g): ft = g (1 + κ) sin θ and
+/// fr = g (cos θ − 2κ (cos θ − c₀)) solved for θ.
+pub(super) fn free_fall_angle(ft: f64, fr: f64, kappa: f64, c0: f64, g: f64) -> f64 {
+    (ft / (1.0 + kappa)).atan2((fr - 2.0 * g * kappa * c0) / (1.0 - 2.0 * kappa))
+}
+
+/// The angle's first pass from start κ: θ unwrapped, the sensor's place,
+/// the misfit, and the smoothing window used (s).
+pub(super) struct FirstPass {
+    pub(super) theta: Vec<f64>,
+    pub(super) place: (f64, f64),
+    pub(super) misfit: f64,
+    pub(super) window: f64,
+}
+
+pub(super) fn first_pass(log: &AccelLog, bad: &[bool], known: Known, interval: f64, kappa: f64) -> FirstPass {
+    let n = log.t.len();
+    let (ft, fr) = (&log.tangential, &log.radial);
+    let raw = |place: (f64, f64), d1: &[f64], d2: &[f64], k: usize| {
+        let [s, c] = gravity_part(log, k, place, d1[k], d2[k]);
+        s.atan2(c)
+    };
+    let first: Vec<f64> = (0..n).map(|k| free_fall_angle(ft[k], fr[k], kappa, -1.0, G)).collect();
+    let mut theta = unwrap_fill(&log.t, &first, bad);
+    // ±0.3 s: θ'' from a narrower fit is so noisy that the correction
+    // (h θ'', fed back) amplifies the noise (at 100 Hz and ±0.12 s by 4.5 a
+    // pass); over ±0.3 s the gain is 0.15, and a swing (seconds long) is
+    // still a parabola there. (The joint fits that follow have no such
+    // feedback.)
+    let window = (5.0 * interval).max(0.3);
+    let mut place = (known.along.unwrap_or(0.0), known.across.unwrap_or(0.0));
+    for _ in 0..3 {
+        let (_, d1, d2) = quadratic_fits(&log.t, &theta, bad, window);
+        place = fit_sensor(log, bad, &d1, &d2, known);
+        let corrected: Vec<f64> = (0..n).map(|k| raw(place, &d1, &d2, k)).collect();
+        theta = unwrap_fill(&log.t, &corrected, bad);
+    }
+    let (_, d1, d2) = quadratic_fits(&log.t, &theta, bad, window);
+    FirstPass {
+        misfit: misfit(log, bad, place, &d1, &d2),
+        theta,
+        place,
+        window,
+    }
+}
+
+/// `a` made continuous sample to sample, but never more than 200 deg from
+/// the bottom: each value the turn of it nearest the last one, else the
+/// one in (−180, 180] deg.
+pub(super) fn bounded(a: &[f64]) -> Vec<f64> {
+    let limit = 200f64.to_radians();
+    let mut out = Vec::with_capacity(a.len());
+    let mut prev = a.first().map_or(0.0, |&x| wrap(x));
+    for &x in a {
+        let near = prev + wrap(x - prev);
+        let v = if near.abs() <= limit { near } else { wrap(x) };
+        out.push(v);
+        prev = v;
+    }
+    out
+}
+
+/// Unwrap `a` over the good samples and fill the bad ones by linear
+/// interpolation in time.
+pub(super) fn unwrap_fill(t: &[f64], a: &[f64], bad: &[bool]) -> Vec<f64> {
+    let n = t.len();
+    let mut out = vec![f64::NAN; n];
+    let mut bad = bad.to_vec();
+    let mut prev: Option<(f64, f64)> = None;
+    let mut refused_since: Option<f64> = None;
+    for k in 0..n {
+        if bad[k] {
+            continue;
+        }
+        let mut v = a[k];
+        if let Some((p, tp)) = prev {
+            let step = wrap(v - p);
+            // A bell turns at most some 6 rad/s: a sample further off is
+            // a strike's shaking that the burst test let through; but a
+            // quarter of a second of such samples means the last one
+            // trusted was the odd one out.
+            let since = *refused_since.get_or_insert(t[k]);
+            if step.abs() > (8.0 * (t[k] - tp)).max(0.35) && t[k] - since < 0.25 {
+                bad[k] = true;
+                continue;
+            }
+            refused_since = None;
+            v = p + step;
+        }
+        out[k] = v;
+        prev = Some((v, t[k]));
+    }
+    let good: Vec<usize> = (0..n).filter(|&k| !bad[k]).collect();
+    if good.is_empty() {
+        return a.to_vec();
+    }
+    let mut g = 0;
+    for k in 0..n {
+        if !bad[k] {
+            continue;
+        }
+        while g + 1 < good.len() && good[g + 1] < k {
+            g += 1;
+        }
+        let (i, j) = (good[g], good.get(g + 1).copied().unwrap_or(good[g]));
+        out[k] = if i >= k || j == i {
+            out[i.min(j)]
+        } else {
+            out[i] + (out[j] - out[i]) * (t[k] - t[i]) / (t[j] - t[i])
+        };
+    }
+    out
+}
+
+/// θ, θ' and θ'' at every sample from a local cubic θ(t) over ±`w` s
+/// fitted to both readings at once (Gauss-Newton from `theta`), the
+/// readings being g (sin θ, cos θ) less the swing's accelerations at the
+/// sensor's `place` (h along, d across). Unlike differentiating a
+/// smoothed θ, nothing is fed back, so the window can be short enough to
+/// follow a light bell's fast swing through the bottom. Samples with too
+/// few good neighbours keep `theta` and the derivatives `fallback`.
+pub(super) fn joint_fits(
+    log: &AccelLog,
+    bad: &[bool],
+    theta: &[f64],
+    (h, d): (f64, f64),
+    w: f64,
+    fallback: (&[f64], &[f64]),
+) -> JointFits {
+    let n = log.t.len();
+    let (t, ft, fr) = (&log.t, &log.tangential, &log.radial);
+    let (mut th, mut d1, mut d2) = (theta.to_vec(), fallback.0.to_vec(), fallback.1.to_vec());
+    let mut cubic = vec![false; n];
+    let (mut lo, mut hi) = (0, 0);
+    for k in 0..n {
+        while t[k] - t[lo] > w {
+            lo += 1;
+        }
+        while hi + 1 < n && t[hi + 1] - t[k] <= w {
+            hi += 1;
+        }
+        // At most some 40 samples a window: more adds time, not accuracy.
+        let stride = (hi + 1 - lo).div_ceil(40).max(1);
+        let good: Vec<usize> = (lo..=hi)
+            .filter(|&j| !bad[j] && (j == k || j.abs_diff(k) % stride == 0))
+            .collect();
+        // A cubic with samples on one side only (at a gap's edge, or the
+        // log's) extrapolates: there `theta` is kept (at a gap in a swing's
+        // top it read 5 deg past the balance).
+        let before = good.iter().filter(|&&j| j < k).count();
+        if good.len() < 8 || before < 3 || good.len() - before < 4 {
+            continue;
+        }
+        // Start: the cubic through `theta` (linear least squares).
+        let mut ata = [[0.0f64; 4]; 4];
+        let mut atb = [0.0f64; 4];
+        for &j in &good {
+            let x = t[j] - t[k];
+            let p = [1.0, x, x * x, x * x * x];
+            for i in 0..4 {
+                atb[i] += p[i] * theta[j];
+                for l in 0..4 {
+                    ata[i][l] += p[i] * p[l];
+                }
+            }
+        }
+        let Some(mut a) = solve(ata, atb) else { continue };
+        for _ in 0..4 {
+            let mut jtj = [[0.0f64; 4]; 4];
+            let mut jtr = [0.0f64; 4];
+            for &j in &good {
+                let x = t[j] - t[k];
+                let q = a[0] + x * (a[1] + x * (a[2] + x * a[3]));
+                let q1 = a[1] + x * (2.0 * a[2] + 3.0 * x * a[3]);
+                let q2 = 2.0 * a[2] + 6.0 * x * a[3];
+                let (sn, cs) = q.sin_cos();
+                let model = specific_force(SensorPlace { along: h, across: d }, q, q1, q2);
+                let (rt, rr) = (model[0] - ft[j], model[1] - fr[j]);
+                let p = [1.0, x, x * x, x * x * x];
+                let p1 = [0.0, 1.0, 2.0 * x, 3.0 * x * x];
+                let p2 = [0.0, 0.0, 2.0, 6.0 * x];
+                let mut jt = [0.0; 4];
+                let mut jr = [0.0; 4];
+                for i in 0..4 {
+                    jt[i] = G * cs * p[i] - h * p2[i] - 2.0 * d * q1 * p1[i];
+                    jr[i] = -G * sn * p[i] - 2.0 * h * q1 * p1[i] + d * p2[i];
+                }
+                for i in 0..4 {
+                    jtr[i] -= jt[i] * rt + jr[i] * rr;
+                    for l in 0..4 {
+                        jtj[i][l] += jt[i] * jt[l] + jr[i] * jr[l];
+                    }
+                }
+            }
+            let Some(step) = solve(jtj, jtr) else { break };
+            for i in 0..4 {
+                a[i] += step[i];
+            }
+            if step[0].abs() < 1e-7 {
+                break;
+            }
+        }
+        if a.iter().all(|v| v.is_finite()) && (a[0] - theta[k]).abs() < 1.0 {
+            th[k] = a[0];
+            d1[k] = a[1];
+            d2[k] = 2.0 * a[2];
+            cubic[k] = true;
+        }
+    }
+    JointFits {
+        theta: th,
+        d1,
+        d2,
+        cubic,
+    }
+}
+
+/// The sensor's place where known (m): given, or read from the falls.
+#[derive(Clone, Copy)]
+pub(super) struct Known {
+    pub(super) along: Option<f64>,
+    pub(super) across: Option<f64>,
+}
+
+/// What [`joint_fits`] gives: θ, θ', θ'' at every sample (rad, rad/s,
+/// rad/s²).
+pub(super) struct JointFits {
+    pub(super) theta: Vec<f64>,
+    pub(super) d1: Vec<f64>,
+    pub(super) d2: Vec<f64>,
+    /// Whether the cubic was fitted at the sample (else the fallback).
+    pub(super) cubic: Vec<bool>,
+}
+
+/// The sensor's place (h along the axis above the pivot, d across it; m)
+/// that makes the corrected force g throughout: least squares over the
+/// moving, good samples by Gauss-Newton from the middle, each within
+/// ±1 m; h (and d) held where known.
+pub(super) fn fit_sensor(log: &AccelLog, bad: &[bool], d1: &[f64], d2: &[f64], known: Known) -> (f64, f64) {
+    if let Known {
+        along: Some(h),
+        across: Some(d),
+    } = known
+    {
+        return (h, d);
+    }
+    let given = known.along;
+    let moving: Vec<usize> = (0..log.t.len()).filter(|&k| !bad[k] && d1[k].abs() > 0.5).collect();
+    let (mut h, mut d) = (given.unwrap_or(0.0), 0.0);
+    // A handful of steps: the residual is nearly linear in (h, d).
+    for _ in 0..20 {
+        // Normal equations J'J δ = −J'r, r = |F| − g.
+        let (mut a, mut b) = ([[0.0f64; 2]; 2], [0.0f64; 2]);
+        for &k in &moving {
+            let w2 = d1[k] * d1[k];
+            let [x, y] = gravity_part(log, k, (h, d), d1[k], d2[k]);
+            let m = x.hypot(y);
+            if m < 1e-9 {
+                continue;
+            }
+            let r = m - G;
+            let j = [(x * d2[k] + y * w2) / m, (x * w2 - y * d2[k]) / m];
+            for i in 0..2 {
+                b[i] -= j[i] * r;
+                for l in 0..2 {
+                    a[i][l] += j[i] * j[l];
+                }
+            }
+        }
+        let step = if given.is_some() {
+            if a[1][1] > 0.0 {
+                (0.0, b[1] / a[1][1])
+            } else {
+                (0.0, 0.0)
+            }
+        } else {
+            let det = a[0][0] * a[1][1] - a[0][1] * a[1][0];
+            if det.abs() < 1e-12 * (a[0][0] * a[1][1]).abs().max(1e-300) {
+                break;
+            }
+            (
+                (b[0] * a[1][1] - b[1] * a[0][1]) / det,
+                (a[0][0] * b[1] - a[1][0] * b[0]) / det,
+            )
+        };
+        h = (h + step.0).clamp(-1.0, 1.0);
+        d = (d + step.1).clamp(-1.0, 1.0);
+        if step.0.abs().max(step.1.abs()) < 1e-6 {
+            break;
+        }
+    }
+    (h, d)
+}
