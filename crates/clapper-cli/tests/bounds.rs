@@ -144,3 +144,12 @@ fn mistakes_that_were_silent_are_said() {
         "bells 1 and 2 have nominals 1400 and 1400 Hz",
     );
 }
+
+/// A synthetic ring of 10^9 rows passed 8 GiB in seconds: refused by the
+/// hours of sound it would be; a bell with no nominal is named by its
+/// number, not printed as a Rust struct.
+#[test]
+fn a_synthetic_ring_is_bounded_and_its_bells_named() {
+    refused(&["synth-ring", "--out", "r.wav", "--rows", "1000000000"], "hours of sound, at most 4");
+    refused(&["synth-ring", "--out", "r.wav", "--treble-hz", "0"], "");
+}

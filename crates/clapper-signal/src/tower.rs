@@ -295,6 +295,9 @@ pub struct TrueStrike {
 /// Most bells in a ring: beyond any tower.
 pub const MAX_BELLS: usize = 64;
 
+/// The longest synthetic recording (s): four hours, past a peal's three.
+pub const MAX_RECORDING_S: f64 = 4.0 * 3600.0;
+
 fn check(spec: &TowerSpec) -> Result<(), SignalError> {
     let bad = |what: String| Err(SignalError::Option(what));
     if spec.bells.is_empty() || spec.bells.len() > MAX_BELLS {
@@ -313,9 +316,27 @@ fn check(spec: &TowerSpec) -> Result<(), SignalError> {
             spec.jitter
         ));
     }
-    for b in &spec.bells {
+    // Bounded before anything is allocated: a recording of at most
+    // MAX_RECORDING_S (a peal is about three hours).
+    let seconds = spec.rows as f64 * (spec.bells.len() as f64 + spec.handstroke_gap) * spec.interval;
+    if seconds > MAX_RECORDING_S {
+        return bad(format!(
+            "{} rows of {} bells at {:.0} ms: {:.1} hours of sound, at most {:.0} (a peal is about 3)",
+            spec.rows,
+            spec.bells.len(),
+            spec.interval * 1e3,
+            seconds / 3600.0,
+            MAX_RECORDING_S / 3600.0
+        ));
+    }
+    for (i, b) in spec.bells.iter().enumerate() {
         if !(b.nominal_hz > 0.0 && b.mass_kg > 0.0 && b.odd_struck_ms.is_finite()) {
-            return bad(format!("bell {b:?}: nominal and mass > 0"));
+            return bad(format!(
+                "bell {}: nominal {} Hz and mass {} kg: both must be more than 0",
+                i + 1,
+                b.nominal_hz,
+                b.mass_kg
+            ));
         }
         if b.odd_struck_ms.abs() * 1e-3 >= spec.interval {
             return bad(format!("odd-struckness {} ms: under the interval", b.odd_struck_ms));
