@@ -14,6 +14,7 @@ pub mod contacts;
 pub mod modes;
 pub mod ringing_log;
 pub mod ringing_log_synth;
+pub mod sampled_ring;
 pub mod spectrogram;
 pub mod strikes;
 pub mod striking;
