@@ -4,7 +4,7 @@
 //! rounds and plain hunt in rooms and noise by
 //! `clapper_signal::sampled_ring`, and scored against the truth.
 //!
-//! cargo run --release -p clapper-app --example real_rings -- FOLDER [--bells N] [--skip K] [--seeds A-B] [--mode templates|nominals|both] [--conditions 1,2] [--show] [--order pitch|name|name-rev]
+//! cargo run --release -p clapper-app --example real_rings -- FOLDER [--bells N] [--skip K] [--seeds A-B] [--mode templates|nominals|both] [--conditions 1,2] [--show] [--order pitch|name|name-rev] [--nominals F1,F2,..] [--raw]
 //!
 //! `--skip K` leaves out the K highest bells (a ring of the next N).
 //! No recordings ship with the project: docs/strikes.md names the ones
@@ -12,7 +12,7 @@
 
 use std::path::{Path, PathBuf};
 
-use clapper_app::strikes::StrikesReport;
+use clapper_app::strikes::{StrikesReport, Timing};
 use clapper_signal::sampled_ring::{sample_onset, sampled_ring};
 use clapper_signal::strikes::{BellVoice, StrikeOptions};
 use clapper_signal::striking::{rhythm, Timed};
@@ -28,6 +28,8 @@ struct Args {
     conditions: Vec<usize>,
     show: bool,
     order: String,
+    raw: bool,
+    nominals: Option<Vec<f64>>,
 }
 
 fn args() -> Args {
@@ -50,6 +52,8 @@ fn args() -> Args {
             .unwrap_or_else(|| (1..=CONDITIONS.len()).collect()),
         show: v.iter().any(|a| a == "--show"),
         order: get("--order").unwrap_or_else(|| "pitch".into()),
+        raw: v.iter().any(|a| a == "--raw"),
+        nominals: get("--nominals").map(|s| s.split(',').map(|x| x.parse().unwrap()).collect()),
     }
 }
 
@@ -70,11 +74,42 @@ fn strongest_hz(s: &Signal) -> f64 {
     v.partials[0].freq_hz
 }
 
+/// The strongest spectral peak within 2 % of `f` over the strike's first
+/// second (Hann window, 0.1 Hz steps).
+fn peak_near(s: &Signal, f: f64) -> f64 {
+    let o = (sample_onset(s).unwrap() * s.rate) as usize;
+    let n = ((s.rate as usize).min(s.samples.len() - o)).max(2);
+    let x: Vec<f64> = (0..n)
+        .map(|k| s.samples[o + k] * (std::f64::consts::PI * k as f64 / n as f64).sin().powi(2))
+        .collect();
+    let mut best = (f, 0.0);
+    let mut g = 0.98 * f;
+    while g <= 1.02 * f {
+        let w = 2.0 * std::f64::consts::PI * g / s.rate;
+        let (mut re, mut im) = (0.0, 0.0);
+        for (k, v) in x.iter().enumerate() {
+            re += v * (w * k as f64).cos();
+            im += v * (w * k as f64).sin();
+        }
+        let m = re * re + im * im;
+        if m > best.1 {
+            best = (g, m);
+        }
+        g += 0.1;
+    }
+    best.0
+}
+
 fn load(folder: &Path) -> Vec<(String, Signal)> {
     let mut out = vec![];
     for e in std::fs::read_dir(folder).expect("a readable folder") {
         let p = e.unwrap().path();
-        if p.extension().and_then(|x| x.to_str()).map(str::to_ascii_lowercase).as_deref() == Some("wav") {
+        if p.extension()
+            .and_then(|x| x.to_str())
+            .map(str::to_ascii_lowercase)
+            .as_deref()
+            == Some("wav")
+        {
             let s = clapper_io::signal_file::read_recording(&p).expect("a WAV file");
             out.push((p.file_name().unwrap().to_string_lossy().into_owned(), s));
         }
@@ -119,12 +154,21 @@ fn main() {
         let _ = f;
     }
     let strikes: Vec<Signal> = ring.iter().map(|r| r.2.clone()).collect();
-    let nominals: Vec<f64> = ring.iter().map(|r| r.0).collect();
+    // Nominals given (each refined to the template's spectral peak within 2 %),
+    // else each bell's strongest partial.
+    let nominals: Vec<f64> = match &a.nominals {
+        Some(v) => v.iter().zip(&strikes).map(|(&f, s)| peak_near(s, f)).collect(),
+        None => ring.iter().map(|r| r.0).collect(),
+    };
+    println!(
+        "nominals: {}",
+        nominals.iter().map(|f| format!("{f:.1}")).collect::<Vec<_>>().join(",")
+    );
     let n = a.bells;
     let odd_bell = 3;
     println!();
-    println!("| mode | condition | seeds | strikes | recall 10 ms | precision 10 ms | median / p95 abs err (ms) | worst bell mean err (ms) | doubles found | false doubles | odd-struck bell {odd_bell} (planted 25) err vs truth (ms) | others worst (ms) |");
-    println!("|---|---|---|---|---|---|---|---|---|---|---|---|");
+    println!("| mode | condition | seeds | strikes | recall 10 ms | precision 10 ms | median / p95 abs err (ms) | worst bell mean err (ms) | doubles found | false doubles | odd-struck bell {odd_bell} (planted 25) err vs truth (ms) | others worst (ms) | recall / precision 100 ms |");
+    println!("|---|---|---|---|---|---|---|---|---|---|---|---|---|");
     for mode in &a.modes {
         let voices: Vec<BellVoice> = match *mode {
             "templates" => strikes.iter().map(|s| BellVoice::from_template(s).unwrap()).collect(),
@@ -135,6 +179,7 @@ fn main() {
             let mut tot = Score::default();
             let mut per_bell: Vec<Vec<f64>> = vec![vec![]; n];
             let mut odd_err = 0.0f64;
+            let (mut wide_found, mut wide_false) = (0usize, 0usize);
             let mut others = 0.0f64;
             for seed in a.seeds.0..=a.seeds.1 {
                 let mut bells = major_scale(n, 1000.0).unwrap();
@@ -159,11 +204,22 @@ fn main() {
                     ..TowerSpec::new(bells)
                 };
                 let (sig, truth) = sampled_ring(&spec, &strikes).unwrap();
-                let report = StrikesReport::new(&sig, &voices, &StrikeOptions::default()).unwrap();
+                let timing = match (*mode, a.raw) {
+                    (_, true) => Timing::AsHeard,
+                    ("templates", _) => Timing::Templates(&strikes),
+                    _ => Timing::AsHeard,
+                };
+                let report = StrikesReport::timed(&sig, &voices, &StrikeOptions::default(), timing).unwrap();
                 let heard: Vec<HeardTimes> = report
                     .strikes
                     .iter()
-                    .map(|s| (s.bell, s.t_s, s.double.as_ref().map(|d| (d.delay_ms * 1e-3, d.amplitude_ratio))))
+                    .map(|s| {
+                        (
+                            s.bell,
+                            s.t_s,
+                            s.double.as_ref().map(|d| (d.delay_ms * 1e-3, d.amplitude_ratio)),
+                        )
+                    })
                     .collect();
                 let sc = score(&heard, &truth, 0.010);
                 // Per bell error, from a wide match so a late bell shows.
@@ -175,13 +231,57 @@ fn main() {
                         .min_by(|p, q| (p.t - t).abs().total_cmp(&(q.t - t).abs()))
                     {
                         per_bell[b - 1].push((t - x.t) * 1e3);
+                        if a.show && (t - x.t).abs() > 0.01 {
+                            println!(
+                                "    bell {b} row {} place {}: {:+.1} ms{}",
+                                x.row,
+                                x.place,
+                                (t - x.t) * 1e3,
+                                if x.double.is_some() { " (a double)" } else { "" }
+                            );
+                        }
                     }
                 }
-                let _ = wide;
-                let timed: Vec<Timed> = report.strikes.iter().map(|s| Timed { bell: s.bell, t: s.t_s }).collect();
+                wide_found += wide.found;
+                wide_false += wide.false_strikes;
+                let timed: Vec<Timed> = report
+                    .strikes
+                    .iter()
+                    .map(|s| Timed { bell: s.bell, t: s.t_s })
+                    .collect();
                 let true_timed: Vec<Timed> = truth.iter().map(|s| Timed { bell: s.bell, t: s.t }).collect();
                 let r = rhythm(&timed, n);
                 let tr = rhythm(&true_timed, n);
+                if a.show {
+                    let kept: Vec<Timed> = timed
+                        .iter()
+                        .copied()
+                        .filter(|h| truth.iter().any(|x| x.bell == h.bell && (x.t - h.t).abs() < 0.01))
+                        .collect();
+                    let kr = rhythm(&kept, n);
+                    println!(
+                        "    odd-struck, outliers dropped: {}; strokes known {} / {}, full rows {} / {}",
+                        (1..=n)
+                            .map(|b| format!("{:.1}", kr.odd_struck(&kept, b).unwrap_or(f64::NAN) * 1e3))
+                            .collect::<Vec<_>>()
+                            .join(", "),
+                        r.strokes_known,
+                        tr.strokes_known,
+                        r.full_rows,
+                        tr.full_rows
+                    );
+                    println!(
+                        "    odd-struck heard / true (ms): {}",
+                        (1..=n)
+                            .map(|b| format!(
+                                "{:.1}/{:.1}",
+                                r.odd_struck(&timed, b).unwrap_or(f64::NAN) * 1e3,
+                                tr.odd_struck(&true_timed, b).unwrap_or(f64::NAN) * 1e3
+                            ))
+                            .collect::<Vec<_>>()
+                            .join(", ")
+                    );
+                }
                 for b in 1..=n {
                     let e = match (r.odd_struck(&timed, b), tr.odd_struck(&true_timed, b)) {
                         (Some(h), Some(t)) => (h - t).abs() * 1e3,
@@ -216,14 +316,26 @@ fn main() {
             }
             let mut e: Vec<f64> = tot.onset_errors.iter().map(|v| v.abs() * 1e3).collect();
             e.sort_by(f64::total_cmp);
-            let pct = |p: f64| e.get(((e.len().max(1) - 1) as f64 * p).round() as usize).copied().unwrap_or(f64::NAN);
+            let pct = |p: f64| {
+                e.get(((e.len().max(1) - 1) as f64 * p).round() as usize)
+                    .copied()
+                    .unwrap_or(f64::NAN)
+            };
             let means: Vec<f64> = per_bell
                 .iter()
-                .map(|v| if v.is_empty() { f64::NAN } else { v.iter().sum::<f64>() / v.len() as f64 })
+                .map(|v| {
+                    if v.is_empty() {
+                        f64::NAN
+                    } else {
+                        v.iter().sum::<f64>() / v.len() as f64
+                    }
+                })
                 .collect();
-            let worst = means.iter().fold(0.0f64, |m, v| if v.is_nan() { f64::INFINITY } else { m.max(v.abs()) });
+            let worst = means
+                .iter()
+                .fold(0.0f64, |m, v| if v.is_nan() { f64::INFINITY } else { m.max(v.abs()) });
             println!(
-                "| {mode} | {name} | {}-{} | {} | {:.3} | {:.3} | {:.2} / {:.2} | {worst:.1} | {}/{} | {} ({:.2} %) | {odd_err:.1} | {others:.1} |",
+                "| {mode} | {name} | {}-{} | {} | {:.3} | {:.3} | {:.2} / {:.2} | {worst:.1} | {}/{} | {} ({:.2} %) | {odd_err:.1} | {others:.1} | {:.3} / {:.3} |",
                 a.seeds.0,
                 a.seeds.1,
                 tot.found + tot.missed,
@@ -235,6 +347,8 @@ fn main() {
                 tot.doubles_put,
                 tot.false_doubles,
                 100.0 * tot.false_doubles as f64 / (tot.found.max(1)) as f64,
+                wide_found as f64 / (tot.found + tot.missed).max(1) as f64,
+                wide_found as f64 / (wide_found + wide_false).max(1) as f64,
             );
             if a.show {
                 println!(

@@ -11,6 +11,7 @@
 
 pub mod accel;
 pub mod contacts;
+pub mod lateness;
 pub mod modes;
 pub mod ringing_log;
 pub mod ringing_log_synth;
@@ -19,6 +20,7 @@ pub mod spectrogram;
 pub mod strikes;
 pub mod striking;
 pub mod synth;
+pub mod template_timing;
 pub mod tower;
 
 /// The median of `v` (the upper of the middle two), 0 for none.

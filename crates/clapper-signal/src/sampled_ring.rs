@@ -173,7 +173,9 @@ mod tests {
             method: Method::PlainHunt,
             ..TowerSpec::new(major_scale(4, 1000.0).unwrap())
         };
-        let strikes: Vec<Signal> = (0..4).map(|i| strike(rate, 100 * (i + 1), 500.0 + 100.0 * i as f64)).collect();
+        let strikes: Vec<Signal> = (0..4)
+            .map(|i| strike(rate, 100 * (i + 1), 500.0 + 100.0 * i as f64))
+            .collect();
         let (sig, truth) = sampled_ring(&spec, &strikes).unwrap();
         assert_eq!(truth.len(), 16);
         // The first strike: silence before it, sound from it.
