@@ -243,11 +243,19 @@ impl StrikesReport {
             )));
         }
         let mut heard = find_strikes(sig, voices, opts).map_err(signal_error)?;
+        let mut warnings = heard.warnings.clone();
+        // The lateness on a ring of the templates needs them at one rate;
+        // matching each strike does not (it resamples them).
         let lateness: Option<Lateness> = match timing {
             Timing::AsHeard => None,
-            Timing::Templates(t) => Some(from_templates(t, voices, opts).map_err(signal_error)?),
+            Timing::Templates(t) => match from_templates(t, voices, opts) {
+                Ok(l) => Some(l),
+                Err(e) => {
+                    warnings.push(format!("no lateness learned from the templates: {e}"));
+                    None
+                }
+            },
         };
-        let mut warnings = heard.warnings.clone();
         // With templates, each strike is timed against its bell's template;
         // the lateness learned on a ring of the templates then serves only a
         // bell whose template is too short to match.
