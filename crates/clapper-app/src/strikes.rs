@@ -6,8 +6,10 @@
 use std::fmt::Write as _;
 
 use clapper_core::stroke::double_strike_index;
+use clapper_signal::lateness::{from_templates, Lateness};
 use clapper_signal::strikes::{find_strikes, BellVoice, StrikeOptions};
 use clapper_signal::striking::{mean_sd, rhythm, Timed};
+use clapper_signal::template_timing::retime;
 use clapper_signal::Signal;
 use serde::Serialize;
 
@@ -105,11 +107,53 @@ pub struct StrikesSummary {
     pub warnings: Vec<String>,
 }
 
+/// One bell's timing against its template (issue 43): how long after the
+/// start of its sound the band finder heard it on a ring of the templates,
+/// and how far its strikes moved when each was matched to its template.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct BellTiming {
+    /// Bell, counting from 1.
+    pub bell: usize,
+    /// How late the band finder heard it on a ring of the templates (ms):
+    /// taken off its strikes only where its template is too short to match.
+    pub lateness_ms: f64,
+    /// Its spread over the strikes it was learned from (ms, median absolute deviation).
+    pub spread_ms: f64,
+    /// Strikes it was learned from (0: not learned, nothing taken off).
+    pub learned_from: usize,
+    /// How far its strikes then moved (the median, ms) when timed against
+    /// its template; none without templates.
+    pub matched_ms: Option<f64>,
+}
+
+/// The timing corrections used.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TimingReport {
+    /// Where each bell's lateness was learned: "templates" (its recording
+    /// struck alone).
+    pub source: &'static str,
+    /// Treble first.
+    pub per_bell: Vec<BellTiming>,
+}
+
+/// How strike times are put on one footing for every bell.
+#[derive(Clone, Copy, Debug)]
+pub enum Timing<'a> {
+    /// As the finder hears them (no correction).
+    AsHeard,
+    /// Each bell's lateness learned from its recording struck alone (one per
+    /// bell, treble first, at one rate).
+    Templates(&'a [Signal]),
+}
+
 /// What `clapper strikes` reports.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct StrikesReport {
     /// Bells listened for.
     pub bells: usize,
+    /// Each bell's timing against its template (with templates only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub timing: Option<TimingReport>,
     /// Every strike, in time order.
     pub strikes: Vec<StrikeReport>,
     /// Each bell's striking, treble first.
@@ -195,16 +239,72 @@ fn ring_size_warning(timed: &[Timed], given: usize) -> Option<String> {
 }
 
 impl StrikesReport {
-    /// Listen to `sig` for the bells `voices` (treble first).
+    /// Listen to `sig` for the bells `voices` (treble first), the strikes
+    /// timed as heard ([`Timing::AsHeard`]).
     pub fn new(sig: &Signal, voices: &[BellVoice], opts: &StrikeOptions) -> Result<Self, AppError> {
+        Self::timed(sig, voices, opts, Timing::AsHeard)
+    }
+
+    /// Listen to `sig` for the bells `voices` (treble first), timing each
+    /// bell's strikes as `timing` says.
+    pub fn timed(sig: &Signal, voices: &[BellVoice], opts: &StrikeOptions, timing: Timing) -> Result<Self, AppError> {
         let rate = sig.rate;
         if !(8_000.0..=96_000.0).contains(&rate) {
             return Err(AppError::Request(format!(
                 "sample rate {rate} Hz: recordings from 8 to 96 kHz"
             )));
         }
-        let heard = find_strikes(sig, voices, opts).map_err(signal_error)?;
+        let mut heard = find_strikes(sig, voices, opts).map_err(signal_error)?;
         let mut warnings = heard.warnings.clone();
+        // The lateness on a ring of the templates needs them at one rate;
+        // matching each strike does not (it resamples them).
+        let lateness: Option<Lateness> = match timing {
+            Timing::AsHeard => None,
+            Timing::Templates(t) => match from_templates(t, voices, opts) {
+                Ok(l) => Some(l),
+                Err(e) => {
+                    warnings.push(format!("no lateness learned from the templates: {e}"));
+                    None
+                }
+            },
+        };
+        // With templates, each strike is timed against its bell's template;
+        // the lateness learned on a ring of the templates then serves only a
+        // bell whose template is too short to match.
+        let matched = match timing {
+            Timing::Templates(t) => {
+                let late: Vec<Option<f64>> = lateness
+                    .as_ref()
+                    .map(|l| l.bells.iter().map(|b| b.sure().then_some(b.lateness_s)).collect())
+                    .unwrap_or_default();
+                retime(sig, &mut heard, t, &late).map_err(signal_error)?
+            }
+            _ => vec![],
+        };
+        if let Some(l) = &lateness {
+            let mut l = l.clone();
+            for (b, m) in l.bells.iter_mut().zip(&matched) {
+                if m.is_some() {
+                    b.lateness_s = 0.0;
+                }
+            }
+            l.correct(&mut heard);
+            warnings.extend(l.warnings.iter().cloned());
+        }
+        let timing_report = lateness.map(|l| TimingReport {
+            source: l.source,
+            per_bell: l
+                .bells
+                .iter()
+                .map(|b| BellTiming {
+                    bell: b.bell,
+                    lateness_ms: b.lateness_s * 1e3,
+                    spread_ms: b.spread_s * 1e3,
+                    learned_from: b.strikes,
+                    matched_ms: matched.get(b.bell - 1).copied().flatten().map(|m| m * 1e3),
+                })
+                .collect(),
+        });
         let peak = sig.samples.iter().fold(0.0f64, |p, v| p.max(v.abs()));
         if peak == 0.0 {
             warnings.insert(0, "the recording is silent".into());
@@ -294,6 +394,7 @@ impl StrikesReport {
         };
         Ok(StrikesReport {
             bells: voices.len(),
+            timing: timing_report,
             strikes,
             per_bell,
             summary,
@@ -342,6 +443,22 @@ impl StrikesReport {
                 odd,
                 format!("{} ({:.0} %)", b.double_strikes, 100.0 * b.double_rate),
                 opt(b.mean_d, 1)
+            );
+        }
+        if let Some(t) = &self.timing {
+            let list = |f: &dyn Fn(&BellTiming) -> Option<f64>| {
+                t.per_bell
+                    .iter()
+                    .map(|b| f(b).map_or(format!("{} -", b.bell), |v| format!("{} {v:+.1}", b.bell)))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            };
+            let _ = writeln!(
+                o,
+                "timing from the {}: heard late on a ring of them (ms) {}; each strike matched to its template moved (median ms) {}",
+                t.source,
+                list(&|b| (b.learned_from > 0).then_some(b.lateness_ms)),
+                list(&|b| b.matched_ms)
             );
         }
         for w in &s.warnings {

@@ -6,7 +6,7 @@ use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use clapper_app::strikes::{strike_options, voices_from_nominals, StrikesReport, StrikingFigure};
+use clapper_app::strikes::{strike_options, voices_from_nominals, StrikesReport, StrikingFigure, Timing};
 use clapper_io::signal_file::{read_recording, write_wav};
 use clapper_io::strike_file::{csv_text, lowndes};
 use clapper_signal::strikes::BellVoice;
@@ -64,7 +64,14 @@ pub struct StrikesArgs {
 }
 
 pub(crate) fn template_voices(dir: &std::path::Path) -> Result<Vec<BellVoice>> {
+    Ok(templates(dir)?.0)
+}
+
+/// The bells' voices from a folder of recordings of each struck alone, and
+/// the recordings (to learn each bell's lateness from).
+pub(crate) fn templates(dir: &std::path::Path) -> Result<(Vec<BellVoice>, Vec<clapper_signal::Signal>)> {
     let mut voices = vec![];
+    let mut sigs = vec![];
     for bell in 1.. {
         let path = dir.join(format!("{bell}.wav"));
         if !path.exists() {
@@ -72,6 +79,7 @@ pub(crate) fn template_voices(dir: &std::path::Path) -> Result<Vec<BellVoice>> {
         }
         let sig = read_recording(&path)?;
         voices.push(BellVoice::from_template(&sig).with_context(|| path.display().to_string())?);
+        sigs.push(sig);
     }
     if voices.is_empty() {
         bail!(
@@ -87,7 +95,7 @@ pub(crate) fn template_voices(dir: &std::path::Path) -> Result<Vec<BellVoice>> {
             dir.display()
         );
     }
-    Ok(voices)
+    Ok((voices, sigs))
 }
 
 pub fn strikes(args: StrikesArgs) -> Result<()> {
@@ -95,9 +103,9 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         &[("--csv", args.csv.as_deref()), ("--lowndes", args.lowndes.as_deref())],
         args.json,
     )?;
-    let voices = match (&args.nominals, &args.templates) {
-        (Some(n), _) => voices_from_nominals(&n.0)?,
-        (None, Some(dir)) => template_voices(dir)?,
+    let (voices, recorded) = match (&args.nominals, &args.templates) {
+        (Some(n), _) => (voices_from_nominals(&n.0)?, vec![]),
+        (None, Some(dir)) => templates(dir)?,
         (None, None) => {
             bail!("say which bells to listen for: --nominals F1,F2,.. (Hz, treble first) or --templates DIR")
         }
@@ -107,7 +115,13 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
     }
     let opts = strike_options(args.double_min_ratio)?;
     let sig = read_recording(&args.file)?;
-    let report = StrikesReport::new(&sig, &voices, &opts).with_context(|| args.file.display().to_string())?;
+    // With templates, each strike is timed against its bell's template.
+    let timing = if recorded.is_empty() {
+        Timing::AsHeard
+    } else {
+        Timing::Templates(&recorded)
+    };
+    let report = StrikesReport::timed(&sig, &voices, &opts, timing).with_context(|| args.file.display().to_string())?;
     let name = crate::files::title_name(&args.file);
     if let Some(path) = &args.csv {
         write_bytes(path, csv_text(&report.csv_rows()).map_err(anyhow::Error::msg)?)?;

@@ -129,6 +129,7 @@ fn read_wav(path: &Path, channel: usize) -> Result<Signal, SignalFileError> {
 
 /// The chunks of a RIFF WAVE file that matter: the format's bytes and the
 /// samples' bytes (cut to what the file holds).
+#[derive(Clone, Copy)]
 struct WavChunks<'a> {
     fmt: &'a [u8],
     data: &'a [u8],
@@ -194,7 +195,12 @@ fn decode_wav(bytes: &[u8]) -> Result<(f64, usize, Vec<f64>), String> {
                 .collect();
             return Ok((rate, nch, all));
         }
-        if !c.plain {
+        // hound takes a format chunk of 16, 18 or 40 bytes; some writers
+        // pad a plain PCM or float one to 20 (its extra bytes unused).
+        let odd_fmt = !matches!(c.fmt.len(), 16 | 18 | 40) && matches!(tag, 1 | 3);
+        if !c.plain || odd_fmt {
+            let fmt = if odd_fmt { &c.fmt[..16] } else { c.fmt };
+            let c = WavChunks { fmt, ..*c };
             // The same format and samples, laid out as hound reads them.
             let mut tidy = Vec::with_capacity(c.data.len() + c.fmt.len() + 28);
             tidy.extend_from_slice(b"RIFF");
@@ -427,6 +433,13 @@ mod tests {
         let doubles: Vec<u8> = [0.25f64, -0.5, 0.125].iter().flat_map(|v| v.to_le_bytes()).collect();
         let sig = recording_from_bytes(&wav(3, 64, &[], &doubles), "f64.wav").unwrap();
         assert_eq!(sig.samples, vec![0.25, -0.5, 0.125]);
+        // A PCM format chunk padded to 20 bytes (hound: "unexpected fmt chunk size").
+        let mut long = wav(1, 16, &[], &pcm);
+        long[16..20].copy_from_slice(&20u32.to_le_bytes());
+        long.splice(36..36, [0u8; 4]);
+        let n = (long.len() - 8) as u32;
+        long[4..8].copy_from_slice(&n.to_le_bytes());
+        assert_eq!(recording_from_bytes(&long, "fmt20.wav").unwrap().samples.len(), 3);
         assert_eq!(sig.rate, 8000.0);
     }
 

@@ -11,14 +11,17 @@
 
 pub mod accel;
 pub mod contacts;
+pub mod lateness;
 pub mod methods;
 pub mod modes;
 pub mod ringing_log;
 pub mod ringing_log_synth;
+pub mod sampled_ring;
 pub mod spectrogram;
 pub mod strikes;
 pub mod striking;
 pub mod synth;
+pub mod template_timing;
 pub mod tower;
 pub mod tower_effects;
 

@@ -609,7 +609,7 @@ pub(crate) fn gaussian(rng: &mut Pcg64) -> f64 {
 /// The room's impulse response: 1 at time 0, then from the pre-delay
 /// Gaussian noise under an envelope falling 60 dB in RT60, scaled so that
 /// its energy is the direct sound's less the direct-to-reverberant ratio.
-fn room_response(room: Room, rate: f64, rng: &mut Pcg64) -> Vec<f64> {
+pub(crate) fn room_response(room: Room, rate: f64, rng: &mut Pcg64) -> Vec<f64> {
     let start = (room.predelay_ms * 1e-3 * rate).round().max(1.0) as usize;
     let len = start + (room.rt60_s * rate).ceil() as usize;
     let mut ir = vec![0.0; len];
@@ -631,7 +631,7 @@ fn room_response(room: Room, rate: f64, rng: &mut Pcg64) -> Vec<f64> {
 }
 
 /// Linear convolution by FFT, in blocks (overlap-add).
-fn convolve(x: &[f64], h: &[f64]) -> Vec<f64> {
+pub(crate) fn convolve(x: &[f64], h: &[f64]) -> Vec<f64> {
     if x.is_empty() || h.is_empty() {
         return vec![];
     }
