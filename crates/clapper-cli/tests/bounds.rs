@@ -150,6 +150,30 @@ fn mistakes_that_were_silent_are_said() {
 /// number, not printed as a Rust struct.
 #[test]
 fn a_synthetic_ring_is_bounded_and_its_bells_named() {
-    refused(&["synth-ring", "--out", "r.wav", "--rows", "1000000000"], "hours of sound, at most 4");
+    refused(
+        &["synth-ring", "--out", "r.wav", "--rows", "1000000000"],
+        "hours of sound, at most 4",
+    );
     refused(&["synth-ring", "--out", "r.wav", "--treble-hz", "0"], "");
+}
+
+/// A synthetic log at 5 kHz read back: its times were written in whole
+/// milliseconds, so successive samples repeated a time and the log was
+/// refused ("time goes backwards or repeats").
+#[test]
+fn a_fast_synthetic_log_reads_back() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("fast.txt").display().to_string();
+    let made = Command::cargo_bin("clapper")
+        .unwrap()
+        .args(["synth-log", "--out", &log, "--rate", "5000", "--strokes", "2"])
+        .output()
+        .unwrap();
+    assert!(made.status.success(), "{}", String::from_utf8_lossy(&made.stderr));
+    let read = Command::cargo_bin("clapper")
+        .unwrap()
+        .args(["ringing-log", &log])
+        .output()
+        .unwrap();
+    assert!(read.status.success(), "{}", String::from_utf8_lossy(&read.stderr));
 }

@@ -81,7 +81,10 @@ fn commands(d: &Path) -> Vec<(&'static str, Vec<String>)> {
         ("animate", vec!["--out".into(), p("a.svg")]),
         ("ringing-log", vec![p("log.txt")]),
         ("synth-log", vec!["--out".into(), p("l.txt")]),
-        ("tower", vec![p("ring-of-eight-tower.toml"), "--leads".into(), "1".into()]),
+        (
+            "tower",
+            vec![p("ring-of-eight-tower.toml"), "--leads".into(), "1".into()],
+        ),
     ]
 }
 

@@ -245,17 +245,20 @@ pub fn load_accel_log(path: &std::path::Path, axes: Axes) -> Result<AccelLog, Lo
 
 /// A log in the belfry-sleuth text format, the axes as [`Axes::default`]
 /// puts them (x along the pivot, y radial, z tangential), the time in whole
-/// milliseconds as the logger writes it, the name as a trailer line.
+/// milliseconds as the logger writes it, the name as a trailer line. A log
+/// sampled too fast for whole milliseconds (two samples in one: above
+/// 1 kHz, or jittered near it) has its times to the microsecond, so that
+/// it reads back.
 pub fn write_sleuth_log(log: &AccelLog) -> String {
+    let whole_ms = log.t.windows(2).all(|w| (w[1] * 1e3).round() > (w[0] * 1e3).round());
     let mut out = String::with_capacity(log.t.len() * 32);
     for k in 0..log.t.len() {
-        out.push_str(&format!(
-            "{:.3} {:.3} {:.3} {}\n",
-            log.axle[k],
-            log.radial[k],
-            log.tangential[k],
-            (log.t[k] * 1e3).round() as i64
-        ));
+        let (x, y, z) = (log.axle[k], log.radial[k], log.tangential[k]);
+        if whole_ms {
+            out.push_str(&format!("{x:.3} {y:.3} {z:.3} {}\n", (log.t[k] * 1e3).round() as i64));
+        } else {
+            out.push_str(&format!("{x:.3} {y:.3} {z:.3} {:.3}\n", log.t[k] * 1e3));
+        }
     }
     if let Some(n) = &log.name {
         out.push_str(n);
