@@ -15,7 +15,7 @@ pub struct TowerArgs {
     /// in the frame (swing or swing_deg, frame_x_m, frame_y_m,
     /// pivot_height_m) and a TOML ring its tower ([tower] table).
     pub ring: PathBuf,
-    /// The tower's sway (TOML: [east_west] and [north_south], each with
+    /// The tower's sway (TOML: tables `[east_west]` and `[north_south]`, each with
     /// frequency_hz, damping_ratio, modal_mass_kg) [default: the ring's
     /// [tower] table; without either, forces only].
     #[arg(long, value_name = "FILE")]

@@ -2,7 +2,7 @@
 //! bell struck once, placed at the strike times of a [`TowerSpec`] (rounds
 //! or plain hunt, the band's errors, odd-struck bells, double strikes),
 //! summed (a bell is linear: two strikes sound as the sum of each), heard
-//! in a [`Room`] and with white noise, with the truth.
+//! in a [`Room`](crate::tower::Room) and with white noise, with the truth.
 //!
 //! The truth of each strike is the start of its sound: each recording's
 //! own onset ([`sample_onset`]) is found once and the recording placed so
