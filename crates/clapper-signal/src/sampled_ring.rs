@@ -11,10 +11,7 @@
 //! `real_rings`, docs/strikes.md), the tests use the project's synthetic
 //! strikes.
 
-use rand::SeedableRng;
-use rand_pcg::Pcg64;
-
-use crate::tower::{convolve, gaussian, room_response, tower_strikes, TowerSpec, TrueStrike};
+use crate::tower::{tower_strikes, TowerSpec, TrueStrike};
 use crate::{Signal, SignalError};
 
 /// Where a recorded strike's sound starts (s from the recording's start).
@@ -107,27 +104,8 @@ pub fn sampled_ring(spec: &TowerSpec, strikes: &[Signal]) -> Result<(Signal, Vec
             add(t.t + delay, t.bell - 1, ratio);
         }
     }
-    if let Some(room) = spec.room {
-        let ir = room_response(room, spec.rate, &mut Pcg64::seed_from_u64(spec.seed ^ 0x5eed_0002));
-        mix = convolve(&mix, &ir);
-        mix.truncate(n);
-    }
-    if let Some(snr) = spec.snr_db {
-        let from = ((truth.first().map_or(0.0, |s| s.t)) * spec.rate) as usize;
-        let ringing = &mix[from.min(mix.len())..];
-        let power = ringing.iter().map(|v| v * v).sum::<f64>() / ringing.len().max(1) as f64;
-        let sd = (power / 10f64.powf(snr / 10.0)).sqrt();
-        let mut rng = Pcg64::seed_from_u64(spec.seed ^ 0x5eed_0003);
-        for m in &mut mix {
-            *m += sd * gaussian(&mut rng);
-        }
-    }
-    let peak = mix.iter().fold(0.0f64, |p, v| p.max(v.abs()));
-    if peak > 0.0 {
-        for m in &mut mix {
-            *m *= 0.5 / peak;
-        }
-    }
+    let first = truth.first().map_or(0.0, |s| s.t);
+    let mix = crate::tower::in_the_room(mix, spec, first, n);
     Ok((
         Signal {
             rate: spec.rate,

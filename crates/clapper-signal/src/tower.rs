@@ -298,26 +298,10 @@ pub const MAX_BELLS: usize = 64;
 /// The longest synthetic recording (s): four hours, past a peal's three.
 pub const MAX_RECORDING_S: f64 = 4.0 * 3600.0;
 
-fn check(spec: &TowerSpec) -> Result<(), SignalError> {
+/// The recording's length (bounded before anything is allocated: at most
+/// [`MAX_RECORDING_S`], a peal being about three hours) and each bell.
+fn check_length_and_bells(spec: &TowerSpec) -> Result<(), SignalError> {
     let bad = |what: String| Err(SignalError::Option(what));
-    if spec.bells.is_empty() || spec.bells.len() > MAX_BELLS {
-        return bad(format!("{} bells: 1 to {MAX_BELLS}", spec.bells.len()));
-    }
-    if spec.rows == 0 {
-        return bad("0 rows: at least one".into());
-    }
-    let nonneg = [spec.handstroke_gap, spec.jitter, spec.lead_in, spec.tail];
-    if !(spec.interval.is_finite() && spec.interval > 0.0) || nonneg.iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
-        return bad("interval > 0 s; handstroke gap, jitter, lead-in and tail >= 0".into());
-    }
-    if 2.0 * spec.jitter >= spec.interval {
-        return bad(format!(
-            "jitter {} s: under half the interval, so bells keep their places",
-            spec.jitter
-        ));
-    }
-    // Bounded before anything is allocated: a recording of at most
-    // MAX_RECORDING_S (a peal is about three hours).
     let seconds = spec.rows as f64 * (spec.bells.len() as f64 + spec.handstroke_gap) * spec.interval;
     if seconds > MAX_RECORDING_S {
         return bad(format!(
@@ -342,6 +326,28 @@ fn check(spec: &TowerSpec) -> Result<(), SignalError> {
             return bad(format!("odd-struckness {} ms: under the interval", b.odd_struck_ms));
         }
     }
+    Ok(())
+}
+
+fn check(spec: &TowerSpec) -> Result<(), SignalError> {
+    let bad = |what: String| Err(SignalError::Option(what));
+    if spec.bells.is_empty() || spec.bells.len() > MAX_BELLS {
+        return bad(format!("{} bells: 1 to {MAX_BELLS}", spec.bells.len()));
+    }
+    if spec.rows == 0 {
+        return bad("0 rows: at least one".into());
+    }
+    let nonneg = [spec.handstroke_gap, spec.jitter, spec.lead_in, spec.tail];
+    if !(spec.interval.is_finite() && spec.interval > 0.0) || nonneg.iter().any(|v| !(v.is_finite() && *v >= 0.0)) {
+        return bad("interval > 0 s; handstroke gap, jitter, lead-in and tail >= 0".into());
+    }
+    if 2.0 * spec.jitter >= spec.interval {
+        return bad(format!(
+            "jitter {} s: under half the interval, so bells keep their places",
+            spec.jitter
+        ));
+    }
+    check_length_and_bells(spec)?;
     let v = spec.variation;
     let detune_ok = v.detune_cents.is_finite() && (0.0..=100.0).contains(&v.detune_cents);
     let strength_ok = v.strength_db.is_finite() && (0.0..=20.0).contains(&v.strength_db);
@@ -490,6 +496,45 @@ pub fn voice_of(
     out
 }
 
+/// What a ring's direct sound becomes on the recording: the room's
+/// response (cut to `len` samples), the noise at the spec's SNR against the
+/// ringing's mean power from `first_strike` (s) on, and the peak scaled to
+/// 0.5. Shared by the synthetic ring and the ring of recorded strikes.
+pub(crate) fn in_the_room(mut mix: Vec<f64>, spec: &TowerSpec, first_strike: f64, len: usize) -> Vec<f64> {
+    if let Some(room) = spec.room {
+        let ir = room_response(room, spec.rate, &mut Pcg64::seed_from_u64(spec.seed ^ 0x5eed_0002));
+        mix = convolve(&mix, &ir);
+        mix.truncate(len);
+    }
+    if let Some(snr) = spec.snr_db {
+        let from = (first_strike * spec.rate) as usize;
+        let ringing = &mix[from.min(mix.len())..];
+        let power = ringing.iter().map(|v| v * v).sum::<f64>() / ringing.len().max(1) as f64;
+        let sd = (power / 10f64.powf(snr / 10.0)).sqrt();
+        let mut rng = Pcg64::seed_from_u64(spec.seed ^ 0x5eed_0003);
+        match spec.noise {
+            Noise::White => {
+                for m in &mut mix {
+                    *m += sd * gaussian(&mut rng);
+                }
+            }
+            kind => {
+                let noise = kind.make(mix.len(), spec.rate, &mut rng);
+                for (m, v) in mix.iter_mut().zip(noise) {
+                    *m += sd * v;
+                }
+            }
+        }
+    }
+    let peak = mix.iter().fold(0.0f64, |p, v| p.max(v.abs()));
+    if peak > 0.0 {
+        for m in &mut mix {
+            *m *= 0.5 / peak;
+        }
+    }
+    mix
+}
+
 /// The recording (the sum of every bell's sound, in its room, with its
 /// noise, its peak scaled to 0.5) and the strikes in it, in time order.
 pub fn tower_recording(spec: &TowerSpec) -> Result<(Signal, Vec<TrueStrike>), SignalError> {
@@ -558,38 +603,8 @@ pub fn tower_recording(spec: &TowerSpec) -> Result<(Signal, Vec<TrueStrike>), Si
             }
         }
     }
-    if let Some(room) = spec.room {
-        let ir = room_response(room, spec.rate, &mut Pcg64::seed_from_u64(spec.seed ^ 0x5eed_0002));
-        mix = convolve(&mix, &ir);
-        mix.truncate((end * spec.rate).round() as usize);
-    }
-    if let Some(snr) = spec.snr_db {
-        // The ringing's mean power, from the first strike on.
-        let from = ((strikes.first().map_or(0.0, |s| s.t)) * spec.rate) as usize;
-        let ringing = &mix[from.min(mix.len())..];
-        let power = ringing.iter().map(|v| v * v).sum::<f64>() / ringing.len().max(1) as f64;
-        let sd = (power / 10f64.powf(snr / 10.0)).sqrt();
-        let mut rng = Pcg64::seed_from_u64(spec.seed ^ 0x5eed_0003);
-        match spec.noise {
-            Noise::White => {
-                for m in &mut mix {
-                    *m += sd * gaussian(&mut rng);
-                }
-            }
-            kind => {
-                let noise = kind.make(mix.len(), spec.rate, &mut rng);
-                for (m, v) in mix.iter_mut().zip(noise) {
-                    *m += sd * v;
-                }
-            }
-        }
-    }
-    let peak = mix.iter().fold(0.0f64, |p, v| p.max(v.abs()));
-    if peak > 0.0 {
-        for m in &mut mix {
-            *m *= 0.5 / peak;
-        }
-    }
+    let first = strikes.first().map_or(0.0, |s| s.t);
+    let mix = in_the_room(mix, spec, first, (end * spec.rate).round() as usize);
     Ok((
         Signal {
             rate: spec.rate,
