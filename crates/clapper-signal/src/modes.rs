@@ -153,16 +153,24 @@ fn track(x: &[f64], rate: f64, freq: f64, n: usize) -> Vec<(f64, f64)> {
     out
 }
 
+impl ModeOptions {
+    /// The dB range more than 0 and at most [`crate::spectrogram::MAX_RANGE_DB`].
+    fn check(&self) -> Result<(), SignalError> {
+        let max_db = crate::spectrogram::MAX_RANGE_DB;
+        if self.range_db > 0.0 && self.range_db <= max_db {
+            return Ok(());
+        }
+        Err(SignalError::Option(format!(
+            "dB range {}: more than 0, at most {max_db} dB",
+            self.range_db
+        )))
+    }
+}
+
 /// Find the strong partials of a single strike in `sig`.
 pub fn find_modes(sig: &Signal, opts: &ModeOptions) -> Result<Vec<Partial>, SignalError> {
     sig.validate()?;
-    let max_db = crate::spectrogram::MAX_RANGE_DB;
-    if !(opts.range_db > 0.0 && opts.range_db <= max_db) {
-        return Err(SignalError::Option(format!(
-            "dB range {}: more than 0, at most {max_db} dB",
-            opts.range_db
-        )));
-    }
+    opts.check()?;
     let n_win = (opts.decay_window_s * sig.rate).round() as usize;
     // The strike: from the largest sample on.
     let start = sig
