@@ -154,7 +154,10 @@ fn a_synthetic_ring_is_bounded_and_its_bells_named() {
         &["synth-ring", "--out", "r.wav", "--rows", "1000000000"],
         "hours of sound, at most 4",
     );
-    refused(&["synth-ring", "--out", "r.wav", "--treble-hz", "0"], "");
+    refused(
+        &["synth-ring", "--out", "r.wav", "--treble-hz", "0"],
+        "bell 1: nominal 0 Hz and mass 150 kg: both must be more than 0",
+    );
 }
 
 /// A synthetic log at 5 kHz read back: its times were written in whole

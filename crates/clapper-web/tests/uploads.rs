@@ -118,6 +118,9 @@ async fn recordings_in_flight_share_a_budget() {
     let limits = clapper_web::Limits {
         max_recording_bytes: 1 << 20,
         max_upload_bytes_in_flight: 2 << 20,
+        // The two held uploads stall after their first bytes: a minute
+        // before the least rate would cut them, however loaded the machine.
+        body_timeout: std::time::Duration::from_secs(60),
         ..clapper_web::Limits::default()
     };
     let addr = start_with(limits).await;
