@@ -5,32 +5,13 @@
 
 use std::f64::consts::PI;
 
-use crate::hanging::Hanging;
+use crate::hanging::{Hanging, SwingDecay};
+pub use crate::param::{readable, ParamError, G};
 
-/// Acceleration due to gravity (m/s²), the value the paper uses.
-pub const G: f64 = 9.81;
-
-/// A bad bell parameter: which field, its value, and what is allowed.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[error("{field} = {} is out of range: {allowed}", readable(*value))]
-pub struct ParamError {
-    /// The field's name as the user writes it (e.g. `clapper_mass_kg`).
-    pub field: &'static str,
-    /// The rejected value.
-    pub value: f64,
-    /// The allowed range, in words.
-    pub allowed: &'static str,
-}
-
-/// `v` as a person reads it: plain for ordinary sizes, in exponent form
-/// (`1e-300`, not three hundred digits) for very small or large ones.
-pub fn readable(v: f64) -> String {
-    if v != 0.0 && v.is_finite() && !(1e-4..1e7).contains(&v.abs()) {
-        format!("{v:e}")
-    } else {
-        format!("{v}")
-    }
-}
+/// The paper's (and King et al.'s) range of r/L_c: -0.3 to 0.7.
+pub const DEFAULT_R_RANGE: [f64; 2] = [-0.3, 0.7];
+/// The paper's range of L_b/L_c: 0.5 to 2.5.
+pub const DEFAULT_LB_RANGE: [f64; 2] = [0.5, 2.5];
 
 /// The shortest and longest equivalent pendulum, L_b or L_c (m): a bell
 /// or clapper outside is not one (a tower bell's are 0.1 to 3 m); inside,
@@ -58,7 +39,7 @@ pub enum BellWarning {
         /// M a² (kg m²).
         point_mass_inertia: f64,
     },
-    /// L_b/L_c outside the paper's chart ([`crate::chart::DEFAULT_LB_RANGE`],
+    /// L_b/L_c outside the paper's chart ([`DEFAULT_LB_RANGE`],
     /// 0.5 to 2.5), where no tower bell we know of lies (Table 1's are 1.65
     /// and 1.75): usually a clapper period or length typed wrong (a clapper
     /// period of 5 s beside a bell's 2.3 s gives 0.22).
@@ -70,7 +51,7 @@ pub enum BellWarning {
         /// T_c, the clapper's small-swing period (s).
         tc: f64,
     },
-    /// r/L_c outside the paper's chart ([`crate::chart::DEFAULT_R_RANGE`],
+    /// r/L_c outside the paper's chart ([`DEFAULT_R_RANGE`],
     /// -0.3 to 0.7): a clapper pivot further from the bell's axis than any
     /// hanging the chart was drawn for (Table 1's are 0.44 and 0.23).
     OffTheChartPivot {
@@ -117,8 +98,8 @@ impl std::fmt::Display for BellWarning {
                 f,
                 "L_b/L_c = {lb_over_lc:.3} (T_b = {tb:.3} s, T_c = {tc:.3} s) is outside the chart's {:.1} to {:.1}, \
                  where no tower bell lies{}; simulated anyway, but the verdict is not a real bell's",
-                crate::chart::DEFAULT_LB_RANGE[0],
-                crate::chart::DEFAULT_LB_RANGE[1],
+                DEFAULT_LB_RANGE[0],
+                DEFAULT_LB_RANGE[1],
                 if tc > tb {
                     " (a clapper slower than its bell): check the clapper's period or length"
                 } else if *lb_over_lc > 1.0 {
@@ -132,8 +113,7 @@ impl std::fmt::Display for BellWarning {
                 "r/L_c = {r_over_lc:.3} (r = {r:.3} m) is outside the chart's {:.1} to {:.1}, \
                  further than any hanging the chart was drawn for: check r (in metres); \
                  simulated anyway, but the verdict is not a real bell's",
-                crate::chart::DEFAULT_R_RANGE[0],
-                crate::chart::DEFAULT_R_RANGE[1],
+                DEFAULT_R_RANGE[0], DEFAULT_R_RANGE[1],
             ),
             Self::ImplausiblePhiMax { phi_max_deg } => {
                 write!(
@@ -182,21 +162,6 @@ pub struct Bell {
     /// How the bell departs from the paper's ideal one: pivot offset,
     /// unequal contact angles, friction (docs/model.md §10). Default: ideal.
     pub hanging: Hanging,
-}
-
-impl ParamError {
-    /// `value` if it is a finite number > 0, else the error naming `field`.
-    pub fn positive(field: &'static str, value: f64) -> Result<f64, ParamError> {
-        if value.is_finite() && value > 0.0 {
-            Ok(value)
-        } else {
-            Err(ParamError {
-                field,
-                value,
-                allowed: "a finite number > 0",
-            })
-        }
-    }
 }
 
 fn positive(field: &'static str, value: f64) -> Result<(), ParamError> {
@@ -423,10 +388,7 @@ impl Bell {
         let outside = |v: f64, [lo, hi]: [f64; 2]| !(lo..=hi).contains(&v);
         // A hair beyond the edges: chart points on the edge itself are
         // the chart's own bells.
-        let (lb_range, r_range) = (
-            widen(crate::chart::DEFAULT_LB_RANGE),
-            widen(crate::chart::DEFAULT_R_RANGE),
-        );
+        let (lb_range, r_range) = (widen(DEFAULT_LB_RANGE), widen(DEFAULT_R_RANGE));
         if outside(self.lb_over_lc(), lb_range) {
             w.push(BellWarning::OffTheChartLengths {
                 lb_over_lc: self.lb_over_lc(),
@@ -651,6 +613,34 @@ impl TowerMeasurements {
             self.phi_max,
         )?;
         Ok((bell, assumed))
+    }
+}
+
+/// The bell's own swing-decay timings (here so that the hanging needs no
+/// bell, docs/model.md §10.2).
+impl SwingDecay {
+    /// The bell with its clapper tied to it at φ = 0, the first of King's
+    /// two timings.
+    pub fn bell_tied(bell: &Bell, swings_to_halve: f64) -> Self {
+        let m = bell.clapper_mass;
+        let d = bell.hanging.pivot_offset;
+        Self {
+            swings_to_halve,
+            inertia: bell.bell_inertia
+                + bell.clapper_inertia
+                + m * (bell.r * bell.r + d * d)
+                + 2.0 * m * bell.r * bell.b,
+            stiffness: (bell.bell_mass * bell.a + m * bell.r + m * bell.b) * G,
+        }
+    }
+
+    /// The clapper swinging in a still bell, the second.
+    pub fn clapper_in_still_bell(bell: &Bell, swings_to_halve: f64) -> Self {
+        Self {
+            swings_to_halve,
+            inertia: bell.clapper_inertia,
+            stiffness: bell.clapper_mass * bell.b * G,
+        }
     }
 }
 

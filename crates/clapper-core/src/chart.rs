@@ -26,10 +26,7 @@ pub struct Domain {
     pub y: (f64, f64),
 }
 
-/// The paper's (and King et al.'s) range of r/L_c: -0.3 to 0.7.
-pub const DEFAULT_R_RANGE: [f64; 2] = [-0.3, 0.7];
-/// The paper's range of L_b/L_c: 0.5 to 2.5.
-pub const DEFAULT_LB_RANGE: [f64; 2] = [0.5, 2.5];
+pub use crate::bell::{DEFAULT_LB_RANGE, DEFAULT_R_RANGE};
 /// The paper's grid: 20 x 20.
 pub const DEFAULT_GRID: [usize; 2] = [20, 20];
 

@@ -15,9 +15,9 @@ use rayon::prelude::*;
 
 use crate::bell::{Bell, ParamError};
 use crate::clapper_parts::{ClapperMass, ClapperParts, Material};
-use crate::diagnose::{adjusted, margin, outcome, problems_of, DiagnoseConfig, Problem, StyleOutcome};
 use crate::ringer::{ring_up, Settles};
 use crate::stroke::{SimError, Style};
+use crate::verdicts::{adjusted, margin, outcome, problems_of, DiagnoseConfig, Problem, StyleOutcome};
 
 /// Where a flight's added mass is put when the clapper's parts are not
 /// known, as a multiple of L_c below the pivot: 1.2. A ball strikes near

@@ -143,6 +143,130 @@ pub struct Accel {
     pub det: f64,
 }
 
+/// The series a free motion's expansion builds besides the state's own
+/// (`series_free`): sin and cos of θ, φ and θ + φ, u = θ + φ, e = 2θ' + φ',
+/// the products a = φ' e and c = θ'², and the accelerations θ'', φ''.
+struct FreeSeries {
+    st: Coeffs,
+    ct: Coeffs,
+    sp: Coeffs,
+    cp: Coeffs,
+    sa: Coeffs,
+    ca: Coeffs,
+    u: Coeffs,
+    e: Coeffs,
+    a: Coeffs,
+    c: Coeffs,
+    tdd: Coeffs,
+    pdd: Coeffs,
+}
+
+/// One order's sums over the earlier terms (k = 1 .. n − 1) of every
+/// product in the free motion's recurrences: of the trig series (s_, c_),
+/// of a and c, of the coupling's products (sb, sd, s1, s2) and of the
+/// offset's, the same with sin and cos of φ swapped (ob, od, o1, o2).
+#[derive(Default)]
+struct OrderSums {
+    s_t: f64,
+    c_t: f64,
+    s_p: f64,
+    c_p: f64,
+    s_a: f64,
+    c_a: f64,
+    aa: f64,
+    cc: f64,
+    sb: f64,
+    sd: f64,
+    s1: f64,
+    s2: f64,
+    ob: f64,
+    od: f64,
+    o1: f64,
+    o2: f64,
+}
+
+impl FreeSeries {
+    /// Order 0 from the state `y`, written into `x` as well.
+    #[inline(always)]
+    fn start(y: &State, x: &mut [Coeffs; 4]) -> Self {
+        const Z: Coeffs = [0.0; MAX_ORDER + 1];
+        let mut s = FreeSeries {
+            st: Z,
+            ct: Z,
+            sp: Z,
+            cp: Z,
+            sa: Z,
+            ca: Z,
+            u: Z,
+            e: Z,
+            a: Z,
+            c: Z,
+            tdd: Z,
+            pdd: Z,
+        };
+        x[THETA][0] = y[THETA];
+        x[PHI][0] = y[PHI];
+        x[THETA_DOT][0] = y[THETA_DOT];
+        x[PHI_DOT][0] = y[PHI_DOT];
+        (s.sp[0], s.cp[0]) = crate::trig::sin_cos(y[PHI]);
+        (s.st[0], s.ct[0]) = crate::trig::sin_cos(y[THETA]);
+        // As in accel: sin and cos of θ + φ from the two pairs.
+        s.sa[0] = s.st[0] * s.cp[0] + s.ct[0] * s.sp[0];
+        s.ca[0] = s.ct[0] * s.cp[0] - s.st[0] * s.sp[0];
+        s
+    }
+
+    /// u and e of order `n`, and every sum of order n at once; the terms
+    /// at k = 0 and k = n need this order's trig coefficients and come
+    /// after.
+    #[inline(always)]
+    fn order_sums<const OFFSET: bool>(&mut self, x: &[Coeffs; 4], n: usize) -> OrderSums {
+        let [th, ph, w, v] = x;
+        self.u[n] = th[n] + ph[n];
+        self.e[n] = 2.0 * w[n] + v[n];
+        let s = &*self;
+        let mut o = OrderSums::default();
+        for j in 1..n {
+            let m = n - j;
+            let kf = j as f64;
+            let (kt, kp, ku) = (kf * th[j], kf * ph[j], kf * s.u[j]);
+            o.s_t += kt * s.ct[m];
+            o.c_t += kt * s.st[m];
+            o.s_p += kp * s.cp[m];
+            o.c_p += kp * s.sp[m];
+            o.s_a += ku * s.ca[m];
+            o.c_a += ku * s.sa[m];
+            o.aa += v[j] * s.e[m];
+            o.cc += w[j] * w[m];
+            o.sb += s.a[j] * s.sp[m];
+            o.sd += s.c[j] * s.sp[m];
+            o.s1 += s.cp[j] * s.tdd[m];
+            o.s2 += s.cp[j] * s.pdd[m];
+            if OFFSET {
+                o.ob += s.a[j] * s.cp[m];
+                o.od += s.c[j] * s.cp[m];
+                o.o1 += s.sp[j] * s.tdd[m];
+                o.o2 += s.sp[j] * s.pdd[m];
+            }
+        }
+        o
+    }
+
+    /// The trig series' coefficients of order `n` ≥ 1 from the sums.
+    #[inline(always)]
+    fn trig_order(&mut self, x: &[Coeffs; 4], n: usize, o: &OrderSums) {
+        let [th, ph, ..] = x;
+        let nf = n as f64;
+        let inv = 1.0 / nf;
+        self.st[n] = (o.s_t + nf * th[n] * self.ct[0]) * inv;
+        self.ct[n] = -(o.c_t + nf * th[n] * self.st[0]) * inv;
+        self.sp[n] = (o.s_p + nf * ph[n] * self.cp[0]) * inv;
+        self.cp[n] = -(o.c_p + nf * ph[n] * self.sp[0]) * inv;
+        self.sa[n] = (o.s_a + nf * self.u[n] * self.ca[0]) * inv;
+        self.ca[n] = -(o.c_a + nf * self.u[n] * self.sa[0]) * inv;
+    }
+}
+
 impl Dynamics {
     /// The equations of motion of `bell` (assumed valid).
     pub fn new(bell: &Bell) -> Self {
@@ -366,121 +490,101 @@ impl Dynamics {
         p: usize,
         x: &mut [Coeffs; 4],
     ) {
-        const Z: Coeffs = [0.0; MAX_ORDER + 1];
         // Order p writes terms up to x[..][p]; the integrator checks its
         // order against MAX_ORDER before it expands.
         debug_assert!(p <= MAX_ORDER);
-        let (mut st, mut ct, mut sp, mut cp, mut sa, mut ca) = (Z, Z, Z, Z, Z, Z);
-        let (mut u, mut e, mut a, mut c, mut tdd, mut pdd) = (Z, Z, Z, Z, Z, Z);
-        let [th, ph, w, v] = x;
-        th[0] = y[THETA];
-        ph[0] = y[PHI];
-        w[0] = y[THETA_DOT];
-        v[0] = y[PHI_DOT];
-        (sp[0], cp[0]) = crate::trig::sin_cos(y[PHI]);
-        (st[0], ct[0]) = crate::trig::sin_cos(y[THETA]);
-        // As in accel: sin and cos of θ + φ from the two pairs.
-        sa[0] = st[0] * cp[0] + ct[0] * sp[0];
-        ca[0] = ct[0] * cp[0] - st[0] * sp[0];
+        let mut s = FreeSeries::start(y, x);
         // W(t) a(t) = F(t) order by order: W_0 a_n = F_n − Σ_{k≥1} W_k a_{n−k},
         // where W_k = m b (r cos φ + d sin φ)_k [[2, 1], [1, 0]] for k ≥ 1.
         let (w11, w12) = if OFFSET {
-            let (kc, _) = self.coupling(sp[0], cp[0]);
+            let (kc, _) = self.coupling(s.sp[0], s.cp[0]);
             (self.j0 + 2.0 * kc, self.ic + kc)
         } else {
-            (self.j0 + 2.0 * self.mrb * cp[0], self.ic + self.mrb * cp[0])
+            (self.j0 + 2.0 * self.mrb * s.cp[0], self.ic + self.mrb * s.cp[0])
         };
         let inv_det = 1.0 / (w11 * self.ic - w12 * w12);
         for n in 0..p {
-            u[n] = th[n] + ph[n];
-            e[n] = 2.0 * w[n] + v[n];
-            // Every sum of order n at once; the terms at k = 0 and k = n need
-            // this order's trig coefficients and come after.
-            let (mut s_t, mut c_t, mut s_p, mut c_p, mut s_a, mut c_a) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-            let (mut aa, mut cc, mut sb, mut sd, mut s1, mut s2) = (0.0, 0.0, 0.0, 0.0, 0.0, 0.0);
-            // The offset's: the same products with sin and cos of φ swapped.
-            let (mut ob, mut od, mut o1, mut o2) = (0.0, 0.0, 0.0, 0.0);
-            for j in 1..n {
-                let m = n - j;
-                let kf = j as f64;
-                let (kt, kp, ku) = (kf * th[j], kf * ph[j], kf * u[j]);
-                s_t += kt * ct[m];
-                c_t += kt * st[m];
-                s_p += kp * cp[m];
-                c_p += kp * sp[m];
-                s_a += ku * ca[m];
-                c_a += ku * sa[m];
-                aa += v[j] * e[m];
-                cc += w[j] * w[m];
-                sb += a[j] * sp[m];
-                sd += c[j] * sp[m];
-                s1 += cp[j] * tdd[m];
-                s2 += cp[j] * pdd[m];
-                if OFFSET {
-                    ob += a[j] * cp[m];
-                    od += c[j] * cp[m];
-                    o1 += sp[j] * tdd[m];
-                    o2 += sp[j] * pdd[m];
-                }
-            }
+            let sums = s.order_sums::<OFFSET>(x, n);
             if n > 0 {
-                let nf = n as f64;
-                let inv = 1.0 / nf;
-                st[n] = (s_t + nf * th[n] * ct[0]) * inv;
-                ct[n] = -(c_t + nf * th[n] * st[0]) * inv;
-                sp[n] = (s_p + nf * ph[n] * cp[0]) * inv;
-                cp[n] = -(c_p + nf * ph[n] * sp[0]) * inv;
-                sa[n] = (s_a + nf * u[n] * ca[0]) * inv;
-                ca[n] = -(c_a + nf * u[n] * sa[0]) * inv;
+                s.trig_order(x, n, &sums);
             }
-            a[n] = if n == 0 {
-                v[0] * e[0]
-            } else {
-                aa + v[0] * e[n] + v[n] * e[0]
-            };
-            c[n] = if n == 0 { w[0] * w[0] } else { cc + 2.0 * w[0] * w[n] };
-            let (sb, sd) = if n == 0 {
-                (a[0] * sp[0], c[0] * sp[0])
-            } else {
-                (sb + a[0] * sp[n] + a[n] * sp[0], sd + c[0] * sp[n] + c[n] * sp[0])
-            };
-            let q = spring.series_term(ph, n);
-            let mut f1 = self.mrb * sb - self.gravity_bell * st[n] - self.gravity_clapper * sa[n];
-            let mut f2 = q - self.mrb * sd - self.gravity_clapper * sa[n];
-            if n > 0 {
-                let s1 = s1 + cp[n] * tdd[0];
-                let s2 = s2 + cp[n] * pdd[0];
-                f1 -= self.mrb * (2.0 * s1 + s2);
-                f2 -= self.mrb * s1;
-            }
-            if OFFSET {
-                let (ob, od) = if n == 0 {
-                    (a[0] * cp[0], c[0] * cp[0])
-                } else {
-                    (ob + a[0] * cp[n] + a[n] * cp[0], od + c[0] * cp[n] + c[n] * cp[0])
-                };
-                f1 -= self.mbd * ob + self.gravity_offset * ct[n];
-                f2 += self.mbd * od;
-                if n > 0 {
-                    let o1 = o1 + sp[n] * tdd[0];
-                    let o2 = o2 + sp[n] * pdd[0];
-                    f1 -= self.mbd * (2.0 * o1 + o2);
-                    f2 -= self.mbd * o1;
-                }
-            }
+            let (mut f1, mut f2) = self.free_forces::<OFFSET>(&mut s, x, n, &sums, spring);
             if let Some(load) = load {
-                let (qt, qp) = load.series_term(w, v, n);
+                let (qt, qp) = load.series_term(&x[THETA_DOT], &x[PHI_DOT], n);
                 f1 += qt;
                 f2 += qp;
             }
-            tdd[n] = (self.ic * f1 - w12 * f2) * inv_det;
-            pdd[n] = (w11 * f2 - w12 * f1) * inv_det;
+            s.tdd[n] = (self.ic * f1 - w12 * f2) * inv_det;
+            s.pdd[n] = (w11 * f2 - w12 * f1) * inv_det;
             let inv = 1.0 / (n + 1) as f64;
-            th[n + 1] = w[n] * inv;
-            ph[n + 1] = v[n] * inv;
-            w[n + 1] = tdd[n] * inv;
-            v[n + 1] = pdd[n] * inv;
+            x[THETA][n + 1] = x[THETA_DOT][n] * inv;
+            x[PHI][n + 1] = x[PHI_DOT][n] * inv;
+            x[THETA_DOT][n + 1] = s.tdd[n] * inv;
+            x[PHI_DOT][n + 1] = s.pdd[n] * inv;
         }
+    }
+
+    /// The generalised forces (F_1, F_2) of order `n` of the free motion
+    /// (N m), without friction: gravity, the coupling's products and the
+    /// spring; fills the order's products a and c of `s`.
+    #[inline(always)]
+    fn free_forces<const OFFSET: bool>(
+        &self,
+        s: &mut FreeSeries,
+        x: &[Coeffs; 4],
+        n: usize,
+        sums: &OrderSums,
+        spring: &LinearSpring,
+    ) -> (f64, f64) {
+        let [_, ph, w, v] = x;
+        let (sp, cp) = (&s.sp, &s.cp);
+        s.a[n] = if n == 0 {
+            v[0] * s.e[0]
+        } else {
+            sums.aa + v[0] * s.e[n] + v[n] * s.e[0]
+        };
+        s.c[n] = if n == 0 {
+            w[0] * w[0]
+        } else {
+            sums.cc + 2.0 * w[0] * w[n]
+        };
+        let (a, c) = (&s.a, &s.c);
+        let (sb, sd) = if n == 0 {
+            (a[0] * sp[0], c[0] * sp[0])
+        } else {
+            (
+                sums.sb + a[0] * sp[n] + a[n] * sp[0],
+                sums.sd + c[0] * sp[n] + c[n] * sp[0],
+            )
+        };
+        let q = spring.series_term(ph, n);
+        let mut f1 = self.mrb * sb - self.gravity_bell * s.st[n] - self.gravity_clapper * s.sa[n];
+        let mut f2 = q - self.mrb * sd - self.gravity_clapper * s.sa[n];
+        if n > 0 {
+            let s1 = sums.s1 + cp[n] * s.tdd[0];
+            let s2 = sums.s2 + cp[n] * s.pdd[0];
+            f1 -= self.mrb * (2.0 * s1 + s2);
+            f2 -= self.mrb * s1;
+        }
+        if OFFSET {
+            let (ob, od) = if n == 0 {
+                (a[0] * cp[0], c[0] * cp[0])
+            } else {
+                (
+                    sums.ob + a[0] * cp[n] + a[n] * cp[0],
+                    sums.od + c[0] * cp[n] + c[n] * cp[0],
+                )
+            };
+            f1 -= self.mbd * ob + self.gravity_offset * s.ct[n];
+            f2 += self.mbd * od;
+            if n > 0 {
+                let o1 = sums.o1 + sp[n] * s.tdd[0];
+                let o2 = sums.o2 + sp[n] * s.pdd[0];
+                f1 -= self.mbd * (2.0 * o1 + o2);
+                f2 -= self.mbd * o1;
+            }
+        }
+        (f1, f2)
     }
 
     /// Taylor coefficients to order `p` of the solution through `y` with

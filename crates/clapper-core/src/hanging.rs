@@ -14,7 +14,7 @@
 
 use std::f64::consts::{LN_2, PI};
 
-use crate::bell::{Bell, ParamError, G};
+use crate::param::ParamError;
 
 /// Friction at the bell's bearings and at the clapper's pivot: a viscous
 /// part (torque proportional to the rate) and a Coulomb part (a constant
@@ -87,7 +87,7 @@ impl Hanging {
     }
 
     /// Check the offset and friction (the skew is checked with φ_max by
-    /// [`Bell::validate`]).
+    /// [`Bell::validate`](crate::bell::Bell::validate)).
     pub fn validate(&self) -> Result<(), ParamError> {
         if !self.pivot_offset.is_finite() {
             return Err(ParamError {
@@ -209,30 +209,6 @@ pub struct SwingDecay {
 }
 
 impl SwingDecay {
-    /// The bell with its clapper tied to it at φ = 0, the first of King's
-    /// two timings.
-    pub fn bell_tied(bell: &Bell, swings_to_halve: f64) -> Self {
-        let m = bell.clapper_mass;
-        let d = bell.hanging.pivot_offset;
-        Self {
-            swings_to_halve,
-            inertia: bell.bell_inertia
-                + bell.clapper_inertia
-                + m * (bell.r * bell.r + d * d)
-                + 2.0 * m * bell.r * bell.b,
-            stiffness: (bell.bell_mass * bell.a + m * bell.r + m * bell.b) * G,
-        }
-    }
-
-    /// The clapper swinging in a still bell, the second.
-    pub fn clapper_in_still_bell(bell: &Bell, swings_to_halve: f64) -> Self {
-        Self {
-            swings_to_halve,
-            inertia: bell.clapper_inertia,
-            stiffness: bell.clapper_mass * bell.b * G,
-        }
-    }
-
     fn check(&self) -> Result<(), ParamError> {
         if !(self.swings_to_halve.is_finite() && self.swings_to_halve > 0.0) {
             return Err(ParamError {

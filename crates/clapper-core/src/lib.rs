@@ -38,6 +38,7 @@ pub mod liftoff;
 pub mod linalg;
 pub mod listening;
 pub mod ode;
+pub mod param;
 pub mod restitution;
 pub mod ringer;
 pub mod ringing;
@@ -45,6 +46,7 @@ pub mod sensor;
 pub mod stroke;
 pub mod swing;
 pub mod trig;
+mod verdicts;
 pub mod vibration;
 
 /// The names most programs need.

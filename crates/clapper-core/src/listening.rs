@@ -218,36 +218,66 @@ fn model(p: &[f64; 4], a: f64, dt: f64) -> f64 {
     -(((a - p[0]) * (dt - p[1]) - p[2]) / (2.0 * p[3].abs().max(1e-9))).tanh()
 }
 
-/// Fit (A − a)(Δt − b) = c (with a transition width) to the score map by
-/// Levenberg–Marquardt (at most 500 iterations), started from the algebraic
-/// least-squares fit of the map's zero crossings. A cell's mean of n answers
-/// of ±1 has variance (1 − m²)/n, so cells are weighted by n/(1 − m²) at the
-/// current model mean m (floored at 1 − m² = 0.02); standard errors from the
-/// weighted normal matrix, scaled up by χ²/dof when that exceeds one.
-pub fn fit_hyperbola(scores: &[[f64; 10]; 10], counts: &[[f64; 10]; 10]) -> Option<Hyperbola> {
-    let (rg, dg) = (ratios(), delays_ms());
-    let cells: Vec<(f64, f64, f64)> = (0..10)
-        .flat_map(|i| (0..10).map(move |j| (i, j)))
-        .filter(|&(i, j)| scores[i][j].is_finite() && counts[i][j] > 0.0)
-        .map(|(i, j)| (rg[i], dg[j], scores[i][j]))
-        .collect();
-    let ns: Vec<f64> = (0..10)
-        .flat_map(|i| (0..10).map(move |j| (i, j)))
-        .filter(|&(i, j)| scores[i][j].is_finite() && counts[i][j] > 0.0)
-        .map(|(i, j)| counts[i][j])
-        .collect();
-    let weights = |p: &[f64; 4]| -> Vec<f64> {
-        cells
+/// The cells of a score map that have answers: (A, Δt (ms), mean score)
+/// and the number of answers.
+struct ScoreMap {
+    cells: Vec<(f64, f64, f64)>,
+    ns: Vec<f64>,
+}
+
+impl ScoreMap {
+    fn new(scores: &[[f64; 10]; 10], counts: &[[f64; 10]; 10]) -> Self {
+        let (rg, dg) = (ratios(), delays_ms());
+        let answered: Vec<(usize, usize)> = (0..10)
+            .flat_map(|i| (0..10).map(move |j| (i, j)))
+            .filter(|&(i, j)| scores[i][j].is_finite() && counts[i][j] > 0.0)
+            .collect();
+        Self {
+            cells: answered.iter().map(|&(i, j)| (rg[i], dg[j], scores[i][j])).collect(),
+            ns: answered.iter().map(|&(i, j)| counts[i][j]).collect(),
+        }
+    }
+
+    /// Each cell's weight n/(1 − m²) at the model mean m (floored).
+    fn weights(&self, p: &[f64; 4]) -> Vec<f64> {
+        self.cells
             .iter()
-            .zip(&ns)
+            .zip(&self.ns)
             .map(|(&(a, dt, _), n)| n / (1.0 - model(p, a, dt).powi(2)).max(0.02))
             .collect()
-    };
-    if cells.len() < 8 {
-        return None;
     }
-    // Start: zero crossings along rows and columns, then (A − a)(Δt − b) − c = 0
-    // is linear in (b, a, ab − c).
+
+    /// The weighted sum of squared residuals.
+    fn wsse(&self, p: &[f64; 4], w: &[f64]) -> f64 {
+        self.cells
+            .iter()
+            .zip(w)
+            .map(|(&(a, dt, s), wi)| wi * (s - model(p, a, dt)).powi(2))
+            .sum()
+    }
+
+    /// The model's derivatives in the parameters at each cell (central
+    /// differences).
+    fn jac(&self, p: &[f64; 4]) -> Vec<[f64; 4]> {
+        self.cells
+            .iter()
+            .map(|&(a, dt, _)| {
+                std::array::from_fn(|k| {
+                    let h = 1e-6 * p[k].abs().max(1.0);
+                    let (mut up, mut dn) = (*p, *p);
+                    up[k] += h;
+                    dn[k] -= h;
+                    (model(&up, a, dt) - model(&dn, a, dt)) / (2.0 * h)
+                })
+            })
+            .collect()
+    }
+}
+
+/// Where the score map's rows and columns cross zero (from above), as
+/// (A, Δt (ms)).
+fn zero_crossings(scores: &[[f64; 10]; 10]) -> Vec<(f64, f64)> {
+    let (rg, dg) = (ratios(), delays_ms());
     let mut pts = vec![];
     for i in 0..10 {
         for j in 0..9 {
@@ -265,11 +295,18 @@ pub fn fit_hyperbola(scores: &[[f64; 10]; 10], counts: &[[f64; 10]; 10]) -> Opti
             }
         }
     }
+    pts
+}
+
+/// The fit's start: (A − a)(Δt − b) − c = 0 through the zero crossings
+/// `pts`, which is linear in (b, a, ab − c); a fixed guess with fewer
+/// than three or no hyperbola through them.
+fn algebraic_start(pts: &[(f64, f64)]) -> [f64; 4] {
     let mut p = [0.2, 20.0, 3.0, 1.0];
     if pts.len() >= 3 {
         let mut m = [[0.0; 4]; 4];
         let mut v = [0.0; 4];
-        for &(a, dt) in &pts {
+        for &(a, dt) in pts {
             let x = [a, dt, -1.0];
             for r in 0..3 {
                 for c in 0..3 {
@@ -288,35 +325,20 @@ pub fn fit_hyperbola(scores: &[[f64; 10]; 10], counts: &[[f64; 10]; 10]) -> Opti
             }
         }
     }
-    let wsse = |p: &[f64; 4], w: &[f64]| -> f64 {
-        cells
-            .iter()
-            .zip(w)
-            .map(|(&(a, dt, s), wi)| wi * (s - model(p, a, dt)).powi(2))
-            .sum()
-    };
-    let jac = |p: &[f64; 4]| -> Vec<[f64; 4]> {
-        cells
-            .iter()
-            .map(|&(a, dt, _)| {
-                std::array::from_fn(|k| {
-                    let h = 1e-6 * p[k].abs().max(1.0);
-                    let (mut up, mut dn) = (*p, *p);
-                    up[k] += h;
-                    dn[k] -= h;
-                    (model(&up, a, dt) - model(&dn, a, dt)) / (2.0 * h)
-                })
-            })
-            .collect()
-    };
+    p
+}
+
+/// Levenberg–Marquardt from `p` (at most 500 iterations), reweighting at
+/// each accepted step.
+fn levenberg_marquardt(map: &ScoreMap, mut p: [f64; 4]) -> [f64; 4] {
     let mut lambda = 1e-3;
-    let mut w = weights(&p);
-    let mut cur = wsse(&p, &w);
+    let mut w = map.weights(&p);
+    let mut cur = map.wsse(&p, &w);
     for _ in 0..500 {
-        let j = jac(&p);
+        let j = map.jac(&p);
         let mut jtj = [[0.0; 4]; 4];
         let mut jtr = [0.0; 4];
-        for ((row, &(a, dt, s)), wi) in j.iter().zip(&cells).zip(&w) {
+        for ((row, &(a, dt, s)), wi) in j.iter().zip(&map.cells).zip(&w) {
             let r = s - model(&p, a, dt);
             for x in 0..4 {
                 jtr[x] += wi * row[x] * r;
@@ -333,13 +355,13 @@ pub fn fit_hyperbola(scores: &[[f64; 10]; 10], counts: &[[f64; 10]; 10]) -> Opti
             break;
         };
         let trial: [f64; 4] = std::array::from_fn(|k| p[k] + step[k]);
-        let next = wsse(&trial, &w);
+        let next = map.wsse(&trial, &w);
         if next < cur {
             let done = (cur - next) < 1e-12 * cur.max(1e-300);
             p = trial;
             // Reweight at the new model (iteratively reweighted least squares).
-            w = weights(&p);
-            cur = wsse(&p, &w);
+            w = map.weights(&p);
+            cur = map.wsse(&p, &w);
             lambda = (lambda / 3.0).max(1e-12);
             if done {
                 break;
@@ -351,8 +373,14 @@ pub fn fit_hyperbola(scores: &[[f64; 10]; 10], counts: &[[f64; 10]; 10]) -> Opti
             }
         }
     }
-    let j = jac(&p);
-    let w = weights(&p);
+    p
+}
+
+/// Standard errors of (a, b, c) at `p` from the weighted normal matrix,
+/// scaled up by χ²/dof when that exceeds one.
+fn standard_errors(map: &ScoreMap, p: &[f64; 4]) -> [f64; 3] {
+    let j = map.jac(p);
+    let w = map.weights(p);
     let mut jtj = [[0.0; 4]; 4];
     for (row, wi) in j.iter().zip(&w) {
         for x in 0..4 {
@@ -361,13 +389,28 @@ pub fn fit_hyperbola(scores: &[[f64; 10]; 10], counts: &[[f64; 10]; 10]) -> Opti
             }
         }
     }
-    let dof = (cells.len() as f64 - 4.0).max(1.0);
-    let var = (wsse(&p, &w) / dof).max(1.0);
-    let sigma: [f64; 3] = std::array::from_fn(|k| {
+    let dof = (map.cells.len() as f64 - 4.0).max(1.0);
+    let var = (map.wsse(p, &w) / dof).max(1.0);
+    std::array::from_fn(|k| {
         let mut e = [0.0; 4];
         e[k] = 1.0;
         crate::linalg::solve(jtj, e).map_or(f64::NAN, |col| (var * col[k]).max(0.0).sqrt())
-    });
+    })
+}
+
+/// Fit (A − a)(Δt − b) = c (with a transition width) to the score map by
+/// Levenberg–Marquardt (at most 500 iterations), started from the algebraic
+/// least-squares fit of the map's zero crossings. A cell's mean of n answers
+/// of ±1 has variance (1 − m²)/n, so cells are weighted by n/(1 − m²) at the
+/// current model mean m (floored at 1 − m² = 0.02); standard errors from the
+/// weighted normal matrix, scaled up by χ²/dof when that exceeds one.
+pub fn fit_hyperbola(scores: &[[f64; 10]; 10], counts: &[[f64; 10]; 10]) -> Option<Hyperbola> {
+    let map = ScoreMap::new(scores, counts);
+    if map.cells.len() < 8 {
+        return None;
+    }
+    let p = levenberg_marquardt(&map, algebraic_start(&zero_crossings(scores)));
+    let sigma = standard_errors(&map, &p);
     let ok = p.iter().all(|v| v.is_finite()) && sigma.iter().all(|s| s.is_finite());
     ok.then_some(Hyperbola {
         a: p[0],

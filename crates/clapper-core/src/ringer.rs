@@ -17,8 +17,13 @@ use std::f64::consts::PI;
 
 use crate::bell::{Bell, ParamError, G};
 use crate::chart::ChartSpec;
-use crate::contact::ClapperState;
-use crate::stroke::{run_stroke_pulled, EndReason, Observer, Side, SimConfig, SimError, Stroke, StrokeStart, Style};
+use crate::contact::{linear_event, ClapperState};
+use crate::dynamics::{State, THETA};
+use crate::ode::{Direction, Event, Source};
+use crate::stroke::{
+    run_stroke_pulled, Applied, EndReason, Forcing, Observer, SegmentStart, Side, SimConfig, SimError, Stroke,
+    StrokeStart, Style,
+};
 
 /// Raising or checking the bell.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -60,6 +65,39 @@ impl Pull {
             });
         }
         Ok(())
+    }
+}
+
+/// The pull as the stroke takes it (docs/model.md §11): a torque on the
+/// bell over a window of θ, on for a segment or not, with the event at
+/// the window's edge. The bell moves toward −s0 throughout the stroke.
+impl Forcing for Pull {
+    fn validate(&self) -> Result<(), ParamError> {
+        Pull::validate(self)
+    }
+
+    fn over_segment(&self, at: &SegmentStart<'_>, push: &mut dyn FnMut(Event)) -> Applied {
+        // Slack so that the segment begun at the window's edge counts as
+        // inside (entering) or outside (leaving).
+        const SLACK: f64 = 1e-9;
+        let (s0, y): (f64, &State) = (at.s0, at.y);
+        let u = s0 * y[THETA];
+        let bell = match self.phase {
+            PullPhase::Raise if !at.bottom_passed => {
+                if u > self.window + SLACK {
+                    push(linear_event(Source::State(THETA), s0, -self.window, Direction::Falling));
+                    0.0
+                } else {
+                    -s0 * self.torque
+                }
+            }
+            PullPhase::Check if at.bottom_passed && -u < self.window - SLACK => {
+                push(linear_event(Source::State(THETA), -s0, -self.window, Direction::Rising));
+                s0 * self.torque
+            }
+            _ => 0.0,
+        };
+        Applied { bell, clapper: 0.0 }
     }
 }
 

@@ -2,7 +2,7 @@
 //! output (Hairer, Nørsett & Wanner, *Solving ODEs I*, II.5 and the DOPRI5
 //! code), plus root location of events on the dense output.
 
-use super::{
+use super::interface::{
     begin, check_options, crossed, sign, split_exp2, split_exponent, DenseOutput, Direction, ErrorWeights, Event,
     NextSegment, Observe, OdeError, Options, Run, Segment, Span, Stats, Stepper, Stop, System, MAX_EVENTS,
 };
@@ -191,6 +191,50 @@ impl<const N: usize> Dopri5<N> {
     }
 }
 
+impl<const N: usize> Dopri5<N> {
+    /// f at the start (t, y) and the first step's size: the last segment's
+    /// next step, or Hairer's initial guess.
+    fn first_step<S: System<N> + ?Sized>(
+        &mut self,
+        sys: &S,
+        weights: &ErrorWeights<N>,
+        t: f64,
+        y: &[f64; N],
+    ) -> Result<([f64; N], f64), OdeError> {
+        let k1 = sys.rhs(t, y);
+        self.stats.rhs_evals += 1;
+        if k1.iter().chain(y.iter()).any(|v| !v.is_finite()) {
+            return Err(OdeError::NonFinite { t });
+        }
+        let h = match self.h_next {
+            Some(h) => h.min(self.opts.h_max),
+            None => self.initial_step(sys, weights, t, y, &k1),
+        };
+        Ok((k1, h))
+    }
+
+    /// The size of the next attempt from `t`: `h`, or what is left to
+    /// `t_end` (then it is the last); an error past the step budget or
+    /// below the smallest step.
+    #[inline]
+    fn attempt(&self, t: f64, t_end: f64, h: f64) -> Result<(f64, bool), OdeError> {
+        // Rejected attempts count too, so that no input can loop forever.
+        if self.stats.steps + self.stats.rejected >= self.opts.max_steps {
+            return Err(OdeError::StepLimit {
+                limit: self.opts.max_steps,
+                t,
+            });
+        }
+        let remaining = t_end - t;
+        let last = h >= remaining;
+        let h = if last { remaining } else { h };
+        if (h.is_nan() || h <= 1e-14 * t.abs().max(1.0)) && !last {
+            return Err(OdeError::StepSizeUnderflow { h, t });
+        }
+        Ok((h, last))
+    }
+}
+
 impl<const N: usize, S: System<N> + ?Sized> Stepper<N, S> for Dopri5<N> {
     fn stats(&self) -> Stats {
         Dopri5::stats(self)
@@ -213,36 +257,15 @@ impl<const N: usize, S: System<N> + ?Sized> Stepper<N, S> for Dopri5<N> {
 
         let mut t = t0;
         let mut y = y0;
-        let mut k1 = sys.rhs(t, &y);
-        self.stats.rhs_evals += 1;
-        if k1.iter().chain(y.iter()).any(|v| !v.is_finite()) {
-            return Err(OdeError::NonFinite { t });
-        }
-        let mut h = match self.h_next {
-            Some(h) => h.min(self.opts.h_max),
-            None => self.initial_step(sys, &weights, t, &y, &k1),
-        };
+        let (mut k1, mut h) = self.first_step(sys, &weights, t, &y)?;
         let mut control = Control {
             fac_old: 1e-4,
             last_rejected: false,
         };
 
         loop {
-            // Rejected attempts count too, so that no input can loop forever.
-            if self.stats.steps + self.stats.rejected >= self.opts.max_steps {
-                return Err(OdeError::StepLimit {
-                    limit: self.opts.max_steps,
-                    t,
-                });
-            }
-            let remaining = t_end - t;
-            let last = h >= remaining;
-            if last {
-                h = remaining;
-            }
-            if (h.is_nan() || h <= 1e-14 * t.abs().max(1.0)) && !last {
-                return Err(OdeError::StepSizeUnderflow { h, t });
-            }
+            let last;
+            (h, last) = self.attempt(t, t_end, h)?;
 
             let t_new = if last { t_end } else { t + h };
             let st = Stages::of(sys, t, &y, k1, h, t_new);

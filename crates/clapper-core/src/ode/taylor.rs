@@ -13,7 +13,7 @@
 //! the largest `h` with `|x_j| h^j <= atol + rtol |y|` for `j = p - 1, p` in
 //! every component, capped at `h_max`.
 
-use super::{
+use super::interface::{
     begin, check_options, crossed, sign, split_exp2, split_exponent, DenseOutput, Direction, ErrorWeights, NextSegment,
     Observe, OdeError, Options, Run, Segment, Source, Span, Stats, Stepper, Stop, System, MAX_EXTRA,
 };
@@ -479,7 +479,7 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
 /// [`SeriesSystem`]. (The bell's own expansions in `dynamics` run the same
 /// recurrences fused into one loop per order, for speed.)
 pub mod rec {
-    use super::Coeffs;
+    use crate::ode::taylor::Coeffs;
 
     /// n-th coefficient of `a b`.
     #[inline]

@@ -6,7 +6,8 @@ use crate::contact::{Rest, Side, Stops, Transition};
 use crate::dynamics::{State, PHI_DOT, THETA};
 use crate::ode::Stats;
 
-use super::{Impact, LiftoffKind, Moment, StrikeAmplitude, Stroke, StrokeEnd, StrokeStart, Style};
+use super::impact::{Impact, Moment, StrikeAmplitude};
+use super::quantities::{LiftoffKind, Stroke, StrokeEnd, StrokeStart, Style};
 
 /// What a stroke has done so far.
 pub(super) struct StrokeRecorder {

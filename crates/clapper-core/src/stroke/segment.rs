@@ -9,8 +9,9 @@ use crate::contact::{linear_event, ClapperState, ContactEvent, ContactLaw, Force
 use crate::dynamics::{Dynamics, LinearSpring, Load, State, PHI, PHI_DOT, THETA, THETA_DOT};
 use crate::ode::taylor::Coeffs;
 use crate::ode::{Direction, ErrorWeights, Event, SeriesSystem, Source, System, MAX_EVENTS, MAX_EXTRA};
-use crate::ringer::{Pull, PullPhase};
 use crate::swing::SwingSystem;
+
+use super::forcing::{Applied, Forcing, SegmentStart};
 
 /// The bell's own events.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -21,8 +22,6 @@ pub(super) enum BellEvent {
     Turning,
     /// |θ| reaches 180 deg on the far side: over the balance.
     OverTop,
-    /// The bell enters or leaves the part of the swing a ringer pulls over.
-    Pull,
 }
 
 /// The events of Coulomb friction at the clapper's pivot (docs/model.md §10.2).
@@ -42,6 +41,8 @@ pub(super) enum Ev {
     Bell(BellEvent),
     /// The contact law's.
     Contact(ContactEvent),
+    /// The applied forcing's: its torques change.
+    Forcing,
     /// Friction's.
     Friction(FrictionEvent),
 }
@@ -49,18 +50,18 @@ pub(super) enum Ev {
 /// What stays fixed over a stroke: the stops, and the friction with the
 /// sign of the bearing's Coulomb torque (against the bell's motion, which
 /// keeps its sign from one turning point to the next).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub(super) struct StrokeFrame {
+#[derive(Clone, Copy, Debug)]
+pub(super) struct StrokeFrame<'f> {
     /// The stops and the pivot's grip.
     pub(super) stops: Stops,
     /// Friction with τ_θ signed and the clapper's part unsigned
     /// (`clapper_torque` = τ_c), or `None` without friction.
     pub(super) friction: Option<Load>,
-    /// A ringer's pull on the rope, if any.
-    pub(super) pull: Option<Pull>,
+    /// Torques applied from outside (a ringer's pull), if any.
+    pub(super) forcing: Option<&'f dyn Forcing>,
 }
 
-impl StrokeFrame {
+impl StrokeFrame<'_> {
     /// The load in a segment with the clapper in `clapper` from state `y`.
     pub(super) fn load(&self, d: &Dynamics, clapper: ClapperState, y: &State) -> Option<Load> {
         let f = self.friction?;
@@ -93,6 +94,8 @@ pub(super) struct Segment<'a> {
     d: &'a Dynamics,
     law: ForceLaw,
     load: Option<Load>,
+    /// The torques applied from outside, included in `load`.
+    applied: Applied,
     kinds: [Ev; MAX_EVENTS],
     events: [Event; MAX_EVENTS],
     n: usize,
@@ -116,49 +119,34 @@ impl<'a> Segment<'a> {
             direction: Direction::Either,
         };
         let stops = &frame.stops;
-        let mut load = frame.load(d, clapper, y);
-        // The ringer's pull (docs/model.md §11), a torque on the bell over a
-        // window of θ: on for this segment or not, and the event at the
-        // window's edge. The bell moves toward −s0 throughout the stroke.
-        let mut pull_edge = None;
-        if let Some(p) = frame.pull {
-            // Slack so that the segment begun at the window's edge counts
-            // as inside (entering) or outside (leaving).
-            const SLACK: f64 = 1e-9;
-            let u = s0 * y[THETA];
-            let torque = match p.phase {
-                PullPhase::Raise if !bottom_passed => {
-                    if u > p.window + SLACK {
-                        pull_edge = Some(linear_event(Source::State(THETA), s0, -p.window, Direction::Falling));
-                        0.0
-                    } else {
-                        -s0 * p.torque
-                    }
-                }
-                PullPhase::Check if bottom_passed && -u < p.window - SLACK => {
-                    pull_edge = Some(linear_event(Source::State(THETA), -s0, -p.window, Direction::Rising));
-                    s0 * p.torque
-                }
-                _ => 0.0,
-            };
-            if torque != 0.0 {
-                let l = load.unwrap_or_default();
-                load = Some(Load {
-                    bell_torque: l.bell_torque + torque,
-                    ..l
-                });
-            }
-        }
+        let friction = frame.load(d, clapper, y);
         let mut seg = Self {
             d,
             law: law.force_law(clapper, stops),
-            load,
+            load: friction,
+            applied: Applied::NONE,
             kinds: [Ev::Bell(BellEvent::OverTop); MAX_EVENTS],
             events: [placeholder; MAX_EVENTS],
             n: 0,
         };
         // The bell's events first: on a tie the first listed wins.
-        seg.push(
+        seg.push_bell_events(frame, s0, bottom_passed);
+        if let Some(f) = frame.forcing {
+            let at = SegmentStart { y, s0, bottom_passed };
+            let applied = f.over_segment(&at, &mut |e| seg.push(Ev::Forcing, e));
+            seg.apply(applied);
+        }
+        law.events(clapper, stops, &mut |kind, e| seg.push(Ev::Contact(kind), e));
+        // Friction's direction of slip is its own torque's, without what
+        // is applied from outside.
+        seg.push_friction_events(clapper, stops.grip, friction);
+        seg
+    }
+
+    /// Over the balance, the turning point and the bottom, as far as the
+    /// stroke has come.
+    fn push_bell_events(&mut self, frame: &StrokeFrame, s0: f64, bottom_passed: bool) {
+        self.push(
             Ev::Bell(BellEvent::OverTop),
             linear_event(Source::State(THETA), -s0, -PI, Direction::Rising),
         );
@@ -166,44 +154,62 @@ impl<'a> Segment<'a> {
         // the bottom.
         let early_turn = frame.friction.is_some_and(|f| f.bell_torque != 0.0);
         if bottom_passed || early_turn {
-            seg.push(
+            self.push(
                 Ev::Bell(BellEvent::Turning),
                 linear_event(Source::State(THETA_DOT), s0, 0.0, Direction::Rising),
             );
         }
         if !bottom_passed {
-            seg.push(
+            self.push(
                 Ev::Bell(BellEvent::Bottom),
                 linear_event(Source::State(THETA), s0, 0.0, Direction::Falling),
             );
         }
-        if let Some(e) = pull_edge {
-            seg.push(Ev::Bell(BellEvent::Pull), e);
+    }
+
+    /// Adds the torques applied from outside to this segment's load.
+    fn apply(&mut self, applied: Applied) {
+        self.applied = applied;
+        // A zero torque leaves the load as it was: no load at all keeps
+        // the unloaded equations (and the closed-form swing).
+        if applied.bell != 0.0 || applied.clapper != 0.0 {
+            let mut l = self.load.unwrap_or_default();
+            if applied.bell != 0.0 {
+                l.bell_torque += applied.bell;
+            }
+            if applied.clapper != 0.0 {
+                l.clapper_torque += applied.clapper;
+            }
+            self.load = Some(l);
         }
-        law.events(clapper, stops, &mut |kind, e| seg.push(Ev::Contact(kind), e));
-        let grip = stops.grip;
-        if grip > 0.0 {
-            match clapper {
-                ClapperState::Flying { .. } => {
-                    let dir = -seg.load.map_or(0.0, |l| l.clapper_torque).signum();
-                    seg.push(
-                        Ev::Friction(FrictionEvent::SlipStops),
-                        linear_event(Source::State(PHI_DOT), dir, 0.0, Direction::Falling),
+    }
+
+    /// Coulomb friction at the clapper's pivot (grip τ_c > 0): a flying
+    /// clapper's slip stopping, a stuck one breaking away. `friction`: the
+    /// segment's friction load, which sets the direction of slip.
+    fn push_friction_events(&mut self, clapper: ClapperState, grip: f64, friction: Option<Load>) {
+        if grip <= 0.0 {
+            return;
+        }
+        match clapper {
+            ClapperState::Flying { .. } => {
+                let dir = -friction.map_or(0.0, |l| l.clapper_torque).signum();
+                self.push(
+                    Ev::Friction(FrictionEvent::SlipStops),
+                    linear_event(Source::State(PHI_DOT), dir, 0.0, Direction::Falling),
+                );
+            }
+            ClapperState::Stuck => {
+                // The holding torque (extra 0) leaving [−τ_c, τ_c].
+                for scale in [1.0, -1.0] {
+                    self.push(
+                        Ev::Friction(FrictionEvent::Breakaway),
+                        linear_event(Source::Extra(0), scale, -grip, Direction::Rising),
                     );
                 }
-                ClapperState::Stuck => {
-                    // The holding torque (extra 0) leaving [−τ_c, τ_c].
-                    for scale in [1.0, -1.0] {
-                        seg.push(
-                            Ev::Friction(FrictionEvent::Breakaway),
-                            linear_event(Source::Extra(0), scale, -grip, Direction::Rising),
-                        );
-                    }
-                }
-                _ => {}
             }
+            _ => {}
         }
-        seg
     }
 
     fn push(&mut self, kind: Ev, e: Event) {
@@ -225,9 +231,22 @@ impl<'a> Segment<'a> {
         self.law
     }
 
-    /// Friction in this segment.
+    /// Friction in this segment, with the torques applied from outside.
     pub(super) fn load(&self) -> Option<Load> {
         self.load
+    }
+
+    /// The load a contact's outcome is judged with, the forces of the
+    /// flight to come: this segment's, with the clapper's Coulomb torque
+    /// the pivot's grip τ_c (unsigned) plus what is applied to the clapper.
+    pub(super) fn judging_load(&self, frame: &StrokeFrame) -> Option<Load> {
+        self.load.map(|l| {
+            let mut clapper_torque = frame.friction.map_or(0.0, |f| f.clapper_torque);
+            if self.applied.clapper != 0.0 {
+                clapper_torque += self.applied.clapper;
+            }
+            Load { clapper_torque, ..l }
+        })
     }
 }
 
