@@ -146,19 +146,21 @@ pub struct Accel {
 /// The series a free motion's expansion builds besides the state's own
 /// (`series_free`): sin and cos of θ, φ and θ + φ, u = θ + φ, e = 2θ' + φ',
 /// the products a = φ' e and c = θ'², and the accelerations θ'', φ''.
-struct FreeSeries {
-    st: Coeffs,
-    ct: Coeffs,
-    sp: Coeffs,
-    cp: Coeffs,
-    sa: Coeffs,
-    ca: Coeffs,
-    u: Coeffs,
-    e: Coeffs,
-    a: Coeffs,
-    c: Coeffs,
-    tdd: Coeffs,
-    pdd: Coeffs,
+/// Held by reference: twelve separate arrays on the caller's stack are
+/// zeroed in line, where one struct of them is a call to `memset`.
+struct FreeSeries<'a> {
+    st: &'a mut Coeffs,
+    ct: &'a mut Coeffs,
+    sp: &'a mut Coeffs,
+    cp: &'a mut Coeffs,
+    sa: &'a mut Coeffs,
+    ca: &'a mut Coeffs,
+    u: &'a mut Coeffs,
+    e: &'a mut Coeffs,
+    a: &'a mut Coeffs,
+    c: &'a mut Coeffs,
+    tdd: &'a mut Coeffs,
+    pdd: &'a mut Coeffs,
 }
 
 /// One order's sums over the earlier terms (k = 1 .. n − 1) of every
@@ -185,35 +187,19 @@ struct OrderSums {
     o2: f64,
 }
 
-impl FreeSeries {
+impl FreeSeries<'_> {
     /// Order 0 from the state `y`, written into `x` as well.
     #[inline(always)]
-    fn start(y: &State, x: &mut [Coeffs; 4]) -> Self {
-        const Z: Coeffs = [0.0; MAX_ORDER + 1];
-        let mut s = FreeSeries {
-            st: Z,
-            ct: Z,
-            sp: Z,
-            cp: Z,
-            sa: Z,
-            ca: Z,
-            u: Z,
-            e: Z,
-            a: Z,
-            c: Z,
-            tdd: Z,
-            pdd: Z,
-        };
+    fn start(&mut self, y: &State, x: &mut [Coeffs; 4]) {
         x[THETA][0] = y[THETA];
         x[PHI][0] = y[PHI];
         x[THETA_DOT][0] = y[THETA_DOT];
         x[PHI_DOT][0] = y[PHI_DOT];
-        (s.sp[0], s.cp[0]) = crate::trig::sin_cos(y[PHI]);
-        (s.st[0], s.ct[0]) = crate::trig::sin_cos(y[THETA]);
+        (self.sp[0], self.cp[0]) = crate::trig::sin_cos(y[PHI]);
+        (self.st[0], self.ct[0]) = crate::trig::sin_cos(y[THETA]);
         // As in accel: sin and cos of θ + φ from the two pairs.
-        s.sa[0] = s.st[0] * s.cp[0] + s.ct[0] * s.sp[0];
-        s.ca[0] = s.ct[0] * s.cp[0] - s.st[0] * s.sp[0];
-        s
+        self.sa[0] = self.st[0] * self.cp[0] + self.ct[0] * self.sp[0];
+        self.ca[0] = self.ct[0] * self.cp[0] - self.st[0] * self.sp[0];
     }
 
     /// u and e of order `n`, and every sum of order n at once; the terms
@@ -493,7 +479,24 @@ impl Dynamics {
         // Order p writes terms up to x[..][p]; the integrator checks its
         // order against MAX_ORDER before it expands.
         debug_assert!(p <= MAX_ORDER);
-        let mut s = FreeSeries::start(y, x);
+        const Z: Coeffs = [0.0; MAX_ORDER + 1];
+        let (mut st, mut ct, mut sp, mut cp, mut sa, mut ca) = (Z, Z, Z, Z, Z, Z);
+        let (mut u, mut e, mut a, mut c, mut tdd, mut pdd) = (Z, Z, Z, Z, Z, Z);
+        let mut s = FreeSeries {
+            st: &mut st,
+            ct: &mut ct,
+            sp: &mut sp,
+            cp: &mut cp,
+            sa: &mut sa,
+            ca: &mut ca,
+            u: &mut u,
+            e: &mut e,
+            a: &mut a,
+            c: &mut c,
+            tdd: &mut tdd,
+            pdd: &mut pdd,
+        };
+        s.start(y, x);
         // W(t) a(t) = F(t) order by order: W_0 a_n = F_n − Σ_{k≥1} W_k a_{n−k},
         // where W_k = m b (r cos φ + d sin φ)_k [[2, 1], [1, 0]] for k ≥ 1.
         let (w11, w12) = if OFFSET {
@@ -537,7 +540,7 @@ impl Dynamics {
         spring: &LinearSpring,
     ) -> (f64, f64) {
         let [_, ph, w, v] = x;
-        let (sp, cp) = (&s.sp, &s.cp);
+        let (sp, cp) = (&*s.sp, &*s.cp);
         s.a[n] = if n == 0 {
             v[0] * s.e[0]
         } else {
@@ -548,7 +551,7 @@ impl Dynamics {
         } else {
             sums.cc + 2.0 * w[0] * w[n]
         };
-        let (a, c) = (&s.a, &s.c);
+        let (a, c) = (&*s.a, &*s.c);
         let (sb, sd) = if n == 0 {
             (a[0] * sp[0], c[0] * sp[0])
         } else {
