@@ -196,9 +196,17 @@ impl RestingSwing {
     /// the half swing) where the holding force is zero, as a path
     /// coordinate: the lift-off, if the force pressed before it.
     pub fn force_zero_after(&self, from: f64) -> Option<f64> {
-        // R sin(θ + ψ) = −q_const.
+        self.force_level_after(from, 0.0)
+    }
+
+    /// [`force_zero_after`](Self::force_zero_after) for the holding force
+    /// reaching `level` (N m): the lift-off of a clapper whose pivot's
+    /// friction holds it until the force pulls by that much.
+    pub fn force_level_after(&self, from: f64, level: f64) -> Option<f64> {
+        // R sin(θ + ψ) = level − q_const (level mirrored as Q_φ is; exact
+        // for m = ±1, and −q_const itself at level 0).
         let r = self.q_sin.hypot(self.q_cos);
-        let ratio = -self.q_const / r;
+        let ratio = (self.m * level - self.q_const) / r;
         if !(r > 0.0 && ratio.abs() <= 1.0) {
             return None;
         }
@@ -249,7 +257,7 @@ impl DenseOutput<4> for SwingPiece<'_> {
 /// gives up on a swing (for the rest of that resting phase) as soon as an
 /// event is one it cannot place. Events it places: θ crossing a level, θ'
 /// reaching zero (the end of the half swing) and the holding force
-/// reaching zero (lift-off).
+/// reaching zero or a level (lift-off).
 #[derive(Clone, Debug, Default)]
 pub struct ClosedFormSwing {
     swing: Option<RestingSwing>,
@@ -290,7 +298,7 @@ impl ClosedFormSwing {
                         _ => (e.level == 0.0).then_some(end),
                     }
                 }
-                Source::Extra(0) if e.level == 0.0 => sw.force_zero_after(from),
+                Source::Extra(0) => sw.force_level_after(from, e.level),
                 _ => None,
             };
             let Some(sigma) = sigma.filter(|&s| s < from && s >= end) else {

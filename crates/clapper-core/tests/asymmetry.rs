@@ -482,3 +482,51 @@ fn bounces_on_a_damped_bell_settle_everywhere_on_the_chart() {
         assert!(failed.is_empty(), "{friction:?}: {failed:?}");
     }
 }
+
+/// Friction at the clapper's pivot holds a resting clapper until the
+/// holding force pulls by τ_c: the closed-form first phase (Taylor path,
+/// lift-off at that level) and Dormand–Prince integrating the phase agree
+/// on the lift-off and the strike.
+#[test]
+fn pivot_friction_lifts_off_alike_in_closed_form_and_integrated() {
+    use clapper_core::bell::ChartConstruction;
+    use clapper_core::ringing::first_stroke;
+    use clapper_core::stroke::Integrator;
+    let tight = |integrator| {
+        let mut cfg = SimConfig {
+            integrator,
+            ..SimConfig::default()
+        };
+        (cfg.ode.rtol, cfg.ode.atol) = (1e-11, 1e-11);
+        cfg
+    };
+    let construction = ChartConstruction::default();
+    let (mut worst_liftoff, mut worst_strike, mut compared) = (0.0f64, 0.0f64, 0);
+    for tau in [0.05, 0.5] {
+        for (x, y) in [(-0.2, 0.9), (0.1, 1.3), (0.3, 1.7), (0.5, 2.1)] {
+            let bell = construction.bell(x, y).unwrap();
+            let bell = bell.with_hanging(Hanging {
+                friction: Friction {
+                    clapper_friction: tau,
+                    ..Friction::default()
+                },
+                ..bell.hanging
+            });
+            for style in [Style::Right, Style::Wrong] {
+                let a = first_stroke(&bell, &tight(Integrator::Taylor), style).unwrap();
+                let b = first_stroke(&bell, &tight(Integrator::Dopri5), style).unwrap();
+                assert_eq!(a.liftoff.is_some(), b.liftoff.is_some());
+                if let (Some(p), Some(q)) = (a.liftoff_angle(), b.liftoff_angle()) {
+                    worst_liftoff = worst_liftoff.max((p - q).abs().to_degrees());
+                    compared += 1;
+                }
+                if let (Some(p), Some(q)) = (a.strike_angle(), b.strike_angle()) {
+                    worst_strike = worst_strike.max((p - q).abs().to_degrees());
+                }
+            }
+        }
+    }
+    assert!(compared >= 8, "{compared}");
+    assert!(worst_liftoff < 1e-6, "lift-off angles differ by {worst_liftoff} deg");
+    assert!(worst_strike < 1e-5, "strike angles differ by {worst_strike} deg");
+}

@@ -142,3 +142,42 @@ fn the_ringers_pull_is_a_forcing() {
     // The pull raises the swing.
     assert!(by_value.end.y[THETA].abs() > unpulled.end.y[THETA].abs() + 0.01);
 }
+
+/// A clapper resting against its stop: a torque pressing it there (+ side,
+/// φ > 0) holds it on longer, one pulling it off lets it go sooner; the
+/// stop takes the torque, so the holding force it needs is less by it.
+#[test]
+fn a_resting_clapper_lifts_off_later_when_pressed() {
+    let bell = Bell::lab();
+    let cfg = SimConfig {
+        theta0: 120f64.to_radians(),
+        ..SimConfig::default()
+    };
+    let start = StrokeStart::at_rest(&bell, &cfg, 0.0, cfg.theta0, Side::Plus);
+    assert!(start.clapper.is_at_rest(), "{:?}", start.clapper);
+    let (_, clapper_g) = gravity_torques();
+    let liftoff = |torque: f64| {
+        let f = Constant {
+            bell: 0.0,
+            clapper: torque,
+            below: None,
+        };
+        let s = run_stroke_forced(&bell, &cfg, start, Some(&f), &mut ()).unwrap();
+        s.liftoff_angle().unwrap()
+    };
+    let plain = run_stroke(&bell, &cfg, start, &mut ())
+        .unwrap()
+        .liftoff_angle()
+        .unwrap();
+    // θ falls from +120 deg: a later lift-off is at a smaller θ.
+    assert!(
+        liftoff(0.1 * clapper_g) < plain - 1e-3,
+        "{} vs {plain}",
+        liftoff(0.1 * clapper_g)
+    );
+    assert!(
+        liftoff(-0.1 * clapper_g) > plain + 1e-3,
+        "{} vs {plain}",
+        liftoff(-0.1 * clapper_g)
+    );
+}

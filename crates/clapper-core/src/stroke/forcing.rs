@@ -29,7 +29,10 @@ pub struct SegmentStart<'a> {
 pub struct Applied {
     /// On the bell (N m), positive in the sense of θ.
     pub bell: f64,
-    /// On the clapper (N m), positive in the sense of φ.
+    /// On the clapper (N m), positive in the sense of φ: a generalised
+    /// force Q_φ between bell and clapper, as the pivot's friction is.
+    /// Against a stop the stop takes it: the clapper lifts off when the
+    /// force holding it there, less this torque, pulls.
     pub clapper: f64,
 }
 

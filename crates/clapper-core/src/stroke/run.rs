@@ -6,8 +6,8 @@
 
 use crate::bell::Bell;
 use crate::contact::{ClapperState, ContactEvent, ContactLaw, ContactModel, Stops};
-use crate::dynamics::{Dynamics, Load, State, PHI_DOT, THETA, THETA_DOT};
-use crate::ode::{DenseOutput, Dopri5, Fallback, Stepper, Stop, Taylor};
+use crate::dynamics::{Dynamics, Load, State, PHI, PHI_DOT, THETA, THETA_DOT};
+use crate::ode::{DenseOutput, Dopri5, Fallback, NextSegment, Stepper, Stop, Taylor};
 use crate::swing::ClosedFormSwing;
 
 use super::config::{Integrator, SimConfig, SimError, TaylorOptions};
@@ -273,7 +273,12 @@ where
                     return Ok((EndReason::TurningPoint, events));
                 }
             }
-            Ev::Friction(e) => (now.1, now.2) = frictional(d, frame, e, now.1, now.2, load_now),
+            Ev::Friction(e) => {
+                (now.1, now.2) = frictional(d, frame, e, now.1, now.2, load_now);
+                if let Some(next) = flight_from_apex(d, frame, e, &now.1, now.2) {
+                    stepper.expect(next);
+                }
+            }
         }
         observer.on_jump(&before, &course.sample(*now));
     }
@@ -393,7 +398,12 @@ where
                     stepper.expect(next);
                 }
             }
-            Ev::Friction(e) => (y, clapper) = frictional(d, frame, e, y, clapper, load_now),
+            Ev::Friction(e) => {
+                (y, clapper) = frictional(d, frame, e, y, clapper, load_now);
+                if let Some(next) = flight_from_apex(d, frame, e, &y, clapper) {
+                    stepper.expect(next);
+                }
+            }
         }
     }
     Ok(AfterEnd::NoneWithin)
@@ -424,4 +434,34 @@ fn frictional(
         FrictionEvent::Breakaway => ClapperState::FLYING,
     };
     (y, clapper)
+}
+
+/// The rest of a bounce's flight after its apex (a friction event at which
+/// the clapper turns back toward the stop it bounced off, still flying): a
+/// short flight of about √(2Δ/a) for a distance Δ (rad) to the stop under
+/// the relative acceleration a toward it (rad/s²), which the stepper is
+/// told, as after the bounce itself (with the same margin, 1.5 times).
+fn flight_from_apex(
+    d: &Dynamics,
+    frame: &StrokeFrame,
+    e: FrictionEvent,
+    y: &State,
+    clapper: ClapperState,
+) -> Option<NextSegment> {
+    let ClapperState::Flying {
+        bounced_off: Some(side),
+    } = clapper
+    else {
+        return None;
+    };
+    if e != FrictionEvent::SlipStops {
+        return None;
+    }
+    let s = side.sign();
+    let distance = s * (frame.stops.at(side) - y[PHI]);
+    let load = frame.load(d, clapper, y)?;
+    let toward = s * d.accel_q(y, load.theta(y), load.phi(y)).phi;
+    (distance > 0.0 && toward > 0.0).then(|| NextSegment::ShortFlight {
+        span: 1.5 * (2.0 * distance / toward).sqrt(),
+    })
 }

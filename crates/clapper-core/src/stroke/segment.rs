@@ -96,6 +96,8 @@ pub(super) struct Segment<'a> {
     load: Option<Load>,
     /// The torques applied from outside, included in `load`.
     applied: Applied,
+    /// Whether the closed-form swing can serve this segment.
+    closed_form: bool,
     kinds: [Ev; MAX_EVENTS],
     events: [Event; MAX_EVENTS],
     n: usize,
@@ -125,6 +127,7 @@ impl<'a> Segment<'a> {
             law: law.force_law(clapper, stops),
             load: friction,
             applied: Applied::NONE,
+            closed_form: false,
             kinds: [Ev::Bell(BellEvent::OverTop); MAX_EVENTS],
             events: [placeholder; MAX_EVENTS],
             n: 0,
@@ -140,7 +143,26 @@ impl<'a> Segment<'a> {
         // Friction's direction of slip is its own torque's, without what
         // is applied from outside.
         seg.push_friction_events(clapper, stops.grip, friction);
+        seg.closed_form = seg.law == ForceLaw::Resting && seg.is_rigid_pendulum(clapper);
         seg
+    }
+
+    /// Whether the bell with its clapper resting (`clapper`) is a rigid
+    /// pendulum in this segment, as the closed-form swing takes it: no
+    /// load, or only friction at the clapper's pivot, which does no work
+    /// while the clapper rests against a stop (not stuck by that friction
+    /// elsewhere) and sets only the level of its lift-off; nothing applied
+    /// from outside.
+    fn is_rigid_pendulum(&self, clapper: ClapperState) -> bool {
+        match self.load {
+            None => true,
+            Some(l) => {
+                matches!(clapper, ClapperState::Resting(_))
+                    && l.bell_torque == 0.0
+                    && l.bell_damping == 0.0
+                    && self.applied == Applied::NONE
+            }
+        }
     }
 
     /// Over the balance, the turning point and the bottom, as far as the
@@ -293,11 +315,13 @@ impl System<4> for Segment<'_> {
         w
     }
 
-    /// Extra function 0: the force holding a resting clapper.
+    /// Extra function 0: the force holding a resting clapper, less what is
+    /// applied to the clapper from outside (the stop takes the rest).
     #[inline]
     fn extra(&self, _j: usize, _t: f64, y: &State) -> f64 {
         match &self.load {
             None => self.d.resting(y).1,
+            Some(l) if self.applied.clapper != 0.0 => self.d.resting_q(y, l.theta(y)).1 - self.applied.clapper,
             Some(l) => self.d.resting_q(y, l.theta(y)).1,
         }
     }
@@ -308,8 +332,14 @@ impl SeriesSystem<4> for Segment<'_> {
         let load = self.load.as_ref();
         match self.law {
             ForceLaw::Zero => self.d.series_free(y, &LinearSpring::NONE, load, p, x),
-            // The holding force is extra series 0.
-            ForceLaw::Resting => self.d.series_resting(y, load, p, x, &mut extra[0]),
+            // The holding force is extra series 0, less what is applied to
+            // the clapper from outside (a constant).
+            ForceLaw::Resting => {
+                self.d.series_resting(y, load, p, x, &mut extra[0]);
+                if self.applied.clapper != 0.0 {
+                    extra[0][0] -= self.applied.clapper;
+                }
+            }
             ForceLaw::Spring(spring) => self.d.series_free(y, &spring, load, p, x),
         }
     }
@@ -319,7 +349,7 @@ impl SwingSystem for Segment<'_> {
     fn resting_dynamics(&self) -> Option<&Dynamics> {
         // The closed form is a rigid pendulum: the bell with its clapper at
         // a stop (either contact angle, any pivot offset), without friction
-        // or a pull.
-        (self.law == ForceLaw::Resting && self.load.is_none()).then_some(self.d)
+        // on the bell or a pull.
+        self.closed_form.then_some(self.d)
     }
 }
