@@ -40,8 +40,8 @@ pub fn run_stroke<O: Observer>(
     run_stroke_forced(bell, cfg, start, None, observer)
 }
 
-/// [`run_stroke`] with torques applied from outside (a ringer's pull,
-/// [`crate::ringer`]), if any.
+/// [`run_stroke`] with torques applied from outside ([`Forcing`]: a
+/// ringer's pull, a rope, a tower's motion), if any.
 pub fn run_stroke_forced<O: Observer>(
     bell: &Bell,
     cfg: &SimConfig,
@@ -71,7 +71,8 @@ pub fn run_stroke_forced<O: Observer>(
     }
 }
 
-/// [`run_stroke_forced`] with the forcing (a ringer's pull) passed by value.
+/// [`run_stroke_forced`] with the forcing passed by value (the name kept
+/// from when the ringer's pull was the stroke's only outside force).
 pub fn run_stroke_pulled<O: Observer, F: Forcing>(
     bell: &Bell,
     cfg: &SimConfig,

@@ -349,7 +349,7 @@ impl SwingSystem for Segment<'_> {
     fn resting_dynamics(&self) -> Option<&Dynamics> {
         // The closed form is a rigid pendulum: the bell with its clapper at
         // a stop (either contact angle, any pivot offset), without friction
-        // on the bell or a pull.
+        // on the bell or a torque applied from outside.
         self.closed_form.then_some(self.d)
     }
 }
