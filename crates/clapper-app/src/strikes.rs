@@ -6,10 +6,12 @@
 use std::fmt::Write as _;
 
 use clapper_core::stroke::double_strike_index;
-use clapper_signal::lateness::{from_templates, Lateness};
-use clapper_signal::strikes::{find_strikes, BellVoice, StrikeOptions};
-use clapper_signal::striking::{mean_sd, rhythm, Timed};
-use clapper_signal::template_timing::retime;
+use clapper_signal::lateness::from_templates;
+use clapper_signal::strikes::{
+    find_strikes_streamed, BellVoice, Heard, InMemory, RecordingBlocks, StrikeOptions, Window, Windows,
+};
+use clapper_signal::striking::{mean_sd, rhythm, Rhythm, Timed};
+use clapper_signal::template_timing::{median_of, retime_each};
 use clapper_signal::Signal;
 use serde::Serialize;
 
@@ -248,39 +250,66 @@ impl StrikesReport {
     /// Listen to `sig` for the bells `voices` (treble first), timing each
     /// bell's strikes as `timing` says.
     pub fn timed(sig: &Signal, voices: &[BellVoice], opts: &StrikeOptions, timing: Timing) -> Result<Self, AppError> {
-        let rate = sig.rate;
+        Self::streamed(&mut InMemory::new(sig), voices, opts, timing, &Windows::default(), None)
+    }
+
+    /// Listen to the recording `src`, read in blocks and heard in windows
+    /// ([`find_strikes_streamed`]: one window up to 80 s, as [`Self::timed`]
+    /// hears it), for the bells `voices` (treble first), timing each bell's
+    /// strikes as `timing` says. Each strike is timed against its template
+    /// in its window's audio. `strip`, if given, receives the first
+    /// [`STRIP_S`] of the recording (for [`StrikingFigure`]).
+    pub fn streamed(
+        src: &mut dyn RecordingBlocks,
+        voices: &[BellVoice],
+        opts: &StrikeOptions,
+        timing: Timing,
+        windows: &Windows,
+        mut strip: Option<&mut Signal>,
+    ) -> Result<Self, AppError> {
+        let rate = src.rate();
         if !(8_000.0..=96_000.0).contains(&rate) {
             return Err(AppError::Request(format!(
                 "sample rate {rate} Hz: recordings from 8 to 96 kHz"
             )));
         }
-        let mut heard = find_strikes(sig, voices, opts).map_err(signal_error)?;
-        let mut warnings = heard.warnings.clone();
+        let duration_s = src.total() as f64 / rate;
         // The lateness on a ring of the templates needs them at one rate;
         // matching each strike does not (it resamples them).
-        let lateness: Option<Lateness> = match timing {
-            Timing::AsHeard => None,
+        let (lateness, no_lateness) = match timing {
+            Timing::AsHeard => (None, None),
             Timing::Templates(t) => match from_templates(t, voices, opts) {
-                Ok(l) => Some(l),
-                Err(e) => {
-                    warnings.push(format!("no lateness learned from the templates: {e}"));
-                    None
-                }
+                Ok(l) => (Some(l), None),
+                Err(e) => (None, Some(format!("no lateness learned from the templates: {e}"))),
             },
         };
-        // With templates, each strike is timed against its bell's template;
-        // the lateness learned on a ring of the templates then serves only a
-        // bell whose template is too short to match.
-        let matched = match timing {
-            Timing::Templates(t) => {
-                let late: Vec<Option<f64>> = lateness
-                    .as_ref()
-                    .map(|l| l.bells.iter().map(|b| b.sure().then_some(b.lateness_s)).collect())
-                    .unwrap_or_default();
-                retime(sig, &mut heard, t, &late).map_err(signal_error)?
+        let late: Vec<Option<f64>> = lateness
+            .as_ref()
+            .map(|l| l.bells.iter().map(|b| b.sure().then_some(b.lateness_s)).collect())
+            .unwrap_or_default();
+        let mut peak = 0.0f64;
+        let mut moved: Vec<Vec<f64>> = vec![];
+        let mut each = |w: &Window, heard: &mut Heard| -> Result<(), clapper_signal::SignalError> {
+            peak = w.sig.samples.iter().fold(peak, |p, v| p.max(v.abs()));
+            if let Some(strip) = strip.as_deref_mut().filter(|_| w.start == 0) {
+                let end = ((STRIP_S * rate) as usize).min(w.sig.samples.len());
+                *strip = Signal {
+                    rate,
+                    samples: w.sig.samples[..end].to_vec(),
+                };
             }
-            _ => vec![],
+            // With templates, each strike is timed against its bell's
+            // template; the lateness learned on a ring of the templates then
+            // serves only a bell whose template is too short to match.
+            if let Timing::Templates(t) = timing {
+                retime_window(w, heard, t, &late, &mut moved)?;
+            }
+            Ok(())
         };
+        let mut heard = find_strikes_streamed(src, voices, opts, windows, &mut each).map_err(signal_error)?;
+        let matched: Vec<Option<f64>> = moved.into_iter().map(median_of).collect();
+        let mut warnings = std::mem::take(&mut heard.warnings);
+        warnings.extend(no_lateness);
         if let Some(l) = &lateness {
             let mut l = l.clone();
             for (b, m) in l.bells.iter_mut().zip(&matched) {
@@ -305,16 +334,27 @@ impl StrikesReport {
                 })
                 .collect(),
         });
-        let peak = sig.samples.iter().fold(0.0f64, |p, v| p.max(v.abs()));
         if peak == 0.0 {
             warnings.insert(0, "the recording is silent".into());
         }
+        Ok(Self::of(&heard, voices.len(), duration_s, warnings, timing_report))
+    }
+
+    /// The report of the strikes `heard` of `bells` bells in a recording
+    /// `duration_s` long: rows, places and each bell's striking.
+    fn of(
+        heard: &Heard,
+        bells: usize,
+        duration_s: f64,
+        mut warnings: Vec<String>,
+        timing: Option<TimingReport>,
+    ) -> Self {
         let timed: Vec<Timed> = heard.strikes.iter().map(|s| Timed { bell: s.bell, t: s.t }).collect();
-        let r = rhythm(&timed, voices.len());
+        let r = rhythm(&timed, bells);
         if !heard.strikes.is_empty() && !r.strokes_known {
             warnings.push("no handstroke gap stands out: hand and back are a guess".into());
         }
-        warnings.extend(ring_size_warning(&timed, voices.len()));
+        warnings.extend(ring_size_warning(&timed, bells));
         let strikes: Vec<StrikeReport> = heard
             .strikes
             .iter()
@@ -333,54 +373,14 @@ impl StrikesReport {
                 }),
             })
             .collect();
-        let per_bell = (1..=voices.len())
-            .map(|bell| {
-                let mine: Vec<&StrikeReport> = strikes.iter().filter(|s| s.bell == bell).collect();
-                let errors =
-                    |hand| -> Vec<f64> { r.stroke_errors(&timed, bell, hand).iter().map(|e| e * 1e3).collect() };
-                let stats = |v: &[f64]| {
-                    let ms = mean_sd(v);
-                    StrokeStats {
-                        n: v.len(),
-                        mean_error_ms: ms.map(|x| x.0),
-                        spread_ms: ms.map(|x| x.1),
-                    }
-                };
-                let (h, b) = (errors(true), errors(false));
-                let (hs, bs) = (stats(&h), stats(&b));
-                let odd = match (hs.mean_error_ms, bs.mean_error_ms) {
-                    (Some(a), Some(c)) => Some(a - c),
-                    _ => None,
-                };
-                let se = match (hs.spread_ms, bs.spread_ms) {
-                    (Some(a), Some(c)) if h.len() > 1 && b.len() > 1 => {
-                        Some((a * a / h.len() as f64 + c * c / b.len() as f64).sqrt())
-                    }
-                    _ => None,
-                };
-                let ds: Vec<f64> = mine.iter().filter_map(|s| s.double.map(|d| d.d_index)).collect();
-                BellStriking {
-                    bell,
-                    strikes: mine.len(),
-                    hand: hs,
-                    back: bs,
-                    odd_struck_ms: odd,
-                    odd_struck_se_ms: se,
-                    double_strikes: ds.len(),
-                    double_rate: if mine.is_empty() {
-                        0.0
-                    } else {
-                        ds.len() as f64 / mine.len() as f64
-                    },
-                    mean_d: mean_sd(&ds).map(|x| x.0),
-                }
-            })
+        let per_bell = (1..=bells)
+            .map(|bell| bell_striking(bell, &strikes, &r, &timed))
             .collect();
         let errs: Vec<f64> = strikes.iter().filter_map(|s| s.error_ms).collect();
         let rms = (!errs.is_empty()).then(|| (errs.iter().map(|e| e * e).sum::<f64>() / errs.len() as f64).sqrt());
         let interval_ms = r.interval.map(|i| i * 1e3);
         let summary = StrikesSummary {
-            duration_s: sig.duration(),
+            duration_s,
             strikes: strikes.len(),
             rows: r.rows,
             full_rows: r.full_rows,
@@ -392,13 +392,13 @@ impl StrikesReport {
             strokes_known: r.strokes_known,
             warnings,
         };
-        Ok(StrikesReport {
-            bells: voices.len(),
-            timing: timing_report,
+        StrikesReport {
+            bells,
+            timing,
             strikes,
             per_bell,
             summary,
-        })
+        }
     }
 
     /// The readable report, for the recording `name`.
@@ -512,6 +512,76 @@ impl StrikesReport {
                 (s.bell, hand, s.t_s * 1e3)
             })
             .collect()
+    }
+}
+
+/// Each strike of window `w` timed again against its bell's template
+/// ([`retime_each`]), how far each moved kept per bell in `moved` (those of
+/// the window's core only, so a strike two windows hear counts once).
+fn retime_window(
+    w: &Window,
+    heard: &mut Heard,
+    templates: &[Signal],
+    late: &[Option<f64>],
+    moved: &mut Vec<Vec<f64>>,
+) -> Result<(), clapper_signal::SignalError> {
+    moved.resize(templates.len(), vec![]);
+    let moves = retime_each(w.sig, heard, templates, late)?;
+    let rate = w.sig.rate;
+    let whole = w.start == 0 && w.core == (0, w.sig.samples.len());
+    for (s, m) in heard.strikes.iter().zip(moves) {
+        let at = w.start as f64 + s.t * rate;
+        let inside = whole || (at >= w.core.0 as f64 && at < w.core.1 as f64);
+        if let (Some(m), true) = (m, inside) {
+            moved[s.bell - 1].push(m);
+        }
+    }
+    heard
+        .strikes
+        .sort_by(|a, b| a.t.total_cmp(&b.t).then(a.bell.cmp(&b.bell)));
+    Ok(())
+}
+
+/// Bell `bell`'s striking from the report's `strikes` and the rhythm `r`
+/// of the strikes `timed`.
+fn bell_striking(bell: usize, strikes: &[StrikeReport], r: &Rhythm, timed: &[Timed]) -> BellStriking {
+    let mine: Vec<&StrikeReport> = strikes.iter().filter(|s| s.bell == bell).collect();
+    let errors = |hand| -> Vec<f64> { r.stroke_errors(timed, bell, hand).iter().map(|e| e * 1e3).collect() };
+    let stats = |v: &[f64]| {
+        let ms = mean_sd(v);
+        StrokeStats {
+            n: v.len(),
+            mean_error_ms: ms.map(|x| x.0),
+            spread_ms: ms.map(|x| x.1),
+        }
+    };
+    let (h, b) = (errors(true), errors(false));
+    let (hs, bs) = (stats(&h), stats(&b));
+    let odd = match (hs.mean_error_ms, bs.mean_error_ms) {
+        (Some(a), Some(c)) => Some(a - c),
+        _ => None,
+    };
+    let se = match (hs.spread_ms, bs.spread_ms) {
+        (Some(a), Some(c)) if h.len() > 1 && b.len() > 1 => {
+            Some((a * a / h.len() as f64 + c * c / b.len() as f64).sqrt())
+        }
+        _ => None,
+    };
+    let ds: Vec<f64> = mine.iter().filter_map(|s| s.double.map(|d| d.d_index)).collect();
+    BellStriking {
+        bell,
+        strikes: mine.len(),
+        hand: hs,
+        back: bs,
+        odd_struck_ms: odd,
+        odd_struck_se_ms: se,
+        double_strikes: ds.len(),
+        double_rate: if mine.is_empty() {
+            0.0
+        } else {
+            ds.len() as f64 / mine.len() as f64
+        },
+        mean_d: mean_sd(&ds).map(|x| x.0),
     }
 }
 

@@ -26,9 +26,11 @@ mod heard;
 mod onsets;
 mod plan;
 mod stats;
+mod stream;
 mod timing;
 mod voice;
 
 pub use find::find_strikes;
 pub use heard::{Heard, HeardDouble, HeardStrike, StrikeOptions, DEFAULT_DOUBLE_MIN_RATIO};
+pub use stream::{find_strikes_streamed, InMemory, RecordingBlocks, Window, Windows};
 pub use voice::{BellVoice, VoicePartial};
