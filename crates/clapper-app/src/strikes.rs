@@ -8,7 +8,8 @@ use std::fmt::Write as _;
 use clapper_core::stroke::double_strike_index;
 use clapper_signal::lateness::from_templates;
 use clapper_signal::strikes::{
-    find_strikes_streamed, BellVoice, Heard, InMemory, RecordingBlocks, StrikeOptions, Window, Windows,
+    find_strikes_streamed, rising, BellVoice, Heard, InMemory, RecordingBlocks, StrikeOptions, Window, Windows,
+    PLAUSIBLE_SHARE,
 };
 use clapper_signal::striking::{mean_sd, rhythm, Rhythm, Timed};
 use clapper_signal::template_timing::{median_of, retime_each};
@@ -105,6 +106,11 @@ pub struct StrikesSummary {
     pub double_strikes: usize,
     /// Strokes told from the rhythm (the handstroke gap stood out).
     pub strokes_known: bool,
+    /// How much the recording sounds like bells struck: the share of the
+    /// strikes heard (those not at its very ends) across whose onset their
+    /// bell's strongest partial rises 6 dB or more. Under 0.5 it does not
+    /// (noise, a steady tone: a warning says so); none without strikes.
+    pub plausibility: Option<f64>,
     /// What could not be heard or placed, in words.
     pub warnings: Vec<String>,
 }
@@ -289,8 +295,15 @@ impl StrikesReport {
             .unwrap_or_default();
         let mut peak = 0.0f64;
         let mut moved: Vec<Vec<f64>> = vec![];
+        // Strikes judged, and of them those that rise ([`rising`]).
+        let mut rises = (0usize, 0usize);
         let mut each = |w: &Window, heard: &mut Heard| -> Result<(), clapper_signal::SignalError> {
             peak = w.sig.samples.iter().fold(peak, |p, v| p.max(v.abs()));
+            for (s, r) in heard.strikes.iter().zip(rising(w.sig, &heard.strikes, voices)) {
+                if let (Some(r), true) = (r, in_core(w, s.t)) {
+                    rises = (rises.0 + 1, rises.1 + usize::from(r));
+                }
+            }
             if let Some(strip) = strip.as_deref_mut().filter(|_| w.start == 0) {
                 let end = ((STRIP_S * rate) as usize).min(w.sig.samples.len());
                 *strip = Signal {
@@ -334,10 +347,24 @@ impl StrikesReport {
                 })
                 .collect(),
         });
+        let plausibility = (rises.0 > 0).then(|| rises.1 as f64 / rises.0 as f64);
+        if let Some(p) = plausibility.filter(|p| *p < PLAUSIBLE_SHARE) {
+            warnings.insert(
+                0,
+                format!(
+                    "this does not sound like a recording of bells: across only {:.0} % of the strikes heard does \
+                     their bell's strongest partial rise (a bell's strike starts it: noise or a steady tone, say); \
+                     the strikes, rows and double strikes below are not to be trusted",
+                    100.0 * p
+                ),
+            );
+        }
         if peak == 0.0 {
             warnings.insert(0, "the recording is silent".into());
         }
-        Ok(Self::of(&heard, voices.len(), duration_s, warnings, timing_report))
+        let mut report = Self::of(&heard, voices.len(), duration_s, warnings, timing_report);
+        report.summary.plausibility = plausibility;
+        Ok(report)
     }
 
     /// The report of the strikes `heard` of `bells` bells in a recording
@@ -390,6 +417,7 @@ impl StrikesReport {
             rms_error_ms: rms,
             double_strikes: strikes.iter().filter(|s| s.double.is_some()).count(),
             strokes_known: r.strokes_known,
+            plausibility: None,
             warnings,
         };
         StrikesReport {
@@ -527,12 +555,8 @@ fn retime_window(
 ) -> Result<(), clapper_signal::SignalError> {
     moved.resize(templates.len(), vec![]);
     let moves = retime_each(w.sig, heard, templates, late)?;
-    let rate = w.sig.rate;
-    let whole = w.start == 0 && w.core == (0, w.sig.samples.len());
     for (s, m) in heard.strikes.iter().zip(moves) {
-        let at = w.start as f64 + s.t * rate;
-        let inside = whole || (at >= w.core.0 as f64 && at < w.core.1 as f64);
-        if let (Some(m), true) = (m, inside) {
+        if let (Some(m), true) = (m, in_core(w, s.t)) {
             moved[s.bell - 1].push(m);
         }
     }
@@ -540,6 +564,13 @@ fn retime_window(
         .strikes
         .sort_by(|a, b| a.t.total_cmp(&b.t).then(a.bell.cmp(&b.bell)));
     Ok(())
+}
+
+/// Whether a strike at `t` (s from the start of window `w`) is one the
+/// window reports: any, where the window is the whole recording.
+fn in_core(w: &Window, t: f64) -> bool {
+    let at = w.start as f64 + t * w.sig.rate;
+    (w.start == 0 && w.core == (0, w.sig.samples.len())) || (at >= w.core.0 as f64 && at < w.core.1 as f64)
 }
 
 /// Bell `bell`'s striking from the report's `strikes` and the rhythm `r`

@@ -25,6 +25,7 @@ mod fit;
 mod heard;
 mod onsets;
 mod plan;
+mod plausible;
 mod stats;
 mod stream;
 mod timing;
@@ -32,5 +33,6 @@ mod voice;
 
 pub use find::find_strikes;
 pub use heard::{Heard, HeardDouble, HeardStrike, StrikeOptions, DEFAULT_DOUBLE_MIN_RATIO};
+pub use plausible::{rising, PLAUSIBLE_SHARE, RISE_POWER};
 pub use stream::{find_strikes_streamed, InMemory, RecordingBlocks, Window, Windows};
 pub use voice::{BellVoice, VoicePartial};
