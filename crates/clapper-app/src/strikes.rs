@@ -6,7 +6,7 @@
 use std::fmt::Write as _;
 
 use clapper_core::stroke::double_strike_index;
-use clapper_signal::lateness::from_templates;
+use clapper_signal::lateness::{from_templates, Lateness};
 use clapper_signal::strikes::{
     find_strikes_streamed, rising, BellVoice, Heard, InMemory, RecordingBlocks, StrikeOptions, Window, Windows,
     PLAUSIBLE_SHARE,
@@ -323,30 +323,7 @@ impl StrikesReport {
         let matched: Vec<Option<f64>> = moved.into_iter().map(median_of).collect();
         let mut warnings = std::mem::take(&mut heard.warnings);
         warnings.extend(no_lateness);
-        if let Some(l) = &lateness {
-            let mut l = l.clone();
-            for (b, m) in l.bells.iter_mut().zip(&matched) {
-                if m.is_some() {
-                    b.lateness_s = 0.0;
-                }
-            }
-            l.correct(&mut heard);
-            warnings.extend(l.warnings.iter().cloned());
-        }
-        let timing_report = lateness.map(|l| TimingReport {
-            source: l.source,
-            per_bell: l
-                .bells
-                .iter()
-                .map(|b| BellTiming {
-                    bell: b.bell,
-                    lateness_ms: b.lateness_s * 1e3,
-                    spread_ms: b.spread_s * 1e3,
-                    learned_from: b.strikes,
-                    matched_ms: matched.get(b.bell - 1).copied().flatten().map(|m| m * 1e3),
-                })
-                .collect(),
-        });
+        let timing_report = lateness.map(|l| correct_lateness(l, &matched, &mut heard, &mut warnings));
         let plausibility = (rises.0 > 0).then(|| rises.1 as f64 / rises.0 as f64);
         if let Some(p) = plausibility.filter(|p| *p < PLAUSIBLE_SHARE) {
             warnings.insert(
@@ -540,6 +517,40 @@ impl StrikesReport {
                 (s.bell, hand, s.t_s * 1e3)
             })
             .collect()
+    }
+}
+
+/// The lateness `l` learned on a ring of the templates taken off the
+/// strikes of `heard` whose bell's template did not match (`matched`:
+/// per bell, how far its strikes moved when matched), its warnings added
+/// to `warnings`; the timing report.
+fn correct_lateness(
+    l: Lateness,
+    matched: &[Option<f64>],
+    heard: &mut Heard,
+    warnings: &mut Vec<String>,
+) -> TimingReport {
+    let mut used = l.clone();
+    for (b, m) in used.bells.iter_mut().zip(matched) {
+        if m.is_some() {
+            b.lateness_s = 0.0;
+        }
+    }
+    used.correct(heard);
+    warnings.extend(used.warnings.iter().cloned());
+    TimingReport {
+        source: l.source,
+        per_bell: l
+            .bells
+            .iter()
+            .map(|b| BellTiming {
+                bell: b.bell,
+                lateness_ms: b.lateness_s * 1e3,
+                spread_ms: b.spread_s * 1e3,
+                learned_from: b.strikes,
+                matched_ms: matched.get(b.bell - 1).copied().flatten().map(|m| m * 1e3),
+            })
+            .collect(),
     }
 }
 

@@ -84,39 +84,8 @@ pub(super) fn plan_bands(voices: &[BellVoice], rate: f64, spectrum: &(f64, Vec<f
                     shared: vec![],
                 };
             }
-            let bands: Vec<(f64, f64, f64, usize, Vec<usize>)> = v
-                .iter()
-                .map(|p| {
-                    let f = p.freq_hz;
-                    // Other bells' partials that may lie in this band, and the nearest that cannot.
-                    let mut shared = 0.0;
-                    let mut sharers = vec![];
-                    let mut nearest = f64::INFINITY;
-                    for (ob, ov) in placed.iter().enumerate() {
-                        if ob == b {
-                            continue;
-                        }
-                        let omax = ov.iter().map(|p| p.strength).fold(0.0, f64::max);
-                        for op in ov {
-                            let d = (op.freq_hz - f).abs();
-                            let tol = (p.uncertainty + op.uncertainty).max(0.01) * f;
-                            if d < tol {
-                                shared += (op.strength / omax).powi(2);
-                                sharers.push(ob);
-                            } else {
-                                nearest = nearest.min(d);
-                            }
-                        }
-                    }
-                    let s = p.strength / smax;
-                    let own = s * s / (s * s + shared);
-                    // A null of the smoothing on the nearest other partial; 3 to 50 ms.
-                    let secs = (1.0 / nearest.max(0.03 * f)).clamp(0.003, 0.05);
-                    let len = ((secs * rate).round() as usize) | 1;
-                    sharers.dedup();
-                    (f, s, own, len, sharers)
-                })
-                .collect();
+            let bands: Vec<(f64, f64, f64, usize, Vec<usize>)> =
+                v.iter().map(|p| partial_band(p, b, smax, &placed, rate)).collect();
             // A band another bell shares beats with it while both ring and
             // steps when the other strikes: with two bands or more of its
             // own (90 %), a bell is heard in those alone; else in its best
@@ -145,6 +114,47 @@ pub(super) fn plan_bands(voices: &[BellVoice], rate: f64, spectrum: &(f64, Vec<f
             BandPlan { bands: chosen, shared }
         })
         .collect()
+}
+
+/// One partial `p` of bell `b` (its strongest partial `smax` strong),
+/// among every bell's partials `placed`, as a band: (frequency Hz,
+/// strength over the strongest, the share of the band that is its own,
+/// box length in samples, the bells whose partials may lie in it).
+fn partial_band(
+    p: &VoicePartial,
+    b: usize,
+    smax: f64,
+    placed: &[Vec<VoicePartial>],
+    rate: f64,
+) -> (f64, f64, f64, usize, Vec<usize>) {
+    let f = p.freq_hz;
+    // Other bells' partials that may lie in this band, and the nearest that cannot.
+    let mut shared = 0.0;
+    let mut sharers = vec![];
+    let mut nearest = f64::INFINITY;
+    for (ob, ov) in placed.iter().enumerate() {
+        if ob == b {
+            continue;
+        }
+        let omax = ov.iter().map(|p| p.strength).fold(0.0, f64::max);
+        for op in ov {
+            let d = (op.freq_hz - f).abs();
+            let tol = (p.uncertainty + op.uncertainty).max(0.01) * f;
+            if d < tol {
+                shared += (op.strength / omax).powi(2);
+                sharers.push(ob);
+            } else {
+                nearest = nearest.min(d);
+            }
+        }
+    }
+    let s = p.strength / smax;
+    let own = s * s / (s * s + shared);
+    // A null of the smoothing on the nearest other partial; 3 to 50 ms.
+    let secs = (1.0 / nearest.max(0.03 * f)).clamp(0.003, 0.05);
+    let len = ((secs * rate).round() as usize) | 1;
+    sharers.dedup();
+    (f, s, own, len, sharers)
 }
 
 /// The peak of the mean spectrum within `f` ± uncertainty, if it stands
