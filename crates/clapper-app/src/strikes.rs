@@ -7,9 +7,12 @@ use std::fmt::Write as _;
 
 use clapper_core::stroke::double_strike_index;
 use clapper_signal::lateness::{from_templates, Lateness};
-use clapper_signal::strikes::{find_strikes, BellVoice, StrikeOptions};
-use clapper_signal::striking::{mean_sd, rhythm, Timed};
-use clapper_signal::template_timing::retime;
+use clapper_signal::strikes::{
+    find_strikes_streamed, rising, BellVoice, Heard, InMemory, RecordingBlocks, StrikeOptions, Window, Windows,
+    PLAUSIBLE_SHARE,
+};
+use clapper_signal::striking::{mean_sd, rhythm, Rhythm, Timed};
+use clapper_signal::template_timing::{median_of, retime_each};
 use clapper_signal::Signal;
 use serde::Serialize;
 
@@ -103,6 +106,11 @@ pub struct StrikesSummary {
     pub double_strikes: usize,
     /// Strokes told from the rhythm (the handstroke gap stood out).
     pub strokes_known: bool,
+    /// How much the recording sounds like bells struck: the share of the
+    /// strikes heard (those not at its very ends) across whose onset their
+    /// bell's strongest partial rises 6 dB or more. Under 0.5 it does not
+    /// (noise, a steady tone: a warning says so); none without strikes.
+    pub plausibility: Option<f64>,
     /// What could not be heard or placed, in words.
     pub warnings: Vec<String>,
 }
@@ -248,73 +256,109 @@ impl StrikesReport {
     /// Listen to `sig` for the bells `voices` (treble first), timing each
     /// bell's strikes as `timing` says.
     pub fn timed(sig: &Signal, voices: &[BellVoice], opts: &StrikeOptions, timing: Timing) -> Result<Self, AppError> {
-        let rate = sig.rate;
+        Self::streamed(&mut InMemory::new(sig), voices, opts, timing, &Windows::default(), None)
+    }
+
+    /// Listen to the recording `src`, read in blocks and heard in windows
+    /// ([`find_strikes_streamed`]: one window up to 80 s, as [`Self::timed`]
+    /// hears it), for the bells `voices` (treble first), timing each bell's
+    /// strikes as `timing` says. Each strike is timed against its template
+    /// in its window's audio. `strip`, if given, receives the first
+    /// [`STRIP_S`] of the recording (for [`StrikingFigure`]).
+    pub fn streamed(
+        src: &mut dyn RecordingBlocks,
+        voices: &[BellVoice],
+        opts: &StrikeOptions,
+        timing: Timing,
+        windows: &Windows,
+        mut strip: Option<&mut Signal>,
+    ) -> Result<Self, AppError> {
+        let rate = src.rate();
         if !(8_000.0..=96_000.0).contains(&rate) {
             return Err(AppError::Request(format!(
                 "sample rate {rate} Hz: recordings from 8 to 96 kHz"
             )));
         }
-        let mut heard = find_strikes(sig, voices, opts).map_err(signal_error)?;
-        let mut warnings = heard.warnings.clone();
+        let duration_s = src.total() as f64 / rate;
         // The lateness on a ring of the templates needs them at one rate;
         // matching each strike does not (it resamples them).
-        let lateness: Option<Lateness> = match timing {
-            Timing::AsHeard => None,
+        let (lateness, no_lateness) = match timing {
+            Timing::AsHeard => (None, None),
             Timing::Templates(t) => match from_templates(t, voices, opts) {
-                Ok(l) => Some(l),
-                Err(e) => {
-                    warnings.push(format!("no lateness learned from the templates: {e}"));
-                    None
-                }
+                Ok(l) => (Some(l), None),
+                Err(e) => (None, Some(format!("no lateness learned from the templates: {e}"))),
             },
         };
-        // With templates, each strike is timed against its bell's template;
-        // the lateness learned on a ring of the templates then serves only a
-        // bell whose template is too short to match.
-        let matched = match timing {
-            Timing::Templates(t) => {
-                let late: Vec<Option<f64>> = lateness
-                    .as_ref()
-                    .map(|l| l.bells.iter().map(|b| b.sure().then_some(b.lateness_s)).collect())
-                    .unwrap_or_default();
-                retime(sig, &mut heard, t, &late).map_err(signal_error)?
-            }
-            _ => vec![],
-        };
-        if let Some(l) = &lateness {
-            let mut l = l.clone();
-            for (b, m) in l.bells.iter_mut().zip(&matched) {
-                if m.is_some() {
-                    b.lateness_s = 0.0;
+        let late: Vec<Option<f64>> = lateness
+            .as_ref()
+            .map(|l| l.bells.iter().map(|b| b.sure().then_some(b.lateness_s)).collect())
+            .unwrap_or_default();
+        let mut peak = 0.0f64;
+        let mut moved: Vec<Vec<f64>> = vec![];
+        // Strikes judged, and of them those that rise ([`rising`]).
+        let mut rises = (0usize, 0usize);
+        let mut each = |w: &Window, heard: &mut Heard| -> Result<(), clapper_signal::SignalError> {
+            peak = w.sig.samples.iter().fold(peak, |p, v| p.max(v.abs()));
+            for (s, r) in heard.strikes.iter().zip(rising(w.sig, &heard.strikes, voices)) {
+                if let (Some(r), true) = (r, in_core(w, s.t)) {
+                    rises = (rises.0 + 1, rises.1 + usize::from(r));
                 }
             }
-            l.correct(&mut heard);
-            warnings.extend(l.warnings.iter().cloned());
+            if let Some(strip) = strip.as_deref_mut().filter(|_| w.start == 0) {
+                let end = ((STRIP_S * rate) as usize).min(w.sig.samples.len());
+                *strip = Signal {
+                    rate,
+                    samples: w.sig.samples[..end].to_vec(),
+                };
+            }
+            // With templates, each strike is timed against its bell's
+            // template; the lateness learned on a ring of the templates then
+            // serves only a bell whose template is too short to match.
+            if let Timing::Templates(t) = timing {
+                retime_window(w, heard, t, &late, &mut moved)?;
+            }
+            Ok(())
+        };
+        let mut heard = find_strikes_streamed(src, voices, opts, windows, &mut each).map_err(signal_error)?;
+        let matched: Vec<Option<f64>> = moved.into_iter().map(median_of).collect();
+        let mut warnings = std::mem::take(&mut heard.warnings);
+        warnings.extend(no_lateness);
+        let timing_report = lateness.map(|l| correct_lateness(l, &matched, &mut heard, &mut warnings));
+        let plausibility = (rises.0 > 0).then(|| rises.1 as f64 / rises.0 as f64);
+        if let Some(p) = plausibility.filter(|p| *p < PLAUSIBLE_SHARE) {
+            warnings.insert(
+                0,
+                format!(
+                    "this does not sound like a recording of bells: across only {:.0} % of the strikes heard does \
+                     their bell's strongest partial rise (a bell's strike starts it: noise or a steady tone, say); \
+                     the strikes, rows and double strikes below are not to be trusted",
+                    100.0 * p
+                ),
+            );
         }
-        let timing_report = lateness.map(|l| TimingReport {
-            source: l.source,
-            per_bell: l
-                .bells
-                .iter()
-                .map(|b| BellTiming {
-                    bell: b.bell,
-                    lateness_ms: b.lateness_s * 1e3,
-                    spread_ms: b.spread_s * 1e3,
-                    learned_from: b.strikes,
-                    matched_ms: matched.get(b.bell - 1).copied().flatten().map(|m| m * 1e3),
-                })
-                .collect(),
-        });
-        let peak = sig.samples.iter().fold(0.0f64, |p, v| p.max(v.abs()));
         if peak == 0.0 {
             warnings.insert(0, "the recording is silent".into());
         }
+        let mut report = Self::of(&heard, voices.len(), duration_s, warnings, timing_report);
+        report.summary.plausibility = plausibility;
+        Ok(report)
+    }
+
+    /// The report of the strikes `heard` of `bells` bells in a recording
+    /// `duration_s` long: rows, places and each bell's striking.
+    fn of(
+        heard: &Heard,
+        bells: usize,
+        duration_s: f64,
+        mut warnings: Vec<String>,
+        timing: Option<TimingReport>,
+    ) -> Self {
         let timed: Vec<Timed> = heard.strikes.iter().map(|s| Timed { bell: s.bell, t: s.t }).collect();
-        let r = rhythm(&timed, voices.len());
+        let r = rhythm(&timed, bells);
         if !heard.strikes.is_empty() && !r.strokes_known {
             warnings.push("no handstroke gap stands out: hand and back are a guess".into());
         }
-        warnings.extend(ring_size_warning(&timed, voices.len()));
+        warnings.extend(ring_size_warning(&timed, bells));
         let strikes: Vec<StrikeReport> = heard
             .strikes
             .iter()
@@ -333,54 +377,14 @@ impl StrikesReport {
                 }),
             })
             .collect();
-        let per_bell = (1..=voices.len())
-            .map(|bell| {
-                let mine: Vec<&StrikeReport> = strikes.iter().filter(|s| s.bell == bell).collect();
-                let errors =
-                    |hand| -> Vec<f64> { r.stroke_errors(&timed, bell, hand).iter().map(|e| e * 1e3).collect() };
-                let stats = |v: &[f64]| {
-                    let ms = mean_sd(v);
-                    StrokeStats {
-                        n: v.len(),
-                        mean_error_ms: ms.map(|x| x.0),
-                        spread_ms: ms.map(|x| x.1),
-                    }
-                };
-                let (h, b) = (errors(true), errors(false));
-                let (hs, bs) = (stats(&h), stats(&b));
-                let odd = match (hs.mean_error_ms, bs.mean_error_ms) {
-                    (Some(a), Some(c)) => Some(a - c),
-                    _ => None,
-                };
-                let se = match (hs.spread_ms, bs.spread_ms) {
-                    (Some(a), Some(c)) if h.len() > 1 && b.len() > 1 => {
-                        Some((a * a / h.len() as f64 + c * c / b.len() as f64).sqrt())
-                    }
-                    _ => None,
-                };
-                let ds: Vec<f64> = mine.iter().filter_map(|s| s.double.map(|d| d.d_index)).collect();
-                BellStriking {
-                    bell,
-                    strikes: mine.len(),
-                    hand: hs,
-                    back: bs,
-                    odd_struck_ms: odd,
-                    odd_struck_se_ms: se,
-                    double_strikes: ds.len(),
-                    double_rate: if mine.is_empty() {
-                        0.0
-                    } else {
-                        ds.len() as f64 / mine.len() as f64
-                    },
-                    mean_d: mean_sd(&ds).map(|x| x.0),
-                }
-            })
+        let per_bell = (1..=bells)
+            .map(|bell| bell_striking(bell, &strikes, &r, &timed))
             .collect();
         let errs: Vec<f64> = strikes.iter().filter_map(|s| s.error_ms).collect();
         let rms = (!errs.is_empty()).then(|| (errs.iter().map(|e| e * e).sum::<f64>() / errs.len() as f64).sqrt());
         let interval_ms = r.interval.map(|i| i * 1e3);
         let summary = StrikesSummary {
-            duration_s: sig.duration(),
+            duration_s,
             strikes: strikes.len(),
             rows: r.rows,
             full_rows: r.full_rows,
@@ -390,15 +394,16 @@ impl StrikesReport {
             rms_error_ms: rms,
             double_strikes: strikes.iter().filter(|s| s.double.is_some()).count(),
             strokes_known: r.strokes_known,
+            plausibility: None,
             warnings,
         };
-        Ok(StrikesReport {
-            bells: voices.len(),
-            timing: timing_report,
+        StrikesReport {
+            bells,
+            timing,
             strikes,
             per_bell,
             summary,
-        })
+        }
     }
 
     /// The readable report, for the recording `name`.
@@ -512,6 +517,113 @@ impl StrikesReport {
                 (s.bell, hand, s.t_s * 1e3)
             })
             .collect()
+    }
+}
+
+/// The lateness `l` learned on a ring of the templates taken off the
+/// strikes of `heard` whose bell's template did not match (`matched`:
+/// per bell, how far its strikes moved when matched), its warnings added
+/// to `warnings`; the timing report.
+fn correct_lateness(
+    l: Lateness,
+    matched: &[Option<f64>],
+    heard: &mut Heard,
+    warnings: &mut Vec<String>,
+) -> TimingReport {
+    let mut used = l.clone();
+    for (b, m) in used.bells.iter_mut().zip(matched) {
+        if m.is_some() {
+            b.lateness_s = 0.0;
+        }
+    }
+    used.correct(heard);
+    warnings.extend(used.warnings.iter().cloned());
+    TimingReport {
+        source: l.source,
+        per_bell: l
+            .bells
+            .iter()
+            .map(|b| BellTiming {
+                bell: b.bell,
+                lateness_ms: b.lateness_s * 1e3,
+                spread_ms: b.spread_s * 1e3,
+                learned_from: b.strikes,
+                matched_ms: matched.get(b.bell - 1).copied().flatten().map(|m| m * 1e3),
+            })
+            .collect(),
+    }
+}
+
+/// Each strike of window `w` timed again against its bell's template
+/// ([`retime_each`]), how far each moved kept per bell in `moved` (those of
+/// the window's core only, so a strike two windows hear counts once).
+fn retime_window(
+    w: &Window,
+    heard: &mut Heard,
+    templates: &[Signal],
+    late: &[Option<f64>],
+    moved: &mut Vec<Vec<f64>>,
+) -> Result<(), clapper_signal::SignalError> {
+    moved.resize(templates.len(), vec![]);
+    let moves = retime_each(w.sig, heard, templates, late)?;
+    for (s, m) in heard.strikes.iter().zip(moves) {
+        if let (Some(m), true) = (m, in_core(w, s.t)) {
+            moved[s.bell - 1].push(m);
+        }
+    }
+    heard
+        .strikes
+        .sort_by(|a, b| a.t.total_cmp(&b.t).then(a.bell.cmp(&b.bell)));
+    Ok(())
+}
+
+/// Whether a strike at `t` (s from the start of window `w`) is one the
+/// window reports: any, where the window is the whole recording.
+fn in_core(w: &Window, t: f64) -> bool {
+    let at = w.start as f64 + t * w.sig.rate;
+    (w.start == 0 && w.core == (0, w.sig.samples.len())) || (at >= w.core.0 as f64 && at < w.core.1 as f64)
+}
+
+/// Bell `bell`'s striking from the report's `strikes` and the rhythm `r`
+/// of the strikes `timed`.
+fn bell_striking(bell: usize, strikes: &[StrikeReport], r: &Rhythm, timed: &[Timed]) -> BellStriking {
+    let mine: Vec<&StrikeReport> = strikes.iter().filter(|s| s.bell == bell).collect();
+    let errors = |hand| -> Vec<f64> { r.stroke_errors(timed, bell, hand).iter().map(|e| e * 1e3).collect() };
+    let stats = |v: &[f64]| {
+        let ms = mean_sd(v);
+        StrokeStats {
+            n: v.len(),
+            mean_error_ms: ms.map(|x| x.0),
+            spread_ms: ms.map(|x| x.1),
+        }
+    };
+    let (h, b) = (errors(true), errors(false));
+    let (hs, bs) = (stats(&h), stats(&b));
+    let odd = match (hs.mean_error_ms, bs.mean_error_ms) {
+        (Some(a), Some(c)) => Some(a - c),
+        _ => None,
+    };
+    let se = match (hs.spread_ms, bs.spread_ms) {
+        (Some(a), Some(c)) if h.len() > 1 && b.len() > 1 => {
+            Some((a * a / h.len() as f64 + c * c / b.len() as f64).sqrt())
+        }
+        _ => None,
+    };
+    let ds: Vec<f64> = mine.iter().filter_map(|s| s.double.map(|d| d.d_index)).collect();
+    BellStriking {
+        bell,
+        strikes: mine.len(),
+        hand: hs,
+        back: bs,
+        odd_struck_ms: odd,
+        odd_struck_se_ms: se,
+        double_strikes: ds.len(),
+        double_rate: if mine.is_empty() {
+            0.0
+        } else {
+            ds.len() as f64 / mine.len() as f64
+        },
+        mean_d: mean_sd(&ds).map(|x| x.0),
     }
 }
 

@@ -9,11 +9,13 @@ use clap::Args;
 use clapper_app::strikes::{strike_options, voices_from_nominals, StrikesReport, StrikingFigure, Timing};
 use clapper_io::signal_file::{read_recording, write_wav};
 use clapper_io::strike_file::{csv_text, lowndes};
-use clapper_signal::strikes::BellVoice;
+use clapper_io::wav_stream::WavStream;
+use clapper_signal::strikes::{BellVoice, InMemory, Windows};
 use clapper_signal::tower::{
     major_scale, tower_recording, tuned_ring, Attack, DoubleStrikeSpec, Doublets, Method, Noise, PlainCourse, Room,
     Scale, Swing, TowerSpec, Voice,
 };
+use clapper_signal::Signal;
 
 use crate::files::write_bytes;
 use crate::measure::print_report;
@@ -114,14 +116,28 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         clapper_plot::format_of(path)?;
     }
     let opts = strike_options(args.double_min_ratio)?;
-    let sig = read_recording(&args.file)?;
     // With templates, each strike is timed against its bell's template.
     let timing = if recorded.is_empty() {
         Timing::AsHeard
     } else {
         Timing::Templates(&recorded)
     };
-    let report = StrikesReport::timed(&sig, &voices, &opts, timing).with_context(|| args.file.display().to_string())?;
+    // The recording is read in blocks and heard in windows (issue 46):
+    // memory does not grow with its length. A layout not streamed is read whole.
+    let mut strip = Signal {
+        rate: 1.0,
+        samples: vec![],
+    };
+    let keep_strip = args.plot.is_some().then_some(&mut strip);
+    let windows = Windows::default();
+    let report = match WavStream::open(&args.file)? {
+        Some(mut s) => StrikesReport::streamed(&mut s, &voices, &opts, timing, &windows, keep_strip),
+        None => {
+            let sig = read_recording(&args.file)?;
+            StrikesReport::streamed(&mut InMemory::new(&sig), &voices, &opts, timing, &windows, keep_strip)
+        }
+    }
+    .with_context(|| args.file.display().to_string())?;
     let name = crate::files::title_name(&args.file);
     if let Some(path) = &args.csv {
         write_bytes(path, csv_text(&report.csv_rows()).map_err(anyhow::Error::msg)?)?;
@@ -131,7 +147,7 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         write_bytes(path, text)?;
     }
     if let Some(path) = &args.plot {
-        let fig = StrikingFigure::new(&report, &sig, &name, &voices)?;
+        let fig = StrikingFigure::new(&report, &strip, &name, &voices)?;
         crate::files::write_atomically(path, |tmp| Ok(clapper_plot::striking_plot(tmp, &fig.plot())?))?;
     }
     print_report(&report, args.json, || report.text(&args.file.display().to_string()))

@@ -19,6 +19,7 @@ pub mod strike_file;
 pub mod text_file;
 pub mod tower_file;
 pub mod trace;
+pub mod wav_stream;
 
 pub use bell_file::{
     bell_texts, load_bell, load_bells, parse_bell, parse_bells, parse_ring_csv, BellFileError, BellSource, FrameInput,

@@ -57,10 +57,40 @@ pub struct Rhythm {
 pub fn rhythm(strikes: &[Timed], bells: usize) -> Rhythm {
     let mut order: Vec<usize> = (0..strikes.len()).collect();
     order.sort_by(|&a, &b| strikes[a].t.total_cmp(&strikes[b].t));
+    let (mut hand, votes_strength, votes_total) = strokes_by_bell(strikes, bells, &order);
+    fill_strokes(strikes, bells, &order, &mut hand);
+    let (row_of, rows) = rows_of(&order, &hand, bells);
+    let rp = place_rows(strikes, &rows, bells);
+    let interval = (!rp.intervals.is_empty()).then(|| rp.intervals.iter().sum::<f64>() / rp.intervals.len() as f64);
+    let handstroke_gap = interval.and_then(|iv| handstroke_gap(strikes, &rows, &hand, &rp.full, iv));
+    // Known when the alternating sums stood out: the gap is more than a
+    // tenth of the interval on the strikes' average.
+    let strokes_known = votes_total > 0.0 && votes_strength / votes_total > 0.02;
+    let placed = (0..strikes.len())
+        .map(|i| Placed {
+            hand: hand[i],
+            row: row_of[i],
+            place: rp.place[i],
+            error: rp.error[i],
+        })
+        .collect();
+    Rhythm {
+        placed,
+        rows: rows.len(),
+        full_rows: rp.full.iter().filter(|f| **f).count(),
+        interval,
+        handstroke_gap,
+        strokes_known,
+    }
+}
+
+/// Step 1: each bell's strokes, in runs of its strikes without a missing
+/// or extra one, from the alternating sum of its intervals. Returns the
+/// strokes (per strike, as given) and the votes' strength and total.
+fn strokes_by_bell(strikes: &[Timed], bells: usize, order: &[usize]) -> (Vec<Option<bool>>, f64, f64) {
     let mut hand: Vec<Option<bool>> = vec![None; strikes.len()];
     let mut votes_strength = 0.0;
     let mut votes_total = 0.0;
-    // 1. Per bell, in runs without a missing or extra strike.
     for bell in 1..=bells {
         let mine: Vec<usize> = order.iter().copied().filter(|&i| strikes[i].bell == bell).collect();
         if mine.len() < 3 {
@@ -103,14 +133,18 @@ pub fn rhythm(strikes: &[Timed], bells: usize) -> Rhythm {
             start = k + 1;
         }
     }
-    // 2. Strikes left unlabelled take the stroke most of their neighbours
-    //    in time have (a row's strikes are neighbours).
+    (hand, votes_strength, votes_total)
+}
+
+/// Step 2: strikes left unlabelled take the stroke most of their
+/// neighbours in time have (a row's strikes are neighbours).
+fn fill_strokes(strikes: &[Timed], bells: usize, order: &[usize], hand: &mut [Option<bool>]) {
     let labelled: Vec<(f64, bool)> = order
         .iter()
         .filter_map(|&i| hand[i].map(|h| (strikes[i].t, h)))
         .collect();
-    let span = typical_row(strikes, bells, &order);
-    for &i in &order {
+    let span = typical_row(strikes, bells, order);
+    for &i in order {
         if hand[i].is_none() {
             let t = strikes[i].t;
             let (h, b) = labelled
@@ -125,11 +159,15 @@ pub fn rhythm(strikes: &[Timed], bells: usize) -> Rhythm {
             }
         }
     }
-    // 3. Rows: runs of one stroke in time order, none longer than the ring.
-    let mut row_of: Vec<Option<usize>> = vec![None; strikes.len()];
+}
+
+/// Step 3: rows, runs of one stroke in time order, none longer than the
+/// ring: each strike's row, and each row's strikes.
+fn rows_of(order: &[usize], hand: &[Option<bool>], bells: usize) -> (Vec<Option<usize>>, Vec<Vec<usize>>) {
+    let mut row_of: Vec<Option<usize>> = vec![None; hand.len()];
     let mut rows: Vec<Vec<usize>> = vec![];
     let mut last: Option<bool> = None;
-    for &i in &order {
+    for &i in order {
         let Some(h) = hand[i] else {
             last = None;
             continue;
@@ -144,7 +182,21 @@ pub fn rhythm(strikes: &[Timed], bells: usize) -> Rhythm {
         row_of[i] = Some(rows.len() - 1);
         last = Some(h);
     }
-    // 4. Places and errors in full rows.
+    (row_of, rows)
+}
+
+/// Places and errors in full rows (step 4).
+struct RowPlaces {
+    place: Vec<Option<usize>>,
+    error: Vec<Option<f64>>,
+    /// Each full row's interval (s).
+    intervals: Vec<f64>,
+    /// Whether each row holds every bell once.
+    full: Vec<bool>,
+}
+
+/// Step 4: each strike's place and error in the rows holding every bell once.
+fn place_rows(strikes: &[Timed], rows: &[Vec<usize>], bells: usize) -> RowPlaces {
     let mut place: Vec<Option<usize>> = vec![None; strikes.len()];
     let mut error: Vec<Option<f64>> = vec![None; strikes.len()];
     let mut intervals = vec![];
@@ -179,41 +231,35 @@ pub fn rhythm(strikes: &[Timed], bells: usize) -> Rhythm {
             }
         }
     }
-    let interval = (!intervals.is_empty()).then(|| intervals.iter().sum::<f64>() / intervals.len() as f64);
-    // The handstroke gap: hand rows after full back rows.
+    RowPlaces {
+        place,
+        error,
+        intervals,
+        full,
+    }
+}
+
+/// The handstroke gap (intervals of `iv` s): the mean over hand rows after
+/// full back rows, both full.
+fn handstroke_gap(
+    strikes: &[Timed],
+    rows: &[Vec<usize>],
+    hand: &[Option<bool>],
+    full: &[bool],
+    iv: f64,
+) -> Option<f64> {
     let mut gaps = vec![];
-    if let Some(iv) = interval {
-        for r in 1..rows.len() {
-            let (prev, this) = (&rows[r - 1], &rows[r]);
-            let is_hand = this.first().and_then(|&i| hand[i]) == Some(true);
-            if is_hand && full[r] && full[r - 1] {
-                let (Some(&a), Some(&b)) = (prev.last(), this.first()) else {
-                    continue;
-                };
-                gaps.push((strikes[b].t - strikes[a].t) / iv - 1.0);
-            }
+    for r in 1..rows.len() {
+        let (prev, this) = (&rows[r - 1], &rows[r]);
+        let is_hand = this.first().and_then(|&i| hand[i]) == Some(true);
+        if is_hand && full[r] && full[r - 1] {
+            let (Some(&a), Some(&b)) = (prev.last(), this.first()) else {
+                continue;
+            };
+            gaps.push((strikes[b].t - strikes[a].t) / iv - 1.0);
         }
     }
-    let handstroke_gap = (!gaps.is_empty()).then(|| gaps.iter().sum::<f64>() / gaps.len() as f64);
-    // Known when the alternating sums stood out: the gap is more than a
-    // tenth of the interval on the strikes' average.
-    let strokes_known = votes_total > 0.0 && votes_strength / votes_total > 0.02;
-    let placed = (0..strikes.len())
-        .map(|i| Placed {
-            hand: hand[i],
-            row: row_of[i],
-            place: place[i],
-            error: error[i],
-        })
-        .collect();
-    Rhythm {
-        placed,
-        rows: rows.len(),
-        full_rows: full.iter().filter(|f| **f).count(),
-        interval,
-        handstroke_gap,
-        strokes_known,
-    }
+    (!gaps.is_empty()).then(|| gaps.iter().sum::<f64>() / gaps.len() as f64)
 }
 
 /// `bell`'s strike times (s), in `order`.

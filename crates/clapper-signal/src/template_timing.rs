@@ -82,40 +82,44 @@ pub fn retime(
     templates: &[Signal],
     lateness: &[Option<f64>],
 ) -> Result<Vec<Option<f64>>, SignalError> {
-    sig.validate()?;
-    let rate = sig.rate;
-    let pre = (PRE_S * rate).round() as usize;
-    let len = (MATCH_S * rate).round() as usize + pre;
-    let lags = ((WIDE_EARLY_S + WIDE_LATE_S) * rate).round() as usize;
-    let n = (len + lags + 1).next_power_of_two();
-    let mut planner = RealFftPlanner::<f64>::new();
-    let fwd = planner.plan_fft_forward(n);
-    let inv = planner.plan_fft_inverse(n);
-    // Each bell's template spectrum, conjugated: from its onset, `len` long.
-    let mut spectra: Vec<Option<Vec<Complex<f64>>>> = vec![];
-    for t in templates {
-        let t = resample(t, rate);
-        let o = (sample_onset(&t)? * rate).round() as usize;
-        if t.samples.len() < o + len - pre {
-            spectra.push(None);
-            continue;
-        }
-        // The template from `pre` before its sound starts (silence: a lag
-        // where the bell already sounds there matches worse).
-        let mut buf = fwd.make_input_vec();
-        buf[pre..len].copy_from_slice(&t.samples[o..o + len - pre]);
-        let mut spec = fwd.make_output_vec();
-        fwd.process(&mut buf, &mut spec)
-            .map_err(|e| SignalError::Invalid(e.to_string()))?;
-        spectra.push(Some(spec.into_iter().map(|c| c.conj()).collect()));
-    }
-    let x = &sig.samples;
+    let moves = retime_each(sig, heard, templates, lateness)?;
     let mut moved: Vec<Vec<f64>> = vec![vec![]; templates.len()];
-    let mut buf = fwd.make_input_vec();
-    let mut spec = fwd.make_output_vec();
-    let mut out = inv.make_output_vec();
+    for (s, m) in heard.strikes.iter().zip(moves) {
+        if let Some(m) = m {
+            moved[s.bell - 1].push(m);
+        }
+    }
+    heard
+        .strikes
+        .sort_by(|a, b| a.t.total_cmp(&b.t).then(a.bell.cmp(&b.bell)));
+    Ok(moved.into_iter().map(median_of).collect())
+}
+
+/// The median of `v` (the upper of the middle two), if any.
+pub fn median_of(mut v: Vec<f64>) -> Option<f64> {
+    v.sort_by(f64::total_cmp);
+    v.get(v.len() / 2).copied()
+}
+
+/// [`retime`] without the order and the medians: each strike of `heard`
+/// timed again where its template matches, in place (the strikes then
+/// out of time order), and how far each moved (s; none where its bell's
+/// template is too short or nothing matched). For a recording heard in
+/// windows ([`crate::strikes::find_strikes_streamed`]): `sig` is the
+/// window's audio, the strikes' times from its start.
+pub fn retime_each(
+    sig: &Signal,
+    heard: &mut Heard,
+    templates: &[Signal],
+    lateness: &[Option<f64>],
+) -> Result<Vec<Option<f64>>, SignalError> {
+    sig.validate()?;
+    let m = Matcher::new(sig.rate, templates)?;
+    let mut scratch = m.scratch();
+    let mut moves = vec![];
     for s in &mut heard.strikes {
-        let Some(Some(tspec)) = spectra.get(s.bell - 1) else {
+        let Some(Some(tspec)) = m.spectra.get(s.bell - 1) else {
+            moves.push(None);
             continue;
         };
         // Near the time less the bell's lateness where that is sure, else
@@ -124,27 +128,122 @@ pub fn retime(
             Some(late) => (s.t - late.max(0.0) - EARLY_S, s.t - late.max(0.0) + LATE_S),
             None => (s.t - WIDE_EARLY_S, s.t + WIDE_LATE_S),
         };
+        let t = m.best_match(&sig.samples, tspec, from, to, &mut scratch)?;
+        moves.push(t.map(|t| t - s.t));
+        if let Some(t) = t {
+            s.t = t;
+        }
+    }
+    Ok(moves)
+}
+
+/// The templates' spectra and the transforms, at the recording's rate.
+struct Matcher {
+    rate: f64,
+    /// Silence matched before the template's sound (samples).
+    pre: usize,
+    /// Length matched (samples, `pre` included).
+    len: usize,
+    /// Transform length.
+    n: usize,
+    fwd: std::sync::Arc<dyn realfft::RealToComplex<f64>>,
+    inv: std::sync::Arc<dyn realfft::ComplexToReal<f64>>,
+    /// Each bell's template spectrum, conjugated; none if it is too short.
+    spectra: Vec<Option<Vec<Complex<f64>>>>,
+}
+
+/// The buffers one match works in.
+struct Scratch {
+    buf: Vec<f64>,
+    spec: Vec<Complex<f64>>,
+    out: Vec<f64>,
+}
+
+impl Matcher {
+    fn new(rate: f64, templates: &[Signal]) -> Result<Self, SignalError> {
+        let pre = (PRE_S * rate).round() as usize;
+        let len = (MATCH_S * rate).round() as usize + pre;
+        let lags = ((WIDE_EARLY_S + WIDE_LATE_S) * rate).round() as usize;
+        let n = (len + lags + 1).next_power_of_two();
+        let mut planner = RealFftPlanner::<f64>::new();
+        let fwd = planner.plan_fft_forward(n);
+        let inv = planner.plan_fft_inverse(n);
+        // Each bell's template spectrum, conjugated: from its onset, `len` long.
+        let mut spectra: Vec<Option<Vec<Complex<f64>>>> = vec![];
+        for t in templates {
+            let t = resample(t, rate);
+            let o = (sample_onset(&t)? * rate).round() as usize;
+            if t.samples.len() < o + len - pre {
+                spectra.push(None);
+                continue;
+            }
+            // The template from `pre` before its sound starts (silence: a lag
+            // where the bell already sounds there matches worse).
+            let mut buf = fwd.make_input_vec();
+            buf[pre..len].copy_from_slice(&t.samples[o..o + len - pre]);
+            let mut spec = fwd.make_output_vec();
+            fwd.process(&mut buf, &mut spec)
+                .map_err(|e| SignalError::Invalid(e.to_string()))?;
+            spectra.push(Some(spec.into_iter().map(|c| c.conj()).collect()));
+        }
+        Ok(Matcher {
+            rate,
+            pre,
+            len,
+            n,
+            fwd,
+            inv,
+            spectra,
+        })
+    }
+
+    fn scratch(&self) -> Scratch {
+        Scratch {
+            buf: self.fwd.make_input_vec(),
+            spec: self.fwd.make_output_vec(),
+            out: self.inv.make_output_vec(),
+        }
+    }
+
+    /// The strike's time (s) where template `tspec` matches the recording
+    /// `x` best from `from` to `to` (s), or None where the recording is
+    /// silent there.
+    fn best_match(
+        &self,
+        x: &[f64],
+        tspec: &[Complex<f64>],
+        from: f64,
+        to: f64,
+        sc: &mut Scratch,
+    ) -> Result<Option<f64>, SignalError> {
+        let (rate, n, len) = (self.rate, self.n, self.len);
         let start = (from * rate).round() as i64;
         let lags = (((to - from) * rate).round() as usize).min(n - len - 1);
-        for (k, b) in buf.iter_mut().enumerate() {
+        let at = |k: usize| {
             let j = start + k as i64;
-            *b = if j >= 0 && (j as usize) < x.len() {
+            if j >= 0 && (j as usize) < x.len() {
                 x[j as usize]
             } else {
                 0.0
-            };
+            }
+        };
+        for (k, b) in sc.buf.iter_mut().enumerate() {
+            *b = at(k);
         }
-        fwd.process(&mut buf, &mut spec)
+        self.fwd
+            .process(&mut sc.buf, &mut sc.spec)
             .map_err(|e| SignalError::Invalid(e.to_string()))?;
-        for (a, b) in spec.iter_mut().zip(tspec) {
+        for (a, b) in sc.spec.iter_mut().zip(tspec) {
             *a *= b;
         }
-        spec[0].im = 0.0;
-        if let Some(l) = spec.last_mut() {
+        sc.spec[0].im = 0.0;
+        if let Some(l) = sc.spec.last_mut() {
             l.im = 0.0;
         }
-        inv.process(&mut spec, &mut out)
+        self.inv
+            .process(&mut sc.spec, &mut sc.out)
             .map_err(|e| SignalError::Invalid(e.to_string()))?;
+        let out = &mut sc.out;
         // out[k]: the recording from start + k against the template, over
         // the recording's level there (a normalised match: unnormalised, a
         // lag where the bell has grown louder matches better than the lag
@@ -152,12 +251,7 @@ pub fn retime(
         // (The forward transform used `buf` as scratch: read the recording.)
         let mut energy = vec![0.0; n + 1];
         for k in 0..n {
-            let j = start + k as i64;
-            let v = if j >= 0 && (j as usize) < x.len() {
-                x[j as usize]
-            } else {
-                0.0
-            };
+            let v = at(k);
             energy[k + 1] = energy[k] + v * v;
         }
         for (k, o) in out.iter_mut().enumerate().take(lags + 1) {
@@ -166,36 +260,9 @@ pub fn retime(
         }
         let top = (0..=lags).map(|k| out[k].abs()).fold(0.0, f64::max);
         if top == 0.0 {
-            continue;
+            return Ok(None);
         }
-        // The best match, unless a match at least 0.6 as good lies 30 ms or
-        // more before it with a dip between (a double strike's first blow):
-        // then the best within 10 ms of the earliest such. Without the dip
-        // it is the same strike matching broadly (partials near whole
-        // ratios keep in step with themselves for tens of ms).
-        let top_k = (0..=lags)
-            .max_by(|&a, &b| out[a].abs().total_cmp(&out[b].abs()))
-            .unwrap_or(0);
-        let gap = (GAP_S * rate).round() as usize;
-        let half = (0.0015 * rate).round() as usize;
-        let env = |k: usize| {
-            out[k.saturating_sub(half)..=(k + half).min(lags)]
-                .iter()
-                .fold(0.0f64, |m, v| m.max(v.abs()))
-        };
-        let first = (0..top_k.saturating_sub(gap)).find(|&k| {
-            let e = env(k);
-            e >= FIRST_SHARE * top && (k..top_k).step_by(half.max(1)).any(|j| env(j) < DIP * e)
-        });
-        let best = match first {
-            Some(first) => {
-                let reach = (first + (0.01 * rate).round() as usize).min(lags);
-                (first..=reach)
-                    .max_by(|&a, &b| out[a].abs().total_cmp(&out[b].abs()))
-                    .unwrap_or(first)
-            }
-            None => top_k,
-        };
+        let best = first_blow(out, lags, top, rate);
         // The peak between samples, from the parabola through its neighbours.
         let off = if best > 0 && best < lags {
             let (a, b, c) = (out[best - 1].abs(), out[best].abs(), out[best + 1].abs());
@@ -208,20 +275,39 @@ pub fn retime(
         } else {
             0.0
         };
-        let t = (start as f64 + (best + pre) as f64 + off) / rate;
-        moved[s.bell - 1].push(t - s.t);
-        s.t = t;
+        Ok(Some((start as f64 + (best + self.pre) as f64 + off) / rate))
     }
-    heard
-        .strikes
-        .sort_by(|a, b| a.t.total_cmp(&b.t).then(a.bell.cmp(&b.bell)));
-    Ok(moved
-        .into_iter()
-        .map(|mut v| {
-            v.sort_by(f64::total_cmp);
-            v.get(v.len() / 2).copied()
-        })
-        .collect())
+}
+
+/// The best match in `out[..=lags]` (its largest `top`), unless a match at
+/// least 0.6 as good lies 30 ms or more before it with a dip between (a
+/// double strike's first blow): then the best within 10 ms of the earliest
+/// such. Without the dip it is the same strike matching broadly (partials
+/// near whole ratios keep in step with themselves for tens of ms).
+fn first_blow(out: &[f64], lags: usize, top: f64, rate: f64) -> usize {
+    let top_k = (0..=lags)
+        .max_by(|&a, &b| out[a].abs().total_cmp(&out[b].abs()))
+        .unwrap_or(0);
+    let gap = (GAP_S * rate).round() as usize;
+    let half = (0.0015 * rate).round() as usize;
+    let env = |k: usize| {
+        out[k.saturating_sub(half)..=(k + half).min(lags)]
+            .iter()
+            .fold(0.0f64, |m, v| m.max(v.abs()))
+    };
+    let first = (0..top_k.saturating_sub(gap)).find(|&k| {
+        let e = env(k);
+        e >= FIRST_SHARE * top && (k..top_k).step_by(half.max(1)).any(|j| env(j) < DIP * e)
+    });
+    match first {
+        Some(first) => {
+            let reach = (first + (0.01 * rate).round() as usize).min(lags);
+            (first..=reach)
+                .max_by(|&a, &b| out[a].abs().total_cmp(&out[b].abs()))
+                .unwrap_or(first)
+        }
+        None => top_k,
+    }
 }
 
 #[cfg(test)]

@@ -15,15 +15,14 @@
 //! [`Room`] (an exponentially decaying reverberation) and with white noise
 //! at a chosen signal-to-noise ratio.
 
-use std::f64::consts::PI;
-
 use rand::{Rng, SeedableRng};
 use rand_pcg::Pcg64;
 use realfft::RealFftPlanner;
 
 pub use crate::methods::PlainCourse;
 use crate::synth::{synthesize, Strike, SynthMode, SynthSpec};
-pub use crate::tower_effects::{Attack, Doublets, Noise, Scale, Swing, Voice};
+use crate::tower_effects::gaussian;
+pub use crate::tower_effects::{Attack, Doublets, Noise, Scale, Swing, Voice, TUNED_PARTIALS};
 use crate::{Signal, SignalError};
 
 /// One bell of the ring.
@@ -436,23 +435,6 @@ pub fn tower_strikes(spec: &TowerSpec) -> Result<Vec<TrueStrike>, SignalError> {
     Ok(out)
 }
 
-/// A tuned bell's partials as (ratio to the nominal, Q, strength relative
-/// to the nominal's): hum, prime, tierce, quint, nominal, superquint,
-/// octave nominal, and two upper partials. The nominal dominates a strike's
-/// sound and the quint is weak, as in a typical English bell; the upper
-/// partials die away fastest.
-pub const TUNED_PARTIALS: [(f64, f64, f64); 9] = [
-    (0.25, 3000.0, 0.35),
-    (0.5, 2500.0, 0.45),
-    (0.5946, 2000.0, 0.55),
-    (0.75, 1800.0, 0.2),
-    (1.0, 1500.0, 1.0),
-    (1.5, 1200.0, 0.45),
-    (2.0, 1000.0, 0.35),
-    (2.52, 800.0, 0.25),
-    (3.0, 600.0, 0.2),
-];
-
 /// One bell's partials as heard: [`TUNED_PARTIALS`] scaled to the nominal,
 /// each moved within `variation` by `rng`; partials at or above 0.45 of
 /// the sample rate are left out. Strength is set through the effective
@@ -614,13 +596,6 @@ pub fn tower_recording(spec: &TowerSpec) -> Result<(Signal, Vec<TrueStrike>), Si
     ))
 }
 
-/// A standard normal deviate (Box–Muller).
-pub(crate) fn gaussian(rng: &mut Pcg64) -> f64 {
-    let u: f64 = 1.0 - rng.random::<f64>();
-    let v: f64 = rng.random::<f64>();
-    (-2.0 * u.ln()).sqrt() * (2.0 * PI * v).cos()
-}
-
 /// The room's impulse response: 1 at time 0, then from the pre-delay
 /// Gaussian noise under an envelope falling 60 dB in RT60, scaled so that
 /// its energy is the direct sound's less the direct-to-reverberant ratio.
@@ -762,6 +737,8 @@ pub fn score(heard: &[HeardTimes], truth: &[TrueStrike], tolerance: f64) -> Scor
 
 #[cfg(test)]
 mod tests {
+    use std::f64::consts::PI;
+
     use super::*;
 
     fn ring(n: usize) -> TowerSpec {

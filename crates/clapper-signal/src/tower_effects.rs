@@ -10,8 +10,31 @@ use rand::Rng;
 use rand_pcg::Pcg64;
 
 use crate::synth::SynthMode;
-use crate::tower::{gaussian, TUNED_PARTIALS};
 use crate::SignalError;
+
+/// A tuned bell's partials as (ratio to the nominal, Q, strength relative
+/// to the nominal's): hum, prime, tierce, quint, nominal, superquint,
+/// octave nominal, and two upper partials. The nominal dominates a strike's
+/// sound and the quint is weak, as in a typical English bell; the upper
+/// partials die away fastest.
+pub const TUNED_PARTIALS: [(f64, f64, f64); 9] = [
+    (0.25, 3000.0, 0.35),
+    (0.5, 2500.0, 0.45),
+    (0.5946, 2000.0, 0.55),
+    (0.75, 1800.0, 0.2),
+    (1.0, 1500.0, 1.0),
+    (1.5, 1200.0, 0.45),
+    (2.0, 1000.0, 0.35),
+    (2.52, 800.0, 0.25),
+    (3.0, 600.0, 0.2),
+];
+
+/// A standard normal deviate (Box–Muller).
+pub(crate) fn gaussian(rng: &mut Pcg64) -> f64 {
+    let u: f64 = 1.0 - rng.random::<f64>();
+    let v: f64 = rng.random::<f64>();
+    (-2.0 * u.ln()).sqrt() * (2.0 * PI * v).cos()
+}
 
 /// The scale a ring is tuned to, up from the tenor (the key note).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -1,0 +1,233 @@
+//! Bands: the recording decimated, each partial moved to 0 Hz and smoothed
+//! by three boxes, and a band's change across a strike's rise.
+
+use std::f64::consts::PI;
+
+use super::heard::StrikeOptions;
+use super::stats::{median, typical_peak};
+use crate::Signal;
+
+/// The rate the bands are kept at (Hz): onsets are interpolated within it.
+pub(super) const BAND_RATE: f64 = 1000.0;
+
+/// A band: one partial of one bell, moved to 0 Hz and smoothed.
+pub(super) struct Band {
+    /// Sample rate of `z` (Hz): about [`BAND_RATE`], a whole fraction of the signal's.
+    pub(super) rate: f64,
+    /// Weight in the bell's onset function.
+    pub(super) weight: f64,
+    /// Box length (s).
+    pub(super) box_s: f64,
+    /// The complex band signal at the band rate.
+    pub(super) z: Vec<(f64, f64)>,
+    /// Rise of a step (band samples, 3L rounded up).
+    pub(super) rise: usize,
+    /// Typical size of a strike's change in this band.
+    pub(super) scale: f64,
+}
+
+/// Low-pass and keep every q-th sample, q as large as keeps `fmax` 20 %
+/// below the new Nyquist frequency (a windowed-sinc filter).
+pub(super) fn decimate(sig: &Signal, fmax: f64) -> Signal {
+    let q = ((sig.rate / (2.4 * fmax)).floor() as usize).max(1);
+    if q == 1 {
+        return sig.clone();
+    }
+    let rate = sig.rate / q as f64;
+    let cutoff = (1.1 * fmax).min(0.45 * rate) / sig.rate;
+    let transition = (0.5 * rate / sig.rate - cutoff).max(0.02 / q as f64);
+    let half = ((2.0 / transition).ceil() as usize).clamp(8, 2000);
+    // Blackman-windowed sinc, unit gain at 0 Hz.
+    let mut h: Vec<f64> = (0..=2 * half)
+        .map(|i| {
+            let x = i as f64 - half as f64;
+            let s = if x == 0.0 {
+                2.0 * cutoff
+            } else {
+                (2.0 * PI * cutoff * x).sin() / (PI * x)
+            };
+            let w = 0.42 - 0.5 * (PI * i as f64 / half as f64).cos() + 0.08 * (2.0 * PI * i as f64 / half as f64).cos();
+            s * w
+        })
+        .collect();
+    let sum: f64 = h.iter().sum();
+    h.iter_mut().for_each(|v| *v /= sum);
+    let x = &sig.samples;
+    let n_out = x.len().div_ceil(q);
+    let samples = (0..n_out)
+        .map(|m| {
+            let c = m * q;
+            let (lo, hi) = (c.saturating_sub(half), (c + half).min(x.len() - 1));
+            (lo..=hi).map(|i| x[i] * h[i + half - c]).sum()
+        })
+        .collect();
+    Signal { rate, samples }
+}
+
+/// The band of partial `f` (Hz): x e^{−iωt} through three boxes of
+/// `len` samples, centred (no delay), kept at about [`BAND_RATE`].
+pub(super) fn band(sig: &Signal, f: f64, weight: f64, len: usize) -> Band {
+    let hop = ((sig.rate / BAND_RATE).round() as usize).max(1);
+    let x = &sig.samples;
+    let n = x.len();
+    let w = 2.0 * PI * f / sig.rate;
+    let delay = 3 * (len - 1) / 2;
+    let mut z = Vec::with_capacity(n / hop + 1);
+    // Three running sums, each with its own history of what entered it.
+    let mut hist = [vec![(0.0, 0.0); len], vec![(0.0, 0.0); len], vec![(0.0, 0.0); len]];
+    let mut sum = [(0.0f64, 0.0f64); 3];
+    let norm = 2.0 / (len as f64).powi(3);
+    let (cr, ci) = (w.cos(), -w.sin());
+    let mut p = (1.0f64, 0.0f64);
+    #[allow(clippy::needless_range_loop)] // i runs past the signal's end, to flush the boxes
+    for i in 0..n + delay {
+        if i % 4096 == 0 {
+            // The exact phasor, now and then, so rounding never builds up.
+            let a = -w * i as f64;
+            p = (a.cos(), a.sin());
+        }
+        let v = if i < n { x[i] } else { 0.0 };
+        let mut input = (v * p.0, v * p.1);
+        p = (p.0 * cr - p.1 * ci, p.0 * ci + p.1 * cr);
+        let slot = i % len;
+        for s in 0..3 {
+            let old = hist[s][slot];
+            hist[s][slot] = input;
+            sum[s] = (sum[s].0 + input.0 - old.0, sum[s].1 + input.1 - old.1);
+            input = sum[s];
+        }
+        // Output i is centred on input i − delay.
+        if i >= delay && (i - delay) % hop == 0 {
+            z.push((input.0 * norm, input.1 * norm));
+        }
+    }
+    let rise = (3 * len).div_ceil(hop).max(2);
+    Band {
+        rate: sig.rate / hop as f64,
+        weight,
+        box_s: len as f64 / sig.rate,
+        z,
+        rise,
+        scale: 1.0,
+    }
+}
+
+pub(super) fn diff(a: (f64, f64), b: (f64, f64)) -> f64 {
+    (a.0 - b.0).hypot(a.1 - b.1)
+}
+
+/// Each bell's bands as (frequency Hz, weight, box length in samples).
+/// A shared band is fitted for a double strike only where what rings in
+/// it before the strike is below this fraction of the strike's step.
+pub(super) const SHARED_BAND_QUIET: f64 = 0.2;
+
+/// A band of a bell's partial that other bells (`with`) share: its change
+/// ([`change`]) and typical step kept, for timing and double strikes
+/// between the sharers' strikes.
+pub(super) struct SharedBand {
+    pub(super) band: Band,
+    pub(super) change: Vec<f64>,
+    pub(super) with: Vec<usize>,
+}
+
+impl SharedBand {
+    pub(super) fn new(mut band: Band, with: Vec<usize>, opts: &StrikeOptions) -> Self {
+        let change = change(&band);
+        band.scale = typical_peak(&change, (opts.min_separation_s * band.rate) as usize);
+        SharedBand { band, change, with }
+    }
+}
+
+/// The band's change across a rise at each sample: the mean of `z` over
+/// a rise's length just after the rise centred there, less its mean over
+/// as long just before. A strike of this bell is a lasting step and gives
+/// its full size, at its onset; another bell's strike only passes through
+/// the band for the length of the smoothing (its partials switching on),
+/// and averages away.
+pub(super) fn change(b: &Band) -> Vec<f64> {
+    let n = b.z.len();
+    let g = b.rise.div_ceil(2);
+    let w = b.rise;
+    let mut cum = vec![(0.0, 0.0); n + 1];
+    for (k, z) in b.z.iter().enumerate() {
+        cum[k + 1] = (cum[k].0 + z.0, cum[k].1 + z.1);
+    }
+    // Mean of z[a..b].
+    let mean = |a: usize, e: usize| {
+        let d = (e - a) as f64;
+        ((cum[e].0 - cum[a].0) / d, (cum[e].1 - cum[a].1) / d)
+    };
+    let valid = |m: usize| m + 1 >= g + w && m + g + w <= n;
+    let pairs: Vec<((f64, f64), (f64, f64))> = (0..n)
+        .map(|m| {
+            if valid(m) {
+                (mean(m + g, m + g + w), mean(m + 1 - g - w, m + 1 - g))
+            } else {
+                ((0.0, 0.0), (0.0, 0.0))
+            }
+        })
+        .collect();
+    let rho = decay_ratio(&pairs);
+    pairs
+        .iter()
+        .map(|&(after, before)| {
+            let pred = (rho.0 * before.0 - rho.1 * before.1, rho.0 * before.1 + rho.1 * before.0);
+            diff(after, pred)
+        })
+        .collect()
+}
+
+/// A complex number as (re, im).
+pub(super) type C = (f64, f64);
+
+/// What a freely ringing partial's mean after becomes of its mean before:
+/// the complex ratio (its decay and its small turning, the band being a
+/// little off its frequency), as the median over the loudest half of the
+/// recording, where the bell is ringing and not struck.
+pub(super) fn decay_ratio(pairs: &[(C, C)]) -> C {
+    // Squared levels: the same order as levels, without a square root each.
+    let level2 = |p: &(C, C)| p.1 .0 * p.1 .0 + p.1 .1 * p.1 .1;
+    let floor = median(pairs.iter().map(level2).collect()).unwrap_or(0.0);
+    let (re, im): (Vec<f64>, Vec<f64>) = pairs
+        .iter()
+        .filter(|p| level2(p) > floor && floor > 0.0)
+        .map(|&(a, b)| {
+            let d = b.0 * b.0 + b.1 * b.1;
+            ((a.0 * b.0 + a.1 * b.1) / d, (a.1 * b.0 - a.0 * b.1) / d)
+        })
+        .unzip();
+    match (median(re), median(im)) {
+        (Some(re), Some(im)) => (re, im),
+        _ => (1.0, 0.0),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_band_is_centred_and_reads_a_tone_at_its_amplitude() {
+        // A 1000 Hz tone switched on at 0.5 s: its band holds the tone's
+        // amplitude, and is half-way up at the switch (no delay).
+        let rate = 8000.0;
+        let on = 4000;
+        let samples: Vec<f64> = (0..16_000)
+            .map(|i| {
+                if i >= on {
+                    0.3 * (2.0 * PI * 1000.0 * i as f64 / rate).sin()
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let b = band(&Signal { rate, samples }, 1000.0, 1.0, 81);
+        let at = |t: f64| {
+            let z = b.z[(t * b.rate).round() as usize];
+            z.0.hypot(z.1)
+        };
+        assert!((at(1.5) - 0.3).abs() < 1e-6, "{}", at(1.5));
+        assert!((at(0.5) - 0.15).abs() < 0.3 * 0.02, "{}", at(0.5));
+        assert!(at(0.45) < 1e-9);
+    }
+}
