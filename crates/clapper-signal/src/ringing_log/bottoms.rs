@@ -1,8 +1,9 @@
 //! Bottom dead centres, amplitudes and strikes (docs/model.md §13 step 4),
 //! with the angle or, when it cannot be read, from the tangential zeros.
 
-#[allow(unused_imports)]
-use super::*;
+use super::reading::gravity_part;
+use super::types::{AccelLog, LogStroke, PhaseKind};
+use clapper_core::bell::G;
 
 /// Bottom dead centres, amplitudes and strikes (method step 3).
 pub(super) fn strokes(
@@ -285,5 +286,141 @@ pub(super) fn hide_strikes_after_gaps(t: &[f64], interval: f64, strokes: &mut [L
         warnings.push(format!(
             "{hidden} strike(s) not timed: a gap in the log lies between the bottom and the first burst after it"
         ));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clapper_core::bell::G;
+
+    /// A reading odd about its zero (a x + b x|x|: the part of a rope's
+    /// pull the θ'' fits leave) is read at its zero exactly when a gap cuts
+    /// the window on one side: the window is cut on the other side too
+    /// (one-sided, the line through it misses the zero by 0.7 ms here).
+    #[test]
+    fn a_gap_beside_a_bottom_keeps_its_window_symmetric() {
+        let t0 = 1.005;
+        let t: Vec<f64> = (0..300)
+            .map(|k| k as f64 * 0.01)
+            .filter(|&x| !(t0 + 0.04..t0 + 0.5).contains(&x))
+            .collect();
+        let f: Vec<f64> = t
+            .iter()
+            .map(|&x| 2.0 * (x - t0) + 60.0 * (x - t0) * (x - t0).abs())
+            .collect();
+        let burst = vec![false; t.len()];
+        let cubic = vec![true; t.len()];
+        let got = bottom_time(&t, &f, (&burst, &cubic), (t0, 0.01), 2.0);
+        assert!((got - t0).abs() < 1e-9, "{got}");
+    }
+
+    /// Two bottoms come at least `min_gap` apart: the angle shaken back
+    /// across zero 0.1 s after a bottom (as a strike's burst can read) is
+    /// not taken for two more bottoms.
+    #[test]
+    fn a_crossing_soon_after_a_bottom_is_not_a_bottom() {
+        // A 1 rad swing of period 2 s (bottoms at 1, 2, 3, 4 s), 100 Hz,
+        // the sensor at the pivot.
+        let t: Vec<f64> = (0..500).map(|k| k as f64 * 0.01).collect();
+        let w = std::f64::consts::PI;
+        let mut theta: Vec<f64> = t.iter().map(|&x| (w * x).sin()).collect();
+        let d1: Vec<f64> = t.iter().map(|&x| w * (w * x).cos()).collect();
+        let d2: Vec<f64> = theta.iter().map(|&q| -w * w * q).collect();
+        let log = AccelLog {
+            name: None,
+            radial: theta.iter().map(|q| G * q.cos()).collect(),
+            tangential: theta.iter().map(|q| G * q.sin()).collect(),
+            axle: vec![0.0; t.len()],
+            t: t.clone(),
+        };
+        // Shaken back below zero for two samples 0.1 s after the bottom at 2 s.
+        theta[210] = -0.02;
+        theta[211] = -0.01;
+        let (burst, cubic) = (vec![false; t.len()], vec![true; t.len()]);
+        let bottoms = |min_gap: f64| -> Vec<f64> {
+            strokes(
+                &log,
+                &theta,
+                &theta,
+                (&d1, &d1, &d2, 0.0, 0.0),
+                (&burst, &[], &cubic),
+                &[],
+                (min_gap, 0.01),
+            )
+            .iter()
+            .map(|s| s.bdc)
+            .collect()
+        };
+        let got = bottoms(0.3);
+        assert_eq!(got.len(), 4, "{got:?}");
+        for (b, want) in got.iter().zip([1.0, 2.0, 3.0, 4.0]) {
+            assert!((b - want).abs() < 1e-3, "{got:?}");
+        }
+        // Without the rule the shaking reads as two more bottoms.
+        assert_eq!(bottoms(0.0).len(), 6);
+    }
+
+    /// Where the angle's cubic could not be fitted (near the log's end, a
+    /// gap's edge) θ'' is one-sided and the reading there is not trusted:
+    /// the bottom's window stops short of it on both sides, as at a gap.
+    #[test]
+    fn samples_without_the_cubic_cut_a_bottoms_window_on_both_sides() {
+        let t0 = 1.005;
+        let t: Vec<f64> = (0..300).map(|k| k as f64 * 0.01).collect();
+        // The reading odd about t0 up to t0 + 0.04 s, then skewed.
+        let f: Vec<f64> = t
+            .iter()
+            .map(|&x| {
+                2.0 * (x - t0)
+                    + if x > t0 + 0.04 {
+                        3.0
+                    } else {
+                        60.0 * (x - t0) * (x - t0).abs()
+                    }
+            })
+            .collect();
+        let burst = vec![false; t.len()];
+        let mut cubic: Vec<bool> = t.iter().map(|&x| x < t0 + 0.04).collect();
+        let got = bottom_time(&t, &f, (&burst, &cubic), (t0, 0.01), 2.0);
+        assert!((got - t0).abs() < 1e-9, "{got}");
+        // Trusted everywhere, the skewed samples pull the line off.
+        cubic.fill(true);
+        let all = bottom_time(&t, &f, (&burst, &cubic), (t0, 0.01), 2.0);
+        assert!((all - t0).abs() > 1e-3, "{all}");
+    }
+
+    /// A gap between a bottom and the burst read after it leaves the
+    /// strike untimed (it may have come in the gap); a gap before the
+    /// bottom, or after the burst, does not.
+    #[test]
+    fn a_strike_after_a_gap_is_not_timed() {
+        // 100 Hz, with 0.3 s lost after 1.05 s and after 3.05 s.
+        let t: Vec<f64> = (0..500)
+            .map(|k| k as f64 * 0.01)
+            .filter(|&x| !(1.05..1.35).contains(&x) && !(3.05..3.35).contains(&x))
+            .collect();
+        let stroke = |bdc: f64, strike: f64| LogStroke {
+            bdc,
+            hand: true,
+            strike: Some(strike),
+            strike_hidden: false,
+            strike_theta: Some(0.5),
+            amplitude: 3.0,
+            from_side: 1.0,
+            phase: PhaseKind::Ringing,
+            speed_peak: None,
+            bdc_se: None,
+        };
+        let mut strokes = [stroke(1.0, 1.4), stroke(2.0, 2.4), stroke(3.4, 3.8)];
+        let mut warnings = vec![];
+        hide_strikes_after_gaps(&t, 0.01, &mut strokes, &mut warnings);
+        assert!(strokes[0].strike_hidden && strokes[0].strike.is_none() && strokes[0].strike_theta.is_none());
+        assert!(!strokes[1].strike_hidden && strokes[1].strike == Some(2.4));
+        assert!(!strokes[2].strike_hidden && strokes[2].strike == Some(3.8));
+        assert_eq!(warnings.len(), 1);
+        assert!(warnings[0].starts_with("1 strike(s) not timed"), "{warnings:?}");
+        // Without strikes timed, odd-struckness leaves the stroke out.
+        assert_eq!(strokes[0].bdc_to_strike(), None);
     }
 }
