@@ -121,6 +121,18 @@ pub struct ModelReport {
     pub tb_log_swings: usize,
 }
 
+/// Whether the log looks like a bell's (issue 46).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PlausibilityReport {
+    /// The readings' median magnitude (g): about 1 for a bell's log.
+    pub gravity_g: f64,
+    /// The fraction of neighbouring quiet samples between which the angle
+    /// turns faster than a bell can: near 0 for a bell's log.
+    pub angle_jumps: f64,
+    /// Whether it looks like a bell's log (else nothing is read from it).
+    pub plausible: bool,
+}
+
 /// What `clapper ringing-log --json` prints.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct LogReport {
@@ -152,6 +164,8 @@ pub struct LogReport {
     pub sensor_fitted: bool,
     /// Every swing.
     pub strokes: Vec<StrokeReport>,
+    /// Whether the log looks like a bell's at all.
+    pub plausibility: PlausibilityReport,
     /// Things worth knowing.
     pub warnings: Vec<String>,
 }
@@ -240,6 +254,11 @@ pub fn read_log(log: &AccelLog, opts: &LogOptions, bell: Option<LoadedBell>) -> 
         angle_misfit_g: a.angle_misfit,
         sensor_fitted: a.sensor_fitted,
         strokes,
+        plausibility: PlausibilityReport {
+            gravity_g: a.plausibility.gravity,
+            angle_jumps: a.plausibility.jumps,
+            plausible: a.plausibility.plausible(),
+        },
         warnings: a.warnings.clone(),
     };
     Ok(LogReading { report, analysis: a })
@@ -374,6 +393,18 @@ fn opt(v: Option<f64>, digits: usize, unit: &str) -> String {
 /// The summary `clapper ringing-log` prints.
 pub fn text(r: &LogReport) -> String {
     let mut o = String::new();
+    if !r.plausibility.plausible {
+        let _ = writeln!(
+            o,
+            "{}: samples every {:.1} ms, not read as a ringing log",
+            r.bell.as_deref().unwrap_or("the log"),
+            r.sample_interval_ms
+        );
+        for w in &r.warnings {
+            let _ = writeln!(o, "warning: {w}");
+        }
+        return o;
+    }
     let _ = writeln!(
         o,
         "{}: {} swing(s), samples every {:.1} ms, sensor {:.3} m above the pivot{} and {:.3} m across",

@@ -351,8 +351,11 @@ pub fn synth_log(spec: &LogSpec) -> Result<(AccelLog, LogTruth), SignalError> {
 
 /// The rate and the strokes asked for, checked.
 fn check(spec: &LogSpec) -> Result<(), SignalError> {
-    if !(spec.rate.is_finite() && (5.0..=5000.0).contains(&spec.rate)) {
-        return Err(SignalError::Option(format!("sample rate {} Hz: 5 to 5000", spec.rate)));
+    if !(spec.rate.is_finite() && (5.0..=10_000.0).contains(&spec.rate)) {
+        return Err(SignalError::Option(format!(
+            "sample rate {} Hz: 5 to 10,000",
+            spec.rate
+        )));
     }
     if spec.strokes % 2 != 0 || spec.strokes == 0 {
         return Err(SignalError::Option(format!(

@@ -8,6 +8,7 @@ use super::falls::{place_from_falls, Falls};
 use super::fits::{bounded, quadratic_fits, unwrap_fill};
 use super::orient::{self, orientation, Orientation};
 use super::phases::{odd_struck, phases};
+use super::plausible::{plausibility, Plausibility};
 use super::reading::{angle, Angle};
 use super::rests::{calibrate_from_rests, rests};
 use super::types::{AccelLog, ClapperingStart, LogOptions, LogStroke, Phase, PhaseKind};
@@ -61,6 +62,9 @@ pub struct LogAnalysis {
     /// The sensor's calibration from the log's quiet stretches (`None`:
     /// too few free swings or falls; the rests' scale and tilt were used).
     pub calibration: Option<Calibration>,
+    /// Whether the log looks like a bell's at all (else nothing is read
+    /// from it: no phases, no swings).
+    pub plausibility: Plausibility,
     /// Things worth knowing (gaps, clipping, a fitted sensor place).
     pub warnings: Vec<String>,
 }
@@ -98,6 +102,11 @@ fn check(log: &AccelLog) -> Result<(), SignalError> {
 /// Read `log` (module docs).
 pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, SignalError> {
     let (interval, (burst, onsets), mut warnings) = prepare(log, opts)?;
+    let plausibility = plausibility(log, &burst, interval);
+    if let Some(why) = plausibility.why_not() {
+        warnings.push(why);
+        return Ok(not_a_ringing_log(log, opts, (interval, burst), plausibility, warnings));
+    }
     // Which way is down (the bursts are the same either way up).
     let (orientation, log) = orient_log(log, &burst, opts.find_down, &mut warnings);
     let Calibrated {
@@ -169,8 +178,40 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         set_side,
         orientation,
         calibration,
+        plausibility,
         warnings,
     })
+}
+
+/// What is said of a log that does not look like a bell's: nothing read
+/// (no phases, no swings, no odd-struckness), the plain angle for a plot.
+fn not_a_ringing_log(
+    log: &AccelLog,
+    opts: &LogOptions,
+    (interval, burst): (f64, Vec<bool>),
+    plausibility: Plausibility,
+    warnings: Vec<String>,
+) -> LogAnalysis {
+    let n = log.t.len();
+    let plain: Vec<f64> = (0..n).map(|k| log.tangential[k].atan2(log.radial[k])).collect();
+    LogAnalysis {
+        phases: vec![],
+        strokes: vec![],
+        odd_struck: None,
+        clappering_starts: None,
+        sensor_along: opts.sensor_along.unwrap_or(0.0),
+        sensor_across: 0.0,
+        sensor_fitted: false,
+        angle_misfit: f64::NAN,
+        interval,
+        theta: plain,
+        burst,
+        set_side: None,
+        orientation: None,
+        calibration: None,
+        plausibility,
+        warnings,
+    }
 }
 
 /// The log checked, its median sample interval (s), its bursts (mask and

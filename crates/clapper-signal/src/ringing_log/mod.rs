@@ -38,8 +38,9 @@
 //! The files, leaf first: [`types`](AccelLog) (the data), `fits` (local
 //! fits, unwrapping), `bursts` (step 1), `rests`, `falls` and `calibrate`
 //! (the sensor's place and calibration), `orient` (which way is down),
-//! `reading` (step 2), `bottoms` (step 3), `phases` (step 4), `checks` and
-//! `analyse` (the steps in order).
+//! `reading` (step 2), `bottoms` (step 3), `phases` (step 4), `checks`,
+//! `plausible` (whether it is a bell's log at all) and `analyse` (the
+//! steps in order).
 
 mod analyse;
 mod bottoms;
@@ -50,6 +51,7 @@ mod falls;
 mod fits;
 mod orient;
 mod phases;
+mod plausible;
 mod reading;
 mod rests;
 mod types;
@@ -60,4 +62,5 @@ pub use bursts::{RINGING_S, STRIKE_S};
 pub use calibrate::{Calibration, CalibrationSe};
 pub use orient::{orientation, Orientation};
 pub use phases::STAND_MAX_S;
+pub use plausible::{plausibility, Plausibility, GRAVITY_BAND, MAX_JUMPS};
 pub use types::{AccelLog, ClapperingStart, LogOptions, LogStroke, Phase, PhaseKind};
