@@ -4,6 +4,7 @@
 use super::reading::gravity_part;
 use super::types::{AccelLog, LogStroke, PhaseKind};
 use clapper_core::bell::G;
+use clapper_core::linalg::solve;
 
 /// Bottom dead centres, amplitudes and strikes (method step 3).
 pub(super) fn strokes(
@@ -67,15 +68,111 @@ pub(super) fn strokes(
         // From the smoothed angle: the largest of noisy samples overshoots.
         let amplitude = match stood {
             Some(r) if r.2.signum() == side => r.2.abs(),
-            _ => (from..=k)
-                .filter(|&j| smooth[j].signum() == side)
-                .map(|j| smooth[j].abs())
-                .fold(0.0, f64::max),
+            _ => turning_height(t, theta, smooth, burst, (from, k), side),
         };
         let until = bdcs.get(i + 1).map_or(f64::INFINITY, |b| b.0);
         out.push(stroke_between(t, theta, onsets, (bdc, until), amplitude, side));
     }
     out
+}
+
+/// The bottom's window is at most ± this (s).
+pub(super) const BOTTOM_HALF_MAX: f64 = 0.12;
+
+/// The height |θ| (rad) of the turning point on `side` among samples
+/// `from..=k`: where the smoothed angle peaks, a parabola through the
+/// angle's clean samples within ±0.2 s, refitted without those more than
+/// three robust deviations (and 0.5 deg) off it. A sample a strike's
+/// shaking moved that the burst test let through (at 50 Hz, one between
+/// two bursts at a raising swing's top read 18 deg high) pulled the
+/// smoothed angle's peak 4.3 deg up; the refit leaves it out.
+/// The turning point's parabola spans ± this (s).
+const TURN_HALF: f64 = 0.3;
+
+/// The parabola's height replaces the smoothed peak's only within this (rad): 6 deg.
+const TURN_MAX_CHANGE: f64 = 6.0 * std::f64::consts::PI / 180.0;
+
+fn turning_height(
+    t: &[f64],
+    theta: &[f64],
+    smooth: &[f64],
+    burst: &[bool],
+    (from, k): (usize, usize),
+    side: f64,
+) -> f64 {
+    let Some(peak) = (from..=k)
+        .filter(|&j| smooth[j].signum() == side)
+        .max_by(|&a, &b| smooth[a].abs().total_cmp(&smooth[b].abs()))
+    else {
+        return 0.0;
+    };
+    let plain = smooth[peak].abs();
+    let (a, b) = (
+        t.partition_point(|&x| x < t[peak] - TURN_HALF),
+        t.partition_point(|&x| x <= t[peak] + TURN_HALF),
+    );
+    let mut pts: Vec<usize> = (a..b).filter(|&j| !burst[j]).collect();
+    for round in 0..2 {
+        if pts.len() < 5 {
+            return plain;
+        }
+        let Some(c) = parabola(t, theta, &pts, t[peak]) else {
+            return plain;
+        };
+        let resid: Vec<f64> = pts
+            .iter()
+            .map(|&j| {
+                let x = t[j] - t[peak];
+                theta[j] - (c[0] + x * (c[1] + x * c[2]))
+            })
+            .collect();
+        let mut abs: Vec<f64> = resid.iter().map(|r| r.abs()).collect();
+        abs.sort_by(f64::total_cmp);
+        let limit = (3.0 * 1.4826 * abs[abs.len() / 2]).max(0.5f64.to_radians());
+        if round == 1 || resid.iter().all(|r| r.abs() <= limit) {
+            // The parabola's top, if within the window; else its value at the peak.
+            let top = if c[2] != 0.0 {
+                -c[1] / (2.0 * c[2])
+            } else {
+                f64::INFINITY
+            };
+            let x = if top.abs() <= TURN_HALF { top } else { 0.0 };
+            let height = (c[0] + x * (c[1] + x * c[2])).abs();
+            // Only what a few shaken samples can do to the smoothed peak: a
+            // larger disagreement is a top that is no parabola (a stand, a
+            // check), where the smoothed peak is kept.
+            return if (height - plain).abs() <= TURN_MAX_CHANGE {
+                height
+            } else {
+                plain
+            };
+        }
+        pts = pts
+            .iter()
+            .zip(&resid)
+            .filter(|(_, r)| r.abs() <= limit)
+            .map(|(&j, _)| j)
+            .collect();
+    }
+    plain
+}
+
+/// Least-squares parabola c0 + c1 x + c2 x² through `y` at `pts`, x = t − `at`.
+fn parabola(t: &[f64], y: &[f64], pts: &[usize], at: f64) -> Option<[f64; 3]> {
+    let mut s = [0.0f64; 5];
+    let mut r = [0.0f64; 3];
+    for &j in pts {
+        let x = t[j] - at;
+        let mut p = 1.0;
+        for m in s.iter_mut() {
+            *m += p;
+            p *= x;
+        }
+        r[0] += y[j];
+        r[1] += y[j] * x;
+        r[2] += y[j] * x * x;
+    }
+    solve([[s[0], s[1], s[2]], [s[1], s[2], s[3]], [s[2], s[3], s[4]]], r)
 }
 
 /// The zero of the corrected tangential reading `f` near `tc` (s), where
@@ -103,8 +200,8 @@ pub(super) fn bottom_time(
     let k = t.partition_point(|&x| x < tc).clamp(1, n - 1);
     let dt = t[k] - t[k - 1];
     // (At a gap the interval is long: the window stays within ±0.12 s.)
-    let shortest = 0.005f64.max(1.5 * dt).min(0.12);
-    let mut half = (BOTTOM_SPAN / slope.abs().max(1e-9)).clamp(shortest, 0.12);
+    let shortest = 0.005f64.max(1.5 * dt).min(BOTTOM_HALF_MAX);
+    let mut half = (BOTTOM_SPAN / slope.abs().max(1e-9)).clamp(shortest, BOTTOM_HALF_MAX);
     let gap = |q: usize| t[q] - t[q - 1] > GAP * interval;
     // A clean sample whose θ'' is not the cubic's is one-sided: an edge.
     let edge = |q: usize| !burst[q] && !cubic[q];
