@@ -76,6 +76,22 @@ fn a_synthetic_log_is_read_back_against_its_truth() {
     let rows = std::fs::read_to_string(&csv).unwrap();
     assert!(rows.starts_with("bdc_s,stroke,phase,amplitude_deg"));
     assert_eq!(rows.lines().count(), r["strokes"].as_array().unwrap().len() + 1);
+    // Clappering starts at the raising's first strike (issue 44; a ringer's
+    // tug before it, a smaller jolt, is not a strike).
+    let first = truth["strokes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["phase"] == "raising" && s["strike_s"].is_number())
+        .unwrap();
+    let (read, want) = (
+        r["clappering_starts"]["t_s"].as_f64().unwrap(),
+        first["strike_s"].as_f64().unwrap(),
+    );
+    assert!(
+        (read - want).abs() <= 0.011,
+        "clappering starts at {read} s, truth {want} s"
+    );
     // A bell's log looks like one: no plausibility warning.
     assert_eq!(r["plausibility"]["plausible"], true, "{}", r["plausibility"]);
     let warnings = r["warnings"].as_array().unwrap();

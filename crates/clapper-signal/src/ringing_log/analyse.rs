@@ -1,7 +1,7 @@
 //! The reading of a log, step by step (the method: [`super`]).
 
 use super::bottoms::{hide_strikes_after_gaps, strokes, strokes_by_zeros, MAX_MISFIT};
-use super::bursts::{bursts, ringing_masked};
+use super::bursts::{bursts, ringing_masked, STRIKE_S};
 use super::calibrate::{self, Calibration};
 use super::checks;
 use super::falls::{place_from_falls, Falls};
@@ -155,14 +155,7 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         // A handstroke falls from the hand side.
         s.hand = s.from_side == hand_side;
     }
-    let clappering_starts = strokes
-        .iter()
-        .find(|s| s.phase == PhaseKind::Raising && (s.strike.is_some() || s.strike_hidden))
-        .map(|s| ClapperingStart {
-            t: s.strike.unwrap_or(s.bdc),
-            amplitude: s.amplitude,
-            hand: s.hand,
-        });
+    let clappering_starts = clappering_start(&strong_onsets(&log, &onsets), &phases, &strokes);
     Ok(LogAnalysis {
         phases,
         odd_struck: odd_struck_with_se(&strokes),
@@ -406,6 +399,55 @@ fn read_strokes(
     )
 }
 
+/// The times (s) of the burst onsets that are a clapper's strike beyond
+/// doubt: within 60 ms some axis departs by half a g or more from the
+/// sample before (a strike shakes the headstock far harder, often past the
+/// sensor's range; a ringer's tug at the rope jolts the reading less).
+fn strong_onsets(log: &AccelLog, onsets: &[usize]) -> Vec<f64> {
+    let axes = [&log.radial, &log.tangential, &log.axle];
+    onsets
+        .iter()
+        .filter(|&&k| {
+            k > 0
+                && (k..log.t.len())
+                    .take_while(|&j| log.t[j] - log.t[k] <= STRIKE_S)
+                    .any(|j| axes.iter().any(|a| (a[j] - a[k - 1]).abs() >= 0.5 * G))
+        })
+        .map(|&k| log.t[k])
+        .collect()
+}
+
+/// Where clappering starts while raising: the first strike ([`strong_onsets`],
+/// s) of the first raising phase. One before the raising's
+/// first bottom read (the clapper struck as the ringer pulled the bell off
+/// from hanging, its swing too slow through the bottom to be read: Data141
+/// at 38.85 s, read as 40.1 s when only the strokes' strikes counted) is
+/// in the swing that rises to the turning point the first stroke falls
+/// from; else the first raising stroke's strike (its bottom if a gap
+/// hides the strike).
+fn clappering_start(onsets: &[f64], phases: &[Phase], strokes: &[LogStroke]) -> Option<ClapperingStart> {
+    let raising = phases.iter().find(|p| p.kind == PhaseKind::Raising)?;
+    let mut ours = strokes
+        .iter()
+        .filter(|s| s.phase == PhaseKind::Raising && s.bdc >= raising.start);
+    let first = ours.clone().next()?;
+    let early = onsets.iter().copied().find(|&x| x >= raising.start && x < first.bdc);
+    if let Some(x) = early {
+        return Some(ClapperingStart {
+            t: x,
+            amplitude: first.amplitude,
+            // Rising to the side the first stroke falls from, it fell from the other.
+            hand: !first.hand,
+        });
+    }
+    ours.find(|s| s.strike.is_some() || s.strike_hidden)
+        .map(|s| ClapperingStart {
+            t: s.strike.unwrap_or(s.bdc),
+            amplitude: s.amplitude,
+            hand: s.hand,
+        })
+}
+
 /// The side the bell was set on before it was rung (θ's sign; `None`
 /// without a set).
 fn set_side(t: &[f64], theta: &[f64], phases: &[Phase], strokes: &[LogStroke]) -> Option<f64> {
@@ -446,4 +488,51 @@ fn odd_struck_with_se(strokes: &[LogStroke]) -> Option<(f64, f64)> {
         };
         (o, se.hypot(cal))
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn stroke(bdc: f64, strike: Option<f64>, hand: bool) -> LogStroke {
+        LogStroke {
+            bdc,
+            hand,
+            strike,
+            strike_hidden: false,
+            strike_theta: None,
+            amplitude: 0.4,
+            from_side: 1.0,
+            phase: PhaseKind::Raising,
+            speed_peak: None,
+            bdc_se: None,
+        }
+    }
+
+    /// A strike before the raising's first bottom read starts the
+    /// clappering (Data141: 38.85 s, read as 40.1 s, the first stroke's
+    /// strike); one before the raising (a knock while down) does not; with
+    /// none before the first bottom, the first stroke's strike.
+    #[test]
+    fn clappering_starts_at_the_first_strike_of_the_raising() {
+        let phases = [
+            Phase {
+                kind: PhaseKind::Down,
+                start: 0.0,
+                end: 31.5,
+            },
+            Phase {
+                kind: PhaseKind::Raising,
+                start: 31.5,
+                end: 120.0,
+            },
+        ];
+        let strokes = [stroke(39.49, Some(40.1), true), stroke(40.14, None, false)];
+        let c = clappering_start(&[20.0, 38.85, 40.1], &phases, &strokes).expect("a start");
+        assert_eq!(c.t, 38.85);
+        assert!(!c.hand, "the swing before a handstroke");
+        let c = clappering_start(&[20.0, 40.1], &phases, &strokes).expect("a start");
+        assert_eq!(c.t, 40.1);
+        assert!(c.hand);
+    }
 }
