@@ -121,6 +121,18 @@ pub struct ModelReport {
     pub tb_log_swings: usize,
 }
 
+/// Whether the log looks like a bell's (issue 46).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PlausibilityReport {
+    /// The readings' median magnitude (g): about 1 for a bell's log.
+    pub gravity_g: f64,
+    /// The fraction of neighbouring quiet samples between which the angle
+    /// turns faster than a bell can: near 0 for a bell's log.
+    pub angle_jumps: f64,
+    /// Whether it looks like a bell's log (else nothing is read from it).
+    pub plausible: bool,
+}
+
 /// What `clapper ringing-log --json` prints.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct LogReport {
@@ -152,6 +164,8 @@ pub struct LogReport {
     pub sensor_fitted: bool,
     /// Every swing.
     pub strokes: Vec<StrokeReport>,
+    /// Whether the log looks like a bell's at all.
+    pub plausibility: PlausibilityReport,
     /// Things worth knowing.
     pub warnings: Vec<String>,
 }
@@ -209,28 +223,7 @@ pub fn read_log(log: &AccelLog, opts: &LogOptions, bell: Option<LoadedBell>) -> 
             bdc_se_ms: s.bdc_se.map(|x| x * 1e3),
         })
         .collect();
-    let kinds = [PhaseKind::Raising, PhaseKind::Ringing, PhaseKind::Lowering];
-    let phase_summary = kinds
-        .iter()
-        .filter_map(|&k| {
-            let of: Vec<&LogStroke> = a.strokes.iter().filter(|s| s.phase == k).collect();
-            (!of.is_empty()).then(|| {
-                let times = |h: bool| -> Vec<f64> {
-                    of.iter()
-                        .filter(|s| s.hand == h)
-                        .filter_map(|s| s.bdc_to_strike())
-                        .collect()
-                };
-                PhaseSummary {
-                    amplitude_mean_deg: of.iter().map(|s| s.amplitude.to_degrees()).sum::<f64>() / of.len() as f64,
-                    back: spread(&times(false)),
-                    hand: spread(&times(true)),
-                    kind: k.name(),
-                    strokes: of.len(),
-                }
-            })
-        })
-        .collect();
+    let phase_summary = phase_summaries(&a);
     let model = match bell {
         Some(b) => Some(model_report(&b, &a)?),
         None => None,
@@ -261,9 +254,40 @@ pub fn read_log(log: &AccelLog, opts: &LogOptions, bell: Option<LoadedBell>) -> 
         angle_misfit_g: a.angle_misfit,
         sensor_fitted: a.sensor_fitted,
         strokes,
+        plausibility: PlausibilityReport {
+            gravity_g: a.plausibility.gravity,
+            angle_jumps: a.plausibility.jumps,
+            plausible: a.plausibility.plausible(),
+        },
         warnings: a.warnings.clone(),
     };
     Ok(LogReading { report, analysis: a })
+}
+
+/// Each phase's strokes summed up (raising, ringing, lowering).
+fn phase_summaries(a: &LogAnalysis) -> Vec<PhaseSummary> {
+    let kinds = [PhaseKind::Raising, PhaseKind::Ringing, PhaseKind::Lowering];
+    kinds
+        .iter()
+        .filter_map(|&k| {
+            let of: Vec<&LogStroke> = a.strokes.iter().filter(|s| s.phase == k).collect();
+            (!of.is_empty()).then(|| {
+                let times = |h: bool| -> Vec<f64> {
+                    of.iter()
+                        .filter(|s| s.hand == h)
+                        .filter_map(|s| s.bdc_to_strike())
+                        .collect()
+                };
+                PhaseSummary {
+                    amplitude_mean_deg: of.iter().map(|s| s.amplitude.to_degrees()).sum::<f64>() / of.len() as f64,
+                    back: spread(&times(false)),
+                    hand: spread(&times(true)),
+                    kind: k.name(),
+                    strokes: of.len(),
+                }
+            })
+        })
+        .collect()
 }
 
 /// Amplitudes to the half degree: the model is simulated once for each.
@@ -369,6 +393,18 @@ fn opt(v: Option<f64>, digits: usize, unit: &str) -> String {
 /// The summary `clapper ringing-log` prints.
 pub fn text(r: &LogReport) -> String {
     let mut o = String::new();
+    if !r.plausibility.plausible {
+        let _ = writeln!(
+            o,
+            "{}: samples every {:.1} ms, not read as a ringing log",
+            r.bell.as_deref().unwrap_or("the log"),
+            r.sample_interval_ms
+        );
+        for w in &r.warnings {
+            let _ = writeln!(o, "warning: {w}");
+        }
+        return o;
+    }
     let _ = writeln!(
         o,
         "{}: {} swing(s), samples every {:.1} ms, sensor {:.3} m above the pivot{} and {:.3} m across",

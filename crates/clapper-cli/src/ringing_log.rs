@@ -177,7 +177,7 @@ pub struct SynthLogArgs {
     /// The truth as JSON (phases, swings, odd-struckness), beside it.
     #[arg(long, value_name = "FILE.json")]
     pub truth: Option<PathBuf>,
-    /// Sample rate (Hz).
+    /// Sample rate (Hz), 5 to 10,000.
     #[arg(long, default_value_t = 100.0)]
     pub rate: f64,
     /// Noise (m/s², standard deviation).

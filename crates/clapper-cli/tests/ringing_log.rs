@@ -76,6 +76,86 @@ fn a_synthetic_log_is_read_back_against_its_truth() {
     let rows = std::fs::read_to_string(&csv).unwrap();
     assert!(rows.starts_with("bdc_s,stroke,phase,amplitude_deg"));
     assert_eq!(rows.lines().count(), r["strokes"].as_array().unwrap().len() + 1);
+    // Clappering starts at the raising's first strike (issue 44; a ringer's
+    // tug before it, a smaller jolt, is not a strike).
+    let first = truth["strokes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|s| s["phase"] == "raising" && s["strike_s"].is_number())
+        .unwrap();
+    let (read, want) = (
+        r["clappering_starts"]["t_s"].as_f64().unwrap(),
+        first["strike_s"].as_f64().unwrap(),
+    );
+    assert!(
+        (read - want).abs() <= 0.011,
+        "clappering starts at {read} s, truth {want} s"
+    );
+    // A bell's log looks like one: no plausibility warning.
+    assert_eq!(r["plausibility"]["plausible"], true, "{}", r["plausibility"]);
+    let warnings = r["warnings"].as_array().unwrap();
+    assert!(
+        !warnings
+            .iter()
+            .any(|w| w.as_str().unwrap().contains("does not look like")),
+        "{warnings:?}"
+    );
+}
+
+/// Issue 46: Gaussian noise was read as "739 swings, odd-struck -62.5 ms".
+/// Noise of 1 m/s² (far from gravity's magnitude) and of 9.81 m/s² (about
+/// gravity's, but an angle that jumps about at random) are both said not to
+/// look like a ringing log, in text and JSON, and no swing is read from them.
+#[test]
+fn gaussian_noise_is_not_read_as_a_ringing_log() {
+    let dir = tempfile::tempdir().unwrap();
+    // A small xorshift generator and Box-Muller: the same noise every run.
+    let mut state = 0x9E37_79B9_7F4A_7C15u64;
+    let mut uniform = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        ((state >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    };
+    for sd in [1.0, 9.81] {
+        let mut text = String::new();
+        for k in 0..30_000 {
+            let v: Vec<f64> = (0..3)
+                .map(|_| sd * (-2.0 * uniform().ln()).sqrt() * (std::f64::consts::TAU * uniform()).cos())
+                .collect();
+            text += &format!("{:.4} {:.4} {:.4} {}\n", v[0], v[1], v[2], 10 * k);
+        }
+        text += "Noise\n";
+        let path = dir.path().join(format!("noise-{sd}.txt"));
+        std::fs::write(&path, text).unwrap();
+        let out = clapper()
+            .args(["ringing-log", path.to_str().unwrap()])
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let said = String::from_utf8_lossy(&out.stdout);
+        assert!(said.contains("does not look like a ringing log"), "sd {sd}: {said}");
+        assert!(!said.contains("odd-struck"), "sd {sd}: {said}");
+        let out = clapper()
+            .args(["ringing-log", path.to_str().unwrap(), "--json"])
+            .output()
+            .unwrap();
+        let r: Value = serde_json::from_slice(&out.stdout).unwrap();
+        assert_eq!(r["plausibility"]["plausible"], false, "sd {sd}");
+        assert!(r["odd_struck_ms"].is_null(), "sd {sd}");
+        assert!(r["clappering_starts"].is_null(), "sd {sd}");
+        assert_eq!(r["strokes"].as_array().unwrap().len(), 0, "sd {sd}");
+        assert!(
+            r["warnings"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .any(|w| w.as_str().unwrap().contains("does not look like a ringing log")),
+            "sd {sd}: {}",
+            r["warnings"]
+        );
+    }
 }
 
 #[test]

@@ -320,8 +320,42 @@ fn restore_between_restarts(pieces: &[Piece], times: &[f64], kin: &mut [[f64; 3]
 
 /// Synthesise a log and its truth.
 pub fn synth_log(spec: &LogSpec) -> Result<(AccelLog, LogTruth), SignalError> {
-    if !(spec.rate.is_finite() && (5.0..=5000.0).contains(&spec.rate)) {
-        return Err(SignalError::Option(format!("sample rate {} Hz: 5 to 5000", spec.rate)));
+    check(spec)?;
+    let session = session(spec)?;
+    let mut rng = Pcg64::seed_from_u64(spec.seed);
+    let (times, gaps) = sample_times(spec, session.total, &mut rng);
+    let Motions {
+        kin,
+        impacts,
+        mut strokes,
+    } = motions(spec, &session, &times)?;
+    let bursts = burst_list(spec, &impacts, &mut rng);
+    truth_strikes(&mut strokes, &bursts, &gaps, 1.0 / spec.rate);
+    let [radial, tangential, axle] = readings(spec, &times, &kin, &bursts, &mut rng);
+    let odd_struck = truth_odd_struck(&strokes);
+    Ok((
+        AccelLog {
+            name: Some("synthetic".into()),
+            t: times,
+            radial,
+            tangential,
+            axle,
+        },
+        LogTruth {
+            phases: session_phases(&session.pieces),
+            strokes,
+            odd_struck,
+        },
+    ))
+}
+
+/// The rate and the strokes asked for, checked.
+fn check(spec: &LogSpec) -> Result<(), SignalError> {
+    if !(spec.rate.is_finite() && (5.0..=10_000.0).contains(&spec.rate)) {
+        return Err(SignalError::Option(format!(
+            "sample rate {} Hz: 5 to 10,000",
+            spec.rate
+        )));
     }
     if spec.strokes % 2 != 0 || spec.strokes == 0 {
         return Err(SignalError::Option(format!(
@@ -329,22 +363,48 @@ pub fn synth_log(spec: &LogSpec) -> Result<(AccelLog, LogTruth), SignalError> {
             spec.strokes
         )));
     }
-    // The session, piece by piece (each simulation run once to learn its length).
-    let mut pieces: Vec<Piece> = vec![];
-    let mut t = 0.0;
-    let mut add = |pieces: &mut Vec<Piece>, kind, len: f64, motion| {
-        pieces.push(Piece {
+    Ok(())
+}
+
+/// The session, piece by piece, and the settings its ringing and lowering
+/// were simulated with.
+struct Session {
+    pieces: Vec<Piece>,
+    /// Its length (s).
+    total: f64,
+    /// The ringing's and lowering's settings (θ0 the set angle).
+    cfg: SimConfig,
+    /// The lowering's ringer (its stay at the set angle).
+    ringer: RingerConfig,
+}
+
+/// Pieces laid end to end.
+struct Pieces {
+    pieces: Vec<Piece>,
+    t: f64,
+}
+
+impl Pieces {
+    fn add(&mut self, kind: PhaseKind, len: f64, motion: Motion) {
+        self.pieces.push(Piece {
             kind,
-            start: t,
+            start: self.t,
             len,
             motion,
             holds: vec![],
         });
-        t += len;
-    };
-    add(&mut pieces, PhaseKind::Down, spec.rest_s, Motion::Hold(0.0));
+        self.t += len;
+    }
+}
+
+/// The session, piece by piece (each simulation run once to learn its
+/// length): rest, raising, set, ringing (with its stands), lowering, free
+/// swings if asked, rest.
+fn session(spec: &LogSpec) -> Result<Session, SignalError> {
+    let mut p = Pieces { pieces: vec![], t: 0.0 };
+    p.add(PhaseKind::Down, spec.rest_s, Motion::Hold(0.0));
     let tug = spec.ringer.start;
-    add(&mut pieces, PhaseKind::Raising, 0.5, Motion::Ramp(0.0, tug));
+    p.add(PhaseKind::Raising, 0.5, Motion::Ramp(0.0, tug));
     let up = run(spec, &spec.cfg, &spec.ringer, Run::Up, &mut ())?;
     let last = up.last().ok_or_else(|| err("no swings ringing up"))?;
     // Ringing up may end on either side; mirrored, it ends on the + side,
@@ -354,15 +414,43 @@ pub fn synth_log(spec: &LogSpec) -> Result<(AccelLog, LogTruth), SignalError> {
     // balance, from which a restart would never fall).
     let set = last.end.y[0].abs().min(179f64.to_radians());
     let up_len = last.end.t;
-    add(&mut pieces, PhaseKind::Raising, up_len, Motion::Sim(Run::Up, sign, up));
-    add(&mut pieces, PhaseKind::Up, spec.set_s, Motion::Hold(set));
+    p.add(PhaseKind::Raising, up_len, Motion::Sim(Run::Up, sign, up));
+    p.add(PhaseKind::Up, spec.set_s, Motion::Hold(set));
     let cfg = SimConfig {
         theta0: set,
         ..spec.cfg
     };
-    let rung = run(spec, &cfg, &spec.ringer, Run::Ring, &mut ())?;
-    // Stands: every `stand_every`th stroke rests on the stay at the angle
-    // the next falls from.
+    ringing_piece(spec, &cfg, &mut p)?;
+    let ringer = RingerConfig {
+        stay: set,
+        ..spec.ringer
+    };
+    let down = run(spec, &cfg, &ringer, Run::Down, &mut ())?;
+    let (down_len, down_end) = down.last().map_or((0.0, 0.0), |s| (s.end.t, s.end.y[0]));
+    p.add(PhaseKind::Lowering, down_len, Motion::Sim(Run::Down, 1.0, down));
+    if spec.free_s > 0.0 {
+        // Let go: the bell swings freely, then is checked and stopped.
+        let table = free_swing(down_end, spec.bell.lb(), spec.free_s);
+        let (len, end) = ((table.len() - 1) as f64 * 1e-3, table[table.len() - 1][0]);
+        p.add(PhaseKind::Down, len, Motion::Free(table));
+        p.add(PhaseKind::Down, 1.5, Motion::Ramp(end, 0.0));
+    } else {
+        p.add(PhaseKind::Lowering, 1.5, Motion::Ramp(down_end, 0.0));
+    }
+    p.add(PhaseKind::Down, spec.rest_s, Motion::Hold(0.0));
+    Ok(Session {
+        total: p.t,
+        pieces: p.pieces,
+        cfg,
+        ringer,
+    })
+}
+
+/// The ringing, from the set at `cfg.theta0`, with its stands: every
+/// `stand_every`th stroke rests on the stay at the angle the next falls
+/// from.
+fn ringing_piece(spec: &LogSpec, cfg: &SimConfig, p: &mut Pieces) -> Result<(), SignalError> {
+    let rung = run(spec, cfg, &spec.ringer, Run::Ring, &mut ())?;
     let holds: Vec<(f64, f64, f64)> = match spec.stand_every {
         0 => vec![],
         every => (0..rung.len().saturating_sub(1))
@@ -371,41 +459,17 @@ pub fn synth_log(spec: &LogSpec) -> Result<(AccelLog, LogTruth), SignalError> {
             .collect(),
     };
     let ring_len = rung.last().map_or(0.0, |s| s.end.t) + holds.iter().map(|h| h.1).sum::<f64>();
-    add(
-        &mut pieces,
-        PhaseKind::Ringing,
-        ring_len,
-        Motion::Sim(Run::Ring, 1.0, rung),
-    );
-    if let Some(p) = pieces.last_mut() {
-        p.holds = holds;
+    p.add(PhaseKind::Ringing, ring_len, Motion::Sim(Run::Ring, 1.0, rung));
+    if let Some(last) = p.pieces.last_mut() {
+        last.holds = holds;
     }
-    let ringer = RingerConfig {
-        stay: set,
-        ..spec.ringer
-    };
-    let down = run(spec, &cfg, &ringer, Run::Down, &mut ())?;
-    let (down_len, down_end) = down.last().map_or((0.0, 0.0), |s| (s.end.t, s.end.y[0]));
-    add(
-        &mut pieces,
-        PhaseKind::Lowering,
-        down_len,
-        Motion::Sim(Run::Down, 1.0, down),
-    );
-    if spec.free_s > 0.0 {
-        // Let go: the bell swings freely, then is checked and stopped.
-        let table = free_swing(down_end, spec.bell.lb(), spec.free_s);
-        let (len, end) = ((table.len() - 1) as f64 * 1e-3, table[table.len() - 1][0]);
-        add(&mut pieces, PhaseKind::Down, len, Motion::Free(table));
-        add(&mut pieces, PhaseKind::Down, 1.5, Motion::Ramp(end, 0.0));
-    } else {
-        add(&mut pieces, PhaseKind::Lowering, 1.5, Motion::Ramp(down_end, 0.0));
-    }
-    add(&mut pieces, PhaseKind::Down, spec.rest_s, Motion::Hold(0.0));
-    let total = t;
+    Ok(())
+}
 
-    // Sample times: jittered, with gaps.
-    let mut rng = Pcg64::seed_from_u64(spec.seed);
+/// Sample times over `total` s: jittered, with gaps (each 0.1-0.4 s; the
+/// gaps returned as (start, end), s).
+#[allow(clippy::type_complexity)]
+fn sample_times(spec: &LogSpec, total: f64, rng: &mut Pcg64) -> (Vec<f64>, Vec<(f64, f64)>) {
     let dt = 1.0 / spec.rate;
     let mut gaps: Vec<(f64, f64)> = (0..spec.gaps)
         .map(|_| {
@@ -419,143 +483,189 @@ pub fn synth_log(spec: &LogSpec) -> Result<(AccelLog, LogTruth), SignalError> {
         .map(|k| k as f64 * dt + spec.jitter * dt * rng.random_range(-0.5..0.5))
         .filter(|&x| x >= 0.0 && x < total && !gaps.iter().any(|g| x >= g.0 && x < g.1))
         .collect();
+    (times, gaps)
+}
 
-    // θ, θ', θ'' at every sample time, piece by piece.
-    let mut kin: Vec<[f64; 3]> = Vec::with_capacity(times.len());
-    let mut impacts: Vec<(f64, f64, bool)> = vec![]; // (time, impulse, a first strike while ringing)
-    let mut truth_strokes: Vec<TrueLogStroke> = vec![];
+/// The bell's motion at every sample, its impacts and its true swings.
+struct Motions {
+    /// θ, θ', θ'' at every sample (rad, rad/s, rad/s²).
+    kin: Vec<[f64; 3]>,
+    /// (time (s), impulse, a first strike while ringing).
+    impacts: Vec<(f64, f64, bool)>,
+    /// The true swings (strikes not yet set).
+    strokes: Vec<TrueLogStroke>,
+}
+
+/// θ, θ', θ'' at every sample time, piece by piece.
+fn motions(spec: &LogSpec, session: &Session, times: &[f64]) -> Result<Motions, SignalError> {
+    let mut m = Motions {
+        kin: Vec::with_capacity(times.len()),
+        impacts: vec![],
+        strokes: vec![],
+    };
     let mut i = 0;
-    for p in &pieces {
+    for p in &session.pieces {
         let j = times.partition_point(|&x| x < p.start + p.len);
         let local: Vec<f64> = times[i..j].iter().map(|x| x - p.start).collect();
         match &p.motion {
-            Motion::Hold(a) => kin.extend(local.iter().map(|_| [*a, 0.0, 0.0])),
-            Motion::Free(table) => {
-                let at = |u: f64| {
-                    let x = (u / 1e-3).clamp(0.0, (table.len() - 1) as f64);
-                    let (k, f) = ((x.floor() as usize).min(table.len() - 2), x - x.floor());
-                    let v: [f64; 3] = std::array::from_fn(|i| table[k][i] + f * (table[k + 1][i] - table[k][i]));
-                    v
-                };
-                kin.extend(local.iter().map(|&u| at(u)));
-                // Its bottoms, each falling from the turning point before.
-                let mut turn = (0usize, table[0][0]);
-                for k in 1..table.len() {
-                    if table[k][1].signum() != table[k - 1][1].signum() {
-                        turn = (k, table[k][0]);
-                    }
-                    if table[k][0].signum() != table[k - 1][0].signum() && turn.1.abs() > 0.0 {
-                        let f = table[k - 1][0] / (table[k - 1][0] - table[k][0]);
-                        truth_strokes.push(TrueLogStroke {
-                            bdc: p.start + (k as f64 - 1.0 + f) * 1e-3,
-                            hand: turn.1 > 0.0,
-                            strike: None,
-                            amplitude: turn.1.abs(),
-                            turned: p.start + turn.0 as f64 * 1e-3,
-                            impacts: vec![],
-                            phase: p.kind,
-                            hidden: false,
-                        });
-                    }
-                }
-            }
-            Motion::Ramp(a, b) => kin.extend(local.iter().map(|&u| {
+            Motion::Hold(a) => m.kin.extend(local.iter().map(|_| [*a, 0.0, 0.0])),
+            Motion::Free(table) => free_motion(p, table, &local, &mut m),
+            Motion::Ramp(a, b) => m.kin.extend(local.iter().map(|&u| {
                 let (s, ds, dds) = smoothstep(u / p.len);
                 [a + (b - a) * s, (b - a) * ds / p.len, (b - a) * dds / (p.len * p.len)]
             })),
             Motion::Sim(which, sign, strokes) => {
                 let (c, r) = match which {
                     Run::Up => (&spec.cfg, &spec.ringer),
-                    _ => (&cfg, &ringer),
+                    _ => (&session.cfg, &session.ringer),
                 };
-                // Samples in a stand hold still; the others are the
-                // simulation's, at its own times.
-                let held = |u: f64| {
-                    let mut before = 0.0;
-                    for h in &p.holds {
-                        let at = h.0 + before;
-                        if u >= at && u < at + h.1 {
-                            return Err(h.2);
-                        }
-                        if u >= at + h.1 {
-                            before += h.1;
-                        }
-                    }
-                    Ok(u - before)
-                };
-                let sim: Vec<f64> = local.iter().filter_map(|&u| held(u).ok()).collect();
-                let mut k = Kinematics {
-                    times: &sim,
-                    next: 0,
-                    out: Vec::with_capacity(sim.len()),
-                };
-                run(spec, c, r, *which, &mut k)?;
-                if k.out.len() != sim.len() {
-                    return Err(err("the second run did not repeat the first"));
-                }
-                let mut from_sim = k.out.iter();
-                for &u in &local {
-                    match held(u) {
-                        Err(angle) => kin.push([sign * angle, 0.0, 0.0]),
-                        Ok(_) => {
-                            let v = from_sim.next().ok_or_else(|| err("samples out of step"))?;
-                            kin.push([sign * v[0], sign * v[1], sign * v[2]]);
-                        }
-                    }
-                }
-                for st in strokes {
-                    let first = st.first_strike_index();
-                    for (m, im) in st.impacts.iter().enumerate() {
-                        let impulse = spec.bell.clapper_mass
-                            * spec.bell.b
-                            * (im.phi_dot_before - im.phi_dot_after.unwrap_or(0.0)).abs();
-                        impacts.push((
-                            p.start + p.local(im.t),
-                            impulse,
-                            *which == Run::Ring && first == Some(m),
-                        ));
-                    }
-                    if let Some(b) = st.bottom {
-                        truth_strokes.push(TrueLogStroke {
-                            bdc: p.start + p.local(b.t),
-                            // Falling from the + side (mirrored): a handstroke.
-                            hand: sign * st.start.y[0] > 0.0,
-                            strike: None,
-                            amplitude: st.start.y[0].abs(),
-                            turned: p.start + p.local(st.start.t),
-                            impacts: vec![],
-                            phase: p.kind,
-                            hidden: false,
-                        });
-                    }
-                }
+                sim_motion(spec, p, (c, r, *which), &local, &mut m)?;
+                sim_truth(spec, p, (*which, *sign, strokes), &mut m);
             }
         }
         i = j;
     }
-    restore_between_restarts(&pieces, &times, &mut kin);
+    restore_between_restarts(&session.pieces, times, &mut m.kin);
+    Ok(m)
+}
 
-    // Bursts, scaled to a ringing stroke's strike.
+/// A free swing's samples (interpolated in its millisecond table) and its
+/// bottoms, each falling from the turning point before.
+fn free_motion(p: &Piece, table: &[[f64; 3]], local: &[f64], m: &mut Motions) {
+    let at = |u: f64| {
+        let x = (u / 1e-3).clamp(0.0, (table.len() - 1) as f64);
+        let (k, f) = ((x.floor() as usize).min(table.len() - 2), x - x.floor());
+        let v: [f64; 3] = std::array::from_fn(|i| table[k][i] + f * (table[k + 1][i] - table[k][i]));
+        v
+    };
+    m.kin.extend(local.iter().map(|&u| at(u)));
+    let mut turn = (0usize, table[0][0]);
+    for k in 1..table.len() {
+        if table[k][1].signum() != table[k - 1][1].signum() {
+            turn = (k, table[k][0]);
+        }
+        if table[k][0].signum() != table[k - 1][0].signum() && turn.1.abs() > 0.0 {
+            let f = table[k - 1][0] / (table[k - 1][0] - table[k][0]);
+            m.strokes.push(TrueLogStroke {
+                bdc: p.start + (k as f64 - 1.0 + f) * 1e-3,
+                hand: turn.1 > 0.0,
+                strike: None,
+                amplitude: turn.1.abs(),
+                turned: p.start + turn.0 as f64 * 1e-3,
+                impacts: vec![],
+                phase: p.kind,
+                hidden: false,
+            });
+        }
+    }
+}
+
+/// A simulation's samples at the piece's times `local` (s from its
+/// start), run again with an observer: samples in a stand hold still; the
+/// others are the simulation's, at its own times, mirrored by the piece's sign.
+fn sim_motion(
+    spec: &LogSpec,
+    p: &Piece,
+    (c, r, which): (&SimConfig, &RingerConfig, Run),
+    local: &[f64],
+    m: &mut Motions,
+) -> Result<(), SignalError> {
+    let Motion::Sim(_, sign, _) = &p.motion else {
+        return Ok(());
+    };
+    let held = |u: f64| {
+        let mut before = 0.0;
+        for h in &p.holds {
+            let at = h.0 + before;
+            if u >= at && u < at + h.1 {
+                return Err(h.2);
+            }
+            if u >= at + h.1 {
+                before += h.1;
+            }
+        }
+        Ok(u - before)
+    };
+    let sim: Vec<f64> = local.iter().filter_map(|&u| held(u).ok()).collect();
+    let mut k = Kinematics {
+        times: &sim,
+        next: 0,
+        out: Vec::with_capacity(sim.len()),
+    };
+    run(spec, c, r, which, &mut k)?;
+    if k.out.len() != sim.len() {
+        return Err(err("the second run did not repeat the first"));
+    }
+    let mut from_sim = k.out.iter();
+    for &u in local {
+        match held(u) {
+            Err(angle) => m.kin.push([sign * angle, 0.0, 0.0]),
+            Ok(_) => {
+                let v = from_sim.next().ok_or_else(|| err("samples out of step"))?;
+                m.kin.push([sign * v[0], sign * v[1], sign * v[2]]);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// A simulation's impacts (with their impulses) and its true swings.
+fn sim_truth(spec: &LogSpec, p: &Piece, (which, sign, strokes): (Run, f64, &[Stroke]), m: &mut Motions) {
+    for st in strokes {
+        let first = st.first_strike_index();
+        for (k, im) in st.impacts.iter().enumerate() {
+            let impulse =
+                spec.bell.clapper_mass * spec.bell.b * (im.phi_dot_before - im.phi_dot_after.unwrap_or(0.0)).abs();
+            m.impacts
+                .push((p.start + p.local(im.t), impulse, which == Run::Ring && first == Some(k)));
+        }
+        if let Some(b) = st.bottom {
+            m.strokes.push(TrueLogStroke {
+                bdc: p.start + p.local(b.t),
+                // Falling from the + side (mirrored): a handstroke.
+                hand: sign * st.start.y[0] > 0.0,
+                strike: None,
+                amplitude: st.start.y[0].abs(),
+                turned: p.start + p.local(st.start.t),
+                impacts: vec![],
+                phase: p.kind,
+                hidden: false,
+            });
+        }
+    }
+}
+
+/// The strike's burst: decay time (s): it dies in a few hundredths.
+const TAU: f64 = 0.012;
+/// The strike's burst's frequency (Hz).
+const F_RING: f64 = 180.0;
+/// The headstock's slower ring's frequency (Hz).
+const F_HEADSTOCK: f64 = 37.0;
+
+/// Each impact's burst: (time (s), size (m/s²), phase on each axis),
+/// scaled to a ringing stroke's strike.
+fn burst_list(spec: &LogSpec, impacts: &[(f64, f64, bool)], rng: &mut Pcg64) -> Vec<(f64, f64, [f64; 3])> {
     let reference = {
         let mut v: Vec<f64> = impacts.iter().filter(|x| x.2).map(|x| x.1).collect();
         v.sort_by(f64::total_cmp);
         v.get(v.len() / 2).copied().unwrap_or(1.0).max(1e-9)
     };
-    const TAU: f64 = 0.012; // s: the headstock's ring dies in a few hundredths
-    const F_RING: f64 = 180.0; // Hz
-    const F_HEADSTOCK: f64 = 37.0; // Hz
-    let bursts: Vec<(f64, f64, [f64; 3])> = impacts
+    impacts
         .iter()
         .map(|&(ti, j, _)| {
             let phases = [0, 1, 2].map(|_| rng.random_range(0.0..std::f64::consts::TAU));
             (ti, spec.burst * j / reference, phases)
         })
-        .collect();
-    // The truth's strike: the first impact after bottom whose burst is
-    // at least 3 m/s² one sample later (what any reader could see).
+        .collect()
+}
+
+/// Each true swing's impacts and strike: the first impact after bottom
+/// whose burst is at least 3 m/s² one sample (`dt`, s) later (what any
+/// reader could see), before the next bottom; and whether a gap hides it.
+fn truth_strikes(strokes: &mut [TrueLogStroke], bursts: &[(f64, f64, [f64; 3])], gaps: &[(f64, f64)], dt: f64) {
     let seen = 3.0 * (dt / TAU).exp();
-    let bottoms: Vec<f64> = truth_strokes.iter().map(|s| s.bdc).collect();
-    for (k, s) in truth_strokes.iter_mut().enumerate() {
+    let bottoms: Vec<f64> = strokes.iter().map(|s| s.bdc).collect();
+    for (k, s) in strokes.iter_mut().enumerate() {
         let until = bottoms.get(k + 1).copied().unwrap_or(s.bdc + 2.5).min(s.bdc + 2.5);
         s.impacts = bursts
             .iter()
@@ -565,24 +675,33 @@ pub fn synth_log(spec: &LogSpec) -> Result<(AccelLog, LogTruth), SignalError> {
         s.strike = s.impacts.iter().find(|b| b.1 >= seen).map(|b| b.0);
     }
     // A stroke's strike must come before the next bottom.
-    for k in 0..truth_strokes.len().saturating_sub(1) {
-        let next = truth_strokes[k + 1].bdc;
-        if truth_strokes[k].strike.is_some_and(|x| x >= next) {
-            truth_strokes[k].strike = None;
+    for k in 0..strokes.len().saturating_sub(1) {
+        let next = strokes[k + 1].bdc;
+        if strokes[k].strike.is_some_and(|x| x >= next) {
+            strokes[k].strike = None;
         }
     }
     let near_gap = |x: f64| gaps.iter().any(|g| x > g.0 - 2.0 * dt && x < g.1 + 2.0 * dt);
-    for s in &mut truth_strokes {
+    for s in strokes {
         // A gap between the bottom and the strike leaves a reader unable to
         // tell whether it struck in the gap.
         let between = |x: f64| gaps.iter().any(|g| g.1 > s.bdc && g.0 < x);
         s.hidden = near_gap(s.bdc) || s.strike.is_some_and(|x| near_gap(x) || between(x)) || near_gap(s.turned);
     }
+}
 
-    // The readings.
-    let mut radial = Vec::with_capacity(times.len());
-    let mut tangential = Vec::with_capacity(times.len());
-    let mut axle = Vec::with_capacity(times.len());
+/// The sensor's readings (radial, tangential, axle; m/s²) at every
+/// sample: gravity and the swing's own accelerations at the sensor, the
+/// bursts and the headstock's ring, each axis's gain and offset, noise,
+/// resolution and range.
+fn readings(
+    spec: &LogSpec,
+    times: &[f64],
+    kin: &[[f64; 3]],
+    bursts: &[(f64, f64, [f64; 3])],
+    rng: &mut Pcg64,
+) -> [Vec<f64>; 3] {
+    let mut out = [0, 1, 2].map(|_| Vec::with_capacity(times.len()));
     let mut b0 = 0;
     // How long a burst (and the headstock's ring) lasts.
     let reach = if spec.ring > 0.0 {
@@ -614,20 +733,23 @@ pub fn synth_log(spec: &LogSpec) -> Result<(AccelLog, LogTruth), SignalError> {
             *val = spec.gain[axis] * *val + spec.offset[axis];
         }
         for val in &mut v {
-            *val += spec.noise * gauss(&mut rng);
+            *val += spec.noise * gauss(rng);
             if spec.resolution > 0.0 {
                 *val = (*val / spec.resolution).round() * spec.resolution;
             }
             *val = val.clamp(-spec.clip, spec.clip);
         }
-        radial.push(v[0]);
-        tangential.push(v[1]);
-        axle.push(v[2]);
+        for (o, val) in out.iter_mut().zip(v) {
+            o.push(val);
+        }
     }
+    out
+}
 
-    // Phases: pieces of one kind run together.
+/// The phases: pieces of one kind run together.
+fn session_phases(pieces: &[Piece]) -> Vec<Phase> {
     let mut phases: Vec<Phase> = vec![];
-    for p in &pieces {
+    for p in pieces {
         match phases.last_mut() {
             Some(q) if q.kind == p.kind => q.end = p.start + p.len,
             _ => phases.push(Phase {
@@ -637,31 +759,20 @@ pub fn synth_log(spec: &LogSpec) -> Result<(AccelLog, LogTruth), SignalError> {
             }),
         }
     }
-    let odd_struck = {
-        let mean = |hand: bool| {
-            let v: Vec<f64> = truth_strokes
-                .iter()
-                .filter(|s| s.phase == PhaseKind::Ringing && s.hand == hand)
-                .filter_map(|s| s.strike.map(|x| x - s.bdc))
-                .collect();
-            (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
-        };
-        mean(true).zip(mean(false)).map(|(h, b)| h - b)
+    phases
+}
+
+/// Mean handstroke minus mean backstroke BDC-to-strike while ringing (s).
+fn truth_odd_struck(strokes: &[TrueLogStroke]) -> Option<f64> {
+    let mean = |hand: bool| {
+        let v: Vec<f64> = strokes
+            .iter()
+            .filter(|s| s.phase == PhaseKind::Ringing && s.hand == hand)
+            .filter_map(|s| s.strike.map(|x| x - s.bdc))
+            .collect();
+        (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
     };
-    Ok((
-        AccelLog {
-            name: Some("synthetic".into()),
-            t: times,
-            radial,
-            tangential,
-            axle,
-        },
-        LogTruth {
-            phases,
-            strokes: truth_strokes,
-            odd_struck,
-        },
-    ))
+    mean(true).zip(mean(false)).map(|(h, b)| h - b)
 }
 
 #[cfg(test)]

@@ -1,8 +1,10 @@
 //! Bottom dead centres, amplitudes and strikes (docs/model.md §13 step 4),
 //! with the angle or, when it cannot be read, from the tangential zeros.
 
-#[allow(unused_imports)]
-use super::*;
+use super::reading::gravity_part;
+use super::types::{AccelLog, LogStroke, PhaseKind};
+use clapper_core::bell::G;
+use clapper_core::linalg::solve;
 
 /// Bottom dead centres, amplitudes and strikes (method step 3).
 pub(super) fn strokes(
@@ -66,15 +68,111 @@ pub(super) fn strokes(
         // From the smoothed angle: the largest of noisy samples overshoots.
         let amplitude = match stood {
             Some(r) if r.2.signum() == side => r.2.abs(),
-            _ => (from..=k)
-                .filter(|&j| smooth[j].signum() == side)
-                .map(|j| smooth[j].abs())
-                .fold(0.0, f64::max),
+            _ => turning_height(t, theta, smooth, burst, (from, k), side),
         };
         let until = bdcs.get(i + 1).map_or(f64::INFINITY, |b| b.0);
         out.push(stroke_between(t, theta, onsets, (bdc, until), amplitude, side));
     }
     out
+}
+
+/// The bottom's window is at most ± this (s).
+pub(super) const BOTTOM_HALF_MAX: f64 = 0.12;
+
+/// The height |θ| (rad) of the turning point on `side` among samples
+/// `from..=k`: where the smoothed angle peaks, a parabola through the
+/// angle's clean samples within ±0.2 s, refitted without those more than
+/// three robust deviations (and 0.5 deg) off it. A sample a strike's
+/// shaking moved that the burst test let through (at 50 Hz, one between
+/// two bursts at a raising swing's top read 18 deg high) pulled the
+/// smoothed angle's peak 4.3 deg up; the refit leaves it out.
+/// The turning point's parabola spans ± this (s).
+const TURN_HALF: f64 = 0.3;
+
+/// The parabola's height replaces the smoothed peak's only within this (rad): 6 deg.
+const TURN_MAX_CHANGE: f64 = 6.0 * std::f64::consts::PI / 180.0;
+
+fn turning_height(
+    t: &[f64],
+    theta: &[f64],
+    smooth: &[f64],
+    burst: &[bool],
+    (from, k): (usize, usize),
+    side: f64,
+) -> f64 {
+    let Some(peak) = (from..=k)
+        .filter(|&j| smooth[j].signum() == side)
+        .max_by(|&a, &b| smooth[a].abs().total_cmp(&smooth[b].abs()))
+    else {
+        return 0.0;
+    };
+    let plain = smooth[peak].abs();
+    let (a, b) = (
+        t.partition_point(|&x| x < t[peak] - TURN_HALF),
+        t.partition_point(|&x| x <= t[peak] + TURN_HALF),
+    );
+    let mut pts: Vec<usize> = (a..b).filter(|&j| !burst[j]).collect();
+    for round in 0..2 {
+        if pts.len() < 5 {
+            return plain;
+        }
+        let Some(c) = parabola(t, theta, &pts, t[peak]) else {
+            return plain;
+        };
+        let resid: Vec<f64> = pts
+            .iter()
+            .map(|&j| {
+                let x = t[j] - t[peak];
+                theta[j] - (c[0] + x * (c[1] + x * c[2]))
+            })
+            .collect();
+        let mut abs: Vec<f64> = resid.iter().map(|r| r.abs()).collect();
+        abs.sort_by(f64::total_cmp);
+        let limit = (3.0 * 1.4826 * abs[abs.len() / 2]).max(0.5f64.to_radians());
+        if round == 1 || resid.iter().all(|r| r.abs() <= limit) {
+            // The parabola's top, if within the window; else its value at the peak.
+            let top = if c[2] != 0.0 {
+                -c[1] / (2.0 * c[2])
+            } else {
+                f64::INFINITY
+            };
+            let x = if top.abs() <= TURN_HALF { top } else { 0.0 };
+            let height = (c[0] + x * (c[1] + x * c[2])).abs();
+            // Only what a few shaken samples can do to the smoothed peak: a
+            // larger disagreement is a top that is no parabola (a stand, a
+            // check), where the smoothed peak is kept.
+            return if (height - plain).abs() <= TURN_MAX_CHANGE {
+                height
+            } else {
+                plain
+            };
+        }
+        pts = pts
+            .iter()
+            .zip(&resid)
+            .filter(|(_, r)| r.abs() <= limit)
+            .map(|(&j, _)| j)
+            .collect();
+    }
+    plain
+}
+
+/// Least-squares parabola c0 + c1 x + c2 x² through `y` at `pts`, x = t − `at`.
+fn parabola(t: &[f64], y: &[f64], pts: &[usize], at: f64) -> Option<[f64; 3]> {
+    let mut s = [0.0f64; 5];
+    let mut r = [0.0f64; 3];
+    for &j in pts {
+        let x = t[j] - at;
+        let mut p = 1.0;
+        for m in s.iter_mut() {
+            *m += p;
+            p *= x;
+        }
+        r[0] += y[j];
+        r[1] += y[j] * x;
+        r[2] += y[j] * x * x;
+    }
+    solve([[s[0], s[1], s[2]], [s[1], s[2], s[3]], [s[2], s[3], s[4]]], r)
 }
 
 /// The zero of the corrected tangential reading `f` near `tc` (s), where
@@ -102,8 +200,8 @@ pub(super) fn bottom_time(
     let k = t.partition_point(|&x| x < tc).clamp(1, n - 1);
     let dt = t[k] - t[k - 1];
     // (At a gap the interval is long: the window stays within ±0.12 s.)
-    let shortest = 0.005f64.max(1.5 * dt).min(0.12);
-    let mut half = (BOTTOM_SPAN / slope.abs().max(1e-9)).clamp(shortest, 0.12);
+    let shortest = 0.005f64.max(1.5 * dt).min(BOTTOM_HALF_MAX);
+    let mut half = (BOTTOM_SPAN / slope.abs().max(1e-9)).clamp(shortest, BOTTOM_HALF_MAX);
     let gap = |q: usize| t[q] - t[q - 1] > GAP * interval;
     // A clean sample whose θ'' is not the cubic's is one-sided: an edge.
     let edge = |q: usize| !burst[q] && !cubic[q];
@@ -285,5 +383,141 @@ pub(super) fn hide_strikes_after_gaps(t: &[f64], interval: f64, strokes: &mut [L
         warnings.push(format!(
             "{hidden} strike(s) not timed: a gap in the log lies between the bottom and the first burst after it"
         ));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clapper_core::bell::G;
+
+    /// A reading odd about its zero (a x + b x|x|: the part of a rope's
+    /// pull the θ'' fits leave) is read at its zero exactly when a gap cuts
+    /// the window on one side: the window is cut on the other side too
+    /// (one-sided, the line through it misses the zero by 0.7 ms here).
+    #[test]
+    fn a_gap_beside_a_bottom_keeps_its_window_symmetric() {
+        let t0 = 1.005;
+        let t: Vec<f64> = (0..300)
+            .map(|k| k as f64 * 0.01)
+            .filter(|&x| !(t0 + 0.04..t0 + 0.5).contains(&x))
+            .collect();
+        let f: Vec<f64> = t
+            .iter()
+            .map(|&x| 2.0 * (x - t0) + 60.0 * (x - t0) * (x - t0).abs())
+            .collect();
+        let burst = vec![false; t.len()];
+        let cubic = vec![true; t.len()];
+        let got = bottom_time(&t, &f, (&burst, &cubic), (t0, 0.01), 2.0);
+        assert!((got - t0).abs() < 1e-9, "{got}");
+    }
+
+    /// Two bottoms come at least `min_gap` apart: the angle shaken back
+    /// across zero 0.1 s after a bottom (as a strike's burst can read) is
+    /// not taken for two more bottoms.
+    #[test]
+    fn a_crossing_soon_after_a_bottom_is_not_a_bottom() {
+        // A 1 rad swing of period 2 s (bottoms at 1, 2, 3, 4 s), 100 Hz,
+        // the sensor at the pivot.
+        let t: Vec<f64> = (0..500).map(|k| k as f64 * 0.01).collect();
+        let w = std::f64::consts::PI;
+        let mut theta: Vec<f64> = t.iter().map(|&x| (w * x).sin()).collect();
+        let d1: Vec<f64> = t.iter().map(|&x| w * (w * x).cos()).collect();
+        let d2: Vec<f64> = theta.iter().map(|&q| -w * w * q).collect();
+        let log = AccelLog {
+            name: None,
+            radial: theta.iter().map(|q| G * q.cos()).collect(),
+            tangential: theta.iter().map(|q| G * q.sin()).collect(),
+            axle: vec![0.0; t.len()],
+            t: t.clone(),
+        };
+        // Shaken back below zero for two samples 0.1 s after the bottom at 2 s.
+        theta[210] = -0.02;
+        theta[211] = -0.01;
+        let (burst, cubic) = (vec![false; t.len()], vec![true; t.len()]);
+        let bottoms = |min_gap: f64| -> Vec<f64> {
+            strokes(
+                &log,
+                &theta,
+                &theta,
+                (&d1, &d1, &d2, 0.0, 0.0),
+                (&burst, &[], &cubic),
+                &[],
+                (min_gap, 0.01),
+            )
+            .iter()
+            .map(|s| s.bdc)
+            .collect()
+        };
+        let got = bottoms(0.3);
+        assert_eq!(got.len(), 4, "{got:?}");
+        for (b, want) in got.iter().zip([1.0, 2.0, 3.0, 4.0]) {
+            assert!((b - want).abs() < 1e-3, "{got:?}");
+        }
+        // Without the rule the shaking reads as two more bottoms.
+        assert_eq!(bottoms(0.0).len(), 6);
+    }
+
+    /// Where the angle's cubic could not be fitted (near the log's end, a
+    /// gap's edge) θ'' is one-sided and the reading there is not trusted:
+    /// the bottom's window stops short of it on both sides, as at a gap.
+    #[test]
+    fn samples_without_the_cubic_cut_a_bottoms_window_on_both_sides() {
+        let t0 = 1.005;
+        let t: Vec<f64> = (0..300).map(|k| k as f64 * 0.01).collect();
+        // The reading odd about t0 up to t0 + 0.04 s, then skewed.
+        let f: Vec<f64> = t
+            .iter()
+            .map(|&x| {
+                2.0 * (x - t0)
+                    + if x > t0 + 0.04 {
+                        3.0
+                    } else {
+                        60.0 * (x - t0) * (x - t0).abs()
+                    }
+            })
+            .collect();
+        let burst = vec![false; t.len()];
+        let mut cubic: Vec<bool> = t.iter().map(|&x| x < t0 + 0.04).collect();
+        let got = bottom_time(&t, &f, (&burst, &cubic), (t0, 0.01), 2.0);
+        assert!((got - t0).abs() < 1e-9, "{got}");
+        // Trusted everywhere, the skewed samples pull the line off.
+        cubic.fill(true);
+        let all = bottom_time(&t, &f, (&burst, &cubic), (t0, 0.01), 2.0);
+        assert!((all - t0).abs() > 1e-3, "{all}");
+    }
+
+    /// A gap between a bottom and the burst read after it leaves the
+    /// strike untimed (it may have come in the gap); a gap before the
+    /// bottom, or after the burst, does not.
+    #[test]
+    fn a_strike_after_a_gap_is_not_timed() {
+        // 100 Hz, with 0.3 s lost after 1.05 s and after 3.05 s.
+        let t: Vec<f64> = (0..500)
+            .map(|k| k as f64 * 0.01)
+            .filter(|&x| !(1.05..1.35).contains(&x) && !(3.05..3.35).contains(&x))
+            .collect();
+        let stroke = |bdc: f64, strike: f64| LogStroke {
+            bdc,
+            hand: true,
+            strike: Some(strike),
+            strike_hidden: false,
+            strike_theta: Some(0.5),
+            amplitude: 3.0,
+            from_side: 1.0,
+            phase: PhaseKind::Ringing,
+            speed_peak: None,
+            bdc_se: None,
+        };
+        let mut strokes = [stroke(1.0, 1.4), stroke(2.0, 2.4), stroke(3.4, 3.8)];
+        let mut warnings = vec![];
+        hide_strikes_after_gaps(&t, 0.01, &mut strokes, &mut warnings);
+        assert!(strokes[0].strike_hidden && strokes[0].strike.is_none() && strokes[0].strike_theta.is_none());
+        assert!(!strokes[1].strike_hidden && strokes[1].strike == Some(2.4));
+        assert!(!strokes[2].strike_hidden && strokes[2].strike == Some(3.8));
+        assert_eq!(warnings.len(), 1);
+        assert!(warnings[0].starts_with("1 strike(s) not timed"), "{warnings:?}");
+        // Without strikes timed, odd-struckness leaves the stroke out.
+        assert_eq!(strokes[0].bdc_to_strike(), None);
     }
 }

@@ -27,7 +27,9 @@
 //! do not fit (a ringer's pull, the clapper moving) are dropped and the fit
 //! repeated.
 
-use super::{free_fall_angle, length_of_fall, wrap, AccelLog};
+use super::falls::{free_fall_angle, length_of_fall};
+use super::fits::wrap;
+use super::types::AccelLog;
 use crate::median;
 use clapper_core::bell::G;
 
@@ -186,63 +188,78 @@ fn cost_of(obs: &[Obs], p: &[f64], th: &[f64]) -> f64 {
         .sum()
 }
 
+/// Each observation's (a, b, g, indices) in the reduced normal equations:
+/// its angle's own curvature a, its coupling b to the parameters it
+/// touches (indices), and its gradient g (a = ∞ for a rest held plumb).
+type Local = (f64, Vec<f64>, f64, Vec<usize>);
+
+/// The normal equations reduced to the parameters (every sample's angle
+/// eliminated: each touches only its own two readings), their right-hand
+/// side, and each observation's part ([`Local`]) to recover its angle's step.
+#[allow(clippy::type_complexity)]
+fn normal_equations(obs: &[Obs], p: &[f64], th: &[f64]) -> (Vec<Vec<f64>>, Vec<f64>, Vec<Local>) {
+    let np = p.len();
+    let mut s = vec![vec![0.0; np]; np];
+    let mut rhs = vec![0.0; np];
+    let mut local = Vec::with_capacity(obs.len());
+    for (o, &q) in obs.iter().zip(th) {
+        let idx: Vec<usize> = (0..NG).chain(o.free.map(|j| NG + j)).collect();
+        let c0 = o.free.map(|j| p[NG + j]);
+        let m = model(&p[..NG], c0, q);
+        let r = [m[0] - o.t, m[1] - o.r];
+        let eps = 1e-6;
+        let mp = model(&p[..NG], c0, q + eps);
+        let jt = [(mp[0] - m[0]) / eps, (mp[1] - m[1]) / eps];
+        let jp: Vec<[f64; 2]> = idx
+            .iter()
+            .map(|&i| {
+                let mut gl: [f64; NG] = std::array::from_fn(|x| p[x]);
+                let mut c = c0;
+                if i < NG {
+                    gl[i] += eps;
+                } else {
+                    c = c.map(|v| v + eps);
+                }
+                let mm = model(&gl, c, q);
+                [(mm[0] - m[0]) / eps, (mm[1] - m[1]) / eps]
+            })
+            .collect();
+        let a = o.w * (jt[0] * jt[0] + jt[1] * jt[1]);
+        if o.plumb {
+            // θ held at 0: the globals alone.
+            for (x, &i) in idx.iter().enumerate() {
+                rhs[i] -= o.w * (jp[x][0] * r[0] + jp[x][1] * r[1]);
+                for (y, &l) in idx.iter().enumerate() {
+                    s[i][l] += o.w * (jp[x][0] * jp[y][0] + jp[x][1] * jp[y][1]);
+                }
+            }
+            local.push((f64::INFINITY, vec![0.0; idx.len()], 0.0, idx));
+            continue;
+        }
+        if a < 1e-12 {
+            local.push((1.0, vec![0.0; idx.len()], 0.0, idx));
+            continue;
+        }
+        let b: Vec<f64> = jp.iter().map(|j| o.w * (jt[0] * j[0] + jt[1] * j[1])).collect();
+        let g = o.w * (jt[0] * r[0] + jt[1] * r[1]);
+        for (x, &i) in idx.iter().enumerate() {
+            rhs[i] -= o.w * (jp[x][0] * r[0] + jp[x][1] * r[1]) - b[x] * g / a;
+            for (y, &l) in idx.iter().enumerate() {
+                s[i][l] += o.w * (jp[x][0] * jp[y][0] + jp[x][1] * jp[y][1]) - b[x] * b[y] / a;
+            }
+        }
+        local.push((a, b, g, idx));
+    }
+    (s, rhs, local)
+}
+
 /// Gauss-Newton (halving steps that do not lower the cost) from `p`, `th`.
 fn solve_fit(obs: &[Obs], mut p: Vec<f64>, mut th: Vec<f64>) -> Option<Fit> {
     let np = p.len();
     let mut cost = cost_of(obs, &p, &th);
     let mut inv = vec![];
     for iter in 0..40 {
-        let mut s = vec![vec![0.0; np]; np];
-        let mut rhs = vec![0.0; np];
-        let mut local = Vec::with_capacity(obs.len());
-        for (o, &q) in obs.iter().zip(&th) {
-            let idx: Vec<usize> = (0..NG).chain(o.free.map(|j| NG + j)).collect();
-            let c0 = o.free.map(|j| p[NG + j]);
-            let m = model(&p[..NG], c0, q);
-            let r = [m[0] - o.t, m[1] - o.r];
-            let eps = 1e-6;
-            let mp = model(&p[..NG], c0, q + eps);
-            let jt = [(mp[0] - m[0]) / eps, (mp[1] - m[1]) / eps];
-            let jp: Vec<[f64; 2]> = idx
-                .iter()
-                .map(|&i| {
-                    let mut gl: [f64; NG] = std::array::from_fn(|x| p[x]);
-                    let mut c = c0;
-                    if i < NG {
-                        gl[i] += eps;
-                    } else {
-                        c = c.map(|v| v + eps);
-                    }
-                    let mm = model(&gl, c, q);
-                    [(mm[0] - m[0]) / eps, (mm[1] - m[1]) / eps]
-                })
-                .collect();
-            let a = o.w * (jt[0] * jt[0] + jt[1] * jt[1]);
-            if o.plumb {
-                // θ held at 0: the globals alone.
-                for (x, &i) in idx.iter().enumerate() {
-                    rhs[i] -= o.w * (jp[x][0] * r[0] + jp[x][1] * r[1]);
-                    for (y, &l) in idx.iter().enumerate() {
-                        s[i][l] += o.w * (jp[x][0] * jp[y][0] + jp[x][1] * jp[y][1]);
-                    }
-                }
-                local.push((f64::INFINITY, vec![0.0; idx.len()], 0.0, idx));
-                continue;
-            }
-            if a < 1e-12 {
-                local.push((1.0, vec![0.0; idx.len()], 0.0, idx));
-                continue;
-            }
-            let b: Vec<f64> = jp.iter().map(|j| o.w * (jt[0] * j[0] + jt[1] * j[1])).collect();
-            let g = o.w * (jt[0] * r[0] + jt[1] * r[1]);
-            for (x, &i) in idx.iter().enumerate() {
-                rhs[i] -= o.w * (jp[x][0] * r[0] + jp[x][1] * r[1]) - b[x] * g / a;
-                for (y, &l) in idx.iter().enumerate() {
-                    s[i][l] += o.w * (jp[x][0] * jp[y][0] + jp[x][1] * jp[y][1]) - b[x] * b[y] / a;
-                }
-            }
-            local.push((a, b, g, idx));
-        }
+        let (s, rhs, local) = normal_equations(obs, &p, &th);
         inv = invert(s.clone())?;
         let dp: Vec<f64> = (0..np).map(|i| (0..np).map(|l| inv[i][l] * rhs[l]).sum()).collect();
         let dth: Vec<f64> = local
@@ -279,49 +296,10 @@ pub(crate) fn calibrate(log: &AccelLog, stretches: &[Stretch]) -> Option<Calibra
     let mut dropped = 0;
     let mut best_kappa: Option<f64> = None;
     for round in 0..3 {
-        let frees: Vec<Stretch> = keep.iter().copied().filter(|s| s.free).collect();
-        if frees.is_empty() {
+        if !keep.iter().any(|s| s.free) {
             return None;
         }
-        // Observations: every free sample; each rest averaged into one,
-        // weighed as up to 50 samples.
-        let mut obs: Vec<Obs> = vec![];
-        let mut owner: Vec<usize> = vec![];
-        let mut c0s: Vec<f64> = vec![];
-        for (i, s) in keep.iter().enumerate() {
-            if s.free {
-                let j = c0s.len();
-                // c₀ from the stretch's widest angle read plainly.
-                let widest = (s.a..s.b)
-                    .map(|k| log.tangential[k].atan2(log.radial[k]).abs())
-                    .fold(0.0, f64::max);
-                c0s.push(widest.cos());
-                for k in s.a..s.b {
-                    obs.push(Obs {
-                        t: log.tangential[k],
-                        r: log.radial[k],
-                        w: 1.0,
-                        free: Some(j),
-                        plumb: false,
-                    });
-                    owner.push(i);
-                }
-            } else {
-                let n = (s.b - s.a) as f64;
-                let (t, r) = (
-                    log.tangential[s.a..s.b].iter().sum::<f64>() / n,
-                    log.radial[s.a..s.b].iter().sum::<f64>() / n,
-                );
-                obs.push(Obs {
-                    t,
-                    r,
-                    w: n.min(50.0),
-                    free: None,
-                    plumb: r > 0.0 && t.abs() < 0.5 * r,
-                });
-                owner.push(i);
-            }
-        }
+        let (obs, owner, c0s) = observations(log, &keep);
         // From a few starting κ, the best (after the first round, from
         // where it ended).
         let starts: Vec<f64> = match best_kappa {
@@ -330,47 +308,12 @@ pub(crate) fn calibrate(log: &AccelLog, stretches: &[Stretch]) -> Option<Calibra
         };
         let fit = starts
             .iter()
-            .filter_map(|&kappa0| {
-                let mut p = vec![0.0, kappa0, 0.0, 1.0, 1.0, 0.0, 0.0];
-                p.extend(&c0s);
-                let mut last = 0.0;
-                let th: Vec<f64> = obs
-                    .iter()
-                    .map(|o| {
-                        let v = match o.free {
-                            Some(j) => free_fall_angle(o.t / G, o.r / G, kappa0, c0s[j], 1.0),
-                            None if o.plumb => 0.0,
-                            None => o.t.atan2(o.r),
-                        };
-                        last += wrap(v - last);
-                        if o.free.is_some() {
-                            last
-                        } else {
-                            v
-                        }
-                    })
-                    .collect();
-                solve_fit(&obs, p, th)
-            })
+            .filter_map(|&kappa0| fit_from(&obs, &c0s, kappa0))
             .min_by(|a, b| a.cost.total_cmp(&b.cost))?;
         best_kappa = Some(fit.p[1]);
         // Each free stretch's rms misfit: those well above the rest's are
         // not free (a ringer's pull, the clapper moving).
-        let mut per: Vec<(usize, f64, usize)> = vec![];
-        for (i, s) in keep.iter().enumerate() {
-            if !s.free {
-                continue;
-            }
-            let (mut sum, mut n) = (0.0, 0);
-            for (o, (&q, &w)) in obs.iter().zip(fit.th.iter().zip(&owner)) {
-                if w == i {
-                    let m = model(&fit.p[..NG], o.free.map(|j| fit.p[NG + j]), q);
-                    sum += (m[0] - o.t).powi(2) + (m[1] - o.r).powi(2);
-                    n += 1;
-                }
-            }
-            per.push((i, (sum / (2 * n.max(1)) as f64).sqrt(), n));
-        }
+        let per = free_misfits(&keep, &obs, &owner, &fit);
         let typical = median(&per.iter().map(|x| x.1).collect::<Vec<_>>());
         let limit = (2.5 * typical).max(0.08);
         let bad: Vec<usize> = per.iter().filter(|x| x.1 > limit).map(|x| x.0).collect();
@@ -386,6 +329,96 @@ pub(crate) fn calibrate(log: &AccelLog, stretches: &[Stretch]) -> Option<Calibra
             .collect();
     }
     None
+}
+
+/// The observations of the stretches `keep`: every free sample; each rest
+/// averaged into one, weighed as up to 50 samples. With each its stretch
+/// (index into `keep`), and each free stretch's first c₀ (from its widest
+/// angle read plainly).
+fn observations(log: &AccelLog, keep: &[Stretch]) -> (Vec<Obs>, Vec<usize>, Vec<f64>) {
+    let mut obs: Vec<Obs> = vec![];
+    let mut owner: Vec<usize> = vec![];
+    let mut c0s: Vec<f64> = vec![];
+    for (i, s) in keep.iter().enumerate() {
+        if s.free {
+            let j = c0s.len();
+            let widest = (s.a..s.b)
+                .map(|k| log.tangential[k].atan2(log.radial[k]).abs())
+                .fold(0.0, f64::max);
+            c0s.push(widest.cos());
+            for k in s.a..s.b {
+                obs.push(Obs {
+                    t: log.tangential[k],
+                    r: log.radial[k],
+                    w: 1.0,
+                    free: Some(j),
+                    plumb: false,
+                });
+                owner.push(i);
+            }
+        } else {
+            let n = (s.b - s.a) as f64;
+            let (t, r) = (
+                log.tangential[s.a..s.b].iter().sum::<f64>() / n,
+                log.radial[s.a..s.b].iter().sum::<f64>() / n,
+            );
+            obs.push(Obs {
+                t,
+                r,
+                w: n.min(50.0),
+                free: None,
+                plumb: r > 0.0 && t.abs() < 0.5 * r,
+            });
+            owner.push(i);
+        }
+    }
+    (obs, owner, c0s)
+}
+
+/// The fit from a start at κ = `kappa0` (no tilt, δ, or offsets, unit
+/// gains; each free stretch's c₀ from `c0s`), every sample's angle from
+/// the free pendulum's readings.
+fn fit_from(obs: &[Obs], c0s: &[f64], kappa0: f64) -> Option<Fit> {
+    let mut p = vec![0.0, kappa0, 0.0, 1.0, 1.0, 0.0, 0.0];
+    p.extend(c0s);
+    let mut last = 0.0;
+    let th: Vec<f64> = obs
+        .iter()
+        .map(|o| {
+            let v = match o.free {
+                Some(j) => free_fall_angle(o.t / G, o.r / G, kappa0, c0s[j], 1.0),
+                None if o.plumb => 0.0,
+                None => o.t.atan2(o.r),
+            };
+            last += wrap(v - last);
+            if o.free.is_some() {
+                last
+            } else {
+                v
+            }
+        })
+        .collect();
+    solve_fit(obs, p, th)
+}
+
+/// Each free stretch of `keep`: its index, rms misfit (m/s²) and samples.
+fn free_misfits(keep: &[Stretch], obs: &[Obs], owner: &[usize], fit: &Fit) -> Vec<(usize, f64, usize)> {
+    let mut per: Vec<(usize, f64, usize)> = vec![];
+    for (i, s) in keep.iter().enumerate() {
+        if !s.free {
+            continue;
+        }
+        let (mut sum, mut n) = (0.0, 0);
+        for (o, (&q, &w)) in obs.iter().zip(fit.th.iter().zip(owner)) {
+            if w == i {
+                let m = model(&fit.p[..NG], o.free.map(|j| fit.p[NG + j]), q);
+                sum += (m[0] - o.t).powi(2) + (m[1] - o.r).powi(2);
+                n += 1;
+            }
+        }
+        per.push((i, (sum / (2 * n.max(1)) as f64).sqrt(), n));
+    }
+    per
 }
 
 /// The calibration from a converged fit: standard errors (σ² from the

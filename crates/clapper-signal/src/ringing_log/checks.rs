@@ -4,7 +4,7 @@
 //! calibration's.
 
 use super::calibrate::Calibration;
-use super::{AccelLog, LogStroke};
+use super::types::{AccelLog, LogStroke};
 use clapper_core::bell::G;
 
 /// Each stroke's moment of greatest speed: the vertex of a parabola

@@ -1,8 +1,11 @@
 //! The sensor's place read from the bell's falls from the balance
 //! (docs/model.md §13 step 3), and L from a free swing's timing.
 
-#[allow(unused_imports)]
-use super::*;
+use super::fits::wrap;
+use super::types::AccelLog;
+use crate::median;
+use clapper_core::bell::G;
+use clapper_core::linalg::solve;
 
 /// The sensor's place read from the bell's falls from rest at the balance
 /// (method step 2, first): from a set bell's release to its first strike
@@ -219,5 +222,73 @@ impl Falls {
     /// The sensor's place (h along, d across; m).
     pub(super) fn place(&self) -> (f64, f64) {
         (self.kappa * self.length, self.delta * self.length)
+    }
+}
+
+/// The angle of a free pendulum that fell from rest at cos θ = `c0` (a
+/// sensor on its axis at κ = h/L) from its readings `ft`, `fr` in units of
+/// `g` (m/s², or 1 for readings over g): ft = g (1 + κ) sin θ and
+/// fr = g (cos θ − 2κ (cos θ − c₀)) solved for θ.
+pub(super) fn free_fall_angle(ft: f64, fr: f64, kappa: f64, c0: f64, g: f64) -> f64 {
+    (ft / (1.0 + kappa)).atan2((fr - 2.0 * g * kappa * c0) / (1.0 - 2.0 * kappa))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clapper_core::sensor::{specific_force, SensorPlace};
+
+    /// A free pendulum (L = 0.66 m) released at 179 deg, integrated here by
+    /// RK4 and read through clapper_core::sensor's forward formula at a
+    /// place off the axis: the falls give the place and L back, though
+    /// their fit never differentiates and the formula is not theirs.
+    #[test]
+    fn a_free_fall_from_the_balance_gives_the_sensor_place_and_the_length() {
+        let (length, place) = (
+            0.66,
+            SensorPlace {
+                along: 0.2,
+                across: 0.07,
+            },
+        );
+        let acc = |th: f64| -G / length * th.sin();
+        let (mut th, mut w, mut now) = (179f64.to_radians(), 0.0, 0.0);
+        let (dt, every) = (1e-4, 50); // 200 Hz samples
+        let mut log = AccelLog::default();
+        for k in 0..(4.2 / dt) as usize {
+            if k % every == 0 {
+                // At rest for the first 2 s, then released.
+                let (a, b, c) = if now < 2.0 {
+                    (179f64.to_radians(), 0.0, 0.0)
+                } else {
+                    (th, w, acc(th))
+                };
+                let f = specific_force(place, a, b, c);
+                log.t.push(now);
+                log.tangential.push(f[0]);
+                log.radial.push(f[1]);
+                log.axle.push(0.0);
+            }
+            if now >= 2.0 {
+                let k1 = (w, acc(th));
+                let k2 = (w + 0.5 * dt * k1.1, acc(th + 0.5 * dt * k1.0));
+                let k3 = (w + 0.5 * dt * k2.1, acc(th + 0.5 * dt * k2.0));
+                let k4 = (w + dt * k3.1, acc(th + dt * k3.0));
+                th += dt / 6.0 * (k1.0 + 2.0 * k2.0 + 2.0 * k3.0 + k4.0);
+                w += dt / 6.0 * (k1.1 + 2.0 * k2.1 + 2.0 * k3.1 + k4.1);
+            }
+            now += dt;
+        }
+        // A strike ends the fall 2 s after the release.
+        let bad: Vec<bool> = log.t.iter().map(|&x| x > 4.0).collect();
+        let falls = place_from_falls(&log, &bad, &[(0.0, 2.0, 179f64.to_radians())], 1.0 / 200.0).expect("a fall read");
+        assert_eq!(falls.count, 1);
+        let (along, across) = falls.place();
+        assert!((along - 0.2).abs() < 1e-3, "along {along}");
+        assert!((across - 0.07).abs() < 1e-3, "across {across}");
+        assert!((falls.length - length).abs() < 0.01 * length, "L {}", falls.length);
+        assert!((falls.kappa - 0.2 / length).abs() < 1e-3, "κ {}", falls.kappa);
+        // No rest at the balance, no fall.
+        assert!(place_from_falls(&log, &bad, &[(0.0, 2.0, 0.1)], 1.0 / 200.0).is_none());
     }
 }

@@ -4,7 +4,8 @@
 //! turning points) lie at the bottom. A sensor mounted upside down on the
 //! axes given reads them near 180 deg, and is turned over.
 
-use super::{quadratic_fits, unwrap_fill, wrap, AccelLog};
+use super::fits::{quadratic_fits, unwrap_fill, wrap};
+use super::types::AccelLog;
 
 /// Which way up the log reads, and on what evidence.
 #[derive(Clone, Copy, Debug, PartialEq)]

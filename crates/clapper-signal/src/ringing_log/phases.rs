@@ -2,8 +2,9 @@
 //! ringing with its stands, lowering, down) and the ringing's
 //! odd-struckness.
 
-#[allow(unused_imports)]
-use super::*;
+use super::types::{LogStroke, Phase, PhaseKind};
+use crate::median;
+use crate::striking::mean_sd;
 
 /// Phases (method step 4), and each stroke's phase set.
 pub(super) fn phases(
@@ -108,27 +109,10 @@ pub(super) fn segment(
         push(out, to.or(from).unwrap_or(PhaseKind::Down), a, b);
         return;
     }
-    let amp = |i: usize| strokes[i].amplitude;
-    // Free swings at the end (the bell let go after lowering): six or more
-    // small swings, none struck, each within 3 deg of the one two before.
-    // They are down; what comes before them ends down.
+    // Free swings at the end (the bell let go after lowering) are down;
+    // what comes before them ends down.
     if to != Some(PhaseKind::Up) {
-        let free = |p: usize| {
-            let s = &strokes[idx[p]];
-            s.strike.is_none()
-                && !s.strike_hidden
-                && s.amplitude < FREE_SWING_MAX
-                && (p < 2 || (s.amplitude - amp(idx[p - 2])).abs() <= 3f64.to_radians())
-        };
-        let mut p0 = idx.len();
-        while p0 > 0 && free(p0 - 1) {
-            p0 -= 1;
-        }
-        // (The first of the run may fall from a struck swing: from the next.)
-        if idx.len() - p0 >= 6 {
-            let first = p0 + 1;
-            let since = strokes[idx[first - 1]].bdc;
-            let cut = turning_before(t, theta, strokes[idx[first]].bdc, since);
+        if let Some((first, cut)) = free_swings_at_end(t, theta, strokes, &idx) {
             for &i in &idx[first..] {
                 strokes[i].phase = PhaseKind::Down;
             }
@@ -147,12 +131,57 @@ pub(super) fn segment(
             return;
         }
     }
-    let fulls: Vec<f64> = idx.iter().map(|&i| amp(i)).filter(|&x| x >= full).collect();
-    let kind_all = match (from, to) {
+    if let Some(kind) = whole_kind(strokes, &idx, full, (from, to)) {
+        for &i in &idx {
+            strokes[i].phase = kind;
+        }
+        push(out, kind, a, b);
+        return;
+    }
+    ringing_within(t, theta, strokes, &idx, height, (a, b), from, out);
+}
+
+/// Free swings at the end of a segment's strokes `idx`: six or more small
+/// swings, none struck, each within 3 deg of the one two before. The
+/// position in `idx` of the first that is down, and the turning point
+/// before it (s), where the down phase starts.
+fn free_swings_at_end(t: &[f64], theta: &[f64], strokes: &[LogStroke], idx: &[usize]) -> Option<(usize, f64)> {
+    let amp = |i: usize| strokes[i].amplitude;
+    let free = |p: usize| {
+        let s = &strokes[idx[p]];
+        s.strike.is_none()
+            && !s.strike_hidden
+            && s.amplitude < FREE_SWING_MAX
+            && (p < 2 || (s.amplitude - amp(idx[p - 2])).abs() <= 3f64.to_radians())
+    };
+    let mut p0 = idx.len();
+    while p0 > 0 && free(p0 - 1) {
+        p0 -= 1;
+    }
+    // (The first of the run may fall from a struck swing: from the next.)
+    if idx.len() - p0 < 6 {
+        return None;
+    }
+    let first = p0 + 1;
+    let since = strokes[idx[first - 1]].bdc;
+    Some((first, turning_before(t, theta, strokes[idx[first]].bdc, since)))
+}
+
+/// The one kind of all a segment's strokes `idx`, when the rests either
+/// side or the want of a full swing (`full`, rad) settle it.
+fn whole_kind(
+    strokes: &[LogStroke],
+    idx: &[usize],
+    full: f64,
+    (from, to): (Option<PhaseKind>, Option<PhaseKind>),
+) -> Option<PhaseKind> {
+    let amp = |i: usize| strokes[i].amplitude;
+    let fulls = idx.iter().any(|&i| amp(i) >= full);
+    match (from, to) {
         // Raised and set: every swing is raising, even the last full ones.
         (Some(PhaseKind::Down) | None, Some(PhaseKind::Up)) => Some(PhaseKind::Raising),
         (Some(PhaseKind::Up), Some(PhaseKind::Up)) => Some(PhaseKind::Ringing),
-        _ if fulls.is_empty() => {
+        _ if !fulls => {
             // No full swing: rising or falling amplitudes.
             let (f, l) = (amp(idx[0]), amp(idx[idx.len() - 1]));
             Some(
@@ -164,23 +193,31 @@ pub(super) fn segment(
             )
         }
         _ => None,
-    };
-    if let Some(kind) = kind_all {
-        for &i in &idx {
-            strokes[i].phase = kind;
-        }
-        push(out, kind, a, b);
-        return;
     }
-    // The ringing: swings that fall from near the ringing's height and rise
-    // back to it (3 deg below the full swings' median); raising before,
-    // lowering from the first swing that does not rise back.
-    // (The full swings' height over the whole log: a segment lowered from
-    // its first swing after a set has none that reach it.)
+}
+
+/// The ringing within a segment `(a, b)` (strokes `idx`): swings that
+/// fall from near the ringing's `height` (rad) and rise back to it (3 deg
+/// below the full swings' median); raising before, lowering from the
+/// first swing that does not rise back. (The full swings' height over the
+/// whole log: a segment lowered from its first swing after a set has none
+/// that reach it.)
+#[allow(clippy::too_many_arguments)]
+fn ringing_within(
+    t: &[f64],
+    theta: &[f64],
+    strokes: &mut [LogStroke],
+    idx: &[usize],
+    height: f64,
+    (a, b): (f64, f64),
+    from: Option<PhaseKind>,
+    out: &mut Vec<Phase>,
+) {
+    let amp = |i: usize| strokes[i].amplitude;
     let threshold = height - 3f64.to_radians();
     let core = |p: usize| amp(idx[p]) >= threshold && idx.get(p + 1).is_none_or(|&q| amp(q) >= threshold);
     if from == Some(PhaseKind::Up) && !(0..idx.len()).any(core) {
-        for &i in &idx {
+        for &i in idx {
             strokes[i].phase = PhaseKind::Lowering;
         }
         push(out, PhaseKind::Lowering, a, b);

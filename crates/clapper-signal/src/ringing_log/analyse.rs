@@ -1,0 +1,538 @@
+//! The reading of a log, step by step (the method: [`super`]).
+
+use super::bottoms::{hide_strikes_after_gaps, strokes, strokes_by_zeros, MAX_MISFIT};
+use super::bursts::{bursts, ringing_masked, STRIKE_S};
+use super::calibrate::{self, Calibration};
+use super::checks;
+use super::falls::{place_from_falls, Falls};
+use super::fits::{bounded, quadratic_fits, unwrap_fill};
+use super::orient::{self, orientation, Orientation};
+use super::phases::{odd_struck, phases};
+use super::plausible::{plausibility, Plausibility};
+use super::reading::{angle, Angle};
+use super::rests::{calibrate_from_rests, rests};
+use super::types::{AccelLog, ClapperingStart, LogOptions, LogStroke, Phase, PhaseKind};
+use crate::{median, SignalError};
+use clapper_core::bell::G;
+use std::borrow::Cow;
+
+/// Fewer free stretches than this (free swings, falls from the balance)
+/// do not calibrate the sensor: the rests alone are used.
+const MIN_FREE: usize = 3;
+
+/// What a log says.
+#[derive(Clone, Debug, PartialEq)]
+pub struct LogAnalysis {
+    /// The phases, in time order.
+    pub phases: Vec<Phase>,
+    /// Every swing, in time order.
+    pub strokes: Vec<LogStroke>,
+    /// Odd-struckness in the ringing: mean handstroke minus mean backstroke
+    /// BDC-to-strike (s), and its standard error (s).
+    pub odd_struck: Option<(f64, f64)>,
+    /// Clappering's start while raising.
+    pub clappering_starts: Option<ClapperingStart>,
+    /// The sensor's distance above the pivot used (m), given, read from the
+    /// falls from the balance, or fitted.
+    pub sensor_along: f64,
+    /// The sensor's distance across the bell's axis, toward the back side
+    /// (m; a nut or bracket off the axis line), read from the falls or
+    /// fitted.
+    pub sensor_across: f64,
+    /// Whether `sensor_along` was read from the log (not given).
+    pub sensor_fitted: bool,
+    /// How well the angle was read: the corrected force's median departure
+    /// from g while the bell moves, over g (about 0.01 on logs the model
+    /// makes; above 0.1 the strokes are read without the angle).
+    pub angle_misfit: f64,
+    /// Median sample interval (s).
+    pub interval: f64,
+    /// The reconstructed angle at every sample (rad): continuous, the
+    /// bottom at 0, within ±200 deg (past ±180 for a bell set beyond the
+    /// balance).
+    pub theta: Vec<f64>,
+    /// Samples taken as bursts (strikes) or clipped.
+    pub burst: Vec<bool>,
+    /// The side the bell was set on (+1 or −1: θ's sign), which makes
+    /// handstrokes; `None` if it was never set (θ > 0 taken).
+    pub set_side: Option<f64>,
+    /// Which way up the log was read ([`orientation`]); `None` when the
+    /// axes were taken as given.
+    pub orientation: Option<Orientation>,
+    /// The sensor's calibration from the log's quiet stretches (`None`:
+    /// too few free swings or falls; the rests' scale and tilt were used).
+    pub calibration: Option<Calibration>,
+    /// Whether the log looks like a bell's at all (else nothing is read
+    /// from it: no phases, no swings).
+    pub plausibility: Plausibility,
+    /// Things worth knowing (gaps, clipping, a fitted sensor place).
+    pub warnings: Vec<String>,
+}
+
+/// Check a log: enough samples, finite, time increasing.
+fn check(log: &AccelLog) -> Result<(), SignalError> {
+    let n = log.t.len();
+    if [log.radial.len(), log.tangential.len(), log.axle.len()] != [n; 3] {
+        return Err(SignalError::Invalid(
+            "the axes have different numbers of samples".into(),
+        ));
+    }
+    if n < 20 {
+        return Err(SignalError::TooShort(format!(
+            "{n} samples: a log needs at least 20 (a second or so)"
+        )));
+    }
+    for k in 0..n {
+        let v = [log.t[k], log.radial[k], log.tangential[k], log.axle[k]];
+        if v.iter().any(|x| !x.is_finite()) {
+            return Err(SignalError::Invalid(format!("sample {} is not a finite number", k + 1)));
+        }
+        if k > 0 && log.t[k] <= log.t[k - 1] {
+            return Err(SignalError::Invalid(format!(
+                "time goes backwards or repeats at sample {} ({} s after {} s)",
+                k + 1,
+                log.t[k],
+                log.t[k - 1]
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Read `log` (module docs).
+pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, SignalError> {
+    let (interval, (burst, onsets), mut warnings) = prepare(log, opts)?;
+    let plausibility = plausibility(log, &burst, interval);
+    if let Some(why) = plausibility.why_not() {
+        warnings.push(why);
+        return Ok(not_a_ringing_log(log, opts, (interval, burst), plausibility, warnings));
+    }
+    // Which way is down (the bursts are the same either way up).
+    let (orientation, log) = orient_log(log, &burst, opts.find_down, &mut warnings);
+    let Calibrated {
+        calibration,
+        log,
+        still,
+    } = calibrate_log(&log, &burst, interval, &mut warnings);
+    let falls = match &calibration {
+        Some(c) => Some(Falls {
+            kappa: c.kappa,
+            delta: c.delta,
+            length: c.length.unwrap_or(1.0),
+            count: c.free,
+        }),
+        None => place_from_falls(&log, &burst, &still, interval),
+    };
+    let bad = ringing_masked(&log, &burst, &onsets, opts.clip, opts.through_ringing);
+    let a = angle(&log, &bad, opts.sensor_along, falls.as_ref(), interval);
+    place_warning(&a, falls.as_ref(), &mut warnings);
+    // The angle continuous but held within ±200 deg of the bottom: a bell
+    // set past the balance (185 deg, say) reads more than 180 deg, not a
+    // wrap to -175, and a strike's shaking cannot wind it round.
+    let theta = bounded(&a.theta);
+    let smooth = bounded(&a.smooth);
+    // Rests by the slope over ±0.5 s: still to a few hundredths of a rad/s.
+    let (level, slow, _) = quadratic_fits(&log.t, &theta, &burst, 0.5);
+    let rests = rests(&log.t, &level, &slow, interval);
+    let mut strokes = read_strokes(
+        &log,
+        (&theta, &smooth),
+        &a,
+        (&burst, &onsets),
+        &rests,
+        (falls.as_ref(), interval),
+        &mut warnings,
+    );
+    hide_strikes_after_gaps(&log.t, interval, &mut strokes, &mut warnings);
+    checks::speed_peaks(&log.t, &a.joint_rate, &a.cubic, &burst, &mut strokes);
+    if let Some(c) = &calibration {
+        checks::bottom_errors(c, &log, &a.joint_rate, &mut strokes);
+    }
+    let phases = phases(&log.t, &rests, &mut strokes, &theta, opts.full_swing);
+    let set_side = set_side(&log.t, &theta, &phases, &strokes);
+    let hand_side = set_side.unwrap_or(1.0);
+    for s in &mut strokes {
+        // A handstroke falls from the hand side.
+        s.hand = s.from_side == hand_side;
+    }
+    let clappering_starts = clappering_start(&strong_onsets(&log, &onsets), &phases, &strokes);
+    Ok(LogAnalysis {
+        phases,
+        odd_struck: odd_struck_with_se(&strokes),
+        strokes,
+        clappering_starts,
+        sensor_along: a.h,
+        sensor_across: a.d,
+        angle_misfit: a.misfit,
+        sensor_fitted: a.fitted,
+        interval,
+        theta,
+        burst,
+        set_side,
+        orientation,
+        calibration,
+        plausibility,
+        warnings,
+    })
+}
+
+/// What is said of a log that does not look like a bell's: nothing read
+/// (no phases, no swings, no odd-struckness), the plain angle for a plot.
+fn not_a_ringing_log(
+    log: &AccelLog,
+    opts: &LogOptions,
+    (interval, burst): (f64, Vec<bool>),
+    plausibility: Plausibility,
+    warnings: Vec<String>,
+) -> LogAnalysis {
+    let n = log.t.len();
+    let plain: Vec<f64> = (0..n).map(|k| log.tangential[k].atan2(log.radial[k])).collect();
+    LogAnalysis {
+        phases: vec![],
+        strokes: vec![],
+        odd_struck: None,
+        clappering_starts: None,
+        sensor_along: opts.sensor_along.unwrap_or(0.0),
+        sensor_across: 0.0,
+        sensor_fitted: false,
+        angle_misfit: f64::NAN,
+        interval,
+        theta: plain,
+        burst,
+        set_side: None,
+        orientation: None,
+        calibration: None,
+        plausibility,
+        warnings,
+    }
+}
+
+/// The log checked, its median sample interval (s), its bursts (mask and
+/// onsets: method step 1), and a warning of its gaps.
+#[allow(clippy::type_complexity)]
+fn prepare(log: &AccelLog, opts: &LogOptions) -> Result<(f64, (Vec<bool>, Vec<usize>), Vec<String>), SignalError> {
+    check(log)?;
+    if !(opts.clip.is_finite() && opts.clip > 0.0) {
+        return Err(SignalError::Option(format!(
+            "clip level {} m/s² must be > 0",
+            opts.clip
+        )));
+    }
+    let n = log.t.len();
+    let interval = median(&log.t.windows(2).map(|w| w[1] - w[0]).collect::<Vec<_>>());
+    let mut warnings = vec![];
+    let gaps = log.t.windows(2).filter(|w| w[1] - w[0] > 5.0 * interval).count();
+    if gaps > 0 {
+        warnings.push(format!("{gaps} gap(s) longer than 5 sample intervals"));
+    }
+    let (burst, onsets) = bursts(log, opts.clip);
+    let bursty = burst.iter().filter(|b| **b).count();
+    if bursty as f64 > 0.9 * n as f64 {
+        return Err(SignalError::Invalid(format!(
+            "{bursty} of {n} samples are clipped or bursts: nothing left to read the swing from (is the range right?)"
+        )));
+    }
+    Ok((interval, (burst, onsets), warnings))
+}
+
+/// The log the right way up ([`orientation`], when `find_down`), and
+/// which way it was read.
+fn orient_log<'a>(
+    log: &'a AccelLog,
+    burst: &[bool],
+    find_down: bool,
+    warnings: &mut Vec<String>,
+) -> (Option<Orientation>, Cow<'a, AccelLog>) {
+    let orientation = find_down.then(|| orientation(log, burst));
+    match orientation {
+        Some(o) if o.flipped => {
+            warnings.push(format!(
+                "the sensor reads the bell upside down on the axes given ({} small swings to and fro centred near 180 deg): its radial and tangential axes are turned over (give --axes to override)",
+                o.swings
+            ));
+            let turned = AccelLog {
+                radial: log.radial.iter().map(|v| -v).collect(),
+                tangential: log.tangential.iter().map(|v| -v).collect(),
+                ..log.clone()
+            };
+            (orientation, Cow::Owned(turned))
+        }
+        Some(o) if o.swings < orient::MIN_SWINGS => {
+            warnings.push(format!(
+                "which way is down cannot be told from this log ({} small swing(s) to and fro, {} needed): the axes are taken as given",
+                o.swings,
+                orient::MIN_SWINGS
+            ));
+            (orientation, Cow::Borrowed(log))
+        }
+        _ => (orientation, Cow::Borrowed(log)),
+    }
+}
+
+/// The log with its sensor calibrated, the calibration, and its rests.
+struct Calibrated<'a> {
+    calibration: Option<Calibration>,
+    log: Cow<'a, AccelLog>,
+    /// Rests (start, end, mean angle; s, s, rad) on the calibrated readings.
+    still: Vec<(f64, f64, f64)>,
+}
+
+/// Rests from the plain angle atan2(tangential, radial), smoothed over ±0.5 s.
+fn plain_rests(log: &AccelLog, burst: &[bool], interval: f64) -> Vec<(f64, f64, f64)> {
+    let n = log.t.len();
+    let plain: Vec<f64> = (0..n).map(|k| log.tangential[k].atan2(log.radial[k])).collect();
+    let (level, slow, _) = quadratic_fits(&log.t, &unwrap_fill(&log.t, &plain, burst), burst, 0.5);
+    rests(&log.t, &level, &slow, interval)
+}
+
+/// The sensor calibrated from the log's quiet stretches (rests, free
+/// swings, falls from the balance): per-axis gains and offsets, its tilt,
+/// and its place; without enough free stretches, the rests' scale and tilt.
+fn calibrate_log<'a>(
+    log: &Cow<'a, AccelLog>,
+    burst: &[bool],
+    interval: f64,
+    warnings: &mut Vec<String>,
+) -> Calibrated<'a> {
+    let n = log.t.len();
+    let still0 = plain_rests(log, burst, interval);
+    let calibration = {
+        let plain: Vec<f64> = (0..n).map(|k| log.tangential[k].atan2(log.radial[k])).collect();
+        let (fine, _, _) = quadratic_fits(&log.t, &unwrap_fill(&log.t, &plain, burst), burst, 0.1);
+        let turns = orient::turning_points(&fine, 5f64.to_radians());
+        let stretches = calibrate::quiet_stretches(log, burst, &still0, (&fine, &turns));
+        calibrate::calibrate(log, &stretches).filter(|c| c.free >= MIN_FREE && c.length.is_some())
+    };
+    let Some(c) = calibration else {
+        warnings.push(
+            "the log has no free swing nor fall from the balance to calibrate the sensor on: its offsets are not told from a tilt (the bottoms may be off by tens of ms)".into(),
+        );
+        let log = match calibrate_from_rests(log, burst, &still0, warnings) {
+            Some(l) => Cow::Owned(l),
+            None => log.clone(),
+        };
+        return Calibrated {
+            calibration,
+            log,
+            still: still0,
+        };
+    };
+    calibration_warnings(&c, warnings);
+    let gain = 0.5 * (c.gain[0] + c.gain[1]);
+    let (tangential, radial): (Vec<f64>, Vec<f64>) = (0..n).map(|k| c.apply(log.tangential[k], log.radial[k])).unzip();
+    let calibrated = AccelLog {
+        tangential,
+        radial,
+        axle: log.axle.iter().map(|a| a / gain).collect(),
+        ..(**log).clone()
+    };
+    // The rests again, on the calibrated readings.
+    let still = plain_rests(&calibrated, burst, interval);
+    Calibrated {
+        calibration,
+        log: Cow::Owned(calibrated),
+        still,
+    }
+}
+
+/// What the calibration found, and whether its free swings tell enough.
+fn calibration_warnings(c: &Calibration, warnings: &mut Vec<String>) {
+    warnings.push(format!(
+        "sensor calibrated on {} rest(s) and {} free swing(s) or fall(s) ({} left out as not free): gains {:.3} ± {:.3} (tangential), {:.3} ± {:.3} (radial); offsets {:+.2} ± {:.2}, {:+.2} ± {:.2} m/s²; tilt {:+.2} ± {:.2} deg",
+        c.rests, c.free, c.dropped, c.gain[0], c.se.gain[0], c.gain[1], c.se.gain[1],
+        c.offset[0], c.se.offset[0], c.offset[1], c.se.offset[1],
+        c.tilt.to_degrees(), c.se.tilt.to_degrees()
+    ));
+    if c.reach < 90f64.to_radians() {
+        warnings.push(format!(
+            "the log's free swings reach only {:.0} deg (no fall from the balance read): the gains and the sensor's place are poorly told",
+            c.reach.to_degrees()
+        ));
+    }
+}
+
+/// Where the sensor's place came from, when it was read from the log.
+fn place_warning(a: &Angle, falls: Option<&Falls>, warnings: &mut Vec<String>) {
+    let (h, across) = (a.h, a.d);
+    match (a.fitted, falls) {
+        (true, Some(f)) => warnings.push(format!(
+            "sensor place read from {} fall(s) from the balance: {h:.3} m above the pivot, {across:.3} m across the axis (the bell's equivalent pendulum {:.3} m; give --sensor-m when known)",
+            f.count, f.length
+        )),
+        (true, None) => warnings.push(format!(
+            "sensor place fitted: {h:.3} m above the pivot, {across:.3} m across the axis (give --sensor-m when known)"
+        )),
+        _ => {}
+    }
+}
+
+/// The strokes (method step 3) from the angle `(theta, smooth)`, or, when
+/// the angle could not be read, from the tangential reading's zeros.
+fn read_strokes(
+    log: &AccelLog,
+    (theta, smooth): (&[f64], &[f64]),
+    a: &Angle,
+    (burst, onsets): (&[bool], &[usize]),
+    rests: &[(f64, f64, f64)],
+    (falls, interval): (Option<&Falls>, f64),
+    warnings: &mut Vec<String>,
+) -> Vec<LogStroke> {
+    if a.misfit > MAX_MISFIT {
+        warnings.push(format!(
+            "the swing's own accelerations at the sensor are too large to read the angle (the corrected force is {:.0} % off g): bottoms from the tangential reading's zeros, amplitudes from the turning points",
+            100.0 * a.misfit
+        ));
+        return strokes_by_zeros(log, theta, (burst, onsets), rests);
+    }
+    // Two bottoms come at least half a small swing apart (π √(L/g) for
+    // a free pendulum, the shortest): within 60 % of that the second is
+    // the strike's shaking read as a crossing. Without L, 0.3 s.
+    let min_gap = falls.map_or(0.3, |f| (0.6 * std::f64::consts::PI * (f.length / G).sqrt()).max(0.3));
+    strokes(
+        log,
+        theta,
+        smooth,
+        (&a.rate, &a.joint_rate, &a.acc, a.h, a.d),
+        (burst, onsets, &a.cubic),
+        rests,
+        (min_gap, interval),
+    )
+}
+
+/// The times (s) of the burst onsets that are a clapper's strike beyond
+/// doubt: within 60 ms some axis departs by half a g or more from the
+/// sample before (a strike shakes the headstock far harder, often past the
+/// sensor's range; a ringer's tug at the rope jolts the reading less).
+fn strong_onsets(log: &AccelLog, onsets: &[usize]) -> Vec<f64> {
+    let axes = [&log.radial, &log.tangential, &log.axle];
+    onsets
+        .iter()
+        .filter(|&&k| {
+            k > 0
+                && (k..log.t.len())
+                    .take_while(|&j| log.t[j] - log.t[k] <= STRIKE_S)
+                    .any(|j| axes.iter().any(|a| (a[j] - a[k - 1]).abs() >= 0.5 * G))
+        })
+        .map(|&k| log.t[k])
+        .collect()
+}
+
+/// Where clappering starts while raising: the first strike ([`strong_onsets`],
+/// s) of the first raising phase. One before the raising's
+/// first bottom read (the clapper struck as the ringer pulled the bell off
+/// from hanging, its swing too slow through the bottom to be read: Data141
+/// at 38.85 s, read as 40.1 s when only the strokes' strikes counted) is
+/// in the swing that rises to the turning point the first stroke falls
+/// from; else the first raising stroke's strike (its bottom if a gap
+/// hides the strike).
+fn clappering_start(onsets: &[f64], phases: &[Phase], strokes: &[LogStroke]) -> Option<ClapperingStart> {
+    let raising = phases.iter().find(|p| p.kind == PhaseKind::Raising)?;
+    let mut ours = strokes
+        .iter()
+        .filter(|s| s.phase == PhaseKind::Raising && s.bdc >= raising.start);
+    let first = ours.clone().next()?;
+    let early = onsets.iter().copied().find(|&x| x >= raising.start && x < first.bdc);
+    if let Some(x) = early {
+        return Some(ClapperingStart {
+            t: x,
+            amplitude: first.amplitude,
+            // Rising to the side the first stroke falls from, it fell from the other.
+            hand: !first.hand,
+        });
+    }
+    ours.find(|s| s.strike.is_some() || s.strike_hidden)
+        .map(|s| ClapperingStart {
+            t: s.strike.unwrap_or(s.bdc),
+            amplitude: s.amplitude,
+            hand: s.hand,
+        })
+}
+
+/// The side the bell was set on before it was rung (θ's sign; `None`
+/// without a set).
+fn set_side(t: &[f64], theta: &[f64], phases: &[Phase], strokes: &[LogStroke]) -> Option<f64> {
+    let n = t.len();
+    phases
+        .iter()
+        .enumerate()
+        .find(|(i, p)| p.kind == PhaseKind::Up && phases.get(i + 1).is_some_and(|q| q.kind == PhaseKind::Ringing))
+        .or_else(|| phases.iter().enumerate().find(|(_, p)| p.kind == PhaseKind::Up))
+        .map(|(_, p)| {
+            // The side the first stroke after it fell from (the set's own
+            // angle, a degree from the balance, may read either side).
+            strokes.iter().find(|s| s.bdc > p.end).map_or_else(
+                || {
+                    let mid = t.partition_point(|&x| x < 0.5 * (p.start + p.end)).min(n - 1);
+                    theta[mid].signum()
+                },
+                |s| s.from_side,
+            )
+        })
+}
+
+/// The ringing's odd-struckness and its standard error: the strokes'
+/// spread, and the calibration's share (an error in the bottoms' zero
+/// moves hand and back bottoms opposite ways, so the difference by twice
+/// the mean bottom error).
+fn odd_struck_with_se(strokes: &[LogStroke]) -> Option<(f64, f64)> {
+    odd_struck(strokes).map(|(o, se)| {
+        let ses: Vec<f64> = strokes
+            .iter()
+            .filter(|s| s.phase == PhaseKind::Ringing)
+            .filter_map(|s| s.bdc_se)
+            .collect();
+        let cal = if ses.is_empty() {
+            0.0
+        } else {
+            2.0 * ses.iter().sum::<f64>() / ses.len() as f64
+        };
+        (o, se.hypot(cal))
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn stroke(bdc: f64, strike: Option<f64>, hand: bool) -> LogStroke {
+        LogStroke {
+            bdc,
+            hand,
+            strike,
+            strike_hidden: false,
+            strike_theta: None,
+            amplitude: 0.4,
+            from_side: 1.0,
+            phase: PhaseKind::Raising,
+            speed_peak: None,
+            bdc_se: None,
+        }
+    }
+
+    /// A strike before the raising's first bottom read starts the
+    /// clappering (Data141: 38.85 s, read as 40.1 s, the first stroke's
+    /// strike); one before the raising (a knock while down) does not; with
+    /// none before the first bottom, the first stroke's strike.
+    #[test]
+    fn clappering_starts_at_the_first_strike_of_the_raising() {
+        let phases = [
+            Phase {
+                kind: PhaseKind::Down,
+                start: 0.0,
+                end: 31.5,
+            },
+            Phase {
+                kind: PhaseKind::Raising,
+                start: 31.5,
+                end: 120.0,
+            },
+        ];
+        let strokes = [stroke(39.49, Some(40.1), true), stroke(40.14, None, false)];
+        let c = clappering_start(&[20.0, 38.85, 40.1], &phases, &strokes).expect("a start");
+        assert_eq!(c.t, 38.85);
+        assert!(!c.hand, "the swing before a handstroke");
+        let c = clappering_start(&[20.0, 40.1], &phases, &strokes).expect("a start");
+        assert_eq!(c.t, 40.1);
+        assert!(c.hand);
+    }
+}

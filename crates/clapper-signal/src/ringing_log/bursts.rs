@@ -1,0 +1,100 @@
+//! Strikes as bursts in the readings (docs/model.md §13 step 1), and the
+//! samples the angle's fits leave out.
+
+use super::types::AccelLog;
+use crate::median;
+
+/// The burst mask and the burst onsets (sample indices), method step 1.
+pub(super) fn bursts(log: &AccelLog, clip: f64) -> (Vec<bool>, Vec<usize>) {
+    let n = log.t.len();
+    let axes = [&log.radial, &log.tangential, &log.axle];
+    let interval = median(&log.t.windows(2).map(|w| w[1] - w[0]).collect::<Vec<_>>());
+    let mut d = vec![0.0; n];
+    for k in 2..n {
+        // Across a gap the swing has moved on: no prediction.
+        if log.t[k] - log.t[k - 2] > 4.0 * interval {
+            continue;
+        }
+        let f = (log.t[k] - log.t[k - 1]) / (log.t[k - 1] - log.t[k - 2]);
+        d[k] = axes
+            .iter()
+            .map(|a| {
+                let pred = a[k - 1] + (a[k - 1] - a[k - 2]) * f;
+                (a[k] - pred).powi(2)
+            })
+            .sum::<f64>()
+            .sqrt();
+    }
+    let typical = median(&d[2..]);
+    let threshold = (6.0 * 1.4826 * typical).max(1.5);
+    let clipped = |k: usize| axes.iter().any(|a| a[k].abs() >= 0.99 * clip);
+    let mut mask = vec![false; n];
+    let mut onsets = vec![];
+    let mut last_hot: Option<f64> = None;
+    for k in 0..n {
+        let hot = d[k] > threshold || clipped(k);
+        if hot {
+            // A new burst unless one is still ringing (within 60 ms).
+            if last_hot.is_none_or(|t| log.t[k] - t > 0.06) {
+                // An impact just before a sample can read small there
+                // (the ring near a node on every axis): the burst starts
+                // one sample early when that sample already departs from
+                // its prediction by half the threshold, far above noise.
+                // (That sample stays out of the mask: under the threshold
+                // it does the angle little harm, and masking it too moved
+                // a real log's unwrapped angle while raising by a turn.)
+                let early = k > 2 && d[k - 1] > 0.5 * threshold && !mask[k - 1];
+                onsets.push(if early { k - 1 } else { k });
+            }
+            last_hot = Some(log.t[k]);
+        }
+        mask[k] = last_hot.is_some_and(|t| log.t[k] - t <= 0.04);
+    }
+    (mask, onsets)
+}
+
+/// The strike itself: the first this many seconds of a burst (s), left
+/// out of the angle's fits.
+pub const STRIKE_S: f64 = 0.06;
+
+/// A burst lasting longer than this (s) is the headstock ringing.
+pub const RINGING_S: f64 = 0.25;
+
+/// The samples the angle's fits leave out: with `through`, of a burst
+/// lasting over [`RINGING_S`] only the clipped samples and its strikes'
+/// first [`STRIKE_S`]; else (and of shorter bursts) the whole burst.
+pub(super) fn ringing_masked(log: &AccelLog, burst: &[bool], onsets: &[usize], clip: f64, through: bool) -> Vec<bool> {
+    if !through {
+        return burst.to_vec();
+    }
+    let axes = [&log.radial, &log.tangential, &log.axle];
+    let n = log.t.len();
+    // Each burst run's length (s): only a long one (the headstock ringing,
+    // not a strike's burst that dies in a few hundredths) is read through.
+    let mut long = vec![false; n];
+    let mut k = 0;
+    while k < n {
+        if !burst[k] {
+            k += 1;
+            continue;
+        }
+        let start = k;
+        while k < n && burst[k] {
+            k += 1;
+        }
+        let lasting = log.t[k - 1] - log.t[start] > RINGING_S;
+        long[start..k].fill(lasting);
+    }
+    let mut o = 0;
+    (0..n)
+        .map(|k| {
+            while o + 1 < onsets.len() && onsets[o + 1] <= k {
+                o += 1;
+            }
+            let struck = onsets
+                .get(o)
+                .is_some_and(|&j| j <= k && log.t[k] - log.t[j] <= STRIKE_S);
+            burst[k] && (!long[k] || struck || axes.iter().any(|a| a[k].abs() >= 0.99 * clip))
+        })
+        .collect()
+}
