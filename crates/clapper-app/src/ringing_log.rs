@@ -209,28 +209,7 @@ pub fn read_log(log: &AccelLog, opts: &LogOptions, bell: Option<LoadedBell>) -> 
             bdc_se_ms: s.bdc_se.map(|x| x * 1e3),
         })
         .collect();
-    let kinds = [PhaseKind::Raising, PhaseKind::Ringing, PhaseKind::Lowering];
-    let phase_summary = kinds
-        .iter()
-        .filter_map(|&k| {
-            let of: Vec<&LogStroke> = a.strokes.iter().filter(|s| s.phase == k).collect();
-            (!of.is_empty()).then(|| {
-                let times = |h: bool| -> Vec<f64> {
-                    of.iter()
-                        .filter(|s| s.hand == h)
-                        .filter_map(|s| s.bdc_to_strike())
-                        .collect()
-                };
-                PhaseSummary {
-                    amplitude_mean_deg: of.iter().map(|s| s.amplitude.to_degrees()).sum::<f64>() / of.len() as f64,
-                    back: spread(&times(false)),
-                    hand: spread(&times(true)),
-                    kind: k.name(),
-                    strokes: of.len(),
-                }
-            })
-        })
-        .collect();
+    let phase_summary = phase_summaries(&a.strokes);
     let model = match bell {
         Some(b) => Some(model_report(&b, &a)?),
         None => None,
@@ -264,6 +243,33 @@ pub fn read_log(log: &AccelLog, opts: &LogOptions, bell: Option<LoadedBell>) -> 
         warnings: a.warnings.clone(),
     };
     Ok(LogReading { report, analysis: a })
+}
+
+/// Each phase's strokes summed up: their mean amplitude and the spread
+/// of their bottom-to-strike times, hand and back.
+fn phase_summaries(strokes: &[LogStroke]) -> Vec<PhaseSummary> {
+    let kinds = [PhaseKind::Raising, PhaseKind::Ringing, PhaseKind::Lowering];
+    kinds
+        .iter()
+        .filter_map(|&k| {
+            let of: Vec<&LogStroke> = strokes.iter().filter(|s| s.phase == k).collect();
+            (!of.is_empty()).then(|| {
+                let times = |h: bool| -> Vec<f64> {
+                    of.iter()
+                        .filter(|s| s.hand == h)
+                        .filter_map(|s| s.bdc_to_strike())
+                        .collect()
+                };
+                PhaseSummary {
+                    amplitude_mean_deg: of.iter().map(|s| s.amplitude.to_degrees()).sum::<f64>() / of.len() as f64,
+                    back: spread(&times(false)),
+                    hand: spread(&times(true)),
+                    kind: k.name(),
+                    strokes: of.len(),
+                }
+            })
+        })
+        .collect()
 }
 
 /// Amplitudes to the half degree: the model is simulated once for each.

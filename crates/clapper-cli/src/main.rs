@@ -234,6 +234,7 @@ fn main() {
         Command::RingDown(args) => ring::run(args, false),
         Command::DesignClapper(args) => design_clapper::run(args),
         Command::Liftoff(args) => simulate::liftoff(args),
+        Command::Chart(args) if args.quantity == chart::QuantityArg::GoesUp => goes_up::run(&args),
         Command::Chart(args) => chart::run(args),
         Command::Merge(args) => chart::merge(args),
         Command::Figures(args) => figures::run(args),
