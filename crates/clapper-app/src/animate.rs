@@ -440,7 +440,7 @@ fn motion(r: &Rung, opts: &AnimateOptions, n_frames: usize, duration: f64) -> Re
     )?;
     if again.strokes.len() != r.ringing.strokes.len() || sampler.out.len() != taus.len() {
         return Err(AppError::Sound(format!(
-            "the second run of {} did not repeat the first ({} of {} frames)",
+            "could not draw {}'s frames: simulated again to sample them, it gave {} of {} frames (a fault of clapper's, not of the request: please report it)",
             r.name,
             sampler.out.len(),
             taus.len()

@@ -37,6 +37,7 @@ mod sound;
 mod strikes;
 mod sweep_file;
 mod tower;
+mod words;
 
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
@@ -260,7 +261,8 @@ fn main() {
         if is_broken_pipe(&e) {
             std::process::exit(0);
         }
-        eprintln!("error: {e:#}");
+        let args: Vec<String> = std::env::args().skip(1).collect();
+        eprintln!("error: {}", words::as_given(&format!("{e:#}"), &args));
         std::process::exit(1);
     }
 }

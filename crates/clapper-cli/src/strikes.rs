@@ -339,11 +339,13 @@ fn ring_of(args: &SynthRingArgs) -> Result<Vec<clapper_signal::tower::RingBell>>
 
 /// The ringing and recording synth-ring's options describe, of `bells`.
 fn tower_spec_of(args: &SynthRingArgs, bells: Vec<clapper_signal::tower::RingBell>) -> Result<TowerSpec> {
+    check_rt60(args.rt60)?;
     let doubles = args
         .double
         .iter()
         .map(|d| {
             let v = fields(d, 4, "--double is BELL:ROW:DELAY_MS:RATIO")?;
+            check_double(d, &v, args)?;
             Ok(DoubleStrikeSpec {
                 bell: v[0] as usize,
                 row: v[1] as usize,
@@ -387,6 +389,36 @@ fn tower_spec_of(args: &SynthRingArgs, bells: Vec<clapper_signal::tower::RingBel
         }),
         ..TowerSpec::new(bells)
     })
+}
+
+/// Refuse a --double `d` (its fields `v`) that is not a strike of the
+/// ring, in the option's words (the library's refusal shows its struct).
+fn check_double(d: &str, v: &[f64], args: &SynthRingArgs) -> Result<()> {
+    let (bell, row, delay_ms, ratio) = (v[0], v[1], v[2], v[3]);
+    if !(bell.fract() == 0.0 && bell >= 1.0 && bell <= args.bells as f64) {
+        bail!("--double {d}: no bell {bell}: bells are 1 to {}", args.bells);
+    }
+    if !(row.fract() == 0.0 && row >= 0.0 && row < args.rows as f64) {
+        bail!(
+            "--double {d}: no row {row}: rows are 0 to {}",
+            args.rows.saturating_sub(1)
+        );
+    }
+    if !(delay_ms > 0.0 && delay_ms < 1000.0) {
+        bail!("--double {d}: delay {delay_ms} ms is out of range: over 0 and under 1000 ms");
+    }
+    if !(ratio > 0.0 && ratio <= 1.0) {
+        bail!("--double {d}: amplitude ratio {ratio} is out of range: over 0 and at most 1");
+    }
+    Ok(())
+}
+
+/// --rt60 (s) in the option's words: 0 (no room) to 10 s.
+fn check_rt60(rt60: f64) -> Result<()> {
+    if !(0.0..=10.0).contains(&rt60) {
+        bail!("--rt60 {rt60} s is out of range: 0 (no room) to 10 s");
+    }
+    Ok(())
 }
 
 /// The method of --method (or --plain-hunt).

@@ -192,6 +192,11 @@ pub fn read_chart_csv(text: &str, name: &str) -> Result<Vec<(Option<Axes>, Chart
     Ok(out)
 }
 
+/// A field as the message shows it: quoted, or "missing" for a short row.
+fn field_words(f: Option<&str>) -> String {
+    f.map_or_else(|| "missing".to_string(), shown)
+}
+
 /// Row `k` (from 0) of a chart CSV with `header` and `columns`: its axes
 /// and cell, or what is wrong with it.
 fn read_row(
@@ -219,12 +224,24 @@ fn read_row(
     let style = match rec.get(off + 2) {
         Some("right") => Style::Right,
         Some("wrong") => Style::Wrong,
-        other => return Err(format!("row {}: style {other:?} is neither right nor wrong", k + 1)),
+        other => {
+            return Err(format!(
+                "row {}: style {} is neither right nor wrong",
+                k + 1,
+                field_words(other)
+            ))
+        }
     };
     let sustained = match rec.get(off + 3) {
         Some("true") => true,
         Some("false") => false,
-        other => return Err(format!("row {}: sustained {other:?} is neither true nor false", k + 1)),
+        other => {
+            return Err(format!(
+                "row {}: sustained {} is neither true nor false",
+                k + 1,
+                field_words(other)
+            ))
+        }
     };
     Ok((
         a,
@@ -254,6 +271,19 @@ fn read_row(
 mod tests {
     use super::*;
     use clapper_core::chart::{sweep, ChartSpec};
+
+    #[test]
+    fn a_bad_style_or_a_short_row_is_said_without_rust_debug() {
+        let header = CHART_HEADER.join(",");
+        let bad = format!("{header}\n-0.3,0.5,sideways,true,,,,\n");
+        let e = read_chart_csv(&bad, "c.csv").unwrap_err().to_string();
+        assert!(e.contains("style \"sideways\" is neither"), "{e}");
+        assert!(!e.contains("Some("), "{e}");
+        let e = read_chart_csv(&format!("{header}\n-0.3,0.5\n"), "c.csv")
+            .unwrap_err()
+            .to_string();
+        assert!(!e.contains("None"), "{e}");
+    }
 
     #[test]
     fn header_rows_and_empty_cells() {

@@ -69,22 +69,32 @@ impl Timing {
     }
 
     fn validate(&self) -> Result<(), TowerError> {
-        let ok = self.interval_s.is_finite()
-            && self.interval_s > 0.0
-            && self.handstroke_gap.is_finite()
-            && self.handstroke_gap >= 0.0
-            && self.striking_sd_ms.is_finite()
-            && self.striking_sd_ms >= 0.0
-            && self.dt_s.is_finite()
-            && self.dt_s > 0.0
-            && self.dt_s <= 0.05;
-        if ok {
-            Ok(())
-        } else {
-            Err(TowerError::Ring(format!(
-                "timing: interval > 0, gap >= 0, striking sd >= 0, 0 < dt <= 0.05 s; not {self:?}"
-            )))
+        let bad = |what: String| Err(TowerError::Ring(format!("timing: {what}")));
+        if !(self.interval_s.is_finite() && self.interval_s > 0.0) {
+            return bad(format!(
+                "the interval between strikes, {} ms, is out of range: above 0 ms",
+                self.interval_s * 1e3
+            ));
         }
+        if !(self.handstroke_gap.is_finite() && self.handstroke_gap >= 0.0) {
+            return bad(format!(
+                "the handstroke gap, {} intervals, is out of range: 0 or more",
+                self.handstroke_gap
+            ));
+        }
+        if !(self.striking_sd_ms.is_finite() && self.striking_sd_ms >= 0.0) {
+            return bad(format!(
+                "the striking errors' standard deviation, {} ms, is out of range: 0 ms or more",
+                self.striking_sd_ms
+            ));
+        }
+        if !(self.dt_s.is_finite() && self.dt_s > 0.0 && self.dt_s <= 0.05) {
+            return bad(format!(
+                "the histories' sampling interval, {} s, is out of range: above 0 s and at most 0.05 s",
+                self.dt_s
+            ));
+        }
+        Ok(())
     }
 }
 
