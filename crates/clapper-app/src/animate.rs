@@ -261,27 +261,7 @@ pub fn animate(
     opts.sound.check()?;
     let mut rungs = Vec::with_capacity(bells.len());
     for (req, file) in bells {
-        let loaded = req.bell(file)?;
-        let cfg = req.config_for(&loaded)?;
-        if req.strokes > MAX_STROKES {
-            return Err(AppError::Request(format!(
-                "strokes {} is too many to animate: at most {MAX_STROKES}",
-                req.strokes
-            )));
-        }
-        let mut rec = TraceRecorder::new(1e-3);
-        let ringing = ring(&loaded.bell, &cfg, req.style, req.protocol, req.strokes, &mut rec)?;
-        let n = ringing.strokes.len();
-        rungs.push(Rung {
-            name: loaded.name,
-            bell: loaded.bell,
-            cfg,
-            req,
-            ringing,
-            trace: rec.samples,
-            offsets: (0..n).map(|k| LEAD_S + opts.sound.gap * (k / 2) as f64).collect(),
-            ideal: vec![None; n],
-        });
+        rungs.push(rung_of(req, file, opts)?);
     }
     let rounds_interval = (arrangement == Arrangement::Rounds).then(|| place_rounds(&mut rungs));
     let end = rungs.iter().map(Rung::end).fold(0.0, f64::max) + opts.sound.tail;
@@ -297,27 +277,7 @@ pub fn animate(
     let mut sound: Vec<f64> = vec![];
     for r in &rungs {
         motions.push(motion(r, opts, n_frames, duration)?);
-        let mut sopts = opts.sound.clone();
-        if arrangement == Arrangement::Rounds && sopts.partials == Partials::Typical {
-            sopts.nominal = nominal_from_mass(r.bell.bell_mass);
-        }
-        let modes = match arrangement {
-            // A ring's bells sound at their own pitches.
-            Arrangement::Rounds if sopts.partials == Partials::Lab => {
-                typical_partials(nominal_from_mass(r.bell.bell_mass), r.bell.bell_mass)
-            }
-            _ => sopts.modes(&r.bell),
-        };
-        let spec = SynthSpec {
-            rate: sopts.rate,
-            duration,
-            modes,
-            strikes: heard_strikes(&r.bell, &r.ringing, &r.offsets, sopts.pulse_ms * 1e-3),
-            rests: heard_rests(&r.trace, &r.ringing, &r.offsets, duration),
-            rest_damping: sopts.rest_damping,
-            acceleration: false,
-        };
-        let signal = synthesize(&spec).map_err(|e| AppError::Sound(e.to_string()))?;
+        let signal = bell_sound(r, opts, arrangement, duration)?;
         if sound.len() < signal.samples.len() {
             sound.resize(signal.samples.len(), 0.0);
         }
@@ -325,7 +285,77 @@ pub fn animate(
             *a += b;
         }
     }
-    let title = match (arrangement, &rungs[..]) {
+    let title = title_of(arrangement, &rungs, rounds_interval);
+    Ok(Animated {
+        animation: Animation {
+            title,
+            duration,
+            bells: motions,
+            rounds_interval,
+        },
+        sound: Signal {
+            rate: opts.sound.rate,
+            samples: sound,
+        },
+    })
+}
+
+/// One bell rung as `req` asks (its bell file `file`, if any), its sound
+/// laid out one stroke after another.
+fn rung_of(req: SimulateRequest, file: Option<LoadedBell>, opts: &AnimateOptions) -> Result<Rung, AppError> {
+    let loaded = req.bell(file)?;
+    let cfg = req.config_for(&loaded)?;
+    if req.strokes > MAX_STROKES {
+        return Err(AppError::Request(format!(
+            "strokes {} is too many to animate: at most {MAX_STROKES}",
+            req.strokes
+        )));
+    }
+    let mut rec = TraceRecorder::new(1e-3);
+    let ringing = ring(&loaded.bell, &cfg, req.style, req.protocol, req.strokes, &mut rec)?;
+    let n = ringing.strokes.len();
+    Ok(Rung {
+        name: loaded.name,
+        bell: loaded.bell,
+        cfg,
+        req,
+        ringing,
+        trace: rec.samples,
+        offsets: (0..n).map(|k| LEAD_S + opts.sound.gap * (k / 2) as f64).collect(),
+        ideal: vec![None; n],
+    })
+}
+
+/// One bell's sound over the animation's `duration` (s): at its own
+/// pitch in a ring rung in rounds.
+fn bell_sound(r: &Rung, opts: &AnimateOptions, arrangement: Arrangement, duration: f64) -> Result<Signal, AppError> {
+    let mut sopts = opts.sound.clone();
+    if arrangement == Arrangement::Rounds && sopts.partials == Partials::Typical {
+        sopts.nominal = nominal_from_mass(r.bell.bell_mass);
+    }
+    let modes = match arrangement {
+        // A ring's bells sound at their own pitches.
+        Arrangement::Rounds if sopts.partials == Partials::Lab => {
+            typical_partials(nominal_from_mass(r.bell.bell_mass), r.bell.bell_mass)
+        }
+        _ => sopts.modes(&r.bell),
+    };
+    let spec = SynthSpec {
+        rate: sopts.rate,
+        duration,
+        modes,
+        strikes: heard_strikes(&r.bell, &r.ringing, &r.offsets, sopts.pulse_ms * 1e-3),
+        rests: heard_rests(&r.trace, &r.ringing, &r.offsets, duration),
+        rest_damping: sopts.rest_damping,
+        acceleration: false,
+    };
+    synthesize(&spec).map_err(|e| AppError::Sound(e.to_string()))
+}
+
+/// The animation's title: the ring in rounds, the one bell, or the bells
+/// side by side.
+fn title_of(arrangement: Arrangement, rungs: &[Rung], rounds_interval: Option<f64>) -> String {
+    match (arrangement, rungs) {
         (Arrangement::Rounds, _) => format!(
             "{} bells ringing rounds, {:.0} ms between blows",
             rungs.len(),
@@ -353,24 +383,11 @@ pub fn animate(
             .map(|r| r.name.as_str())
             .collect::<Vec<_>>()
             .join(" beside "),
-    };
-    Ok(Animated {
-        animation: Animation {
-            title,
-            duration,
-            bells: motions,
-            rounds_interval,
-        },
-        sound: Signal {
-            rate: opts.sound.rate,
-            samples: sound,
-        },
-    })
+    }
 }
 
-/// One bell's frames and strikes: the second, identical simulation,
-/// sampled at each frame's simulated time.
-fn motion(r: &Rung, opts: &AnimateOptions, n_frames: usize, duration: f64) -> Result<BellMotion, AppError> {
+/// A rung bell's impacts, each at its time in the animation.
+fn strike_marks(r: &Rung) -> Vec<StrikeMark> {
     let mut strikes = vec![];
     for (k, s) in r.ringing.strokes.iter().enumerate() {
         let first = s.first_strike_index();
@@ -386,6 +403,13 @@ fn motion(r: &Rung, opts: &AnimateOptions, n_frames: usize, duration: f64) -> Re
             });
         }
     }
+    strikes
+}
+
+/// One bell's frames and strikes: the second, identical simulation,
+/// sampled at each frame's simulated time.
+fn motion(r: &Rung, opts: &AnimateOptions, n_frames: usize, duration: f64) -> Result<BellMotion, AppError> {
+    let strikes = strike_marks(r);
     let mut taus: Vec<f64> = (0..n_frames).map(|j| j as f64 / opts.fps).collect();
     if opts.impact_frames {
         taus.extend(strikes.iter().map(|s| s.t).filter(|t| *t < duration));
@@ -416,7 +440,7 @@ fn motion(r: &Rung, opts: &AnimateOptions, n_frames: usize, duration: f64) -> Re
     )?;
     if again.strokes.len() != r.ringing.strokes.len() || sampler.out.len() != taus.len() {
         return Err(AppError::Sound(format!(
-            "the second run of {} did not repeat the first ({} of {} frames)",
+            "could not draw {}'s frames: simulated again to sample them, it gave {} of {} frames (a fault of clapper's, not of the request: please report it)",
             r.name,
             sampler.out.len(),
             taus.len()

@@ -721,54 +721,8 @@ pub fn text(rep: &DiagnosisReport, source: &str) -> String {
                 b.strike_energy_j.map_or(String::new(), |e| format!(", {e:.1} J"))
             );
         }
-        if let Some(m) = &b.margin {
-            // "60 ms shorter or 80 ms longer"; a side with no edge in the
-            // search is said once, in words.
-            let edges = |less: Option<f64>, more: Option<f64>, unit: &str, k: f64, words: [&str; 2]| {
-                let f = |x: f64, w: &str| format!("{:.0}{unit} {w}", x * k);
-                match (less, more) {
-                    (Some(a), Some(b)) => format!("{} or {}", f(a, words[0]), f(b, words[1])),
-                    (Some(a), None) => format!("{} (no edge {} within the search)", f(a, words[0]), words[1]),
-                    (None, Some(b)) => format!("{} (no edge {} within the search)", f(b, words[1]), words[0]),
-                    (None, None) => "no edge either way within the search".into(),
-                }
-            };
-            let _ = writeln!(
-                o,
-                "  margin before it stops ringing {usual}: clapper period {}; r {}",
-                edges(
-                    m.clapper_period_shorter_s,
-                    m.clapper_period_longer_s,
-                    " ms",
-                    1e3,
-                    ["shorter", "longer"]
-                ),
-                edges(m.r_smaller_mm, m.r_larger_mm, " mm", 1.0, ["smaller", "larger"])
-            );
-        }
-        if !b.problems.is_empty() {
-            let _ = writeln!(o, "  problems: {}", b.problems.join("; "));
-            if b.changes.is_empty() {
-                let _ = writeln!(
-                    o,
-                    "  changes: nothing within the searches (flight, ball, shaft, a new clapper within 0.4 s, the pivot within 150 mm) cures any of it"
-                );
-            } else {
-                let _ = writeln!(o, "  changes, in the order a hanger would try them:");
-                for (k, c) in b.changes.iter().enumerate() {
-                    let _ = writeln!(o, "    {}. {}", k + 1, c.words);
-                }
-                let left: Vec<&str> = b
-                    .problems
-                    .iter()
-                    .filter(|p| b.changes.iter().all(|c| c.problems_left.contains(p)))
-                    .map(String::as_str)
-                    .collect();
-                if !left.is_empty() {
-                    let _ = writeln!(o, "    nothing within the searches cures: {}", left.join("; "));
-                }
-            }
-        }
+        margin_text(&mut o, b, usual);
+        problems_text(&mut o, b);
         if let Some(f) = &b.frame {
             let _ = writeln!(o, "  {}", f.words);
         }
@@ -777,6 +731,62 @@ pub fn text(rep: &DiagnosisReport, source: &str) -> String {
         }
     }
     o
+}
+
+/// A bell's margin before it stops ringing its `usual` way.
+fn margin_text(o: &mut String, b: &BellDiagnosisReport, usual: &str) {
+    if let Some(m) = &b.margin {
+        // "60 ms shorter or 80 ms longer"; a side with no edge in the
+        // search is said once, in words.
+        let edges = |less: Option<f64>, more: Option<f64>, unit: &str, k: f64, words: [&str; 2]| {
+            let f = |x: f64, w: &str| format!("{:.0}{unit} {w}", x * k);
+            match (less, more) {
+                (Some(a), Some(b)) => format!("{} or {}", f(a, words[0]), f(b, words[1])),
+                (Some(a), None) => format!("{} (no edge {} within the search)", f(a, words[0]), words[1]),
+                (None, Some(b)) => format!("{} (no edge {} within the search)", f(b, words[1]), words[0]),
+                (None, None) => "no edge either way within the search".into(),
+            }
+        };
+        let _ = writeln!(
+            o,
+            "  margin before it stops ringing {usual}: clapper period {}; r {}",
+            edges(
+                m.clapper_period_shorter_s,
+                m.clapper_period_longer_s,
+                " ms",
+                1e3,
+                ["shorter", "longer"]
+            ),
+            edges(m.r_smaller_mm, m.r_larger_mm, " mm", 1.0, ["smaller", "larger"])
+        );
+    }
+}
+
+/// A bell's problems and the changes a hanger would try, in order.
+fn problems_text(o: &mut String, b: &BellDiagnosisReport) {
+    if !b.problems.is_empty() {
+        let _ = writeln!(o, "  problems: {}", b.problems.join("; "));
+        if b.changes.is_empty() {
+            let _ = writeln!(
+                o,
+                "  changes: nothing within the searches (flight, ball, shaft, a new clapper within 0.4 s, the pivot within 150 mm) cures any of it"
+            );
+        } else {
+            let _ = writeln!(o, "  changes, in the order a hanger would try them:");
+            for (k, c) in b.changes.iter().enumerate() {
+                let _ = writeln!(o, "    {}. {}", k + 1, c.words);
+            }
+            let left: Vec<&str> = b
+                .problems
+                .iter()
+                .filter(|p| b.changes.iter().all(|c| c.problems_left.contains(p)))
+                .map(String::as_str)
+                .collect();
+            if !left.is_empty() {
+                let _ = writeln!(o, "    nothing within the searches cures: {}", left.join("; "));
+            }
+        }
+    }
 }
 
 fn html_escape(s: &str) -> String {

@@ -315,30 +315,35 @@ pub fn summary(r: &RingReport) -> String {
         );
     }
     if let Some(m) = &r.pull_margin {
-        let pct = |f: f64| 100.0 * (f / m.force_n - 1.0);
-        let mut l = if m.holds_from_n == m.holds_to_n {
-            format!("  the verdict holds only at the pull used, {:.2} N", m.force_n)
-        } else {
-            format!(
-                "  the verdict holds for rope forces from {:.2} N to {:.2} N ({:+.2} % to {:+.2} % of the pull)",
-                m.holds_from_n,
-                m.holds_to_n,
-                pct(m.holds_from_n),
-                pct(m.holds_to_n)
-            )
-        };
-        let flips: Vec<String> = [m.changes_below_n, m.changes_above_n]
-            .iter()
-            .flatten()
-            .map(|f| format!("{f:.2} N ({:+.2} %)", pct(*f)))
-            .collect();
-        if !flips.is_empty() {
-            let _ = write!(l, "; it changes at {}", flips.join(" and "));
-        }
-        if m.knife_edge {
-            l += ": a knife-edge verdict (a change of the bell as small as 1e-6 may change it)";
-        }
-        let _ = writeln!(o, "{l}");
+        let _ = writeln!(o, "{}", margin_line(m));
     }
     o
+}
+
+/// The line on how far the pull may change before the verdict does.
+fn margin_line(m: &MarginReport) -> String {
+    let pct = |f: f64| 100.0 * (f / m.force_n - 1.0);
+    let mut l = if m.holds_from_n == m.holds_to_n {
+        format!("  the verdict holds only at the pull used, {:.2} N", m.force_n)
+    } else {
+        format!(
+            "  the verdict holds for rope forces from {:.2} N to {:.2} N ({:+.2} % to {:+.2} % of the pull)",
+            m.holds_from_n,
+            m.holds_to_n,
+            pct(m.holds_from_n),
+            pct(m.holds_to_n)
+        )
+    };
+    let flips: Vec<String> = [m.changes_below_n, m.changes_above_n]
+        .iter()
+        .flatten()
+        .map(|f| format!("{f:.2} N ({:+.2} %)", pct(*f)))
+        .collect();
+    if !flips.is_empty() {
+        let _ = write!(l, "; it changes at {}", flips.join(" and "));
+    }
+    if m.knife_edge {
+        l += ": a knife-edge verdict (a change of the bell as small as 1e-6 may change it)";
+    }
+    l
 }

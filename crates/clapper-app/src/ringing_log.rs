@@ -223,7 +223,7 @@ pub fn read_log(log: &AccelLog, opts: &LogOptions, bell: Option<LoadedBell>) -> 
             bdc_se_ms: s.bdc_se.map(|x| x * 1e3),
         })
         .collect();
-    let phase_summary = phase_summaries(&a);
+    let phase_summary = phase_summaries(&a.strokes);
     let model = match bell {
         Some(b) => Some(model_report(&b, &a)?),
         None => None,
@@ -264,13 +264,14 @@ pub fn read_log(log: &AccelLog, opts: &LogOptions, bell: Option<LoadedBell>) -> 
     Ok(LogReading { report, analysis: a })
 }
 
-/// Each phase's strokes summed up (raising, ringing, lowering).
-fn phase_summaries(a: &LogAnalysis) -> Vec<PhaseSummary> {
+/// Each phase's strokes summed up: their mean amplitude and the spread
+/// of their bottom-to-strike times, hand and back.
+fn phase_summaries(strokes: &[LogStroke]) -> Vec<PhaseSummary> {
     let kinds = [PhaseKind::Raising, PhaseKind::Ringing, PhaseKind::Lowering];
     kinds
         .iter()
         .filter_map(|&k| {
-            let of: Vec<&LogStroke> = a.strokes.iter().filter(|s| s.phase == k).collect();
+            let of: Vec<&LogStroke> = strokes.iter().filter(|s| s.phase == k).collect();
             (!of.is_empty()).then(|| {
                 let times = |h: bool| -> Vec<f64> {
                     of.iter()
@@ -295,12 +296,12 @@ fn key(amplitude: f64) -> i64 {
     (amplitude.to_degrees() * 2.0).round() as i64
 }
 
-/// The model's (hand, back) BDC-to-strike (s) at each ringing or large
-/// amplitude of the log (90 deg and over: below, ringing up or down, the
-/// rope's pull, which the model of a stroke leaves out, matters).
 /// The model's (hand, back) BDC-to-strike (s) by amplitude key.
 type ModelTimes = BTreeMap<i64, (Option<f64>, Option<f64>)>;
 
+/// The model's (hand, back) BDC-to-strike (s) at each ringing or large
+/// amplitude of the log (90 deg and over: below, ringing up or down, the
+/// rope's pull, which the model of a stroke leaves out, matters).
 fn model_times(b: &LoadedBell, a: &LogAnalysis) -> Result<ModelTimes, AppError> {
     let cfg = config(b)?;
     let mut out = BTreeMap::new();

@@ -324,9 +324,19 @@ fn opt(v: Option<f64>, digits: usize, unit: &str) -> String {
 
 /// The short readable summary `clapper simulate` prints by default.
 pub fn summary(r: &SimulationReport) -> String {
-    let b = &r.bell;
-    let s = &r.settings;
     let mut o = String::new();
+    bell_text(&mut o, &r.bell);
+    settings_text(&mut o, r);
+    for st in &r.strokes {
+        stroke_text(&mut o, st);
+    }
+    verdict_text(&mut o, r);
+    o
+}
+
+/// The summary's lines on the bell: its name, chart position, lengths and
+/// periods, what was assumed, and how it hangs.
+fn bell_text(o: &mut String, b: &BellReport) {
     let _ = writeln!(o, "bell: {}", b.name);
     let _ = writeln!(
         o,
@@ -363,6 +373,11 @@ pub fn summary(r: &SimulationReport) -> String {
     if !hanging.is_empty() {
         let _ = writeln!(o, "  hanging          {}", hanging.join(", "));
     }
+}
+
+/// The summary's settings line.
+fn settings_text(o: &mut String, r: &SimulationReport) {
+    let s = &r.settings;
     let stiffness = s
         .stiffness_n_m_per_rad
         .map(|k| format!(" (k = {k:e} N m/rad)"))
@@ -376,59 +391,70 @@ pub fn summary(r: &SimulationReport) -> String {
         "settings: ringing {} from theta0 = {:.1} deg, R = {}{later}, {} contact{stiffness}, {} protocol",
         r.style, s.theta0_deg, s.restitution, s.contact, s.protocol
     );
-    for st in &r.strokes {
-        let kind = if st.number % 2 == 1 { "handstroke" } else { "backstroke" };
-        let _ = writeln!(
-            o,
-            "\nstroke {} ({kind}, {} style, from {:+.1} deg)",
-            st.number, st.style, st.start_theta_deg
-        );
-        let bounce = if st.liftoff_kind == Some("bounce") {
-            " (off a bounce: it never rested)"
-        } else {
-            ""
-        };
-        let _ = writeln!(o, "  lift-off         {}{bounce}", opt(st.liftoff_theta_deg, 2, "deg"));
-        match &st.first_strike {
-            Some(f) => {
-                let _ = writeln!(
-                    o,
-                    "  first strike     {:.2} deg, {:.3} s into the stroke, clapper rate {:.3} rad/s",
-                    f.theta_deg, f.t_s, f.phidot_rad_s
-                );
-                match (st.second_strike_delay_ms, st.amplitude_ratio) {
-                    (Some(dt), Some(a)) => {
-                        let _ = writeln!(
-                            o,
-                            "  second impact    {dt:.1} ms later, amplitude ratio {a:.3}; double strike index D = {:.2}",
-                            st.double_strike_index.unwrap_or(0.0)
-                        );
-                    }
-                    _ => {
-                        let why = st.no_second_impact.unwrap_or("none");
-                        let _ = writeln!(o, "  second impact    none ({why}): no double strike index");
-                    }
-                }
-                let _ = writeln!(
-                    o,
-                    "  bouncing         {} impacts; clapper at rest {}",
-                    st.impacts.len(),
-                    match st.bounce_time_s {
-                        Some(t) => format!("{t:.3} s after the first strike"),
-                        None => "only after the stroke ended".into(),
-                    }
-                );
-            }
-            None => {
-                let _ = writeln!(o, "  first strike     none: the clapper never struck the other side");
-            }
+}
+
+/// The summary's paragraph on one stroke.
+fn stroke_text(o: &mut String, st: &clapper_io::report::StrokeReport) {
+    let kind = if st.number % 2 == 1 { "handstroke" } else { "backstroke" };
+    let _ = writeln!(
+        o,
+        "\nstroke {} ({kind}, {} style, from {:+.1} deg)",
+        st.number, st.style, st.start_theta_deg
+    );
+    let bounce = if st.liftoff_kind == Some("bounce") {
+        " (off a bounce: it never rested)"
+    } else {
+        ""
+    };
+    let _ = writeln!(o, "  lift-off         {}{bounce}", opt(st.liftoff_theta_deg, 2, "deg"));
+    match &st.first_strike {
+        Some(f) => {
+            let _ = writeln!(
+                o,
+                "  first strike     {:.2} deg, {:.3} s into the stroke, clapper rate {:.3} rad/s",
+                f.theta_deg, f.t_s, f.phidot_rad_s
+            );
+            second_impact_text(o, st);
         }
-        let _ = writeln!(
-            o,
-            "  end              {:.2} deg after {:.3} s ({}), clapper {} on side {:+}; next stroke starts {}",
-            st.end_theta_deg, st.duration_s, st.end_reason, st.end_clapper, st.end_side, st.continues_as
-        );
+        None => {
+            let _ = writeln!(o, "  first strike     none: the clapper never struck the other side");
+        }
     }
+    let _ = writeln!(
+        o,
+        "  end              {:.2} deg after {:.3} s ({}), clapper {} on side {:+}; next stroke starts {}",
+        st.end_theta_deg, st.duration_s, st.end_reason, st.end_clapper, st.end_side, st.continues_as
+    );
+}
+
+/// A struck stroke's lines on its second impact and its bouncing.
+fn second_impact_text(o: &mut String, st: &clapper_io::report::StrokeReport) {
+    match (st.second_strike_delay_ms, st.amplitude_ratio) {
+        (Some(dt), Some(a)) => {
+            let _ = writeln!(
+                o,
+                "  second impact    {dt:.1} ms later, amplitude ratio {a:.3}; double strike index D = {:.2}",
+                st.double_strike_index.unwrap_or(0.0)
+            );
+        }
+        _ => {
+            let why = st.no_second_impact.unwrap_or("none");
+            let _ = writeln!(o, "  second impact    none ({why}): no double strike index");
+        }
+    }
+    let _ = writeln!(
+        o,
+        "  bouncing         {} impacts; clapper at rest {}",
+        st.impacts.len(),
+        match st.bounce_time_s {
+            Some(t) => format!("{t:.3} s after the first strike"),
+            None => "only after the stroke ended".into(),
+        }
+    );
+}
+
+/// The summary's verdict and odd-struckness.
+fn verdict_text(o: &mut String, r: &SimulationReport) {
     // The verdict is steady ringing's; under the free protocol the later
     // strokes decay and may change style, which each stroke shows.
     let basis = match r.settings.protocol {
@@ -453,7 +479,6 @@ pub fn summary(r: &SimulationReport) -> String {
     } else if let Some(why) = r.odd_struck_undefined.as_deref().filter(|_| r.strokes.len() > 1) {
         let _ = writeln!(o, "odd-struck: not defined ({why}: it compares strokes of one style)");
     }
-    o
 }
 
 /// Below this (ms) an odd-struckness prints as 0.0 at one decimal: half

@@ -69,7 +69,10 @@ impl StrokeOptions {
         };
         if let Some(r) = self.rtol {
             if !(r.is_finite() && (1e-14..=1e-2).contains(&r)) {
-                return Err(AppError::Request(format!("rtol {r} is out of range: 1e-14 to 1e-2")));
+                return Err(AppError::Request(format!(
+                    "rtol {} is out of range: 1e-14 to 1e-2",
+                    clapper_core::bell::readable(r)
+                )));
             }
             cfg.ode.rtol = r;
             cfg.ode.atol = r;

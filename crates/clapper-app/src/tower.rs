@@ -496,6 +496,31 @@ impl TowerReport {
             p.moment_north_n_m / 1e3,
             p.torsion_n_m / 1e3
         );
+        self.lines_and_sway_text(&mut s);
+        if let Some(p) = self.peak_sway_m {
+            let _ = writeln!(s, "peak sway (resultant): {:.3} mm", p * 1e3);
+        }
+        let what = if self.peak_sway_m.is_some() {
+            "peak sway"
+        } else {
+            "peak force"
+        };
+        let turns: Vec<String> = self
+            .turns
+            .iter()
+            .take(3)
+            .map(|t| format!("{} {:+.0} %", t.name, t.change_percent))
+            .collect();
+        let _ = writeln!(s, "a bell turned 90° changes the {what}: {}", turns.join(", "));
+        for a in &self.assumed {
+            let _ = writeln!(s, "assumed: {a}");
+        }
+        s
+    }
+    /// The report's strongest lines of the horizontal force and each
+    /// direction's sway.
+    fn lines_and_sway_text(&self, s: &mut String) {
+        use std::fmt::Write;
         let lines: Vec<String> = self
             .lines
             .iter()
@@ -536,25 +561,6 @@ impl TowerReport {
                 m.stored_change_j
             );
         }
-        if let Some(p) = self.peak_sway_m {
-            let _ = writeln!(s, "peak sway (resultant): {:.3} mm", p * 1e3);
-        }
-        let what = if self.peak_sway_m.is_some() {
-            "peak sway"
-        } else {
-            "peak force"
-        };
-        let turns: Vec<String> = self
-            .turns
-            .iter()
-            .take(3)
-            .map(|t| format!("{} {:+.0} %", t.name, t.change_percent))
-            .collect();
-        let _ = writeln!(s, "a bell turned 90° changes the {what}: {}", turns.join(", "));
-        for a in &self.assumed {
-            let _ = writeln!(s, "assumed: {a}");
-        }
-        s
     }
 }
 

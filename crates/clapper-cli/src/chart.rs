@@ -65,7 +65,7 @@ impl QuantityArg {
             QuantityArg::Liftoff => Quantity::Liftoff,
             QuantityArg::DoubleStrike => Quantity::DoubleStrike,
             QuantityArg::OddStruck => Quantity::OddStruck,
-            // Not a quantity of one stroke: `run` hands it to goes_up first.
+            // Not a quantity of one stroke: main hands it to goes_up.
             QuantityArg::GoesUp => Quantity::Style,
         }
     }
@@ -244,14 +244,10 @@ pub fn draw(path: &Path, fig: &clapper_plot::ChartFigure) -> Result<()> {
     crate::files::write_atomically(path, |tmp| Ok(clapper_plot::chart_figure(tmp, fig)?))
 }
 
+/// `clapper chart` for the quantities of one stroke (main hands
+/// `--quantity goes-up` to [`crate::goes_up`]).
 pub fn run(args: ChartArgs) -> Result<()> {
     crate::files::claim_stdout(&[("--csv", args.csv.as_deref())], args.json)?;
-    if args.quantity == QuantityArg::GoesUp {
-        if args.json {
-            bail!("--json prints a clapping chart's strokes; --quantity goes-up writes its CSV with --csv");
-        }
-        return crate::goes_up::run(&args);
-    }
     let quantity = args.quantity.quantity();
     let styles = args.style;
     // The quantity matters for what is shown, not for a CSV alone.
@@ -268,55 +264,81 @@ pub fn run(args: ChartArgs) -> Result<()> {
     let pool = args.sweep.pool()?;
     let threads = pool.current_num_threads();
     if args.shard.is_some() || plan.charts.len() > 1 {
-        let csv = args
-            .csv
-            .as_deref()
-            .context("a shard, or a sweep over several theta0, R or phi_max, is written with --csv FILE")?;
-        if crate::files::is_stdout(csv) || args.json {
-            bail!(
-                "a shard, or a sweep over several theta0, R or phi_max, is written to a file it can resume \
-                 (give --csv a file name, without --json); `clapper merge --csv -` prints the whole"
-            );
+        return run_to_file(&args, &plan, &pool);
+    }
+    let markers = markers(args.bells.as_deref())?;
+    let (chart, secs, strokes) = one_chart(&args, &plan, &pool)?;
+    if args.json {
+        if let Some(path) = &args.out {
+            draw_chart(quantity, &chart, &markers, path)?;
         }
-        if args.out.is_some() {
-            bail!(
-                "--out draws one whole chart: draw a shard's after `clapper merge`, or sweep one theta0, R and phi_max"
-            );
-        }
-        let shard = args.shard.unwrap_or((0, 1));
-        let meta = args.meta(&plan, shard)?;
-        let range = meta.range;
-        let o = crate::sweep_file::run(
-            crate::sweep_file::RunFile {
-                csv,
-                meta,
-                block: args.block,
-                keep: false,
-            },
-            &plan,
-            &pool,
-        )?;
-        if let Some(from) = o.resumed_from {
-            crate::say!("resumed at stroke {} of {}..{}", from, range[0], range[1]);
-        }
-        crate::say!(
-            "{} chart(s) of {} strokes; {}strokes {}..{} of {}: {} computed in {:.2} s on {threads} threads, written to {}",
-            plan.charts.len(),
-            plan.per_chart(),
-            args.shard.map_or(String::new(), |(i, n)| format!("shard {} of {n}, ", i + 1)),
-            range[0],
-            range[1],
-            plan.total(),
-            o.computed,
-            o.seconds,
-            csv.display()
-        );
-        if args.shard.is_some() {
-            crate::say!("when every shard is done: clapper merge --csv ALL.csv SHARD.csv ...");
-        }
+        println!("{}", clapper_app::chart::chart_json(&chart));
         return Ok(());
     }
-    let markers: Vec<Marker> = match &args.bells {
+    report_chart(&args, quantity, styles, &chart, &markers)?;
+    crate::say!(
+        "  {strokes} strokes in {secs:.4} s on {threads} thread{} ({:.0} strokes/s)",
+        if threads == 1 { "" } else { "s" },
+        strokes as f64 / secs.max(1e-9)
+    );
+    Ok(())
+}
+
+/// A shard, or a sweep of several charts: computed into its --csv file
+/// (resumable), nothing drawn.
+fn run_to_file(args: &ChartArgs, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result<()> {
+    let csv = args
+        .csv
+        .as_deref()
+        .context("a shard, or a sweep over several theta0, R or phi_max, is written with --csv FILE")?;
+    if crate::files::is_stdout(csv) || args.json {
+        bail!(
+            "a shard, or a sweep over several theta0, R or phi_max, is written to a file it can resume \
+             (give --csv a file name, without --json); `clapper merge --csv -` prints the whole"
+        );
+    }
+    if args.out.is_some() {
+        bail!("--out draws one whole chart: draw a shard's after `clapper merge`, or sweep one theta0, R and phi_max");
+    }
+    let shard = args.shard.unwrap_or((0, 1));
+    let meta = args.meta(plan, shard)?;
+    let range = meta.range;
+    let o = crate::sweep_file::run(
+        crate::sweep_file::RunFile {
+            csv,
+            meta,
+            block: args.block,
+            keep: false,
+        },
+        plan,
+        pool,
+    )?;
+    if let Some(from) = o.resumed_from {
+        crate::say!("resumed at stroke {} of {}..{}", from, range[0], range[1]);
+    }
+    crate::say!(
+        "{} chart(s) of {} strokes; {}strokes {}..{} of {}: {} computed in {:.2} s on {} threads, written to {}",
+        plan.charts.len(),
+        plan.per_chart(),
+        args.shard
+            .map_or(String::new(), |(i, n)| format!("shard {} of {n}, ", i + 1)),
+        range[0],
+        range[1],
+        plan.total(),
+        o.computed,
+        o.seconds,
+        pool.current_num_threads(),
+        csv.display()
+    );
+    if args.shard.is_some() {
+        crate::say!("when every shard is done: clapper merge --csv ALL.csv SHARD.csv ...");
+    }
+    Ok(())
+}
+
+/// The bells of `--bells` as markers on the chart.
+fn markers(bells: Option<&Path>) -> Result<Vec<Marker>> {
+    Ok(match bells {
         Some(p) => clapper_io::load_bells(p)?
             .into_iter()
             .map(|b| Marker {
@@ -326,19 +348,25 @@ pub fn run(args: ChartArgs) -> Result<()> {
             })
             .collect(),
         None => vec![],
-    };
+    })
+}
+
+/// The one chart of `plan`, computed (into --csv, resuming a run stopped
+/// part-way, when --csv names a file), with the seconds it took and the
+/// strokes computed.
+fn one_chart(args: &ChartArgs, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result<(Chart, f64, usize)> {
     let spec = plan.charts[0].1;
-    let (chart, secs, strokes) = match args.csv.as_deref().filter(|p| !crate::files::is_stdout(p)) {
+    Ok(match args.csv.as_deref().filter(|p| !crate::files::is_stdout(p)) {
         Some(csv) => {
             let o = crate::sweep_file::run(
                 crate::sweep_file::RunFile {
                     csv,
-                    meta: args.meta(&plan, (0, 1))?,
+                    meta: args.meta(plan, (0, 1))?,
                     block: args.block,
                     keep: true,
                 },
-                &plan,
-                &pool,
+                plan,
+                pool,
             )?;
             let n = o.computed;
             let chart = match o.resumed_from {
@@ -354,7 +382,7 @@ pub fn run(args: ChartArgs) -> Result<()> {
             (chart, o.seconds, n)
         }
         None => {
-            let (chart, secs) = run_sweep(&spec, &pool, "chart")?;
+            let (chart, secs) = run_sweep(&spec, pool, "chart")?;
             let n = chart.cells.len();
             if let Some(dash) = &args.csv {
                 let mut text = vec![];
@@ -363,21 +391,7 @@ pub fn run(args: ChartArgs) -> Result<()> {
             }
             (chart, secs, n)
         }
-    };
-    if args.json {
-        if let Some(path) = &args.out {
-            draw_chart(quantity, &chart, &markers, path)?;
-        }
-        println!("{}", clapper_app::chart::chart_json(&chart));
-        return Ok(());
-    }
-    report_chart(&args, quantity, styles, &chart, &markers)?;
-    crate::say!(
-        "  {strokes} strokes in {secs:.4} s on {threads} thread{} ({:.0} strokes/s)",
-        if threads == 1 { "" } else { "s" },
-        strokes as f64 / secs.max(1e-9)
-    );
-    Ok(())
+    })
 }
 
 /// A chart read back from its CSV (values to the file's six decimals).

@@ -81,7 +81,33 @@ pub fn run(args: DiagnoseArgs) -> Result<()> {
         tolerance_ms: args.odd_tolerance,
     };
     // The recording is heard first: a bad file fails before the simulations.
-    let heard = match &args.recording {
+    let heard = hear(&args)?;
+    let rep = diagnose_bells_with(&bells, &odd)?;
+    let recording = heard.map(|(h, name)| beside(&rep, &h, &name));
+    if let Some(path) = &args.report {
+        let html = report_page(&rep, &bells, &source)?;
+        crate::files::write_atomically(path, |tmp| {
+            std::fs::write(tmp, html).with_context(|| format!("cannot write {}", path.display()))
+        })?;
+    }
+    if args.json {
+        print_json(&rep, recording.as_ref())?;
+    } else {
+        crate::say_text!("{}", text(&rep, &source));
+        if let Some(r) = &recording {
+            crate::say_text!("{}", r.text());
+        }
+        if let Some(p) = args.report.as_deref().filter(|p| !crate::files::is_stdout(p)) {
+            crate::say!("\nreport written to {}", p.display());
+        }
+    }
+    Ok(())
+}
+
+/// The recording of --recording heard with the bells' voices, and its
+/// name; `None` without one.
+fn hear(args: &DiagnoseArgs) -> Result<Option<(StrikesReport, String)>> {
+    Ok(match &args.recording {
         Some(rec) => {
             let voices = match (&args.nominals, &args.templates) {
                 (Some(n), _) => voices_from_nominals(&n.0)?,
@@ -96,38 +122,27 @@ pub fn run(args: DiagnoseArgs) -> Result<()> {
             Some((report, name))
         }
         None => None,
+    })
+}
+
+/// Print the diagnosis as JSON, the recording after it when one was heard.
+fn print_json(
+    rep: &clapper_app::diagnosis::DiagnosisReport,
+    recording: Option<&clapper_app::strikes::RecordingBeside>,
+) -> Result<()> {
+    // The diagnosis as ever (its keys in their order), the recording
+    // after it when one was heard.
+    #[derive(serde::Serialize)]
+    struct WithRecording<'a> {
+        #[serde(flatten)]
+        diagnosis: &'a clapper_app::diagnosis::DiagnosisReport,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        recording: Option<&'a clapper_app::strikes::RecordingBeside>,
+    }
+    let out = WithRecording {
+        diagnosis: rep,
+        recording,
     };
-    let rep = diagnose_bells_with(&bells, &odd)?;
-    let recording = heard.map(|(h, name)| beside(&rep, &h, &name));
-    if let Some(path) = &args.report {
-        let html = report_page(&rep, &bells, &source)?;
-        crate::files::write_atomically(path, |tmp| {
-            std::fs::write(tmp, html).with_context(|| format!("cannot write {}", path.display()))
-        })?;
-    }
-    if args.json {
-        // The diagnosis as ever (its keys in their order), the recording
-        // after it when one was heard.
-        #[derive(serde::Serialize)]
-        struct WithRecording<'a> {
-            #[serde(flatten)]
-            diagnosis: &'a clapper_app::diagnosis::DiagnosisReport,
-            #[serde(skip_serializing_if = "Option::is_none")]
-            recording: Option<&'a clapper_app::strikes::RecordingBeside>,
-        }
-        let out = WithRecording {
-            diagnosis: &rep,
-            recording: recording.as_ref(),
-        };
-        crate::say!("{}", serde_json::to_string_pretty(&out)?);
-    } else {
-        crate::say_text!("{}", text(&rep, &source));
-        if let Some(r) = &recording {
-            crate::say_text!("{}", r.text());
-        }
-        if let Some(p) = args.report.as_deref().filter(|p| !crate::files::is_stdout(p)) {
-            crate::say!("\nreport written to {}", p.display());
-        }
-    }
+    crate::say!("{}", serde_json::to_string_pretty(&out)?);
     Ok(())
 }

@@ -22,6 +22,10 @@ fn code(c: &GoesUpCell) -> (char, f64, &'static str) {
 
 /// Run the goes-up chart of `args`.
 pub fn run(args: &ChartArgs) -> Result<()> {
+    crate::files::claim_stdout(&[("--csv", args.csv.as_deref())], args.json)?;
+    if args.json {
+        bail!("--json prints a clapping chart's strokes; --quantity goes-up writes its CSV with --csv");
+    }
     if args.shard.is_some() {
         bail!("--quantity goes-up is not sharded: each point is a whole ring-up; use a smaller --grid");
     }
@@ -42,7 +46,30 @@ pub fn run(args: &ChartArgs) -> Result<()> {
     bar.finish_and_clear();
     let secs = start.elapsed().as_secs_f64();
 
-    let (xs, ys) = (spec.xs(), spec.ys());
+    say_map(&spec, &ringer, &cells);
+    let failed = cells.iter().filter(|c| c.result.is_err()).count();
+    if failed > 0 {
+        eprintln!("warning: {failed} ring-ups failed to simulate (x)");
+    }
+    if let Some(csv) = &args.csv {
+        crate::files::write_atomically(csv, |tmp| {
+            let f = std::fs::File::create(tmp)?;
+            Ok(clapper_io::write_goes_up_csv(std::io::BufWriter::new(f), &cells)?)
+        })?;
+    }
+    if let Some(path) = &args.out {
+        crate::chart::draw(path, &figure(&spec, &cells))?;
+    }
+    crate::say!(
+        "  {n} ring-ups in {secs:.2} s on {} threads",
+        pool.current_num_threads()
+    );
+    Ok(())
+}
+
+/// Print the map of the chart and how the CCCBR rule agrees with it.
+fn say_map(spec: &ChartSpec, ringer: &RingerConfig, cells: &[GoesUpCell]) {
+    let ys = spec.ys();
     crate::say!(
         "ringing-up chart: {} x {} bells rung up from rest in {} swings ({:.0} deg each side of the bottom pulled), R = {}, phi_max = {:.0} deg",
         spec.nx,
@@ -62,7 +89,7 @@ pub fn run(args: &ChartArgs) -> Result<()> {
         }
         crate::say!("   {:>6.3} {row}", ys[j]);
     }
-    let a = RuleAgreement::of(&cells);
+    let a = RuleAgreement::of(cells);
     let t = a.total().max(1) as f64;
     let pct = |k: usize| 100.0 * k as f64 / t;
     crate::say!(
@@ -77,50 +104,38 @@ pub fn run(args: &ChartArgs) -> Result<()> {
         pct(a.rule_right_model_not),
         pct(a.rule_not_model_right)
     );
-    let failed = cells.iter().filter(|c| c.result.is_err()).count();
-    if failed > 0 {
-        eprintln!("warning: {failed} ring-ups failed to simulate (x)");
+}
+
+/// The chart drawn: goes up right, wrong, no strike or failed at each
+/// point, with the CCCBR line.
+fn figure(spec: &ChartSpec, cells: &[GoesUpCell]) -> ChartFigure {
+    let (xs, ys) = (spec.xs(), spec.ys());
+    let panel = Panel {
+        title: String::new(),
+        xs: xs.clone(),
+        ys,
+        values: cells.iter().map(|c| Some(code(c).1)).collect(),
+        region: cells.iter().map(|c| matches!(c.result, Ok(Settles::Right))).collect(),
+    };
+    ChartFigure {
+        title: format!(
+            "Ringing up from rest: goes up right or wrong (R = {}, phi_max = {:.0} deg)",
+            spec.config.restitution,
+            spec.construction.phi_max.to_degrees()
+        ),
+        panels: vec![panel],
+        scale: Scale::Categories(vec![
+            ("no strike".into(), RGBColor(255, 255, 255)),
+            ("goes up right".into(), RGBColor(49, 130, 189)),
+            ("goes up wrong".into(), RGBColor(230, 85, 13)),
+            ("failed".into(), RGBColor(150, 150, 150)),
+        ]),
+        markers: vec![],
+        axes: clapper_plot::chart::chart_axes(),
+        lines: vec![(
+            "CCCBR: T_c = 0.9 T_b".into(),
+            vec![(xs[0], CCCBR_LB_OVER_LC), (xs[xs.len() - 1], CCCBR_LB_OVER_LC)],
+            RGBColor(0, 0, 0),
+        )],
     }
-    if let Some(csv) = &args.csv {
-        crate::files::write_atomically(csv, |tmp| {
-            let f = std::fs::File::create(tmp)?;
-            Ok(clapper_io::write_goes_up_csv(std::io::BufWriter::new(f), &cells)?)
-        })?;
-    }
-    if let Some(path) = &args.out {
-        let panel = Panel {
-            title: String::new(),
-            xs: xs.clone(),
-            ys,
-            values: cells.iter().map(|c| Some(code(c).1)).collect(),
-            region: cells.iter().map(|c| matches!(c.result, Ok(Settles::Right))).collect(),
-        };
-        let fig = ChartFigure {
-            title: format!(
-                "Ringing up from rest: goes up right or wrong (R = {}, phi_max = {:.0} deg)",
-                spec.config.restitution,
-                spec.construction.phi_max.to_degrees()
-            ),
-            panels: vec![panel],
-            scale: Scale::Categories(vec![
-                ("no strike".into(), RGBColor(255, 255, 255)),
-                ("goes up right".into(), RGBColor(49, 130, 189)),
-                ("goes up wrong".into(), RGBColor(230, 85, 13)),
-                ("failed".into(), RGBColor(150, 150, 150)),
-            ]),
-            markers: vec![],
-            axes: clapper_plot::chart::chart_axes(),
-            lines: vec![(
-                "CCCBR: T_c = 0.9 T_b".into(),
-                vec![(xs[0], CCCBR_LB_OVER_LC), (xs[xs.len() - 1], CCCBR_LB_OVER_LC)],
-                RGBColor(0, 0, 0),
-            )],
-        };
-        crate::chart::draw(path, &fig)?;
-    }
-    crate::say!(
-        "  {n} ring-ups in {secs:.2} s on {} threads",
-        pool.current_num_threads()
-    );
-    Ok(())
 }

@@ -37,6 +37,7 @@ mod sound;
 mod strikes;
 mod sweep_file;
 mod tower;
+mod words;
 
 use clap::{CommandFactory, FromArgMatches, Parser, Subcommand};
 
@@ -234,6 +235,7 @@ fn main() {
         Command::RingDown(args) => ring::run(args, false),
         Command::DesignClapper(args) => design_clapper::run(args),
         Command::Liftoff(args) => simulate::liftoff(args),
+        Command::Chart(args) if args.quantity == chart::QuantityArg::GoesUp => goes_up::run(&args),
         Command::Chart(args) => chart::run(args),
         Command::Merge(args) => chart::merge(args),
         Command::Figures(args) => figures::run(args),
@@ -259,7 +261,8 @@ fn main() {
         if is_broken_pipe(&e) {
             std::process::exit(0);
         }
-        eprintln!("error: {e:#}");
+        let args: Vec<String> = std::env::args().skip(1).collect();
+        eprintln!("error: {}", words::as_given(&format!("{e:#}"), &args));
         std::process::exit(1);
     }
 }

@@ -226,6 +226,14 @@ pub fn synth_log_cmd(args: SynthLogArgs) -> Result<()> {
     if !(-2.0..=2.0).contains(&args.sensor_m) {
         anyhow::bail!("--sensor-m {} m: within 2 m of the pivot", args.sensor_m);
     }
+    if !clapper_io::accel_log::name_reads_back(&args.name) {
+        anyhow::bail!(
+            "--name {:?}: a log's name is written on one line after its samples and must not be blank \
+             or begin with a number (ringing-log would read it as a sample); e.g. --name \"Bell {}\"",
+            args.name,
+            args.name.trim()
+        );
+    }
     // The bell as `simulate` names it, the tenor when none is named.
     let file = args.source.file()?;
     let preset = match (args.source.given(), args.source.preset) {

@@ -130,7 +130,7 @@ pub struct HangingArgs {
     #[arg(long, value_name = "MM", allow_hyphen_values = true, requires_all = ["gap_hand", "ball_below_pivot"])]
     pub gap_back: Option<f64>,
     /// The ball's centre below the clapper pivot (m), for the gaps.
-    #[arg(long, value_name = "M", allow_hyphen_values = true)]
+    #[arg(long, value_name = "M", allow_hyphen_values = true, requires_all = ["gap_hand", "gap_back"])]
     pub ball_below_pivot: Option<f64>,
     /// Viscous damping at the bell's bearings (N m s/rad).
     #[arg(long, value_name = "N_M_S", allow_hyphen_values = true)]

@@ -305,6 +305,31 @@ pub fn synth_ring(args: SynthRingArgs) -> Result<()> {
     if args.noise != NoiseArg::White && args.snr.is_none() {
         bail!("--noise: say how loud with --snr DB");
     }
+    let bells = ring_of(&args)?;
+    let spec = tower_spec_of(&args, bells.clone())?;
+    let (sig, truth) = tower_recording(&spec)?;
+    crate::files::write_atomically(&args.out, |tmp| {
+        write_wav(tmp, &sig, 0.9).with_context(|| args.out.display().to_string())
+    })?;
+    if let Some(path) = &args.truth {
+        write_bytes(path, csv_text(&truth_rows(&truth)).map_err(anyhow::Error::msg)?)?;
+    }
+    let nominals: Vec<String> = bells.iter().map(|b| format!("{:.1}", b.nominal_hz)).collect();
+    crate::say!(
+        "wrote {} ({:.1} s, {} strikes of {} bells; synthetic). Listen for them with:\n  clapper strikes {} --nominals {}",
+        args.out.display(),
+        sig.duration(),
+        truth.len(),
+        args.bells,
+        args.out.display(),
+        nominals.join(",")
+    );
+    Ok(())
+}
+
+/// synth-ring's bells: tuned as --tuning or --treble-hz asks, each
+/// --odd bell's odd-struckness set.
+fn ring_of(args: &SynthRingArgs) -> Result<Vec<clapper_signal::tower::RingBell>> {
     let tenor_hz = args.tenor_hz.unwrap_or(600.0);
     let ring = match args.tuning {
         None => major_scale(args.bells, args.treble_hz),
@@ -325,11 +350,18 @@ pub fn synth_ring(args: SynthRingArgs) -> Result<()> {
         }
         bells[b - 1].odd_struck_ms = v[1];
     }
+    Ok(bells)
+}
+
+/// The ringing and recording synth-ring's options describe, of `bells`.
+fn tower_spec_of(args: &SynthRingArgs, bells: Vec<clapper_signal::tower::RingBell>) -> Result<TowerSpec> {
+    check_rt60(args.rt60)?;
     let doubles = args
         .double
         .iter()
         .map(|d| {
             let v = fields(d, 4, "--double is BELL:ROW:DELAY_MS:RATIO")?;
+            check_double(d, &v, args)?;
             Ok(DoubleStrikeSpec {
                 bell: v[0] as usize,
                 row: v[1] as usize,
@@ -338,7 +370,7 @@ pub fn synth_ring(args: SynthRingArgs) -> Result<()> {
             })
         })
         .collect::<Result<Vec<_>>>()?;
-    let spec = TowerSpec {
+    Ok(TowerSpec {
         rate: args.rate,
         rows: args.rows,
         interval: args.interval_ms * 1e-3,
@@ -347,14 +379,7 @@ pub fn synth_ring(args: SynthRingArgs) -> Result<()> {
         seed: args.seed,
         doubles,
         tail: 3.0,
-        method: match args.method {
-            _ if args.plain_hunt => Method::PlainHunt,
-            None | Some(MethodArg::Rounds) => Method::Rounds,
-            Some(MethodArg::PlainHunt) => Method::PlainHunt,
-            Some(MethodArg::PlainBob) => Method::Course(PlainCourse::PlainBob),
-            Some(MethodArg::Grandsire) => Method::Course(PlainCourse::Grandsire),
-            Some(MethodArg::Stedman) => Method::Course(PlainCourse::Stedman),
-        },
+        method: method_of(args),
         attack: match &args.attack {
             None => None,
             Some(a) => {
@@ -373,62 +398,94 @@ pub fn synth_ring(args: SynthRingArgs) -> Result<()> {
         },
         room: (args.rt60 > 0.0).then_some(Room::chamber(args.rt60)),
         snr_db: args.snr,
-        doublets: match &args.doublets {
-            None => None,
-            Some(d) => {
-                let split = fields(d, 2, "--doublets is LOW_HZ:HIGH_HZ, e.g. 0.1:3")?;
-                let share = fields(&args.doublet_shares, 2, "--doublet-shares is LOW:HIGH, e.g. 0.2:0.8")?;
-                Some(Doublets {
-                    split_hz: (split[0], split[1]),
-                    share: (share[0], share[1]),
-                })
-            }
-        },
+        doublets: doublets_of(args)?,
         swing: (args.swing_db != 0.0 || args.doppler_pct != 0.0).then_some(Swing {
             level_db: args.swing_db,
             doppler: args.doppler_pct * 1e-2,
         }),
-        ..TowerSpec::new(bells.clone())
-    };
-    let (sig, truth) = tower_recording(&spec)?;
-    crate::files::write_atomically(&args.out, |tmp| {
-        write_wav(tmp, &sig, 0.9).with_context(|| args.out.display().to_string())
-    })?;
-    if let Some(path) = &args.truth {
-        let mut rows = vec![[
-            "bell",
-            "row",
-            "place",
-            "stroke",
-            "t_s",
-            "ideal_t_s",
-            "double_delay_ms",
-            "double_amplitude_ratio",
-        ]
-        .map(String::from)];
-        for s in &truth {
-            rows.push([
-                s.bell.to_string(),
-                s.row.to_string(),
-                s.place.to_string(),
-                if s.hand { "hand" } else { "back" }.to_string(),
-                format!("{:.6}", s.t),
-                format!("{:.6}", s.ideal_t),
-                s.double.map_or(String::new(), |d| format!("{:.1}", d.0 * 1e3)),
-                s.double.map_or(String::new(), |d| format!("{:.3}", d.1)),
-            ]);
-        }
-        write_bytes(path, csv_text(&rows).map_err(anyhow::Error::msg)?)?;
+        ..TowerSpec::new(bells)
+    })
+}
+
+/// Refuse a --double `d` (its fields `v`) that is not a strike of the
+/// ring, in the option's words (the library's refusal shows its struct).
+fn check_double(d: &str, v: &[f64], args: &SynthRingArgs) -> Result<()> {
+    let (bell, row, delay_ms, ratio) = (v[0], v[1], v[2], v[3]);
+    if !(bell.fract() == 0.0 && bell >= 1.0 && bell <= args.bells as f64) {
+        bail!("--double {d}: no bell {bell}: bells are 1 to {}", args.bells);
     }
-    let nominals: Vec<String> = bells.iter().map(|b| format!("{:.1}", b.nominal_hz)).collect();
-    crate::say!(
-        "wrote {} ({:.1} s, {} strikes of {} bells; synthetic). Listen for them with:\n  clapper strikes {} --nominals {}",
-        args.out.display(),
-        sig.duration(),
-        truth.len(),
-        args.bells,
-        args.out.display(),
-        nominals.join(",")
-    );
+    if !(row.fract() == 0.0 && row >= 0.0 && row < args.rows as f64) {
+        bail!(
+            "--double {d}: no row {row}: rows are 0 to {}",
+            args.rows.saturating_sub(1)
+        );
+    }
+    if !(delay_ms > 0.0 && delay_ms < 1000.0) {
+        bail!("--double {d}: delay {delay_ms} ms is out of range: over 0 and under 1000 ms");
+    }
+    if !(ratio > 0.0 && ratio <= 1.0) {
+        bail!("--double {d}: amplitude ratio {ratio} is out of range: over 0 and at most 1");
+    }
     Ok(())
+}
+
+/// --rt60 (s) in the option's words: 0 (no room) to 10 s.
+fn check_rt60(rt60: f64) -> Result<()> {
+    if !(0.0..=10.0).contains(&rt60) {
+        bail!("--rt60 {rt60} s is out of range: 0 (no room) to 10 s");
+    }
+    Ok(())
+}
+
+/// The method of --method (or --plain-hunt).
+fn method_of(args: &SynthRingArgs) -> Method {
+    match args.method {
+        _ if args.plain_hunt => Method::PlainHunt,
+        None | Some(MethodArg::Rounds) => Method::Rounds,
+        Some(MethodArg::PlainHunt) => Method::PlainHunt,
+        Some(MethodArg::PlainBob) => Method::Course(PlainCourse::PlainBob),
+        Some(MethodArg::Grandsire) => Method::Course(PlainCourse::Grandsire),
+        Some(MethodArg::Stedman) => Method::Course(PlainCourse::Stedman),
+    }
+}
+
+/// The doublets of --doublets and --doublet-shares.
+fn doublets_of(args: &SynthRingArgs) -> Result<Option<Doublets>> {
+    let Some(d) = &args.doublets else {
+        return Ok(None);
+    };
+    let split = fields(d, 2, "--doublets is LOW_HZ:HIGH_HZ, e.g. 0.1:3")?;
+    let share = fields(&args.doublet_shares, 2, "--doublet-shares is LOW:HIGH, e.g. 0.2:0.8")?;
+    Ok(Some(Doublets {
+        split_hz: (split[0], split[1]),
+        share: (share[0], share[1]),
+    }))
+}
+
+/// The truth CSV's rows: a header, then one row a strike.
+fn truth_rows(truth: &[clapper_signal::tower::TrueStrike]) -> Vec<[String; 8]> {
+    let mut rows = vec![[
+        "bell",
+        "row",
+        "place",
+        "stroke",
+        "t_s",
+        "ideal_t_s",
+        "double_delay_ms",
+        "double_amplitude_ratio",
+    ]
+    .map(String::from)];
+    for s in truth {
+        rows.push([
+            s.bell.to_string(),
+            s.row.to_string(),
+            s.place.to_string(),
+            if s.hand { "hand" } else { "back" }.to_string(),
+            format!("{:.6}", s.t),
+            format!("{:.6}", s.ideal_t),
+            s.double.map_or(String::new(), |d| format!("{:.1}", d.0 * 1e3)),
+            s.double.map_or(String::new(), |d| format!("{:.3}", d.1)),
+        ]);
+    }
+    rows
 }

@@ -235,6 +235,36 @@ fn start_afresh(
     Ok((range.start, bytes, None, sum))
 }
 
+/// Say where a run checkpoints (on a terminal, when strokes are left to
+/// do), and what an interruption leaves.
+fn announce(partial: &Path, to_do: bool) {
+    if std::io::IsTerminal::is_terminal(&std::io::stderr()) && to_do {
+        // Said before any Ctrl-C, so the files it leaves are no surprise.
+        eprintln!(
+            "checkpointing to {} as it goes: if this run is stopped, the same command resumes it",
+            partial.display()
+        );
+    }
+    crate::files::resumable(format!(
+        "the strokes done are kept in {}; run the same command again to resume",
+        partial.display()
+    ));
+}
+
+/// A block of computed strokes as the CSV's rows.
+fn rows_of(plan: &SweepPlan, cells: &[(usize, ChartCell)], columns: clapper_io::Columns) -> Result<Vec<u8>> {
+    let mut buf = Vec::new();
+    clapper_io::write_chart_rows(
+        &mut buf,
+        cells
+            .iter()
+            .map(|(k, c)| (plan.has_axes.then_some(&plan.charts[*k].0), c)),
+        columns,
+        false,
+    )?;
+    Ok(buf)
+}
+
 /// Compute `meta.range` of `plan` into `csv`, resuming an interrupted run.
 pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result<Outcome> {
     let columns = plan.columns();
@@ -257,17 +287,7 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
         Err(e) => return Err(e).with_context(|| format!("cannot read {}", journal_path.display())),
     };
 
-    if std::io::IsTerminal::is_terminal(&std::io::stderr()) && done < range.end {
-        // Said before any Ctrl-C, so the files it leaves are no surprise.
-        eprintln!(
-            "checkpointing to {} as it goes: if this run is stopped, the same command resumes it",
-            partial.display()
-        );
-    }
-    crate::files::resumable(format!(
-        "the strokes done are kept in {}; run the same command again to resume",
-        partial.display()
-    ));
+    announce(&partial, done < range.end);
     let bar = crate::progress::bar((range.end - range.start) as u64, "sweep");
     bar.set_position((done - range.start) as u64);
     let mut out = OpenOptions::new()
@@ -280,15 +300,7 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
         let end = range.end.min(done + f.block.max(1));
         let base = (done - range.start) as u64;
         let cells = pool.install(|| plan.cells(done..end, &|d| bar.set_position(base + d)))?;
-        let mut buf = Vec::new();
-        clapper_io::write_chart_rows(
-            &mut buf,
-            cells
-                .iter()
-                .map(|(k, c)| (plan.has_axes.then_some(&plan.charts[*k].0), c)),
-            columns,
-            false,
-        )?;
+        let buf = rows_of(plan, &cells, columns)?;
         out.write_all(&buf)
             .and_then(|()| out.sync_data())
             .with_context(|| format!("cannot write {}", partial.display()))?;

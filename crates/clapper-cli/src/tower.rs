@@ -92,6 +92,23 @@ fn read_rows(text: &str) -> Vec<String> {
         .collect()
 }
 
+/// A pair of curves, east-west in blue and north-south in orange.
+fn east_north(east: Vec<(f64, f64)>, north: Vec<(f64, f64)>) -> Vec<Curve> {
+    let (blue, orange) = (RGBColor(49, 130, 189), RGBColor(230, 85, 13));
+    vec![
+        Curve {
+            label: "east-west".into(),
+            points: east,
+            colour: blue,
+        },
+        Curve {
+            label: "north-south".into(),
+            points: north,
+            colour: orange,
+        },
+    ]
+}
+
 fn plot(path: &std::path::Path, a: &TowerAnswer) -> Result<()> {
     let r = &a.result;
     const MAX: usize = 6000;
@@ -99,32 +116,9 @@ fn plot(path: &std::path::Path, a: &TowerAnswer) -> Result<()> {
         let pts: Vec<(f64, f64)> = x.iter().enumerate().map(|(i, v)| (r.time(i), v * scale)).collect();
         thin(&pts, MAX)
     };
-    let (blue, orange) = (RGBColor(49, 130, 189), RGBColor(230, 85, 13));
-    let forces = vec![
-        Curve {
-            label: "east-west".into(),
-            points: series(&r.force_east, 1e-3),
-            colour: blue,
-        },
-        Curve {
-            label: "north-south".into(),
-            points: series(&r.force_north, 1e-3),
-            colour: orange,
-        },
-    ];
+    let forces = east_north(series(&r.force_east, 1e-3), series(&r.force_north, 1e-3));
     let sway = match &r.sway {
-        Some([e, n]) => vec![
-            Curve {
-                label: "east-west".into(),
-                points: series(&e.displacement, 1e3),
-                colour: blue,
-            },
-            Curve {
-                label: "north-south".into(),
-                points: series(&n.displacement, 1e3),
-                colour: orange,
-            },
-        ],
+        Some([e, n]) => east_north(series(&e.displacement, 1e3), series(&n.displacement, 1e3)),
         None => vec![],
     };
     let spec = |s: &clapper_tower::spectrum::Spectrum| -> Vec<(f64, f64)> {
@@ -137,18 +131,7 @@ fn plot(path: &std::path::Path, a: &TowerAnswer) -> Result<()> {
             .collect();
         thin(&pts, MAX)
     };
-    let spectra = vec![
-        Curve {
-            label: "east-west".into(),
-            points: spec(&r.spectrum_east),
-            colour: blue,
-        },
-        Curve {
-            label: "north-south".into(),
-            points: spec(&r.spectrum_north),
-            colour: orange,
-        },
-    ];
+    let spectra = east_north(spec(&r.spectrum_east), spec(&r.spectrum_north));
     let marks = a
         .report
         .tower

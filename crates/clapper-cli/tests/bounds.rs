@@ -39,7 +39,7 @@ fn runaways_and_aborts_are_refused_before_they_start() {
         "below critical damping",
     );
     refused(&["simulate", "--bell-friction", "1e9"], "gravity torque");
-    refused(&["simulate", "--pivot-offset", "1"], "pivot_offset_m");
+    refused(&["simulate", "--pivot-offset", "1"], "--pivot-offset 1 is out of range");
 }
 
 #[test]

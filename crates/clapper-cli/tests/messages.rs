@@ -273,3 +273,142 @@ fn serve_open_without_a_browser_says_one_line() {
     assert_eq!(said.trim(), "stopped");
     assert_eq!(status.code(), Some(0));
 }
+
+/// Issue 46: a value given as an option is named as the option, with the
+/// value as written (`--stay -1`), not by its key in a bell file or a
+/// request (`stay_deg = -1`); a bell file's key stays its own.
+#[test]
+fn an_option_out_of_range_is_named_as_the_option() {
+    for (args, want, not) in [
+        (vec!["ring-up", "--stay", "-1"], "--stay -1 is out of range", "stay_deg"),
+        (
+            vec!["ring-down", "--down", "200"],
+            "--down 200 is out of range",
+            "down_deg",
+        ),
+        (
+            vec!["ring-up", "--pull-force=-1"],
+            "--pull-force -1 is out of range",
+            "pull_force_n",
+        ),
+        (
+            vec!["ring-up", "--pull-window", "1e9"],
+            "--pull-window 1e9 is out of range",
+            "pull_window_deg",
+        ),
+        (
+            vec!["simulate", "--clapper-swings-to-halve", "0"],
+            "--clapper-swings-to-halve 0 is out of range",
+            "swings_to_halve",
+        ),
+        // A huge value in exponent form, not three hundred digits.
+        (
+            vec!["simulate", "--rtol", "1e300"],
+            "rtol 1e300 is out of range",
+            "00000",
+        ),
+        // A timing too quick is said as the timing, not the damping it stands for.
+        (
+            vec!["ring-up", "--bell-swings-to-halve", "0.01"],
+            "--bell-swings-to-halve 0.01 is out of range: more swings",
+            "damping_n_m_s",
+        ),
+        (
+            vec!["tower", "examples/lab-tower.toml", "--theta0", "0"],
+            "--theta0 0 is out of range",
+            "theta0_deg",
+        ),
+    ] {
+        let args: Vec<String> = args
+            .iter()
+            .map(|a| {
+                if a.ends_with(".toml") {
+                    checkout(a).display().to_string()
+                } else {
+                    a.to_string()
+                }
+            })
+            .collect();
+        let args: Vec<&str> = args.iter().map(String::as_str).collect();
+        let err = stderr_of(&args, 1);
+        assert!(err.contains(want) && !err.contains(not), "{args:?}: {err}");
+    }
+    // The ball's depth alone is refused by the options, not as "gap_hand_mm = NaN".
+    let err = stderr_of(&["ring-up", "--ball-below-pivot", "0.8"], 2);
+    assert!(err.contains("--gap-hand") && !err.contains("NaN"), "{err}");
+}
+
+/// Issue 46: no Rust struct in a message (`Timing { interval_s: 0.0, .. }`,
+/// `Room { rt60_s: 20.0, .. }`): each value said in words with its unit.
+#[test]
+fn no_message_shows_a_rust_struct() {
+    let dir = tempfile::tempdir().unwrap();
+    let ring = checkout("examples/lab-tower.toml").display().to_string();
+    let tower = dir.path().join("tower.toml");
+    std::fs::write(
+        &tower,
+        "[east_west]\nfrequency_hz = 0\ndamping_ratio = 0.02\nmodal_mass_kg = 1e5\n\
+         [north_south]\nfrequency_hz = 1.5\ndamping_ratio = 0.02\nmodal_mass_kg = 1e5\n",
+    )
+    .unwrap();
+    let wav = dir.path().join("ring.wav").display().to_string();
+    for (args, want) in [
+        (
+            vec!["tower", &ring, "--interval", "0"],
+            "the interval between strikes, 0 ms, is out of range",
+        ),
+        (
+            vec!["tower", &ring, "--dt", "1"],
+            "the histories' sampling interval, 1 s, is out of range",
+        ),
+        (
+            vec!["tower", &ring, "--tower", tower.to_str().unwrap()],
+            "east-west sway: frequency_hz 0 is out of range: a frequency above 0 Hz",
+        ),
+        (
+            vec!["synth-ring", "--out", &wav, "--rt60", "20"],
+            "--rt60 20 s is out of range",
+        ),
+        (
+            vec!["synth-ring", "--out", &wav, "--double", "1:0:2000:0.5"],
+            "--double 1:0:2000:0.5: delay 2000 ms is out of range",
+        ),
+        (
+            vec!["synth-ring", "--out", &wav, "--double", "9:0:50:0.5"],
+            "--double 9:0:50:0.5: no bell 9",
+        ),
+    ] {
+        let err = stderr_of(&args, 1);
+        assert!(err.contains(want), "{args:?}: {err}");
+        assert!(
+            !err.contains(" { ") && !err.contains(": None"),
+            "{args:?}: a struct: {err}"
+        );
+    }
+}
+
+/// Issue 46: `synth-log --name '1 2 3 4'` wrote a name that ringing-log
+/// read back as a sample; such a name is refused, and a name that reads
+/// back is read back.
+#[test]
+fn a_log_name_that_would_read_as_a_sample_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("bell.txt");
+    let path = log.to_str().unwrap();
+    for name in ["1 2 3 4", "7", " "] {
+        let err = stderr_of(&["synth-log", "--out", path, "--strokes", "40", "--name", name], 1);
+        assert!(
+            err.contains("--name") && err.contains("begin with a number"),
+            "{name:?}: {err}"
+        );
+        assert!(!log.exists(), "{name:?}: written");
+    }
+    stderr_of(
+        &["synth-log", "--out", path, "--strokes", "40", "--name", "Bell 1 2 3 4"],
+        0,
+    );
+    let out = clapper().args(["ringing-log", path, "--json"]).output().unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["bell"], "Bell 1 2 3 4");
+}

@@ -243,6 +243,15 @@ pub fn load_accel_log(path: &std::path::Path, axes: Axes) -> Result<AccelLog, Lo
     parse_accel_log(&text, axes)
 }
 
+/// Whether `name`, written as a sleuth log's trailer line, reads back as
+/// the bell's name: one line, not blank, and not beginning with a number
+/// (the reader takes a line that does for a sample).
+pub fn name_reads_back(name: &str) -> bool {
+    let one_line = !name.contains(['\n', '\r']);
+    let first = name.split_whitespace().next();
+    one_line && first.is_some_and(|f| f.parse::<f64>().is_err())
+}
+
 /// A log in the belfry-sleuth text format, the axes as [`Axes::default`]
 /// puts them (x along the pivot, y radial, z tangential), the time in whole
 /// milliseconds as the logger writes it, the name as a trailer line. A log
@@ -270,6 +279,16 @@ pub fn write_sleuth_log(log: &AccelLog) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_name_that_would_read_as_a_sample_is_told() {
+        for bad in ["1 2 3 4", "7", "-3 bells", "", "  ", "Bell\n1 2 3 4"] {
+            assert!(!name_reads_back(bad), "{bad:?}");
+        }
+        for good in ["Bell 1 2 3 4", "Tenor", "3rd"] {
+            assert!(name_reads_back(good), "{good:?}");
+        }
+    }
 
     #[test]
     fn a_sleuth_log_reads_with_its_name_and_axes() {

@@ -183,80 +183,107 @@ pub fn read_chart_csv(text: &str, name: &str) -> Result<Vec<(Option<Axes>, Chart
             shown(&header.join(","))
         )));
     };
-    let off = if axes { 3 } else { 0 };
+    let columns = Columns { axes, odd_struck };
     let mut out = vec![];
     for (k, rec) in rdr.records().enumerate() {
         let rec = rec.map_err(|e| err(format!("row {}: {}", k + 1, e.to_string().replace('\n', " "))))?;
-        let num = |i: usize| -> Result<Option<f64>, ChartCsvError> {
-            let f = rec.get(i).unwrap_or("");
-            if f.is_empty() {
-                return Ok(None);
-            }
-            f.parse::<f64>().map(Some).map_err(|_| {
-                err(format!(
-                    "row {}: {} in column {} is not a number",
-                    k + 1,
-                    shown(f),
-                    header[i]
-                ))
-            })
-        };
-        let need = |i: usize| num(i)?.ok_or_else(|| err(format!("row {}: {} is empty", k + 1, header[i])));
-        let a = if axes {
-            Some([need(0)?, need(1)?, need(2)?])
-        } else {
-            None
-        };
-        let style = match rec.get(off + 2) {
-            Some("right") => Style::Right,
-            Some("wrong") => Style::Wrong,
-            other => {
-                return Err(err(format!(
-                    "row {}: style {other:?} is neither right nor wrong",
-                    k + 1
-                )))
-            }
-        };
-        let sustained = match rec.get(off + 3) {
-            Some("true") => true,
-            Some("false") => false,
-            other => {
-                return Err(err(format!(
-                    "row {}: sustained {other:?} is neither true nor false",
-                    k + 1
-                )))
-            }
-        };
-        out.push((
-            a,
-            ChartCell {
-                x: need(off)?,
-                y: need(off + 1)?,
-                style,
-                result: Ok(StrokeSummary {
-                    sustained,
-                    strike_theta: num(off + 4)?.map(f64::to_radians),
-                    strike_phidot: num(off + 5)?,
-                    liftoff_theta: num(off + 6)?.map(f64::to_radians),
-                    double_strike_index: num(off + 7)?,
-                    second_strike_delay: None,
-                    odd_struck: if odd_struck {
-                        num(off + 8)?.map(|ms| ms * 1e-3)
-                    } else {
-                        None
-                    },
-                    amplitude_ratio: None,
-                }),
-            },
-        ));
+        out.push(read_row(&rec, k, &header, columns).map_err(err)?);
     }
     Ok(out)
+}
+
+/// A field as the message shows it: quoted, or "missing" for a short row.
+fn field_words(f: Option<&str>) -> String {
+    f.map_or_else(|| "missing".to_string(), shown)
+}
+
+/// Row `k` (from 0) of a chart CSV with `header` and `columns`: its axes
+/// and cell, or what is wrong with it.
+fn read_row(
+    rec: &csv::StringRecord,
+    k: usize,
+    header: &[String],
+    columns: Columns,
+) -> Result<(Option<Axes>, ChartCell), String> {
+    let off = if columns.axes { 3 } else { 0 };
+    let num = |i: usize| -> Result<Option<f64>, String> {
+        let f = rec.get(i).unwrap_or("");
+        if f.is_empty() {
+            return Ok(None);
+        }
+        f.parse::<f64>()
+            .map(Some)
+            .map_err(|_| format!("row {}: {} in column {} is not a number", k + 1, shown(f), header[i]))
+    };
+    let need = |i: usize| num(i)?.ok_or_else(|| format!("row {}: {} is empty", k + 1, header[i]));
+    let a = if columns.axes {
+        Some([need(0)?, need(1)?, need(2)?])
+    } else {
+        None
+    };
+    let style = match rec.get(off + 2) {
+        Some("right") => Style::Right,
+        Some("wrong") => Style::Wrong,
+        other => {
+            return Err(format!(
+                "row {}: style {} is neither right nor wrong",
+                k + 1,
+                field_words(other)
+            ))
+        }
+    };
+    let sustained = match rec.get(off + 3) {
+        Some("true") => true,
+        Some("false") => false,
+        other => {
+            return Err(format!(
+                "row {}: sustained {} is neither true nor false",
+                k + 1,
+                field_words(other)
+            ))
+        }
+    };
+    Ok((
+        a,
+        ChartCell {
+            x: need(off)?,
+            y: need(off + 1)?,
+            style,
+            result: Ok(StrokeSummary {
+                sustained,
+                strike_theta: num(off + 4)?.map(f64::to_radians),
+                strike_phidot: num(off + 5)?,
+                liftoff_theta: num(off + 6)?.map(f64::to_radians),
+                double_strike_index: num(off + 7)?,
+                second_strike_delay: None,
+                odd_struck: if columns.odd_struck {
+                    num(off + 8)?.map(|ms| ms * 1e-3)
+                } else {
+                    None
+                },
+                amplitude_ratio: None,
+            }),
+        },
+    ))
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use clapper_core::chart::{sweep, ChartSpec};
+
+    #[test]
+    fn a_bad_style_or_a_short_row_is_said_without_rust_debug() {
+        let header = CHART_HEADER.join(",");
+        let bad = format!("{header}\n-0.3,0.5,sideways,true,,,,\n");
+        let e = read_chart_csv(&bad, "c.csv").unwrap_err().to_string();
+        assert!(e.contains("style \"sideways\" is neither"), "{e}");
+        assert!(!e.contains("Some("), "{e}");
+        let e = read_chart_csv(&format!("{header}\n-0.3,0.5\n"), "c.csv")
+            .unwrap_err()
+            .to_string();
+        assert!(!e.contains("None"), "{e}");
+    }
 
     #[test]
     fn header_rows_and_empty_cells() {

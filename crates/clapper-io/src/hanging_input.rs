@@ -43,6 +43,16 @@ pub struct HangingInput {
     pub swing_amplitude_deg: Option<f64>,
 }
 
+/// A timing's error named by the joint's key (the core names it
+/// `swings_to_halve` for either joint).
+fn named(e: ParamError, key: &'static str) -> ParamError {
+    if e.field == "swings_to_halve" {
+        ParamError { field: key, ..e }
+    } else {
+        e
+    }
+}
+
 impl HangingInput {
     /// Whether nothing is given.
     pub fn is_empty(&self) -> bool {
@@ -105,8 +115,33 @@ impl HangingInput {
         }
         bell.hanging = h;
         self.apply_swing_timings(&mut bell)?;
-        bell.validate()?;
+        bell.validate().map_err(|e| self.timed_cause(e))?;
         Ok(bell)
+    }
+
+    /// A loss at a joint out of range, said as the swings-to-halve timing
+    /// it came from when it came from one (the user gave the timing, not
+    /// the damping it stands for).
+    fn timed_cause(&self, e: ParamError) -> ParamError {
+        const TOO_QUICK: &str =
+            "more swings: a decay as quick as this needs a loss at the joint that stops it swinging";
+        let bell = matches!(e.field, "bell_damping_n_m_s" | "bell_friction_n_m");
+        let clapper = matches!(e.field, "clapper_damping_n_m_s" | "clapper_friction_n_m");
+        match (self.bell_swings_to_halve, self.clapper_swings_to_halve) {
+            (Some(n), _) if bell && self.bell_damping.is_none() && self.bell_friction.is_none() => ParamError {
+                field: "bell_swings_to_halve",
+                value: n,
+                allowed: TOO_QUICK,
+            },
+            (_, Some(n)) if clapper && self.clapper_damping.is_none() && self.clapper_friction.is_none() => {
+                ParamError {
+                    field: "clapper_swings_to_halve",
+                    value: n,
+                    allowed: TOO_QUICK,
+                }
+            }
+            _ => e,
+        }
     }
 }
 
@@ -148,7 +183,9 @@ impl HangingInput {
         };
         if let Some(n) = self.bell_swings_to_halve {
             clash("bell_swings_to_halve", self.bell_damping, self.bell_friction)?;
-            let v = SwingDecay::bell_tied(bell, n).friction(loss, amplitude)?;
+            let v = SwingDecay::bell_tied(bell, n)
+                .friction(loss, amplitude)
+                .map_err(|e| named(e, "bell_swings_to_halve"))?;
             let f = &mut bell.hanging.friction;
             match loss {
                 SwingLoss::Viscous => f.bell_damping = v,
@@ -157,7 +194,9 @@ impl HangingInput {
         }
         if let Some(n) = self.clapper_swings_to_halve {
             clash("clapper_swings_to_halve", self.clapper_damping, self.clapper_friction)?;
-            let v = SwingDecay::clapper_in_still_bell(bell, n).friction(loss, amplitude)?;
+            let v = SwingDecay::clapper_in_still_bell(bell, n)
+                .friction(loss, amplitude)
+                .map_err(|e| named(e, "clapper_swings_to_halve"))?;
             let f = &mut bell.hanging.friction;
             match loss {
                 SwingLoss::Viscous => f.clapper_damping = v,

@@ -174,6 +174,34 @@ fn draw_chart<DB: DrawingBackend>(root: &DrawingArea<DB, Shift>, fig: &ChartFigu
     Ok(())
 }
 
+/// The region's boundary in `p`: every cell edge with the region on one
+/// side only, as segments in chart coordinates (`xr`, `yr`: each cell's
+/// extent along x and y).
+fn region_edges(p: &Panel, xr: &[(f64, f64)], yr: &[(f64, f64)]) -> Vec<[(f64, f64); 2]> {
+    let nx = p.xs.len();
+    let inside = |i: isize, j: isize| -> bool {
+        i >= 0 && j >= 0 && (i as usize) < nx && (j as usize) < p.ys.len() && p.region[j as usize * nx + i as usize]
+    };
+    let mut edges = Vec::new();
+    for j in 0..p.ys.len() as isize {
+        for i in 0..=nx as isize {
+            if inside(i - 1, j) != inside(i, j) {
+                let x = if i == 0 { xr[0].0 } else { xr[i as usize - 1].1 };
+                edges.push([(x, yr[j as usize].0), (x, yr[j as usize].1)]);
+            }
+        }
+    }
+    for i in 0..nx as isize {
+        for j in 0..=p.ys.len() as isize {
+            if inside(i, j - 1) != inside(i, j) {
+                let y = if j == 0 { yr[0].0 } else { yr[j as usize - 1].1 };
+                edges.push([(xr[i as usize].0, y), (xr[i as usize].1, y)]);
+            }
+        }
+    }
+    edges
+}
+
 fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel, fig: &ChartFigure) -> DrawResult<DB> {
     let xr = half_steps(&p.xs, p.xs[0] - 0.5, p.xs[0] + 0.5);
     let yr = half_steps(&p.ys, p.ys[0] - 0.5, p.ys[0] + 0.5);
@@ -204,27 +232,7 @@ fn draw_panel<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, p: &Panel, fig:
             colour_of(&fig.scale, v).filled(),
         ))
     }))?;
-    // Region boundaries: every cell edge with the region on one side only.
-    let inside = |i: isize, j: isize| -> bool {
-        i >= 0 && j >= 0 && (i as usize) < nx && (j as usize) < p.ys.len() && p.region[j as usize * nx + i as usize]
-    };
-    let mut edges = Vec::new();
-    for j in 0..p.ys.len() as isize {
-        for i in 0..=nx as isize {
-            if inside(i - 1, j) != inside(i, j) {
-                let x = if i == 0 { xr[0].0 } else { xr[i as usize - 1].1 };
-                edges.push([(x, yr[j as usize].0), (x, yr[j as usize].1)]);
-            }
-        }
-    }
-    for i in 0..nx as isize {
-        for j in 0..=p.ys.len() as isize {
-            if inside(i, j - 1) != inside(i, j) {
-                let y = if j == 0 { yr[0].0 } else { yr[j as usize - 1].1 };
-                edges.push([(xr[i as usize].0, y), (xr[i as usize].1, y)]);
-            }
-        }
-    }
+    let edges = region_edges(p, &xr, &yr);
     chart.draw_series(edges.into_iter().map(|e| PathElement::new(e, BLACK.stroke_width(2))))?;
     let within = |&(x, y): &(f64, f64)| x >= x0 && x <= x1 && y >= y0 && y <= y1;
     let markers: Vec<&Marker> = fig.markers.iter().filter(|m| within(&(m.x, m.y))).collect();

@@ -24,18 +24,26 @@ pub struct Sway {
 impl Sway {
     /// Checks the numbers.
     pub fn validate(&self, which: &str) -> Result<(), TowerError> {
-        let ok = self.frequency_hz.is_finite()
-            && self.frequency_hz > 0.0
-            && (0.0..1.0).contains(&self.damping_ratio)
-            && self.modal_mass_kg.is_finite()
-            && self.modal_mass_kg > 0.0;
-        if ok {
-            Ok(())
-        } else {
-            Err(TowerError::Tower(format!(
-                "{which} sway: frequency > 0 Hz, damping ratio in [0, 1) and modal mass > 0 kg, not {self:?}"
-            )))
+        let bad = |what: String| Err(TowerError::Tower(format!("{which} sway: {what}")));
+        if !(self.frequency_hz.is_finite() && self.frequency_hz > 0.0) {
+            return bad(format!(
+                "frequency_hz {} is out of range: a frequency above 0 Hz",
+                self.frequency_hz
+            ));
         }
+        if !(0.0..1.0).contains(&self.damping_ratio) {
+            return bad(format!(
+                "damping_ratio {} is out of range: a fraction of critical from 0 up to, not including, 1",
+                self.damping_ratio
+            ));
+        }
+        if !(self.modal_mass_kg.is_finite() && self.modal_mass_kg > 0.0) {
+            return bad(format!(
+                "modal_mass_kg {} is out of range: a mass above 0 kg",
+                self.modal_mass_kg
+            ));
+        }
+        Ok(())
     }
 
     /// ω = 2πf (rad/s).

@@ -69,22 +69,32 @@ impl Timing {
     }
 
     fn validate(&self) -> Result<(), TowerError> {
-        let ok = self.interval_s.is_finite()
-            && self.interval_s > 0.0
-            && self.handstroke_gap.is_finite()
-            && self.handstroke_gap >= 0.0
-            && self.striking_sd_ms.is_finite()
-            && self.striking_sd_ms >= 0.0
-            && self.dt_s.is_finite()
-            && self.dt_s > 0.0
-            && self.dt_s <= 0.05;
-        if ok {
-            Ok(())
-        } else {
-            Err(TowerError::Ring(format!(
-                "timing: interval > 0, gap >= 0, striking sd >= 0, 0 < dt <= 0.05 s; not {self:?}"
-            )))
+        let bad = |what: String| Err(TowerError::Ring(format!("timing: {what}")));
+        if !(self.interval_s.is_finite() && self.interval_s > 0.0) {
+            return bad(format!(
+                "the interval between strikes, {} ms, is out of range: above 0 ms",
+                self.interval_s * 1e3
+            ));
         }
+        if !(self.handstroke_gap.is_finite() && self.handstroke_gap >= 0.0) {
+            return bad(format!(
+                "the handstroke gap, {} intervals, is out of range: 0 or more",
+                self.handstroke_gap
+            ));
+        }
+        if !(self.striking_sd_ms.is_finite() && self.striking_sd_ms >= 0.0) {
+            return bad(format!(
+                "the striking errors' standard deviation, {} ms, is out of range: 0 ms or more",
+                self.striking_sd_ms
+            ));
+        }
+        if !(self.dt_s.is_finite() && self.dt_s > 0.0 && self.dt_s <= 0.05) {
+            return bad(format!(
+                "the histories' sampling interval, {} s, is out of range: above 0 s and at most 0.05 s",
+                self.dt_s
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -290,39 +300,10 @@ pub fn ring_touch(
     }
     crate::rows::check_rows(rows, n_bells)?;
     let pull = timing.whole_pull(n_bells);
-    let strokes: Vec<BellStrokes> = bells
-        .iter()
-        .map(|b| {
-            let theta0 = match timing.theta0 {
-                Some(t) => t,
-                None => {
-                    theta0_for(&b.bell, cfg, pull / 2.0).map_err(|e| TowerError::Ring(format!("{}: {e}", b.name)))?
-                }
-            };
-            bell_strokes(&b.bell, cfg, theta0).map_err(|e| TowerError::Ring(format!("{}: {e}", b.name)))
-        })
-        .collect::<Result<_, _>>()?;
-    // Strike times: the row's rhythm plus the band's errors.
-    let mut rng = Pcg64::seed_from_u64(timing.seed);
-    let sd = timing.striking_sd_ms / 1000.0;
-    let mut strikes = vec![Vec::with_capacity(rows.len()); n_bells];
-    for (k, row) in rows.iter().enumerate() {
-        for (p, &b) in row.iter().enumerate() {
-            let err = if sd > 0.0 { sd * normal(&mut rng) } else { 0.0 };
-            strikes[b as usize].push(timing.strike_time(n_bells, k, p) + err);
-        }
-    }
+    let strokes = all_strokes(bells, timing, cfg, pull)?;
+    let strikes = strike_times(rows, timing, n_bells);
     let dt = timing.dt_s;
-    let mut first = f64::INFINITY;
-    let mut last = f64::NEG_INFINITY;
-    for (b, s) in strokes.iter().enumerate() {
-        first = first.min(strikes[b][0] - s.hand.to_strike);
-        let k = rows.len() - 1;
-        let load = if k % 2 == 0 { &s.hand } else { &s.back };
-        last = last.max(strikes[b][k] - load.to_strike + load.duration);
-    }
-    let t0 = (first / dt).floor() * dt;
-    let n = ((last - t0) / dt).ceil() as usize + 1;
+    let (t0, n) = span(&strokes, &strikes, rows.len(), dt);
     let placed = Placed {
         strokes: &strokes,
         strikes: &strikes,
@@ -330,30 +311,8 @@ pub fn ring_touch(
         dt,
         n,
     };
-    let mut fe = vec![0.0; n];
-    let mut fnn = vec![0.0; n];
-    let mut vert = vec![0.0; n];
-    let mut me = vec![0.0; n];
-    let mut mn = vec![0.0; n];
-    let mut tor = vec![0.0; n];
-    let mut h = vec![0.0; n];
-    let mut v = vec![0.0; n];
-    for (b, rb) in bells.iter().enumerate() {
-        h.iter_mut().for_each(|x| *x = 0.0);
-        v.iter_mut().for_each(|x| *x = 0.0);
-        placed.add(b, &mut h, Some(&mut v));
-        let (ue, un) = rb.place.direction();
-        let p = &rb.place;
-        for j in 0..n {
-            let (e, no) = (ue * h[j], un * h[j]);
-            fe[j] += e;
-            fnn[j] += no;
-            vert[j] += v[j];
-            me[j] += e * p.pivot_height_m + v[j] * p.x_m;
-            mn[j] += no * p.pivot_height_m + v[j] * p.y_m;
-            tor[j] += p.x_m * no - p.y_m * e;
-        }
-    }
+    let loads = Loads::of(bells, &placed);
+    let (fe, fnn) = (loads.east, loads.north);
     let sway = tower.map(|t| [respond(&t.east_west, &fe, dt), respond(&t.north_south, &fnn, dt)]);
     let spectrum_east = spectrum(&fe, dt);
     let spectrum_north = spectrum(&fnn, dt);
@@ -364,9 +323,144 @@ pub fn ring_touch(
         ]),
         _ => None,
     };
-    let bell_summaries = bells
+    let mut result = TouchResult {
+        t0,
+        dt,
+        rows: rows.to_vec(),
+        timing: *timing,
+        whole_pull_s: pull,
+        bells: bell_summaries(bells, &strokes),
+        strikes: strikes.clone(),
+        force_east: fe,
+        force_north: fnn,
+        vertical: loads.vertical,
+        moment_east: loads.moment_east,
+        moment_north: loads.moment_north,
+        torsion: loads.torsion,
+        spectrum_east,
+        spectrum_north,
+        sway,
+        sway_summary,
+        turns: vec![],
+    };
+    result.turns = turns(bells, &placed, &result, tower);
+    Ok(result)
+}
+
+/// Each bell's handstroke and backstroke, from its balance angle: the
+/// timing's, or the one that fits half a whole pull `pull` (s).
+fn all_strokes(
+    bells: &[RingBell],
+    timing: &Timing,
+    cfg: &SimConfig,
+    pull: f64,
+) -> Result<Vec<BellStrokes>, TowerError> {
+    bells
         .iter()
-        .zip(&strokes)
+        .map(|b| {
+            let theta0 = match timing.theta0 {
+                Some(t) => t,
+                None => {
+                    theta0_for(&b.bell, cfg, pull / 2.0).map_err(|e| TowerError::Ring(format!("{}: {e}", b.name)))?
+                }
+            };
+            bell_strokes(&b.bell, cfg, theta0).map_err(|e| TowerError::Ring(format!("{}: {e}", b.name)))
+        })
+        .collect()
+}
+
+/// Each bell's strike times (s), row by row: the row's rhythm plus the
+/// band's errors.
+fn strike_times(rows: &[Vec<u8>], timing: &Timing, n_bells: usize) -> Vec<Vec<f64>> {
+    let mut rng = Pcg64::seed_from_u64(timing.seed);
+    let sd = timing.striking_sd_ms / 1000.0;
+    let mut strikes = vec![Vec::with_capacity(rows.len()); n_bells];
+    for (k, row) in rows.iter().enumerate() {
+        for (p, &b) in row.iter().enumerate() {
+            let err = if sd > 0.0 { sd * normal(&mut rng) } else { 0.0 };
+            strikes[b as usize].push(timing.strike_time(n_bells, k, p) + err);
+        }
+    }
+    strikes
+}
+
+/// The histories' start (s, a whole step of `dt`) and length (steps):
+/// from the first stroke's start to the last stroke's end.
+fn span(strokes: &[BellStrokes], strikes: &[Vec<f64>], rows: usize, dt: f64) -> (f64, usize) {
+    let mut first = f64::INFINITY;
+    let mut last = f64::NEG_INFINITY;
+    for (b, s) in strokes.iter().enumerate() {
+        first = first.min(strikes[b][0] - s.hand.to_strike);
+        let k = rows - 1;
+        let load = if k % 2 == 0 { &s.hand } else { &s.back };
+        last = last.max(strikes[b][k] - load.to_strike + load.duration);
+    }
+    let t0 = (first / dt).floor() * dt;
+    let n = ((last - t0) / dt).ceil() as usize + 1;
+    (t0, n)
+}
+
+/// The whole ring's loads on the frame, step by step.
+struct Loads {
+    /// Horizontal force east (N).
+    east: Vec<f64>,
+    /// Horizontal force north (N).
+    north: Vec<f64>,
+    /// Vertical force above the bells' weight (N).
+    vertical: Vec<f64>,
+    /// Moment tilting east about the base (N m).
+    moment_east: Vec<f64>,
+    /// Moment tilting north about the base (N m).
+    moment_north: Vec<f64>,
+    /// Torsion about the vertical (N m).
+    torsion: Vec<f64>,
+}
+
+impl Loads {
+    /// Every bell's loads, each along its own swing, summed.
+    fn of(bells: &[RingBell], placed: &Placed<'_>) -> Loads {
+        let n = placed.n;
+        let mut fe = vec![0.0; n];
+        let mut fnn = vec![0.0; n];
+        let mut vert = vec![0.0; n];
+        let mut me = vec![0.0; n];
+        let mut mn = vec![0.0; n];
+        let mut tor = vec![0.0; n];
+        let mut h = vec![0.0; n];
+        let mut v = vec![0.0; n];
+        for (b, rb) in bells.iter().enumerate() {
+            h.iter_mut().for_each(|x| *x = 0.0);
+            v.iter_mut().for_each(|x| *x = 0.0);
+            placed.add(b, &mut h, Some(&mut v));
+            let (ue, un) = rb.place.direction();
+            let p = &rb.place;
+            for j in 0..n {
+                let (e, no) = (ue * h[j], un * h[j]);
+                fe[j] += e;
+                fnn[j] += no;
+                vert[j] += v[j];
+                me[j] += e * p.pivot_height_m + v[j] * p.x_m;
+                mn[j] += no * p.pivot_height_m + v[j] * p.y_m;
+                tor[j] += p.x_m * no - p.y_m * e;
+            }
+        }
+        Loads {
+            east: fe,
+            north: fnn,
+            vertical: vert,
+            moment_east: me,
+            moment_north: mn,
+            torsion: tor,
+        }
+    }
+}
+
+/// Each bell's line of the report: its weight, balance, strokes and peak
+/// loads over its weight.
+fn bell_summaries(bells: &[RingBell], strokes: &[BellStrokes]) -> Vec<BellSummary> {
+    bells
+        .iter()
+        .zip(strokes)
         .map(|(b, s)| BellSummary {
             name: b.name.clone(),
             weight_n: s.weight,
@@ -377,29 +471,7 @@ pub fn ring_touch(
             vertical_factor: 1.0 + s.hand.peak_vertical().max(s.back.peak_vertical()) / s.weight,
             place: b.place,
         })
-        .collect();
-    let mut result = TouchResult {
-        t0,
-        dt,
-        rows: rows.to_vec(),
-        timing: *timing,
-        whole_pull_s: pull,
-        bells: bell_summaries,
-        strikes: strikes.clone(),
-        force_east: fe,
-        force_north: fnn,
-        vertical: vert,
-        moment_east: me,
-        moment_north: mn,
-        torsion: tor,
-        spectrum_east,
-        spectrum_north,
-        sway,
-        sway_summary,
-        turns: vec![],
-    };
-    result.turns = turns(bells, &placed, &result, tower);
-    Ok(result)
+        .collect()
 }
 
 /// Each bell turned 90 deg alone: the peak force and sway after.

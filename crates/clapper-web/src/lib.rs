@@ -30,6 +30,7 @@
 mod api;
 mod assets;
 mod error;
+mod explain;
 mod hosts;
 mod jobs;
 mod uploads;
@@ -226,7 +227,8 @@ pub async fn serve(
             _ = &mut shutdown => break,
         };
         let service = hyper_util::service::TowerToHyperService::new(app.clone());
-        let conn = graceful.watch(http.serve_connection(TokioIo::new(stream), service));
+        let io = TokioIo::new(explain::Explained::new(stream));
+        let conn = graceful.watch(http.serve_connection(io, service));
         tokio::spawn(async move {
             let _ = conn.await;
             drop(permit);

@@ -191,3 +191,55 @@ async fn the_time_limit_holds_inside_one_block() {
         &text[..text.len().min(400)]
     );
 }
+
+/// The whole answer to `request`, sent on a new connection.
+async fn answer_to(addr: std::net::SocketAddr, request: &[u8]) -> String {
+    let mut s = TcpStream::connect(addr).await.unwrap();
+    s.write_all(request).await.unwrap();
+    let mut answer = Vec::new();
+    tokio::time::timeout(Duration::from_secs(30), s.read_to_end(&mut answer))
+        .await
+        .expect("an answer within 30 s")
+        .unwrap();
+    String::from_utf8_lossy(&answer).into_owned()
+}
+
+/// Issue 46: hyper answers a request line or headers past its limits
+/// itself (414, 431, 400) and its answers had empty bodies; each now says
+/// what was wrong, as `{"error": ...}` with a content-length that fits.
+#[tokio::test(flavor = "multi_thread", worker_threads = 2)]
+async fn answers_hyper_gives_itself_say_what_was_wrong() {
+    let addr = start().await;
+    let long_uri = format!(
+        "GET /api/health?{} HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n",
+        "a".repeat(70_000)
+    );
+    let many_headers = format!(
+        "GET /api/health HTTP/1.1\r\nHost: {addr}\r\n{}Connection: close\r\n\r\n",
+        (0..200).map(|i| format!("X-Extra-{i}: 1\r\n")).collect::<String>()
+    );
+    let garbage = "NOT HTTP AT ALL\r\n\r\n".to_string();
+    for (request, status, says) in [
+        (long_uri, "414", "URI is too long"),
+        (many_headers, "431", "headers are too large"),
+        (garbage, "400", "not well-formed HTTP/1.1"),
+    ] {
+        let answer = answer_to(addr, request.as_bytes()).await;
+        assert_eq!(&answer[9..12], status, "{answer}");
+        let (head, body) = answer.split_once("\r\n\r\n").expect("a head and a body");
+        assert!(
+            head.to_ascii_lowercase()
+                .contains(&format!("content-length: {}", body.len())),
+            "{answer}"
+        );
+        let v: serde_json::Value = serde_json::from_str(body).expect("a JSON body");
+        assert!(v["error"].as_str().unwrap().contains(says), "{answer}");
+    }
+    // The server still answers.
+    let ok = answer_to(
+        addr,
+        format!("GET /api/health HTTP/1.1\r\nHost: {addr}\r\nConnection: close\r\n\r\n").as_bytes(),
+    )
+    .await;
+    assert_eq!(&ok[9..12], "200", "{ok}");
+}

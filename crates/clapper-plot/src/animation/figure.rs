@@ -196,6 +196,167 @@ pub struct Figure {
     pub reach: f64,
 }
 
+/// Where the drawn bell's profile sits, in the bell's frame (m).
+struct Profile {
+    /// Height of the lip (m, negative: below the pivot).
+    lip: f64,
+    /// Metres per unit of the profile's height (D for a typical bell).
+    u: f64,
+    /// Mouth diameter D (m).
+    d: f64,
+}
+
+impl Profile {
+    /// The profile fitted to a clapper hung at `pivot`, its ball of radius
+    /// `ball` (m) touching the inner wall at `strike_points`.
+    ///
+    /// Heights from where the clapper hangs: the crown's inside just above
+    /// its pivot, the lip just below its ball hanging straight down (its
+    /// flight may hang below). The profile is stretched to fit between
+    /// them (`u`, D for a typical bell), and the mouth is as wide as makes
+    /// the inner wall meet the ball at the strike's height.
+    fn fitted(bell: &Bell, ball: f64, strike_points: &[[f64; 2]; 2]) -> Profile {
+        let inner = 0.5 * (strike_points[0][0].abs() + strike_points[1][0].abs());
+        let strike_y = 0.5 * (strike_points[0][1] + strike_points[1][1]);
+        let crown_inside = -bell.r + 0.6 * ball;
+        let lip = (-bell.r - bell.b - 1.1 * ball).min(strike_y - 0.3 * ball);
+        let u = (crown_inside - lip) / INNER[INNER.len() - 1].1;
+        let h = ((strike_y - lip) / u).clamp(0.0, 0.7);
+        let d = (2.0 * inner / inner_radius_at(h)).max(2e-3);
+        Profile { lip, u, d }
+    }
+
+    /// The bell's cross-section: outer wall up one side and down the
+    /// other, then the inner wall back (m).
+    fn outline(&self) -> Vec<[f64; 2]> {
+        let radius = self.d / 2.0;
+        let at = |(x, h): (f64, f64), side: f64| [side * x * radius, self.lip + h * self.u];
+        let mut outline: Vec<[f64; 2]> = OUTER.iter().map(|&p| at(p, 1.0)).collect();
+        outline.extend(OUTER.iter().rev().skip(1).map(|&p| at(p, -1.0)));
+        outline.extend(INNER.iter().map(|&p| at(p, -1.0)));
+        outline.extend(INNER.iter().rev().skip(1).map(|&p| at(p, 1.0)));
+        outline
+    }
+
+    /// Height of the crown's top in the bell's frame (m).
+    fn crown(&self) -> f64 {
+        self.lip + OUTER[OUTER.len() - 1].1 * self.u
+    }
+}
+
+/// A rectangle from corner (x0, y0) to corner (x1, y1).
+fn rect(x0: f64, y0: f64, x1: f64, y1: f64) -> Shape {
+    Shape::Polygon {
+        points: vec![[x0, y0], [x1, y0], [x1, y1], [x0, y1]],
+    }
+}
+
+/// The wheel with its spokes (so that it is seen to turn), the stay, the
+/// headstock, the bell and the contact marks from `pivot` to each strike
+/// point, and the gudgeon, in the bell's frame.
+fn bell_parts(profile: &Profile, pivot: [f64; 2], strike_points: &[[f64; 2]; 2]) -> Vec<Part> {
+    let d = profile.d;
+    let crown = profile.crown();
+    let top = crown.max(0.0) + 0.1 * d;
+    let wheel = 0.7 * d;
+    let thin = 0.006 * d;
+    let mut parts = vec![Part {
+        shape: Shape::Circle {
+            centre: [0.0, 0.0],
+            radius: wheel,
+        },
+        fill: None,
+        stroke: Some(colours::WHEEL),
+        width: 0.02 * d,
+        dashed: false,
+    }];
+    for k in 0..6 {
+        let a = std::f64::consts::PI * (k as f64 / 3.0 + 1.0 / 6.0);
+        parts.push(Part::line(
+            vec![[0.0, 0.0], [wheel * a.cos(), wheel * a.sin()]],
+            colours::WHEEL,
+            0.008 * d,
+            false,
+        ));
+    }
+    parts.push(Part::filled(
+        rect(-0.02 * d, top, 0.02 * d, top + 0.45 * d),
+        colours::WOOD,
+        colours::WOOD_DARK,
+        thin,
+    ));
+    parts.push(Part::filled(
+        rect(-0.28 * d, crown.min(0.0) - 0.02 * d, 0.28 * d, top),
+        colours::WOOD_DARK,
+        colours::WOOD_DARK,
+        thin,
+    ));
+    parts.push(Part::filled(
+        Shape::Polygon {
+            points: profile.outline(),
+        },
+        colours::BRONZE,
+        colours::BRONZE_DARK,
+        thin,
+    ));
+    for (p, colour) in strike_points.iter().zip([colours::HAND, colours::BACK]) {
+        parts.push(Part::line(vec![pivot, *p], colour, 0.5 * thin, true));
+    }
+    parts.push(Part::filled(
+        Shape::Circle {
+            centre: [0.0, 0.0],
+            radius: 0.03 * d,
+        },
+        colours::IRON,
+        colours::IRON,
+        thin,
+    ));
+    parts
+}
+
+/// The clapper in its own frame: shaft, flight, a ball of radius `ball`
+/// centred `b` below its pivot (m), and the pivot's mark; outlines `thin`
+/// wide (m).
+fn clapper_parts(b: f64, ball: f64, thin: f64) -> Vec<Part> {
+    let shaft = (b - ball).max(0.0);
+    vec![
+        Part::line(vec![[0.0, 0.0], [0.0, -shaft]], colours::IRON, 0.45 * ball, false),
+        Part::filled(
+            rect(-0.22 * ball, -b, 0.22 * ball, -b - 2.2 * ball),
+            colours::IRON,
+            colours::IRON,
+            thin,
+        ),
+        Part::filled(
+            Shape::Circle {
+                centre: [0.0, -b],
+                radius: ball,
+            },
+            colours::IRON,
+            colours::INK,
+            thin,
+        ),
+        Part::filled(
+            Shape::Circle {
+                centre: [0.0, 0.0],
+                radius: 0.3 * ball,
+            },
+            colours::MARK,
+            colours::IRON,
+            thin,
+        ),
+    ]
+}
+
+/// The farthest any point of `parts` lies from the origin (m).
+fn farthest(parts: &[Part]) -> f64 {
+    parts
+        .iter()
+        .flat_map(Part::points)
+        .map(|p| p[0].hypot(p[1]))
+        .fold(0.0, f64::max)
+}
+
 impl Figure {
     /// The drawing of `bell`: the ball (half the clapper's mass, iron)
     /// centred at b, the clapper's centre of mass; the bell's lip just below
@@ -217,131 +378,20 @@ impl Figure {
             [c[0] + s * ball * phi.cos(), c[1] + s * ball * phi.sin()]
         };
         let strike_points = [touch(stops[0]), touch(stops[1])];
-        let inner = 0.5 * (strike_points[0][0].abs() + strike_points[1][0].abs());
-        let strike_y = 0.5 * (strike_points[0][1] + strike_points[1][1]);
-        // Heights from where the clapper hangs: the crown's inside just above
-        // its pivot, the lip just below its ball hanging straight down (its
-        // flight may hang below). The profile is stretched to fit between
-        // them (`u`, D for a typical bell), and the mouth is as wide as
-        // makes the inner wall meet the ball at the strike's height.
-        let crown_inside = -bell.r + 0.6 * ball;
-        let lip = (-bell.r - bell.b - 1.1 * ball).min(strike_y - 0.3 * ball);
-        let u = (crown_inside - lip) / INNER[INNER.len() - 1].1;
-        let h = ((strike_y - lip) / u).clamp(0.0, 0.7);
-        let d = (2.0 * inner / inner_radius_at(h)).max(2e-3);
-        let radius = d / 2.0;
-        let at = |(x, h): (f64, f64), side: f64| [side * x * radius, lip + h * u];
-        let mut outline: Vec<[f64; 2]> = OUTER.iter().map(|&p| at(p, 1.0)).collect();
-        outline.extend(OUTER.iter().rev().skip(1).map(|&p| at(p, -1.0)));
-        outline.extend(INNER.iter().map(|&p| at(p, -1.0)));
-        outline.extend(INNER.iter().rev().skip(1).map(|&p| at(p, 1.0)));
-        let crown = lip + OUTER[OUTER.len() - 1].1 * u;
-        let top = crown.max(0.0) + 0.1 * d;
-        let rect = |x0: f64, y0: f64, x1: f64, y1: f64| Shape::Polygon {
-            points: vec![[x0, y0], [x1, y0], [x1, y1], [x0, y1]],
-        };
-        let wheel = 0.7 * d;
-        let thin = 0.006 * d;
-        let mut parts = vec![Part {
-            shape: Shape::Circle {
-                centre: [0.0, 0.0],
-                radius: wheel,
-            },
-            fill: None,
-            stroke: Some(colours::WHEEL),
-            width: 0.02 * d,
-            dashed: false,
-        }];
-        // Spokes, so that the wheel is seen to turn.
-        for k in 0..6 {
-            let a = std::f64::consts::PI * (k as f64 / 3.0 + 1.0 / 6.0);
-            parts.push(Part::line(
-                vec![[0.0, 0.0], [wheel * a.cos(), wheel * a.sin()]],
-                colours::WHEEL,
-                0.008 * d,
-                false,
-            ));
-        }
-        parts.push(Part::filled(
-            rect(-0.02 * d, top, 0.02 * d, top + 0.45 * d),
-            colours::WOOD,
-            colours::WOOD_DARK,
-            thin,
-        ));
-        parts.push(Part::filled(
-            rect(-0.28 * d, crown.min(0.0) - 0.02 * d, 0.28 * d, top),
-            colours::WOOD_DARK,
-            colours::WOOD_DARK,
-            thin,
-        ));
-        parts.push(Part::filled(
-            Shape::Polygon { points: outline },
-            colours::BRONZE,
-            colours::BRONZE_DARK,
-            thin,
-        ));
-        for (p, colour) in strike_points.iter().zip([colours::HAND, colours::BACK]) {
-            parts.push(Part::line(vec![pivot, *p], colour, 0.5 * thin, true));
-        }
-        parts.push(Part::filled(
-            Shape::Circle {
-                centre: [0.0, 0.0],
-                radius: 0.03 * d,
-            },
-            colours::IRON,
-            colours::IRON,
-            thin,
-        ));
-        let shaft = (bell.b - ball).max(0.0);
-        let clapper = vec![
-            Part::line(vec![[0.0, 0.0], [0.0, -shaft]], colours::IRON, 0.45 * ball, false),
-            Part::filled(
-                rect(-0.22 * ball, -bell.b, 0.22 * ball, -bell.b - 2.2 * ball),
-                colours::IRON,
-                colours::IRON,
-                thin,
-            ),
-            Part::filled(
-                Shape::Circle {
-                    centre: [0.0, -bell.b],
-                    radius: ball,
-                },
-                colours::IRON,
-                colours::INK,
-                thin,
-            ),
-            Part::filled(
-                Shape::Circle {
-                    centre: [0.0, 0.0],
-                    radius: 0.3 * ball,
-                },
-                colours::MARK,
-                colours::IRON,
-                thin,
-            ),
-        ];
-        let norm = |p: &[f64; 2]| p[0].hypot(p[1]);
-        let bell_reach = parts
-            .iter()
-            .flat_map(Part::points)
-            .map(|p| norm(&p))
-            .fold(0.0, f64::max);
-        let clapper_reach = norm(&pivot)
-            + clapper
-                .iter()
-                .flat_map(Part::points)
-                .map(|p| norm(&p))
-                .fold(0.0, f64::max);
+        let profile = Profile::fitted(bell, ball, &strike_points);
+        let parts = bell_parts(&profile, pivot, &strike_points);
+        let clapper = clapper_parts(bell.b, ball, 0.006 * profile.d);
+        let clapper_reach = pivot[0].hypot(pivot[1]) + farthest(&clapper);
         Figure {
+            reach: farthest(&parts).max(clapper_reach),
             bell: parts,
             clapper,
             clapper_pivot: pivot,
             stops,
             strike_points,
-            diameter: d,
-            lip,
-            height: OUTER[OUTER.len() - 1].1 * u,
-            reach: bell_reach.max(clapper_reach),
+            diameter: profile.d,
+            lip: profile.lip,
+            height: OUTER[OUTER.len() - 1].1 * profile.u,
         }
     }
 

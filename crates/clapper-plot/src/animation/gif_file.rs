@@ -8,7 +8,8 @@ use plotters::coord::Shift;
 use plotters::prelude::*;
 
 use super::figure::{colours, rotate, Part, Shape};
-use super::{caption, check_size, Animation, Layout, FLASH_S};
+use super::layout::{caption, check_size, Layout};
+use super::model::{Animation, BellMotion, Frame, FLASH_S};
 use crate::PlotError;
 
 fn rgb(hex: &str) -> RGBColor {
@@ -134,6 +135,148 @@ fn dashes(pts: &[(i32, i32)], on: f64, off: f64) -> Vec<Vec<(i32, i32)>> {
     out
 }
 
+/// A drawing failure in the GIF, as the crate's error.
+fn draw_err(m: String) -> PlotError {
+    PlotError::Draw {
+        path: "(gif)".into(),
+        message: m,
+    }
+}
+
+/// An encoder's failure, as the crate's error.
+fn gif_err(e: gif::EncodingError) -> PlotError {
+    PlotError::Draw {
+        path: "(gif)".into(),
+        message: e.to_string(),
+    }
+}
+
+/// What every picture of one GIF shares: the animation, its layout and
+/// its fonts.
+struct Painter<'a> {
+    anim: &'a Animation,
+    l: Layout,
+    title_font: TextStyle<'a>,
+    caption_font: TextStyle<'a>,
+}
+
+impl Painter<'_> {
+    /// Draw picture `j` (showing frame `now`) into `area`: the title, each
+    /// bell, and the time bar along the bottom.
+    fn picture(
+        &self,
+        area: &DrawingArea<crate::bitmap_text::Bitmap<'_>, Shift>,
+        j: usize,
+        now: &Frame,
+    ) -> Result<(), PlotError> {
+        let (anim, l) = (self.anim, &self.l);
+        area.fill(&rgb(colours::PAPER)).map_err(|e| draw_err(e.to_string()))?;
+        let (tw, _) = area
+            .estimate_text_size(&anim.title, &self.title_font)
+            .map_err(|e| draw_err(e.to_string()))?;
+        area.draw_text(
+            &anim.title,
+            &self.title_font,
+            (((l.width - f64::from(tw)) / 2.0) as i32, (0.4 * l.font) as i32),
+        )
+        .map_err(|e| draw_err(e.to_string()))?;
+        for ((b, c), cap) in anim.bells.iter().zip(&l.centres).zip(&l.captions) {
+            self.bell(area, b, &b.frames[j], *c, *cap)?;
+        }
+        let bar = (l.width * now.t / anim.duration).round() as i32;
+        let height = l.height as i32;
+        area.draw(&Rectangle::new(
+            [(0, height - 4), (bar, height)],
+            rgb(colours::MARK).filled(),
+        ))
+        .map_err(|e| draw_err(e.to_string()))?;
+        area.present().map_err(|e| draw_err(e.to_string()))
+    }
+
+    /// Draw bell `b` at frame `fr`, its pivot at `c` and its caption at
+    /// `cap` (px): the vertical, the bell, the clapper, any strike's flash.
+    fn bell(
+        &self,
+        area: &DrawingArea<crate::bitmap_text::Bitmap<'_>, Shift>,
+        b: &BellMotion,
+        fr: &Frame,
+        c: [f64; 2],
+        cap: [f64; 2],
+    ) -> Result<(), PlotError> {
+        let l = &self.l;
+        let f = &b.figure;
+        let pen = Pen {
+            area,
+            scale: l.scale,
+            centre: c,
+        };
+        let (mark, d) = (rgb(colours::MARK), f.diameter);
+        for seg in dashes(&[pen.px([0.0, 0.0]), pen.px([0.0, -f.reach])], 6.0, 4.0) {
+            area.draw(&PathElement::new(seg, mark.stroke_width(1)))
+                .map_err(|e| draw_err(e.to_string()))?;
+        }
+        for p in &f.bell {
+            pen.part(p, |q| rotate(q, fr.theta)).map_err(draw_err)?;
+        }
+        for p in &f.clapper {
+            pen.part(p, |q| rotate(f.clapper_to_bell(q, fr.phi), fr.theta))
+                .map_err(draw_err)?;
+        }
+        for s in b.strikes.iter().filter(|s| (0.0..FLASH_S).contains(&(fr.t - s.t))) {
+            let at = rotate(f.strike_points[usize::from(s.side > 0)], fr.theta);
+            let r = ((if s.first { 0.07 } else { 0.045 }) * d * l.scale).max(3.0) as i32;
+            area.draw(&Circle::new(pen.px(at), r, rgb(colours::FLASH).filled()))
+                .map_err(|e| draw_err(e.to_string()))?;
+            area.draw(&Circle::new(pen.px(at), r, rgb(colours::FLASH_RIM).stroke_width(2)))
+                .map_err(|e| draw_err(e.to_string()))?;
+        }
+        let text = caption(self.anim, b);
+        let (cw, _) = area
+            .estimate_text_size(&text, &self.caption_font)
+            .map_err(|e| draw_err(e.to_string()))?;
+        area.draw_text(
+            &text,
+            &self.caption_font,
+            ((cap[0] - f64::from(cw) / 2.0) as i32, (cap[1] - 0.8 * l.font) as i32),
+        )
+        .map_err(|e| draw_err(e.to_string()))
+    }
+}
+
+/// An RGB picture's pixels as palette indices, through the 15-bit `lut`.
+fn indexed(rgb_buf: &[u8], lut: &[u8]) -> Vec<u8> {
+    rgb_buf
+        .chunks_exact(3)
+        .map(|p| {
+            let c = (usize::from(p[0] >> 3) << 10) | (usize::from(p[1] >> 3) << 5) | usize::from(p[2] >> 3);
+            lut[c]
+        })
+        .collect()
+}
+
+/// The GIF frame of picture `idx` (`w` × `h` palette indices): only the
+/// rectangle that changed since `prev`, over the picture before.
+fn frame_of<'a>(prev: Option<&[u8]>, idx: &[u8], w: usize, h: usize, delay: u16) -> gif::Frame<'a> {
+    let (x0, y0, x1, y1) = match prev {
+        None => (0, 0, w, h),
+        Some(p) => changed(p, idx, w, h).unwrap_or((0, 0, 1, 1)),
+    };
+    let mut sub = Vec::with_capacity((x1 - x0) * (y1 - y0));
+    for y in y0..y1 {
+        sub.extend_from_slice(&idx[y * w + x0..y * w + x1]);
+    }
+    gif::Frame {
+        delay,
+        dispose: gif::DisposalMethod::Keep,
+        left: x0 as u16,
+        top: y0 as u16,
+        width: (x1 - x0) as u16,
+        height: (y1 - y0) as u16,
+        buffer: std::borrow::Cow::Owned(sub),
+        ..gif::Frame::default()
+    }
+}
+
 /// The animation as a GIF, `width` × `height` px, one picture per frame
 /// (the frames must be at one rate: the delay is the first interval,
 /// in hundredths of a second as GIF counts). Every bell must have the same
@@ -152,13 +295,11 @@ pub fn animation_gif(anim: &Animation, width: u32, height: u32) -> Result<Vec<u8
     let lut = lookup(&pal);
     let flat: Vec<u8> = pal.iter().flatten().copied().collect();
     let (w, h) = (width as usize, height as usize);
-    let gif_err = |e: gif::EncodingError| PlotError::Draw {
-        path: "(gif)".into(),
-        message: e.to_string(),
-    };
-    let draw_err = |m: String| PlotError::Draw {
-        path: "(gif)".into(),
-        message: m,
+    let painter = Painter {
+        anim,
+        title_font: ("sans-serif", l.font).into_font().color(&rgb(colours::INK)),
+        caption_font: ("sans-serif", 0.85 * l.font).into_font().color(&rgb(colours::INK)),
+        l,
     };
     let mut out = Vec::new();
     {
@@ -166,95 +307,14 @@ pub fn animation_gif(anim: &Animation, width: u32, height: u32) -> Result<Vec<u8
         enc.set_repeat(gif::Repeat::Infinite).map_err(gif_err)?;
         let mut rgb_buf = vec![0u8; w * h * 3];
         let mut prev: Option<Vec<u8>> = None;
-        let title_font = ("sans-serif", l.font).into_font().color(&rgb(colours::INK));
-        let caption_font = ("sans-serif", 0.85 * l.font).into_font().color(&rgb(colours::INK));
         for (j, now) in frames.iter().enumerate() {
             {
                 let area = crate::bitmap_text::Bitmap::with_buffer(&mut rgb_buf, (width, height)).into_drawing_area();
-                area.fill(&rgb(colours::PAPER)).map_err(|e| draw_err(e.to_string()))?;
-                let (tw, _) = area
-                    .estimate_text_size(&anim.title, &title_font)
-                    .map_err(|e| draw_err(e.to_string()))?;
-                area.draw_text(
-                    &anim.title,
-                    &title_font,
-                    (((l.width - f64::from(tw)) / 2.0) as i32, (0.4 * l.font) as i32),
-                )
-                .map_err(|e| draw_err(e.to_string()))?;
-                for ((b, c), cap) in anim.bells.iter().zip(&l.centres).zip(&l.captions) {
-                    let fr = &b.frames[j];
-                    let f = &b.figure;
-                    let pen = Pen {
-                        area: &area,
-                        scale: l.scale,
-                        centre: *c,
-                    };
-                    let (mark, d) = (rgb(colours::MARK), f.diameter);
-                    for seg in dashes(&[pen.px([0.0, 0.0]), pen.px([0.0, -f.reach])], 6.0, 4.0) {
-                        area.draw(&PathElement::new(seg, mark.stroke_width(1)))
-                            .map_err(|e| draw_err(e.to_string()))?;
-                    }
-                    for p in &f.bell {
-                        pen.part(p, |q| rotate(q, fr.theta)).map_err(draw_err)?;
-                    }
-                    for p in &f.clapper {
-                        pen.part(p, |q| rotate(f.clapper_to_bell(q, fr.phi), fr.theta))
-                            .map_err(draw_err)?;
-                    }
-                    for s in b.strikes.iter().filter(|s| (0.0..FLASH_S).contains(&(fr.t - s.t))) {
-                        let at = rotate(f.strike_points[usize::from(s.side > 0)], fr.theta);
-                        let r = ((if s.first { 0.07 } else { 0.045 }) * d * l.scale).max(3.0) as i32;
-                        area.draw(&Circle::new(pen.px(at), r, rgb(colours::FLASH).filled()))
-                            .map_err(|e| draw_err(e.to_string()))?;
-                        area.draw(&Circle::new(pen.px(at), r, rgb(colours::FLASH_RIM).stroke_width(2)))
-                            .map_err(|e| draw_err(e.to_string()))?;
-                    }
-                    let text = caption(anim, b);
-                    let (cw, _) = area
-                        .estimate_text_size(&text, &caption_font)
-                        .map_err(|e| draw_err(e.to_string()))?;
-                    area.draw_text(
-                        &text,
-                        &caption_font,
-                        ((cap[0] - f64::from(cw) / 2.0) as i32, (cap[1] - 0.8 * l.font) as i32),
-                    )
-                    .map_err(|e| draw_err(e.to_string()))?;
-                }
-                let bar = (l.width * now.t / anim.duration).round() as i32;
-                area.draw(&Rectangle::new(
-                    [(0, height as i32 - 4), (bar, height as i32)],
-                    rgb(colours::MARK).filled(),
-                ))
-                .map_err(|e| draw_err(e.to_string()))?;
-                area.present().map_err(|e| draw_err(e.to_string()))?;
+                painter.picture(&area, j, now)?;
             }
-            let idx: Vec<u8> = rgb_buf
-                .chunks_exact(3)
-                .map(|p| {
-                    let c = (usize::from(p[0] >> 3) << 10) | (usize::from(p[1] >> 3) << 5) | usize::from(p[2] >> 3);
-                    lut[c]
-                })
-                .collect();
-            // Only the rectangle that changed, over the picture before.
-            let (x0, y0, x1, y1) = match &prev {
-                None => (0, 0, w, h),
-                Some(p) => changed(p, &idx, w, h).unwrap_or((0, 0, 1, 1)),
-            };
-            let mut sub = Vec::with_capacity((x1 - x0) * (y1 - y0));
-            for y in y0..y1 {
-                sub.extend_from_slice(&idx[y * w + x0..y * w + x1]);
-            }
-            let frame = gif::Frame {
-                delay,
-                dispose: gif::DisposalMethod::Keep,
-                left: x0 as u16,
-                top: y0 as u16,
-                width: (x1 - x0) as u16,
-                height: (y1 - y0) as u16,
-                buffer: std::borrow::Cow::Owned(sub),
-                ..gif::Frame::default()
-            };
-            enc.write_frame(&frame).map_err(gif_err)?;
+            let idx = indexed(&rgb_buf, &lut);
+            enc.write_frame(&frame_of(prev.as_deref(), &idx, w, h, delay))
+                .map_err(gif_err)?;
             prev = Some(idx);
         }
     }
@@ -282,7 +342,7 @@ fn changed(a: &[u8], b: &[u8], w: usize, h: usize) -> Option<(usize, usize, usiz
 
 #[cfg(test)]
 mod tests {
-    use super::super::tests::swinging;
+    use super::super::model::tests::swinging;
     use super::*;
 
     #[test]

@@ -5,7 +5,8 @@
 use base64::Engine as _;
 use serde_json::{json, Value};
 
-use super::{esc, Animation};
+use super::layout::esc;
+use super::model::Animation;
 use crate::PlotError;
 
 /// The canvas player: `ClapperPlayer.mount(element, data, audioUrl)`,
@@ -99,7 +100,7 @@ window.player = ClapperPlayer.mount(document.getElementById("player"), clapperDa
 
 #[cfg(test)]
 mod tests {
-    use super::super::tests::swinging;
+    use super::super::model::tests::swinging;
     use super::*;
 
     #[test]

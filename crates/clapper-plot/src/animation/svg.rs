@@ -6,7 +6,8 @@
 use std::fmt::Write as _;
 
 use super::figure::{colours, Part, Shape};
-use super::{caption, check_size, esc, Animation, Layout, FLASH_S};
+use super::layout::{caption, check_size, esc, Layout};
+use super::model::{Animation, BellMotion, FLASH_S};
 use crate::PlotError;
 
 fn part_svg(o: &mut String, p: &Part) {
@@ -58,6 +59,71 @@ fn rotation(o: &mut String, times: &[f64], angles: impl Iterator<Item = f64>, du
     );
 }
 
+/// Bell `i` of the animation, `b`, its pivot at `c` and its caption at
+/// `cap` (px): the vertical, the bell turning through θ, the clapper
+/// inside it through φ, each strike's flash, and the caption.
+fn bell_svg(o: &mut String, anim: &Animation, l: &Layout, i: usize, b: &BellMotion, c: [f64; 2], cap: [f64; 2]) {
+    let dur = anim.duration;
+    let f = &b.figure;
+    let times: Vec<f64> = b.frames.iter().map(|fr| fr.t).collect();
+    let _ = writeln!(
+        o,
+        r#"<g id="bell-{i}" transform="translate({:.3} {:.3}) scale({} {})">"#,
+        c[0], c[1], l.scale, -l.scale
+    );
+    let _ = writeln!(
+        o,
+        r#"<line x1="0" y1="0" x2="0" y2="{}" stroke="{}" stroke-width="{}" stroke-dasharray="{} {}"/>"#,
+        -f.reach,
+        colours::MARK,
+        0.004 * f.diameter,
+        0.03 * f.diameter,
+        0.02 * f.diameter
+    );
+    let _ = writeln!(o, r#"<g class="bell">"#);
+    rotation(o, &times, b.frames.iter().map(|fr| fr.theta), dur);
+    for p in &f.bell {
+        part_svg(o, p);
+    }
+    let _ = writeln!(
+        o,
+        r#"<g transform="translate({} {})"><g class="clapper">"#,
+        f.clapper_pivot[0], f.clapper_pivot[1]
+    );
+    rotation(o, &times, b.frames.iter().map(|fr| fr.phi), dur);
+    for p in &f.clapper {
+        part_svg(o, p);
+    }
+    let _ = writeln!(o, "</g></g>");
+    for s in &b.strikes {
+        let at = f.strike_points[usize::from(s.side > 0)];
+        let on = s.t / dur;
+        let off = ((s.t + FLASH_S) / dur).min(1.0);
+        let r = if s.first { 0.07 } else { 0.045 } * f.diameter;
+        let _ = writeln!(
+            o,
+            r#"<circle class="strike" data-t="{}" cx="{:.5}" cy="{:.5}" r="{:.5}" fill="{}" stroke="{}" stroke-width="{:.5}" opacity="0"><animate attributeName="opacity" calcMode="discrete" dur="{dur}s" repeatCount="indefinite" keyTimes="0;{on};{off}" values="0;1;0"/></circle>"#,
+            s.t,
+            at[0],
+            at[1],
+            r,
+            colours::FLASH,
+            colours::FLASH_RIM,
+            0.01 * f.diameter
+        );
+    }
+    let _ = writeln!(o, "</g></g>");
+    let _ = writeln!(
+        o,
+        r#"<text x="{:.1}" y="{:.1}" font-size="{:.1}" text-anchor="middle" fill="{}">{}</text>"#,
+        cap[0],
+        cap[1],
+        0.85 * l.font,
+        colours::INK,
+        esc(&caption(anim, b))
+    );
+}
+
 /// The animation as SVG text, `width` × `height` px.
 pub fn animation_svg(anim: &Animation, width: u32, height: u32) -> Result<String, PlotError> {
     anim.check()?;
@@ -85,64 +151,7 @@ pub fn animation_svg(anim: &Animation, width: u32, height: u32) -> Result<String
         esc(&anim.title)
     );
     for (i, ((b, c), cap)) in anim.bells.iter().zip(&l.centres).zip(&l.captions).enumerate() {
-        let f = &b.figure;
-        let times: Vec<f64> = b.frames.iter().map(|fr| fr.t).collect();
-        let _ = writeln!(
-            o,
-            r#"<g id="bell-{i}" transform="translate({:.3} {:.3}) scale({} {})">"#,
-            c[0], c[1], l.scale, -l.scale
-        );
-        let _ = writeln!(
-            o,
-            r#"<line x1="0" y1="0" x2="0" y2="{}" stroke="{}" stroke-width="{}" stroke-dasharray="{} {}"/>"#,
-            -f.reach,
-            colours::MARK,
-            0.004 * f.diameter,
-            0.03 * f.diameter,
-            0.02 * f.diameter
-        );
-        let _ = writeln!(o, r#"<g class="bell">"#);
-        rotation(&mut o, &times, b.frames.iter().map(|fr| fr.theta), dur);
-        for p in &f.bell {
-            part_svg(&mut o, p);
-        }
-        let _ = writeln!(
-            o,
-            r#"<g transform="translate({} {})"><g class="clapper">"#,
-            f.clapper_pivot[0], f.clapper_pivot[1]
-        );
-        rotation(&mut o, &times, b.frames.iter().map(|fr| fr.phi), dur);
-        for p in &f.clapper {
-            part_svg(&mut o, p);
-        }
-        let _ = writeln!(o, "</g></g>");
-        for s in &b.strikes {
-            let at = f.strike_points[usize::from(s.side > 0)];
-            let on = s.t / dur;
-            let off = ((s.t + FLASH_S) / dur).min(1.0);
-            let r = if s.first { 0.07 } else { 0.045 } * f.diameter;
-            let _ = writeln!(
-                o,
-                r#"<circle class="strike" data-t="{}" cx="{:.5}" cy="{:.5}" r="{:.5}" fill="{}" stroke="{}" stroke-width="{:.5}" opacity="0"><animate attributeName="opacity" calcMode="discrete" dur="{dur}s" repeatCount="indefinite" keyTimes="0;{on};{off}" values="0;1;0"/></circle>"#,
-                s.t,
-                at[0],
-                at[1],
-                r,
-                colours::FLASH,
-                colours::FLASH_RIM,
-                0.01 * f.diameter
-            );
-        }
-        let _ = writeln!(o, "</g></g>");
-        let _ = writeln!(
-            o,
-            r#"<text x="{:.1}" y="{:.1}" font-size="{:.1}" text-anchor="middle" fill="{}">{}</text>"#,
-            cap[0],
-            cap[1],
-            0.85 * l.font,
-            colours::INK,
-            esc(&caption(anim, b))
-        );
+        bell_svg(&mut o, anim, &l, i, b, *c, *cap);
     }
     // A bar that fills over the animation: where in it you are.
     let _ = writeln!(
@@ -157,7 +166,7 @@ pub fn animation_svg(anim: &Animation, width: u32, height: u32) -> Result<String
 
 #[cfg(test)]
 mod tests {
-    use super::super::tests::swinging;
+    use super::super::model::tests::swinging;
     use super::*;
 
     /// The `values` of the `n`th animateTransform.
