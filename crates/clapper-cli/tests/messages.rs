@@ -301,6 +301,12 @@ fn an_option_out_of_range_is_named_as_the_option() {
             "--clapper-swings-to-halve 0 is out of range",
             "swings_to_halve",
         ),
+        // The amplitude given alone is named, not the loss it goes with.
+        (
+            vec!["ring-up", "--swing-amplitude", "10"],
+            "--swing-amplitude 10 is out of range: only with a swings-to-halve timing",
+            "swing_loss",
+        ),
         // A huge value in exponent form, not three hundred digits.
         (
             vec!["simulate", "--rtol", "1e300"],

@@ -72,14 +72,14 @@ impl HangingInput {
                 return Err(ParamError {
                     field: "gap_hand_mm",
                     value: self.gap_hand_mm.unwrap_or(f64::NAN),
-                    allowed: "either the gaps or phi_max_hand/phi_max_back, not both",
+                    allowed: "either the tape gaps or the contact angles of the two sides, not both",
                 });
             }
             let [Some(hand), Some(back), Some(ball)] = gaps else {
                 return Err(ParamError {
                     field: "gap_hand_mm",
                     value: self.gap_hand_mm.unwrap_or(f64::NAN),
-                    allowed: "given with gap_back_mm and ball_below_pivot_m: all three or none",
+                    allowed: "the two gaps and the ball's depth below the clapper pivot go together: all three or none",
                 });
             };
             h.phi_max_skew = skew_from_gaps(hand * 1e-3, back * 1e-3, ball, bell.phi_max)?;
@@ -154,10 +154,16 @@ impl HangingInput {
         let timed = self.bell_swings_to_halve.is_some() || self.clapper_swings_to_halve.is_some();
         if !timed {
             if self.swing_loss.is_some() || self.swing_amplitude_deg.is_some() {
+                // Named by what was given: the loss (a word, no value) or
+                // the amplitude.
+                let (field, value) = match (self.swing_loss, self.swing_amplitude_deg) {
+                    (None, Some(a)) => ("swing_amplitude_deg", a),
+                    _ => ("swing_loss", f64::NAN),
+                };
                 return Err(ParamError {
-                    field: "swing_loss",
-                    value: self.swing_amplitude_deg.unwrap_or(f64::NAN),
-                    allowed: "with bell_swings_to_halve or clapper_swings_to_halve",
+                    field,
+                    value,
+                    allowed: "only with a swings-to-halve timing of the bell or of the clapper",
                 });
             }
             return Ok(());
@@ -167,7 +173,7 @@ impl HangingInput {
             return Err(ParamError {
                 field: "swing_amplitude_deg",
                 value: self.swing_amplitude_deg.unwrap_or(f64::NAN),
-                allowed: "only with swing_loss = coulomb (a viscous decay needs no amplitude)",
+                allowed: "only with a Coulomb swing loss (a viscous decay needs no amplitude)",
             });
         }
         let clash = |field, damping: Option<f64>, friction: Option<f64>| {
