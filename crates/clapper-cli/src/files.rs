@@ -332,9 +332,13 @@ mod tests {
 
     #[test]
     fn a_folder_is_refused_as_an_output_before_anything_is_written() {
-        let dir = tempfile::tempdir().unwrap();
+        // The folder given as the output sits in a folder of its own, so the
+        // count of partial files is not disturbed by other runs in /tmp.
+        let parent = tempfile::tempdir().unwrap();
+        let out = parent.path().join("out");
+        std::fs::create_dir(&out).unwrap();
         let mut ran = false;
-        let e = write_atomically(dir.path(), |_| {
+        let e = write_atomically(&out, |_| {
             ran = true;
             Ok(())
         })
@@ -343,7 +347,7 @@ mod tests {
         assert!(e.contains("it is a folder"), "{e}");
         assert!(!ran);
         assert_eq!(
-            std::fs::read_dir(dir.path().parent().unwrap())
+            std::fs::read_dir(parent.path())
                 .unwrap()
                 .filter(|f| f.as_ref().unwrap().file_name().to_string_lossy().contains("partial"))
                 .count(),

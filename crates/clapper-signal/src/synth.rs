@@ -94,7 +94,12 @@ pub fn synthesize(spec: &SynthSpec) -> Result<Signal, SignalError> {
             && m.effective_mass.is_finite();
         if !ok {
             return Err(SignalError::Option(format!(
-                "mode {m:?}: positive values below half the sample rate"
+                "a mode at {} Hz, Q {}, effective mass {} kg, doublet split {} Hz: positive values, the frequency below half the sample rate ({} Hz)",
+                m.freq_hz,
+                m.q,
+                m.effective_mass,
+                m.doublet_split_hz,
+                spec.rate / 2.0
             )));
         }
     }

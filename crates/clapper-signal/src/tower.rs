@@ -351,7 +351,10 @@ fn check(spec: &TowerSpec) -> Result<(), SignalError> {
     let detune_ok = v.detune_cents.is_finite() && (0.0..=100.0).contains(&v.detune_cents);
     let strength_ok = v.strength_db.is_finite() && (0.0..=20.0).contains(&v.strength_db);
     if !(detune_ok && strength_ok) {
-        return bad(format!("variation {v:?}: 0 to 100 cents and 0 to 20 dB"));
+        return bad(format!(
+            "bell-to-bell variation of {} cents and {} dB: 0 to 100 cents and 0 to 20 dB",
+            v.detune_cents, v.strength_db
+        ));
     }
     if let Some(r) = spec.room {
         let ok = r.rt60_s.is_finite()
@@ -362,7 +365,8 @@ fn check(spec: &TowerSpec) -> Result<(), SignalError> {
             && (0.0..=200.0).contains(&r.predelay_ms);
         if !ok {
             return bad(format!(
-                "room {r:?}: reverberation 0 to 10 s, pre-delay 0 to 200 ms, a finite direct-to-reverberant ratio"
+                "a room of RT60 {} s, pre-delay {} ms, direct-to-reverberant {} dB: RT60 over 0 and up to 10 s, pre-delay 0 to 200 ms, a finite direct-to-reverberant ratio",
+                r.rt60_s, r.predelay_ms, r.direct_to_reverb_db
             ));
         }
     }
@@ -389,7 +393,8 @@ fn check(spec: &TowerSpec) -> Result<(), SignalError> {
             && d.amplitude_ratio <= 1.0;
         if !ok {
             return bad(format!(
-                "double strike {d:?}: a bell and row of the ring, delay 0 to 1000 ms, ratio in (0, 1]"
+                "a double strike of bell {} in row {} after {} ms at {} of the strike: a bell and row of the ring ({} bells, {} rows), delay over 0 and under 1000 ms, ratio in (0, 1]",
+                d.bell, d.row, d.delay_ms, d.amplitude_ratio, spec.bells.len(), spec.rows
             ));
         }
     }
@@ -770,6 +775,36 @@ mod tests {
             noise: Noise::White,
             attack: None,
         }
+    }
+
+    /// A refused ring says its values in words with their units, never as a
+    /// Rust struct (issue 46's messages).
+    #[test]
+    fn refusals_say_their_values_in_words() {
+        let mut spec = ring(4);
+        spec.room = Some(Room {
+            rt60_s: 20.0,
+            direct_to_reverb_db: 0.0,
+            predelay_ms: 10.0,
+        });
+        let e = check(&spec).unwrap_err().to_string();
+        assert!(e.contains("RT60 20 s") && !e.contains('{'), "{e}");
+        let mut spec = ring(4);
+        spec.variation = Variation {
+            detune_cents: 500.0,
+            strength_db: 1.0,
+        };
+        let e = check(&spec).unwrap_err().to_string();
+        assert!(e.contains("500 cents") && !e.contains('{'), "{e}");
+        let mut spec = ring(4);
+        spec.doubles = vec![DoubleStrikeSpec {
+            bell: 9,
+            row: 0,
+            delay_ms: 60.0,
+            amplitude_ratio: 0.5,
+        }];
+        let e = check(&spec).unwrap_err().to_string();
+        assert!(e.contains("bell 9") && e.contains("4 bells") && !e.contains('{'), "{e}");
     }
 
     /// One bell of nominal 1000 Hz struck on every stroke, its partials

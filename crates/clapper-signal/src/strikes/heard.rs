@@ -93,7 +93,8 @@ pub(super) fn check_options(o: &StrikeOptions) -> Result<(), SignalError> {
         Ok(())
     } else {
         Err(SignalError::Option(format!(
-            "strike options {o:?}: separation 0.2 to 5 s, a double-strike window from 5 ms up and shorter than the separation, a ratio in (0, 2]"
+            "strike options (separation {} s, double-strike window {} to {} ms, ratio {}): separation 0.2 to 5 s, a double-strike window from 5 ms up and shorter than the separation, a ratio in (0, 2]",
+            o.min_separation_s, o.double_window_ms.0, o.double_window_ms.1, o.double_min_ratio
         )))
     }
 }
