@@ -20,12 +20,16 @@ const UNITS: [&str; 12] = [
     "rad",
 ];
 
+/// Keys a range option's ends are checked under (the chart's axes).
+const ALIASES: [(&str, &str); 2] = [("lb_range", "lb_over_lc"), ("r_range", "r_over_lc")];
+
 /// Whether `key` (a file or request key) is option `opt` (its name without
 /// the dashes, in snake case): the same name, the name with a unit
 /// (`stay` -> `stay_deg`), or the key qualified by the option
 /// (`bell_swings_to_halve` -> `swings_to_halve`).
 fn names(opt: &str, key: &str) -> bool {
     opt == key
+        || ALIASES.contains(&(opt, key))
         || key
             .strip_prefix(opt)
             .and_then(|rest| rest.strip_prefix('_'))
@@ -117,6 +121,15 @@ mod tests {
                 &args("simulate --clapper-swings-to-halve 0")
             ),
             "--clapper-swings-to-halve 0 is out"
+        );
+    }
+
+    #[test]
+    fn a_chart_axis_is_said_as_its_range_option() {
+        let m = "lb_over_lc = -1 is out of range: a finite number > 0";
+        assert_eq!(
+            as_given(m, &args("chart --lb-range -1,2")),
+            "--lb-range -1,2 is out of range: a finite number > 0"
         );
     }
 

@@ -166,11 +166,11 @@ impl RingerConfig {
         }
         if let Some(f) = self.pull_force {
             if !(f.is_finite() && f > 0.0) {
-                return bad("pull_force_n", f, "a finite force > 0");
+                return bad("pull_force_n", f, "a finite force > 0 N");
             }
         }
         if !(self.wheel_radius.is_finite() && self.wheel_radius > 0.0) {
-            return bad("wheel_radius_m", self.wheel_radius, "a finite radius > 0");
+            return bad("wheel_radius_m", self.wheel_radius, "a finite radius > 0 m");
         }
         for (field, v) in [
             ("pull_window_deg", self.window),
@@ -183,7 +183,11 @@ impl RingerConfig {
             }
         }
         if self.start >= self.stay || self.down >= self.stay {
-            return bad("stay_deg", self.stay.to_degrees(), "above start_deg and down_deg");
+            return bad(
+                "stay_deg",
+                self.stay.to_degrees(),
+                "above the angles ringing up starts from and ringing down ends at (deg)",
+            );
         }
         Ok(())
     }
