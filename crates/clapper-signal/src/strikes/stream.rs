@@ -138,7 +138,8 @@ pub struct Window<'a> {
 /// 1), heard window by window ([`Windows`]). `each` sees every window with
 /// its strikes (times from the window's start) before they are kept, to
 /// time them again against the window's audio (templates), say, or to
-/// read its level. Warnings said by several windows are said once.
+/// read its level. Warnings said by several windows are said once, and
+/// a bell's warning (not heard) not at all if another window heard it.
 pub fn find_strikes_streamed(
     src: &mut dyn RecordingBlocks,
     voices: &[BellVoice],
@@ -202,6 +203,11 @@ pub fn find_strikes_streamed(
         }
     }
     let strikes = once(kept, opts.min_separation_s);
+    if plan.len() > 1 {
+        // A bell not heard in one window but heard in others was heard:
+        // the finder's warnings of a bell start "bell N: ".
+        warnings.retain(|m| !strikes.iter().any(|s| m.starts_with(&format!("bell {}: ", s.bell))));
+    }
     Ok(Heard { strikes, warnings })
 }
 
