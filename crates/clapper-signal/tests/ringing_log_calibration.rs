@@ -183,3 +183,22 @@ fn thirty_logs_with_offsets_gains_and_a_ringing_headstock() {
     assert!(w.offset <= 0.05, "offset off by {} m/s²", w.offset);
     assert!(w.gain <= 0.005, "gain off by {}", w.gain);
 }
+
+/// Stands too short to be read as rests (1.2 s on the stay): each stroke
+/// that falls from one is read at the stand's angle, within 2 deg.
+#[test]
+fn short_stands_are_read_at_their_angle() {
+    let mut w = Worst::default();
+    for seed in [11u64, 12, 13] {
+        let mut spec = shaped_like_data141(seed, [0.5, -0.4, 0.2], [1.02, 0.99, 1.0], 12);
+        spec.stand_s = 1.2;
+        let (log, truth) = synth_log(&spec).expect("synthesised");
+        let log = upside_down(log);
+        let got = analyse_log(&log, &LogOptions::default()).expect("read");
+        let mut one = Worst::default();
+        check(&spec, &log, &truth, &got, &mut one);
+        eprintln!("seed {seed}: {one:?}");
+        w.stand = w.stand.max(one.stand);
+    }
+    assert!(w.stand <= 2.0, "stand off by {} deg", w.stand);
+}

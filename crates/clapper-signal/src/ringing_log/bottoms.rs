@@ -66,8 +66,11 @@ pub(super) fn strokes(
             from = from.max(t.partition_point(|&x| x < r.1 - 0.5));
         }
         // From the smoothed angle: the largest of noisy samples overshoots.
-        let amplitude = match stood {
-            Some(r) if r.2.signum() == side => r.2.abs(),
+        // A stand's still samples first: a rest's mean angle, smoothed over
+        // a second, mixes readings either side of the ±200 deg hold.
+        let amplitude = match (short_stand(t, theta, burst, (from, k), side), stood) {
+            (Some(h), _) => h,
+            (None, Some(r)) if r.2.signum() == side => r.2.abs(),
             _ => turning_height(t, theta, smooth, burst, (from, k), side),
         };
         let until = bdcs.get(i + 1).map_or(f64::INFINITY, |b| b.0);
@@ -75,6 +78,61 @@ pub(super) fn strokes(
     }
     out
 }
+
+/// A stand too short to be read as a rest (Data141's last about 2 s, the
+/// first second of it with the headstock still ringing from the strike):
+/// the longest run of clean samples among `from..=k` at the balance (over
+/// 150 deg, under 200 on `side`), still (|θ'| under 0.1 rad/s), lasting at least
+/// [`SHORT_STAND_S`]; its median |θ| (rad).
+fn short_stand(t: &[f64], theta: &[f64], burst: &[bool], (from, k): (usize, usize), side: f64) -> Option<f64> {
+    // Past the balance the angle may read on the other side (θ is held
+    // within ±200 deg, and a stand at 189 deg reached through the ringing
+    // reads −171): its height on `side` is then 360 deg less |θ|.
+    let height = |j: usize| {
+        if theta[j].signum() == side {
+            theta[j].abs()
+        } else {
+            std::f64::consts::TAU - theta[j].abs()
+        }
+    };
+    let valid = |j: usize| !burst[j] && theta[j].abs() > 150f64.to_radians() && height(j) < 200f64.to_radians();
+    // Runs of valid samples whose heights stay within [`STAND_RANGE`] of each other
+    // (the headstock's shaking and noise, not motion); the longest.
+    let mut best: Option<(usize, usize)> = None;
+    let mut j = from;
+    while j <= k {
+        if !valid(j) {
+            j += 1;
+            continue;
+        }
+        let a = j;
+        let (mut lo, mut hi) = (height(j), height(j));
+        while j <= k && valid(j) {
+            let h = height(j);
+            if h.max(hi) - h.min(lo) > STAND_RANGE {
+                break;
+            }
+            (lo, hi) = (h.min(lo), h.max(hi));
+            j += 1;
+        }
+        if best.is_none_or(|(p, q)| t[j - 1] - t[a] > t[q] - t[p]) {
+            best = Some((a, j - 1));
+        }
+        // The next run may start inside this one.
+        j = j.max(a + 1);
+    }
+    let (a, b) = best.filter(|&(a, b)| t[b] - t[a] >= SHORT_STAND_S)?;
+    let mut v: Vec<f64> = (a..=b).map(height).collect();
+    v.sort_by(f64::total_cmp);
+    Some(v[v.len() / 2])
+}
+
+/// A short stand lasts at least this (s) of clean, still samples.
+const SHORT_STAND_S: f64 = 0.3;
+
+/// A short stand's heights lie within this of each other (rad): 2 deg (a
+/// swing's slow top, not stopped, reads a degree or so low over 3 deg).
+const STAND_RANGE: f64 = 2.0 * std::f64::consts::PI / 180.0;
 
 /// The bottom's window is at most ± this (s).
 pub(super) const BOTTOM_HALF_MAX: f64 = 0.12;
@@ -519,5 +577,35 @@ mod tests {
         assert!(warnings[0].starts_with("1 strike(s) not timed"), "{warnings:?}");
         // Without strikes timed, odd-struckness leaves the stroke out.
         assert_eq!(strokes[0].bdc_to_strike(), None);
+    }
+
+    /// A stand past the balance, reached through the headstock's shaking
+    /// (Data141: the angle, held within ±200 deg, overshoots to 198 deg and
+    /// wraps; the stand at 189 deg reads −171 deg), then the fall back on
+    /// the + side: the stand is read at 189 deg, where the smoothed peak
+    /// read 199-200 deg.
+    #[test]
+    fn a_short_stand_past_the_balance_is_read_at_its_angle() {
+        let t: Vec<f64> = (0..300).map(|k| k as f64 * 0.01).collect();
+        let deg = |x: f64| x.to_radians();
+        let theta: Vec<f64> = t
+            .iter()
+            .enumerate()
+            .map(|(k, &x)| match x {
+                // Rising, then shaken about the top (wrapped past 200 deg).
+                x if x < 0.5 => deg(120.0 + 150.0 * x),
+                x if x < 1.0 => deg(if k % 2 == 0 { 198.0 } else { -165.0 }),
+                // On the stay, 189 deg, read on the other side; noise 0.3 deg.
+                x if x < 1.8 => deg(-171.0 + if k % 3 == 0 { 0.3 } else { -0.3 }),
+                // Falling back on the + side.
+                x => deg(189.0 - 120.0 * (x - 1.8).powi(2)),
+            })
+            .collect();
+        let burst: Vec<bool> = t
+            .iter()
+            .map(|&x| (0.5..1.0).contains(&x) && (x * 100.0) as usize % 4 == 0)
+            .collect();
+        let h = short_stand(&t, &theta, &burst, (0, 299), 1.0).expect("a stand");
+        assert!((h.to_degrees() - 189.0).abs() < 0.5, "{}", h.to_degrees());
     }
 }
