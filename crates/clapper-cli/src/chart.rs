@@ -76,6 +76,37 @@ static R_RANGE_TEXT: LazyLock<String> = LazyLock::new(|| format!("{},{}", DEFAUL
 static LB_RANGE_TEXT: LazyLock<String> = LazyLock::new(|| format!("{},{}", DEFAULT_LB_RANGE[0], DEFAULT_LB_RANGE[1]));
 static GRID_TEXT: LazyLock<String> = LazyLock::new(|| format!("{}x{}", DEFAULT_GRID[0], DEFAULT_GRID[1]));
 
+/// `--r-range A,B`: two finite numbers, the low end first; refused in
+/// words of the option ("a range of r/L_c ..."), which main puts after
+/// the option and its value as written.
+fn parse_r_range(s: &str) -> std::result::Result<(f64, f64), String> {
+    let (a, b) = parse_point(s)
+        .ok()
+        .filter(|&(a, b)| a.is_finite() && b.is_finite() && a <= b)
+        .ok_or_else(|| {
+            format!(
+                "a range of r/L_c: two finite numbers, the low end first (e.g. {})",
+                R_RANGE_TEXT.as_str()
+            )
+        })?;
+    Ok((a, b))
+}
+
+/// `--lb-range A,B`: two numbers above 0, the low end first, as
+/// [`parse_r_range`].
+fn parse_lb_range(s: &str) -> std::result::Result<(f64, f64), String> {
+    let (a, b) = parse_point(s)
+        .ok()
+        .filter(|&(a, b)| a.is_finite() && b.is_finite() && 0.0 < a && a <= b)
+        .ok_or_else(|| {
+            format!(
+                "a range of L_b/L_c: two finite numbers above 0, the low end first (e.g. {})",
+                LB_RANGE_TEXT.as_str()
+            )
+        })?;
+    Ok((a, b))
+}
+
 /// Everything that shapes a chart, shared by `chart` and `figures`.
 #[derive(Args, Debug, Clone)]
 pub struct SweepArgs {
@@ -83,10 +114,10 @@ pub struct SweepArgs {
     #[arg(long, value_name = "N|NXxNY", value_parser = parse_grid, default_value = GRID_TEXT.as_str())]
     pub grid: (usize, usize),
     /// Range of r/L_c swept.
-    #[arg(long, value_name = "A,B", value_parser = parse_point, default_value = R_RANGE_TEXT.as_str(), allow_hyphen_values = true)]
+    #[arg(long, value_name = "A,B", value_parser = parse_r_range, default_value = R_RANGE_TEXT.as_str(), allow_hyphen_values = true)]
     pub r_range: (f64, f64),
     /// Range of L_b/L_c swept.
-    #[arg(long, value_name = "A,B", value_parser = parse_point, default_value = LB_RANGE_TEXT.as_str(), allow_hyphen_values = true)]
+    #[arg(long, value_name = "A,B", value_parser = parse_lb_range, default_value = LB_RANGE_TEXT.as_str(), allow_hyphen_values = true)]
     pub lb_range: (f64, f64),
     /// Starting angle of the bell (deg). `chart` takes a list (90,120,171)
     /// to sweep it as an extra axis.
