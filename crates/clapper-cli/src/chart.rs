@@ -76,35 +76,40 @@ static R_RANGE_TEXT: LazyLock<String> = LazyLock::new(|| format!("{},{}", DEFAUL
 static LB_RANGE_TEXT: LazyLock<String> = LazyLock::new(|| format!("{},{}", DEFAULT_LB_RANGE[0], DEFAULT_LB_RANGE[1]));
 static GRID_TEXT: LazyLock<String> = LazyLock::new(|| format!("{}x{}", DEFAULT_GRID[0], DEFAULT_GRID[1]));
 
-/// `--r-range A,B`: two finite numbers, the low end first; refused in
-/// words of the option ("a range of r/L_c ..."), which main puts after
-/// the option and its value as written.
+/// How far the chart's axes reach: r/L_c within ± this, L_b/L_c up to
+/// it. Real bells lie within about -0.5..1 and 0.5..3; beyond ten times
+/// that a sweep is of no bell (and 1e300 was drawn as a 301-digit label).
+const AXIS_REACH: f64 = 10.0;
+
+/// `--r-range A,B`: two numbers within ±[`AXIS_REACH`], the low end
+/// first; refused in words of the option ("a range of r/L_c ..."), which
+/// main puts after the option and its value as written.
 fn parse_r_range(s: &str) -> std::result::Result<(f64, f64), String> {
-    let (a, b) = parse_point(s)
+    let within = |v: f64| v.abs() <= AXIS_REACH;
+    parse_point(s)
         .ok()
-        .filter(|&(a, b)| a.is_finite() && b.is_finite() && a <= b)
+        .filter(|&(a, b)| within(a) && within(b) && a <= b)
         .ok_or_else(|| {
             format!(
-                "a range of r/L_c: two finite numbers, the low end first (e.g. {})",
+                "a range of r/L_c: two numbers from -{AXIS_REACH} to {AXIS_REACH}, the low end first (e.g. {})",
                 R_RANGE_TEXT.as_str()
             )
-        })?;
-    Ok((a, b))
+        })
 }
 
-/// `--lb-range A,B`: two numbers above 0, the low end first, as
-/// [`parse_r_range`].
+/// `--lb-range A,B`: two numbers above 0 and up to [`AXIS_REACH`], the
+/// low end first, as [`parse_r_range`].
 fn parse_lb_range(s: &str) -> std::result::Result<(f64, f64), String> {
-    let (a, b) = parse_point(s)
+    let within = |v: f64| v > 0.0 && v <= AXIS_REACH;
+    parse_point(s)
         .ok()
-        .filter(|&(a, b)| a.is_finite() && b.is_finite() && 0.0 < a && a <= b)
+        .filter(|&(a, b)| within(a) && within(b) && a <= b)
         .ok_or_else(|| {
             format!(
-                "a range of L_b/L_c: two finite numbers above 0, the low end first (e.g. {})",
+                "a range of L_b/L_c: two numbers above 0 and up to {AXIS_REACH}, the low end first (e.g. {})",
                 LB_RANGE_TEXT.as_str()
             )
-        })?;
-    Ok((a, b))
+        })
 }
 
 /// Everything that shapes a chart, shared by `chart` and `figures`.

@@ -495,13 +495,14 @@ fn a_huge_number_is_said_in_short_form() {
 }
 
 /// Issue 46: chart's ranges were refused under the keys r_over_lc and
-/// lb_over_lc, or, given high to low, as "r_over_lc range, from = 1".
+/// lb_over_lc, or, given high to low, as "r_over_lc range, from = 1"; a
+/// range to 1e300 was swept and labelled with 301-digit numbers.
 #[test]
 fn a_chart_range_is_refused_as_its_option() {
     for (args, says) in [
         (
             vec!["chart", "--grid", "5", "--r-range", "NaN,1"],
-            "--r-range NaN,1: a range of r/L_c: two finite numbers, the low end first",
+            "--r-range NaN,1: a range of r/L_c: two numbers from -10 to 10, the low end first",
         ),
         (
             vec!["chart", "--grid", "5", "--r-range", "1,-1"],
@@ -509,7 +510,15 @@ fn a_chart_range_is_refused_as_its_option() {
         ),
         (
             vec!["chart", "--grid", "5", "--lb-range", "0,1e300"],
-            "--lb-range 0,1e300: a range of L_b/L_c: two finite numbers above 0",
+            "--lb-range 0,1e300: a range of L_b/L_c: two numbers above 0 and up to 10",
+        ),
+        (
+            vec!["chart", "--grid", "5", "--lb-range", "0.5,1e300"],
+            "--lb-range 0.5,1e300: a range of L_b/L_c",
+        ),
+        (
+            vec!["chart", "--grid", "5", "--r-range", "-1e300,1e300"],
+            "--r-range -1e300,1e300: a range of r/L_c",
         ),
         (
             vec!["figures", "--grid", "5", "--lb-range", "2,1", "--out", "f"],
