@@ -18,6 +18,11 @@ use serde::Serialize;
 
 use crate::AppError;
 
+/// The sample rates (Hz) of recordings listened to: a telephone's to a
+/// studio's (the finder decimates each band, so a high rate costs reading
+/// time, not accuracy).
+pub const RECORDING_RATES_HZ: std::ops::RangeInclusive<f64> = 8_000.0..=192_000.0;
+
 /// A double strike heard.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct DoubleReport {
@@ -274,9 +279,11 @@ impl StrikesReport {
         mut strip: Option<&mut Signal>,
     ) -> Result<Self, AppError> {
         let rate = src.rate();
-        if !(8_000.0..=96_000.0).contains(&rate) {
+        if !RECORDING_RATES_HZ.contains(&rate) {
             return Err(AppError::Request(format!(
-                "sample rate {rate} Hz: recordings from 8 to 96 kHz"
+                "sample rate {rate} Hz: recordings from {} to {} kHz",
+                RECORDING_RATES_HZ.start() / 1000.0,
+                RECORDING_RATES_HZ.end() / 1000.0
             )));
         }
         let duration_s = src.total() as f64 / rate;

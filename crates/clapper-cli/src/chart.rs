@@ -76,6 +76,42 @@ static R_RANGE_TEXT: LazyLock<String> = LazyLock::new(|| format!("{},{}", DEFAUL
 static LB_RANGE_TEXT: LazyLock<String> = LazyLock::new(|| format!("{},{}", DEFAULT_LB_RANGE[0], DEFAULT_LB_RANGE[1]));
 static GRID_TEXT: LazyLock<String> = LazyLock::new(|| format!("{}x{}", DEFAULT_GRID[0], DEFAULT_GRID[1]));
 
+/// How far the chart's axes reach: r/L_c within ± this, L_b/L_c up to
+/// it. Real bells lie within about -0.5..1 and 0.5..3; beyond ten times
+/// that a sweep is of no bell (and 1e300 was drawn as a 301-digit label).
+const AXIS_REACH: f64 = 10.0;
+
+/// `--r-range A,B`: two numbers within ±[`AXIS_REACH`], the low end
+/// first; refused in words of the option ("a range of r/L_c ..."), which
+/// main puts after the option and its value as written.
+fn parse_r_range(s: &str) -> std::result::Result<(f64, f64), String> {
+    let within = |v: f64| v.abs() <= AXIS_REACH;
+    parse_point(s)
+        .ok()
+        .filter(|&(a, b)| within(a) && within(b) && a <= b)
+        .ok_or_else(|| {
+            format!(
+                "a range of r/L_c: two numbers from -{AXIS_REACH} to {AXIS_REACH}, the low end first (e.g. {})",
+                R_RANGE_TEXT.as_str()
+            )
+        })
+}
+
+/// `--lb-range A,B`: two numbers above 0 and up to [`AXIS_REACH`], the
+/// low end first, as [`parse_r_range`].
+fn parse_lb_range(s: &str) -> std::result::Result<(f64, f64), String> {
+    let within = |v: f64| v > 0.0 && v <= AXIS_REACH;
+    parse_point(s)
+        .ok()
+        .filter(|&(a, b)| within(a) && within(b) && a <= b)
+        .ok_or_else(|| {
+            format!(
+                "a range of L_b/L_c: two numbers above 0 and up to {AXIS_REACH}, the low end first (e.g. {})",
+                LB_RANGE_TEXT.as_str()
+            )
+        })
+}
+
 /// Everything that shapes a chart, shared by `chart` and `figures`.
 #[derive(Args, Debug, Clone)]
 pub struct SweepArgs {
@@ -83,10 +119,10 @@ pub struct SweepArgs {
     #[arg(long, value_name = "N|NXxNY", value_parser = parse_grid, default_value = GRID_TEXT.as_str())]
     pub grid: (usize, usize),
     /// Range of r/L_c swept.
-    #[arg(long, value_name = "A,B", value_parser = parse_point, default_value = R_RANGE_TEXT.as_str(), allow_hyphen_values = true)]
+    #[arg(long, value_name = "A,B", value_parser = parse_r_range, default_value = R_RANGE_TEXT.as_str(), allow_hyphen_values = true)]
     pub r_range: (f64, f64),
     /// Range of L_b/L_c swept.
-    #[arg(long, value_name = "A,B", value_parser = parse_point, default_value = LB_RANGE_TEXT.as_str(), allow_hyphen_values = true)]
+    #[arg(long, value_name = "A,B", value_parser = parse_lb_range, default_value = LB_RANGE_TEXT.as_str(), allow_hyphen_values = true)]
     pub lb_range: (f64, f64),
     /// Starting angle of the bell (deg). `chart` takes a list (90,120,171)
     /// to sweep it as an extra axis.

@@ -182,6 +182,20 @@ fn one_line_error(text: &str, subcommand: Option<&str>) -> String {
     format!("{message} (see {help})")
 }
 
+/// clap's "invalid value '-5' for '--strokes <N>': a count from 1 to
+/// 10000" said as "--strokes -5: a count from 1 to 10000", the option and
+/// the value as written first; any other message is left as it is.
+fn as_option_said(text: &str) -> String {
+    let said = (|| {
+        let (head, rest) = text.split_once("invalid value '")?;
+        let (value, rest) = rest.split_once("' for '")?;
+        let (arg, why) = rest.split_once("': ")?;
+        let option = arg.split(' ').next()?;
+        why.starts_with("a ").then(|| format!("{head}{option} {value}: {why}"))
+    })();
+    said.unwrap_or_else(|| text.to_string())
+}
+
 /// A number option's value: any finite number. NaN and infinities are
 /// refused here, once for every option, so that no command computes with
 /// them ("T_c inf ... meets the rule", a log read as all "down").
@@ -201,19 +215,55 @@ fn finite_number(s: &str) -> Result<f64, String> {
 /// option's value), so that a sign is refused by its meaning, in the
 /// option's own words.
 fn command_line(cmd: clap::Command) -> clap::Command {
+    let name = cmd.get_name().to_string();
     let cmd = cmd.mut_args(|a| {
         if !a.get_action().takes_values() {
             return a;
         }
-        let number = a.get_value_parser().type_id() == std::any::TypeId::of::<f64>();
+        let of = a.get_value_parser().type_id();
+        let id = a.get_id().to_string();
+        let what = || counts(&name, &id);
         let a = a.allow_negative_numbers(true);
-        if number {
+        if of == std::any::TypeId::of::<f64>() {
             a.value_parser(finite_number)
+        } else if of == std::any::TypeId::of::<usize>() {
+            a.value_parser(count::<usize>(what()))
+        } else if of == std::any::TypeId::of::<u64>() {
+            a.value_parser(count::<u64>(what()))
+        } else if of == std::any::TypeId::of::<u32>() {
+            a.value_parser(count::<u32>(what()))
         } else {
             a
         }
     });
     cmd.mut_subcommands(command_line)
+}
+
+/// The whole numbers option `option` (its id) of command `command` takes,
+/// as its refusal says them ("a count from 1 to 10000"); the commands
+/// check the bounds of a count read, and this says them for one that
+/// cannot be read (`--strokes -5`).
+fn counts(command: &str, option: &str) -> String {
+    match (command, option) {
+        ("animate", "strokes") => format!("a count from 1 to {}", clapper_app::animate::MAX_STROKES),
+        (_, "strokes") if command != "synth-log" => {
+            format!("a count from 1 to {}", clapper_app::simulate::MAX_STROKES)
+        }
+        ("serve", "max_chart_points") => format!("a count from 1 to {}", clapper_core::chart::MAX_POINTS),
+        (_, "seed") => format!("a whole number from 0 to {}", u64::MAX),
+        (_, "swings" | "rows") => "a count from 1".into(),
+        _ => "a count: a whole number, 0 or more".into(),
+    }
+}
+
+/// A count option's value: a whole number of type `T`, refused in the
+/// option's words (`what`) when it is negative, fractional or too large,
+/// not in Rust's ("invalid digit found in string").
+fn count<T>(what: String) -> impl Fn(&str) -> Result<T, String> + Clone + Send + Sync + 'static
+where
+    T: std::str::FromStr + Clone + Send + Sync + 'static,
+{
+    move |s: &str| s.trim().parse::<T>().map_err(|_| what.clone())
 }
 
 fn main() {
@@ -224,7 +274,11 @@ fn main() {
     let cli = match parsed {
         Ok(cli) => cli,
         Err(e) if e.use_stderr() => {
-            eprintln!("{}", one_line_error(&e.to_string(), std::env::args().nth(1).as_deref()));
+            let text = match e.kind() {
+                clap::error::ErrorKind::ValueValidation => as_option_said(&e.to_string()),
+                _ => e.to_string(),
+            };
+            eprintln!("{}", one_line_error(&text, std::env::args().nth(1).as_deref()));
             std::process::exit(2);
         }
         Err(e) => e.exit(),
@@ -262,7 +316,10 @@ fn main() {
             std::process::exit(0);
         }
         let args: Vec<String> = std::env::args().skip(1).collect();
-        eprintln!("error: {}", words::as_given(&format!("{e:#}"), &args));
+        eprintln!(
+            "error: {}",
+            words::short_numbers(&words::as_given(&format!("{e:#}"), &args))
+        );
         std::process::exit(1);
     }
 }

@@ -19,6 +19,19 @@ use serde_json::json;
 use crate::files::write_bytes;
 use crate::simulate::BellArgs;
 
+/// How far from the pivot (m, above or below) a sensor on a bell can be:
+/// the largest bells are about 2 m across.
+const SENSOR_REACH_M: f64 = 2.0;
+
+/// `--sensor-m M` refused unless the sensor is on the bell, within
+/// [`SENSOR_REACH_M`] of the pivot.
+fn check_sensor_m(m: f64) -> anyhow::Result<()> {
+    if !(-SENSOR_REACH_M..=SENSOR_REACH_M).contains(&m) {
+        anyhow::bail!("--sensor-m {m} m: a sensor on the bell, within {SENSOR_REACH_M} m of the pivot");
+    }
+    Ok(())
+}
+
 #[derive(Args, Debug)]
 pub struct RingingLogArgs {
     /// The log: belfry-sleuth text (x y z in m/s², time in ms, a line a
@@ -62,6 +75,9 @@ pub fn ringing_log(args: RingingLogArgs) -> Result<()> {
     }
     if !(args.clip_g.is_finite() && args.clip_g > 0.0) {
         bail!("--clip-g {} must be a number of g above 0", args.clip_g);
+    }
+    if let Some(m) = args.sensor_m {
+        check_sensor_m(m)?;
     }
     let axes = match &args.axes {
         Some(a) => Axes::parse(a)?,
@@ -223,9 +239,7 @@ pub fn synth_log_cmd(args: SynthLogArgs) -> Result<()> {
     if !(0.0..=100.0).contains(&args.noise) {
         anyhow::bail!("--noise {} m/s²: from 0 to 100 (a sensor's is about 0.04)", args.noise);
     }
-    if !(-2.0..=2.0).contains(&args.sensor_m) {
-        anyhow::bail!("--sensor-m {} m: within 2 m of the pivot", args.sensor_m);
-    }
+    check_sensor_m(args.sensor_m)?;
     if !clapper_io::accel_log::name_reads_back(&args.name) {
         anyhow::bail!(
             "--name {:?}: a log's name is written on one line after its samples and must not be blank \

@@ -54,6 +54,16 @@ pub fn run(args: SynthArgs) -> Result<()> {
             args.out.display()
         );
     }
+    // In the option's words, before the synthesis counts samples.
+    let rates = clapper_app::strikes::RECORDING_RATES_HZ;
+    if !rates.contains(&args.rate) {
+        bail!(
+            "--rate {} Hz: a sample rate from {} to {} Hz",
+            args.rate,
+            rates.start(),
+            rates.end()
+        );
+    }
     let opts = SynthOptions {
         rate: args.rate,
         gap: args.gap,

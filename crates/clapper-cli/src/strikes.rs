@@ -37,7 +37,7 @@ pub(crate) fn parse_list(s: &str) -> std::result::Result<Nominals, String> {
 
 #[derive(Args, Debug)]
 pub struct StrikesArgs {
-    /// A recording of the ring (.wav: mono or stereo, 8 to 96 kHz).
+    /// A recording of the ring (.wav: mono or stereo, 8 to 192 kHz).
     pub file: PathBuf,
     /// The bells' nominal frequencies (Hz), treble first: bell 1 is the first given.
     #[arg(long, value_name = "F1,F2,..", value_parser = parse_list, conflicts_with = "templates")]
@@ -301,6 +301,16 @@ pub fn synth_ring(args: SynthRingArgs) -> Result<()> {
     crate::files::claim_stdout(&[("--out", Some(&args.out)), ("--truth", args.truth.as_deref())], false)?;
     if !(1..=16).contains(&args.bells) {
         bail!("{} bells: 1 to 16", args.bells);
+    }
+    // What strikes would refuse to read is not written.
+    let rates = clapper_app::strikes::RECORDING_RATES_HZ;
+    if !rates.contains(&args.rate) {
+        bail!(
+            "--rate {} Hz: a sample rate from {} to {} Hz (what clapper strikes reads)",
+            args.rate,
+            rates.start(),
+            rates.end()
+        );
     }
     if args.noise != NoiseArg::White && args.snr.is_none() {
         bail!("--noise: say how loud with --snr DB");

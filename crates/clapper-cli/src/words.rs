@@ -93,9 +93,50 @@ pub fn as_given(message: &str, args: &[String]) -> String {
     out
 }
 
+/// Digits beyond which a number in a message is said in short scientific
+/// form: a u64 (20 digits) stays as it is.
+const LONG_NUMBER: usize = 21;
+
+/// `message` with each number written in more than [`LONG_NUMBER`] digits
+/// (`1e300` formatted as 301 of them, `1e-300` as 0.000...) said in short
+/// scientific form (`1e300`, `1e-300`).
+pub fn short_numbers(message: &str) -> String {
+    let mut out = String::with_capacity(message.len());
+    let mut rest = message;
+    while let Some(start) = rest.find(|c: char| c.is_ascii_digit()) {
+        out.push_str(&rest[..start]);
+        let tail = &rest[start..];
+        let len = tail
+            .find(|c: char| !(c.is_ascii_digit() || c == '.'))
+            .unwrap_or(tail.len());
+        // A full stop after the number ends the sentence.
+        let number = tail[..len].trim_end_matches('.');
+        let digits = number.chars().filter(char::is_ascii_digit).count();
+        match number.parse::<f64>() {
+            Ok(v) if digits > LONG_NUMBER => out.push_str(&format!("{v:e}")),
+            _ => out.push_str(number),
+        }
+        rest = &tail[number.len()..];
+    }
+    out.push_str(rest);
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_long_number_is_said_in_short_scientific_form() {
+        let big = format!("{}", 1e300);
+        let tiny = format!("{}", -1e-300);
+        assert_eq!(
+            short_numbers(&format!("--sensor-m {big} m: within 2 m; {tiny}.")),
+            "--sensor-m 1e300 m: within 2 m; -1e-300."
+        );
+        let m = "seed 18446744073709551615, 1.5 s at 96000 Hz, v0.1.0.";
+        assert_eq!(short_numbers(m), m);
+    }
 
     fn args(s: &str) -> Vec<String> {
         s.split(' ').map(String::from).collect()

@@ -180,3 +180,70 @@ fn a_fast_synthetic_log_reads_back() {
         .unwrap();
     assert!(read.status.success(), "{}", String::from_utf8_lossy(&read.stderr));
 }
+
+/// Issue 46: `ringing-log --sensor-m -1e300` read a log as "sensor -1e300
+/// m above the pivot, 68 swings"; a sensor is on the bell, within 2 m of
+/// its pivot.
+#[test]
+fn a_sensor_far_from_the_pivot_is_refused() {
+    let dir = tempfile::tempdir().unwrap();
+    let log = dir.path().join("l.txt").display().to_string();
+    let made = Command::cargo_bin("clapper")
+        .unwrap()
+        .args(["synth-log", "--out", &log, "--strokes", "2"])
+        .output()
+        .unwrap();
+    assert!(made.status.success(), "{}", String::from_utf8_lossy(&made.stderr));
+    for m in ["-1e300", "3"] {
+        refused(
+            &["ringing-log", &log, "--sensor-m", m],
+            &format!("--sensor-m {m} m: a sensor on the bell, within 2 m of the pivot"),
+        );
+    }
+    let read = Command::cargo_bin("clapper")
+        .unwrap()
+        .args(["ringing-log", &log, "--sensor-m", "0.15"])
+        .output()
+        .unwrap();
+    assert!(read.status.success(), "{}", String::from_utf8_lossy(&read.stderr));
+}
+
+/// Issue 46: synth-ring wrote a ring at 192 kHz and printed the strikes
+/// command to hear it, which refused it ("recordings from 8 to 96 kHz").
+/// Now strikes reads it, and hears every strike it was given.
+#[test]
+fn a_ring_written_at_192_khz_is_heard() {
+    let dir = tempfile::tempdir().unwrap();
+    let wav = dir.path().join("r.wav").display().to_string();
+    let truth = dir.path().join("t.csv");
+    let made = Command::cargo_bin("clapper")
+        .unwrap()
+        .args([
+            "synth-ring",
+            "--bells",
+            "4",
+            "--rows",
+            "4",
+            "--rate",
+            "192000",
+            "--out",
+            &wav,
+        ])
+        .arg("--truth")
+        .arg(&truth)
+        .output()
+        .unwrap();
+    let said = String::from_utf8_lossy(&made.stdout).into_owned();
+    assert!(made.status.success(), "{}", String::from_utf8_lossy(&made.stderr));
+    let nominals = said.split("--nominals ").nth(1).unwrap().trim().to_string();
+    let struck = std::fs::read_to_string(&truth).unwrap().lines().count() - 1;
+    let heard = Command::cargo_bin("clapper")
+        .unwrap()
+        .args(["strikes", &wav, "--nominals", &nominals, "--json"])
+        .output()
+        .unwrap();
+    assert!(heard.status.success(), "{}", String::from_utf8_lossy(&heard.stderr));
+    let v: serde_json::Value = serde_json::from_slice(&heard.stdout).unwrap();
+    let n = v["strikes"].as_array().map_or(0, Vec::len);
+    assert_eq!(n, struck, "{struck} struck, {n} heard");
+}

@@ -316,7 +316,10 @@ fn chart_plots_and_bad_chart_options() {
         (vec!["chart", "--grid", "0"], "grid"),
         (vec!["chart", "--grid", "5000"], "grid"),
         (vec!["chart", "--grid", "abc"], "not a grid"),
-        (vec!["chart", "--lb-range", "-1,2"], "--lb-range -1,2 is out of range"),
+        (
+            vec!["chart", "--lb-range", "-1,2"],
+            "--lb-range -1,2: a range of L_b/L_c",
+        ),
         (vec!["chart", "--quantity", "style", "--style", "right"], "--style both"),
         (vec!["chart", "--phi-max", "95"], "--phi-max 95 is out of range"),
         (vec!["chart", "--threads", "0"], "--threads"),

@@ -418,3 +418,114 @@ fn a_log_name_that_would_read_as_a_sample_is_refused() {
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["bell"], "Bell 1 2 3 4");
 }
+
+/// Issue 46: a negative count was refused in Rust's words ("invalid digit
+/// found in string"); it is said as the option, the value as written and
+/// the counts it takes.
+#[test]
+fn a_negative_count_is_refused_as_a_count() {
+    let dir = tempfile::tempdir().unwrap();
+    let wav = dir.path().join("r.wav").display().to_string();
+    let log = dir.path().join("l.txt").display().to_string();
+    for (args, says) in [
+        (
+            vec!["simulate", "--strokes", "-5"],
+            "--strokes -5: a count from 1 to 10000",
+        ),
+        (vec!["ring-down", "--swings", "-1"], "--swings -1: a count from 1"),
+        (
+            vec!["synth-ring", "--out", &wav, "--rows", "-3"],
+            "--rows -3: a count from 1",
+        ),
+        (
+            vec!["synth-log", "--out", &log, "--seed", "-1"],
+            "--seed -1: a whole number from 0 to 18446744073709551615",
+        ),
+        (
+            vec!["serve", "--max-chart-points", "-1"],
+            "--max-chart-points -1: a count from 1 to 4000000",
+        ),
+        (vec!["chart", "--threads", "-2"], "--threads -2: a count"),
+    ] {
+        let err = stderr_of(&args, 2);
+        assert!(err.contains(says) && !err.contains("digit"), "{args:?}: {err}");
+    }
+}
+
+/// Issue 46: `--rate 1000000000` was refused as "48.45 s at 1000000000 Hz:
+/// from one sample to 57600000 samples"; it is refused as the rate.
+#[test]
+fn a_sample_rate_is_refused_as_the_rate() {
+    let dir = tempfile::tempdir().unwrap();
+    let wav = dir.path().join("r.wav").display().to_string();
+    for (args, says) in [
+        (
+            vec!["synth-ring", "--out", &wav, "--rate", "1000000000"],
+            "--rate 1000000000 Hz: a sample rate from 8000 to 192000 Hz",
+        ),
+        (
+            vec!["synth", "--preset", "lab", "--out", &wav, "--rate", "1e9"],
+            "--rate 1000000000 Hz: a sample rate from 8000 to 192000 Hz",
+        ),
+        (
+            vec!["synth-ring", "--out", &wav, "--rate", "4000"],
+            "--rate 4000 Hz: a sample rate from 8000",
+        ),
+    ] {
+        let err = stderr_of(&args, 1);
+        assert!(err.contains(says) && !err.contains("samples"), "{args:?}: {err}");
+    }
+    assert!(!Path::new(&wav).exists());
+}
+
+/// Issue 46: 1e300 came back in a message as a number of 301 digits; it
+/// is said as 1e300.
+#[test]
+fn a_huge_number_is_said_in_short_form() {
+    let dir = tempfile::tempdir().unwrap();
+    let wav = dir.path().join("r.wav").display().to_string();
+    let err = stderr_of(&["synth-ring", "--out", &wav, "--rate", "1e300"], 1);
+    assert!(
+        err.contains("--rate 1e300 Hz: a sample rate") && !err.contains("000000"),
+        "{err}"
+    );
+    let log = dir.path().join("l.txt").display().to_string();
+    let err = stderr_of(&["synth-log", "--out", &log, "--sensor-m", "1e300"], 1);
+    assert!(err.contains("--sensor-m 1e300 m") && !err.contains("000000"), "{err}");
+}
+
+/// Issue 46: chart's ranges were refused under the keys r_over_lc and
+/// lb_over_lc, or, given high to low, as "r_over_lc range, from = 1"; a
+/// range to 1e300 was swept and labelled with 301-digit numbers.
+#[test]
+fn a_chart_range_is_refused_as_its_option() {
+    for (args, says) in [
+        (
+            vec!["chart", "--grid", "5", "--r-range", "NaN,1"],
+            "--r-range NaN,1: a range of r/L_c: two numbers from -10 to 10, the low end first",
+        ),
+        (
+            vec!["chart", "--grid", "5", "--r-range", "1,-1"],
+            "--r-range 1,-1: a range of r/L_c",
+        ),
+        (
+            vec!["chart", "--grid", "5", "--lb-range", "0,1e300"],
+            "--lb-range 0,1e300: a range of L_b/L_c: two numbers above 0 and up to 10",
+        ),
+        (
+            vec!["chart", "--grid", "5", "--lb-range", "0.5,1e300"],
+            "--lb-range 0.5,1e300: a range of L_b/L_c",
+        ),
+        (
+            vec!["chart", "--grid", "5", "--r-range", "-1e300,1e300"],
+            "--r-range -1e300,1e300: a range of r/L_c",
+        ),
+        (
+            vec!["figures", "--grid", "5", "--lb-range", "2,1", "--out", "f"],
+            "--lb-range 2,1: a range of L_b/L_c",
+        ),
+    ] {
+        let err = stderr_of(&args, 2);
+        assert!(err.contains(says) && !err.contains("_over_lc"), "{args:?}: {err}");
+    }
+}

@@ -624,7 +624,7 @@ pub(crate) async fn listening_analyse(
 }
 
 /// `POST /api/strikes?nominals=F1,F2,..[&double_min_ratio=R]`: a recording
-/// of a ring (the body: a WAV file, mono or stereo, 8 to 96 kHz) heard as
+/// of a ring (the body: a WAV file, mono or stereo, 8 to 192 kHz) heard as
 /// `clapper strikes` hears it: `{"report": {...}, "csv": "...",
 /// "plot_svg": "<svg ..."}`, the report as `clapper strikes --json`, the
 /// CSV as `--csv`, the plot as `--plot`.
