@@ -20,8 +20,8 @@
 //! on the recorded bells: docs/strikes.md.)
 
 use crate::sampled_ring::sampled_ring;
-use crate::strikes::{find_strikes, BellVoice, Heard, StrikeOptions};
-use crate::tower::{Method, RingBell, TowerSpec};
+use crate::strikes::{find_strikes, BellVoice, Heard, HeardStrike, StrikeOptions};
+use crate::tower::{Method, RingBell, TowerSpec, TrueStrike};
 use crate::{Signal, SignalError};
 
 /// One bell's lateness, learned.
@@ -109,6 +109,30 @@ pub fn from_templates(
     voices: &[BellVoice],
     opts: &StrikeOptions,
 ) -> Result<Lateness, SignalError> {
+    check_templates(templates, voices)?;
+    let n = templates.len();
+    let interval = (2.0 / (n as f64 + 1.0)).max(0.15);
+    let (sig, truth) = ring_of_templates(templates, interval)?;
+    let heard = find_strikes(&sig, voices, opts)?;
+    let mut out = Lateness {
+        source: "templates",
+        bells: vec![],
+        warnings: vec![],
+    };
+    // A heard strike belongs to the nearest true strike of its bell within
+    // 0.4 of an interval (a bell is never heard that late: 90 ms at most
+    // on the recorded bells measured, at 0.22 s intervals).
+    let reach = 0.4 * interval;
+    for b in 1..=n {
+        let (bell, warnings) = bell_lateness(b, &truth, &heard.strikes, reach);
+        out.bells.push(bell);
+        out.warnings.extend(warnings);
+    }
+    Ok(out)
+}
+
+/// One template a bell, all at one sample rate.
+fn check_templates(templates: &[Signal], voices: &[BellVoice]) -> Result<(), SignalError> {
     let n = templates.len();
     if n == 0 || n != voices.len() {
         return Err(SignalError::Option(format!(
@@ -124,17 +148,22 @@ pub fn from_templates(
             templates[i].rate
         )));
     }
+    Ok(())
+}
+
+/// The templates rung in plain hunt (16 rows, `interval` s apart, no room,
+/// 40 dB SNR) with their true strike times.
+fn ring_of_templates(templates: &[Signal], interval: f64) -> Result<(Signal, Vec<TrueStrike>), SignalError> {
     let bells = vec![
         RingBell {
             nominal_hz: 1000.0,
             mass_kg: 1.0,
             odd_struck_ms: 0.0,
         };
-        n
+        templates.len()
     ];
-    let interval = (2.0 / (n as f64 + 1.0)).max(0.15);
     let spec = TowerSpec {
-        rate,
+        rate: templates[0].rate,
         rows: 16,
         interval,
         jitter: (0.05 * interval).min(0.01),
@@ -143,64 +172,58 @@ pub fn from_templates(
         snr_db: Some(40.0),
         ..TowerSpec::new(bells)
     };
-    let (sig, truth) = sampled_ring(&spec, templates)?;
-    let heard = find_strikes(&sig, voices, opts)?;
-    let mut out = Lateness {
-        source: "templates",
-        bells: vec![],
-        warnings: vec![],
-    };
-    // A heard strike belongs to the nearest true strike of its bell within
-    // 0.4 of an interval (a bell is never heard that late: 90 ms at most
-    // on the recorded bells measured, at 0.22 s intervals).
-    let reach = 0.4 * interval;
-    for b in 1..=n {
-        let mine: Vec<f64> = truth.iter().filter(|s| s.bell == b).map(|s| s.t).collect();
-        let mut late = vec![];
-        let mut elsewhere: Vec<usize> = vec![];
-        for h in heard.strikes.iter().filter(|s| s.bell == b) {
-            let near = mine
-                .iter()
-                .map(|t| h.t - t)
-                .filter(|d| d.abs() <= reach)
-                .min_by(|x, y| x.abs().total_cmp(&y.abs()));
-            match near {
-                Some(d) => late.push(d),
-                None => {
-                    if let Some(o) = truth
-                        .iter()
-                        .filter(|s| s.bell != b && (h.t - s.t).abs() <= reach)
-                        .min_by(|x, y| (h.t - x.t).abs().total_cmp(&(h.t - y.t).abs()))
-                    {
-                        elsewhere.push(o.bell);
-                    }
+    sampled_ring(&spec, templates)
+}
+
+/// Bell `b`'s lateness from its strikes heard in the ring of templates,
+/// with the warnings of a bell heard too seldom or where another struck.
+fn bell_lateness(b: usize, truth: &[TrueStrike], heard: &[HeardStrike], reach: f64) -> (BellLateness, Vec<String>) {
+    let mine: Vec<f64> = truth.iter().filter(|s| s.bell == b).map(|s| s.t).collect();
+    let mut late = vec![];
+    let mut elsewhere: Vec<usize> = vec![];
+    for h in heard.iter().filter(|s| s.bell == b) {
+        let near = mine
+            .iter()
+            .map(|t| h.t - t)
+            .filter(|d| d.abs() <= reach)
+            .min_by(|x, y| x.abs().total_cmp(&y.abs()));
+        match near {
+            Some(d) => late.push(d),
+            None => {
+                if let Some(o) = truth
+                    .iter()
+                    .filter(|s| s.bell != b && (h.t - s.t).abs() <= reach)
+                    .min_by(|x, y| (h.t - x.t).abs().total_cmp(&(h.t - y.t).abs()))
+                {
+                    elsewhere.push(o.bell);
                 }
             }
         }
-        let m = median(late.clone());
-        if (late.len() as f64) < HEARD_ENOUGH * mine.len() as f64 {
-            out.warnings.push(format!(
-                "bell {b}: heard at {} of its {} strikes in a ring of the templates: its partials are hard to tell from the other bells'{}",
-                late.len(),
-                mine.len(),
-                if m.is_none() { "; its strikes are not corrected" } else { "" }
-            ));
-        }
-        elsewhere.sort_unstable();
-        elsewhere.dedup();
-        if !elsewhere.is_empty() {
-            out.warnings.push(format!(
-                "bell {b}: heard where bell(s) {} struck, in a ring of the templates: their partials cannot be told apart",
-                elsewhere.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(", ")
-            ));
-        }
-        out.bells.push(BellLateness {
-            bell: b,
-            lateness_s: m.unwrap_or(0.0),
-            spread_s: m.map_or(0.0, |m| mad(&late, m)),
-            strikes: late.len(),
-            of: mine.len(),
-        });
     }
-    Ok(out)
+    let m = median(late.clone());
+    let mut warnings = vec![];
+    if (late.len() as f64) < HEARD_ENOUGH * mine.len() as f64 {
+        warnings.push(format!(
+            "bell {b}: heard at {} of its {} strikes in a ring of the templates: its partials are hard to tell from the other bells'{}",
+            late.len(),
+            mine.len(),
+            if m.is_none() { "; its strikes are not corrected" } else { "" }
+        ));
+    }
+    elsewhere.sort_unstable();
+    elsewhere.dedup();
+    if !elsewhere.is_empty() {
+        warnings.push(format!(
+            "bell {b}: heard where bell(s) {} struck, in a ring of the templates: their partials cannot be told apart",
+            elsewhere.iter().map(|x| x.to_string()).collect::<Vec<_>>().join(", ")
+        ));
+    }
+    let bell = BellLateness {
+        bell: b,
+        lateness_s: m.unwrap_or(0.0),
+        spread_s: m.map_or(0.0, |m| mad(&late, m)),
+        strikes: late.len(),
+        of: mine.len(),
+    };
+    (bell, warnings)
 }
