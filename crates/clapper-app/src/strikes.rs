@@ -18,6 +18,8 @@ use serde::Serialize;
 
 use crate::AppError;
 
+mod doubt;
+
 /// A double strike heard.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct DoubleReport {
@@ -234,6 +236,14 @@ fn ring_size_warning(timed: &[Timed], given: usize) -> Option<String> {
     // warned from k + 2 + k/10, none of them was, and two or more bells
     // left out were in 159 of 240 (118 of 167 with three or more given).
     let room = clapper_signal::striking::ring_room(timed)?;
+    if room.interval_s < doubt::TOGETHER_S {
+        // Bells "0 ms apart" leave room for thousands: no estimate at all.
+        return Some(format!(
+            "no ring's size can be read from the strikes: those of different bells come {:.0} ms apart, \
+             together, not one after another",
+            room.interval_s * 1e3
+        ));
+    }
     (room.bells >= k + 2.0 + 0.1 * k).then(|| {
         format!(
             "{given} nominal(s) given, but the strikes leave room for about {:.0} bells (a bell strikes every {:.0} ms, \
@@ -297,11 +307,16 @@ impl StrikesReport {
         let mut moved: Vec<Vec<f64>> = vec![];
         // Strikes judged, and of them those that rise ([`rising`]).
         let mut rises = (0usize, 0usize);
+        // The same, bell by bell.
+        let mut bell_rises = vec![(0usize, 0usize); voices.len()];
         let mut each = |w: &Window, heard: &mut Heard| -> Result<(), clapper_signal::SignalError> {
             peak = w.sig.samples.iter().fold(peak, |p, v| p.max(v.abs()));
             for (s, r) in heard.strikes.iter().zip(rising(w.sig, &heard.strikes, voices)) {
                 if let (Some(r), true) = (r, in_core(w, s.t)) {
                     rises = (rises.0 + 1, rises.1 + usize::from(r));
+                    if let Some(b) = bell_rises.get_mut(s.bell.wrapping_sub(1)) {
+                        *b = (b.0 + 1, b.1 + usize::from(r));
+                    }
                 }
             }
             if let Some(strip) = strip.as_deref_mut().filter(|_| w.start == 0) {
@@ -336,6 +351,7 @@ impl StrikesReport {
                 ),
             );
         }
+        warnings.extend(doubt::bells_not_rising(&bell_rises));
         if peak == 0.0 {
             warnings.insert(0, "the recording is silent".into());
         }
@@ -358,6 +374,12 @@ impl StrikesReport {
         if !heard.strikes.is_empty() && !r.strokes_known {
             warnings.push("no handstroke gap stands out: hand and back are a guess".into());
         }
+        let together = doubt::struck_together(&timed);
+        if together.is_none() {
+            let heard = (1..=bells).filter(|b| timed.iter().any(|s| s.bell == *b)).count();
+            warnings.extend(doubt::no_full_row(timed.len(), r.rows, r.full_rows, heard, bells));
+        }
+        warnings.extend(together);
         warnings.extend(ring_size_warning(&timed, bells));
         let strikes: Vec<StrikeReport> = heard
             .strikes
