@@ -307,16 +307,11 @@ impl StrikesReport {
         let mut moved: Vec<Vec<f64>> = vec![];
         // Strikes judged, and of them those that rise ([`rising`]).
         let mut rises = (0usize, 0usize);
-        // The same, bell by bell.
-        let mut bell_rises = vec![(0usize, 0usize); voices.len()];
         let mut each = |w: &Window, heard: &mut Heard| -> Result<(), clapper_signal::SignalError> {
             peak = w.sig.samples.iter().fold(peak, |p, v| p.max(v.abs()));
             for (s, r) in heard.strikes.iter().zip(rising(w.sig, &heard.strikes, voices)) {
                 if let (Some(r), true) = (r, in_core(w, s.t)) {
                     rises = (rises.0 + 1, rises.1 + usize::from(r));
-                    if let Some(b) = bell_rises.get_mut(s.bell.wrapping_sub(1)) {
-                        *b = (b.0 + 1, b.1 + usize::from(r));
-                    }
                 }
             }
             if let Some(strip) = strip.as_deref_mut().filter(|_| w.start == 0) {
@@ -351,7 +346,6 @@ impl StrikesReport {
                 ),
             );
         }
-        warnings.extend(doubt::bells_not_rising(&bell_rises));
         if peak == 0.0 {
             warnings.insert(0, "the recording is silent".into());
         }

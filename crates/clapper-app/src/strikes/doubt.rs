@@ -1,39 +1,22 @@
 //! Doubts about the strikes heard (issue 46): what says a recording is not
-//! of these bells rung in rows, said bell by bell. A bell whose strikes do
-//! not rise in its own strongest partial is not heard struck (a steady
-//! tone near its partial, say); bells whose strikes come together are one
+//! of these bells rung in rows. Bells whose strikes come together are one
 //! sound heard as several (a bell's partials where another's are); strikes
-//! that never make a row with every bell given are no ring's.
+//! of few of the bells given, never in a row with every bell, are no ring's.
+//! (Each bell's own share of strikes rising ([`clapper_signal::strikes::rising`])
+//! does not serve: on rings built from recorded tower bells, bells whose
+//! strikes were found right rose at 3 to 10 of 24, their hum still ringing.)
 
-use clapper_signal::strikes::PLAUSIBLE_SHARE;
 use clapper_signal::striking::Timed;
 
 /// Strikes of two bells closer than this (s) are one sound: bells rung in
 /// rows strike 160 ms or more apart, and a clash as close is rare.
 pub(super) const TOGETHER_S: f64 = 0.02;
-/// Warned when at least this share of the strikes come together.
-const TOGETHER_SHARE: f64 = 0.25;
-/// The fewest strikes of a bell judged ([`clapper_signal::strikes::rising`])
-/// for its own share of rising strikes to be said.
-const JUDGED_MIN: usize = 4;
-
-/// A warning for each bell whose strikes seldom rise: `rises[b - 1]` is
-/// (strikes of bell `b` judged, of them those that rise).
-pub(super) fn bells_not_rising(rises: &[(usize, usize)]) -> Vec<String> {
-    rises
-        .iter()
-        .enumerate()
-        .filter(|(_, (n, up))| *n >= JUDGED_MIN && (*up as f64) < PLAUSIBLE_SHARE * *n as f64)
-        .map(|(i, (n, up))| {
-            format!(
-                "bell {}: only {up} of its {n} strikes rise in its strongest partial (a bell's strike starts it): \
-                 many are not this bell struck but another sound near its partials (another bell's, or a steady \
-                 tone); its strikes are doubtful",
-                i + 1
-            )
-        })
-        .collect()
-}
+/// Warned when at least this share of the strikes come together. On rings
+/// built from recorded tower bells (docs/reliability.md) heard by assumed
+/// nominals, where partials of bells 4, 6, 7 and 8 lie close, up to 27 %
+/// of the strikes did (mostly strikes wrongly heard, but bells); one bell
+/// heard as four, or a single strike, all of them.
+const TOGETHER_SHARE: f64 = 0.5;
 
 /// A warning when many strikes of different bells come together
 /// (within [`TOGETHER_S`]): one sound heard as several bells.
@@ -103,13 +86,6 @@ mod tests {
             })
             .collect();
         assert_eq!(struck_together(&rows), None);
-    }
-
-    #[test]
-    fn a_bell_whose_strikes_do_not_rise_is_told() {
-        let w = bells_not_rising(&[(10, 9), (10, 2), (2, 0)]);
-        assert_eq!(w.len(), 1);
-        assert!(w[0].starts_with("bell 2: only 2 of its 10"), "{}", w[0]);
     }
 
     #[test]
