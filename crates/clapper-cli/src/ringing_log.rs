@@ -14,7 +14,7 @@ use clapper_io::accel_log::{load_accel_log, write_sleuth_log, Axes, LogFileError
 use clapper_io::text_file::MAX_TEXT_BYTES;
 use clapper_plot::ringing_log::{ringing_log_plot, LogPhase, LogPlot, LogSwing};
 use clapper_signal::ringing_log::{LogOptions, PhaseKind};
-use clapper_signal::ringing_log_synth::{plan_log, render_log, LogSpec};
+use clapper_signal::ringing_log_synth::{plan_log, render_log, LogSpec, LogTruth};
 use serde_json::json;
 
 use crate::files::write_bytes;
@@ -210,6 +210,24 @@ const MAX_LOG_STROKES: usize = 10_000;
 /// Most runs of lost samples in a synthetic log.
 const MAX_LOG_GAPS: usize = 1_000;
 
+/// The truth of a synthetic log at `rate` (Hz) as JSON.
+fn truth_json(rate: f64, truth: &LogTruth) -> serde_json::Value {
+    json!({
+        "synthetic": true,
+        "rate_hz": rate,
+        "odd_struck_ms": truth.odd_struck.map(|x| x * 1e3),
+        "phases": truth.phases.iter().map(|p| json!({"kind": p.kind.name(), "start_s": p.start, "end_s": p.end})).collect::<Vec<_>>(),
+        "strokes": truth.strokes.iter().map(|s| json!({
+            "bdc_s": s.bdc,
+            "stroke": if s.hand { "hand" } else { "back" },
+            "strike_s": s.strike,
+            "amplitude_deg": s.amplitude.to_degrees(),
+            "phase": s.phase.name(),
+            "hidden_by_a_gap": s.hidden,
+        })).collect::<Vec<_>>(),
+    })
+}
+
 /// About how many bytes a log `seconds` long at `rate` (Hz) takes as text,
 /// a little over: a line a sample, three readings of 6.5 characters and a
 /// space each (5 to 7: "9.848", "-0.077", "-12.345") and the time in ms,
@@ -299,20 +317,7 @@ pub fn synth_log_cmd(args: SynthLogArgs) -> Result<()> {
     }
     write_bytes(&args.out, text)?;
     if let Some(path) = &args.truth {
-        let v = json!({
-            "synthetic": true,
-            "rate_hz": args.rate,
-            "odd_struck_ms": truth.odd_struck.map(|x| x * 1e3),
-            "phases": truth.phases.iter().map(|p| json!({"kind": p.kind.name(), "start_s": p.start, "end_s": p.end})).collect::<Vec<_>>(),
-            "strokes": truth.strokes.iter().map(|s| json!({
-                "bdc_s": s.bdc,
-                "stroke": if s.hand { "hand" } else { "back" },
-                "strike_s": s.strike,
-                "amplitude_deg": s.amplitude.to_degrees(),
-                "phase": s.phase.name(),
-                "hidden_by_a_gap": s.hidden,
-            })).collect::<Vec<_>>(),
-        });
+        let v = truth_json(args.rate, &truth);
         write_bytes(path, serde_json::to_string_pretty(&v)? + "\n")?;
     }
     crate::say!(
