@@ -18,6 +18,8 @@ use serde::Serialize;
 
 use crate::AppError;
 
+mod doubt;
+
 /// The sample rates (Hz) of recordings listened to: a telephone's to a
 /// studio's (the finder decimates each band, so a high rate costs reading
 /// time, not accuracy).
@@ -239,6 +241,14 @@ fn ring_size_warning(timed: &[Timed], given: usize) -> Option<String> {
     // warned from k + 2 + k/10, none of them was, and two or more bells
     // left out were in 159 of 240 (118 of 167 with three or more given).
     let room = clapper_signal::striking::ring_room(timed)?;
+    if room.interval_s < doubt::TOGETHER_S {
+        // Bells "0 ms apart" leave room for thousands: no estimate at all.
+        return Some(format!(
+            "no ring's size can be read from the strikes: those of different bells come {:.0} ms apart, \
+             together, not one after another",
+            room.interval_s * 1e3
+        ));
+    }
     (room.bells >= k + 2.0 + 0.1 * k).then(|| {
         format!(
             "{given} nominal(s) given, but the strikes leave room for about {:.0} bells (a bell strikes every {:.0} ms, \
@@ -365,6 +375,12 @@ impl StrikesReport {
         if !heard.strikes.is_empty() && !r.strokes_known {
             warnings.push("no handstroke gap stands out: hand and back are a guess".into());
         }
+        let together = doubt::struck_together(&timed);
+        if together.is_none() {
+            let heard = (1..=bells).filter(|b| timed.iter().any(|s| s.bell == *b)).count();
+            warnings.extend(doubt::no_full_row(timed.len(), r.rows, r.full_rows, heard, bells));
+        }
+        warnings.extend(together);
         warnings.extend(ring_size_warning(&timed, bells));
         let strikes: Vec<StrikeReport> = heard
             .strikes

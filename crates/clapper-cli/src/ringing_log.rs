@@ -11,9 +11,10 @@ use clapper_app::simulate::{Preset, SimulateRequest};
 use clapper_core::bell::G;
 use clapper_core::sensor::SensorPlace;
 use clapper_io::accel_log::{load_accel_log, write_sleuth_log, Axes, LogFileError};
+use clapper_io::text_file::MAX_TEXT_BYTES;
 use clapper_plot::ringing_log::{ringing_log_plot, LogPhase, LogPlot, LogSwing};
 use clapper_signal::ringing_log::{LogOptions, PhaseKind};
-use clapper_signal::ringing_log_synth::{synth_log, LogSpec};
+use clapper_signal::ringing_log_synth::{plan_log, render_log, LogSpec, LogTruth};
 use serde_json::json;
 
 use crate::files::write_bytes;
@@ -225,6 +226,51 @@ const MAX_LOG_STROKES: usize = 10_000;
 /// Most runs of lost samples in a synthetic log.
 const MAX_LOG_GAPS: usize = 1_000;
 
+/// The truth of a synthetic log at `rate` (Hz) as JSON.
+fn truth_json(rate: f64, truth: &LogTruth) -> serde_json::Value {
+    json!({
+        "synthetic": true,
+        "rate_hz": rate,
+        "odd_struck_ms": truth.odd_struck.map(|x| x * 1e3),
+        "phases": truth.phases.iter().map(|p| json!({"kind": p.kind.name(), "start_s": p.start, "end_s": p.end})).collect::<Vec<_>>(),
+        "strokes": truth.strokes.iter().map(|s| json!({
+            "bdc_s": s.bdc,
+            "stroke": if s.hand { "hand" } else { "back" },
+            "strike_s": s.strike,
+            "amplitude_deg": s.amplitude.to_degrees(),
+            "phase": s.phase.name(),
+            "hidden_by_a_gap": s.hidden,
+        })).collect::<Vec<_>>(),
+    })
+}
+
+/// About how many bytes a log `seconds` long at `rate` (Hz) takes as text,
+/// a little over: a line a sample, three readings of 6.5 characters and a
+/// space each (5 to 7: "9.848", "-0.077", "-12.345") and the time in ms,
+/// with 3 decimals when samples fall within a millisecond. (A 10 kHz log
+/// of 300 s measured 30.4 bytes a sample; this says 33.5.)
+fn log_bytes_estimate(rate: f64, seconds: f64) -> f64 {
+    let ms_digits = (seconds * 1e3).max(1.0).log10().floor() + 1.0;
+    let decimals = if rate > 1000.0 { 4.0 } else { 0.0 };
+    (seconds * rate + 1.0) * (3.0 * 7.5 + ms_digits + decimals + 1.0)
+}
+
+/// The refusal of a log `seconds` long, `bytes` as text, said in the
+/// options' words.
+fn too_long(args: &SynthLogArgs, seconds: f64, bytes: f64) -> String {
+    let per_second = bytes / (seconds * args.rate).max(1.0);
+    let fits_hz = (MAX_TEXT_BYTES as f64 / (per_second * seconds)).floor();
+    format!(
+        "--rate {} Hz over the {:.0} s this log lasts (--strokes {} rung, with raising and lowering) is about {} MiB \
+         of text, more than the {} MiB ringing-log reads: lower --rate (at most about {fits_hz} Hz here) or --strokes",
+        args.rate,
+        seconds,
+        args.strokes,
+        (bytes / (1u64 << 20) as f64).ceil(),
+        MAX_TEXT_BYTES >> 20
+    )
+}
+
 pub fn synth_log_cmd(args: SynthLogArgs) -> Result<()> {
     // Counts bounded before anything is allocated for them.
     if args.strokes > MAX_LOG_STROKES {
@@ -270,24 +316,22 @@ pub fn synth_log_cmd(args: SynthLogArgs) -> Result<()> {
         along: args.sensor_m,
         across: 0.0,
     };
-    let (mut log, truth) = synth_log(&spec)?;
+    // The bell's swings simulated, the log's length is known before its
+    // samples are drawn: one too long for ringing-log is refused here.
+    let plan = plan_log(&spec)?;
+    let bytes = log_bytes_estimate(args.rate, plan.seconds());
+    if bytes > MAX_TEXT_BYTES as f64 {
+        anyhow::bail!("{}", too_long(&args, plan.seconds(), bytes));
+    }
+    let (mut log, truth) = render_log(&spec, &plan)?;
     log.name = Some(args.name.clone());
-    write_bytes(&args.out, write_sleuth_log(&log))?;
+    let text = write_sleuth_log(&log);
+    if text.len() > MAX_TEXT_BYTES {
+        anyhow::bail!("{}", too_long(&args, plan.seconds(), text.len() as f64));
+    }
+    write_bytes(&args.out, text)?;
     if let Some(path) = &args.truth {
-        let v = json!({
-            "synthetic": true,
-            "rate_hz": args.rate,
-            "odd_struck_ms": truth.odd_struck.map(|x| x * 1e3),
-            "phases": truth.phases.iter().map(|p| json!({"kind": p.kind.name(), "start_s": p.start, "end_s": p.end})).collect::<Vec<_>>(),
-            "strokes": truth.strokes.iter().map(|s| json!({
-                "bdc_s": s.bdc,
-                "stroke": if s.hand { "hand" } else { "back" },
-                "strike_s": s.strike,
-                "amplitude_deg": s.amplitude.to_degrees(),
-                "phase": s.phase.name(),
-                "hidden_by_a_gap": s.hidden,
-            })).collect::<Vec<_>>(),
-        });
+        let v = truth_json(args.rate, &truth);
         write_bytes(path, serde_json::to_string_pretty(&v)? + "\n")?;
     }
     crate::say!(

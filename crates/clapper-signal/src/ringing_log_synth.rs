@@ -320,15 +320,41 @@ fn restore_between_restarts(pieces: &[Piece], times: &[f64], kin: &mut [[f64; 3]
 
 /// Synthesise a log and its truth.
 pub fn synth_log(spec: &LogSpec) -> Result<(AccelLog, LogTruth), SignalError> {
+    render_log(spec, &plan_log(spec)?)
+}
+
+/// A log's session planned: its bell's swings simulated, no sample drawn
+/// yet, so that its length can be bounded before its samples are
+/// allocated (a 10 kHz log of a peal is tens of millions of them).
+pub struct LogPlan {
+    session: Session,
+}
+
+impl LogPlan {
+    /// The session's length (s).
+    pub fn seconds(&self) -> f64 {
+        self.session.total
+    }
+}
+
+/// Plan the log `spec` asks for ([`render_log`] draws its samples).
+pub fn plan_log(spec: &LogSpec) -> Result<LogPlan, SignalError> {
     check(spec)?;
-    let session = session(spec)?;
+    Ok(LogPlan {
+        session: session(spec)?,
+    })
+}
+
+/// Draw the samples of the log `plan` (planned from `spec`) and its truth.
+pub fn render_log(spec: &LogSpec, plan: &LogPlan) -> Result<(AccelLog, LogTruth), SignalError> {
+    let session = &plan.session;
     let mut rng = Pcg64::seed_from_u64(spec.seed);
     let (times, gaps) = sample_times(spec, session.total, &mut rng);
     let Motions {
         kin,
         impacts,
         mut strokes,
-    } = motions(spec, &session, &times)?;
+    } = motions(spec, session, &times)?;
     let bursts = burst_list(spec, &impacts, &mut rng);
     truth_strikes(&mut strokes, &bursts, &gaps, 1.0 / spec.rate);
     let [radial, tangential, axle] = readings(spec, &times, &kin, &bursts, &mut rng);

@@ -1,0 +1,100 @@
+//! Doubts about the strikes heard (issue 46): what says a recording is not
+//! of these bells rung in rows. Bells whose strikes come together are one
+//! sound heard as several (a bell's partials where another's are); strikes
+//! of few of the bells given, never in a row with every bell, are no ring's.
+//! (Each bell's own share of strikes rising ([`clapper_signal::strikes::rising`])
+//! does not serve: on rings built from recorded tower bells, bells whose
+//! strikes were found right rose at 3 to 10 of 24, their hum still ringing.)
+
+use clapper_signal::striking::Timed;
+
+/// Strikes of two bells closer than this (s) are one sound: bells rung in
+/// rows strike 160 ms or more apart, and a clash as close is rare.
+pub(super) const TOGETHER_S: f64 = 0.02;
+/// Warned when at least this share of the strikes come together. On rings
+/// built from recorded tower bells (docs/reliability.md) heard by assumed
+/// nominals, where partials of bells 4, 6, 7 and 8 lie close, up to 27 %
+/// of the strikes did (mostly strikes wrongly heard, but bells); one bell
+/// heard as four, or a single strike, all of them.
+const TOGETHER_SHARE: f64 = 0.5;
+
+/// A warning when many strikes of different bells come together
+/// (within [`TOGETHER_S`]): one sound heard as several bells.
+pub(super) fn struck_together(timed: &[Timed]) -> Option<String> {
+    let mut order: Vec<&Timed> = timed.iter().collect();
+    order.sort_by(|a, b| a.t.total_cmp(&b.t));
+    let near = |i: usize, j: usize| order[i].bell != order[j].bell && (order[j].t - order[i].t).abs() < TOGETHER_S;
+    let mut bells: Vec<usize> = vec![];
+    let mut count = 0;
+    for i in 0..order.len() {
+        if (i > 0 && near(i - 1, i)) || (i + 1 < order.len() && near(i, i + 1)) {
+            count += 1;
+            bells.push(order[i].bell);
+        }
+    }
+    bells.sort_unstable();
+    bells.dedup();
+    (count >= 3 && count as f64 >= TOGETHER_SHARE * order.len() as f64).then(|| {
+        let names: Vec<String> = bells.iter().map(usize::to_string).collect();
+        format!(
+            "{count} of the {} strikes come within {:.0} ms of another bell's, as bells rung in rows do not: \
+             one sound is heard as several bells (bells {} together), one bell's partials lying where another's \
+             are; give only the nominals of the bells that ring",
+            order.len(),
+            TOGETHER_S * 1e3,
+            names.join(", ")
+        )
+    })
+}
+
+/// A warning when `strikes` strikes of only `heard` bells, half or fewer
+/// of the `bells` given, make `rows` rows, none with every bell: no ring
+/// rung in rows. (A bell or two not heard in a ring is warned of alone.)
+pub(super) fn no_full_row(strikes: usize, rows: usize, full_rows: usize, heard: usize, bells: usize) -> Option<String> {
+    (bells >= 2 && 2 * heard <= bells && full_rows == 0 && strikes >= 4 * bells.max(3)).then(|| {
+        format!(
+            "{strikes} strikes of only {heard} of the {bells} bells given, in {rows} row(s) none of which holds \
+             every bell: not a ring rung in rows (not these bells, or not bells at all); the rows and places \
+             below mean nothing"
+        )
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_bell_heard_as_four_at_once_is_told() {
+        let timed: Vec<Timed> = (0..5)
+            .flat_map(|k| {
+                [1, 3, 5, 8].map(|bell| Timed {
+                    bell,
+                    t: 2.0 * k as f64 + 0.001 * bell as f64,
+                })
+            })
+            .collect();
+        let w = struck_together(&timed).expect("warned");
+        assert!(
+            w.contains("20 of the 20 strikes") && w.contains("bells 1, 3, 5, 8"),
+            "{w}"
+        );
+        let rows: Vec<Timed> = (0..40)
+            .map(|k| Timed {
+                bell: k % 8 + 1,
+                t: 0.2 * k as f64,
+            })
+            .collect();
+        assert_eq!(struck_together(&rows), None);
+    }
+
+    #[test]
+    fn strikes_of_few_of_the_bells_given_in_no_full_row_are_told() {
+        assert!(no_full_row(48, 16, 0, 2, 8)
+            .unwrap()
+            .starts_with("48 strikes of only 2 of the 8"));
+        // A bell or two not heard in a ring of eight: warned of alone.
+        assert_eq!(no_full_row(168, 36, 0, 7, 8), None);
+        assert_eq!(no_full_row(48, 16, 3, 2, 8), None);
+    }
+}
