@@ -49,6 +49,9 @@ const SAME: f64 = 0.008;
 const SAME_BELL: f64 = 0.75;
 /// A peak of a bell's mean rise this strong against its strongest may be its nominal.
 const CANDIDATE: f64 = 0.25;
+/// A peak an octave below the one chosen this strong (against the
+/// strongest) that fits about as well is the nominal.
+const OCTAVE_BELOW: f64 = 0.3;
 /// What being the strongest peak counts for, in partials found.
 const STRONG: f64 = 4.0;
 /// A partial this strong against the strongest is present.
@@ -65,15 +68,53 @@ struct Frames<'a> {
     fft: std::sync::Arc<dyn realfft::RealToComplex<f64>>,
     k_lo: usize,
     k_hi: usize,
+    /// Bin spacing (Hz).
+    df: f64,
 }
 
-impl Frames<'_> {
+impl<'a> Frames<'a> {
+    /// About 90 ms windows, zero-padded twice, from [`F_MIN`] to [`F_MAX`]:
+    /// long enough to part bells a semitone apart, short enough that bells
+    /// 150 ms apart rise in different frames.
+    fn of(low: &'a Signal) -> Self {
+        let rate = low.rate;
+        let n_win = ((0.09 * rate) as usize).next_power_of_two();
+        let nfft = 2 * n_win;
+        let df = rate / nfft as f64;
+        let mut planner = realfft::RealFftPlanner::<f64>::new();
+        Frames {
+            sig: &low.samples,
+            win: crate::spectrogram::hann(n_win),
+            hop: n_win / 4,
+            fft: planner.plan_fft_forward(nfft),
+            k_lo: (F_MIN / df).ceil() as usize,
+            k_hi: ((F_MAX.min(0.45 * rate)) / df).floor() as usize,
+            df,
+        }
+    }
+
     fn count(&self) -> usize {
         if self.sig.len() < self.win.len() {
             0
         } else {
             (self.sig.len() - self.win.len()) / self.hop + 1
         }
+    }
+
+    /// Pass 1: the spectral rise of every frame over `lag` frames before
+    /// it (summed over frequency).
+    fn flux(&self, lag: usize) -> Vec<f64> {
+        let mut flux = vec![0.0; self.count()];
+        let mut past: std::collections::VecDeque<Vec<f64>> = std::collections::VecDeque::new();
+        for (t, f) in flux.iter_mut().enumerate() {
+            let m = self.magnitudes(t);
+            if past.len() == lag {
+                let old = past.pop_front().unwrap_or_default();
+                *f = m.iter().zip(&old).map(|(a, b)| (a - b).max(0.0)).sum();
+            }
+            past.push_back(m);
+        }
+        flux
     }
 
     fn magnitudes(&self, t: usize) -> Vec<f64> {
@@ -102,23 +143,8 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
         )));
     }
     let low = decimate(sig, F_MAX);
-    let rate = low.rate;
-    // About 90 ms windows: long enough to part bells a semitone apart,
-    // short enough that bells 150 ms apart rise in different frames.
-    let n_win = ((0.09 * rate) as usize).next_power_of_two();
-    let nfft = 2 * n_win;
-    let df = rate / nfft as f64;
-    let k_lo = (F_MIN / df).ceil() as usize;
-    let k_hi = ((F_MAX.min(0.45 * rate)) / df).floor() as usize;
-    let mut planner = realfft::RealFftPlanner::<f64>::new();
-    let frames = Frames {
-        sig: &low.samples,
-        win: crate::spectrogram::hann(n_win),
-        hop: n_win / 4,
-        fft: planner.plan_fft_forward(nfft),
-        k_lo,
-        k_hi,
-    };
+    let frames = Frames::of(&low);
+    let (k_lo, df) = (frames.k_lo, frames.df);
     // The rise is taken over one window (four hops): a strike is wholly in
     // the later frame and not in the earlier.
     let lag = 4;
@@ -128,18 +154,7 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
             "learning the bells needs a second of ringing".into(),
         ));
     }
-    // Pass 1: the spectral rise of every frame (summed over frequency).
-    let mut flux = vec![0.0; n];
-    let mut past: std::collections::VecDeque<Vec<f64>> = std::collections::VecDeque::new();
-    for (t, f) in flux.iter_mut().enumerate() {
-        let m = frames.magnitudes(t);
-        if past.len() == lag {
-            let old = past.pop_front().unwrap_or_default();
-            *f = m.iter().zip(&old).map(|(a, b)| (a - b).max(0.0)).sum();
-        }
-        past.push_back(m);
-    }
-    let onsets = pick_onsets(&flux);
+    let onsets = pick_onsets(&frames.flux(lag));
     if onsets.is_empty() {
         return Err(SignalError::Invalid(
             "no strikes heard: the recording is silent or steady".into(),
@@ -165,7 +180,7 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
     // A bell heard at fewer onsets than this is no bell of the ring.
     let least = (0.3 * expected).max(3.0);
     let mut chosen: Vec<&Heard> = bells_heard.iter().filter(|b| b.onsets.len() as f64 >= least).collect();
-    chosen.sort_by(|a, b| b.onsets.len().cmp(&a.onsets.len()));
+    chosen.sort_by_key(|b| std::cmp::Reverse(b.onsets.len()));
     chosen.truncate(bells);
     // A bell's share against the typical learned bell's: every bell of a
     // ring strikes as often as the others (onsets of the room, the noise
@@ -324,7 +339,7 @@ fn same_bells(groups: &[Vec<(f64, usize)>], rises: &[Vec<f64>], k_lo: usize, df:
     // most like (no chains of likeness: a partial two bells share is like
     // both), or, if large enough, is a bell of its own.
     let mut order: Vec<usize> = (0..groups.len()).collect();
-    order.sort_by(|&a, &b| groups[b].len().cmp(&groups[a].len()));
+    order.sort_by_key(|&a| std::cmp::Reverse(groups[a].len()));
     let mut members: Vec<Vec<usize>> = vec![];
     for i in order {
         let like = members
@@ -371,17 +386,26 @@ fn nominal_of(mean: &[f64], k_lo: usize, df: f64) -> Option<f64> {
         let (a, b) = (bin(lo).max(0), bin(hi).min(mean.len() as isize - 1));
         a <= b && (a..=b).any(|k| mean[k as usize] >= PRESENT * top)
     };
-    let peaks = (1..mean.len() - 1)
+    let score = |f: f64| PARTIAL_RANGES.iter().filter(|(lo, hi)| present(lo * f, hi * f)).count();
+    let peaks: Vec<(f64, usize, f64)> = (1..mean.len() - 1)
         .filter(|&k| mean[k] >= CANDIDATE * top && mean[k] >= mean[k - 1] && mean[k] > mean[k + 1])
         .map(|k| {
             let f = (k + k_lo) as f64 * df;
-            let score = PARTIAL_RANGES.iter().filter(|(lo, hi)| present(lo * f, hi * f)).count();
-            (f, score, mean[k])
-        });
+            (f, score(f), mean[k])
+        })
+        .collect();
     // Another bell's partials rising nearby fill a range now and then: a
     // strong peak is taken over a weak one with one partial more.
     let value = |p: &(f64, usize, f64)| p.1 as f64 + STRONG * p.2 / top;
-    peaks.max_by(|a, b| value(a).total_cmp(&value(b))).map(|p| p.0)
+    let best = peaks.iter().max_by(|a, b| value(a).total_cmp(&value(b)))?;
+    // Recorded tower bells' upper partials (at 1.18, 1.56, 2.7, 3 and 4
+    // times the nominal) fit an octave nominal as well as the nominal: a
+    // strong peak an octave below that fits about as well is the nominal
+    // (a synthetic bell's prime, an octave below, fits far worse).
+    let below = peaks
+        .iter()
+        .find(|p| (p.0 / best.0 - 0.5).abs() < 0.01 && p.2 >= OCTAVE_BELOW * top && p.1 + 1 >= best.1);
+    Some(below.unwrap_or(best).0)
 }
 
 /// Semitones from the tenor to the treble of a ring of `bells` tuned to
