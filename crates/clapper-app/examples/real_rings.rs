@@ -4,7 +4,7 @@
 //! rounds and plain hunt in rooms and noise by
 //! `clapper_signal::sampled_ring`, and scored against the truth.
 //!
-//! cargo run --release -p clapper-app --example real_rings -- FOLDER [--bells N] [--skip K] [--seeds A-B] [--mode templates|nominals|both] [--conditions 1,2] [--show] [--order pitch|name|name-rev] [--nominals F1,F2,..] [--raw]
+//! cargo run --release -p clapper-app --example real_rings -- FOLDER [--bells N] [--skip K] [--seeds A-B] [--mode templates|nominals|learned|both] [--conditions 1,2] [--show] [--order pitch|name|name-rev] [--nominals F1,F2,..] [--raw]
 //!
 //! `--skip K` leaves out the K highest bells (a ring of the next N).
 //! No recordings ship with the project: docs/strikes.md names the ones
@@ -45,6 +45,7 @@ fn args() -> Args {
         modes: match get("--mode").as_deref() {
             Some("templates") => vec!["templates"],
             Some("nominals") => vec!["nominals"],
+            Some("learned") => vec!["learned"],
             _ => vec!["templates", "nominals"],
         },
         conditions: get("--conditions")
@@ -208,6 +209,35 @@ fn main() {
                     (_, true) => Timing::AsHeard,
                     ("templates", _) => Timing::Templates(&strikes),
                     _ => Timing::AsHeard,
+                };
+                // --mode learned: the nominals learned from the ring itself
+                // (`--bells N`), against those given (worst error, %).
+                let voices = if *mode == "learned" {
+                    let l = clapper_signal::strikes::learn_nominals(&sig, n).unwrap();
+                    let mut worst = 0.0f64;
+                    for (k, &f) in nominals.iter().enumerate() {
+                        let e = l
+                            .bells
+                            .get(k)
+                            .map_or(f64::INFINITY, |b| 100.0 * (b.nominal_hz / f - 1.0));
+                        worst = worst.max(e.abs());
+                    }
+                    println!(
+                        "  {name} seed {seed}: learned {} (worst {worst:.2} %){}",
+                        l.bells
+                            .iter()
+                            .map(|b| format!("{:.1} ({:.2})", b.nominal_hz, b.confidence))
+                            .collect::<Vec<_>>()
+                            .join(", "),
+                        if l.warnings.is_empty() {
+                            String::new()
+                        } else {
+                            format!("; {}", l.warnings.join("; "))
+                        }
+                    );
+                    l.bells.iter().map(|b| BellVoice::from_nominal(b.nominal_hz)).collect()
+                } else {
+                    voices.clone()
                 };
                 let report = StrikesReport::timed(&sig, &voices, &StrikeOptions::default(), timing).unwrap();
                 let heard: Vec<HeardTimes> = report

@@ -161,11 +161,27 @@ pub enum Timing<'a> {
     Templates(&'a [Signal]),
 }
 
+/// A bell's nominal learned from the recording (`--bells N`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct LearnedNominal {
+    /// Bell, counting from 1 (the treble, the highest).
+    pub bell: usize,
+    /// Its nominal (Hz).
+    pub nominal_hz: f64,
+    /// How sure (0 to 1): the onsets its nominal rose most at, against the
+    /// typical learned bell's.
+    pub confidence: f64,
+}
+
 /// What `clapper strikes` reports.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct StrikesReport {
     /// Bells listened for.
     pub bells: usize,
+    /// The nominals learned from the recording, treble first (with
+    /// `--bells N` only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub learned_nominals_hz: Option<Vec<LearnedNominal>>,
     /// Each bell's timing against its template (with templates only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub timing: Option<TimingReport>,
@@ -208,6 +224,33 @@ pub fn voices_from_nominals(nominals: &[f64]) -> Result<Vec<BellVoice>, AppError
         }
     }
     Ok(nominals.iter().map(|&f| BellVoice::from_nominal(f)).collect())
+}
+
+/// The nominals of `bells` bells (3 to 16) learned from the recording
+/// `sig` alone ([`clapper_signal::strikes::learn_nominals`]), treble first,
+/// and what made it unsure, in words. Refused when no bell is heard.
+pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<(Vec<LearnedNominal>, Vec<String>), AppError> {
+    if !(3..=16).contains(&bells) {
+        return Err(AppError::Request(format!("--bells {bells}: from 3 to 16 bells")));
+    }
+    let l = clapper_signal::strikes::learn_nominals(sig, bells).map_err(signal_error)?;
+    if l.bells.is_empty() {
+        return Err(AppError::Request(format!(
+            "strikes: no bell's nominal heard again and again at {} onsets: is it a recording of bells ringing?",
+            l.onsets
+        )));
+    }
+    let learned = l
+        .bells
+        .iter()
+        .enumerate()
+        .map(|(i, b)| LearnedNominal {
+            bell: i + 1,
+            nominal_hz: b.nominal_hz,
+            confidence: b.confidence,
+        })
+        .collect();
+    Ok((learned, l.warnings))
 }
 
 pub use clapper_signal::strikes::DEFAULT_DOUBLE_MIN_RATIO;
@@ -422,6 +465,7 @@ impl StrikesReport {
         };
         StrikesReport {
             bells,
+            learned_nominals_hz: None,
             timing,
             strikes,
             per_bell,
@@ -472,6 +516,13 @@ impl StrikesReport {
                 format!("{} ({:.0} %)", b.double_strikes, 100.0 * b.double_rate),
                 opt(b.mean_d, 1)
             );
+        }
+        if let Some(l) = &self.learned_nominals_hz {
+            let list: Vec<String> = l
+                .iter()
+                .map(|b| format!("{} {:.1} Hz ({:.0} % sure)", b.bell, b.nominal_hz, 100.0 * b.confidence))
+                .collect();
+            let _ = writeln!(o, "nominals learned from the recording: {}", list.join(", "));
         }
         if let Some(t) = &self.timing {
             let list = |f: &dyn Fn(&BellTiming) -> Option<f64>| {

@@ -6,7 +6,9 @@ use std::path::PathBuf;
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
-use clapper_app::strikes::{strike_options, voices_from_nominals, StrikesReport, StrikingFigure, Timing};
+use clapper_app::strikes::{
+    learn_nominals, strike_options, voices_from_nominals, StrikesReport, StrikingFigure, Timing,
+};
 use clapper_io::signal_file::{read_recording, write_wav};
 use clapper_io::strike_file::{csv_text, lowndes};
 use clapper_io::wav_stream::WavStream;
@@ -45,6 +47,10 @@ pub struct StrikesArgs {
     /// A folder of recordings of each bell struck alone, named 1.wav, 2.wav, ...
     #[arg(long, value_name = "DIR")]
     pub templates: Option<PathBuf>,
+    /// Without nominals: the number of bells ringing (3 to 16); their
+    /// nominals are learned from the recording itself and reported.
+    #[arg(long, value_name = "N", conflicts_with_all = ["nominals", "templates"])]
+    pub bells: Option<usize>,
     /// A second strike at least this loud against the first (amplitude ratio) is a double strike.
     #[arg(long, default_value_t = clapper_app::strikes::DEFAULT_DOUBLE_MIN_RATIO, value_name = "RATIO")]
     pub double_min_ratio: f64,
@@ -105,11 +111,21 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         &[("--csv", args.csv.as_deref()), ("--lowndes", args.lowndes.as_deref())],
         args.json,
     )?;
-    let (voices, recorded) = match (&args.nominals, &args.templates) {
-        (Some(n), _) => (voices_from_nominals(&n.0)?, vec![]),
-        (None, Some(dir)) => templates(dir)?,
-        (None, None) => {
-            bail!("say which bells to listen for: --nominals F1,F2,.. (Hz, treble first) or --templates DIR")
+    let mut learned = None;
+    let (voices, recorded) = match (&args.nominals, &args.templates, args.bells) {
+        (Some(n), _, _) => (voices_from_nominals(&n.0)?, vec![]),
+        (None, Some(dir), _) => templates(dir)?,
+        (None, None, Some(n)) => {
+            // Learned from the whole recording, read at once.
+            let sig = read_recording(&args.file)?;
+            let (nominals, warnings) = learn_nominals(&sig, n).with_context(|| args.file.display().to_string())?;
+            let hz: Vec<f64> = nominals.iter().map(|b| b.nominal_hz).collect();
+            let voices = voices_from_nominals(&hz)?;
+            learned = Some((nominals, warnings));
+            (voices, vec![])
+        }
+        (None, None, None) => {
+            bail!("say which bells to listen for: --nominals F1,F2,.. (Hz, treble first), --templates DIR or --bells N")
         }
     };
     if let Some(path) = &args.plot {
@@ -138,6 +154,11 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         }
     }
     .with_context(|| args.file.display().to_string())?;
+    let mut report = report;
+    if let Some((nominals, warnings)) = learned {
+        report.summary.warnings.splice(0..0, warnings);
+        report.learned_nominals_hz = Some(nominals);
+    }
     let name = crate::files::title_name(&args.file);
     if let Some(path) = &args.csv {
         write_bytes(path, csv_text(&report.csv_rows()).map_err(anyhow::Error::msg)?)?;

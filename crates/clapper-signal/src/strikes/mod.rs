@@ -23,6 +23,7 @@ mod doubles;
 mod find;
 mod fit;
 mod heard;
+mod learn;
 mod onsets;
 mod plan;
 mod plausible;
@@ -33,6 +34,7 @@ mod voice;
 
 pub use find::find_strikes;
 pub use heard::{Heard, HeardDouble, HeardStrike, StrikeOptions, DEFAULT_DOUBLE_MIN_RATIO};
+pub use learn::{learn_nominals, Learned, LearnedBell};
 pub use plausible::{rising, PLAUSIBLE_SHARE, RISE_POWER};
 pub use stream::{find_strikes_streamed, InMemory, RecordingBlocks, Window, Windows};
 pub use voice::{BellVoice, VoicePartial};
