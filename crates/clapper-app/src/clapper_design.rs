@@ -6,7 +6,7 @@
 use std::fmt::Write as _;
 
 use clapper_core::bell::{length_of_period, ParamError};
-use clapper_core::clapper_parts::{design_for_period, Adjust, ClapperMass, ClapperParts, Designed};
+use clapper_core::clapper_parts::{design_for_period, Adjust, ClapperMass, ClapperParts, Designed, MAX_CLAPPER_LENGTH};
 use clapper_core::ringer::CCCBR_LB_OVER_LC;
 use clapper_io::clapper_input::ClapperInput;
 use serde::{Deserialize, Serialize};
@@ -172,6 +172,23 @@ pub struct DesignReport {
     pub bell_file_toml: String,
 }
 
+/// The longest period taken (s): a 25 m pendulum's.
+const MAX_PERIOD_S: f64 = 10.0;
+
+/// `v` if a period above 0 and at most [`MAX_PERIOD_S`], else the error
+/// naming `field`.
+fn within_period(field: &'static str, v: f64, allowed: &'static str) -> Result<f64, ParamError> {
+    if v.is_finite() && v > 0.0 && v <= MAX_PERIOD_S {
+        Ok(v)
+    } else {
+        Err(ParamError {
+            field,
+            value: v,
+            allowed,
+        })
+    }
+}
+
 /// Answer a [`DesignRequest`].
 pub fn design(req: &DesignRequest) -> Result<DesignReport, AppError> {
     let parts = req.clapper.parts().map_err(|e| AppError::Request(e.to_string()))?;
@@ -180,13 +197,13 @@ pub fn design(req: &DesignRequest) -> Result<DesignReport, AppError> {
     let r = req
         .pivot_m
         .map(|r| {
-            if r.is_finite() {
+            if r.is_finite() && r.abs() <= MAX_CLAPPER_LENGTH {
                 Ok(r)
             } else {
                 Err(ParamError {
                     field: "pivot_m",
                     value: r,
-                    allowed: "a finite number (m)",
+                    allowed: "a clapper pivot within 5 m of the bell's pivot, either way",
                 })
             }
         })
@@ -194,7 +211,11 @@ pub fn design(req: &DesignRequest) -> Result<DesignReport, AppError> {
     let bell = match req.bell_period_s {
         None => None,
         Some(tb) => {
-            let tb = ParamError::positive("bell_period_s", tb)?;
+            let tb = within_period(
+                "bell_period_s",
+                tb,
+                "a bell's small-swing period above 0 and at most 10 s",
+            )?;
             let lb = length_of_period(tb);
             Some(InBell {
                 tb_s: tb,
@@ -210,7 +231,7 @@ pub fn design(req: &DesignRequest) -> Result<DesignReport, AppError> {
     let design = match req.target_period_s {
         None => None,
         Some(target) => {
-            let target = ParamError::positive("target_period_s", target)?;
+            let target = within_period("target_period_s", target, "a clapper's period above 0 and at most 10 s")?;
             let adjust = req.adjust.unwrap_or(Adjust::FlightLength);
             Some(match design_for_period(&parts, target, adjust)? {
                 Designed::Found(p, m) => {

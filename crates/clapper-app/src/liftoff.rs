@@ -27,6 +27,16 @@ pub struct FormulaReport {
 impl FormulaReport {
     /// The angles for `lb_over_lc` and `phi_max_deg`.
     pub fn new(lb_over_lc: f64, phi_max_deg: f64) -> Result<Self, AppError> {
+        // Real bells have L_b/L_c of about 1 to 1.6; far outside, the
+        // formula gives numbers of no bell.
+        if !(lb_over_lc.is_finite() && (0.1..=10.0).contains(&lb_over_lc)) {
+            return Err(clapper_core::bell::ParamError {
+                field: "lb_over_lc",
+                value: lb_over_lc,
+                allowed: "from 0.1 to 10 (a real bell's L_b/L_c is about 1 to 1.6)",
+            }
+            .into());
+        }
         let a = liftoff_angles(lb_over_lc, phi_max_deg.to_radians())?;
         Ok(Self {
             lb_over_lc,

@@ -7,6 +7,7 @@
 
 use std::fmt::Write as _;
 
+use clapper_core::param::readable;
 use clapper_core::restitution;
 use clapper_core::vibration::{self, Mode};
 use clapper_signal::contacts::{detect, ContactOptions};
@@ -51,6 +52,13 @@ impl RestitutionReport {
     /// The report for `drops` (velocity jumps, any consistent unit), with
     /// their impact `times` (s) if known.
     pub fn new(drops: Vec<Vec<f64>>, times: Option<Vec<f64>>) -> Result<Self, AppError> {
+        // A clapper strikes at a few m/s: a few thousand in mm/s.
+        if let Some(v) = drops.iter().flatten().find(|v| v.abs() > MAX_JUMP) {
+            return Err(AppError::Request(format!(
+                "--jumps {}: a velocity jump of at most {MAX_JUMP} (m/s or mm/s; a clapper strikes at a few m/s)",
+                readable(*v)
+            )));
+        }
         let est = restitution::estimate(&drops)?;
         Ok(Self {
             impact_times_s: times,
@@ -157,12 +165,22 @@ pub struct ContactsReport {
     pub starts_at_rest: bool,
 }
 
+/// The largest velocity jump taken, in any unit.
+const MAX_JUMP: f64 = 100_000.0;
+/// The longest out-of-contact gap taken as noise (ms).
+const MAX_MIN_GAP_MS: f64 = 1000.0;
+/// The longest half-sine pulse taken (ms).
+const MAX_PULSE_MS: f64 = 100.0;
+
 impl ContactsReport {
     /// Detect the contacts in `sig`: the higher level means contact if
     /// `contact_high`; gaps shorter than `min_gap_ms` are noise.
     pub fn new(sig: &Signal, contact_high: bool, min_gap_ms: f64) -> Result<Self, AppError> {
-        if !(min_gap_ms.is_finite() && min_gap_ms >= 0.0) {
-            return Err(AppError::Request(format!("--min-gap-ms {min_gap_ms} must be >= 0")));
+        if !(min_gap_ms.is_finite() && (0.0..=MAX_MIN_GAP_MS).contains(&min_gap_ms)) {
+            return Err(AppError::Request(format!(
+                "--min-gap-ms {} ms: from 0 to {MAX_MIN_GAP_MS} ms (a clapper's bounces are milliseconds apart)",
+                readable(min_gap_ms)
+            )));
         }
         let opts = ContactOptions {
             contact_is_low: !contact_high,
@@ -436,8 +454,13 @@ impl ImpulseReport {
             )));
         }
         let tau = match pulse_ms {
-            Some(t) if t.is_finite() && t >= 0.0 => t * 1e-3,
-            Some(t) => return Err(AppError::Request(format!("--pulse-ms {t} must be >= 0"))),
+            Some(t) if t.is_finite() && (0.0..=MAX_PULSE_MS).contains(&t) => t * 1e-3,
+            Some(t) => {
+                return Err(AppError::Request(format!(
+                    "--pulse-ms {} ms: a half-sine pulse from 0 to {MAX_PULSE_MS} ms (a clapper's contact lasts about 1 ms)",
+                    readable(t)
+                )))
+            }
             None => 0.0,
         };
         let k = vibration::k_factor(modes, mass_kg, tau);

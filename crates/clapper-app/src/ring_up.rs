@@ -238,6 +238,9 @@ impl RingReport {
     }
 }
 
+/// The strongest rope force taken as given (N).
+const MAX_GIVEN_PULL_N: f64 = 10_000.0;
+
 /// Ring the request's bell up (`up`) or down with `ringer`; the request's
 /// style, θ0, strokes and protocol are not used.
 pub fn ring(
@@ -246,6 +249,16 @@ pub fn ring(
     ringer: &RingerConfig,
     up: bool,
 ) -> Result<RingReport, AppError> {
+    // The pull given, not the ones the margin tries about it nor the one
+    // calibrated on the swings (a bell raised in two swings needs tens of kN).
+    if let Some(f) = ringer.pull_force.filter(|&f| f > MAX_GIVEN_PULL_N) {
+        return Err(clapper_core::bell::ParamError {
+            field: "pull_force_n",
+            value: f,
+            allowed: "a rope's pull at most 10000 N (a ringer's is well under 1000 N)",
+        }
+        .into());
+    }
     let bell = req.bell(file)?;
     let cfg = req.config_for(&bell)?;
     let r = if up {

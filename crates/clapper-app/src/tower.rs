@@ -4,9 +4,9 @@
 
 use clapper_core::stroke::SimConfig;
 use clapper_io::bell_file::LoadedBell;
-use clapper_tower::rows::{parse_row, row_text};
+use clapper_tower::rows::{parse_row, row_text, MAX_TOUCH_ROWS};
 use clapper_tower::spectrum::Spectrum;
-use clapper_tower::touch::{BellSummary, SwaySummary, TurnEffect};
+use clapper_tower::touch::{BellSummary, SwaySummary, TurnEffect, MIN_DT_S};
 use clapper_tower::{ring_touch, touch_rows, FramePlace, RingBell, Timing, TouchResult, TouchSpec, Tower};
 use serde::{Deserialize, Serialize};
 
@@ -333,15 +333,10 @@ fn tower_bounded(
             return Err(AppError::Request(format!("{k} changes: at most {max} here")));
         }
     }
+    check_request(req)?;
     let rows = touch_rows(&spec, n).map_err(request_error)?;
     if let Some(max) = max_rows.filter(|m| rows.len() > m + 1) {
         return Err(AppError::Request(format!("{} rows: at most {max} here", rows.len())));
-    }
-    if !(req.peal_hours.is_finite() && req.peal_hours > 0.0) {
-        return Err(AppError::Request(format!(
-            "peal speed {} h: more than 0",
-            req.peal_hours
-        )));
     }
     let interval_s = match req.interval_ms {
         Some(ms) => ms / 1000.0,
@@ -364,6 +359,59 @@ fn tower_bounded(
     let result = ring_touch(&bells, &rows, &timing, &cfg, tower.as_ref()).map_err(request_error)?;
     let report = report(&result, touch, tower, assumed);
     Ok(TowerAnswer { report, result })
+}
+
+/// The request's numbers in their ranges, each refused in its option's
+/// words and units; counts bounded before anything is allocated.
+fn check_request(req: &TowerRequest) -> Result<(), AppError> {
+    use clapper_core::param::readable;
+    let refuse = |m: String| Err(AppError::Request(m));
+    let max = MAX_TOUCH_ROWS;
+    if let Some(c) = req.changes.filter(|&c| c == 0 || c > max) {
+        return refuse(format!("--changes {c}: a touch of 1 to {max} changes"));
+    }
+    // Every lead is at least two changes.
+    if let Some(l) = req.leads.filter(|&l| l == 0 || l > max / 2) {
+        return refuse(format!("--leads {l}: from 1 lead to a touch of at most {max} changes"));
+    }
+    let in_range = |v: f64, lo: f64, hi: f64| v.is_finite() && (lo..=hi).contains(&v);
+    if !in_range(req.peal_hours, 1.0, 12.0) {
+        return refuse(format!(
+            "--peal-speed {} h: a peal rung in 1 to 12 hours",
+            readable(req.peal_hours)
+        ));
+    }
+    if let Some(ms) = req.interval_ms.filter(|&ms| !in_range(ms, 20.0, 5000.0)) {
+        return refuse(format!(
+            "--interval {} ms: strikes from 20 to 5000 ms apart",
+            readable(ms)
+        ));
+    }
+    if !in_range(req.handstroke_gap, 0.0, 4.0) {
+        return refuse(format!(
+            "--handstroke-gap {} intervals: from 0 to 4 intervals",
+            readable(req.handstroke_gap)
+        ));
+    }
+    if !in_range(req.striking_sd_ms, 0.0, 200.0) {
+        return refuse(format!(
+            "--striking-sd {} ms: a band's striking errors from 0 to 200 ms",
+            readable(req.striking_sd_ms)
+        ));
+    }
+    if !in_range(req.dt_s, MIN_DT_S, 0.05) {
+        return refuse(format!(
+            "--dt {} s: histories sampled every {MIN_DT_S} to 0.05 s",
+            readable(req.dt_s)
+        ));
+    }
+    if let Some(r) = req.restitution.filter(|&r| !in_range(r, 0.0, 1.0)) {
+        return refuse(format!(
+            "--restitution {}: a coefficient of restitution from 0 to 1",
+            readable(r)
+        ));
+    }
+    Ok(())
 }
 
 /// Dynamic amplification of a harmonic at ρ = its frequency over the tower's.

@@ -306,6 +306,15 @@ pub fn synth_log_cmd(args: SynthLogArgs) -> Result<()> {
         ..SimulateRequest::default()
     };
     let mut bell = req.bell(file)?.bell;
+    // The bell's own bound (a quarter of L_c), said in the option's unit.
+    let most_mm = 0.25 * bell.lc() * 1e3;
+    if !(args.offset_mm.is_finite() && args.offset_mm.abs() <= most_mm) {
+        anyhow::bail!(
+            "--offset-mm {} mm: within {most_mm:.0} mm either way for this bell, a quarter of its clapper's L_c \
+             (a real bell's offset is a few millimetres)",
+            clapper_core::param::readable(args.offset_mm)
+        );
+    }
     bell.hanging.pivot_offset = args.offset_mm * 1e-3;
     let mut spec = LogSpec::new(bell, args.seed);
     spec.rate = args.rate;

@@ -361,11 +361,11 @@ fn no_message_shows_a_rust_struct() {
     for (args, want) in [
         (
             vec!["tower", &ring, "--interval", "0"],
-            "the interval between strikes, 0 ms, is out of range",
+            "--interval 0 ms: strikes from 20 to 5000 ms apart",
         ),
         (
             vec!["tower", &ring, "--dt", "1"],
-            "the histories' sampling interval, 1 s, is out of range",
+            "--dt 1 s: histories sampled every 0.001 to 0.05 s",
         ),
         (
             vec!["tower", &ring, "--tower", tower.to_str().unwrap()],

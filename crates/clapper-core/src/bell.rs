@@ -69,6 +69,10 @@ pub enum BellWarning {
     },
 }
 
+/// The clapper pivot's friction taken, over the clapper's gravity torque
+/// m g b: a friction far smaller already holds the clapper still.
+pub const CLAPPER_FRICTION_OVER_TORQUE: f64 = 1e6;
+
 /// The range of φ_max (degrees) a real bell's clapper has, outside which a
 /// bell is warned about: the paper's bells have 26 and 32 deg and the
 /// shapes of tower bells give roughly 20 to 40; the band is wider so only
@@ -279,6 +283,12 @@ impl Bell {
                 f.clapper_damping,
                 2.0 * (self.clapper_inertia * clapper_torque).sqrt(),
                 "below critical damping 2 sqrt(I_c m g b) (a clapper damped more does not swing)",
+            ),
+            (
+                "clapper_friction_n_m",
+                f.clapper_friction,
+                CLAPPER_FRICTION_OVER_TORQUE * clapper_torque,
+                "below a million times the clapper's gravity torque m g b (far less already ties it)",
             ),
         ];
         for (field, value, limit, allowed) in over {
@@ -669,7 +679,11 @@ mod tests {
         assert_eq!(field(with(&|h| h.friction.bell_friction = mga)), "bell_friction_n_m");
         assert!(with(&|h| h.friction.bell_friction = 0.99 * mga).is_ok());
         // A tied clapper: held at every angle by its pivot's friction.
-        assert!(with(&|h| h.friction.clapper_friction = 1e9).is_ok());
+        assert!(with(&|h| h.friction.clapper_friction = 1e5).is_ok());
+        assert_eq!(
+            field(with(&|h| h.friction.clapper_friction = 1e300)),
+            "clapper_friction_n_m"
+        );
         assert_eq!(field(with(&|h| h.friction.bell_damping = 1e9)), "bell_damping_n_m_s");
         assert_eq!(
             field(with(&|h| h.friction.clapper_damping = 1e9)),

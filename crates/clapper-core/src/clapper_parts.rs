@@ -207,7 +207,61 @@ impl ClapperParts {
         ] {
             nonnegative(field, v)?;
         }
-        let (top, _) = self.ball_ends();
+        for (field, v, max, allowed) in [
+            (
+                "shaft_length_m",
+                self.shaft_length,
+                MAX_CLAPPER_LENGTH,
+                "a clapper's shaft at most 5 m long",
+            ),
+            (
+                "shaft_diameter_m",
+                self.shaft_diameter,
+                MAX_PART_DIAMETER,
+                "a clapper's shaft at most 1 m across",
+            ),
+            (
+                "ball_diameter_m",
+                self.ball_diameter,
+                MAX_PART_DIAMETER,
+                "a clapper's ball at most 1 m across",
+            ),
+            (
+                "ball_position_m",
+                self.ball_position,
+                MAX_CLAPPER_LENGTH,
+                "a clapper's ball within 5 m of its pivot",
+            ),
+            (
+                "flight_length_m",
+                self.flight_length,
+                MAX_CLAPPER_LENGTH,
+                "a clapper's flight at most 5 m long",
+            ),
+            (
+                "flight_diameter_m",
+                self.flight_diameter,
+                MAX_PART_DIAMETER,
+                "a clapper's flight at most 1 m across",
+            ),
+        ] {
+            if v > max {
+                return Err(ParamError {
+                    field,
+                    value: v,
+                    allowed,
+                });
+            }
+        }
+        let (top, bottom) = self.ball_ends();
+        let lowest = if self.has_ball() { bottom } else { self.ball_position } + self.flight_length;
+        if lowest > MAX_CLAPPER_LENGTH {
+            return Err(ParamError {
+                field: "flight_length_m",
+                value: self.flight_length,
+                allowed: "a clapper whose flight ends within 5 m of its pivot",
+            });
+        }
         if self.has_ball() && top < 0.0 {
             return Err(ParamError {
                 field: "ball_position_m",
@@ -347,6 +401,12 @@ pub enum Designed {
         longest: f64,
     },
 }
+
+/// The longest clapper (m): its lowest point at most this far below its
+/// pivot (the largest bells' clappers are about 3 m).
+pub const MAX_CLAPPER_LENGTH: f64 = 5.0;
+/// The widest part of a clapper (m).
+pub const MAX_PART_DIAMETER: f64 = 1.0;
 
 /// The largest flight considered (m): longer than any bell's clapper.
 pub const MAX_FLIGHT_LENGTH: f64 = 2.0;

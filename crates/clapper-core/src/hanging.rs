@@ -12,7 +12,7 @@
 //! from +θ0 (a handstroke) the clapper rests on the + side and strikes the
 //! − side, so the **hand side** is φ < 0 and the **back side** φ > 0.
 
-use std::f64::consts::{LN_2, PI};
+use std::f64::consts::{FRAC_PI_2, LN_2, PI};
 
 use crate::param::ParamError;
 
@@ -248,11 +248,12 @@ impl SwingDecay {
     /// each swing loses 2τ/K of amplitude (4τ/K per period), linearly.
     pub fn coulomb(&self, amplitude: f64) -> Result<f64, ParamError> {
         self.check()?;
-        if !(amplitude.is_finite() && amplitude > 0.0) {
+        // A small swing's count: the decay is taken as linear in the angle.
+        if !(amplitude.is_finite() && amplitude > 0.0 && amplitude <= FRAC_PI_2) {
             return Err(ParamError {
-                field: "amplitude_deg",
+                field: "swing_amplitude_deg",
                 value: amplitude.to_degrees(),
-                allowed: "a finite angle > 0",
+                allowed: "a swing's amplitude above 0 and at most 90 deg (the swing the count started at)",
             });
         }
         Ok(self.stiffness * 0.5 * amplitude / (2.0 * self.swings_to_halve))

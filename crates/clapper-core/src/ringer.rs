@@ -109,6 +109,10 @@ pub const DEFAULT_STAY_DEG: f64 = 175.0;
 /// Default angle of "down" (deg): the ringer then lets the bell come to rest.
 pub const DEFAULT_DOWN_DEG: f64 = 15.0;
 
+/// The largest wheel taken (m): the heaviest bells' wheels are about 2 m
+/// in radius.
+pub const MAX_WHEEL_RADIUS_M: f64 = 3.0;
+
 /// How the ringer rings the bell up or down.
 #[derive(Clone, Copy, Debug, PartialEq)]
 #[cfg_attr(feature = "serde", derive(serde::Serialize, serde::Deserialize))]
@@ -169,8 +173,12 @@ impl RingerConfig {
                 return bad("pull_force_n", f, "a finite force > 0 N");
             }
         }
-        if !(self.wheel_radius.is_finite() && self.wheel_radius > 0.0) {
-            return bad("wheel_radius_m", self.wheel_radius, "a finite radius > 0 m");
+        if !(self.wheel_radius.is_finite() && self.wheel_radius > 0.0 && self.wheel_radius <= MAX_WHEEL_RADIUS_M) {
+            return bad(
+                "wheel_radius_m",
+                self.wheel_radius,
+                "a wheel's radius above 0 and at most 3 m",
+            );
         }
         for (field, v) in [
             ("pull_window_deg", self.window),

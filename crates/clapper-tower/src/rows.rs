@@ -96,6 +96,10 @@ fn indices(row: &bellframe::Row) -> Vec<u8> {
     row.bell_iter().map(|b| b.index_u8()).collect()
 }
 
+/// The most rows (changes) of a touch: four peals. A peal's 5,040 rows of
+/// eight bells hold about 100 MB of histories.
+pub const MAX_TOUCH_ROWS: usize = 20_160;
+
 /// The rows of a touch on `n_bells` bells. A method on fewer bells than
 /// the ring is rung with the others covering (in their own places at the
 /// back); on more bells than the ring, refused. The first row is rounds and
@@ -106,6 +110,11 @@ pub fn touch_rows(spec: &TouchSpec, n_bells: usize) -> Result<Vec<Vec<u8>>, Towe
         TouchSpec::Rounds { rows } => {
             if *rows == 0 {
                 return Err(TowerError::Rows("rounds of 0 rows".into()));
+            }
+            if *rows > MAX_TOUCH_ROWS {
+                return Err(TowerError::Rows(format!(
+                    "rounds of {rows} rows: a touch of at most {MAX_TOUCH_ROWS} rows"
+                )));
             }
             vec![(0..n_bells as u8).collect(); *rows]
         }
@@ -125,13 +134,21 @@ pub fn touch_rows(spec: &TouchSpec, n_bells: usize) -> Result<Vec<Vec<u8>>, Towe
                 )));
             }
             let n_changes = match (leads, changes) {
-                (Some(l), None) => l * m.lead_len(),
+                // Saturating: a count too large to hold is refused below all the same.
+                (Some(l), None) => l.saturating_mul(m.lead_len()),
                 (None, Some(c)) => *c,
                 (None, None) => m.lead_len(),
                 (Some(_), Some(_)) => return Err(TowerError::Rows("give leads or changes, not both".into())),
             };
             if n_changes == 0 {
                 return Err(TowerError::Rows("a touch of 0 changes".into()));
+            }
+            // Bounded before the rows are made.
+            if n_changes > MAX_TOUCH_ROWS {
+                return Err(TowerError::Rows(format!(
+                    "{n_changes} changes of {}: a touch of at most {MAX_TOUCH_ROWS} changes",
+                    m.title()
+                )));
             }
             (0..=n_changes)
                 .map(|i| {

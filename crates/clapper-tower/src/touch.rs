@@ -46,6 +46,12 @@ pub struct Timing {
     pub theta0: Option<f64>,
 }
 
+/// The shortest sampling interval of the histories (s).
+pub const MIN_DT_S: f64 = 0.001;
+/// The most samples in a touch's histories: about 400 MB of them (a
+/// peal of eight at 0.01 s is about 1,100,000).
+pub const MAX_HISTORY_SAMPLES: usize = 4_000_000;
+
 /// Changes in a peal, for the peal speed.
 pub const PEAL_CHANGES: f64 = 5040.0;
 
@@ -88,10 +94,10 @@ impl Timing {
                 self.striking_sd_ms
             ));
         }
-        if !(self.dt_s.is_finite() && self.dt_s > 0.0 && self.dt_s <= 0.05) {
+        if !(self.dt_s.is_finite() && (MIN_DT_S..=0.05).contains(&self.dt_s)) {
             return bad(format!(
-                "the histories' sampling interval, {} s, is out of range: above 0 s and at most 0.05 s",
-                self.dt_s
+                "the histories' sampling interval, {} s, is out of range: from {MIN_DT_S} s to 0.05 s",
+                clapper_core::param::readable(self.dt_s)
             ));
         }
         Ok(())
@@ -304,6 +310,12 @@ pub fn ring_touch(
     let strikes = strike_times(rows, timing, n_bells);
     let dt = timing.dt_s;
     let (t0, n) = span(&strokes, &strikes, rows.len(), dt);
+    // Bounded before the histories are allocated.
+    if n > MAX_HISTORY_SAMPLES {
+        return Err(TowerError::Ring(format!(
+            "{n} samples of {dt} s: the histories hold at most {MAX_HISTORY_SAMPLES} (a longer sampling interval or a shorter touch)"
+        )));
+    }
     let placed = Placed {
         strokes: &strokes,
         strikes: &strikes,
