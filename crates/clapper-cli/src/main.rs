@@ -182,8 +182,8 @@ fn one_line_error(text: &str, subcommand: Option<&str>) -> String {
     format!("{message} (see {help})")
 }
 
-/// clap's "invalid value '-5' for '--strokes <N>': a count from 1 to
-/// 10000" said as "--strokes -5: a count from 1 to 10000", the option and
+/// clap's `invalid value '-5' for '--strokes <N>': a count from 1 to
+/// 10000` said as `--strokes -5: a count from 1 to 10000`, the option and
 /// the value as written first; any other message is left as it is.
 fn as_option_said(text: &str) -> String {
     let said = (|| {
