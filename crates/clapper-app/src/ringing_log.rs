@@ -129,6 +129,13 @@ pub struct PlausibilityReport {
     /// The fraction of neighbouring quiet samples between which the angle
     /// turns faster than a bell can: near 0 for a bell's log.
     pub angle_jumps: f64,
+    /// The median time from one bottom to the next over neighbouring swings
+    /// under 90 deg (s): half the pendulum's period, 0.55 to 3 s for a bell
+    /// (null when too few such swings were read).
+    pub half_swing_s: Option<f64>,
+    /// The median change between neighbouring such half swings' times, over
+    /// the longer: at most 0.25 for a bell (a pendulum's: a few hundredths).
+    pub swing_irregularity: Option<f64>,
     /// Whether it looks like a bell's log (else nothing is read from it).
     pub plausible: bool,
 }
@@ -257,6 +264,8 @@ pub fn read_log(log: &AccelLog, opts: &LogOptions, bell: Option<LoadedBell>) -> 
         plausibility: PlausibilityReport {
             gravity_g: a.plausibility.gravity,
             angle_jumps: a.plausibility.jumps,
+            half_swing_s: a.plausibility.half_swing,
+            swing_irregularity: a.plausibility.irregularity,
             plausible: a.plausibility.plausible(),
         },
         warnings: a.warnings.clone(),

@@ -103,6 +103,69 @@ fn a_synthetic_log_is_read_back_against_its_truth() {
     );
 }
 
+/// Gravity with noise on it, and a shaking three times a second, are read
+/// with the magnitude of gravity and a continuous angle, yet their "swings"
+/// are no pendulum's (irregular, or 0.5 s from bottom to bottom): not read
+/// as ringing (an independent tester's inputs; before, 31 and 600 swings).
+/// Noise of four seeds: each either refused or read as at most two tiny
+/// swings, and the swings' timing refuses at least one.
+#[test]
+fn gravity_with_noise_or_a_fast_shake_is_not_read_as_a_ringing_log() {
+    let dir = tempfile::tempdir().unwrap();
+    let read = |name: &str, text: String| -> Value {
+        let path = dir.path().join(format!("{name}.txt"));
+        std::fs::write(&path, text + "Not a bell\n").unwrap();
+        let out = clapper()
+            .args(["ringing-log", path.to_str().unwrap(), "--json"])
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{name}: {}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice(&out.stdout).unwrap()
+    };
+    let mut by_timing = 0;
+    for seed in 1..=4u64 {
+        let mut state = 0x2545_F491_4F6C_DD1Du64.wrapping_mul(seed);
+        let mut uniform = move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            ((state >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+        };
+        let mut gauss = move || (-2.0 * uniform().ln()).sqrt() * (std::f64::consts::TAU * uniform()).cos();
+        let mut noisy = String::new();
+        for k in 0..30_000 {
+            let (x, y, z) = (gauss(), 9.81 + gauss(), gauss());
+            noisy += &format!("{x:.3} {y:.3} {z:.3} {}\n", 10 * k);
+        }
+        let r = read(&format!("noisy-{seed}"), noisy);
+        let swings = r["strokes"].as_array().unwrap().len();
+        let plausible = r["plausibility"]["plausible"] == true;
+        assert!(
+            !plausible || swings <= 2,
+            "seed {seed}: {swings} swings, {}",
+            r["plausibility"]
+        );
+        assert!(r["odd_struck_ms"].is_null(), "seed {seed}");
+        if !plausible && r["warnings"].to_string().contains("pendulum") {
+            by_timing += 1;
+        }
+    }
+    assert!(by_timing >= 1, "no noisy log was refused by its swings' timing");
+    let mut shake = String::new();
+    for k in 0..30_000 {
+        let a = std::f64::consts::TAU * 3.0 * k as f64 / 100.0;
+        shake += &format!("0.000 {:.3} {:.3} {}\n", 9.81 + 5.0 * a.sin(), 5.0 * a.cos(), 10 * k);
+    }
+    let r = read("shake", shake);
+    assert_eq!(r["plausibility"]["plausible"], false, "{}", r["plausibility"]);
+    assert_eq!(r["strokes"].as_array().unwrap().len(), 0);
+    assert!(
+        r["warnings"].to_string().contains("half a pendulum's period"),
+        "{}",
+        r["warnings"]
+    );
+}
+
 /// Issue 46: Gaussian noise was read as "739 swings, odd-struck -62.5 ms".
 /// Noise of 1 m/s² (far from gravity's magnitude) and of 9.81 m/s² (about
 /// gravity's, but an angle that jumps about at random) are both said not to

@@ -8,7 +8,7 @@ use super::falls::{place_from_falls, Falls};
 use super::fits::{bounded, quadratic_fits, unwrap_fill};
 use super::orient::{self, orientation, Orientation};
 use super::phases::{odd_struck, phases};
-use super::plausible::{plausibility, Plausibility};
+use super::plausible::{half_swing, plausibility, Plausibility};
 use super::reading::{angle, Angle};
 use super::rests::{calibrate_from_rests, rests};
 use super::types::{AccelLog, ClapperingStart, LogOptions, LogStroke, Phase, PhaseKind};
@@ -102,11 +102,12 @@ fn check(log: &AccelLog) -> Result<(), SignalError> {
 /// Read `log` (module docs).
 pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, SignalError> {
     let (interval, (burst, onsets), mut warnings) = prepare(log, opts)?;
-    let plausibility = plausibility(log, &burst, interval);
+    let mut plausibility = plausibility(log, &burst, interval);
     if let Some(why) = plausibility.why_not() {
         warnings.push(why);
         return Ok(not_a_ringing_log(log, opts, (interval, burst), plausibility, warnings));
     }
+    let raw = log;
     // Which way is down (the bursts are the same either way up).
     let (orientation, log) = orient_log(log, &burst, opts.find_down, &mut warnings);
     let Calibrated {
@@ -143,6 +144,13 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         (falls.as_ref(), interval),
         &mut warnings,
     );
+    // Swings that are no pendulum's (a vibration, noise about gravity).
+    (plausibility.half_swing, plausibility.irregularity) =
+        half_swing(&strokes.iter().map(|s| (s.bdc, s.amplitude)).collect::<Vec<_>>());
+    if let Some(why) = plausibility.why_not() {
+        warnings.push(why);
+        return Ok(not_a_ringing_log(raw, opts, (interval, burst), plausibility, warnings));
+    }
     hide_strikes_after_gaps(&log.t, interval, &mut strokes, &mut warnings);
     checks::speed_peaks(&log.t, &a.joint_rate, &a.cubic, &burst, &mut strokes);
     if let Some(c) = &calibration {

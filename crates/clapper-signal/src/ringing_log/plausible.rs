@@ -19,6 +19,22 @@ pub const GRAVITY_BAND: (f64, f64) = (0.5, 2.0);
 /// 2.7 % (a strike's shaking the burst test lets through), noise about 89 %.
 pub const MAX_JUMPS: f64 = 0.25;
 
+/// The median time (s) from one bottom to the next over swings under 90
+/// deg must lie in this band: half a pendulum's period, from a bell
+/// hanging as a pendulum of about 0.3 m (the lightest ringing bells hang
+/// as 0.35 m or more) to one of about 6 m (a bell's is 2 m at most).
+pub const HALF_SWING_BAND_S: (f64, f64) = (0.55, 3.0);
+
+/// Neighbouring half swings of a pendulum take nearly the same time (its
+/// period changes slowly with the amplitude: under 18 % from 0 to 90 deg);
+/// the median change between neighbours, over the longer, must be at most
+/// this. A bell's log: a few %; noise about gravity: about a half.
+pub const MAX_IRREGULARITY: f64 = 0.25;
+
+/// Fewer pairs of neighbouring swings under 90 deg than this say nothing
+/// of the swing's timing (a log of ringing alone has none).
+const MIN_SMALL_PAIRS: usize = 5;
+
 /// What the plausibility check found.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Plausibility {
@@ -29,12 +45,24 @@ pub struct Plausibility {
     /// plain angle atan2(tangential, radial) turns faster than 8 rad/s (and
     /// more than 20 deg): near 0 for a bell's log, most for noise.
     pub jumps: f64,
+    /// The median time from one bottom to the next over neighbouring swings
+    /// under 90 deg (s): half the pendulum's period; `None` before the
+    /// swings are read, or with too few of them.
+    pub half_swing: Option<f64>,
+    /// The median change from one such half swing's time to the next's,
+    /// over the longer of the two (`None` likewise): near 0 for a pendulum.
+    pub irregularity: Option<f64>,
 }
 
 impl Plausibility {
     /// Whether the log looks like a bell's.
     pub fn plausible(&self) -> bool {
-        (GRAVITY_BAND.0..=GRAVITY_BAND.1).contains(&self.gravity) && self.jumps <= MAX_JUMPS
+        (GRAVITY_BAND.0..=GRAVITY_BAND.1).contains(&self.gravity)
+            && self.jumps <= MAX_JUMPS
+            && self
+                .half_swing
+                .is_none_or(|h| (HALF_SWING_BAND_S.0..=HALF_SWING_BAND_S.1).contains(&h))
+            && self.irregularity.is_none_or(|r| r <= MAX_IRREGULARITY)
     }
 
     /// Why not, in words (`None` when it looks like a bell's).
@@ -54,6 +82,21 @@ impl Plausibility {
                 "the angle read from it jumps faster than a bell can turn between {:.0} % of neighbouring samples (a bell's log: under {:.0} %)",
                 100.0 * self.jumps,
                 100.0 * MAX_JUMPS
+            ));
+        }
+        if let Some(h) = self
+            .half_swing
+            .filter(|h| !(HALF_SWING_BAND_S.0..=HALF_SWING_BAND_S.1).contains(h))
+        {
+            why.push(format!(
+                "its swings under 90 deg come {h:.2} s from one bottom to the next where a bell's take {:.2} to {:.1} s (half a pendulum's period)",
+                HALF_SWING_BAND_S.0, HALF_SWING_BAND_S.1
+            ));
+        }
+        if let Some(r) = self.irregularity.filter(|r| *r > MAX_IRREGULARITY) {
+            why.push(format!(
+                "its neighbouring swings' times differ by {:.0} % (median) where a pendulum's differ by a few",
+                100.0 * r
             ));
         }
         Some(format!(
@@ -90,5 +133,29 @@ pub fn plausibility(log: &AccelLog, burst: &[bool], interval: f64) -> Plausibili
     Plausibility {
         gravity,
         jumps: if steps == 0 { 1.0 } else { jumps as f64 / steps as f64 },
+        half_swing: None,
+        irregularity: None,
     }
+}
+
+/// The median time (s) between the bottoms of neighbouring swings both
+/// under 90 deg, and the median change between neighbouring such times
+/// over the longer (`bottoms`: each swing's bottom time (s) and amplitude
+/// (rad), in time order); `None` with fewer than a few such pairs.
+pub fn half_swing(bottoms: &[(f64, f64)]) -> (Option<f64>, Option<f64>) {
+    let small = std::f64::consts::FRAC_PI_2;
+    let gaps: Vec<Option<f64>> = bottoms
+        .windows(2)
+        .map(|w| (w[0].1 < small && w[1].1 < small).then(|| w[1].0 - w[0].0))
+        .collect();
+    let times: Vec<f64> = gaps.iter().flatten().copied().collect();
+    let changes: Vec<f64> = gaps
+        .windows(2)
+        .filter_map(|w| Some((w[0]?, w[1]?)))
+        .map(|(a, b)| (b - a).abs() / a.max(b))
+        .collect();
+    (
+        (times.len() >= MIN_SMALL_PAIRS).then(|| median(&times)),
+        (changes.len() >= MIN_SMALL_PAIRS).then(|| median(&changes)),
+    )
 }
