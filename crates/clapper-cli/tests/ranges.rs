@@ -4,6 +4,8 @@
 //! the option's own words and units, on one line (exit 1 or 2).
 
 use assert_cmd::Command;
+
+mod common;
 use std::path::{Path, PathBuf};
 
 /// A file of the checkout, by its path from the workspace's root.
@@ -128,17 +130,9 @@ fn a_clapper_of_no_real_size_is_refused() {
     ] {
         refused(&args, &[says]);
     }
-    let tenor = [
-        "design-clapper",
-        "--shaft-length",
-        "0.69",
-        "--shaft-diameter",
-        "0.05",
-        "--ball-diameter",
-        "0.14",
-        "--ball-position",
-        "0.76",
-    ];
+    let tenor: Vec<&str> = std::iter::once("design-clapper")
+        .chain(common::TENOR_CLAPPER_PARTS)
+        .collect();
     for (opt, says) in [
         (
             "--bell-period",

@@ -103,6 +103,18 @@ fn a_synthetic_log_is_read_back_against_its_truth() {
     );
 }
 
+/// Standard normal numbers from `state`: a small xorshift generator and
+/// Box-Muller, the same noise every run.
+fn gaussian(mut state: u64) -> impl FnMut() -> f64 {
+    let mut uniform = move || {
+        state ^= state << 13;
+        state ^= state >> 7;
+        state ^= state << 17;
+        ((state >> 11) as f64 + 0.5) / (1u64 << 53) as f64
+    };
+    move || (-2.0 * uniform().ln()).sqrt() * (std::f64::consts::TAU * uniform()).cos()
+}
+
 /// Gravity with noise on it, and a shaking three times a second, are read
 /// with the magnitude of gravity and a continuous angle, yet their "swings"
 /// are no pendulum's (irregular, or 0.5 s from bottom to bottom): not read
@@ -124,14 +136,7 @@ fn gravity_with_noise_or_a_fast_shake_is_not_read_as_a_ringing_log() {
     };
     let mut by_timing = 0;
     for seed in 1..=4u64 {
-        let mut state = 0x2545_F491_4F6C_DD1Du64.wrapping_mul(seed);
-        let mut uniform = move || {
-            state ^= state << 13;
-            state ^= state >> 7;
-            state ^= state << 17;
-            ((state >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-        };
-        let mut gauss = move || (-2.0 * uniform().ln()).sqrt() * (std::f64::consts::TAU * uniform()).cos();
+        let mut gauss = gaussian(0x2545_F491_4F6C_DD1Du64.wrapping_mul(seed));
         let mut noisy = String::new();
         for k in 0..30_000 {
             let (x, y, z) = (gauss(), 9.81 + gauss(), gauss());
@@ -173,20 +178,11 @@ fn gravity_with_noise_or_a_fast_shake_is_not_read_as_a_ringing_log() {
 #[test]
 fn gaussian_noise_is_not_read_as_a_ringing_log() {
     let dir = tempfile::tempdir().unwrap();
-    // A small xorshift generator and Box-Muller: the same noise every run.
-    let mut state = 0x9E37_79B9_7F4A_7C15u64;
-    let mut uniform = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        ((state >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-    };
+    let mut gauss = gaussian(0x9E37_79B9_7F4A_7C15);
     for sd in [1.0, 9.81] {
         let mut text = String::new();
         for k in 0..30_000 {
-            let v: Vec<f64> = (0..3)
-                .map(|_| sd * (-2.0 * uniform().ln()).sqrt() * (std::f64::consts::TAU * uniform()).cos())
-                .collect();
+            let v: Vec<f64> = (0..3).map(|_| sd * gauss()).collect();
             text += &format!("{:.4} {:.4} {:.4} {}\n", v[0], v[1], v[2], 10 * k);
         }
         text += "Noise\n";

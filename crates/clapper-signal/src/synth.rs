@@ -61,6 +61,31 @@ use clapper_core::vibration::half_sine_spectrum as pulse_spectrum;
 /// The most samples one synthesis may produce: ten minutes at 96 kHz.
 pub const MAX_SAMPLES: usize = 96_000 * 600;
 
+/// Every mode positive, finite and below half the sample rate.
+fn check_modes(spec: &SynthSpec) -> Result<(), SignalError> {
+    for m in &spec.modes {
+        let ok = m.freq_hz > 0.0
+            && m.freq_hz < spec.rate / 2.0
+            && m.q > 0.0
+            && m.effective_mass > 0.0
+            && m.doublet_split_hz >= 0.0
+            && m.freq_hz.is_finite()
+            && m.q.is_finite()
+            && m.effective_mass.is_finite();
+        if !ok {
+            return Err(SignalError::Option(format!(
+                "a mode at {} Hz, Q {}, effective mass {} kg, doublet split {} Hz: positive values, the frequency below half the sample rate ({} Hz)",
+                m.freq_hz,
+                m.q,
+                m.effective_mass,
+                m.doublet_split_hz,
+                spec.rate / 2.0
+            )));
+        }
+    }
+    Ok(())
+}
+
 /// Synthesise. The output is the bell's surface velocity (m/s) or
 /// acceleration (m/s²) at the strike point.
 pub fn synthesize(spec: &SynthSpec) -> Result<Signal, SignalError> {
@@ -83,26 +108,7 @@ pub fn synthesize(spec: &SynthSpec) -> Result<Signal, SignalError> {
             spec.rest_damping
         )));
     }
-    for m in &spec.modes {
-        let ok = m.freq_hz > 0.0
-            && m.freq_hz < spec.rate / 2.0
-            && m.q > 0.0
-            && m.effective_mass > 0.0
-            && m.doublet_split_hz >= 0.0
-            && m.freq_hz.is_finite()
-            && m.q.is_finite()
-            && m.effective_mass.is_finite();
-        if !ok {
-            return Err(SignalError::Option(format!(
-                "a mode at {} Hz, Q {}, effective mass {} kg, doublet split {} Hz: positive values, the frequency below half the sample rate ({} Hz)",
-                m.freq_hz,
-                m.q,
-                m.effective_mass,
-                m.doublet_split_hz,
-                spec.rate / 2.0
-            )));
-        }
-    }
+    check_modes(spec)?;
     let n = n as usize;
     let dt = 1.0 / spec.rate;
     // Components: (ω, α, receptance weight).

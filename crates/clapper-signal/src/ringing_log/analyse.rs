@@ -144,10 +144,7 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         (falls.as_ref(), interval),
         &mut warnings,
     );
-    // Swings that are no pendulum's (a vibration, noise about gravity).
-    (plausibility.half_swing, plausibility.irregularity) =
-        half_swing(&strokes.iter().map(|s| (s.bdc, s.amplitude)).collect::<Vec<_>>());
-    if let Some(why) = plausibility.why_not() {
+    if let Some(why) = pendulum_check(&mut plausibility, &strokes) {
         warnings.push(why);
         return Ok(not_a_ringing_log(raw, opts, (interval, burst), plausibility, warnings));
     }
@@ -182,6 +179,14 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         plausibility,
         warnings,
     })
+}
+
+/// Swings that are no pendulum's (a vibration, noise about gravity): their
+/// timing put into `plausibility`, and why the log is not read, if so.
+fn pendulum_check(plausibility: &mut Plausibility, strokes: &[LogStroke]) -> Option<String> {
+    (plausibility.half_swing, plausibility.irregularity) =
+        half_swing(&strokes.iter().map(|s| (s.bdc, s.amplitude)).collect::<Vec<_>>());
+    plausibility.why_not()
 }
 
 /// What is said of a log that does not look like a bell's: nothing read

@@ -1,6 +1,7 @@
 //! Bottom dead centres, amplitudes and strikes (docs/model.md §13 step 4),
 //! with the angle or, when it cannot be read, from the tangential zeros.
 
+use super::fits::power_sums;
 use super::reading::gravity_part;
 use super::types::{AccelLog, LogStroke, PhaseKind};
 use clapper_core::bell::G;
@@ -217,19 +218,7 @@ fn turning_height(
 
 /// Least-squares parabola c0 + c1 x + c2 x² through `y` at `pts`, x = t − `at`.
 fn parabola(t: &[f64], y: &[f64], pts: &[usize], at: f64) -> Option<[f64; 3]> {
-    let mut s = [0.0f64; 5];
-    let mut r = [0.0f64; 3];
-    for &j in pts {
-        let x = t[j] - at;
-        let mut p = 1.0;
-        for m in s.iter_mut() {
-            *m += p;
-            p *= x;
-        }
-        r[0] += y[j];
-        r[1] += y[j] * x;
-        r[2] += y[j] * x * x;
-    }
+    let (s, r) = power_sums(t, y, pts.iter().copied(), at);
     solve([[s[0], s[1], s[2]], [s[1], s[2], s[3]], [s[2], s[3], s[4]]], r)
 }
 

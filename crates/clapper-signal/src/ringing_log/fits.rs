@@ -52,13 +52,16 @@ const SLIDING_ABOVE: f64 = 256.0;
 /// The sums Σ (t_j − t_k)^m (m = 0..4) and Σ y_j (t_j − t_k)^m (m = 0..2)
 /// over the good samples `lo..=hi`, summed afresh.
 fn afresh(t: &[f64], y: &[f64], bad: &[bool], (lo, hi): (usize, usize), tk: f64) -> ([f64; 5], [f64; 3]) {
+    power_sums(t, y, (lo..=hi).filter(|&j| !bad[j]), tk)
+}
+
+/// The sums Σ (t_j − `at`)^m (m = 0..4) and Σ y_j (t_j − `at`)^m (m = 0..2)
+/// over the samples `pts`: a least-squares parabola's normal equations.
+pub(super) fn power_sums(t: &[f64], y: &[f64], pts: impl Iterator<Item = usize>, at: f64) -> ([f64; 5], [f64; 3]) {
     let mut s = [0.0f64; 5];
     let mut r = [0.0f64; 3];
-    for j in lo..=hi {
-        if bad[j] {
-            continue;
-        }
-        let x = t[j] - tk;
+    for j in pts {
+        let x = t[j] - at;
         let mut p = 1.0;
         for m in s.iter_mut() {
             *m += p;
