@@ -253,7 +253,37 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<(Vec<LearnedNominal>
     Ok((learned, l.warnings))
 }
 
+/// The voices of `bells` bells whose nominals are learned from `sig`
+/// ([`learn_nominals`]), with what was learned, for
+/// [`StrikesReport::note_learned`]: what `clapper strikes --bells N`, the
+/// web server's `bells=N` and Python's `bells=N` share.
+pub fn learned_voices(sig: &Signal, bells: usize) -> Result<(Vec<BellVoice>, Learned), AppError> {
+    let (nominals, warnings) = learn_nominals(sig, bells)?;
+    let hz: Vec<f64> = nominals.iter().map(|b| b.nominal_hz).collect();
+    Ok((voices_from_nominals(&hz)?, Learned { nominals, warnings }))
+}
+
+/// Nominals learned from a recording and what made them unsure.
+#[derive(Clone, Debug)]
+pub struct Learned {
+    /// Each bell's nominal, treble first.
+    pub nominals: Vec<LearnedNominal>,
+    /// What made the learning unsure, in words.
+    pub warnings: Vec<String>,
+}
+
 pub use clapper_signal::strikes::DEFAULT_DOUBLE_MIN_RATIO;
+
+/// The warning, first, when a recording that is not silent holds no strike
+/// of the bells given (speech, music, another ring).
+pub const NO_STRIKES: &str = "no strikes heard: nothing here starts the given bells' partials as a bell's strike \
+                              does; is this a recording of these bells ringing, and are the nominals theirs?";
+
+/// The warning for one bell: its strikes are real, but striking is judged
+/// between bells.
+pub const ONE_BELL: &str = "one bell: its strikes are listed, but rows, places, striking errors, the handstroke \
+                            gap and odd-struckness are judged between bells ringing together: give every \
+                            ringing bell's nominal";
 
 /// The strike finder's options with the double strike's least amplitude
 /// ratio `double_min_ratio` ([`DEFAULT_DOUBLE_MIN_RATIO`] unless asked:
@@ -339,6 +369,22 @@ impl StrikesReport {
                 RECORDING_RATES_HZ.end() / 1000.0
             )));
         }
+        // A partial above half the rate is not in the recording: said, not
+        // reported as a bell that never struck.
+        for (i, v) in voices.iter().enumerate() {
+            if let Some(p) = v.partials.iter().max_by(|a, b| a.strength.total_cmp(&b.strength)) {
+                if p.freq_hz >= 0.5 * rate {
+                    return Err(AppError::Request(format!(
+                        "bell {}'s strongest partial, {} Hz (its nominal), is above {} Hz, the highest sound a \
+                         recording at {} Hz holds: is the nominal right, and the recording's rate?",
+                        i + 1,
+                        p.freq_hz,
+                        0.5 * rate,
+                        rate
+                    )));
+                }
+            }
+        }
         let duration_s = src.total() as f64 / rate;
         // The lateness on a ring of the templates needs them at one rate;
         // matching each strike does not (it resamples them).
@@ -398,10 +444,24 @@ impl StrikesReport {
         }
         if peak == 0.0 {
             warnings.insert(0, "the recording is silent".into());
+        } else if heard.strikes.is_empty() {
+            // Said first, in words, so that an empty table is not read as a quiet ring.
+            warnings.insert(0, NO_STRIKES.into());
+        }
+        if voices.len() == 1 && !heard.strikes.is_empty() {
+            warnings.push(ONE_BELL.into());
         }
         let mut report = Self::of(&heard, voices.len(), duration_s, warnings, timing_report);
         report.summary.plausibility = plausibility;
         Ok(report)
+    }
+
+    /// Say in the report that its bells' nominals were `learned` from the
+    /// recording: the nominals (`learned_nominals_hz`), and what made them
+    /// unsure first among the warnings.
+    pub fn note_learned(&mut self, learned: Learned) {
+        self.summary.warnings.splice(0..0, learned.warnings);
+        self.learned_nominals_hz = Some(learned.nominals);
     }
 
     /// The report of the strikes `heard` of `bells` bells in a recording

@@ -7,7 +7,7 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use clapper_app::strikes::{
-    learn_nominals, strike_options, voices_from_nominals, StrikesReport, StrikingFigure, Timing,
+    learned_voices, strike_options, voices_from_nominals, StrikesReport, StrikingFigure, Timing,
 };
 use clapper_io::signal_file::{read_recording, write_wav};
 use clapper_io::strike_file::{csv_text, lowndes};
@@ -118,10 +118,8 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         (None, None, Some(n)) => {
             // Learned from the whole recording, read at once.
             let sig = read_recording(&args.file)?;
-            let (nominals, warnings) = learn_nominals(&sig, n).with_context(|| args.file.display().to_string())?;
-            let hz: Vec<f64> = nominals.iter().map(|b| b.nominal_hz).collect();
-            let voices = voices_from_nominals(&hz)?;
-            learned = Some((nominals, warnings));
+            let (voices, l) = learned_voices(&sig, n).with_context(|| args.file.display().to_string())?;
+            learned = Some(l);
             (voices, vec![])
         }
         (None, None, None) => {
@@ -155,9 +153,8 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
     }
     .with_context(|| args.file.display().to_string())?;
     let mut report = report;
-    if let Some((nominals, warnings)) = learned {
-        report.summary.warnings.splice(0..0, warnings);
-        report.learned_nominals_hz = Some(nominals);
+    if let Some(l) = learned {
+        report.note_learned(l);
     }
     let name = crate::files::title_name(&args.file);
     if let Some(path) = &args.csv {

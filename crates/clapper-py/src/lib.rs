@@ -22,7 +22,7 @@ use clapper_app::diagnosis::{self, DiagnoseRequest};
 use clapper_app::liftoff::{BellLiftoffReport, FormulaReport};
 use clapper_app::measure::{ModesReport, RestitutionReport};
 use clapper_app::simulate::{self as sim_app, SimulateRequest};
-use clapper_app::strikes::{strike_options, voices_from_nominals, StrikesReport};
+use clapper_app::strikes::{learned_voices, strike_options, voices_from_nominals, StrikesReport};
 use clapper_app::AppError;
 use clapper_core::chart::{sweep, ChartCell};
 use clapper_core::Choice;
@@ -304,14 +304,17 @@ fn modes(py: Python<'_>, samples: &[u8], rate_hz: f64, range_db: f64, name: &str
 }
 
 /// Every strike of every bell in a recording, `samples` (f64 bytes) at
-/// `rate_hz`, the bells given by their nominals (Hz, treble first):
-/// returns (report JSON, text).
+/// `rate_hz`, the bells given by their nominals (Hz, treble first) or, with
+/// no nominals, `bells` of them learned from the recording (as `clapper
+/// strikes --bells N`): returns (report JSON, text).
 #[pyfunction]
+#[pyo3(signature = (samples, rate_hz, nominals_hz, bells, double_min_ratio, name))]
 fn strikes(
     py: Python<'_>,
     samples: &[u8],
     rate_hz: f64,
-    nominals_hz: Vec<f64>,
+    nominals_hz: Option<Vec<f64>>,
+    bells: Option<usize>,
     double_min_ratio: f64,
     name: &str,
 ) -> PyResult<(String, String)> {
@@ -319,9 +322,24 @@ fn strikes(
         rate: rate_hz,
         samples: f64s(samples, "recording")?,
     };
-    let voices = voices_from_nominals(&nominals_hz).map_err(py_err)?;
     let opts = strike_options(double_min_ratio).map_err(py_err)?;
-    let r = py.detach(|| StrikesReport::new(&sig, &voices, &opts)).map_err(py_err)?;
+    let r = py
+        .detach(|| {
+            match (nominals_hz, bells) {
+            (Some(n), None) => StrikesReport::new(&sig, &voices_from_nominals(&n)?, &opts),
+            (None, Some(b)) => {
+                let (voices, learned) = learned_voices(&sig, b)?;
+                let mut r = StrikesReport::new(&sig, &voices, &opts)?;
+                r.note_learned(learned);
+                Ok(r)
+            }
+            _ => Err(clapper_app::AppError::Request(
+                "strikes: give the bells' nominals_hz or bells= (how many ring, their nominals learned), one of the two"
+                    .into(),
+            )),
+        }
+        })
+        .map_err(py_err)?;
     Ok((to_json(&r)?, r.text(name)))
 }
 

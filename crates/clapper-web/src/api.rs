@@ -623,11 +623,12 @@ pub(crate) async fn listening_analyse(
     Ok(Json(json!({"analysis": rep, "plot_svg": svg})).into_response())
 }
 
-/// `POST /api/strikes?nominals=F1,F2,..[&double_min_ratio=R]`: a recording
-/// of a ring (the body: a WAV file, mono or stereo, 8 to 192 kHz) heard as
-/// `clapper strikes` hears it: `{"report": {...}, "csv": "...",
-/// "plot_svg": "<svg ..."}`, the report as `clapper strikes --json`, the
-/// CSV as `--csv`, the plot as `--plot`.
+/// `POST /api/strikes?nominals=F1,F2,..[&double_min_ratio=R]` (or
+/// `bells=N` for the nominals learned from the recording, as `--bells N`):
+/// a recording of a ring (the body: a WAV file, mono or stereo, 8 to 192
+/// kHz) heard as `clapper strikes` hears it: `{"report": {...}, "csv":
+/// "...", "plot_svg": "<svg ..."}`, the report as `clapper strikes --json`,
+/// the CSV as `--csv`, the plot as `--plot`.
 pub(crate) async fn strikes(
     State(s): State<AppState>,
     q: Result<Query<StrikesQuery>, QueryRejection>,
@@ -642,16 +643,31 @@ pub(crate) async fn strikes(
             )
         })
     })?;
-    let nominals: Vec<f64> = q
-        .nominals
-        .split(',')
-        .map(|v| {
-            v.trim()
-                .parse::<f64>()
-                .map_err(|_| ApiError::BadRequest(format!("nominals: '{v}' is not a number (Hz)")))
-        })
-        .collect::<Result<_, _>>()?;
-    let voices = clapper_app::strikes::voices_from_nominals(&nominals)?;
+    // The bells: their nominals given, or how many, to be learned (as the CLI).
+    let voices = match (&q.nominals, q.bells) {
+        (Some(_), Some(_)) => {
+            return Err(ApiError::BadRequest(
+                "give the bells' nominals or how many bells ring (bells=N), not both".into(),
+            ))
+        }
+        (None, None) => {
+            return Err(ApiError::BadRequest(
+                "say which bells to listen for: nominals=F1,F2,.. (Hz, treble first) or bells=N".into(),
+            ))
+        }
+        (Some(n), None) => {
+            let nominals: Vec<f64> = n
+                .split(',')
+                .map(|v| {
+                    v.trim()
+                        .parse::<f64>()
+                        .map_err(|_| ApiError::BadRequest(format!("nominals: '{v}' is not a number (Hz)")))
+                })
+                .collect::<Result<_, _>>()?;
+            Some(clapper_app::strikes::voices_from_nominals(&nominals)?)
+        }
+        (None, Some(_)) => None,
+    };
     if wav.is_empty() {
         return Err(ApiError::BadRequest(
             "no recording: send the WAV file as the request's body".into(),
@@ -666,7 +682,17 @@ pub(crate) async fn strikes(
         .run(move || {
             let sig = clapper_io::signal_file::recording_from_bytes(&wav, "the recording")
                 .map_err(|e| clapper_app::AppError::Request(e.to_string()))?;
-            let report = clapper_app::strikes::StrikesReport::new(&sig, &voices, &opts)?;
+            let (voices, learned) = match voices {
+                Some(v) => (v, None),
+                None => {
+                    let (v, l) = clapper_app::strikes::learned_voices(&sig, q.bells.unwrap_or_default())?;
+                    (v, Some(l))
+                }
+            };
+            let mut report = clapper_app::strikes::StrikesReport::new(&sig, &voices, &opts)?;
+            if let Some(l) = learned {
+                report.note_learned(l);
+            }
             let csv = clapper_io::strike_file::csv_text(&report.csv_rows()).map_err(clapper_app::AppError::Request)?;
             let fig = clapper_app::strikes::StrikingFigure::new(&report, &sig, "the recording", &voices)?;
             let svg = clapper_plot::striking_plot_svg(&fig.plot()).map_err(clapper_app::AppError::from)?;
@@ -680,7 +706,9 @@ pub(crate) async fn strikes(
 #[derive(Deserialize)]
 pub(crate) struct StrikesQuery {
     /// Nominals (Hz), treble first, comma-separated.
-    nominals: String,
+    nominals: Option<String>,
+    /// Without nominals: the bells ringing (3 to 16), their nominals learned.
+    bells: Option<usize>,
     /// The double strike's least amplitude ratio (default 0.3).
     double_min_ratio: Option<f64>,
 }

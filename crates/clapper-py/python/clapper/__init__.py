@@ -78,8 +78,10 @@ PathLike = Union[str, "os.PathLike[str]"]
 
 class ClapperWarning(UserWarning):
     """What the model warns of, such as a bell that is physically
-    impossible but simulated anyway. The same words are in
-    ``Simulation.warnings``."""
+    impossible but simulated anyway, or a report of strikes (a silent
+    recording, no strikes heard). The same words are in
+    ``Simulation.warnings`` and a strikes report's
+    ``["summary"]["warnings"]``."""
 
 
 class ArgumentTypeError(TypeError, ValueError):
@@ -803,23 +805,37 @@ def _nominals(nominals_hz: Any) -> List[float]:
 def strikes(
     recording: Any,
     rate_hz: float,
-    nominals_hz: Sequence[float],
+    nominals_hz: Optional[Sequence[float]] = None,
     *,
+    bells: Optional[int] = None,
     double_min_ratio: float = DEFAULT_DOUBLE_MIN_RATIO,
     name: str = "recording",
 ) -> Report:
     """Every strike of every bell in a recording of ringing (a 1-D array at
-    ``rate_hz``), the bells named by their nominals (Hz, treble first), as
+    ``rate_hz``), the bells named by their nominals (Hz, treble first), or
+    without them ``bells=N`` (3 to 16) whose nominals are learned from the
+    recording (``report["learned_nominals_hz"]``, as ``--bells N``), as
     ``clapper strikes --json``: ``report["strikes"]``, ``report["per_bell"]``,
-    ``report["summary"]``."""
+    ``report["summary"]``. What the command line warns of (a silent
+    recording, no strikes heard, one bell, a sound unlike bells) is in
+    ``report["summary"]["warnings"]`` and issued as :class:`ClapperWarning`."""
+    if (nominals_hz is None) == (bells is None):
+        raise ValueError("strikes: give the bells' nominals_hz or bells= (how many ring, their nominals learned), "
+                         "one of the two")
+    if bells is not None and (isinstance(bells, bool) or not isinstance(bells, (int, np.integer))):
+        raise ArgumentTypeError(f"strikes: bells must be a whole number (3 to 16), not {_shown(bells)}")
     data, text = _clapper.strikes(
         _as_f64_bytes(recording, "strikes: recording"),
         _number("strikes", "rate_hz", rate_hz, "the sample rate in Hz"),
-        _nominals(nominals_hz),
+        None if nominals_hz is None else _nominals(nominals_hz),
+        None if bells is None else max(0, int(bells)),
         _number("strikes", "double_min_ratio", double_min_ratio, "the least amplitude ratio of a double strike"),
         name,
     )
-    return Report(json.loads(data), text)
+    report = Report(json.loads(data), text)
+    for w in report["summary"]["warnings"]:
+        _warnings.warn(w, ClapperWarning, stacklevel=2)
+    return report
 
 
 def read_wav(path: PathLike) -> Tuple[np.ndarray, float]:

@@ -1,0 +1,224 @@
+//! `clapper strikes` on what is not a ring (issue 43's acceptance): silence,
+//! one bell and a recording of speech each get a clear warning, first, in
+//! text and JSON, never a panic nor a confident report; a nominal the
+//! recording cannot hold is refused with the reason. The web server and the
+//! Python package say the same (crates/clapper-web/tests/strikes_bad_input.rs,
+//! crates/clapper-py/tests/test_strikes_layers.py).
+
+mod common;
+use common::clapper;
+
+const RATE: u32 = 22_050;
+const EIGHT: &str = "1400,1247.3,1111.2,1048.8,934.4,832.4,741.6,700";
+
+fn write(path: &std::path::Path, x: &[f64], rate: u32) {
+    let spec = hound::WavSpec {
+        channels: 1,
+        sample_rate: rate,
+        bits_per_sample: 16,
+        sample_format: hound::SampleFormat::Int,
+    };
+    let mut w = hound::WavWriter::create(path, spec).unwrap();
+    for v in x {
+        w.write_sample((v.clamp(-1.0, 1.0) * 32_767.0) as i16).unwrap();
+    }
+    w.finalize().unwrap();
+}
+
+/// A uniform number in [0, 1) from a 64-bit LCG.
+fn uniform(s: &mut u64) -> f64 {
+    *s = s
+        .wrapping_mul(6_364_136_223_846_793_005)
+        .wrapping_add(1_442_695_040_888_963_407);
+    (*s >> 11) as f64 / (1u64 << 53) as f64
+}
+
+/// Speech-like sound, `seconds` long: a glottal pulse train at 100-200 Hz,
+/// its pitch gliding, through three vowel formant resonators per syllable;
+/// syllables with short gaps and longer pauses; noise bursts as consonants.
+fn speech(seconds: f64, seed: u64) -> Vec<f64> {
+    const VOWELS: [[f64; 3]; 5] = [
+        [730.0, 1090.0, 2440.0],
+        [270.0, 2290.0, 3010.0],
+        [300.0, 870.0, 2240.0],
+        [530.0, 1840.0, 2480.0],
+        [570.0, 840.0, 2410.0],
+    ];
+    let rate = f64::from(RATE);
+    let mut s = seed;
+    let n = (seconds * rate) as usize;
+    let mut out = vec![0.0; n];
+    let mut t = 0.3;
+    while t < seconds - 0.6 {
+        let syl = 0.12 + 0.18 * uniform(&mut s);
+        let (i0, i1) = ((t * rate) as usize, ((t + syl) * rate) as usize);
+        if uniform(&mut s) < 0.6 {
+            let b = ((0.02 + 0.04 * uniform(&mut s)) * rate) as usize;
+            for v in &mut out[i0 - b..i0] {
+                *v += 0.3 * (2.0 * uniform(&mut s) - 1.0);
+            }
+        }
+        let (f0, glide) = (100.0 + 100.0 * uniform(&mut s), 1.0 + 2.0 * uniform(&mut s));
+        let vowel = VOWELS[(uniform(&mut s) * 5.0) as usize];
+        let len = i1 - i0;
+        // The pulse train, each pulse a decaying click.
+        let mut src = vec![0.0; len];
+        let mut phase = 0.0f64;
+        for k in 0..len {
+            let f = f0 * (1.0 + 0.2 * (glide * k as f64 / len as f64).sin());
+            let next = phase + f / rate;
+            if next.floor() > phase.floor() {
+                for (j, v) in src[k..len.min(k + 40)].iter_mut().enumerate() {
+                    *v += (-(j as f64) / 8.0).exp();
+                }
+            }
+            phase = next;
+        }
+        for (f, bw) in vowel.iter().zip([80.0, 100.0, 120.0]) {
+            let r = (-std::f64::consts::PI * bw / rate).exp();
+            let c = 2.0 * r * (2.0 * std::f64::consts::PI * f / rate).cos();
+            let (mut z1, mut z2) = (0.0, 0.0);
+            let y: Vec<f64> = src
+                .iter()
+                .map(|x| {
+                    let v = x + c * z1 - r * r * z2;
+                    z2 = z1;
+                    z1 = v;
+                    v
+                })
+                .collect();
+            let peak = y.iter().fold(1e-9f64, |m, v| m.max(v.abs()));
+            for (k, v) in y.iter().enumerate() {
+                let hann = 0.5 - 0.5 * (2.0 * std::f64::consts::PI * k as f64 / (len - 1) as f64).cos();
+                out[i0 + k] += v / peak * hann;
+            }
+        }
+        t += syl
+            + if uniform(&mut s) < 0.3 {
+                0.2 + 0.4 * uniform(&mut s)
+            } else {
+                0.02 + 0.06 * uniform(&mut s)
+            };
+    }
+    for v in &mut out {
+        *v += 0.003 * (2.0 * uniform(&mut s) - 1.0);
+    }
+    let peak = out.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    out.iter().map(|v| 0.8 * v / peak).collect()
+}
+
+/// (text, JSON) of `clapper strikes FILE --nominals N`, both succeeding
+/// without a panic.
+fn heard(path: &std::path::Path, nominals: &str) -> (String, serde_json::Value) {
+    let run = |json: bool| {
+        let mut c = clapper();
+        c.arg("strikes").arg(path).args(["--nominals", nominals]);
+        if json {
+            c.arg("--json");
+        }
+        let out = c.output().unwrap();
+        let err = String::from_utf8_lossy(&out.stderr);
+        assert!(out.status.success() && !err.contains("panicked"), "{err}");
+        String::from_utf8_lossy(&out.stdout).to_string()
+    };
+    (run(false), serde_json::from_str(&run(true)).unwrap())
+}
+
+fn warnings(j: &serde_json::Value) -> Vec<String> {
+    j["summary"]["warnings"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|w| w.as_str().unwrap().to_string())
+        .collect()
+}
+
+#[test]
+fn silence_is_said_to_be_silent() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("silence.wav");
+    write(&p, &vec![0.0; 10 * RATE as usize], RATE);
+    let (text, j) = heard(&p, EIGHT);
+    assert_eq!(j["summary"]["strikes"], 0);
+    assert_eq!(warnings(&j)[0], "the recording is silent");
+    assert!(text.contains("warning: the recording is silent"), "{text}");
+}
+
+#[test]
+fn speech_is_heard_as_no_strikes_and_said_so_first() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("speech.wav");
+    for seed in [7, 8] {
+        write(&p, &speech(12.0, seed), RATE);
+        // Nominals in speech's formants (a ring with a 400 Hz tenor) and above.
+        for nominals in [EIGHT, "600,534.5,476.2,449.5,400.5,356.8"] {
+            let (text, j) = heard(&p, nominals);
+            let said = warnings(&j);
+            // No strikes, said first in words; or strikes said not to be a bell's.
+            let no_strikes = j["summary"]["strikes"] == 0 && said[0].starts_with("no strikes heard");
+            let unlike = said[0].starts_with("this does not sound like a recording of bells");
+            assert!(no_strikes || unlike, "seed {seed}, {nominals}: {said:?}");
+            assert!(text.contains(&format!("warning: {}", said[0])), "{text}");
+        }
+    }
+}
+
+#[test]
+fn one_bell_is_heard_and_said_to_give_no_striking_to_judge() {
+    let dir = tempfile::tempdir().unwrap();
+    let (wav, truth) = (dir.path().join("one.wav"), dir.path().join("one.csv"));
+    clapper()
+        .args([
+            "synth-ring",
+            "--bells",
+            "1",
+            "--rows",
+            "12",
+            "--interval-ms",
+            "1000",
+            "--snr",
+            "30",
+        ])
+        .arg("--out")
+        .arg(&wav)
+        .arg("--truth")
+        .arg(&truth)
+        .assert()
+        .success();
+    let (text, j) = heard(&wav, "1400");
+    // Its twelve strikes are real: listed, not refused.
+    assert_eq!(j["summary"]["strikes"], 12);
+    let said = warnings(&j);
+    assert!(
+        said.iter().any(|w| w.starts_with("one bell: its strikes are listed")),
+        "{said:?}"
+    );
+    assert!(text.contains("warning: one bell"), "{text}");
+    // Two bells given, one ringing: the other is said to be unheard.
+    let (_, j) = heard(&wav, "1400,1247.3");
+    assert!(
+        warnings(&j).iter().any(|w| w.starts_with("bell 2:")),
+        "{:?}",
+        warnings(&j)
+    );
+}
+
+#[test]
+fn a_nominal_the_recording_cannot_hold_is_refused_with_the_reason() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("r8k.wav");
+    write(&p, &speech(3.0, 1), 8000);
+    let out = clapper()
+        .arg("strikes")
+        .arg(&p)
+        .args(["--nominals", "1400,1247.3,5000", "--json"])
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success() && !err.contains("panicked"), "{err}");
+    assert!(
+        err.contains("bell 3's strongest partial, 5000 Hz (its nominal), is above 4000 Hz"),
+        "{err}"
+    );
+    assert!(out.stdout.is_empty());
+}
