@@ -1008,8 +1008,12 @@ $("listen-recording").addEventListener("click", async () => {
     const file = $("recording").files[0];
     if (!file) throw new Error("choose a recording (.wav) first");
     const nominals = $("nominals").value.split(/[,\s]+/).filter((v) => v !== "");
-    if (nominals.length === 0) throw new Error("give the bells' nominals (Hz), treble first");
-    const q = new URLSearchParams({ nominals: nominals.join(","), double_min_ratio: num("double-min-ratio") });
+    const bells = $("strikes-bells").value.trim();
+    // The bells: their nominals, or how many ring (their nominals learned), as clapper strikes --bells N.
+    if (nominals.length === 0 && bells === "") throw new Error("give the bells' nominals (Hz), treble first, or how many bells ring");
+    if (nominals.length > 0 && bells !== "") throw new Error("give the bells' nominals or how many bells ring, not both");
+    const q = new URLSearchParams(nominals.length ? { nominals: nominals.join(",") } : { bells });
+    q.set("double_min_ratio", num("double-min-ratio"));
     showStatus(status, `Listening to ${file.name}…`);
     const res = await fetch("/api/strikes?" + q, { method: "POST", headers: { "Content-Type": "audio/wav" }, body: file });
     if (!res.ok) {
@@ -1020,7 +1024,10 @@ $("listen-recording").addEventListener("click", async () => {
     lastStrikes = await res.json();
     renderStrikes();
     const s = lastStrikes.report.summary;
-    showStatus(status, `${s.strikes} strike(s) heard in ${fmt(s.duration_s, 1)} s.` + (s.warnings.length ? ` ${s.warnings.length} warning(s): see below.` : ""));
+    const learned = lastStrikes.report.learned_nominals_hz;
+    showStatus(status, `${s.strikes} strike(s) heard in ${fmt(s.duration_s, 1)} s.` +
+      (learned ? ` Nominals learned from the recording: ${learned.map((b) => `${b.bell}: ${fmt(b.nominal_hz, 1)} Hz (${fmt(100 * b.confidence, 0)} % sure)`).join(", ")}.` : "") +
+      (s.warnings.length ? ` ${s.warnings.length} warning(s): see below.` : ""));
   } catch (e) { showError(status, e); }
 });
 

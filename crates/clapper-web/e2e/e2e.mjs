@@ -355,6 +355,19 @@ try {
   await page.click("#listen-recording");
   await page.waitForFunction(() => document.querySelector("#strikes-status").textContent.includes("strike(s) heard"), null, { timeout: 60000 });
   check(!(await page.textContent("#strikes-table")).includes("model"), "after Clear, the recording heard again sets no bells beside it");
+  // How many bells ring instead of their nominals: the page learns the
+  // nominals clapper strikes --bells 6 learns, and hears as many strikes.
+  const byCli = JSON.parse(spawnSync(bin, ["strikes", ringWav, "--bells", "6", "--json"], { encoding: "utf8" }).stdout);
+  await page.fill("#nominals", "");
+  await page.fill("#strikes-bells", "6");
+  await page.click("#listen-recording");
+  await page.waitForFunction(() => document.querySelector("#strikes-status").textContent.includes("Nominals learned"), null, { timeout: 60000 });
+  const learnedSaid = await page.textContent("#strikes-status");
+  check(learnedSaid.includes(`${byCli.summary.strikes} strike(s)`) &&
+    byCli.learned_nominals_hz.every((b) => learnedSaid.includes(`${b.bell}: ${b.nominal_hz.toFixed(1)} Hz`)),
+    `the page learns the nominals and hears the strikes the CLI does with --bells 6 (${learnedSaid})`);
+  await page.fill("#strikes-bells", "");
+  await page.fill("#nominals", nominals);
   await page.click('button[data-tab="chart"]');
   check(await page.locator(".marker").count() === 0, "after Clear, no bell is marked on the chart");
 
