@@ -19,6 +19,8 @@ use serde::Serialize;
 use crate::AppError;
 
 mod doubt;
+mod input;
+pub use input::{NO_STRIKES, ONE_BELL};
 
 /// The sample rates (Hz) of recordings listened to: a telephone's to a
 /// studio's (the finder decimates each band, so a high rate costs reading
@@ -274,17 +276,6 @@ pub struct Learned {
 
 pub use clapper_signal::strikes::DEFAULT_DOUBLE_MIN_RATIO;
 
-/// The warning, first, when a recording that is not silent holds no strike
-/// of the bells given (speech, music, another ring).
-pub const NO_STRIKES: &str = "no strikes heard: nothing here starts the given bells' partials as a bell's strike \
-                              does; is this a recording of these bells ringing, and are the nominals theirs?";
-
-/// The warning for one bell: its strikes are real, but striking is judged
-/// between bells.
-pub const ONE_BELL: &str = "one bell: its strikes are listed, but rows, places, striking errors, the handstroke \
-                            gap and odd-struckness are judged between bells ringing together: give every \
-                            ringing bell's nominal";
-
 /// The strike finder's options with the double strike's least amplitude
 /// ratio `double_min_ratio` ([`DEFAULT_DOUBLE_MIN_RATIO`] unless asked:
 /// below it the paper's listeners heard no double strike), checked.
@@ -369,22 +360,7 @@ impl StrikesReport {
                 RECORDING_RATES_HZ.end() / 1000.0
             )));
         }
-        // A partial above half the rate is not in the recording: said, not
-        // reported as a bell that never struck.
-        for (i, v) in voices.iter().enumerate() {
-            if let Some(p) = v.partials.iter().max_by(|a, b| a.strength.total_cmp(&b.strength)) {
-                if p.freq_hz >= 0.5 * rate {
-                    return Err(AppError::Request(format!(
-                        "bell {}'s strongest partial, {} Hz (its nominal), is above {} Hz, the highest sound a \
-                         recording at {} Hz holds: is the nominal right, and the recording's rate?",
-                        i + 1,
-                        p.freq_hz,
-                        0.5 * rate,
-                        rate
-                    )));
-                }
-            }
-        }
+        input::heard_at(rate, voices)?;
         let duration_s = src.total() as f64 / rate;
         // The lateness on a ring of the templates needs them at one rate;
         // matching each strike does not (it resamples them).
@@ -442,15 +418,7 @@ impl StrikesReport {
                 ),
             );
         }
-        if peak == 0.0 {
-            warnings.insert(0, "the recording is silent".into());
-        } else if heard.strikes.is_empty() {
-            // Said first, in words, so that an empty table is not read as a quiet ring.
-            warnings.insert(0, NO_STRIKES.into());
-        }
-        if voices.len() == 1 && !heard.strikes.is_empty() {
-            warnings.push(ONE_BELL.into());
-        }
+        input::warn_of(&mut warnings, peak, heard.strikes.len(), voices.len());
         let mut report = Self::of(&heard, voices.len(), duration_s, warnings, timing_report);
         report.summary.plausibility = plausibility;
         Ok(report)

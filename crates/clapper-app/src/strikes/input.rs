@@ -1,0 +1,52 @@
+//! What is not a ring, said (issue 43): a nominal a recording cannot hold
+//! is refused; a recording with no strike of the bells given, and one bell
+//! alone, are warned of. The CLI, the web server and Python share these.
+
+use clapper_signal::strikes::BellVoice;
+
+use crate::AppError;
+
+/// The warning, first, when a recording that is not silent holds no strike
+/// of the bells given (speech, music, another ring).
+pub const NO_STRIKES: &str = "no strikes heard: nothing here starts the given bells' partials as a bell's strike \
+                              does; is this a recording of these bells ringing, and are the nominals theirs?";
+
+/// The warning for one bell: its strikes are real, but striking is judged
+/// between bells.
+pub const ONE_BELL: &str = "one bell: its strikes are listed, but rows, places, striking errors, the handstroke \
+                            gap and odd-struckness are judged between bells ringing together: give every \
+                            ringing bell's nominal";
+
+/// Refused: a bell whose strongest partial lies at or above half the
+/// recording's rate `rate_hz` (Hz), where the recording holds nothing (it
+/// was heard as a bell that never struck).
+pub(super) fn heard_at(rate_hz: f64, voices: &[BellVoice]) -> Result<(), AppError> {
+    for (i, v) in voices.iter().enumerate() {
+        let strongest = v.partials.iter().max_by(|a, b| a.strength.total_cmp(&b.strength));
+        if let Some(p) = strongest.filter(|p| p.freq_hz >= 0.5 * rate_hz) {
+            return Err(AppError::Request(format!(
+                "bell {}'s strongest partial, {} Hz (its nominal), is above {} Hz, the highest sound a recording \
+                 at {} Hz holds: is the nominal right, and the recording's rate?",
+                i + 1,
+                p.freq_hz,
+                0.5 * rate_hz,
+                rate_hz
+            )));
+        }
+    }
+    Ok(())
+}
+
+/// Add to `warnings` what makes the report no ring's: silence (the
+/// recording's `peak` 0), no strike heard (first, in words, so that an
+/// empty table is not read as a quiet ring), one bell of `bells`.
+pub(super) fn warn_of(warnings: &mut Vec<String>, peak: f64, strikes: usize, bells: usize) {
+    if peak == 0.0 {
+        warnings.insert(0, "the recording is silent".into());
+    } else if strikes == 0 {
+        warnings.insert(0, NO_STRIKES.into());
+    }
+    if bells == 1 && strikes > 0 {
+        warnings.push(ONE_BELL.into());
+    }
+}
