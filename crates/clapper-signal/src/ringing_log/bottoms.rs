@@ -69,7 +69,8 @@ pub(super) fn strokes(
         // From the smoothed angle: the largest of noisy samples overshoots.
         // A stand's still samples first: a rest's mean angle, smoothed over
         // a second, mixes readings either side of the ±200 deg hold.
-        let amplitude = match (short_stand(t, theta, burst, (from, k), side), stood) {
+        let stand = stand_height(log, burst, (from, k), side).or_else(|| short_stand(t, theta, burst, (from, k), side));
+        let amplitude = match (stand, stood) {
             (Some(h), _) => h,
             (None, Some(r)) if r.2.signum() == side => r.2.abs(),
             _ => turning_height(t, theta, smooth, burst, (from, k), side),
@@ -79,6 +80,84 @@ pub(super) fn strokes(
     }
     out
 }
+
+/// A stand on the stay (at or past the balance) read through the
+/// headstock's ringing: on the stay the bell is still, so the readings are
+/// gravity alone and its angle is atan2(tangential, radial) of the
+/// calibrated readings, without the swing's corrections (which, from θ''
+/// fitted through the shaking, threw the angle about by 40 deg on
+/// Data141's stands). Of the samples `from..=k` that are not bursts nor
+/// clipped and whose force is within [`STAND_FORCE`] of g (the shaking
+/// moves the rest), each one's height on `side` (as in [`short_stand`])
+/// smoothed by the median over ±[`STAND_SMOOTH_S`]; the longest run of
+/// smoothed heights within [`STAND_RANGE`] of each other, at least
+/// [`STAND_MIN`] high and lasting [`SHORT_STAND_S`]; the median of its
+/// heights (rad).
+fn stand_height(log: &AccelLog, burst: &[bool], (from, k): (usize, usize), side: f64) -> Option<f64> {
+    let t = &log.t;
+    let height = |j: usize| {
+        let p = log.tangential[j].atan2(log.radial[j]);
+        if p.signum() == side {
+            p.abs()
+        } else {
+            std::f64::consts::TAU - p.abs()
+        }
+    };
+    let good: Vec<usize> = (from..=k)
+        .filter(|&j| !burst[j] && (log.tangential[j].hypot(log.radial[j]) - G).abs() <= STAND_FORCE * G)
+        .collect();
+    let raw: Vec<f64> = good.iter().map(|&j| height(j)).collect();
+    let (mut lo, mut hi) = (0, 0);
+    let smooth: Vec<f64> = (0..good.len())
+        .map(|i| {
+            while t[good[i]] - t[good[lo]] > STAND_SMOOTH_S {
+                lo += 1;
+            }
+            while hi + 1 < good.len() && t[good[hi + 1]] - t[good[i]] <= STAND_SMOOTH_S {
+                hi += 1;
+            }
+            let mut v = raw[lo..=hi].to_vec();
+            v.sort_by(f64::total_cmp);
+            v[v.len() / 2]
+        })
+        .collect();
+    let mut best: Option<(usize, usize)> = None;
+    let mut i = 0;
+    while i < good.len() {
+        if smooth[i] < STAND_MIN || smooth[i] > 200f64.to_radians() {
+            i += 1;
+            continue;
+        }
+        let a = i;
+        let (mut l, mut h) = (smooth[i], smooth[i]);
+        while i < good.len() && smooth[i] >= STAND_MIN && smooth[i] <= 200f64.to_radians() {
+            if smooth[i].max(h) - smooth[i].min(l) > STAND_RANGE {
+                break;
+            }
+            (l, h) = (smooth[i].min(l), smooth[i].max(h));
+            i += 1;
+        }
+        if best.is_none_or(|(p, q)| t[good[i - 1]] - t[good[a]] > t[good[q]] - t[good[p]]) {
+            best = Some((a, i - 1));
+        }
+        i = i.max(a + 1);
+    }
+    let (a, b) = best.filter(|&(a, b)| t[good[b]] - t[good[a]] >= SHORT_STAND_S)?;
+    let mut v = raw[a..=b].to_vec();
+    v.sort_by(f64::total_cmp);
+    Some(v[v.len() / 2])
+}
+
+/// A stand's samples read a force within this fraction of g.
+const STAND_FORCE: f64 = 0.2;
+
+/// A stand's heights are smoothed by their median over ± this (s).
+const STAND_SMOOTH_S: f64 = 0.1;
+
+/// A stand on the stay is at least this high (rad): 177 deg. (Below the
+/// balance a still bell falls back at once; a turning point there, slow,
+/// reads high by h θ''/g without the swing's correction: 1 deg at 177.)
+const STAND_MIN: f64 = 177.0 * std::f64::consts::PI / 180.0;
 
 /// A stand too short to be read as a rest (Data141's last about 2 s, the
 /// first second of it with the headstock still ringing from the strike):

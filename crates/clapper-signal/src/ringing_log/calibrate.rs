@@ -494,8 +494,19 @@ fn finish(log: &AccelLog, keep: &[Stretch], obs: &[Obs], owner: &[usize], fit: &
     }
 }
 
+/// A fall from the balance (a set's or a stand's) is fitted from this far
+/// (rad) below its top: 30 deg, clear of the ringer's pull off the stay
+/// and of the stand's shaking. The pull is no free pendulum's: on Data141,
+/// whose two falls from a set are both handstrokes, fitting them from the
+/// top put the tilt at −1.93 deg and every backstroke's bottom 4.3-6.2 ms
+/// after its moment of greatest speed; from 20, 30 or 45 deg below, the
+/// tilt reads −1.37 to −1.43 deg and every bottom is within 3.9 ms.
+const FALL_LEFT: f64 = 30.0 * std::f64::consts::PI / 180.0;
+
 /// The log's quiet stretches: its rests (`rests`: start, end, s), the
-/// falls from rests near the balance to the first burst (at most 3 s),
+/// falls from rests near the balance and from turns past it outside a
+/// rest (stands on the stay too short to be rests), each from [`FALL_LEFT`] below the
+/// top to the first burst (at most 3 s),
 /// and the half swings between `turns` (sample indices of turning points
 /// of the plain angle `level`, rad) that take 0.3 to 3 s with no burst in
 /// them nor in the second before, and swing steadily.
@@ -516,13 +527,47 @@ pub(crate) fn quiet_stretches(
             out.push(Stretch { a, b, free: false });
         }
         if wrap(r.2).abs() > 150f64.to_radians() {
-            let mut e = b;
-            while e < n && !bad[e] && t[e] - t[b.min(n - 1)] < 3.0 {
+            // From where the bell has left the top by [`FALL_LEFT`].
+            let Some(a) = (b..n)
+                .take_while(|&k| !bad[k])
+                .find(|&k| (level[k] - r.2).abs() >= FALL_LEFT)
+            else {
+                continue;
+            };
+            let mut e = a;
+            while e < n && !bad[e] && t[e] - t[a] < 3.0 {
                 e += 1;
             }
-            if e > b + 20 {
-                out.push(Stretch { a: b, b: e, free: true });
+            if e > a + 20 {
+                out.push(Stretch { a, b: e, free: true });
             }
+        }
+    }
+    // Falls from a short stand (a turn past the balance, no rest): from the
+    // moment the bell has left the top by [`FALL_LEFT`] to the first burst.
+    for (i, &w) in turns.iter().enumerate() {
+        let top = level[w];
+        if wrap(top).abs() <= 150f64.to_radians() || rests.iter().any(|r| t[w] >= r.0 - 0.1 && t[w] <= r.1 + 1.0) {
+            continue;
+        }
+        let until = turns.get(i + 1).copied().unwrap_or(n);
+        let Some(a) = (w..until).find(|&k| (level[k] - top).abs() >= FALL_LEFT) else {
+            continue;
+        };
+        // On the stay: past the balance on the side it falls to (a turn
+        // short of it is a swing's top, rung on without a stand).
+        if wrap(level[a]).abs() + (top - level[a]).abs() <= std::f64::consts::PI {
+            continue;
+        }
+        let mut e = a;
+        while e < n && !bad[e] && t[e] - t[a] < 3.0 {
+            e += 1;
+        }
+        let since = t.partition_point(|&x| x < t[a] - 0.3);
+        // (Not a fall from a rest's end, already taken.)
+        let taken = out.iter().any(|s| s.free && a < s.b && e > s.a);
+        if e > a + 20 && clean(since, a) && !taken {
+            out.push(Stretch { a, b: e, free: true });
         }
     }
     for (i, w) in turns.windows(2).enumerate() {
