@@ -89,10 +89,8 @@ pub(super) fn strokes(
 /// Data141's stands). Of the samples `from..=k` that are not bursts nor
 /// clipped and whose force is within [`STAND_FORCE`] of g (the shaking
 /// moves the rest), each one's height on `side` (as in [`short_stand`])
-/// smoothed by the median over ±[`STAND_SMOOTH_S`]; the longest run of
-/// smoothed heights within [`STAND_RANGE`] of each other, at least
-/// [`STAND_MIN`] high and lasting [`SHORT_STAND_S`]; the median of its
-/// heights (rad).
+/// smoothed by the median over ±[`STAND_SMOOTH_S`]; the longest still
+/// run of them (below); the median of its heights (rad).
 fn stand_height(log: &AccelLog, burst: &[bool], (from, k): (usize, usize), side: f64) -> Option<f64> {
     let t = &log.t;
     let height = |j: usize| {
@@ -107,8 +105,9 @@ fn stand_height(log: &AccelLog, burst: &[bool], (from, k): (usize, usize), side:
         .filter(|&j| !burst[j] && (log.tangential[j].hypot(log.radial[j]) - G).abs() <= STAND_FORCE * G)
         .collect();
     let raw: Vec<f64> = good.iter().map(|&j| height(j)).collect();
+    // Each sample's median and median absolute deviation over the window.
     let (mut lo, mut hi) = (0, 0);
-    let smooth: Vec<f64> = (0..good.len())
+    let (smooth, spread): (Vec<f64>, Vec<f64>) = (0..good.len())
         .map(|i| {
             while t[good[i]] - t[good[lo]] > STAND_SMOOTH_S {
                 lo += 1;
@@ -118,28 +117,36 @@ fn stand_height(log: &AccelLog, burst: &[bool], (from, k): (usize, usize), side:
             }
             let mut v = raw[lo..=hi].to_vec();
             v.sort_by(f64::total_cmp);
-            v[v.len() / 2]
+            let m = v[v.len() / 2];
+            let mut d: Vec<f64> = v.iter().map(|x| (x - m).abs()).collect();
+            d.sort_by(f64::total_cmp);
+            (m, d[d.len() / 2])
         })
-        .collect();
+        .unzip();
+    // The stand: the longest run of samples high enough, where the
+    // shaking has died down (the heights' spread under [`STAND_SPREAD`]:
+    // through the ringing it is 4-17 deg on Data141), whose smoothed
+    // heights stay within [`STAND_NEAR`] of each other (the bell rising to
+    // the stay, or pulled back over the balance, moves on); at least
+    // [`SHORT_STAND_S`] long.
+    let still = |i: usize| (STAND_MIN..=200f64.to_radians()).contains(&smooth[i]) && spread[i] <= STAND_SPREAD;
     let mut best: Option<(usize, usize)> = None;
     let mut i = 0;
     while i < good.len() {
-        if smooth[i] < STAND_MIN || smooth[i] > 200f64.to_radians() {
+        if !still(i) {
             i += 1;
             continue;
         }
         let a = i;
-        let (mut l, mut h) = (smooth[i], smooth[i]);
-        while i < good.len() && smooth[i] >= STAND_MIN && smooth[i] <= 200f64.to_radians() {
-            if smooth[i].max(h) - smooth[i].min(l) > STAND_RANGE {
-                break;
-            }
-            (l, h) = (smooth[i].min(l), smooth[i].max(h));
+        let (mut lo, mut hi) = (smooth[i], smooth[i]);
+        while i < good.len() && still(i) && smooth[i].max(hi) - smooth[i].min(lo) <= STAND_NEAR {
+            (lo, hi) = (smooth[i].min(lo), smooth[i].max(hi));
             i += 1;
         }
         if best.is_none_or(|(p, q)| t[good[i - 1]] - t[good[a]] > t[good[q]] - t[good[p]]) {
             best = Some((a, i - 1));
         }
+        // The next run may start inside this one.
         i = i.max(a + 1);
     }
     let (a, b) = best.filter(|&(a, b)| t[good[b]] - t[good[a]] >= SHORT_STAND_S)?;
@@ -148,16 +155,27 @@ fn stand_height(log: &AccelLog, burst: &[bool], (from, k): (usize, usize), side:
     Some(v[v.len() / 2])
 }
 
+/// A stand's heights' median absolute deviation over ±[`STAND_SMOOTH_S`]
+/// is at most this (rad): 2.5 deg.
+const STAND_SPREAD: f64 = 2.5 * std::f64::consts::PI / 180.0;
+
+/// A stand's smoothed heights lie within this (rad) of each other: 3 deg
+/// (the shaking moves a median over ±0.15 s by a degree or two).
+const STAND_NEAR: f64 = 3.0 * std::f64::consts::PI / 180.0;
+
 /// A stand's samples read a force within this fraction of g.
 const STAND_FORCE: f64 = 0.2;
 
 /// A stand's heights are smoothed by their median over ± this (s).
-const STAND_SMOOTH_S: f64 = 0.1;
+const STAND_SMOOTH_S: f64 = 0.15;
 
-/// A stand on the stay is at least this high (rad): 177 deg. (Below the
-/// balance a still bell falls back at once; a turning point there, slow,
-/// reads high by h θ''/g without the swing's correction: 1 deg at 177.)
-const STAND_MIN: f64 = 177.0 * std::f64::consts::PI / 180.0;
+/// A stand is at least this high (rad): 172 deg (Data141's backstroke
+/// stands read 176-184 deg, its handstroke stands 186-188: the stay meets
+/// the slider a few degrees either side of the balance). A swing's slow top
+/// read so reads high by h θ''/g, the swing's own acceleration left in: 1.2
+/// deg at 175 for a sensor 0.15 m above the pivot; below 172 deg a top is
+/// not still long enough to be read so.
+const STAND_MIN: f64 = 172.0 * std::f64::consts::PI / 180.0;
 
 /// A stand too short to be read as a rest (Data141's last about 2 s, the
 /// first second of it with the headstock still ringing from the strike):
