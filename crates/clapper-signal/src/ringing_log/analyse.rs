@@ -9,7 +9,7 @@ use super::fits::{bounded, quadratic_fits, unwrap_fill};
 use super::orient::{self, orientation, Orientation};
 use super::phases::{odd_struck, phases};
 use super::plausible::{half_swing, plausibility, Plausibility};
-use super::reading::{angle, Angle};
+use super::reading::{angle, misfit, Angle};
 use super::rests::{calibrate_from_rests, rests};
 use super::types::{AccelLog, ClapperingStart, LogOptions, LogStroke, Phase, PhaseKind};
 use crate::{median, SignalError};
@@ -125,7 +125,13 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         None => place_from_falls(&log, &burst, &still, interval),
     };
     let bad = ringing_masked(&log, &burst, &onsets, opts.clip, opts.through_ringing);
-    let a = angle(&log, &bad, opts.sensor_along, falls.as_ref(), interval);
+    let mut a = angle(&log, &bad, opts.sensor_along, falls.as_ref(), interval);
+    // How well the angle is read, judged where the headstock is not
+    // ringing: read through the ringing, the shaken samples are in the
+    // angle's fits as noise, but judged with them a log whose headstock
+    // clips for a second after each strike (as Data141's) read 10 % off g
+    // and fell back to the tangential zeros, its bottoms 9 ms off.
+    a.misfit = misfit(&log, &burst, (a.h, a.d), &a.joint_rate, &a.acc);
     place_warning(&a, falls.as_ref(), &mut warnings);
     // The angle continuous but held within ±200 deg of the bottom: a bell
     // set past the balance (185 deg, say) reads more than 180 deg, not a

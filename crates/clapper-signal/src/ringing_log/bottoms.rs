@@ -89,8 +89,8 @@ pub(super) fn strokes(
 /// Data141's stands). Of the samples `from..=k` that are not bursts nor
 /// clipped and whose force is within [`STAND_FORCE`] of g (the shaking
 /// moves the rest), each one's height on `side` (as in [`short_stand`])
-/// smoothed by the median over ±[`STAND_SMOOTH_S`]; the longest still
-/// run of them (below); the median of its heights (rad).
+/// smoothed by the median over ±[`STAND_SMOOTH_S`]; the highest still
+/// run of them (below), at its highest (rad).
 fn stand_height(log: &AccelLog, burst: &[bool], (from, k): (usize, usize), side: f64) -> Option<f64> {
     let t = &log.t;
     let height = |j: usize| {
@@ -123,14 +123,15 @@ fn stand_height(log: &AccelLog, burst: &[bool], (from, k): (usize, usize), side:
             (m, d[d.len() / 2])
         })
         .unzip();
-    // The stand: the longest run of samples high enough, where the
-    // shaking has died down (the heights' spread under [`STAND_SPREAD`]:
-    // through the ringing it is 4-17 deg on Data141), whose smoothed
-    // heights stay within [`STAND_NEAR`] of each other (the bell rising to
-    // the stay, or pulled back over the balance, moves on); at least
-    // [`SHORT_STAND_S`] long.
+    // The stand: runs of samples high enough, where the shaking has died
+    // down (the heights' spread under [`STAND_SPREAD`]: through the
+    // ringing it is 4-17 deg on Data141), whose smoothed heights stay
+    // within [`STAND_NEAR`] of each other, lasting [`SHORT_STAND_S`]; of
+    // those the highest (the bell pulled back over the balance, or slow to
+    // start its fall, is lower), read at its highest smoothed height (a
+    // swing's slow top, not still, at its top).
     let still = |i: usize| (STAND_MIN..=200f64.to_radians()).contains(&smooth[i]) && spread[i] <= STAND_SPREAD;
-    let mut best: Option<(usize, usize)> = None;
+    let mut best: Option<f64> = None;
     let mut i = 0;
     while i < good.len() {
         if !still(i) {
@@ -143,16 +144,13 @@ fn stand_height(log: &AccelLog, burst: &[bool], (from, k): (usize, usize), side:
             (lo, hi) = (smooth[i].min(lo), smooth[i].max(hi));
             i += 1;
         }
-        if best.is_none_or(|(p, q)| t[good[i - 1]] - t[good[a]] > t[good[q]] - t[good[p]]) {
-            best = Some((a, i - 1));
+        if t[good[i - 1]] - t[good[a]] >= SHORT_STAND_S && best.is_none_or(|b| hi > b) {
+            best = Some(hi);
         }
         // The next run may start inside this one.
         i = i.max(a + 1);
     }
-    let (a, b) = best.filter(|&(a, b)| t[good[b]] - t[good[a]] >= SHORT_STAND_S)?;
-    let mut v = raw[a..=b].to_vec();
-    v.sort_by(f64::total_cmp);
-    Some(v[v.len() / 2])
+    best
 }
 
 /// A stand's heights' median absolute deviation over ±[`STAND_SMOOTH_S`]
