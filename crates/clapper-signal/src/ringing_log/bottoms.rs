@@ -692,4 +692,39 @@ mod tests {
         let h = short_stand(&t, &theta, &burst, (0, 299), 1.0).expect("a stand");
         assert!((h.to_degrees() - 189.0).abs() < 0.5, "{}", h.to_degrees());
     }
+
+    /// A stand on the stay 6 deg past the balance, the headstock shaking
+    /// through its first 0.9 s (37 Hz, 25 m/s² dying to 1, clipped at
+    /// ±2 g; the unclipped samples left in), then the bell pulled back
+    /// over the balance and falling: read at 186 deg from the calibrated
+    /// gravity angle, on the side it falls to.
+    #[test]
+    fn a_stand_shaken_by_the_headstock_is_read_from_its_still_part() {
+        let deg = |x: f64| x.to_radians();
+        let mut log = AccelLog::default();
+        let mut burst = vec![];
+        for k in 0..300 {
+            let x = k as f64 * 0.01;
+            // Rising onto the stay, standing, pulled back to 180, falling.
+            let th = match x {
+                x if x < 0.3 => deg(178.0 + 8.0 * x / 0.3),
+                x if x < 2.0 => deg(186.0),
+                x if x < 2.3 => deg(186.0 - 6.0 * (x - 2.0) / 0.3),
+                x => deg(180.0 - 60.0 * (x - 2.3).powi(2)),
+            };
+            let shake = if x < 0.9 { 25.0 * (-x / 0.25).exp() } else { 0.0 };
+            let v = |phase: f64| shake * (2.0 * std::f64::consts::PI * 37.0 * x + phase).sin();
+            let reading = [G * th.sin() + v(0.0), G * th.cos() + v(2.0), v(4.0)];
+            let clipped = reading.iter().any(|r| r.abs() >= 0.99 * 2.0 * G);
+            let reading = reading.map(|r| r.clamp(-2.0 * G, 2.0 * G));
+            log.t.push(x);
+            log.tangential.push(reading[0]);
+            log.radial.push(reading[1]);
+            log.axle.push(reading[2]);
+            burst.push(clipped);
+        }
+        let n = log.t.len();
+        let h = stand_height(&log, &burst, (0, n - 1), 1.0).expect("a stand");
+        assert!((h.to_degrees() - 186.0).abs() < 1.0, "{}", h.to_degrees());
+    }
 }

@@ -519,6 +519,47 @@ fn finish(log: &AccelLog, keep: &[Stretch], obs: &[Obs], owner: &[usize], fit: &
     }
 }
 
+/// Falls from short stands (a turn of the plain angle `level` past the
+/// balance, outside the `rests`: on the stay, too short to be a rest):
+/// from [`FALL_LEFT`] below the top to the first burst (at most 3 s),
+/// each not already among `out` (a fall from a rest's end), added to it.
+fn falls_from_stands(
+    log: &AccelLog,
+    bad: &[bool],
+    rests: &[(f64, f64, f64)],
+    (level, turns): (&[f64], &[usize]),
+    out: &mut Vec<Stretch>,
+) {
+    let t = &log.t;
+    let n = t.len();
+    let clean = |a: usize, b: usize| !bad[a..b].iter().any(|&x| x);
+    for (i, &w) in turns.iter().enumerate() {
+        let top = level[w];
+        if wrap(top).abs() <= 150f64.to_radians() || rests.iter().any(|r| t[w] >= r.0 - 0.1 && t[w] <= r.1 + 1.0) {
+            continue;
+        }
+        let until = turns.get(i + 1).copied().unwrap_or(n);
+        let Some(a) = (w..until).find(|&k| (level[k] - top).abs() >= FALL_LEFT) else {
+            continue;
+        };
+        // On the stay: past the balance on the side it falls to (a turn
+        // short of it is a swing's top, rung on without a stand).
+        if wrap(level[a]).abs() + (top - level[a]).abs() <= std::f64::consts::PI {
+            continue;
+        }
+        let mut e = a;
+        while e < n && !bad[e] && t[e] - t[a] < 3.0 {
+            e += 1;
+        }
+        let since = t.partition_point(|&x| x < t[a] - 0.3);
+        // (Not a fall from a rest's end, already taken.)
+        let taken = out.iter().any(|s| s.free && a < s.b && e > s.a);
+        if e > a + 20 && clean(since, a) && !taken {
+            out.push(Stretch { a, b: e, free: true });
+        }
+    }
+}
+
 /// A fall from the balance (a set's or a stand's) is fitted from this far
 /// (rad) below its top: 30 deg, clear of the ringer's pull off the stay
 /// and of the stand's shaking. The pull is no free pendulum's: on Data141,
@@ -568,33 +609,7 @@ pub(crate) fn quiet_stretches(
             }
         }
     }
-    // Falls from a short stand (a turn past the balance, no rest): from the
-    // moment the bell has left the top by [`FALL_LEFT`] to the first burst.
-    for (i, &w) in turns.iter().enumerate() {
-        let top = level[w];
-        if wrap(top).abs() <= 150f64.to_radians() || rests.iter().any(|r| t[w] >= r.0 - 0.1 && t[w] <= r.1 + 1.0) {
-            continue;
-        }
-        let until = turns.get(i + 1).copied().unwrap_or(n);
-        let Some(a) = (w..until).find(|&k| (level[k] - top).abs() >= FALL_LEFT) else {
-            continue;
-        };
-        // On the stay: past the balance on the side it falls to (a turn
-        // short of it is a swing's top, rung on without a stand).
-        if wrap(level[a]).abs() + (top - level[a]).abs() <= std::f64::consts::PI {
-            continue;
-        }
-        let mut e = a;
-        while e < n && !bad[e] && t[e] - t[a] < 3.0 {
-            e += 1;
-        }
-        let since = t.partition_point(|&x| x < t[a] - 0.3);
-        // (Not a fall from a rest's end, already taken.)
-        let taken = out.iter().any(|s| s.free && a < s.b && e > s.a);
-        if e > a + 20 && clean(since, a) && !taken {
-            out.push(Stretch { a, b: e, free: true });
-        }
-    }
+    falls_from_stands(log, bad, rests, (level, turns), &mut out);
     for (i, w) in turns.windows(2).enumerate() {
         let (a, b) = (w[0], w[1] + 1);
         let took = t[w[1]] - t[w[0]];
