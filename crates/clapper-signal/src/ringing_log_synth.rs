@@ -60,8 +60,9 @@ pub struct LogSpec {
     /// (a few per cent from 1).
     pub gain: [f64; 3],
     /// The headstock's ringing after a ringing stroke's strike (m/s²; others
-    /// scale with their impulse): a slower mode than the burst's, dying
-    /// over [`LogSpec::ring_s`], below the burst threshold for most of it.
+    /// scale with their impulse, up to this): a slower mode than the
+    /// burst's, dying over [`LogSpec::ring_s`]. At Data141's level (some 50
+    /// m/s², 0.4 s) it clips the readings at ±2 g for a second.
     pub ring: f64,
     /// The ringing's time constant (s): it lasts some four of these.
     pub ring_s: f64,
@@ -70,6 +71,12 @@ pub struct LogSpec {
     pub stand_every: usize,
     /// How long each stand lasts (s).
     pub stand_s: f64,
+    /// How far past the balance the stay holds the bell on a stand (rad; 0:
+    /// the stand is at the angle the next stroke falls from, short of the
+    /// balance). Past it, the bell rises onto the stay and is pulled back
+    /// over the balance, each over [`STAY_RAMP_S`], and the stroke after
+    /// falls from the stay's angle (Data141's stands read 176-188 deg).
+    pub stay: f64,
     /// After lowering, the bell let go to swing freely for this long (s; 0:
     /// stopped at once), then stopped: these swings are "down".
     pub free_s: f64,
@@ -106,6 +113,7 @@ impl LogSpec {
             ring_s: 0.25,
             stand_every: 0,
             stand_s: 2.0,
+            stay: 0.0,
             free_s: 0.0,
         }
     }
@@ -604,7 +612,7 @@ fn sim_motion(
         for h in &p.holds {
             let at = h.0 + before;
             if u >= at && u < at + h.1 {
-                return Err(h.2);
+                return Err(on_the_stay(spec.stay, h, u - at));
             }
             if u >= at + h.1 {
                 before += h.1;
@@ -625,7 +633,7 @@ fn sim_motion(
     let mut from_sim = k.out.iter();
     for &u in local {
         match held(u) {
-            Err(angle) => m.kin.push([sign * angle, 0.0, 0.0]),
+            Err(v) => m.kin.push([sign * v[0], sign * v[1], sign * v[2]]),
             Ok(_) => {
                 let v = from_sim.next().ok_or_else(|| err("samples out of step"))?;
                 m.kin.push([sign * v[0], sign * v[1], sign * v[2]]);
@@ -633,6 +641,36 @@ fn sim_motion(
         }
     }
     Ok(())
+}
+
+/// A stand's rise onto the stay and the pull back over the balance each
+/// take this long (s).
+pub const STAY_RAMP_S: f64 = 0.3;
+
+/// θ, θ', θ'' (rad, rad/s, rad/s²) `u` s into the stand `h` (when, how
+/// long, the angle the next stroke falls from): with the stay `stay` rad
+/// past the balance, up onto it from that angle and back (smoothstep);
+/// else still at that angle.
+fn on_the_stay(stay: f64, h: &(f64, f64, f64), u: f64) -> [f64; 3] {
+    let base = h.2;
+    if stay <= 0.0 {
+        return [base, 0.0, 0.0];
+    }
+    let ramp = STAY_RAMP_S.min(0.5 * h.1);
+    let top = base.signum() * (std::f64::consts::PI + stay);
+    let (from, to, x) = if u < ramp {
+        (base, top, u)
+    } else if u > h.1 - ramp {
+        (top, base, u - (h.1 - ramp))
+    } else {
+        return [top, 0.0, 0.0];
+    };
+    let (s0, s1, s2) = smoothstep(x / ramp);
+    [
+        from + (to - from) * s0,
+        (to - from) * s1 / ramp,
+        (to - from) * s2 / (ramp * ramp),
+    ]
 }
 
 /// A simulation's impacts (with their impulses) and its true swings.
@@ -651,7 +689,12 @@ fn sim_truth(spec: &LogSpec, p: &Piece, (which, sign, strokes): (Run, f64, &[Str
                 // Falling from the + side (mirrored): a handstroke.
                 hand: sign * st.start.y[0] > 0.0,
                 strike: None,
-                amplitude: st.start.y[0].abs(),
+                // After a stand past the balance, it fell from the stay.
+                amplitude: if spec.stay > 0.0 && p.holds.iter().any(|h| (h.0 - st.start.t).abs() < 1e-9) {
+                    std::f64::consts::PI + spec.stay
+                } else {
+                    st.start.y[0].abs()
+                },
                 turned: p.start + p.local(st.start.t),
                 impacts: vec![],
                 phase: p.kind,
@@ -748,8 +791,11 @@ fn readings(
             }
             let d = x - b.0;
             let env = b.1 * (-d / TAU).exp();
-            // The headstock's slower ring, longer lived.
-            let ring = spec.ring * b.1 / spec.burst.max(1e-9) * (-d / spec.ring_s.max(1e-3)).exp();
+            // The headstock's slower ring, longer lived; a harder blow (of
+            // the raising or lowering, whose impulses run to three times a
+            // ringing strike's here) rings it no harder: on Data141 those
+            // strikes clip the readings no more than the ringing's.
+            let ring = spec.ring * (b.1 / spec.burst.max(1e-9)).min(1.0) * (-d / spec.ring_s.max(1e-3)).exp();
             for (axis, val) in v.iter_mut().enumerate() {
                 *val += env * (2.0 * std::f64::consts::PI * F_RING * d + b.2[axis]).cos();
                 *val += ring * (2.0 * std::f64::consts::PI * F_HEADSTOCK * d + 2.0 * b.2[axis]).cos();

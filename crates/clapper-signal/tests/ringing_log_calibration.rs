@@ -1,6 +1,7 @@
 //! Issue 44 on synthetic logs with what real ones have: per-axis zero
-//! offsets (to 1.2 m/s²) and gains (0.95-1.05), a headstock that rings for
-//! a second after each strike, stands on the stay, lowering from the
+//! offsets (to 1.2 m/s²) and gains (0.95-1.05), a headstock that rings
+//! after each strike (at Data141's level, clipping the readings at ±2 g
+//! for a second), stands on the stay past the balance, lowering from the
 //! balance, free swings after it, and the sensor upside down on the axes
 //! given. The calibration, the bottoms (against the truth and against the
 //! moment of greatest speed), the stands, the phases and the
@@ -10,11 +11,25 @@ use clapper_core::bell::Bell;
 use clapper_signal::ringing_log::{analyse_log, AccelLog, LogAnalysis, LogOptions, PhaseKind};
 use clapper_signal::ringing_log_synth::{synth_log, LogSpec, LogTruth};
 
+/// How hard the headstock rings after a strike.
+#[derive(Clone, Copy, PartialEq)]
+enum Ring {
+    /// As Data141's (measured there over its 12 ringing strikes: some axis
+    /// clipped at ±2 g in 95 % of the samples of the first 0.1 s after the
+    /// strike, 55 % at 0.3-0.4 s, 28 % at 0.9-1.0 s, the last clipped
+    /// sample 1.0-1.4 s after; here, on the 12 of seed 7, 94 %, 67 %, 34 %,
+    /// 0.8-1.4 s): 50 m/s² dying over 0.4 s.
+    Clipping,
+    /// 0.3 m/s² over 0.25 s: under the burst threshold for most of it.
+    Mild,
+}
+
 /// A log shaped like belfry-sleuth's Data141 (100 Hz; down, raised, set,
-/// rung with stands, lowered from the balance, then swinging freely), the
+/// rung with stands on the stay 2-7 deg past the balance (Data141's read
+/// 176-190 deg), lowered from the balance, then swinging freely), the
 /// sensor 0.2 m above the pivot and 0.02 m across, upside down on the axes
 /// given, with `offset` (radial, tangential, axle; m/s²) and `gain`.
-fn shaped_like_data141(seed: u64, offset: [f64; 3], gain: [f64; 3], strokes: usize) -> LogSpec {
+fn shaped_like_data141(seed: u64, offset: [f64; 3], gain: [f64; 3], strokes: usize, ring: Ring) -> LogSpec {
     let mut bell = Bell::gsm_tenor();
     bell.hanging.pivot_offset = [0.0, 0.003, -0.004, 0.005][(seed % 4) as usize];
     let mut spec = LogSpec::new(bell, seed);
@@ -25,10 +40,13 @@ fn shaped_like_data141(seed: u64, offset: [f64; 3], gain: [f64; 3], strokes: usi
     spec.set_s = 5.0;
     spec.offset = offset;
     spec.gain = gain;
-    spec.ring = 0.3;
-    spec.ring_s = 0.25;
+    (spec.ring, spec.ring_s) = match ring {
+        Ring::Clipping => (50.0, 0.4),
+        Ring::Mild => (0.3, 0.25),
+    };
     spec.stand_every = 2;
-    spec.stand_s = 3.0;
+    spec.stand_s = 2.0;
+    spec.stay = (2.0 + (seed % 6) as f64).to_radians();
     spec.free_s = 25.0;
     spec
 }
@@ -58,6 +76,23 @@ struct Worst {
     offset: f64,
     gain: f64,
     missed: usize,
+    /// Of the ringing's swings.
+    missed_ringing: usize,
+}
+
+impl Worst {
+    /// The worse of each.
+    fn merge(&mut self, o: &Worst) {
+        self.bdc = self.bdc.max(o.bdc);
+        self.bdc_ringing = self.bdc_ringing.max(o.bdc_ringing);
+        self.speed = self.speed.max(o.speed);
+        self.stand = self.stand.max(o.stand);
+        self.odd = self.odd.max(o.odd);
+        self.offset = self.offset.max(o.offset);
+        self.gain = self.gain.max(o.gain);
+        self.missed += o.missed;
+        self.missed_ringing += o.missed_ringing;
+    }
 }
 
 fn check(spec: &LogSpec, log: &AccelLog, truth: &LogTruth, got: &LogAnalysis, w: &mut Worst) {
@@ -74,6 +109,7 @@ fn check(spec: &LogSpec, log: &AccelLog, truth: &LogTruth, got: &LogAnalysis, w:
         let Some(g) = got.strokes.iter().find(|g| (g.bdc - t.bdc).abs() < 0.2) else {
             eprintln!("missed: {:.3} {:?} {:.1} deg", t.bdc, t.phase, t.amplitude.to_degrees());
             w.missed += 1;
+            w.missed_ringing += usize::from(t.phase == PhaseKind::Ringing);
             continue;
         };
         let e = (g.bdc - t.bdc).abs() / interval_at(t.bdc);
@@ -117,71 +153,110 @@ fn check(spec: &LogSpec, log: &AccelLog, truth: &LogTruth, got: &LogAnalysis, w:
         .max((c.gain[1] - spec.gain[0]).abs());
 }
 
-/// One log shaped like Data141, read with default options: turned over,
-/// calibrated, every phase (down, raising, up, ringing with stands,
-/// lowering from the balance, down with its free swings), bottoms within a
-/// sample and within 5 ms of the moment of greatest speed, stands within 2
-/// deg, odd-struckness within 3 ms.
-#[test]
-fn a_log_shaped_like_data141_is_read_right() {
-    let spec = shaped_like_data141(7, [0.9, -1.1, 0.6], [1.03, 1.045, 0.98], 12);
-    let (log, truth) = synth_log(&spec).expect("synthesised");
+/// Read `spec`'s log turned upside down, with default options: each
+/// figure's worst.
+fn read(spec: &LogSpec) -> Worst {
+    let (log, truth) = synth_log(spec).expect("synthesised");
     let log = upside_down(log);
     let got = analyse_log(&log, &LogOptions::default()).expect("read");
-    eprintln!("{:?}\n{:?}", got.calibration, got.warnings);
-    assert!(got.orientation.is_some_and(|o| o.flipped));
+    assert!(got.orientation.is_some_and(|o| o.flipped), "{:?}", got.warnings);
     let mut w = Worst::default();
-    check(&spec, &log, &truth, &got, &mut w);
-    eprintln!("{w:?}");
-    assert_eq!(w.missed, 0);
-    assert!(w.bdc <= 1.0, "bottom off by {} samples", w.bdc);
-    assert!(w.speed <= 5.0, "bottom {} ms from the greatest speed", w.speed);
-    assert!(w.stand <= 2.0, "stand off by {} deg", w.stand);
-    assert!(w.odd <= 3.0, "odd-struck off by {} ms", w.odd);
-    assert!(w.offset <= 0.15, "offset off by {} m/s²", w.offset);
-    let (o, se) = got.odd_struck.expect("odd-struckness");
-    assert!(se > 0.0 && o.is_finite());
+    match got.odd_struck {
+        Some((o, se)) => assert!(se > 0.0 && o.is_finite()),
+        // Not read: as bad as can be.
+        None => w.odd = f64::INFINITY,
+    }
+    check(spec, &log, &truth, &got, &mut w);
+    w
 }
 
-/// Thirty logs, offsets to 1.2 m/s² and gains 0.95-1.05 on each axis, a
-/// ringing headstock, stands: bottoms within a sample, odd-struckness
-/// within 3 ms, stands within 2 deg.
-#[test]
-fn thirty_logs_with_offsets_gains_and_a_ringing_headstock() {
-    let mut w = Worst::default();
-    for seed in 300u64..330 {
-        // Offsets and gains spread over their ranges by the seed.
-        let u = |k: u64| ((seed * 7919 + k * 104_729) % 1000) as f64 / 999.0;
-        let offset = [0, 1, 2].map(|k| (2.0 * u(k) - 1.0) * 1.2);
-        let gain = [3, 4, 5].map(|k| 0.95 + 0.1 * u(k));
-        let mut spec = shaped_like_data141(seed, offset, gain, 16);
-        spec.rate = [100.0, 160.0, 250.0][(seed % 3) as usize];
-        let (log, truth) = synth_log(&spec).expect("synthesised");
-        let log = upside_down(log);
-        let got = analyse_log(&log, &LogOptions::default()).expect("read");
-        let mut one = Worst::default();
-        check(&spec, &log, &truth, &got, &mut one);
-        eprintln!("seed {seed}, {} Hz: {one:?}", spec.rate);
-        w.bdc = w.bdc.max(one.bdc);
-        w.bdc_ringing = w.bdc_ringing.max(one.bdc_ringing);
-        w.stand = w.stand.max(one.stand);
-        w.odd = w.odd.max(one.odd);
-        w.speed = w.speed.max(one.speed);
-        w.offset = w.offset.max(one.offset);
-        w.gain = w.gain.max(one.gain);
-        w.missed += one.missed;
-    }
-    eprintln!("{w:?}");
-    assert_eq!(w.missed, 0);
-    // Every ringing bottom within a sample; of the rope-driven swings of
-    // raising and lowering, with the headstock ringing, the worst was 1.07
-    // samples (a 134 deg swing of lowering at 100 Hz).
+/// The issue's acceptance on the ringing: every swing found, bottoms
+/// within a sample and within 5 ms of the moment of greatest speed, stands
+/// within 2 deg, odd-struckness within 3 ms; the calibration's offsets and
+/// gains.
+fn assert_ringing_read(w: &Worst) {
+    assert_eq!(w.missed_ringing, 0, "ringing swings missed");
     assert!(w.bdc_ringing <= 1.0, "ringing bottom off by {} samples", w.bdc_ringing);
-    assert!(w.bdc <= 1.1, "bottom off by {} samples", w.bdc);
+    assert!(w.speed <= 5.0, "bottom {} ms from the greatest speed", w.speed);
     assert!(w.stand <= 2.0, "stand off by {} deg", w.stand);
     assert!(w.odd <= 3.0, "odd-struck off by {} ms", w.odd);
     assert!(w.offset <= 0.05, "offset off by {} m/s²", w.offset);
     assert!(w.gain <= 0.005, "gain off by {}", w.gain);
+}
+
+/// One log shaped like Data141, its headstock clipping for a second after
+/// each strike, read with default options: turned over, calibrated, every
+/// phase (down, raising, up, ringing with stands, lowering from the
+/// balance, down with its free swings), and the ringing as the issue asks.
+#[test]
+fn a_log_shaped_like_data141_is_read_right() {
+    let spec = shaped_like_data141(7, [0.9, -1.1, 0.6], [1.03, 1.045, 0.98], 12, Ring::Clipping);
+    let w = read(&spec);
+    eprintln!("{w:?}");
+    assert_ringing_read(&w);
+}
+
+/// Thirty logs, offsets to 1.2 m/s² and gains 0.95-1.05 on each axis, the
+/// headstock clipping for a second after each strike as Data141's does,
+/// stands on the stay: every swing of the ringing found, its bottoms within
+/// a sample (0.17 at worst), the calibration's offsets within 0.04 m/s² and
+/// gains within 0.004. Not yet met under this ring (printed, not asserted):
+/// of the thirty, odd-struckness within 3 ms in 20 (two logs have none
+/// read), stands within 2 deg in 17, the ringing's bottoms within 5 ms of
+/// the greatest speed in 21; and the raising's and lowering's swings,
+/// where the headstock still rings through the next bottom, 5-23 a log
+/// not found.
+#[test]
+fn thirty_logs_with_offsets_gains_and_a_clipping_headstock() {
+    let mut w = Worst::default();
+    let mut met = [0usize; 3];
+    for seed in 300u64..330 {
+        let spec = varied(seed, Ring::Clipping);
+        let one = read(&spec);
+        eprintln!("seed {seed}, {} Hz: {one:?}", spec.rate);
+        for (m, ok) in met.iter_mut().zip([one.odd <= 3.0, one.stand <= 2.0, one.speed <= 5.0]) {
+            *m += usize::from(ok);
+        }
+        w.merge(&one);
+    }
+    eprintln!("{w:?}\nodd-struckness, stands, greatest speed met in {met:?} of 30");
+    assert_eq!(w.missed_ringing, 0, "ringing swings missed");
+    assert!(w.bdc_ringing <= 1.0, "ringing bottom off by {} samples", w.bdc_ringing);
+    assert!(w.offset <= 0.05, "offset off by {} m/s²", w.offset);
+    assert!(w.gain <= 0.005, "gain off by {}", w.gain);
+}
+
+/// Thirty logs as above under a milder ring (under the burst threshold for
+/// most of it): the issue's acceptance, every swing found, the ringing's
+/// bottoms within a sample and within 5 ms of the greatest speed, stands
+/// within 2 deg, odd-struckness within 3 ms; and the raising's and
+/// lowering's bottoms of 45 deg or more within 1.1 samples.
+#[test]
+fn thirty_logs_with_offsets_gains_and_a_ringing_headstock() {
+    let mut w = Worst::default();
+    for seed in 300u64..330 {
+        let spec = varied(seed, Ring::Mild);
+        let one = read(&spec);
+        eprintln!("seed {seed}, {} Hz: {one:?}", spec.rate);
+        w.merge(&one);
+    }
+    eprintln!("{w:?}");
+    assert_ringing_read(&w);
+    assert_eq!(w.missed, 0);
+    // Of the rope-driven swings of raising and lowering the worst was 1.07
+    // samples (a 134 deg swing of lowering at 100 Hz).
+    assert!(w.bdc <= 1.1, "bottom off by {} samples", w.bdc);
+}
+
+/// Log `seed` of the thirty: offsets and gains spread over their ranges,
+/// 100, 160 or 250 Hz.
+fn varied(seed: u64, ring: Ring) -> LogSpec {
+    let u = |k: u64| ((seed * 7919 + k * 104_729) % 1000) as f64 / 999.0;
+    let offset = [0, 1, 2].map(|k| (2.0 * u(k) - 1.0) * 1.2);
+    let gain = [3, 4, 5].map(|k| 0.95 + 0.1 * u(k));
+    let mut spec = shaped_like_data141(seed, offset, gain, 16, ring);
+    spec.rate = [100.0, 160.0, 250.0][(seed % 3) as usize];
+    spec
 }
 
 /// Stands too short to be read as rests (1.2 s on the stay): each stroke
@@ -190,15 +265,11 @@ fn thirty_logs_with_offsets_gains_and_a_ringing_headstock() {
 fn short_stands_are_read_at_their_angle() {
     let mut w = Worst::default();
     for seed in [11u64, 12, 13] {
-        let mut spec = shaped_like_data141(seed, [0.5, -0.4, 0.2], [1.02, 0.99, 1.0], 12);
+        let mut spec = shaped_like_data141(seed, [0.5, -0.4, 0.2], [1.02, 0.99, 1.0], 12, Ring::Mild);
         spec.stand_s = 1.2;
-        let (log, truth) = synth_log(&spec).expect("synthesised");
-        let log = upside_down(log);
-        let got = analyse_log(&log, &LogOptions::default()).expect("read");
-        let mut one = Worst::default();
-        check(&spec, &log, &truth, &got, &mut one);
+        let one = read(&spec);
         eprintln!("seed {seed}: {one:?}");
-        w.stand = w.stand.max(one.stand);
+        w.merge(&one);
     }
     assert!(w.stand <= 2.0, "stand off by {} deg", w.stand);
 }

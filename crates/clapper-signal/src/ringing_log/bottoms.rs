@@ -69,7 +69,8 @@ pub(super) fn strokes(
         // From the smoothed angle: the largest of noisy samples overshoots.
         // A stand's still samples first: a rest's mean angle, smoothed over
         // a second, mixes readings either side of the ±200 deg hold.
-        let amplitude = match (short_stand(t, theta, burst, (from, k), side), stood) {
+        let stand = stand_height(log, burst, (from, k), side).or_else(|| short_stand(t, theta, burst, (from, k), side));
+        let amplitude = match (stand, stood) {
             (Some(h), _) => h,
             (None, Some(r)) if r.2.signum() == side => r.2.abs(),
             _ => turning_height(t, theta, smooth, burst, (from, k), side),
@@ -79,6 +80,100 @@ pub(super) fn strokes(
     }
     out
 }
+
+/// A stand on the stay (at or past the balance) read through the
+/// headstock's ringing: on the stay the bell is still, so the readings are
+/// gravity alone and its angle is atan2(tangential, radial) of the
+/// calibrated readings, without the swing's corrections (which, from θ''
+/// fitted through the shaking, threw the angle about by 40 deg on
+/// Data141's stands). Of the samples `from..=k` that are not bursts nor
+/// clipped and whose force is within [`STAND_FORCE`] of g (the shaking
+/// moves the rest), each one's height on `side` (as in [`short_stand`])
+/// smoothed by the median over ±[`STAND_SMOOTH_S`]; the highest still
+/// run of them (below), at its highest (rad).
+fn stand_height(log: &AccelLog, burst: &[bool], (from, k): (usize, usize), side: f64) -> Option<f64> {
+    let t = &log.t;
+    let height = |j: usize| {
+        let p = log.tangential[j].atan2(log.radial[j]);
+        if p.signum() == side {
+            p.abs()
+        } else {
+            std::f64::consts::TAU - p.abs()
+        }
+    };
+    let good: Vec<usize> = (from..=k)
+        .filter(|&j| !burst[j] && (log.tangential[j].hypot(log.radial[j]) - G).abs() <= STAND_FORCE * G)
+        .collect();
+    let raw: Vec<f64> = good.iter().map(|&j| height(j)).collect();
+    // Each sample's median and median absolute deviation over the window.
+    let (mut lo, mut hi) = (0, 0);
+    let (smooth, spread): (Vec<f64>, Vec<f64>) = (0..good.len())
+        .map(|i| {
+            while t[good[i]] - t[good[lo]] > STAND_SMOOTH_S {
+                lo += 1;
+            }
+            while hi + 1 < good.len() && t[good[hi + 1]] - t[good[i]] <= STAND_SMOOTH_S {
+                hi += 1;
+            }
+            let mut v = raw[lo..=hi].to_vec();
+            v.sort_by(f64::total_cmp);
+            let m = v[v.len() / 2];
+            let mut d: Vec<f64> = v.iter().map(|x| (x - m).abs()).collect();
+            d.sort_by(f64::total_cmp);
+            (m, d[d.len() / 2])
+        })
+        .unzip();
+    // The stand: runs of samples high enough, where the shaking has died
+    // down (the heights' spread under [`STAND_SPREAD`]: through the
+    // ringing it is 4-17 deg on Data141), whose smoothed heights stay
+    // within [`STAND_NEAR`] of each other, lasting [`SHORT_STAND_S`]; of
+    // those the highest (the bell pulled back over the balance, or slow to
+    // start its fall, is lower), read at its highest smoothed height (a
+    // swing's slow top, not still, at its top).
+    let still = |i: usize| (STAND_MIN..=200f64.to_radians()).contains(&smooth[i]) && spread[i] <= STAND_SPREAD;
+    let mut best: Option<f64> = None;
+    let mut i = 0;
+    while i < good.len() {
+        if !still(i) {
+            i += 1;
+            continue;
+        }
+        let a = i;
+        let (mut lo, mut hi) = (smooth[i], smooth[i]);
+        while i < good.len() && still(i) && smooth[i].max(hi) - smooth[i].min(lo) <= STAND_NEAR {
+            (lo, hi) = (smooth[i].min(lo), smooth[i].max(hi));
+            i += 1;
+        }
+        if t[good[i - 1]] - t[good[a]] >= SHORT_STAND_S && best.is_none_or(|b| hi > b) {
+            best = Some(hi);
+        }
+        // The next run may start inside this one.
+        i = i.max(a + 1);
+    }
+    best
+}
+
+/// A stand's heights' median absolute deviation over ±[`STAND_SMOOTH_S`]
+/// is at most this (rad): 2.5 deg.
+const STAND_SPREAD: f64 = 2.5 * std::f64::consts::PI / 180.0;
+
+/// A stand's smoothed heights lie within this (rad) of each other: 3 deg
+/// (the shaking moves a median over ±0.15 s by a degree or two).
+const STAND_NEAR: f64 = 3.0 * std::f64::consts::PI / 180.0;
+
+/// A stand's samples read a force within this fraction of g.
+const STAND_FORCE: f64 = 0.2;
+
+/// A stand's heights are smoothed by their median over ± this (s).
+const STAND_SMOOTH_S: f64 = 0.15;
+
+/// A stand is at least this high (rad): 172 deg (Data141's backstroke
+/// stands read 176-184 deg, its handstroke stands 186-188: the stay meets
+/// the slider a few degrees either side of the balance). A swing's slow top
+/// read so reads high by h θ''/g, the swing's own acceleration left in: 1.2
+/// deg at 175 for a sensor 0.15 m above the pivot; below 172 deg a top is
+/// not still long enough to be read so.
+const STAND_MIN: f64 = 172.0 * std::f64::consts::PI / 180.0;
 
 /// A stand too short to be read as a rest (Data141's last about 2 s, the
 /// first second of it with the headstock still ringing from the strike):
@@ -596,5 +691,40 @@ mod tests {
             .collect();
         let h = short_stand(&t, &theta, &burst, (0, 299), 1.0).expect("a stand");
         assert!((h.to_degrees() - 189.0).abs() < 0.5, "{}", h.to_degrees());
+    }
+
+    /// A stand on the stay 6 deg past the balance, the headstock shaking
+    /// through its first 0.9 s (37 Hz, 25 m/s² dying to 1, clipped at
+    /// ±2 g; the unclipped samples left in), then the bell pulled back
+    /// over the balance and falling: read at 186 deg from the calibrated
+    /// gravity angle, on the side it falls to.
+    #[test]
+    fn a_stand_shaken_by_the_headstock_is_read_from_its_still_part() {
+        let deg = |x: f64| x.to_radians();
+        let mut log = AccelLog::default();
+        let mut burst = vec![];
+        for k in 0..300 {
+            let x = k as f64 * 0.01;
+            // Rising onto the stay, standing, pulled back to 180, falling.
+            let th = match x {
+                x if x < 0.3 => deg(178.0 + 8.0 * x / 0.3),
+                x if x < 2.0 => deg(186.0),
+                x if x < 2.3 => deg(186.0 - 6.0 * (x - 2.0) / 0.3),
+                x => deg(180.0 - 60.0 * (x - 2.3).powi(2)),
+            };
+            let shake = if x < 0.9 { 25.0 * (-x / 0.25).exp() } else { 0.0 };
+            let v = |phase: f64| shake * (2.0 * std::f64::consts::PI * 37.0 * x + phase).sin();
+            let reading = [G * th.sin() + v(0.0), G * th.cos() + v(2.0), v(4.0)];
+            let clipped = reading.iter().any(|r| r.abs() >= 0.99 * 2.0 * G);
+            let reading = reading.map(|r| r.clamp(-2.0 * G, 2.0 * G));
+            log.t.push(x);
+            log.tangential.push(reading[0]);
+            log.radial.push(reading[1]);
+            log.axle.push(reading[2]);
+            burst.push(clipped);
+        }
+        let n = log.t.len();
+        let h = stand_height(&log, &burst, (0, n - 1), 1.0).expect("a stand");
+        assert!((h.to_degrees() - 186.0).abs() < 1.0, "{}", h.to_degrees());
     }
 }
