@@ -18,17 +18,14 @@
 //! 30 ms or more before it (a double strike's second blow, no louder,
 //! matches later).
 
-use realfft::num_complex::Complex;
-use realfft::RealFftPlanner;
+mod doubles;
+mod matcher;
 
-use crate::sampled_ring::sample_onset;
-use crate::strikes::Heard;
+use matcher::{Matcher, Scratch, Template};
+
+use crate::strikes::{Heard, StrikeOptions};
 use crate::{Signal, SignalError};
 
-/// The length of template matched (s).
-const MATCH_S: f64 = 0.15;
-/// And the silence matched before it (s).
-const PRE_S: f64 = 0.04;
 /// How far before the strike's time as first heard, less its bell's
 /// lateness, the match is searched (s): a double strike timed at its
 /// second blow (up to 100 ms after the first).
@@ -50,24 +47,9 @@ const GAP_S: f64 = 0.03;
 /// The dip (a share of the earlier match) that parts two blows.
 const DIP: f64 = 0.7;
 
-/// Linear resampling of `s` to `rate` (Hz): templates recorded at another
-/// rate than the recording.
-fn resample(s: &Signal, rate: f64) -> Signal {
-    if (s.rate - rate).abs() < 1e-9 {
-        return s.clone();
-    }
-    let n = (s.samples.len() as f64 * rate / s.rate).floor() as usize;
-    let samples = (0..n)
-        .map(|k| {
-            let x = k as f64 * s.rate / rate;
-            let i = x.floor() as usize;
-            let f = x - i as f64;
-            let a = s.samples[i.min(s.samples.len() - 1)];
-            let b = s.samples[(i + 1).min(s.samples.len() - 1)];
-            a + f * (b - a)
-        })
-        .collect();
-    Signal { rate, samples }
+/// A tuning knob (temporary).
+fn knob(name: &str, default: f64) -> f64 {
+    std::env::var(name).ok().and_then(|v| v.parse().ok()).unwrap_or(default)
 }
 
 /// Time every strike of `heard` (as the band finder heard it) again
@@ -106,20 +88,51 @@ pub fn median_of(mut v: Vec<f64>) -> Option<f64> {
 /// out of time order), and how far each moved (s; none where its bell's
 /// template is too short or nothing matched). For a recording heard in
 /// windows ([`crate::strikes::find_strikes_streamed`]): `sig` is the
-/// window's audio, the strikes' times from its start.
+/// window's audio, the strikes' times from its start. Double strikes are
+/// judged as [`retime_each_with`] does with the default options.
 pub fn retime_each(
     sig: &Signal,
     heard: &mut Heard,
     templates: &[Signal],
     lateness: &[Option<f64>],
 ) -> Result<Vec<Option<f64>>, SignalError> {
+    retime_each_with(sig, heard, templates, lateness, &StrikeOptions::default())
+}
+
+/// [`retime_each`], the strikes taken in time order, each matched against
+/// the recording with the strikes before it taken out (their templates,
+/// scaled to fit: what is left of an earlier strike is its room's tail),
+/// and its double strike judged by the match ([`doubles`]: a second copy
+/// of the template within `opts.double_window_ms`, at least
+/// `opts.double_min_ratio` of the first), replacing the band finder's.
+pub fn retime_each_with(
+    sig: &Signal,
+    heard: &mut Heard,
+    templates: &[Signal],
+    lateness: &[Option<f64>],
+    opts: &StrikeOptions,
+) -> Result<Vec<Option<f64>>, SignalError> {
     sig.validate()?;
     let m = Matcher::new(sig.rate, templates)?;
-    let mut scratch = m.scratch();
-    let mut moves = vec![];
-    for s in &mut heard.strikes {
-        let Some(Some(tspec)) = m.spectra.get(s.bell - 1) else {
-            moves.push(None);
+    let mut sc = m.scratch();
+    let sounds: Vec<Option<&[f64]>> = m.bells.iter().map(|b| b.as_ref().map(|t| &t.sound[..])).collect();
+    let mut pairs = doubles::Pairs::new(m.rate, &sounds, opts.double_window_ms.1 * 1e-3)?;
+    let debug = knob("TT_DEBUG", 0.0) > 0.5;
+    let mut left = sig.samples.clone();
+    let sub = knob("TT_SUB", 1.0) > 0.5;
+    let dbl = knob("TT_DBL", 1.0) > 0.5;
+    let window = (
+        knob("TT_DLO", opts.double_window_ms.0) * 1e-3,
+        opts.double_window_ms.1 * 1e-3,
+    );
+    let min_ratio = knob("TT_DRATIO", opts.double_min_ratio);
+    let mut order: Vec<usize> = (0..heard.strikes.len()).collect();
+    order.sort_by(|&a, &b| heard.strikes[a].t.total_cmp(&heard.strikes[b].t));
+    let mut moves = vec![None; heard.strikes.len()];
+    let mut judged = vec![];
+    for i in order {
+        let s = &mut heard.strikes[i];
+        let Some(Some(tm)) = m.bells.get(s.bell - 1) else {
             continue;
         };
         // Near the time less the bell's lateness where that is sure, else
@@ -128,155 +141,67 @@ pub fn retime_each(
             Some(late) => (s.t - late.max(0.0) - EARLY_S, s.t - late.max(0.0) + LATE_S),
             None => (s.t - WIDE_EARLY_S, s.t + WIDE_LATE_S),
         };
-        let t = m.best_match(&sig.samples, tspec, from, to, &mut scratch)?;
-        moves.push(t.map(|t| t - s.t));
-        if let Some(t) = t {
-            s.t = t;
+        let x: &[f64] = if sub { &left } else { &sig.samples };
+        let Some(t) = best_match(&m, x, tm, from, to, &mut sc)? else {
+            continue;
+        };
+        moves[i] = Some(t - s.t);
+        s.t = t;
+        let Some(c) = pairs.correlations(x, s.bell, (t * m.rate).round() as i64)? else {
+            continue;
+        };
+        if sub {
+            m.subtract(&mut left, tm, t, pairs.gain(s.bell, &c));
+        }
+        judged.push((i, (s.bell, c)));
+    }
+    let (which, fits): (Vec<usize>, Vec<(usize, Vec<f64>)>) = judged.into_iter().unzip();
+    for (i, fit) in which.into_iter().zip(pairs.judge(&fits, window, min_ratio)) {
+        let s = &mut heard.strikes[i];
+        if debug {
+            eprintln!("DBG {} {:.4} {:.3} {:.1}", s.bell, s.t, fit.best.0, fit.best.1 * 1e3);
+        }
+        if dbl {
+            s.double = fit.double;
         }
     }
     Ok(moves)
 }
 
-/// The templates' spectra and the transforms, at the recording's rate.
-struct Matcher {
-    rate: f64,
-    /// Silence matched before the template's sound (samples).
-    pre: usize,
-    /// Length matched (samples, `pre` included).
-    len: usize,
-    /// Transform length.
-    n: usize,
-    fwd: std::sync::Arc<dyn realfft::RealToComplex<f64>>,
-    inv: std::sync::Arc<dyn realfft::ComplexToReal<f64>>,
-    /// Each bell's template spectrum, conjugated; none if it is too short.
-    spectra: Vec<Option<Vec<Complex<f64>>>>,
-}
-
-/// The buffers one match works in.
-struct Scratch {
-    buf: Vec<f64>,
-    spec: Vec<Complex<f64>>,
-    out: Vec<f64>,
-}
-
-impl Matcher {
-    fn new(rate: f64, templates: &[Signal]) -> Result<Self, SignalError> {
-        let pre = (PRE_S * rate).round() as usize;
-        let len = (MATCH_S * rate).round() as usize + pre;
-        let lags = ((WIDE_EARLY_S + WIDE_LATE_S) * rate).round() as usize;
-        let n = (len + lags + 1).next_power_of_two();
-        let mut planner = RealFftPlanner::<f64>::new();
-        let fwd = planner.plan_fft_forward(n);
-        let inv = planner.plan_fft_inverse(n);
-        // Each bell's template spectrum, conjugated: from its onset, `len` long.
-        let mut spectra: Vec<Option<Vec<Complex<f64>>>> = vec![];
-        for t in templates {
-            let t = resample(t, rate);
-            let o = (sample_onset(&t)? * rate).round() as usize;
-            if t.samples.len() < o + len - pre {
-                spectra.push(None);
-                continue;
-            }
-            // The template from `pre` before its sound starts (silence: a lag
-            // where the bell already sounds there matches worse).
-            let mut buf = fwd.make_input_vec();
-            buf[pre..len].copy_from_slice(&t.samples[o..o + len - pre]);
-            let mut spec = fwd.make_output_vec();
-            fwd.process(&mut buf, &mut spec)
-                .map_err(|e| SignalError::Invalid(e.to_string()))?;
-            spectra.push(Some(spec.into_iter().map(|c| c.conj()).collect()));
-        }
-        Ok(Matcher {
-            rate,
-            pre,
-            len,
-            n,
-            fwd,
-            inv,
-            spectra,
-        })
+/// The strike's time (s) where template `t` matches the recording `x`
+/// best from `from` to `to` (s), or None where the recording is silent
+/// there.
+fn best_match(
+    m: &Matcher,
+    x: &[f64],
+    t: &Template,
+    from: f64,
+    to: f64,
+    sc: &mut Scratch,
+) -> Result<Option<f64>, SignalError> {
+    let rate = m.rate;
+    let start = (from * rate).round() as i64;
+    let lags = (((to - from) * rate).round() as usize).min(m.span());
+    m.normalised(x, t, start, lags, sc)?;
+    let out = &sc.out;
+    let top = (0..=lags).map(|k| out[k].abs()).fold(0.0, f64::max);
+    if top == 0.0 {
+        return Ok(None);
     }
-
-    fn scratch(&self) -> Scratch {
-        Scratch {
-            buf: self.fwd.make_input_vec(),
-            spec: self.fwd.make_output_vec(),
-            out: self.inv.make_output_vec(),
-        }
-    }
-
-    /// The strike's time (s) where template `tspec` matches the recording
-    /// `x` best from `from` to `to` (s), or None where the recording is
-    /// silent there.
-    fn best_match(
-        &self,
-        x: &[f64],
-        tspec: &[Complex<f64>],
-        from: f64,
-        to: f64,
-        sc: &mut Scratch,
-    ) -> Result<Option<f64>, SignalError> {
-        let (rate, n, len) = (self.rate, self.n, self.len);
-        let start = (from * rate).round() as i64;
-        let lags = (((to - from) * rate).round() as usize).min(n - len - 1);
-        let at = |k: usize| {
-            let j = start + k as i64;
-            if j >= 0 && (j as usize) < x.len() {
-                x[j as usize]
-            } else {
-                0.0
-            }
-        };
-        for (k, b) in sc.buf.iter_mut().enumerate() {
-            *b = at(k);
-        }
-        self.fwd
-            .process(&mut sc.buf, &mut sc.spec)
-            .map_err(|e| SignalError::Invalid(e.to_string()))?;
-        for (a, b) in sc.spec.iter_mut().zip(tspec) {
-            *a *= b;
-        }
-        sc.spec[0].im = 0.0;
-        if let Some(l) = sc.spec.last_mut() {
-            l.im = 0.0;
-        }
-        self.inv
-            .process(&mut sc.spec, &mut sc.out)
-            .map_err(|e| SignalError::Invalid(e.to_string()))?;
-        let out = &mut sc.out;
-        // out[k]: the recording from start + k against the template, over
-        // the recording's level there (a normalised match: unnormalised, a
-        // lag where the bell has grown louder matches better than the lag
-        // where its sound starts).
-        // (The forward transform used `buf` as scratch: read the recording.)
-        let mut energy = vec![0.0; n + 1];
-        for k in 0..n {
-            let v = at(k);
-            energy[k + 1] = energy[k] + v * v;
-        }
-        for (k, o) in out.iter_mut().enumerate().take(lags + 1) {
-            let e = energy[(k + len).min(n)] - energy[k];
-            *o = if e > 0.0 { *o / e.sqrt() } else { 0.0 };
-        }
-        let top = (0..=lags).map(|k| out[k].abs()).fold(0.0, f64::max);
-        if top == 0.0 {
-            return Ok(None);
-        }
-        let best = first_blow(out, lags, top, rate);
-        // The peak between samples, from the parabola through its neighbours.
-        let off = if best > 0 && best < lags {
-            let (a, b, c) = (out[best - 1].abs(), out[best].abs(), out[best + 1].abs());
-            let den = a - 2.0 * b + c;
-            if den < 0.0 {
-                (0.5 * (a - c) / den).clamp(-0.5, 0.5)
-            } else {
-                0.0
-            }
+    let best = first_blow(out, lags, top, rate);
+    // The peak between samples, from the parabola through its neighbours.
+    let off = if best > 0 && best < lags {
+        let (a, b, c) = (out[best - 1].abs(), out[best].abs(), out[best + 1].abs());
+        let den = a - 2.0 * b + c;
+        if den < 0.0 {
+            (0.5 * (a - c) / den).clamp(-0.5, 0.5)
         } else {
             0.0
-        };
-        Ok(Some((start as f64 + (best + self.pre) as f64 + off) / rate))
-    }
+        }
+    } else {
+        0.0
+    };
+    Ok(Some((start as f64 + (best + m.pre) as f64 + off) / rate))
 }
 
 /// The best match in `out[..=lags]` (its largest `top`), unless a match at
