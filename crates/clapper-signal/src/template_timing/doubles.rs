@@ -25,18 +25,6 @@ const SELF_SHARE: f64 = 0.5;
 /// The longest template sound used (s).
 const LONGEST_S: f64 = 2.5;
 
-/// One strike's fit: the first copy's gain, and the double if the second
-/// copy earns its place.
-pub(super) struct Fit {
-    /// The first copy's gain (the strike's level against its template).
-    pub gain: f64,
-    /// The second blow, if any.
-    pub double: Option<HeardDouble>,
-    /// The second copy's gain over the first's at the delay that explains
-    /// most (0 if none), and that delay (s).
-    pub best: (f64, f64),
-}
-
 /// One bell's whole template.
 struct Long {
     spec: Vec<Complex<f64>>,
@@ -144,9 +132,9 @@ impl Pairs {
     /// bell's strikes against one another: a second copy's gain over the
     /// first's at each delay, less the median of that over the bell's
     /// strikes (the room's own echo of the bell, which every strike has),
-    /// must reach `min_ratio` somewhere in `window` (s). The fits, one a
-    /// strike.
-    pub fn judge(&self, strikes: &[(usize, Vec<f64>)], window: (f64, f64), min_ratio: f64) -> Vec<Fit> {
+    /// must reach `min_ratio` somewhere in `window` (s). The second blows,
+    /// one a strike.
+    pub fn judge(&self, strikes: &[(usize, Vec<f64>)], window: (f64, f64), min_ratio: f64) -> Vec<Option<HeardDouble>> {
         let lo = ((window.0 * self.rate).round() as usize).max(1);
         let hi = ((window.1 * self.rate).round() as usize).min(self.reach);
         let curves: Vec<Vec<(f64, f64)>> = strikes
@@ -173,37 +161,20 @@ impl Pairs {
         strikes
             .iter()
             .zip(&curves)
-            .map(|((b, c), curve)| self.one(*b, c, curve, &room[b - 1], lo, min_ratio))
+            .map(|((b, _), curve)| self.one(curve, &room[b - 1], lo, min_ratio))
             .collect()
     }
 
-    /// One strike's fit from its curve and its bell's room's.
-    fn one(&self, bell: usize, c: &[f64], curve: &[(f64, f64)], room: &[f64], lo: usize, min_ratio: f64) -> Fit {
-        let single = Fit {
-            gain: self.gain(bell, c),
-            double: None,
-            best: (0.0, 0.0),
-        };
+    /// One strike's second blow from its curve (the second copy's gain
+    /// over the first's at each delay from `lo` samples) and its bell's
+    /// room's (the median curve; empty where not learned).
+    fn one(&self, curve: &[(f64, f64)], room: &[f64], lo: usize, min_ratio: f64) -> Option<HeardDouble> {
         let excess = |k: usize| curve[k].1 - room.get(k).copied().unwrap_or(0.0);
-        let Some(k) = (0..curve.len()).max_by(|&a, &b| excess(a).total_cmp(&excess(b))) else {
-            return single;
-        };
-        let (g1, ratio) = curve[k];
-        if ratio <= 0.0 {
-            return single;
-        }
-        let found = (ratio, (k + lo) as f64 / self.rate);
-        if excess(k) < min_ratio {
-            return Fit { best: found, ..single };
-        }
-        Fit {
-            gain: g1,
-            double: Some(HeardDouble {
-                delay_s: found.1,
-                amplitude_ratio: found.0,
-            }),
-            best: found,
-        }
+        let k = (0..curve.len()).max_by(|&a, &b| excess(a).total_cmp(&excess(b)))?;
+        (curve[k].1 > 0.0 && excess(k) >= min_ratio).then(|| HeardDouble {
+            delay_s: (k + lo) as f64 / self.rate,
+            amplitude_ratio: curve[k].1,
+        })
     }
 }
 

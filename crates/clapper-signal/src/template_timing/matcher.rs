@@ -1,8 +1,6 @@
 //! Each bell's template at the recording's rate, and its match against
-//! the recording: raw and normalised cross-correlations by FFT, the
-//! template's own correlation with itself (for a double strike's two
-//! copies), and its whole sound (to take a strike heard out of the
-//! recording).
+//! the recording (a normalised cross-correlation by FFT), and its whole
+//! sound (to take a strike heard out of the recording).
 
 use realfft::num_complex::Complex;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
@@ -17,9 +15,6 @@ pub(super) const MATCH_S: f64 = 0.15;
 pub(super) const PRE_S: f64 = 0.04;
 /// The widest stretch of lags one transform covers (s).
 pub(super) const SPAN_S: f64 = 0.3;
-/// How far the template's correlation with itself is kept (s): the
-/// longest double strike judged.
-pub(super) const AUTO_S: f64 = 0.16;
 
 /// Linear resampling of `s` to `rate` (Hz): templates recorded at another
 /// rate than the recording.
@@ -48,9 +43,6 @@ pub(super) struct Template {
     pub spec: Vec<Complex<f64>>,
     /// The energy of the part matched.
     pub energy: f64,
-    /// The part matched's correlation with itself at lags 0, 1, ...
-    /// samples (up to [`AUTO_S`]).
-    pub auto: Vec<f64>,
     /// The template's whole sound, from its onset.
     pub sound: Vec<f64>,
 }
@@ -114,39 +106,14 @@ impl Matcher {
         // where the bell already sounds there matches worse).
         let mut buf = self.fwd.make_input_vec();
         buf[pre..len].copy_from_slice(&sound[..len - pre]);
-        let attack = ((super::knob("TT_AMS", 0.0) * 1e-3 * self.rate) as usize).min(len - pre);
-        let w = super::knob("TT_AW", 1.0);
-        for v in &mut buf[pre..pre + attack] {
-            *v *= w;
-        }
         let energy = buf.iter().map(|v| v * v).sum();
         let mut spec = self.fwd.make_output_vec();
         self.fwd
             .process(&mut buf, &mut spec)
             .map_err(|e| SignalError::Invalid(e.to_string()))?;
-        // Its correlation with itself: the inverse of its power spectrum.
-        let mut pow: Vec<Complex<f64>> = spec.iter().map(|c| Complex::new(c.norm_sqr(), 0.0)).collect();
-        let mut auto = self.inv.make_output_vec();
-        self.inv
-            .process(&mut pow, &mut auto)
-            .map_err(|e| SignalError::Invalid(e.to_string()))?;
-        let keep = ((AUTO_S * self.rate).round() as usize + 1).min(self.n);
-        auto.truncate(keep);
-        for a in &mut auto {
-            *a /= self.n as f64;
-        }
-        let g = super::knob("TT_WHITEN", 0.0);
-        if g > 0.0 {
-            let top = spec.iter().fold(0.0f64, |m, c| m.max(c.norm()));
-            let floor = super::knob("TT_FLOOR", 0.01) * top;
-            for c in &mut spec {
-                *c /= (c.norm() + floor).powf(g);
-            }
-        }
         Ok(Template {
             spec: spec.into_iter().map(|c| c.conj()).collect(),
             energy,
-            auto,
             sound: sound.to_vec(),
         })
     }
