@@ -205,12 +205,6 @@ fn main() {
                     ..TowerSpec::new(bells)
                 };
                 let (sig, truth) = sampled_ring(&spec, &strikes).unwrap();
-                if std::env::var("TT_DEBUG").is_ok() {
-                    for x in &truth {
-                        eprintln!("TRUE {} {:.4} {:?}", x.bell, x.t, x.double);
-                    }
-                    eprintln!("RUN {seed} {c}");
-                }
                 let timing = match (*mode, a.raw) {
                     (_, true) => Timing::AsHeard,
                     ("templates", _) => Timing::Templates(&strikes),

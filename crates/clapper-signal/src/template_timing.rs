@@ -1,7 +1,7 @@
 //! Strikes timed against each bell's own recorded strike (issue 43): where
 //! a template of the bell struck alone is known, each strike heard is
 //! timed again by sliding the template over the recording near it. The
-//! template's sound starts at a known point ([`sample_onset`]), so the lag
+//! template's sound starts at a known point ([`crate::sampled_ring::sample_onset`]), so the lag
 //! where it matches best is the start of the strike's sound, however slowly
 //! the bell's partials build up: the band finder's timing, a fifth of the
 //! way up each band's step, heard the recorded tower bells measured 15 to
@@ -11,19 +11,25 @@
 //! 150 ms of the template's sound, and 40 ms of silence before it, over
 //! the recording's level there (its
 //! magnitude: a bell struck on the other side sounds with some partials'
-//! signs turned), searched from 100 ms before to 40 ms after the strike's
+//! signs turned), searched from 280 ms before to 40 ms after the strike's
 //! time as the band finder heard it less the bell's lateness learned on a
 //! ring of its templates ([`crate::lateness::from_templates`]), or from
-//! 200 ms before to 100 ms after it where that lateness is not sure; the strike is the best match unless one at least 0.6 as good lies
-//! 30 ms or more before it (a double strike's second blow, no louder,
-//! matches later).
+//! 200 ms before to 100 ms after it where that lateness is not sure; the
+//! strike is the best match unless one at least 0.6 as good lies 30 ms
+//! or more before it (a double strike's second blow, no louder, matches
+//! later: [`lag`]). Strikes the band finder missed are found by their
+//! templates ([`fill`]), and double strikes judged by the match
+//! ([`doubles`]).
 
 mod doubles;
+mod fill;
+mod lag;
 mod matcher;
 
-use matcher::{Matcher, Scratch, Template};
+use lag::best_match;
+use matcher::Matcher;
 
-use crate::strikes::{Heard, StrikeOptions};
+use crate::strikes::{Heard, HeardStrike, StrikeOptions};
 use crate::{Signal, SignalError};
 
 /// How far before the strike's time as first heard, less its bell's
@@ -42,15 +48,6 @@ const LATE_S: f64 = 0.04;
 const WIDE_EARLY_S: f64 = 0.2;
 /// And after it (s).
 const WIDE_LATE_S: f64 = 0.1;
-/// A match this share of the best, 30 ms or more before it, is the strike:
-/// a double strike's second blow (at most as loud) matches later.
-const FIRST_SHARE: f64 = 0.6;
-/// How far (s) before the best match such a match must lie: nearer ones
-/// are the template's own partials coming back into step (on the recorded
-/// tower bells, 12 ms before the true lag).
-const GAP_S: f64 = 0.03;
-/// The dip (a share of the earlier match) that parts two blows.
-const DIP: f64 = 0.7;
 
 /// Time every strike of `heard` (as the band finder heard it) again
 /// against its bell's template (`templates[0]` the treble's), near its
@@ -99,12 +96,14 @@ pub fn retime_each(
     retime_each_with(sig, heard, templates, lateness, &StrikeOptions::default())
 }
 
-/// [`retime_each`], the strikes taken in time order, each matched against
-/// the recording with the strikes before it taken out (their templates,
-/// scaled to fit: what is left of an earlier strike is its room's tail),
-/// and its double strike judged by the match ([`doubles`]: a second copy
-/// of the template within `opts.double_window_ms`, at least
-/// `opts.double_min_ratio` of the first), replacing the band finder's.
+/// [`retime_each`], the strikes taken in time order, each matched in the
+/// recording with the strikes before it taken out (their templates,
+/// scaled to fit), with the strikes the band finder missed added where
+/// their templates match and the bell's rhythm leaves room ([`fill`]; at
+/// the end of `heard.strikes`, moved by none), and every strike's double
+/// judged by the match ([`doubles`]: a second copy of the template within
+/// `opts.double_window_ms`, at least `opts.double_min_ratio` of the first
+/// beyond the room's own echo of the bell), replacing the band finder's.
 pub fn retime_each_with(
     sig: &Signal,
     heard: &mut Heard,
@@ -117,12 +116,16 @@ pub fn retime_each_with(
     let mut sc = m.scratch();
     let sounds: Vec<Option<&[f64]>> = m.bells.iter().map(|b| b.as_ref().map(|t| &t.sound[..])).collect();
     let mut pairs = doubles::Pairs::new(m.rate, &sounds, opts.double_window_ms.1 * 1e-3)?;
-    let mut left = sig.samples.clone();
     let window = (opts.double_window_ms.0 * 1e-3, opts.double_window_ms.1 * 1e-3);
-    let mut order: Vec<usize> = (0..heard.strikes.len()).collect();
-    order.sort_by(|&a, &b| heard.strikes[a].t.total_cmp(&heard.strikes[b].t));
+    // The recording with the strikes matched so far taken out (their
+    // templates, scaled to fit): a strike is matched, and the missed ones
+    // sought, in what the others leave.
+    let mut left = sig.samples.clone();
     let mut moves = vec![None; heard.strikes.len()];
     let mut judged = vec![];
+    let mut matched = vec![];
+    let mut order: Vec<usize> = (0..heard.strikes.len()).collect();
+    order.sort_by(|&a, &b| heard.strikes[a].t.total_cmp(&heard.strikes[b].t));
     for i in order {
         let s = &mut heard.strikes[i];
         let Some(Some(tm)) = m.bells.get(s.bell - 1) else {
@@ -134,7 +137,7 @@ pub fn retime_each_with(
             Some(late) => (s.t - late.max(0.0) - EARLY_S, s.t - late.max(0.0) + LATE_S),
             None => (s.t - WIDE_EARLY_S, s.t + WIDE_LATE_S),
         };
-        let Some(t) = best_match(&m, &left, tm, from, to, &mut sc)? else {
+        let Some((t, q)) = best_match(&m, &left, tm, from, to, &mut sc)? else {
             continue;
         };
         moves[i] = Some(t - s.t);
@@ -144,6 +147,25 @@ pub fn retime_each_with(
         };
         m.subtract(&mut left, tm, t, pairs.gain(s.bell, &c));
         judged.push((i, (s.bell, c)));
+        matched.push((s.bell, s.t, q));
+    }
+    // Strikes the band finder missed, where the rhythm leaves room.
+    for (bell, t, q) in missing(&m, &left, &matched, &mut sc)? {
+        let (Some(c), Some(Some(tm))) = (
+            pairs.correlations(&left, bell, (t * m.rate).round() as i64)?,
+            m.bells.get(bell - 1),
+        ) else {
+            continue;
+        };
+        m.subtract(&mut left, tm, t, pairs.gain(bell, &c));
+        judged.push((heard.strikes.len(), (bell, c)));
+        heard.strikes.push(HeardStrike {
+            bell,
+            t,
+            strength: q,
+            double: None,
+        });
+        moves.push(None);
     }
     let (which, fits): (Vec<usize>, Vec<(usize, Vec<f64>)>) = judged.into_iter().unzip();
     for (i, fit) in which.into_iter().zip(pairs.judge(&fits, window, opts.double_min_ratio)) {
@@ -152,71 +174,44 @@ pub fn retime_each_with(
     Ok(moves)
 }
 
-/// The strike's time (s) where template `t` matches the recording `x`
-/// best from `from` to `to` (s), or None where the recording is silent
-/// there.
-fn best_match(
+/// The strikes (bell, time s, match over the bell's typical) that the
+/// strikes `matched` (bell, time s, match) leave out of `left` (the
+/// recording with them taken out): [`fill::missed`], each bell's typical
+/// match and interval its own strikes' medians (where it has too few,
+/// all the bells').
+fn missing(
     m: &Matcher,
-    x: &[f64],
-    t: &Template,
-    from: f64,
-    to: f64,
-    sc: &mut Scratch,
-) -> Result<Option<f64>, SignalError> {
-    let rate = m.rate;
-    let start = (from * rate).round() as i64;
-    let lags = (((to - from) * rate).round() as usize).min(m.span());
-    m.normalised(x, t, start, lags, sc)?;
-    let out = &sc.out;
-    let top = (0..=lags).map(|k| out[k].abs()).fold(0.0, f64::max);
-    if top == 0.0 {
-        return Ok(None);
+    left: &[f64],
+    matched: &[(usize, f64, f64)],
+    sc: &mut matcher::Scratch,
+) -> Result<Vec<(usize, f64, f64)>, SignalError> {
+    let mut found = vec![];
+    if matched.len() < 2 * m.bells.len() {
+        return Ok(found);
     }
-    let best = first_blow(out, lags, top, rate);
-    // The peak between samples, from the parabola through its neighbours.
-    let off = if best > 0 && best < lags {
-        let (a, b, c) = (out[best - 1].abs(), out[best].abs(), out[best + 1].abs());
-        let den = a - 2.0 * b + c;
-        if den < 0.0 {
-            (0.5 * (a - c) / den).clamp(-0.5, 0.5)
+    let times = |b: usize| -> Vec<f64> {
+        let mut v: Vec<f64> = matched.iter().filter(|s| s.0 == b).map(|s| s.1).collect();
+        v.sort_by(f64::total_cmp);
+        v
+    };
+    let gaps = |v: &[f64]| -> Vec<f64> { v.windows(2).map(|w| w[1] - w[0]).collect() };
+    let all_q: Vec<f64> = matched.iter().map(|s| s.2).collect();
+    let all_gaps: Vec<f64> = (1..=m.bells.len()).flat_map(|b| gaps(&times(b))).collect();
+    let (typical_q, typical_gap) = (crate::median(&all_q), crate::median(&all_gaps));
+    for (b, tm) in m.bells.iter().enumerate() {
+        let Some(tm) = tm else { continue };
+        let have = times(b + 1);
+        let q: Vec<f64> = matched.iter().filter(|s| s.0 == b + 1).map(|s| s.2).collect();
+        let (q, gap) = if have.len() >= 3 {
+            (crate::median(&q), crate::median(&gaps(&have)))
         } else {
-            0.0
+            (typical_q, typical_gap)
+        };
+        for (t, mq) in fill::missed(m, left, tm, &have, q, gap, sc)? {
+            found.push((b + 1, t, mq / q));
         }
-    } else {
-        0.0
-    };
-    Ok(Some((start as f64 + (best + m.pre) as f64 + off) / rate))
-}
-
-/// The best match in `out[..=lags]` (its largest `top`), unless a match at
-/// least 0.6 as good lies 30 ms or more before it with a dip between (a
-/// double strike's first blow): then the best within 10 ms of the earliest
-/// such. Without the dip it is the same strike matching broadly (partials
-/// near whole ratios keep in step with themselves for tens of ms).
-fn first_blow(out: &[f64], lags: usize, top: f64, rate: f64) -> usize {
-    let top_k = (0..=lags)
-        .max_by(|&a, &b| out[a].abs().total_cmp(&out[b].abs()))
-        .unwrap_or(0);
-    let gap = (GAP_S * rate).round() as usize;
-    let half = (0.0015 * rate).round() as usize;
-    let env = |k: usize| {
-        out[k.saturating_sub(half)..=(k + half).min(lags)]
-            .iter()
-            .fold(0.0f64, |m, v| m.max(v.abs()))
-    };
-    let first = (0..top_k.saturating_sub(gap)).find(|&k| {
-        let e = env(k);
-        e >= FIRST_SHARE * top && (k..top_k).step_by(half.max(1)).any(|j| env(j) < DIP * e)
-    });
-    match first {
-        Some(first) => {
-            let reach = (first + (0.01 * rate).round() as usize).min(lags);
-            (first..=reach)
-                .max_by(|&a, &b| out[a].abs().total_cmp(&out[b].abs()))
-                .unwrap_or(first)
-        }
-        None => top_k,
     }
+    Ok(found)
 }
 
 #[cfg(test)]

@@ -4,8 +4,11 @@
 //! one copy. The two copies' gains are the least squares fit of both at
 //! once (the copies overlap: the template's correlation with itself at
 //! `d` comes in), and the strike is double where the second copy, at the
-//! delay where it explains most, is at least the least ratio asked of the
-//! first. The whole template, not its first 150 ms: a shorter first copy
+//! delay where it stands out most, is at least the least ratio asked of the
+//! first, less the same ratio's median over the bell's strikes at that
+//! delay (the room's own echo of the bell, which every strike has: in a
+//! room each bell's single strikes showed a second copy at one delay of
+//! its own, 20-60 ms, at 0.3-0.6 of the first). The whole template, not its first 150 ms: a shorter first copy
 //! leaves the bell's own sound after it unexplained, and a second copy
 //! then explains that (on the recorded bells every single strike was
 //! called double).

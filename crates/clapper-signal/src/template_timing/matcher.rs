@@ -1,6 +1,7 @@
 //! Each bell's template at the recording's rate, and its match against
 //! the recording (a normalised cross-correlation by FFT), and its whole
-//! sound (to take a strike heard out of the recording).
+//! sound (for double strikes, [`super::doubles`], and to take a strike
+//! heard out of the recording).
 
 use realfft::num_complex::Complex;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
