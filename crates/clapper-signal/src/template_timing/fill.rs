@@ -1,0 +1,112 @@
+//! Strikes the band finder missed, found by their templates (on the
+//! recorded rings of eight, 0.5-7 % of the strikes, once a whole bell). A
+//! bell's template is matched over the whole recording (normalised),
+//! and a match is a strike where it is at least [`SHARE`] of the bell's
+//! typical match at its strikes heard, where the bell's level rises
+//! ([`RISE`]), and where the bell's rhythm leaves
+//! room for one: at least [`ROOM`] of its typical interval from each of
+//! its strikes (a bell strikes once a row; its strikes' own room tails
+//! and double strikes' second blows lie nearer).
+
+use super::lag::best_match;
+use super::matcher::{at, Matcher, Scratch, Template};
+use crate::SignalError;
+
+/// A match this share of the bell's typical one is a strike.
+pub(super) const SHARE: f64 = 0.6;
+/// How far (a share of the bell's typical interval between strikes) a
+/// strike found must lie from each of its bell's others.
+pub(super) const ROOM: f64 = 0.6;
+/// A strike's bell is this much louder (its projection on the template)
+/// just after the strike than before it: the bell's own ringing, steady,
+/// matches its template too, but does not rise.
+const RISE: f64 = 2.0;
+/// Before: from this long before the strike to this (s; the template
+/// matched there ends before the strike).
+const BEFORE_S: (f64, f64) = (0.3, 0.16);
+/// Peaks of the match closer than this (s) are one.
+const PEAK_S: f64 = 0.02;
+
+/// The strikes (time s, match) of the bell of template `t` in `x` that
+/// its strikes heard at `have` (s, in time order) leave out: its typical
+/// match `typical`, its typical interval `interval` (s).
+pub(super) fn missed(
+    m: &Matcher,
+    x: &[f64],
+    t: &Template,
+    have: &[f64],
+    typical: f64,
+    interval: f64,
+    sc: &mut Scratch,
+) -> Result<Vec<(f64, f64)>, SignalError> {
+    let (proj, ncc) = whole(m, x, t, sc)?;
+    let rate = m.rate;
+    let half = ((PEAK_S * rate) as usize).max(1);
+    // Local peaks over ±PEAK_S, best first.
+    let mut peaks: Vec<(usize, f64)> = (0..ncc.len())
+        .step_by(half)
+        .filter_map(|k0| {
+            let k = (k0..(k0 + half).min(ncc.len())).max_by(|&a, &b| ncc[a].total_cmp(&ncc[b]))?;
+            let lo = k.saturating_sub(half);
+            let hi = (k + half).min(ncc.len() - 1);
+            (ncc[lo..=hi].iter().all(|v| *v <= ncc[k]) && ncc[k] >= SHARE * typical).then_some((k, ncc[k]))
+        })
+        .collect();
+    peaks.sort_by(|a, b| b.1.total_cmp(&a.1));
+    peaks.dedup_by_key(|p| p.0);
+    let mut times: Vec<f64> = have.to_vec();
+    let mut found = vec![];
+    for (k, _) in peaks {
+        let at = k as f64 / rate;
+        if times.iter().any(|h| (h - at).abs() < ROOM * interval) || !rises(&proj, k, rate) {
+            continue;
+        }
+        if let Some((tt, q)) = best_match(m, x, t, at - 0.01, at + 0.01, sc)? {
+            times.push(tt);
+            found.push((tt, q));
+        }
+    }
+    Ok(found)
+}
+
+/// Whether the projection `proj` rises by [`RISE`] at sample `k`: its
+/// largest within 1 ms of `k` against its largest over [`BEFORE_S`]
+/// before.
+fn rises(proj: &[f64], k: usize, rate: f64) -> bool {
+    let ms = (0.001 * rate) as usize;
+    let now = proj[k.saturating_sub(ms)..(k + ms + 1).min(proj.len())]
+        .iter()
+        .fold(0.0f64, |a, v| a.max(*v));
+    let (a, b) = ((BEFORE_S.0 * rate) as usize, (BEFORE_S.1 * rate) as usize);
+    if k < a {
+        return true;
+    }
+    let before = proj[k - a..k - b].iter().fold(0.0f64, |m, v| m.max(*v));
+    now >= RISE * before
+}
+
+/// The match of template `t` with its sound starting at each sample of
+/// `x`: the recording's projection on the template (its level, as the
+/// template's) and that over the recording's level there (normalised).
+fn whole(m: &Matcher, x: &[f64], t: &Template, sc: &mut Scratch) -> Result<(Vec<f64>, Vec<f64>), SignalError> {
+    let span = m.span();
+    let (mut proj, mut ncc) = (Vec::with_capacity(x.len() + span), Vec::with_capacity(x.len() + span));
+    let norm = t.energy.sqrt();
+    let mut start = -(m.pre as i64);
+    while proj.len() < x.len() {
+        m.correlate(x, t, start, sc)?;
+        let mut e: f64 = (0..m.len).map(|k| at(x, start + k as i64).powi(2)).sum();
+        for (k, v) in sc.out[..span].iter().enumerate() {
+            let p = if norm > 0.0 { v.abs() / norm } else { 0.0 };
+            proj.push(p);
+            ncc.push(if e > 1e-300 { p / e.sqrt() } else { 0.0 });
+            let j = start + k as i64;
+            let (gone, come) = (at(x, j), at(x, j + m.len as i64));
+            e = (e - gone * gone + come * come).max(0.0);
+        }
+        start += span as i64;
+    }
+    proj.truncate(x.len());
+    ncc.truncate(x.len());
+    Ok((proj, ncc))
+}

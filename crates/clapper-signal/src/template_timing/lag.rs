@@ -1,0 +1,86 @@
+//! Where a template matches best near a strike: the lag of the best
+//! normalised match, unless an earlier one nearly as good is a double
+//! strike's first blow.
+
+use super::matcher::{Matcher, Scratch, Template};
+use crate::SignalError;
+
+/// A match this share of the best, 30 ms or more before it, is the strike:
+/// a double strike's second blow (at most as loud) matches later.
+const FIRST_SHARE: f64 = 0.6;
+/// How far (s) before the best match such a match must lie: nearer ones
+/// are the template's own partials coming back into step (on the recorded
+/// tower bells, 12 ms before the true lag).
+const GAP_S: f64 = 0.03;
+/// The dip (a share of the earlier match) that parts two blows.
+const DIP: f64 = 0.7;
+
+/// The strike's time (s) where template `t` matches the recording `x`
+/// best from `from` to `to` (s), and how well (the normalised match, 0 to
+/// 1), or None where the recording is silent there.
+pub(super) fn best_match(
+    m: &Matcher,
+    x: &[f64],
+    t: &Template,
+    from: f64,
+    to: f64,
+    sc: &mut Scratch,
+) -> Result<Option<(f64, f64)>, SignalError> {
+    let rate = m.rate;
+    let start = (from * rate).round() as i64;
+    let lags = (((to - from) * rate).round() as usize).min(m.span());
+    m.normalised(x, t, start, lags, sc)?;
+    let out = &sc.out;
+    let top = (0..=lags).map(|k| out[k].abs()).fold(0.0, f64::max);
+    if top == 0.0 {
+        return Ok(None);
+    }
+    let best = first_blow(out, lags, top, rate);
+    // The peak between samples, from the parabola through its neighbours.
+    let off = if best > 0 && best < lags {
+        let (a, b, c) = (out[best - 1].abs(), out[best].abs(), out[best + 1].abs());
+        let den = a - 2.0 * b + c;
+        if den < 0.0 {
+            (0.5 * (a - c) / den).clamp(-0.5, 0.5)
+        } else {
+            0.0
+        }
+    } else {
+        0.0
+    };
+    Ok(Some((
+        (start as f64 + (best + m.pre) as f64 + off) / rate,
+        out[best].abs(),
+    )))
+}
+
+/// The best match in `out[..=lags]` (its largest `top`), unless a match at
+/// least 0.6 as good lies 30 ms or more before it with a dip between (a
+/// double strike's first blow): then the best within 10 ms of the earliest
+/// such. Without the dip it is the same strike matching broadly (partials
+/// near whole ratios keep in step with themselves for tens of ms).
+fn first_blow(out: &[f64], lags: usize, top: f64, rate: f64) -> usize {
+    let top_k = (0..=lags)
+        .max_by(|&a, &b| out[a].abs().total_cmp(&out[b].abs()))
+        .unwrap_or(0);
+    let gap = (GAP_S * rate).round() as usize;
+    let half = (0.0015 * rate).round() as usize;
+    let env = |k: usize| {
+        out[k.saturating_sub(half)..=(k + half).min(lags)]
+            .iter()
+            .fold(0.0f64, |m, v| m.max(v.abs()))
+    };
+    let first = (0..top_k.saturating_sub(gap)).find(|&k| {
+        let e = env(k);
+        e >= FIRST_SHARE * top && (k..top_k).step_by(half.max(1)).any(|j| env(j) < DIP * e)
+    });
+    match first {
+        Some(first) => {
+            let reach = (first + (0.01 * rate).round() as usize).min(lags);
+            (first..=reach)
+                .max_by(|&a, &b| out[a].abs().total_cmp(&out[b].abs()))
+                .unwrap_or(first)
+        }
+        None => top_k,
+    }
+}

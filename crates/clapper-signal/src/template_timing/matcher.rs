@@ -1,0 +1,211 @@
+//! Each bell's template at the recording's rate, and its match against
+//! the recording (a normalised cross-correlation by FFT), and its whole
+//! sound (for double strikes, [`super::doubles`], and to take a strike
+//! heard out of the recording).
+
+use realfft::num_complex::Complex;
+use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
+use std::sync::Arc;
+
+use crate::sampled_ring::sample_onset;
+use crate::{Signal, SignalError};
+
+/// The length of template matched (s).
+pub(super) const MATCH_S: f64 = 0.15;
+/// And the silence matched before it (s).
+pub(super) const PRE_S: f64 = 0.04;
+/// The widest stretch of lags one transform covers (s).
+pub(super) const SPAN_S: f64 = 0.3;
+
+/// Linear resampling of `s` to `rate` (Hz): templates recorded at another
+/// rate than the recording.
+fn resample(s: &Signal, rate: f64) -> Signal {
+    if (s.rate - rate).abs() < 1e-9 {
+        return s.clone();
+    }
+    let n = (s.samples.len() as f64 * rate / s.rate).floor() as usize;
+    let samples = (0..n)
+        .map(|k| {
+            let x = k as f64 * s.rate / rate;
+            let i = x.floor() as usize;
+            let f = x - i as f64;
+            let a = s.samples[i.min(s.samples.len() - 1)];
+            let b = s.samples[(i + 1).min(s.samples.len() - 1)];
+            a + f * (b - a)
+        })
+        .collect();
+    Signal { rate, samples }
+}
+
+/// One bell's template, ready to match.
+pub(super) struct Template {
+    /// The conjugated spectrum of `pre` samples of silence and the first
+    /// `len - pre` of the template's sound.
+    pub spec: Vec<Complex<f64>>,
+    /// The energy of the part matched.
+    pub energy: f64,
+    /// The template's whole sound, from its onset.
+    pub sound: Vec<f64>,
+}
+
+/// The templates and the transforms, at the recording's rate.
+pub(super) struct Matcher {
+    pub rate: f64,
+    /// Silence matched before the template's sound (samples).
+    pub pre: usize,
+    /// Length matched (samples, `pre` included).
+    pub len: usize,
+    /// Transform length.
+    pub n: usize,
+    fwd: Arc<dyn RealToComplex<f64>>,
+    inv: Arc<dyn ComplexToReal<f64>>,
+    /// Each bell's template; none if it is too short.
+    pub bells: Vec<Option<Template>>,
+}
+
+/// The buffers one match works in.
+pub(super) struct Scratch {
+    buf: Vec<f64>,
+    spec: Vec<Complex<f64>>,
+    /// The correlation at lags 0.. from the start asked.
+    pub out: Vec<f64>,
+}
+
+impl Matcher {
+    pub fn new(rate: f64, templates: &[Signal]) -> Result<Self, SignalError> {
+        let pre = (PRE_S * rate).round() as usize;
+        let len = (MATCH_S * rate).round() as usize + pre;
+        let lags = (SPAN_S * rate).round() as usize;
+        let n = (len + lags + 1).next_power_of_two();
+        let mut planner = RealFftPlanner::<f64>::new();
+        let fwd = planner.plan_fft_forward(n);
+        let inv = planner.plan_fft_inverse(n);
+        let mut m = Matcher {
+            rate,
+            pre,
+            len,
+            n,
+            fwd,
+            inv,
+            bells: vec![],
+        };
+        for t in templates {
+            let t = resample(t, rate);
+            let o = (sample_onset(&t)? * rate).round() as usize;
+            let b = (t.samples.len() >= o + len - pre)
+                .then(|| m.template(&t.samples[o..]))
+                .transpose()?;
+            m.bells.push(b);
+        }
+        Ok(m)
+    }
+
+    /// A template from its sound (from its onset).
+    fn template(&self, sound: &[f64]) -> Result<Template, SignalError> {
+        let (pre, len) = (self.pre, self.len);
+        // The template from `pre` before its sound starts (silence: a lag
+        // where the bell already sounds there matches worse).
+        let mut buf = self.fwd.make_input_vec();
+        buf[pre..len].copy_from_slice(&sound[..len - pre]);
+        let energy = buf.iter().map(|v| v * v).sum();
+        let mut spec = self.fwd.make_output_vec();
+        self.fwd
+            .process(&mut buf, &mut spec)
+            .map_err(|e| SignalError::Invalid(e.to_string()))?;
+        Ok(Template {
+            spec: spec.into_iter().map(|c| c.conj()).collect(),
+            energy,
+            sound: sound.to_vec(),
+        })
+    }
+
+    pub fn scratch(&self) -> Scratch {
+        Scratch {
+            buf: self.fwd.make_input_vec(),
+            spec: self.fwd.make_output_vec(),
+            out: self.inv.make_output_vec(),
+        }
+    }
+
+    /// The most lags one call covers.
+    pub fn span(&self) -> usize {
+        self.n - self.len - 1
+    }
+
+    /// `sc.out[k]`: the recording `x` from sample `start + k` against
+    /// template `t` (its sound from `start + k + pre`), for k up to
+    /// [`Self::span`]; raw (not normalised).
+    pub fn correlate(&self, x: &[f64], t: &Template, start: i64, sc: &mut Scratch) -> Result<(), SignalError> {
+        for (k, b) in sc.buf.iter_mut().enumerate() {
+            *b = at(x, start + k as i64);
+        }
+        self.fwd
+            .process(&mut sc.buf, &mut sc.spec)
+            .map_err(|e| SignalError::Invalid(e.to_string()))?;
+        for (a, b) in sc.spec.iter_mut().zip(&t.spec) {
+            *a *= b;
+        }
+        sc.spec[0].im = 0.0;
+        if let Some(l) = sc.spec.last_mut() {
+            l.im = 0.0;
+        }
+        self.inv
+            .process(&mut sc.spec, &mut sc.out)
+            .map_err(|e| SignalError::Invalid(e.to_string()))?;
+        let scale = 1.0 / self.n as f64;
+        for o in &mut sc.out {
+            *o *= scale;
+        }
+        Ok(())
+    }
+
+    /// [`Self::correlate`] over the recording's level in each lag's
+    /// window, for `lags + 1` lags (a normalised match: unnormalised, a
+    /// lag where the bell has grown louder matches better than the lag
+    /// where its sound starts). Silence matches 0.
+    pub fn normalised(
+        &self,
+        x: &[f64],
+        t: &Template,
+        start: i64,
+        lags: usize,
+        sc: &mut Scratch,
+    ) -> Result<(), SignalError> {
+        self.correlate(x, t, start, sc)?;
+        let len = self.len;
+        let mut e: f64 = (0..len).map(|k| at(x, start + k as i64).powi(2)).sum();
+        let norm = t.energy.sqrt();
+        for k in 0..=lags.min(self.span()) {
+            sc.out[k] = if e > 1e-300 { sc.out[k] / (e.sqrt() * norm) } else { 0.0 };
+            let (gone, come) = (at(x, start + k as i64), at(x, start + (k + len) as i64));
+            e = (e - gone * gone + come * come).max(0.0);
+        }
+        Ok(())
+    }
+
+    /// Take `gain` times bell `t`'s whole sound out of `x`, its onset at
+    /// `onset` (s).
+    pub fn subtract(&self, x: &mut [f64], t: &Template, onset: f64, gain: f64) {
+        let start = onset * self.rate;
+        let i0 = start.floor();
+        let frac = start - i0;
+        let n = x.len() as i64;
+        for (k, v) in t.sound.iter().enumerate() {
+            let j = i0 as i64 + k as i64;
+            for (jj, w) in [(j, 1.0 - frac), (j + 1, frac)] {
+                if jj >= 0 && jj < n {
+                    x[jj as usize] -= gain * w * v;
+                }
+            }
+        }
+    }
+}
+
+/// `x[j]`, 0 outside it.
+pub(super) fn at(x: &[f64], j: i64) -> f64 {
+    if j >= 0 && (j as usize) < x.len() {
+        x[j as usize]
+    } else {
+        0.0
+    }
+}
