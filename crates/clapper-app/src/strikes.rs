@@ -12,7 +12,7 @@ use clapper_signal::strikes::{
     PLAUSIBLE_SHARE,
 };
 use clapper_signal::striking::{mean_sd, rhythm, Rhythm, Timed};
-use clapper_signal::template_timing::{median_of, retime_each};
+use clapper_signal::template_timing::{median_of, retime_each_with};
 use clapper_signal::Signal;
 use serde::Serialize;
 
@@ -397,7 +397,7 @@ impl StrikesReport {
             // template; the lateness learned on a ring of the templates then
             // serves only a bell whose template is too short to match.
             if let Timing::Templates(t) = timing {
-                retime_window(w, heard, t, &late, &mut moved)?;
+                retime_window(w, heard, t, &late, opts, &mut moved)?;
             }
             Ok(())
         };
@@ -657,17 +657,19 @@ fn correct_lateness(
 }
 
 /// Each strike of window `w` timed again against its bell's template
-/// ([`retime_each`]), how far each moved kept per bell in `moved` (those of
+/// ([`retime_each_with`], with the user's options), how far each moved kept per bell in `moved` (those of
 /// the window's core only, so a strike two windows hear counts once).
 fn retime_window(
     w: &Window,
     heard: &mut Heard,
     templates: &[Signal],
     late: &[Option<f64>],
+    opts: &StrikeOptions,
     moved: &mut Vec<Vec<f64>>,
 ) -> Result<(), clapper_signal::SignalError> {
     moved.resize(templates.len(), vec![]);
-    let moves = retime_each(w.sig, heard, templates, late)?;
+    // The user's options (the double's window and ratio) reach the match.
+    let moves = retime_each_with(w.sig, heard, templates, late, opts)?;
     for (s, m) in heard.strikes.iter().zip(moves) {
         if let (Some(m), true) = (m, in_core(w, s.t)) {
             moved[s.bell - 1].push(m);
