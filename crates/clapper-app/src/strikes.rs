@@ -7,6 +7,7 @@ use std::fmt::Write as _;
 
 use clapper_core::stroke::double_strike_index;
 use clapper_signal::lateness::{from_templates, Lateness};
+use clapper_signal::self_calibrate::{calibrate, SelfCalibration};
 use clapper_signal::strikes::{
     find_strikes_streamed, rising, BellVoice, Heard, InMemory, RecordingBlocks, StrikeOptions, Window, Windows,
     PLAUSIBLE_SHARE,
@@ -145,7 +146,8 @@ pub struct BellTiming {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct TimingReport {
     /// Where each bell's lateness was learned: "templates" (its recording
-    /// struck alone).
+    /// struck alone) or "recording" (the recording's own clean strikes,
+    /// with nominals: `learned_from` counts them).
     pub source: &'static str,
     /// Treble first.
     pub per_bell: Vec<BellTiming>,
@@ -159,6 +161,21 @@ pub enum Timing<'a> {
     /// Each bell's lateness learned from its recording struck alone (one per
     /// bell, treble first, at one rate).
     Templates(&'a [Signal]),
+    /// Each bell's template and lateness learned from the recording's own
+    /// clean strikes ([`calibrate_from_recording`]; listen with its voices).
+    Recording(&'a SelfCalibration),
+}
+
+/// Each bell's partials and template learned from the recording `sig`
+/// itself, its nominals given (treble first): for [`Timing::Recording`],
+/// heard through the calibration's voices.
+pub fn calibrate_from_recording(
+    sig: &Signal,
+    nominals: &[f64],
+    opts: &StrikeOptions,
+) -> Result<SelfCalibration, AppError> {
+    voices_from_nominals(nominals)?;
+    calibrate(sig, nominals, opts).map_err(signal_error)
 }
 
 /// A bell's nominal learned from the recording (`--bells N`).
@@ -343,16 +360,19 @@ impl StrikesReport {
         // The lateness on a ring of the templates needs them at one rate;
         // matching each strike does not (it resamples them).
         let (lateness, no_lateness) = match timing {
-            Timing::AsHeard => (None, None),
+            Timing::AsHeard | Timing::Recording(_) => (None, None),
             Timing::Templates(t) => match from_templates(t, voices, opts) {
                 Ok(l) => (Some(l), None),
                 Err(e) => (None, Some(format!("no lateness learned from the templates: {e}"))),
             },
         };
-        let late: Vec<Option<f64>> = lateness
-            .as_ref()
-            .map(|l| l.bells.iter().map(|b| b.sure().then_some(b.lateness_s)).collect())
-            .unwrap_or_default();
+        let late: Vec<Option<f64>> = match timing {
+            Timing::Recording(c) => c.lateness(),
+            _ => lateness
+                .as_ref()
+                .map(|l| l.bells.iter().map(|b| b.sure().then_some(b.lateness_s)).collect())
+                .unwrap_or_default(),
+        };
         let mut peak = 0.0f64;
         let mut moved: Vec<Vec<f64>> = vec![];
         // Strikes judged, and of them those that rise ([`rising`]).
@@ -374,8 +394,10 @@ impl StrikesReport {
             // With templates, each strike is timed against its bell's
             // template; the lateness learned on a ring of the templates then
             // serves only a bell whose template is too short to match.
-            if let Timing::Templates(t) = timing {
-                retime_window(w, heard, t, &late, &mut moved)?;
+            match timing {
+                Timing::Templates(t) => retime_window(w, heard, t, &late, &mut moved)?,
+                Timing::Recording(c) => retime_window(w, heard, &c.templates, &late, &mut moved)?,
+                Timing::AsHeard => {}
             }
             Ok(())
         };
@@ -383,7 +405,11 @@ impl StrikesReport {
         let matched: Vec<Option<f64>> = moved.into_iter().map(median_of).collect();
         let mut warnings = std::mem::take(&mut heard.warnings);
         warnings.extend(no_lateness);
-        let timing_report = lateness.map(|l| correct_lateness(l, &matched, &mut heard, &mut warnings));
+        let mut timing_report = lateness.map(|l| correct_lateness(l, &matched, &mut heard, &mut warnings));
+        if let Timing::Recording(c) = timing {
+            warnings.extend(c.warnings.iter().cloned());
+            timing_report = Some(recording_timing(c, &matched));
+        }
         let plausibility = (rises.0 > 0).then(|| rises.1 as f64 / rises.0 as f64);
         if let Some(p) = plausibility.filter(|p| *p < PLAUSIBLE_SHARE) {
             warnings.insert(
@@ -532,13 +558,20 @@ impl StrikesReport {
                     .collect::<Vec<_>>()
                     .join(", ")
             };
-            let _ = writeln!(
-                o,
-                "timing from the {}: heard late on a ring of them (ms) {}; each strike matched to its template moved (median ms) {}",
-                t.source,
-                list(&|b| (b.learned_from > 0).then_some(b.lateness_ms)),
-                list(&|b| b.matched_ms)
-            );
+            let late = list(&|b| (b.learned_from > 0).then_some(b.lateness_ms));
+            let moved = list(&|b| b.matched_ms);
+            let _ = if t.source == "recording" {
+                writeln!(
+                    o,
+                    "timing from the recording's own clean strikes: heard late (ms) {late}; each strike matched to the template learned moved (median ms) {moved}"
+                )
+            } else {
+                writeln!(
+                    o,
+                    "timing from the {}: heard late on a ring of them (ms) {late}; each strike matched to its template moved (median ms) {moved}",
+                    t.source
+                )
+            };
         }
         for w in &s.warnings {
             let _ = writeln!(o, "warning: {w}");
@@ -620,6 +653,26 @@ fn correct_lateness(
             .map(|b| BellTiming {
                 bell: b.bell,
                 lateness_ms: b.lateness_s * 1e3,
+                spread_ms: b.spread_s * 1e3,
+                learned_from: b.strikes,
+                matched_ms: matched.get(b.bell - 1).copied().flatten().map(|m| m * 1e3),
+            })
+            .collect(),
+    }
+}
+
+/// The timing report of a calibration from the recording itself: each
+/// bell's lateness found on its clean strikes, and how far its strikes
+/// moved when matched to the template learned (`matched`, per bell).
+fn recording_timing(c: &SelfCalibration, matched: &[Option<f64>]) -> TimingReport {
+    TimingReport {
+        source: "recording",
+        per_bell: c
+            .bells
+            .iter()
+            .map(|b| BellTiming {
+                bell: b.bell,
+                lateness_ms: b.lateness_s.unwrap_or(0.0) * 1e3,
                 spread_ms: b.spread_s * 1e3,
                 learned_from: b.strikes,
                 matched_ms: matched.get(b.bell - 1).copied().flatten().map(|m| m * 1e3),
