@@ -31,6 +31,9 @@ pub const CLEAR_S: f64 = 0.1;
 const BEFORE_S: f64 = 0.25;
 /// And after it (s).
 const AFTER_S: f64 = 0.3;
+/// The reference matched in lining strikes up: from this long before the
+/// time heard to its end (s).
+const CORE_S: f64 = 0.14;
 /// How far a strike may be moved to line it up (s).
 const SHIFT_S: f64 = 0.06;
 /// The block the start is looked for in (s).
@@ -194,7 +197,7 @@ fn template_of(sig: &Signal, times: &[f64]) -> Option<Learned> {
     let mut lags = vec![shift; starts.len()];
     for _ in 0..2 {
         for (j, &s) in starts.iter().enumerate() {
-            lags[j] = best_lag(&sig.samples[s..s + len + 2 * shift], &reference, shift, before);
+            lags[j] = best_lag(&sig.samples[s..s + len + 2 * shift], &reference, shift, before, rate);
         }
         reference = vec![0.0; len];
         for (j, &s) in starts.iter().enumerate() {
@@ -249,9 +252,10 @@ fn template_of(sig: &Signal, times: &[f64]) -> Option<Learned> {
 }
 
 /// The lag (0 to 2 `shift` samples) at which `x` matches `reference`
-/// best, over the reference from `before` − 150 ms to its end.
-fn best_lag(x: &[f64], reference: &[f64], shift: usize, core_from: usize) -> usize {
-    let from = core_from.saturating_sub(reference.len() / 4);
+/// best, over the reference from [`CORE_S`] before its time heard (`at`)
+/// to its end.
+fn best_lag(x: &[f64], reference: &[f64], shift: usize, at: usize, rate: f64) -> usize {
+    let from = at.saturating_sub((CORE_S * rate) as usize);
     let core = &reference[from..];
     let n = (x.len() + core.len()).next_power_of_two();
     let mut planner = RealFftPlanner::<f64>::new();
@@ -326,16 +330,6 @@ fn sound_start(mean: &[f64], spread: &[f64], n: f64, rate: f64) -> Option<usize>
     // (the blow rises out of it over a few ms).
     while start > 0 && ratio[start - 1] > ABOVE {
         start -= 1;
-    }
-    if std::env::var("CAL_DEBUG").is_ok() {
-        let lo = start.saturating_sub(60);
-        eprintln!(
-            "start block {start} of {blocks}, loudest {loudest}; ratio dB from {lo}: {}",
-            (lo..(start + 10).min(blocks))
-                .map(|k| format!("{:.0}", 10.0 * ratio[k].log10()))
-                .collect::<Vec<_>>()
-                .join(" ")
-        );
     }
     // Nothing before it stood out: the window may have cut the sound's start.
     (start > 0).then_some(start * b)

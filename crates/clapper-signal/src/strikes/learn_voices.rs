@@ -42,16 +42,26 @@ pub struct LearnedVoices {
     pub warnings: Vec<String>,
 }
 
-/// A nominal rose at an onset if its rise is this share of the onset's greatest.
-const NOMINAL_ROSE: f64 = 0.1;
-/// An onset is first given to the bell whose nominal rose at least this share.
-const FIRST_GUESS: f64 = 0.3;
+/// A bell's nominal rose at an onset if it rose by this share of what sounded there before.
+const NOMINAL_ROSE: f64 = 0.5;
+/// An onset is first given to the bell whose nominal jumped most, if by this much (twice: 6 dB).
+const FIRST_GUESS: f64 = 1.0;
+/// What sounded before is taken as at least this share of the onset's
+/// loudest (so a bin silent before does not jump without end).
+const JUMP_FLOOR: f64 = 0.02;
 /// An onset whose rise is less like any bell's pattern than this (cosine) is no bell's.
 const LIKE: f64 = 0.5;
 /// A peak of a bell's pattern this strong against its strongest is a partial.
 const PARTIAL: f64 = 0.08;
 /// Two bells whose patterns are this alike (cosine) cannot be told apart.
 const ALIKE: f64 = 0.85;
+/// Peaks this strong against a pattern's strongest count in its fit to a bell.
+const FIT_PEAK: f64 = 0.15;
+/// Two bells' patterns are swapped if they fit the other's nominal better by this much in all.
+const SWAP: f64 = 0.2;
+/// Groups of alike onsets looked for beyond one a bell (the noise, double
+/// strikes, a bell heard two ways).
+const EXTRA_GROUPS: usize = 4;
 /// Partials kept a bell.
 const MOST_PARTIALS: usize = 8;
 
@@ -86,58 +96,89 @@ pub fn learn_voices(sig: &Signal, nominals_hz: &[f64]) -> Result<LearnedVoices, 
         });
     }
     let onsets = pick_onsets(&frames.flux(lag));
-    let rises: Vec<Vec<f64>> = onsets
-        .iter()
-        .map(|&t| {
-            let (a, b) = (frames.magnitudes(t), frames.magnitudes(t - lag));
-            let r: Vec<f64> = a.iter().zip(&b).map(|(x, y)| (x - y).max(0.0)).collect();
-            let norm = r.iter().map(|v| v * v).sum::<f64>().sqrt();
-            if norm > 0.0 {
-                r.into_iter().map(|v| v / norm).collect()
-            } else {
-                r
-            }
-        })
-        .collect();
+    // Each onset's rise (normalised) and how far each bell's nominal
+    // jumped there: its rise over what sounded there before (a struck
+    // bell's nominal comes back far above its last strike's decay; the
+    // other bells' do not move, whatever their strength).
     let (k_lo, df) = (frames.k_lo, frames.df);
     let bin = |f: f64| (f / df).round() as isize - k_lo as isize;
-    // How much each bell's nominal rose at each onset, against the onset's greatest rise.
-    let rose: Vec<Vec<f64>> = rises
-        .iter()
-        .map(|r| {
-            let top = r.iter().copied().fold(0.0, f64::max);
+    let n = nominals_hz.len();
+    let mut rises: Vec<Vec<f64>> = vec![];
+    let mut jumped: Vec<Vec<f64>> = vec![];
+    for &t in &onsets {
+        let (a, b) = (frames.magnitudes(t), frames.magnitudes(t - lag));
+        let r: Vec<f64> = a.iter().zip(&b).map(|(x, y)| (x - y).max(0.0)).collect();
+        let top = a.iter().copied().fold(0.0, f64::max);
+        let floor = (JUMP_FLOOR * top).max(1e-300);
+        jumped.push(
             nominals_hz
                 .iter()
                 .map(|&f| {
-                    let (a, b) = (bin(0.994 * f).min(bin(f) - 1), bin(1.006 * f).max(bin(f) + 1));
-                    let (a, b) = (a.max(0) as usize, (b.max(0) as usize).min(r.len().saturating_sub(1)));
-                    let m = r.get(a..=b).map_or(0.0, |s| s.iter().copied().fold(0.0, f64::max));
-                    if top > 0.0 {
-                        m / top
-                    } else {
-                        0.0
-                    }
+                    let (lo, hi) = (bin(0.994 * f).min(bin(f) - 1), bin(1.006 * f).max(bin(f) + 1));
+                    let (lo, hi) = (lo.max(0) as usize, (hi.max(0) as usize).min(r.len().saturating_sub(1)));
+                    (lo..=hi).map(|k| r[k] / (b[k] + floor)).fold(0.0, f64::max)
                 })
-                .collect()
-        })
-        .collect();
-    let n = nominals_hz.len();
-    let mut owner: Vec<Option<usize>> = rose
+                .collect(),
+        );
+        let norm = r.iter().map(|v| v * v).sum::<f64>().sqrt();
+        rises.push(if norm > 0.0 {
+            r.into_iter().map(|v| v / norm).collect()
+        } else {
+            r
+        });
+    }
+    let mut owner: Vec<Option<usize>> = jumped
         .iter()
-        .map(|a| {
-            let (k, v) = a.iter().enumerate().max_by(|x, y| x.1.total_cmp(y.1))?;
+        .map(|j| {
+            let (k, v) = j.iter().enumerate().max_by(|x, y| x.1.total_cmp(y.1))?;
             (*v >= FIRST_GUESS).then_some(k)
         })
         .collect();
+    // The onsets' own groups (alike rises) given to the bells whose
+    // nominal they fit, where the first guess left a bell without onsets
+    // (in rounds a bell always follows the same one, whose partials rise
+    // at its onsets too).
+    let (k_lo_, df_) = (k_lo, df);
+    let groups = alike_groups(&rises, n + EXTRA_GROUPS);
+    let expected = rises.len() as f64 / n as f64;
+    let mut scored: Vec<(usize, usize, f64)> = vec![];
+    for (g, members) in groups.iter().enumerate() {
+        if (members.len() as f64) < 0.3 * expected {
+            continue;
+        }
+        let pattern = mean_of_onsets(&rises, members);
+        for k in 0..n {
+            let rose = members.iter().filter(|&&i| jumped[i][k] >= NOMINAL_ROSE).count();
+            if 2 * rose >= members.len() {
+                scored.push((g, k, bell_fit(&pattern, nominals_hz[k], k_lo_, df_)));
+            }
+        }
+    }
+    scored.sort_by(|a, b| b.2.total_cmp(&a.2));
+    let (mut group_done, mut bell_done) = (vec![false; groups.len()], vec![false; n]);
+    let mut from_groups: Vec<Option<usize>> = vec![None; rises.len()];
+    for (g, k, _) in scored {
+        if group_done[g] || bell_done[k] {
+            continue;
+        }
+        group_done[g] = true;
+        bell_done[k] = true;
+        for &i in &groups[g] {
+            from_groups[i] = Some(k);
+        }
+    }
+    if bell_done.iter().filter(|d| **d).count() > (0..n).filter(|&k| owner.contains(&Some(k))).count() {
+        owner = from_groups;
+    }
     let mut patterns = vec![vec![]; n];
     for _ in 0..4 {
         patterns = (0..n).map(|k| mean_of(&rises, &owner, k)).collect();
         owner = rises
             .iter()
-            .zip(&rose)
-            .map(|(r, a)| {
+            .zip(&jumped)
+            .map(|(r, j)| {
                 (0..n)
-                    .filter(|&k| a[k] >= NOMINAL_ROSE && !patterns[k].is_empty())
+                    .filter(|&k| j[k] >= NOMINAL_ROSE && !patterns[k].is_empty())
                     .map(|k| (k, cosine(r, &patterns[k])))
                     .filter(|x| x.1 >= LIKE)
                     .max_by(|x, y| x.1.total_cmp(&y.1))
@@ -146,9 +187,29 @@ pub fn learn_voices(sig: &Signal, nominals_hz: &[f64]) -> Result<LearnedVoices, 
             .collect();
     }
     patterns = (0..n).map(|k| mean_of(&rises, &owner, k)).collect();
-    let counts: Vec<usize> = (0..n)
+    let mut counts: Vec<usize> = (0..n)
         .map(|k| owner.iter().filter(|o| **o == Some(k)).count())
         .collect();
+    // Bells an octave apart share two partials (the treble's prime is the
+    // tenor's nominal, the tenor's octave nominal the treble's): each
+    // pattern goes to the nominal its other partials fit best.
+    loop {
+        let fit = |p: &[f64], k: usize| bell_fit(p, nominals_hz[k], k_lo, df);
+        let best = (0..n)
+            .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
+            .map(|(i, j)| {
+                let gain = fit(&patterns[i], j) + fit(&patterns[j], i) - fit(&patterns[i], i) - fit(&patterns[j], j);
+                (i, j, gain)
+            })
+            .max_by(|a, b| a.2.total_cmp(&b.2));
+        match best {
+            Some((i, j, gain)) if gain >= SWAP => {
+                patterns.swap(i, j);
+                counts.swap(i, j);
+            }
+            _ => break,
+        }
+    }
     let typical = crate::median(&counts.iter().map(|&c| c as f64).collect::<Vec<_>>());
     let mut warnings = vec![];
     let mut bells = assumed(0);
@@ -163,7 +224,11 @@ pub fn learn_voices(sig: &Signal, nominals_hz: &[f64]) -> Result<LearnedVoices, 
             ));
             continue;
         }
-        if let Some(v) = voice_of(&patterns[k], nominals_hz[k], k_lo, df) {
+        let others: Vec<&[f64]> = (0..n)
+            .filter(|&j| j != k && counts[j] > 0)
+            .map(|j| patterns[j].as_slice())
+            .collect();
+        if let Some(v) = voice_of(&patterns[k], &others, nominals_hz[k], k_lo, df) {
             bells[k].voice = v;
             bells[k].learned = true;
         }
@@ -187,6 +252,100 @@ pub fn learn_voices(sig: &Signal, nominals_hz: &[f64]) -> Result<LearnedVoices, 
         onsets: onsets.len(),
         warnings,
     })
+}
+
+/// A bell's partials as heard in recordings, as ranges of the ratio to
+/// its nominal: hum, prime, tierce, quint, nominal, and the upper partials
+/// of tuned bells (superquint, octave nominal, 2.5-2.7, twelfth, double
+/// octave) and of the recorded tower bells (1.18, 1.56, 2.7, 3.0, 4.1:
+/// docs/strikes.md).
+const FAMILY: [(f64, f64); 11] = [
+    (0.24, 0.26),
+    (0.485, 0.515),
+    (0.58, 0.61),
+    (0.73, 0.78),
+    (0.99, 1.01),
+    (1.15, 1.21),
+    (1.45, 1.58),
+    (1.97, 2.08),
+    (2.4, 2.75),
+    (2.9, 3.1),
+    (3.95, 4.2),
+];
+
+/// How well a pattern (bins from `k_lo`, `df` Hz apart) fits a bell of
+/// nominal `f`: the share of its peaks' strength (those at least
+/// [`FIT_PEAK`] of its strongest) that lies in the ranges of [`FAMILY`].
+fn bell_fit(pattern: &[f64], f: f64, k_lo: usize, df: f64) -> f64 {
+    let top = pattern.iter().copied().fold(0.0, f64::max);
+    if top <= 0.0 || pattern.len() < 5 {
+        return 0.0;
+    }
+    let (mut all, mut fit) = (0.0, 0.0);
+    for k in 2..pattern.len() - 2 {
+        let v = pattern[k];
+        if v >= FIT_PEAK * top && (1..=2).all(|j| v >= pattern[k - j] && v >= pattern[k + j]) {
+            let r = (k + k_lo) as f64 * df / f;
+            all += v;
+            if FAMILY.iter().any(|(lo, hi)| r >= *lo && r <= *hi) {
+                fit += v;
+            }
+        }
+    }
+    if all > 0.0 {
+        fit / all
+    } else {
+        0.0
+    }
+}
+
+/// Groups of alike rises (`rises` normalised): `k` groups by the cosine,
+/// started from the rise most like the rest and then each time the rise
+/// least like any group's start, refined eight times. Each group's onsets.
+fn alike_groups(rises: &[Vec<f64>], k: usize) -> Vec<Vec<usize>> {
+    let m = rises.len();
+    if m == 0 {
+        return vec![];
+    }
+    let dot = |a: &[f64], b: &[f64]| a.iter().zip(b).map(|(x, y)| x * y).sum::<f64>();
+    let mean: Vec<f64> = mean_of_onsets(rises, &(0..m).collect::<Vec<_>>());
+    let first = (0..m).max_by(|&a, &b| dot(&rises[a], &mean).total_cmp(&dot(&rises[b], &mean)));
+    let mut centres: Vec<Vec<f64>> = first.map(|f| rises[f].clone()).into_iter().collect();
+    while centres.len() < k.min(m) {
+        let far = (0..m).min_by(|&a, &b| {
+            let near = |i: usize| centres.iter().map(|c| cosine(&rises[i], c)).fold(f64::MIN, f64::max);
+            near(a).total_cmp(&near(b))
+        });
+        match far {
+            Some(f) => centres.push(rises[f].clone()),
+            None => break,
+        }
+    }
+    let mut groups: Vec<Vec<usize>> = vec![];
+    for _ in 0..8 {
+        groups = vec![vec![]; centres.len()];
+        for (i, r) in rises.iter().enumerate() {
+            let c = (0..centres.len()).max_by(|&a, &b| cosine(r, &centres[a]).total_cmp(&cosine(r, &centres[b])));
+            if let Some(c) = c {
+                groups[c].push(i);
+            }
+        }
+        for (c, g) in centres.iter_mut().zip(&groups) {
+            if !g.is_empty() {
+                *c = mean_of_onsets(rises, g);
+            }
+        }
+    }
+    groups
+}
+
+/// The summed rise of `onsets`.
+fn mean_of_onsets(rises: &[Vec<f64>], onsets: &[usize]) -> Vec<f64> {
+    let mut m = vec![0.0; rises.first().map_or(0, |r| r.len())];
+    for &i in onsets {
+        m.iter_mut().zip(&rises[i]).for_each(|(a, b)| *a += b);
+    }
+    m
 }
 
 /// The mean rise of the onsets given to bell `k`, or nothing.
@@ -216,11 +375,23 @@ fn cosine(a: &[f64], b: &[f64]) -> f64 {
 /// nominal where the pattern peaks within 0.6 % of the nominal given (or
 /// the nominal given), and the pattern's strongest other peaks, at least
 /// [`PARTIAL`] of the strongest and 2 % apart, [`MOST_PARTIALS`] in all.
-fn voice_of(pattern: &[f64], nominal: f64, k_lo: usize, df: f64) -> Option<BellVoice> {
+fn voice_of(pattern: &[f64], others: &[&[f64]], nominal: f64, k_lo: usize, df: f64) -> Option<BellVoice> {
     let top = pattern.iter().copied().fold(0.0, f64::max);
     if top <= 0.0 || pattern.len() < 5 {
         return None;
     }
+    // A peak another bell's pattern holds more strongly (against its own
+    // strongest) is that bell's, rising at this bell's onsets because it
+    // was struck just before (in rounds, always the same bell).
+    let theirs = |k: usize| {
+        others.iter().any(|o| {
+            let otop = o.iter().copied().fold(0.0, f64::max);
+            otop > 0.0
+                && o[k.saturating_sub(1)..(k + 2).min(o.len())]
+                    .iter()
+                    .any(|v| v / otop > pattern[k] / top)
+        })
+    };
     let at = |k: usize| -> f64 {
         let (a, b, c) = (pattern[k - 1], pattern[k], pattern[k + 1]);
         let den = a - 2.0 * b + c;
@@ -234,7 +405,7 @@ fn voice_of(pattern: &[f64], nominal: f64, k_lo: usize, df: f64) -> Option<BellV
     let mut peaks: Vec<(f64, f64)> = (2..pattern.len() - 2)
         .filter(|&k| {
             let v = pattern[k];
-            v >= PARTIAL * top && (1..=2).all(|j| v >= pattern[k - j] && v >= pattern[k + j])
+            v >= PARTIAL * top && (1..=2).all(|j| v >= pattern[k - j] && v >= pattern[k + j]) && !theirs(k)
         })
         .map(|k| (at(k), pattern[k] / top))
         .collect();
