@@ -119,6 +119,9 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         &[("--csv", args.csv.as_deref()), ("--lowndes", args.lowndes.as_deref())],
         args.json,
     )?;
+    if args.self_calibrate && args.nominals.is_none() {
+        bail!("--self-calibrate learns each bell from the recording about the nominals given: give --nominals F1,F2,.. (Hz, treble first)");
+    }
     let mut learned = None;
     let (voices, recorded) = match (&args.nominals, &args.templates, args.bells) {
         (Some(n), _, _) => (voices_from_nominals(&n.0)?, vec![]),
