@@ -13,13 +13,16 @@ use clapper_signal::strikes::{
     PLAUSIBLE_SHARE,
 };
 use clapper_signal::striking::{mean_sd, rhythm, Rhythm, Timed};
-use clapper_signal::template_timing::{median_of, retime_each};
+use clapper_signal::template_timing::median_of;
 use clapper_signal::Signal;
 use serde::Serialize;
 
 use crate::AppError;
 
 mod doubt;
+mod retime;
+
+use retime::{in_core, realign_window, retime_window};
 
 /// The sample rates (Hz) of recordings listened to: a telephone's to a
 /// studio's (the finder decimates each band, so a high rate costs reading
@@ -366,13 +369,10 @@ impl StrikesReport {
                 Err(e) => (None, Some(format!("no lateness learned from the templates: {e}"))),
             },
         };
-        let late: Vec<Option<f64>> = match timing {
-            Timing::Recording(c) => c.lateness(),
-            _ => lateness
-                .as_ref()
-                .map(|l| l.bells.iter().map(|b| b.sure().then_some(b.lateness_s)).collect())
-                .unwrap_or_default(),
-        };
+        let late: Vec<Option<f64>> = lateness
+            .as_ref()
+            .map(|l| l.bells.iter().map(|b| b.sure().then_some(b.lateness_s)).collect())
+            .unwrap_or_default();
         let mut peak = 0.0f64;
         let mut moved: Vec<Vec<f64>> = vec![];
         // Strikes judged, and of them those that rise ([`rising`]).
@@ -391,25 +391,16 @@ impl StrikesReport {
                     samples: w.sig.samples[..end].to_vec(),
                 };
             }
-            // With templates, each strike is timed against its bell's
-            // template; the lateness learned on a ring of the templates then
-            // serves only a bell whose template is too short to match.
-            match timing {
-                Timing::Templates(t) => retime_window(w, heard, t, &late, &mut moved)?,
-                Timing::Recording(c) => realign_window(w, heard, c, &mut moved),
-                Timing::AsHeard => {}
-            }
-            Ok(())
+            timed_again(timing, w, heard, &late, &mut moved)
         };
         let mut heard = find_strikes_streamed(src, voices, opts, windows, &mut each).map_err(signal_error)?;
         let matched: Vec<Option<f64>> = moved.into_iter().map(median_of).collect();
         let mut warnings = std::mem::take(&mut heard.warnings);
         warnings.extend(no_lateness);
-        let mut timing_report = lateness.map(|l| correct_lateness(l, &matched, &mut heard, &mut warnings));
-        if let Timing::Recording(c) = timing {
-            warnings.extend(c.warnings.iter().cloned());
-            timing_report = Some(recording_timing(c, &matched));
-        }
+        let timing_report = match timing {
+            Timing::Recording(c) => Some(recording_timing(c, &matched, &mut warnings)),
+            _ => lateness.map(|l| correct_lateness(l, &matched, &mut heard, &mut warnings)),
+        };
         let plausibility = (rises.0 > 0).then(|| rises.1 as f64 / rises.0 as f64);
         if let Some(p) = plausibility.filter(|p| *p < PLAUSIBLE_SHARE) {
             warnings.insert(
@@ -661,10 +652,32 @@ fn correct_lateness(
     }
 }
 
+/// Each strike of window `w` timed again as `timing` says, how far each
+/// moved kept per bell in `moved`. With templates, each strike is timed
+/// against its bell's template; the lateness learned on a ring of the
+/// templates (`late`) then serves only a bell whose template is too short
+/// to match.
+fn timed_again(
+    timing: Timing,
+    w: &Window,
+    heard: &mut Heard,
+    late: &[Option<f64>],
+    moved: &mut Vec<Vec<f64>>,
+) -> Result<(), clapper_signal::SignalError> {
+    match timing {
+        Timing::Templates(t) => retime_window(w, heard, t, late, moved)?,
+        Timing::Recording(c) => realign_window(w, heard, c, moved),
+        Timing::AsHeard => {}
+    }
+    Ok(())
+}
+
 /// The timing report of a calibration from the recording itself: each
 /// bell's lateness found on its clean strikes, and how far its strikes
-/// moved when matched to the template learned (`matched`, per bell).
-fn recording_timing(c: &SelfCalibration, matched: &[Option<f64>]) -> TimingReport {
+/// moved when lined up on its average strike (`matched`, per bell); the
+/// calibration's warnings added to `warnings`.
+fn recording_timing(c: &SelfCalibration, matched: &[Option<f64>], warnings: &mut Vec<String>) -> TimingReport {
+    warnings.extend(c.warnings.iter().cloned());
     TimingReport {
         source: "recording",
         per_bell: c
@@ -679,53 +692,6 @@ fn recording_timing(c: &SelfCalibration, matched: &[Option<f64>]) -> TimingRepor
             })
             .collect(),
     }
-}
-
-/// Each strike of window `w` timed again against its bell's template
-/// ([`retime_each`]), how far each moved kept per bell in `moved` (those of
-/// the window's core only, so a strike two windows hear counts once).
-fn retime_window(
-    w: &Window,
-    heard: &mut Heard,
-    templates: &[Signal],
-    late: &[Option<f64>],
-    moved: &mut Vec<Vec<f64>>,
-) -> Result<(), clapper_signal::SignalError> {
-    moved.resize(templates.len(), vec![]);
-    let moves = retime_each(w.sig, heard, templates, late)?;
-    for (s, m) in heard.strikes.iter().zip(moves) {
-        if let (Some(m), true) = (m, in_core(w, s.t)) {
-            moved[s.bell - 1].push(m);
-        }
-    }
-    heard
-        .strikes
-        .sort_by(|a, b| a.t.total_cmp(&b.t).then(a.bell.cmp(&b.bell)));
-    Ok(())
-}
-
-/// Each strike of window `w` lined up on its bell's average strike learned
-/// from the recording ([`SelfCalibration::retime_each`]: on the synthetic
-/// rings of the tests this timed better than matching its template), how
-/// far each moved kept per bell in `moved` (those of the window's core).
-fn realign_window(w: &Window, heard: &mut Heard, c: &SelfCalibration, moved: &mut Vec<Vec<f64>>) {
-    moved.resize(c.bells.len(), vec![]);
-    let moves = c.retime_each(w.sig, heard);
-    for (s, m) in heard.strikes.iter().zip(moves) {
-        if let (Some(m), true) = (m, in_core(w, s.t)) {
-            moved[s.bell - 1].push(m);
-        }
-    }
-    heard
-        .strikes
-        .sort_by(|a, b| a.t.total_cmp(&b.t).then(a.bell.cmp(&b.bell)));
-}
-
-/// Whether a strike at `t` (s from the start of window `w`) is one the
-/// window reports: any, where the window is the whole recording.
-fn in_core(w: &Window, t: f64) -> bool {
-    let at = w.start as f64 + t * w.sig.rate;
-    (w.start == 0 && w.core == (0, w.sig.samples.len())) || (at >= w.core.0 as f64 && at < w.core.1 as f64)
 }
 
 /// Bell `bell`'s striking from the report's `strikes` and the rhythm `r`

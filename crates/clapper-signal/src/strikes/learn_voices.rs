@@ -72,16 +72,6 @@ pub fn learn_voices(sig: &Signal, nominals_hz: &[f64]) -> Result<LearnedVoices, 
     if nominals_hz.is_empty() || nominals_hz.iter().any(|f| !(f.is_finite() && *f > 20.0)) {
         return Err(SignalError::Option("nominals: one a bell, each above 20 Hz".into()));
     }
-    let assumed = |onsets: usize| -> Vec<LearnedVoice> {
-        nominals_hz
-            .iter()
-            .map(|&f| LearnedVoice {
-                voice: BellVoice::from_nominal(f),
-                onsets,
-                learned: false,
-            })
-            .collect()
-    };
     // Up to past the treble's octave nominal and twelfth.
     let top = nominals_hz.iter().copied().fold(0.0, f64::max);
     let f_max = (3.2 * top).clamp(2000.0, 0.45 * sig.rate);
@@ -90,154 +80,224 @@ pub fn learn_voices(sig: &Signal, nominals_hz: &[f64]) -> Result<LearnedVoices, 
     let lag = 4;
     if frames.count() < lag + 3 {
         return Ok(LearnedVoices {
-            bells: assumed(0),
+            bells: assumed(nominals_hz),
             onsets: 0,
             warnings: vec![],
         });
     }
     let onsets = pick_onsets(&frames.flux(lag));
-    // Each onset's rise (normalised) and how far each bell's nominal
-    // jumped there: its rise over what sounded there before (a struck
-    // bell's nominal comes back far above its last strike's decay; the
-    // other bells' do not move, whatever their strength).
-    let (k_lo, df) = (frames.k_lo, frames.df);
-    let bin = |f: f64| (f / df).round() as isize - k_lo as isize;
+    let o = OnsetRises::of(&frames, &onsets, lag, nominals_hz);
     let n = nominals_hz.len();
-    let mut rises: Vec<Vec<f64>> = vec![];
-    let mut jumped: Vec<Vec<f64>> = vec![];
-    for &t in &onsets {
-        let (a, b) = (frames.magnitudes(t), frames.magnitudes(t - lag));
-        let r: Vec<f64> = a.iter().zip(&b).map(|(x, y)| (x - y).max(0.0)).collect();
-        let top = a.iter().copied().fold(0.0, f64::max);
-        let floor = (JUMP_FLOOR * top).max(1e-300);
-        jumped.push(
-            nominals_hz
-                .iter()
-                .map(|&f| {
-                    let (lo, hi) = (bin(0.994 * f).min(bin(f) - 1), bin(1.006 * f).max(bin(f) + 1));
-                    let (lo, hi) = (lo.max(0) as usize, (hi.max(0) as usize).min(r.len().saturating_sub(1)));
-                    (lo..=hi).map(|k| r[k] / (b[k] + floor)).fold(0.0, f64::max)
-                })
-                .collect(),
-        );
-        let norm = r.iter().map(|v| v * v).sum::<f64>().sqrt();
-        rises.push(if norm > 0.0 {
-            r.into_iter().map(|v| v / norm).collect()
-        } else {
-            r
-        });
-    }
-    let mut owner: Vec<Option<usize>> = jumped
-        .iter()
-        .map(|j| {
-            let (k, v) = j.iter().enumerate().max_by(|x, y| x.1.total_cmp(y.1))?;
-            (*v >= FIRST_GUESS).then_some(k)
-        })
-        .collect();
-    // The onsets' own groups (alike rises) given to the bells whose
-    // nominal they fit, where the first guess left a bell without onsets
-    // (in rounds a bell always follows the same one, whose partials rise
-    // at its onsets too).
-    let (k_lo_, df_) = (k_lo, df);
-    let groups = alike_groups(&rises, n + EXTRA_GROUPS);
-    let expected = rises.len() as f64 / n as f64;
-    let mut scored: Vec<(usize, usize, f64)> = vec![];
-    for (g, members) in groups.iter().enumerate() {
-        if (members.len() as f64) < 0.3 * expected {
-            continue;
-        }
-        let pattern = mean_of_onsets(&rises, members);
-        for k in 0..n {
-            let rose = members.iter().filter(|&&i| jumped[i][k] >= NOMINAL_ROSE).count();
-            if 2 * rose >= members.len() {
-                scored.push((g, k, bell_fit(&pattern, nominals_hz[k], k_lo_, df_)));
-            }
-        }
-    }
-    scored.sort_by(|a, b| b.2.total_cmp(&a.2));
-    let (mut group_done, mut bell_done) = (vec![false; groups.len()], vec![false; n]);
-    let mut from_groups: Vec<Option<usize>> = vec![None; rises.len()];
-    for (g, k, _) in scored {
-        if group_done[g] || bell_done[k] {
-            continue;
-        }
-        group_done[g] = true;
-        bell_done[k] = true;
-        for &i in &groups[g] {
-            from_groups[i] = Some(k);
-        }
-    }
-    if bell_done.iter().filter(|d| **d).count() > (0..n).filter(|&k| owner.contains(&Some(k))).count() {
-        owner = from_groups;
-    }
+    let mut owner = o.first_owners();
     let mut patterns = vec![vec![]; n];
     for _ in 0..4 {
-        patterns = (0..n).map(|k| mean_of(&rises, &owner, k)).collect();
-        owner = rises
+        patterns = (0..n).map(|k| mean_of(&o.rises, &owner, k)).collect();
+        owner = o.closest(&patterns);
+    }
+    patterns = (0..n).map(|k| mean_of(&o.rises, &owner, k)).collect();
+    let mut counts: Vec<usize> = (0..n)
+        .map(|k| owner.iter().filter(|x| **x == Some(k)).count())
+        .collect();
+    o.swap_octaves(&mut patterns, &mut counts);
+    let (bells, warnings) = o.voices(&patterns, &counts);
+    Ok(LearnedVoices {
+        bells,
+        onsets: onsets.len(),
+        warnings,
+    })
+}
+
+/// Every bell assumed from its nominal.
+fn assumed(nominals_hz: &[f64]) -> Vec<LearnedVoice> {
+    nominals_hz
+        .iter()
+        .map(|&f| LearnedVoice {
+            voice: BellVoice::from_nominal(f),
+            onsets: 0,
+            learned: false,
+        })
+        .collect()
+}
+
+/// Each onset's rise (normalised) and how far each bell's nominal jumped
+/// there, with the nominals and the spectra's bins.
+struct OnsetRises<'a> {
+    rises: Vec<Vec<f64>>,
+    /// Per onset, per bell: its nominal's rise over what sounded there
+    /// before (a struck bell's nominal comes back far above its last
+    /// strike's decay; the other bells' do not move, whatever their strength).
+    jumped: Vec<Vec<f64>>,
+    nominals_hz: &'a [f64],
+    k_lo: usize,
+    df: f64,
+}
+
+impl<'a> OnsetRises<'a> {
+    fn of(frames: &Frames, onsets: &[usize], lag: usize, nominals_hz: &'a [f64]) -> Self {
+        let (k_lo, df) = (frames.k_lo, frames.df);
+        let bin = |f: f64| (f / df).round() as isize - k_lo as isize;
+        let mut rises: Vec<Vec<f64>> = vec![];
+        let mut jumped: Vec<Vec<f64>> = vec![];
+        for &t in onsets {
+            let (a, b) = (frames.magnitudes(t), frames.magnitudes(t - lag));
+            let r: Vec<f64> = a.iter().zip(&b).map(|(x, y)| (x - y).max(0.0)).collect();
+            let top = a.iter().copied().fold(0.0, f64::max);
+            let floor = (JUMP_FLOOR * top).max(1e-300);
+            jumped.push(
+                nominals_hz
+                    .iter()
+                    .map(|&f| {
+                        let (lo, hi) = (bin(0.994 * f).min(bin(f) - 1), bin(1.006 * f).max(bin(f) + 1));
+                        let (lo, hi) = (lo.max(0) as usize, (hi.max(0) as usize).min(r.len().saturating_sub(1)));
+                        (lo..=hi).map(|k| r[k] / (b[k] + floor)).fold(0.0, f64::max)
+                    })
+                    .collect(),
+            );
+            let norm = r.iter().map(|v| v * v).sum::<f64>().sqrt();
+            rises.push(if norm > 0.0 {
+                r.into_iter().map(|v| v / norm).collect()
+            } else {
+                r
+            });
+        }
+        OnsetRises {
+            rises,
+            jumped,
+            nominals_hz,
+            k_lo,
+            df,
+        }
+    }
+
+    fn fit(&self, pattern: &[f64], k: usize) -> f64 {
+        bell_fit(pattern, self.nominals_hz[k], self.k_lo, self.df)
+    }
+
+    /// The first guess of each onset's bell: the bell whose nominal jumped
+    /// most there; or, where that leaves more bells without onsets, the
+    /// onsets' own groups (alike rises) given to the bells whose nominal
+    /// they fit (in rounds a bell always follows the same one, whose
+    /// partials rise at its onsets too).
+    fn first_owners(&self) -> Vec<Option<usize>> {
+        let n = self.nominals_hz.len();
+        let owner: Vec<Option<usize>> = self
+            .jumped
             .iter()
-            .zip(&jumped)
+            .map(|j| {
+                let (k, v) = j.iter().enumerate().max_by(|x, y| x.1.total_cmp(y.1))?;
+                (*v >= FIRST_GUESS).then_some(k)
+            })
+            .collect();
+        let groups = alike_groups(&self.rises, n + EXTRA_GROUPS);
+        let expected = self.rises.len() as f64 / n as f64;
+        let mut scored: Vec<(usize, usize, f64)> = vec![];
+        for (g, members) in groups.iter().enumerate() {
+            if (members.len() as f64) < 0.3 * expected {
+                continue;
+            }
+            let pattern = mean_of_onsets(&self.rises, members);
+            for k in 0..n {
+                let rose = members.iter().filter(|&&i| self.jumped[i][k] >= NOMINAL_ROSE).count();
+                if 2 * rose >= members.len() {
+                    scored.push((g, k, self.fit(&pattern, k)));
+                }
+            }
+        }
+        scored.sort_by(|a, b| b.2.total_cmp(&a.2));
+        let (mut group_done, mut bell_done) = (vec![false; groups.len()], vec![false; n]);
+        let mut from_groups: Vec<Option<usize>> = vec![None; self.rises.len()];
+        for (g, k, _) in scored {
+            if group_done[g] || bell_done[k] {
+                continue;
+            }
+            group_done[g] = true;
+            bell_done[k] = true;
+            for &i in &groups[g] {
+                from_groups[i] = Some(k);
+            }
+        }
+        let guessed = (0..n).filter(|&k| owner.contains(&Some(k))).count();
+        if bell_done.iter().filter(|d| **d).count() > guessed {
+            from_groups
+        } else {
+            owner
+        }
+    }
+
+    /// Each onset given to the bell whose pattern its rise is most like,
+    /// among those whose nominal rose there.
+    fn closest(&self, patterns: &[Vec<f64>]) -> Vec<Option<usize>> {
+        self.rises
+            .iter()
+            .zip(&self.jumped)
             .map(|(r, j)| {
-                (0..n)
+                (0..patterns.len())
                     .filter(|&k| j[k] >= NOMINAL_ROSE && !patterns[k].is_empty())
                     .map(|k| (k, cosine(r, &patterns[k])))
                     .filter(|x| x.1 >= LIKE)
                     .max_by(|x, y| x.1.total_cmp(&y.1))
                     .map(|x| x.0)
             })
-            .collect();
+            .collect()
     }
-    patterns = (0..n).map(|k| mean_of(&rises, &owner, k)).collect();
-    let mut counts: Vec<usize> = (0..n)
-        .map(|k| owner.iter().filter(|o| **o == Some(k)).count())
-        .collect();
-    // Bells an octave apart share two partials (the treble's prime is the
-    // tenor's nominal, the tenor's octave nominal the treble's): each
-    // pattern goes to the nominal its other partials fit best.
-    loop {
-        let fit = |p: &[f64], k: usize| bell_fit(p, nominals_hz[k], k_lo, df);
-        let best = (0..n)
-            .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
-            .map(|(i, j)| {
-                let gain = fit(&patterns[i], j) + fit(&patterns[j], i) - fit(&patterns[i], i) - fit(&patterns[j], j);
-                (i, j, gain)
-            })
-            .max_by(|a, b| a.2.total_cmp(&b.2));
-        match best {
-            Some((i, j, gain)) if gain >= SWAP => {
-                patterns.swap(i, j);
-                counts.swap(i, j);
+
+    /// Bells an octave apart share two partials (the treble's prime is the
+    /// tenor's nominal, the tenor's octave nominal the treble's): each
+    /// pattern goes to the nominal its other partials fit best.
+    fn swap_octaves(&self, patterns: &mut [Vec<f64>], counts: &mut [usize]) {
+        let n = patterns.len();
+        loop {
+            let best = (0..n)
+                .flat_map(|i| (i + 1..n).map(move |j| (i, j)))
+                .map(|(i, j)| {
+                    let gain = self.fit(&patterns[i], j) + self.fit(&patterns[j], i)
+                        - self.fit(&patterns[i], i)
+                        - self.fit(&patterns[j], j);
+                    (i, j, gain)
+                })
+                .max_by(|a, b| a.2.total_cmp(&b.2));
+            match best {
+                Some((i, j, gain)) if gain >= SWAP => {
+                    patterns.swap(i, j);
+                    counts.swap(i, j);
+                }
+                _ => break,
             }
-            _ => break,
         }
     }
-    let typical = crate::median(&counts.iter().map(|&c| c as f64).collect::<Vec<_>>());
-    let mut warnings = vec![];
-    let mut bells = assumed(0);
-    for k in 0..n {
-        bells[k].onsets = counts[k];
-        if (counts[k] as f64) < (0.3 * typical).max(3.0) {
-            warnings.push(format!(
-                "bell {} ({:.1} Hz): its nominal rose at only {} onsets of the recording: its partials are assumed from a tuned bell's",
-                k + 1,
-                nominals_hz[k],
-                counts[k]
-            ));
-            continue;
+
+    /// Each bell's voice from its pattern (of `counts` onsets), and the
+    /// warnings: a bell heard at too few onsets (assumed from its
+    /// nominal), two bells whose patterns are alike.
+    fn voices(&self, patterns: &[Vec<f64>], counts: &[usize]) -> (Vec<LearnedVoice>, Vec<String>) {
+        let n = patterns.len();
+        let typical = crate::median(&counts.iter().map(|&c| c as f64).collect::<Vec<_>>());
+        let mut warnings = vec![];
+        let mut bells = assumed(self.nominals_hz);
+        for k in 0..n {
+            bells[k].onsets = counts[k];
+            if (counts[k] as f64) < (0.3 * typical).max(3.0) {
+                warnings.push(format!(
+                    "bell {} ({:.1} Hz): its nominal rose at only {} onsets of the recording: its partials are assumed from a tuned bell's",
+                    k + 1,
+                    self.nominals_hz[k],
+                    counts[k]
+                ));
+                continue;
+            }
+            let others: Vec<&[f64]> = (0..n)
+                .filter(|&j| j != k && counts[j] > 0)
+                .map(|j| patterns[j].as_slice())
+                .collect();
+            if let Some(v) = voice_of(&patterns[k], &others, self.nominals_hz[k], self.k_lo, self.df) {
+                bells[k].voice = v;
+                bells[k].learned = true;
+            }
         }
-        let others: Vec<&[f64]> = (0..n)
-            .filter(|&j| j != k && counts[j] > 0)
-            .map(|j| patterns[j].as_slice())
-            .collect();
-        if let Some(v) = voice_of(&patterns[k], &others, nominals_hz[k], k_lo, df) {
-            bells[k].voice = v;
-            bells[k].learned = true;
-        }
-    }
-    for i in 0..n {
-        for j in i + 1..n {
-            if bells[i].learned && bells[j].learned {
+        for i in 0..n {
+            for j in i + 1..n {
                 let c = cosine(&patterns[i], &patterns[j]);
-                if c > ALIKE {
+                if bells[i].learned && bells[j].learned && c > ALIKE {
                     warnings.push(format!(
                         "bells {} and {}: their partials rise alike at their strikes (likeness {c:.2}): their partials cannot be told apart, and one's strikes may be taken for the other's",
                         i + 1,
@@ -246,12 +306,8 @@ pub fn learn_voices(sig: &Signal, nominals_hz: &[f64]) -> Result<LearnedVoices, 
                 }
             }
         }
+        (bells, warnings)
     }
-    Ok(LearnedVoices {
-        bells,
-        onsets: onsets.len(),
-        warnings,
-    })
 }
 
 /// A bell's partials as heard in recordings, as ranges of the ratio to
