@@ -7,6 +7,8 @@
 //! cargo run --release -p clapper-app --example real_rings -- FOLDER [--bells N] [--skip K] [--seeds A-B] [--mode templates|nominals|learned|both] [--conditions 1,2] [--show] [--order pitch|name|name-rev] [--nominals F1,F2,..] [--raw]
 //!
 //! `--skip K` leaves out the K highest bells (a ring of the next N).
+//! `--mode nominals` times the strikes from the ring's own clean strikes
+//! (`--self-calibrate`); with `--raw`, as heard through a tuned bell's ratios.
 //! No recordings ship with the project: docs/strikes.md names the ones
 //! measured.
 
