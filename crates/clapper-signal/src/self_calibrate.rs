@@ -40,7 +40,7 @@ const SHIFT_S: f64 = 0.06;
 const BLOCK_S: f64 = 0.0005;
 /// A block's energy in the average this many times what the strikes'
 /// spread leaves there is the bell's.
-const START: f64 = 6.0;
+const START: f64 = 4.0;
 /// From a block over [`START`], the start is moved back over blocks above
 /// this (the strikes' spread alone gives 1).
 const ABOVE: f64 = 1.3;
