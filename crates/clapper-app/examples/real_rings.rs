@@ -7,6 +7,8 @@
 //! cargo run --release -p clapper-app --example real_rings -- FOLDER [--bells N] [--skip K] [--seeds A-B] [--mode templates|nominals|learned|both] [--conditions 1,2] [--show] [--order pitch|name|name-rev] [--nominals F1,F2,..] [--raw]
 //!
 //! `--skip K` leaves out the K highest bells (a ring of the next N).
+//! `--mode nominals` times the strikes from the ring's own clean strikes
+//! (`--self-calibrate`); with `--raw`, as heard through a tuned bell's ratios.
 //! No recordings ship with the project: docs/strikes.md names the ones
 //! measured.
 
@@ -205,9 +207,15 @@ fn main() {
                     ..TowerSpec::new(bells)
                 };
                 let (sig, truth) = sampled_ring(&spec, &strikes).unwrap();
-                let timing = match (*mode, a.raw) {
-                    (_, true) => Timing::AsHeard,
-                    ("templates", _) => Timing::Templates(&strikes),
+                // --mode nominals: timed from the ring's own clean strikes
+                // (`--raw`: as heard through the tuned-bell voices).
+                let calibration = (*mode == "nominals" && !a.raw).then(|| {
+                    clapper_app::strikes::calibrate_from_recording(&sig, &nominals, &StrikeOptions::default()).unwrap()
+                });
+                let timing = match (*mode, a.raw, &calibration) {
+                    (_, true, _) => Timing::AsHeard,
+                    ("templates", _, _) => Timing::Templates(&strikes),
+                    (_, _, Some(c)) => Timing::Recording(c),
                     _ => Timing::AsHeard,
                 };
                 // --mode learned: the nominals learned from the ring itself
@@ -236,6 +244,24 @@ fn main() {
                         }
                     );
                     l.bells.iter().map(|b| BellVoice::from_nominal(b.nominal_hz)).collect()
+                } else if let Some(c) = &calibration {
+                    if a.show {
+                        for (b, v) in c.bells.iter().zip(&c.voices) {
+                            println!(
+                                "  bell {}: partials {} ({}), lateness {:?} ms from {} clean strikes",
+                                b.bell,
+                                if b.partials_learned { "learned" } else { "assumed" },
+                                v.partials
+                                    .iter()
+                                    .map(|p| format!("{:.1} ({:.2})", p.freq_hz, p.strength))
+                                    .collect::<Vec<_>>()
+                                    .join(", "),
+                                b.lateness_s.map(|l| (l * 1e4).round() / 10.0),
+                                b.strikes
+                            );
+                        }
+                    }
+                    c.voices.clone()
                 } else {
                     voices.clone()
                 };

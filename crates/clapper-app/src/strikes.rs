@@ -7,12 +7,13 @@ use std::fmt::Write as _;
 
 use clapper_core::stroke::double_strike_index;
 use clapper_signal::lateness::{from_templates, Lateness};
+use clapper_signal::self_calibrate::{calibrate, SelfCalibration};
 use clapper_signal::strikes::{
     find_strikes_streamed, rising, BellVoice, Heard, InMemory, RecordingBlocks, StrikeOptions, Window, Windows,
     PLAUSIBLE_SHARE,
 };
 use clapper_signal::striking::{mean_sd, rhythm, Rhythm, Timed};
-use clapper_signal::template_timing::{median_of, retime_each_with};
+use clapper_signal::template_timing::median_of;
 use clapper_signal::Signal;
 use serde::Serialize;
 
@@ -21,6 +22,9 @@ use crate::AppError;
 mod doubt;
 mod input;
 pub use input::{NO_STRIKES, ONE_BELL};
+mod retime;
+
+use retime::{in_core, realign_window, retime_window};
 
 /// The sample rates (Hz) of recordings listened to: a telephone's to a
 /// studio's (the finder decimates each band, so a high rate costs reading
@@ -147,7 +151,8 @@ pub struct BellTiming {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct TimingReport {
     /// Where each bell's lateness was learned: "templates" (its recording
-    /// struck alone).
+    /// struck alone) or "recording" (the recording's own clean strikes,
+    /// with nominals: `learned_from` counts them).
     pub source: &'static str,
     /// Treble first.
     pub per_bell: Vec<BellTiming>,
@@ -161,6 +166,21 @@ pub enum Timing<'a> {
     /// Each bell's lateness learned from its recording struck alone (one per
     /// bell, treble first, at one rate).
     Templates(&'a [Signal]),
+    /// Each bell's template and lateness learned from the recording's own
+    /// clean strikes ([`calibrate_from_recording`]; listen with its voices).
+    Recording(&'a SelfCalibration),
+}
+
+/// Each bell's partials and template learned from the recording `sig`
+/// itself, its nominals given (treble first): for [`Timing::Recording`],
+/// heard through the calibration's voices.
+pub fn calibrate_from_recording(
+    sig: &Signal,
+    nominals: &[f64],
+    opts: &StrikeOptions,
+) -> Result<SelfCalibration, AppError> {
+    voices_from_nominals(nominals)?;
+    calibrate(sig, nominals, opts).map_err(signal_error)
 }
 
 /// A bell's nominal learned from the recording (`--bells N`).
@@ -365,7 +385,7 @@ impl StrikesReport {
         // The lateness on a ring of the templates needs them at one rate;
         // matching each strike does not (it resamples them).
         let (lateness, no_lateness) = match timing {
-            Timing::AsHeard => (None, None),
+            Timing::AsHeard | Timing::Recording(_) => (None, None),
             Timing::Templates(t) => match from_templates(t, voices, opts) {
                 Ok(l) => (Some(l), None),
                 Err(e) => (None, Some(format!("no lateness learned from the templates: {e}"))),
@@ -393,19 +413,16 @@ impl StrikesReport {
                     samples: w.sig.samples[..end].to_vec(),
                 };
             }
-            // With templates, each strike is timed against its bell's
-            // template; the lateness learned on a ring of the templates then
-            // serves only a bell whose template is too short to match.
-            if let Timing::Templates(t) = timing {
-                retime_window(w, heard, t, &late, opts, &mut moved)?;
-            }
-            Ok(())
+            timed_again(timing, w, heard, &late, opts, &mut moved)
         };
         let mut heard = find_strikes_streamed(src, voices, opts, windows, &mut each).map_err(signal_error)?;
         let matched: Vec<Option<f64>> = moved.into_iter().map(median_of).collect();
         let mut warnings = std::mem::take(&mut heard.warnings);
         warnings.extend(no_lateness);
-        let timing_report = lateness.map(|l| correct_lateness(l, &matched, &mut heard, &mut warnings));
+        let timing_report = match timing {
+            Timing::Recording(c) => Some(recording_timing(c, &matched, &mut warnings)),
+            _ => lateness.map(|l| correct_lateness(l, &matched, &mut heard, &mut warnings)),
+        };
         let plausibility = (rises.0 > 0).then(|| rises.1 as f64 / rises.0 as f64);
         if let Some(p) = plausibility.filter(|p| *p < PLAUSIBLE_SHARE) {
             warnings.insert(
@@ -560,13 +577,20 @@ impl StrikesReport {
                     .collect::<Vec<_>>()
                     .join(", ")
             };
-            let _ = writeln!(
-                o,
-                "timing from the {}: heard late on a ring of them (ms) {}; each strike matched to its template moved (median ms) {}",
-                t.source,
-                list(&|b| (b.learned_from > 0).then_some(b.lateness_ms)),
-                list(&|b| b.matched_ms)
-            );
+            let late = list(&|b| (b.learned_from > 0).then_some(b.lateness_ms));
+            let moved = list(&|b| b.matched_ms);
+            let _ = if t.source == "recording" {
+                writeln!(
+                    o,
+                    "timing from the recording's own clean strikes: heard late (ms) {late}; each strike lined up on its bell's average strike moved (median ms) {moved}"
+                )
+            } else {
+                writeln!(
+                    o,
+                    "timing from the {}: heard late on a ring of them (ms) {late}; each strike matched to its template moved (median ms) {moved}",
+                    t.source
+                )
+            };
         }
         for w in &s.warnings {
             let _ = writeln!(o, "warning: {w}");
@@ -656,36 +680,47 @@ fn correct_lateness(
     }
 }
 
-/// Each strike of window `w` timed again against its bell's template
-/// ([`retime_each_with`], with the user's options), how far each moved kept per bell in `moved` (those of
-/// the window's core only, so a strike two windows hear counts once).
-fn retime_window(
+/// Each strike of window `w` timed again as `timing` says, how far each
+/// moved kept per bell in `moved`. With templates, each strike is timed
+/// against its bell's template; the lateness learned on a ring of the
+/// templates (`late`) then serves only a bell whose template is too short
+/// to match.
+fn timed_again(
+    timing: Timing,
     w: &Window,
     heard: &mut Heard,
-    templates: &[Signal],
     late: &[Option<f64>],
     opts: &StrikeOptions,
     moved: &mut Vec<Vec<f64>>,
 ) -> Result<(), clapper_signal::SignalError> {
-    moved.resize(templates.len(), vec![]);
-    // The user's options (the double's window and ratio) reach the match.
-    let moves = retime_each_with(w.sig, heard, templates, late, opts)?;
-    for (s, m) in heard.strikes.iter().zip(moves) {
-        if let (Some(m), true) = (m, in_core(w, s.t)) {
-            moved[s.bell - 1].push(m);
-        }
+    match timing {
+        Timing::Templates(t) => retime_window(w, heard, t, late, opts, moved)?,
+        Timing::Recording(c) => realign_window(w, heard, c, moved),
+        Timing::AsHeard => {}
     }
-    heard
-        .strikes
-        .sort_by(|a, b| a.t.total_cmp(&b.t).then(a.bell.cmp(&b.bell)));
     Ok(())
 }
 
-/// Whether a strike at `t` (s from the start of window `w`) is one the
-/// window reports: any, where the window is the whole recording.
-fn in_core(w: &Window, t: f64) -> bool {
-    let at = w.start as f64 + t * w.sig.rate;
-    (w.start == 0 && w.core == (0, w.sig.samples.len())) || (at >= w.core.0 as f64 && at < w.core.1 as f64)
+/// The timing report of a calibration from the recording itself: each
+/// bell's lateness found on its clean strikes, and how far its strikes
+/// moved when lined up on its average strike (`matched`, per bell); the
+/// calibration's warnings added to `warnings`.
+fn recording_timing(c: &SelfCalibration, matched: &[Option<f64>], warnings: &mut Vec<String>) -> TimingReport {
+    warnings.extend(c.warnings.iter().cloned());
+    TimingReport {
+        source: "recording",
+        per_bell: c
+            .bells
+            .iter()
+            .map(|b| BellTiming {
+                bell: b.bell,
+                lateness_ms: b.lateness_s.unwrap_or(0.0) * 1e3,
+                spread_ms: b.spread_s * 1e3,
+                learned_from: b.strikes,
+                matched_ms: matched.get(b.bell - 1).copied().flatten().map(|m| m * 1e3),
+            })
+            .collect(),
+    }
 }
 
 /// Bell `bell`'s striking from the report's `strikes` and the rhythm `r`

@@ -7,7 +7,8 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use clapper_app::strikes::{
-    learned_voices, strike_options, voices_from_nominals, StrikesReport, StrikingFigure, Timing,
+    calibrate_from_recording, learned_voices, strike_options, voices_from_nominals, StrikesReport, StrikingFigure,
+    Timing,
 };
 use clapper_io::signal_file::{read_recording, write_wav};
 use clapper_io::strike_file::{csv_text, lowndes};
@@ -47,6 +48,13 @@ pub struct StrikesArgs {
     /// A folder of recordings of each bell struck alone, named 1.wav, 2.wav, ...
     #[arg(long, value_name = "DIR")]
     pub templates: Option<PathBuf>,
+    /// With --nominals: learn each bell's partials and its strike's sound
+    /// from the recording's own clean strikes (its first 80 s), and time
+    /// every strike at the start of its sound against that (issue 43: real
+    /// bells do not follow a tuned bell's partial ratios, and their sound
+    /// builds up after the blow). Reported per bell under "timing".
+    #[arg(long, requires = "nominals")]
+    pub self_calibrate: bool,
     /// Without nominals: the number of bells ringing (3 to 16); their
     /// nominals are learned from the recording itself and reported.
     #[arg(long, value_name = "N", conflicts_with_all = ["nominals", "templates"])]
@@ -111,6 +119,9 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         &[("--csv", args.csv.as_deref()), ("--lowndes", args.lowndes.as_deref())],
         args.json,
     )?;
+    if args.self_calibrate && args.nominals.is_none() {
+        bail!("--self-calibrate learns each bell from the recording about the nominals given: give --nominals F1,F2,.. (Hz, treble first)");
+    }
     let mut learned = None;
     let (voices, recorded) = match (&args.nominals, &args.templates, args.bells) {
         (Some(n), _, _) => (voices_from_nominals(&n.0)?, vec![]),
@@ -130,11 +141,20 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         clapper_plot::format_of(path)?;
     }
     let opts = strike_options(args.double_min_ratio)?;
+    // --self-calibrate: partials and templates learned from the recording's first window.
+    let calibration = match (&args.nominals, args.self_calibrate) {
+        (Some(n), true) => {
+            let head = recording_head(&args.file, Windows::default().whole_s)?;
+            Some(calibrate_from_recording(&head, &n.0, &opts).with_context(|| args.file.display().to_string())?)
+        }
+        _ => None,
+    };
+    let voices = calibration.as_ref().map_or(voices, |c| c.voices.clone());
     // With templates, each strike is timed against its bell's template.
-    let timing = if recorded.is_empty() {
-        Timing::AsHeard
-    } else {
-        Timing::Templates(&recorded)
+    let timing = match &calibration {
+        Some(c) => Timing::Recording(c),
+        None if recorded.is_empty() => Timing::AsHeard,
+        None => Timing::Templates(&recorded),
     };
     // The recording is read in blocks and heard in windows (issue 46):
     // memory does not grow with its length. A layout not streamed is read whole.
@@ -169,6 +189,33 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         crate::files::write_atomically(path, |tmp| Ok(clapper_plot::striking_plot(tmp, &fig.plot())?))?;
     }
     print_report(&report, args.json, || report.text(&args.file.display().to_string()))
+}
+
+/// The first `seconds` of the recording at `path` (all of a shorter one).
+fn recording_head(path: &std::path::Path, seconds: f64) -> Result<Signal> {
+    use clapper_signal::strikes::RecordingBlocks;
+    match WavStream::open(path)? {
+        Some(mut s) => {
+            let rate = s.rate();
+            let want = ((seconds * rate) as usize).min(s.total());
+            let mut samples = Vec::with_capacity(want);
+            while samples.len() < want {
+                let max = want - samples.len();
+                if s.read(&mut samples, max)
+                    .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?
+                    == 0
+                {
+                    break;
+                }
+            }
+            Ok(Signal { rate, samples })
+        }
+        None => {
+            let mut sig = read_recording(path)?;
+            sig.samples.truncate((seconds * sig.rate) as usize);
+            Ok(sig)
+        }
+    }
 }
 
 #[derive(Args, Debug)]

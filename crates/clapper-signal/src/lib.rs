@@ -17,6 +17,7 @@ pub mod modes;
 pub mod ringing_log;
 pub mod ringing_log_synth;
 pub mod sampled_ring;
+pub mod self_calibrate;
 pub mod spectrogram;
 pub mod strikes;
 pub mod striking;

@@ -61,15 +61,15 @@ const PRESENT: f64 = 0.1;
 const CLOSE: f64 = 0.04;
 
 /// The short-time spectra: magnitudes from `k_lo` to `k_hi` of frames `hop` apart.
-struct Frames<'a> {
+pub(super) struct Frames<'a> {
     sig: &'a [f64],
     win: Vec<f64>,
     hop: usize,
     fft: std::sync::Arc<dyn realfft::RealToComplex<f64>>,
-    k_lo: usize,
+    pub(super) k_lo: usize,
     k_hi: usize,
     /// Bin spacing (Hz).
-    df: f64,
+    pub(super) df: f64,
 }
 
 impl<'a> Frames<'a> {
@@ -77,6 +77,11 @@ impl<'a> Frames<'a> {
     /// long enough to part bells a semitone apart, short enough that bells
     /// 150 ms apart rise in different frames.
     fn of(low: &'a Signal) -> Self {
+        Self::up_to(low, F_MAX)
+    }
+
+    /// As [`Frames::of`], up to `f_max` (Hz) rather than [`F_MAX`].
+    pub(super) fn up_to(low: &'a Signal, f_max: f64) -> Self {
         let rate = low.rate;
         let n_win = ((0.09 * rate) as usize).next_power_of_two();
         let nfft = 2 * n_win;
@@ -88,12 +93,12 @@ impl<'a> Frames<'a> {
             hop: n_win / 4,
             fft: planner.plan_fft_forward(nfft),
             k_lo: (F_MIN / df).ceil() as usize,
-            k_hi: ((F_MAX.min(0.45 * rate)) / df).floor() as usize,
+            k_hi: ((f_max.min(0.45 * rate)) / df).floor() as usize,
             df,
         }
     }
 
-    fn count(&self) -> usize {
+    pub(super) fn count(&self) -> usize {
         if self.sig.len() < self.win.len() {
             0
         } else {
@@ -103,7 +108,7 @@ impl<'a> Frames<'a> {
 
     /// Pass 1: the spectral rise of every frame over `lag` frames before
     /// it (summed over frequency).
-    fn flux(&self, lag: usize) -> Vec<f64> {
+    pub(super) fn flux(&self, lag: usize) -> Vec<f64> {
         let mut flux = vec![0.0; self.count()];
         let mut past: std::collections::VecDeque<Vec<f64>> = std::collections::VecDeque::new();
         for (t, f) in flux.iter_mut().enumerate() {
@@ -117,7 +122,7 @@ impl<'a> Frames<'a> {
         flux
     }
 
-    fn magnitudes(&self, t: usize) -> Vec<f64> {
+    pub(super) fn magnitudes(&self, t: usize) -> Vec<f64> {
         let mut buf = self.fft.make_input_vec();
         let start = t * self.hop;
         for (i, w) in self.win.iter().enumerate() {
@@ -207,7 +212,7 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
 
 /// Onset frames: peaks of the rise standing above its neighbours within
 /// three frames and above twice its lower quartile.
-fn pick_onsets(flux: &[f64]) -> Vec<usize> {
+pub(super) fn pick_onsets(flux: &[f64]) -> Vec<usize> {
     let mut sorted: Vec<f64> = flux.iter().copied().filter(|f| *f > 0.0).collect();
     if sorted.is_empty() {
         return vec![];

@@ -1,0 +1,130 @@
+//! `clapper strikes --nominals .. --self-calibrate` (issue 43): bells whose
+//! partials are not a tuned bell's (a recorded tower bell's ratios) and
+//! whose sound builds up after the blow, given only their nominals, are
+//! timed from the recording's own clean strikes; the report says per bell
+//! how late the band finder heard them and from how many strikes that was
+//! learned. Synthetic bells (the project's own), built by `sampled_ring`.
+
+mod common;
+
+use clapper_io::signal_file::write_wav;
+use clapper_signal::sampled_ring::sampled_ring;
+use clapper_signal::tower::{major_scale, Method, TowerSpec, TrueStrike};
+use clapper_signal::Signal;
+use common::clapper;
+
+/// A bell struck alone after 20 ms of silence: partials at a recorded
+/// tower bell's ratios to its nominal, starting at a tenth of their peak
+/// and building up over `rise_s`, the blow a burst of noise dying away in
+/// 30 ms.
+fn recorded_like(rate: f64, nominal: f64, rise_s: f64) -> Signal {
+    let parts = [
+        (0.5003, 0.32),
+        (1.0, 1.0),
+        (1.1837, 0.45),
+        (1.5628, 0.24),
+        (2.0037, 0.30),
+        (2.712, 0.17),
+        (2.979, 0.45),
+    ];
+    let mut samples = vec![0.0; (0.02 * rate) as usize];
+    let mut seed = (nominal * 7.0) as u64 | 1;
+    samples.extend((0..(1.6 * rate) as usize).map(|k| {
+        let t = k as f64 / rate;
+        let env = (0.1 + 0.9 * (1.0 - (-t / rise_s).exp())) * (-t / 0.9).exp();
+        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        let click = ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.3 * (-t / 0.03).exp();
+        parts
+            .iter()
+            .map(|&(r, a)| a * (2.0 * std::f64::consts::PI * r * nominal * t + r).sin())
+            .sum::<f64>()
+            * env
+            + click
+    }));
+    Signal { rate, samples }
+}
+
+/// The median error (ms) of bell `b`'s strikes in the JSON report `j`.
+fn median_error_ms(j: &serde_json::Value, truth: &[TrueStrike], b: usize) -> f64 {
+    let mut e: Vec<f64> = j["strikes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|s| s["bell"].as_u64() == Some(b as u64))
+        .filter_map(|s| {
+            let t = s["t_s"].as_f64().unwrap();
+            truth
+                .iter()
+                .filter(|x| x.bell == b)
+                .map(|x| (t - x.t) * 1e3)
+                .min_by(|p, q| p.abs().total_cmp(&q.abs()))
+        })
+        .collect();
+    e.sort_by(f64::total_cmp);
+    e[e.len() / 2]
+}
+
+#[test]
+fn strikes_self_calibrated_from_the_recording_times_a_bell_at_the_start_of_its_sound() {
+    let dir = tempfile::tempdir().unwrap();
+    let rate = 16_000.0;
+    let bells = major_scale(4, 1000.0).unwrap();
+    let nominals: Vec<f64> = bells.iter().map(|b| b.nominal_hz).collect();
+    let strikes: Vec<Signal> = nominals
+        .iter()
+        .enumerate()
+        .map(|(i, &f)| recorded_like(rate, f, 0.02 + 0.003 * i as f64))
+        .collect();
+    let spec = TowerSpec {
+        rate,
+        rows: 20,
+        interval: 2.0 / 5.0,
+        method: Method::PlainHunt,
+        snr_db: Some(25.0),
+        ..TowerSpec::new(bells)
+    };
+    let (sig, truth) = sampled_ring(&spec, &strikes).unwrap();
+    let ring = dir.path().join("ring.wav");
+    write_wav(&ring, &sig, 0.9).unwrap();
+    let given = nominals.iter().map(|f| format!("{f:.2}")).collect::<Vec<_>>().join(",");
+    let run = |extra: &[&str]| {
+        let out = clapper()
+            .arg("strikes")
+            .arg(&ring)
+            .args(["--nominals", &given])
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        out.stdout
+    };
+    let as_heard: serde_json::Value = serde_json::from_slice(&run(&["--json"])).unwrap();
+    let j: serde_json::Value = serde_json::from_slice(&run(&["--self-calibrate", "--json"])).unwrap();
+    let timing = &j["timing"];
+    assert_eq!(timing["source"], "recording", "{timing}");
+    let per_bell = timing["per_bell"].as_array().unwrap();
+    assert_eq!(per_bell.len(), 4);
+    // The treble's clean strikes agree: its lateness is learned from them,
+    // and its strikes are moved to the start of their sound (heard through
+    // a tuned bell's ratios they are more than 3 ms late).
+    let treble = &per_bell[0];
+    assert!(treble["learned_from"].as_u64().unwrap() >= 10, "{treble}");
+    assert!(treble["lateness_ms"].as_f64().unwrap() > 1.0, "{treble}");
+    let (before, after) = (median_error_ms(&as_heard, &truth, 1), median_error_ms(&j, &truth, 1));
+    assert!(before.abs() > 3.0, "as heard: {before:.2} ms");
+    assert!(after.abs() <= 3.0, "self-calibrated: {after:.2} ms");
+    // In words too.
+    let text = String::from_utf8(run(&["--self-calibrate"])).unwrap();
+    assert!(text.contains("timing from the recording's own clean strikes"), "{text}");
+}
+
+#[test]
+fn self_calibrate_needs_nominals() {
+    let out = clapper()
+        .args(["strikes", "ring.wav", "--bells", "6", "--self-calibrate"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let said = String::from_utf8_lossy(&out.stderr);
+    assert!(said.contains("--nominals"), "{said}");
+}
