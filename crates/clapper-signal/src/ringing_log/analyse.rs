@@ -603,6 +603,25 @@ mod tests {
         }
     }
 
+    /// An odd-struckness whose standard error is over 50 ms (an
+    /// independent tester's log read −113.7 ± 38625 ms), or read with no
+    /// set to tell hand from back, is withheld with why; one with a
+    /// modest error on a set bell is kept.
+    #[test]
+    fn an_odd_struckness_that_says_nothing_is_withheld() {
+        let (o, why) = odd_struck_checked(Some((-0.1137, 38.6252)), Some(1.0));
+        assert!(o.is_none());
+        assert!(why.expect("why").contains("standard error of 38625.2 ms"));
+        let (o, why) = odd_struck_checked(Some((0.0728, 0.0015)), None);
+        assert!(o.is_none());
+        assert!(why.expect("why").contains("not seen set"));
+        assert_eq!(
+            odd_struck_checked(Some((-0.0326, 0.0032)), Some(-1.0)),
+            (Some((-0.0326, 0.0032)), None)
+        );
+        assert_eq!(odd_struck_checked(None, None), (None, None));
+    }
+
     /// A strike before the raising's first bottom read starts the
     /// clappering (Data141: 38.85 s, read as 40.1 s, the first stroke's
     /// strike); one before the raising (a knock while down) does not; with
