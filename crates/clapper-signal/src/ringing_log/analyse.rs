@@ -180,7 +180,8 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         s.hand = s.from_side == hand_side;
     }
     let clappering_starts = clappering_start(&strong_onsets(&log, &onsets), &phases, &strokes);
-    let (odd_struck, odd_struck_withheld) = odd_struck_checked(odd_struck_with_se(&strokes), set_side);
+    let (odd_struck, odd_struck_withheld) =
+        odd_struck_checked(odd_struck_with_se(&strokes), set_side, a.misfit <= MAX_MISFIT);
     warnings.extend(odd_struck_withheld.clone());
     Ok(LogAnalysis {
         phases,
@@ -539,9 +540,14 @@ fn set_side(t: &[f64], theta: &[f64], phases: &[Phase], strokes: &[LogStroke]) -
 
 /// The odd-struckness `odd` (s, and its standard error) kept only when it
 /// says something: else `None` and why (an independent tester's logs read
-/// −113.7 ± 38625 ms, and 72.8 ± 1.5 ms for a truth of −21.0 with hand
-/// and back swapped on a bell never read as set).
-fn odd_struck_checked(odd: Option<(f64, f64)>, set_side: Option<f64>) -> (Option<(f64, f64)>, Option<String>) {
+/// −113.7 ± 38625 ms; and −43.3 ± 1.9 ms for a truth of −4.2, −98.7 ±
+/// 13.2 for −14.9, hand and back swapped, where the angle could not be
+/// read: `angle_read` false, the strokes from the tangential zeros).
+fn odd_struck_checked(
+    odd: Option<(f64, f64)>,
+    set_side: Option<f64>,
+    angle_read: bool,
+) -> (Option<(f64, f64)>, Option<String>) {
     let Some((o, se)) = odd else {
         return (None, None);
     };
@@ -551,6 +557,12 @@ fn odd_struck_checked(odd: Option<(f64, f64)>, set_side: Option<f64>) -> (Option
             o * 1e3,
             se * 1e3,
             MAX_ODD_SE * 1e3
+        )
+    } else if !angle_read {
+        format!(
+            "odd-struckness withheld ({:+.1} ± {:.1} ms): the angle could not be read, so which side a swing falls from, and so which stroke is the handstroke, is not sure",
+            o * 1e3,
+            se * 1e3
         )
     } else if set_side.is_none() {
         format!(
@@ -609,17 +621,20 @@ mod tests {
     /// modest error on a set bell is kept.
     #[test]
     fn an_odd_struckness_that_says_nothing_is_withheld() {
-        let (o, why) = odd_struck_checked(Some((-0.1137, 38.6252)), Some(1.0));
+        let (o, why) = odd_struck_checked(Some((-0.1137, 38.6252)), Some(1.0), true);
         assert!(o.is_none());
         assert!(why.expect("why").contains("standard error of 38625.2 ms"));
-        let (o, why) = odd_struck_checked(Some((0.0728, 0.0015)), None);
+        let (o, why) = odd_struck_checked(Some((0.0728, 0.0015)), None, true);
         assert!(o.is_none());
         assert!(why.expect("why").contains("not seen set"));
+        let (o, why) = odd_struck_checked(Some((-0.0433, 0.0019)), Some(1.0), false);
+        assert!(o.is_none());
+        assert!(why.expect("why").contains("angle could not be read"));
         assert_eq!(
-            odd_struck_checked(Some((-0.0326, 0.0032)), Some(-1.0)),
+            odd_struck_checked(Some((-0.0326, 0.0032)), Some(-1.0), true),
             (Some((-0.0326, 0.0032)), None)
         );
-        assert_eq!(odd_struck_checked(None, None), (None, None));
+        assert_eq!(odd_struck_checked(None, None, false), (None, None));
     }
 
     /// A strike before the raising's first bottom read starts the
