@@ -154,6 +154,9 @@ pub struct LogReport {
     pub odd_struck_ms: Option<f64>,
     /// Its standard error (ms).
     pub odd_struck_se_ms: Option<f64>,
+    /// Why the odd-struckness is null though the ringing was read (its
+    /// standard error too large, or hand and back not told apart).
+    pub odd_struck_withheld: Option<String>,
     /// Each phase's strokes summed up.
     pub phase_summary: Vec<PhaseSummary>,
     /// The phases.
@@ -245,6 +248,7 @@ pub fn read_log(log: &AccelLog, opts: &LogOptions, bell: Option<LoadedBell>) -> 
         model,
         odd_struck_ms: a.odd_struck.map(|o| o.0 * 1e3),
         odd_struck_se_ms: a.odd_struck.map(|o| o.1 * 1e3),
+        odd_struck_withheld: a.odd_struck_withheld.clone(),
         phase_summary,
         phases: a
             .phases
@@ -446,9 +450,14 @@ pub fn text(r: &LogReport) -> String {
     }
     let _ = writeln!(
         o,
-        "odd-struck (hand minus back, ringing): {}{}",
+        "odd-struck (hand minus back, ringing): {}{}{}",
         opt(r.odd_struck_ms, 1, "ms"),
-        r.odd_struck_se_ms.map_or(String::new(), |se| format!(" ± {se:.1} ms"))
+        r.odd_struck_se_ms.map_or(String::new(), |se| format!(" ± {se:.1} ms")),
+        if r.odd_struck_withheld.is_some() {
+            " (withheld: see the warnings)"
+        } else {
+            ""
+        }
     );
     if let Some(c) = &r.clappering_starts {
         let _ = writeln!(

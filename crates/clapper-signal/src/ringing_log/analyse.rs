@@ -1,7 +1,7 @@
 //! The reading of a log, step by step (the method: [`super`]).
 
 use super::bottoms::{hide_strikes_after_gaps, strokes, strokes_by_zeros, MAX_MISFIT};
-use super::bursts::{bursts, ringing_masked, STRIKE_S};
+use super::bursts::{bursts, radial_clipped, ringing_masked, STRIKE_S};
 use super::calibrate::{self, Calibration};
 use super::checks;
 use super::falls::{place_from_falls, Falls};
@@ -20,6 +20,10 @@ use std::borrow::Cow;
 /// do not calibrate the sensor: the rests alone are used.
 const MIN_FREE: usize = 3;
 
+/// An odd-struckness whose standard error is over this (s) says nothing
+/// (a bell's is a few tens of ms at most): it is withheld, with why.
+pub const MAX_ODD_SE: f64 = 0.05;
+
 /// What a log says.
 #[derive(Clone, Debug, PartialEq)]
 pub struct LogAnalysis {
@@ -28,8 +32,12 @@ pub struct LogAnalysis {
     /// Every swing, in time order.
     pub strokes: Vec<LogStroke>,
     /// Odd-struckness in the ringing: mean handstroke minus mean backstroke
-    /// BDC-to-strike (s), and its standard error (s).
+    /// BDC-to-strike (s), and its standard error (s); `None` when not read
+    /// or withheld ([`LogAnalysis::odd_struck_withheld`]).
     pub odd_struck: Option<(f64, f64)>,
+    /// Why an odd-struckness that was computed is not given: its standard
+    /// error over [`MAX_ODD_SE`], or hand and back not told apart for sure.
+    pub odd_struck_withheld: Option<String>,
     /// Clappering's start while raising.
     pub clappering_starts: Option<ClapperingStart>,
     /// The sensor's distance above the pivot used (m), given, read from the
@@ -108,13 +116,17 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         return Ok(not_a_ringing_log(log, opts, (interval, burst), plausibility, warnings));
     }
     let raw = log;
+    // The radial axis clipped alone (a far sensor's bottoms): out of the
+    // calibration's, the place's and the angle's fits, not a burst.
+    let rclip = radial_clipped(log, opts.clip);
+    let out: Vec<bool> = burst.iter().zip(&rclip).map(|(b, r)| *b || *r).collect();
     // Which way is down (the bursts are the same either way up).
-    let (orientation, log) = orient_log(log, &burst, opts.find_down, &mut warnings);
+    let (orientation, log) = orient_log(log, &out, opts.find_down, &mut warnings);
     let Calibrated {
         calibration,
         log,
         still,
-    } = calibrate_log(&log, &burst, interval, &mut warnings);
+    } = calibrate_log(&log, &out, interval, &mut warnings);
     let falls = match &calibration {
         Some(c) => Some(Falls {
             kappa: c.kappa,
@@ -122,10 +134,10 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
             length: c.length.unwrap_or(1.0),
             count: c.free,
         }),
-        None => place_from_falls(&log, &burst, &still, interval),
+        None => place_from_falls(&log, &out, &still, interval),
     };
     let bad = ringing_masked(&log, &burst, &onsets, opts.clip, opts.through_ringing);
-    let a = judged_angle(&log, (&bad, &burst), opts.sensor_along, falls.as_ref(), interval);
+    let a = judged_angle(&log, (&bad, &rclip, &out), opts.sensor_along, falls.as_ref(), interval);
     place_warning(&a, falls.as_ref(), &mut warnings);
     // The angle continuous but held within ±200 deg of the bottom: a bell
     // set past the balance (185 deg, say) reads more than 180 deg, not a
@@ -154,6 +166,7 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         checks::bottom_errors(c, &log, &a.joint_rate, &mut strokes);
     }
     let phases = phases(&log.t, &rests, &mut strokes, &theta, opts.full_swing);
+    radial_clip_warning(&log.t, &rclip, &strokes, &mut warnings);
     let set_side = set_side(&log.t, &theta, &phases, &strokes);
     let hand_side = set_side.unwrap_or(1.0);
     for s in &mut strokes {
@@ -161,9 +174,13 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         s.hand = s.from_side == hand_side;
     }
     let clappering_starts = clappering_start(&strong_onsets(&log, &onsets), &phases, &strokes);
+    let (odd_struck, odd_struck_withheld) =
+        odd_struck_checked(odd_struck_with_se(&strokes), set_side, a.misfit <= MAX_MISFIT);
+    warnings.extend(odd_struck_withheld.clone());
     Ok(LogAnalysis {
         phases,
-        odd_struck: odd_struck_with_se(&strokes),
+        odd_struck,
+        odd_struck_withheld,
         strokes,
         clappering_starts,
         sensor_along: a.h,
@@ -189,13 +206,13 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
 /// to the tangential zeros, its bottoms 9 ms off.
 fn judged_angle(
     log: &AccelLog,
-    (bad, burst): (&[bool], &[bool]),
+    (bad, rclip, out): (&[bool], &[bool], &[bool]),
     given: Option<f64>,
     falls: Option<&Falls>,
     interval: f64,
 ) -> Angle {
-    let mut a = angle(log, bad, given, falls, interval);
-    a.misfit = misfit(log, burst, (a.h, a.d), &a.joint_rate, &a.acc);
+    let mut a = angle(log, (bad, rclip), given, falls, interval);
+    a.misfit = misfit(log, out, (a.h, a.d), &a.joint_rate, &a.acc);
     a
 }
 
@@ -222,6 +239,7 @@ fn not_a_ringing_log(
         phases: vec![],
         strokes: vec![],
         odd_struck: None,
+        odd_struck_withheld: None,
         clappering_starts: None,
         sensor_along: opts.sensor_along.unwrap_or(0.0),
         sensor_across: 0.0,
@@ -257,7 +275,8 @@ fn prepare(log: &AccelLog, opts: &LogOptions) -> Result<(f64, (Vec<bool>, Vec<us
         warnings.push(format!("{gaps} gap(s) longer than 5 sample intervals"));
     }
     let (burst, onsets) = bursts(log, opts.clip);
-    let bursty = burst.iter().filter(|b| **b).count();
+    let rclip = radial_clipped(log, opts.clip);
+    let bursty = (0..n).filter(|&k| burst[k] || rclip[k]).count();
     if bursty as f64 > 0.9 * n as f64 {
         return Err(SignalError::Invalid(format!(
             "{bursty} of {n} samples are clipped or bursts: nothing left to read the swing from (is the range right?)"
@@ -397,6 +416,36 @@ fn place_warning(a: &Angle, falls: Option<&Falls>, warnings: &mut Vec<String>) {
     }
 }
 
+/// A warning when the radial axis clipped alone at the ringing's bottoms:
+/// how many, and for how long at most (those samples' radial readings are
+/// lost; the bottoms are timed from the tangential axis alone).
+fn radial_clip_warning(t: &[f64], rclip: &[bool], strokes: &[LogStroke], warnings: &mut Vec<String>) {
+    let ringing = strokes.iter().filter(|s| s.phase == PhaseKind::Ringing).count();
+    let mut clipped = 0;
+    let mut longest = 0.0f64;
+    for s in strokes.iter().filter(|s| s.phase == PhaseKind::Ringing) {
+        let k = t.partition_point(|&x| x < s.bdc).min(t.len() - 1);
+        if !(rclip[k] || rclip[k.saturating_sub(1)]) {
+            continue;
+        }
+        clipped += 1;
+        let (mut a, mut b) = (k, k);
+        while a > 0 && rclip[a - 1] {
+            a -= 1;
+        }
+        while b + 1 < t.len() && rclip[b + 1] {
+            b += 1;
+        }
+        longest = longest.max(t[b] - t[a]);
+    }
+    if clipped > 0 {
+        warnings.push(format!(
+            "the radial axis clips at the bottom of {clipped} of {ringing} ringing swing(s) (for up to {:.0} ms: the sensor is far from the pivot for its range): those readings are left out and the bottoms timed from the tangential axis alone, the angle there less sure",
+            1e3 * longest
+        ));
+    }
+}
+
 /// The strokes (method step 3) from the angle `(theta, smooth)`, or, when
 /// the angle could not be read, from the tangential reading's zeros.
 fn read_strokes(
@@ -501,6 +550,44 @@ fn set_side(t: &[f64], theta: &[f64], phases: &[Phase], strokes: &[LogStroke]) -
         })
 }
 
+/// The odd-struckness `odd` (s, and its standard error) kept only when it
+/// says something: else `None` and why (an independent tester's logs read
+/// −113.7 ± 38625 ms; and −43.3 ± 1.9 ms for a truth of −4.2, −98.7 ±
+/// 13.2 for −14.9, hand and back swapped, where the angle could not be
+/// read: `angle_read` false, the strokes from the tangential zeros).
+fn odd_struck_checked(
+    odd: Option<(f64, f64)>,
+    set_side: Option<f64>,
+    angle_read: bool,
+) -> (Option<(f64, f64)>, Option<String>) {
+    let Some((o, se)) = odd else {
+        return (None, None);
+    };
+    let why = if se.is_nan() || se > MAX_ODD_SE {
+        format!(
+            "odd-struckness withheld: {:+.1} ms with a standard error of {:.1} ms (over {:.0} ms) says nothing",
+            o * 1e3,
+            se * 1e3,
+            MAX_ODD_SE * 1e3
+        )
+    } else if !angle_read {
+        format!(
+            "odd-struckness withheld ({:+.1} ± {:.1} ms): the angle could not be read, so which side a swing falls from, and so which stroke is the handstroke, is not sure",
+            o * 1e3,
+            se * 1e3
+        )
+    } else if set_side.is_none() {
+        format!(
+            "odd-struckness withheld ({:+.1} ± {:.1} ms): the bell is not seen set, so which stroke is the handstroke is not known",
+            o * 1e3,
+            se * 1e3
+        )
+    } else {
+        return (odd, None);
+    };
+    (None, Some(why))
+}
+
 /// The ringing's odd-struckness and its standard error: the strokes'
 /// spread, and the calibration's share (an error in the bottoms' zero
 /// moves hand and back bottoms opposite ways, so the difference by twice
@@ -538,6 +625,28 @@ mod tests {
             speed_peak: None,
             bdc_se: None,
         }
+    }
+
+    /// An odd-struckness whose standard error is over 50 ms (an
+    /// independent tester's log read −113.7 ± 38625 ms), or read with no
+    /// set to tell hand from back, is withheld with why; one with a
+    /// modest error on a set bell is kept.
+    #[test]
+    fn an_odd_struckness_that_says_nothing_is_withheld() {
+        let (o, why) = odd_struck_checked(Some((-0.1137, 38.6252)), Some(1.0), true);
+        assert!(o.is_none());
+        assert!(why.expect("why").contains("standard error of 38625.2 ms"));
+        let (o, why) = odd_struck_checked(Some((0.0728, 0.0015)), None, true);
+        assert!(o.is_none());
+        assert!(why.expect("why").contains("not seen set"));
+        let (o, why) = odd_struck_checked(Some((-0.0433, 0.0019)), Some(1.0), false);
+        assert!(o.is_none());
+        assert!(why.expect("why").contains("angle could not be read"));
+        assert_eq!(
+            odd_struck_checked(Some((-0.0326, 0.0032)), Some(-1.0), true),
+            (Some((-0.0326, 0.0032)), None)
+        );
+        assert_eq!(odd_struck_checked(None, None, false), (None, None));
     }
 
     /// A strike before the raising's first bottom read starts the

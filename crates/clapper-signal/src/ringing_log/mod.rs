@@ -56,7 +56,7 @@ mod reading;
 mod rests;
 mod types;
 
-pub use analyse::{analyse_log, LogAnalysis};
+pub use analyse::{analyse_log, LogAnalysis, MAX_ODD_SE};
 pub use bottoms::GAP;
 pub use bursts::{RINGING_S, STRIKE_S};
 pub use calibrate::{Calibration, CalibrationSe};

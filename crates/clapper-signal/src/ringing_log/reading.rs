@@ -34,8 +34,20 @@ pub(super) struct Angle {
     pub(super) misfit: f64,
 }
 
-pub(super) fn angle(log: &AccelLog, bad: &[bool], given: Option<f64>, falls: Option<&Falls>, interval: f64) -> Angle {
+/// The angle (method step 2) from the samples not `bad`, those whose
+/// radial axis alone is clipped (`rclip`) read from the tangential axis.
+pub(super) fn angle(
+    log: &AccelLog,
+    (bad, rclip): (&[bool], &[bool]),
+    given: Option<f64>,
+    falls: Option<&Falls>,
+    interval: f64,
+) -> Angle {
     let n = log.t.len();
+    // Where only one axis is read, the first pass (atan2 of both) bridges
+    // as across a burst, the joint fits use the tangential axis, and the
+    // place and misfit are judged without them.
+    let both: Vec<bool> = (0..n).map(|k| bad[k] || rclip[k]).collect();
     // The place read from falls is kept (h given wins); else fitted.
     let known = match falls {
         Some(f) => Known {
@@ -57,7 +69,7 @@ pub(super) fn angle(log: &AccelLog, bad: &[bool], given: Option<f64>, falls: Opt
     };
     let best = starts
         .iter()
-        .map(|&kappa| first_pass(log, bad, known, interval, kappa))
+        .map(|&kappa| first_pass(log, &both, known, interval, kappa))
         .reduce(|best, a| if a.misfit < best.misfit - 1e-3 { a } else { best })
         .expect("STARTS is not empty");
     let (mut theta, mut place) = (best.theta, best.place);
@@ -67,13 +79,13 @@ pub(super) fn angle(log: &AccelLog, bad: &[bool], given: Option<f64>, falls: Opt
     let mut derivatives = None;
     for _ in 0..2 {
         let (_, q1, q2) = quadratic_fits(&log.t, &theta, bad, best.window);
-        let j = joint_fits(log, bad, &theta, place, jw, (&q1, &q2));
-        place = fit_sensor(log, bad, &j.d1, &j.d2, known);
+        let j = joint_fits(log, (bad, rclip), &theta, place, jw, (&q1, &q2));
+        place = fit_sensor(log, &both, &j.d1, &j.d2, known);
         theta = unwrap_fill(&log.t, &j.theta, bad);
         derivatives = Some((j.d1, j.d2, j.cubic));
     }
     let (d1, d2, cubic) = derivatives.expect("two passes");
-    let misfit = misfit(log, bad, place, &d1, &d2);
+    let misfit = misfit(log, &both, place, &d1, &d2);
     let (smooth, rate, _) = quadratic_fits(&log.t, &theta, bad, best.window);
     // Across a burst the fit bridges better than a straight line, unless
     // the burst is so long that the fit has little to stand on (then the
@@ -184,10 +196,12 @@ pub(super) fn first_pass(log: &AccelLog, bad: &[bool], known: Known, interval: f
 /// sensor's `place` (h along, d across). Unlike differentiating a
 /// smoothed θ, nothing is fed back, so the window can be short enough to
 /// follow a light bell's fast swing through the bottom. Samples with too
-/// few good neighbours keep `theta` and the derivatives `fallback`.
+/// few good neighbours keep `theta` and the derivatives `fallback`. The
+/// samples `rclip` (radial axis clipped) are fitted on the tangential
+/// reading alone.
 pub(super) fn joint_fits(
     log: &AccelLog,
-    bad: &[bool],
+    (bad, rclip): (&[bool], &[bool]),
     theta: &[f64],
     (h, d): (f64, f64),
     w: f64,
@@ -229,7 +243,7 @@ pub(super) fn joint_fits(
                 if good.len() < 8 || before < 3 || good.len() - before < 4 {
                     continue;
                 }
-                let Some(a) = cubic_at(log, theta, &good, k, (h, d)) else {
+                let Some(a) = cubic_at(log, (theta, rclip), &good, k, (h, d)) else {
                     continue;
                 };
                 last = Some((k, a, stride));
@@ -259,7 +273,13 @@ const SHARED_STRIDE: usize = 8;
 /// The joint fits' cubic at sample `k` (coefficients of θ in powers of
 /// t − t_k; rad, rad/s, ...) over the samples `good`: the cubic through
 /// `theta`, then Gauss-Newton on both readings (the sensor at `(h, d)`, m).
-fn cubic_at(log: &AccelLog, theta: &[f64], good: &[usize], k: usize, (h, d): (f64, f64)) -> Option<[f64; 4]> {
+fn cubic_at(
+    log: &AccelLog,
+    (theta, rclip): (&[f64], &[bool]),
+    good: &[usize],
+    k: usize,
+    (h, d): (f64, f64),
+) -> Option<[f64; 4]> {
     let (t, ft, fr) = (&log.t, &log.tangential, &log.radial);
     // Start: the cubic through `theta` (linear least squares).
     let mut ata = [[0.0f64; 4]; 4];
@@ -285,7 +305,9 @@ fn cubic_at(log: &AccelLog, theta: &[f64], good: &[usize], k: usize, (h, d): (f6
             let q2 = 2.0 * a[2] + 6.0 * x * a[3];
             let (sn, cs) = q.sin_cos();
             let model = specific_force(SensorPlace { along: h, across: d }, q, q1, q2);
-            let (rt, rr) = (model[0] - ft[j], model[1] - fr[j]);
+            // A clipped radial reading says only that it is past the range.
+            let radial = if rclip[j] { 0.0 } else { 1.0 };
+            let (rt, rr) = (model[0] - ft[j], radial * (model[1] - fr[j]));
             let p = [1.0, x, x * x, x * x * x];
             let p1 = [0.0, 1.0, 2.0 * x, 3.0 * x * x];
             let p2 = [0.0, 0.0, 2.0, 6.0 * x];
@@ -293,7 +315,7 @@ fn cubic_at(log: &AccelLog, theta: &[f64], good: &[usize], k: usize, (h, d): (f6
             let mut jr = [0.0; 4];
             for i in 0..4 {
                 jt[i] = G * cs * p[i] - h * p2[i] - 2.0 * d * q1 * p1[i];
-                jr[i] = -G * sn * p[i] - 2.0 * h * q1 * p1[i] + d * p2[i];
+                jr[i] = radial * (-G * sn * p[i] - 2.0 * h * q1 * p1[i] + d * p2[i]);
             }
             for i in 0..4 {
                 jtr[i] -= jt[i] * rt + jr[i] * rr;
