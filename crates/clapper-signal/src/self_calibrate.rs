@@ -11,9 +11,9 @@
 //!    is the bell; the rest of the ring and the noise differ from strike to
 //!    strike and average away. The start of the bell's sound is where the
 //!    strikes start to agree: the first of the millisecond blocks before
-//!    the average's loudest whose energy stands [`START`] times or more
+//!    the average's loudest whose energy stands `START` times or more
 //!    above what the strikes' spread leaves in an average of so many
-//!    (from there on to the loudest, with at most [`GAPS`] blocks under).
+//!    (from there on to the loudest, with at most `GAPS` blocks under).
 //! 3. Every strike is timed again against its bell's template
 //!    ([`crate::template_timing::retime_each`]), near its time heard less
 //!    the bell's lateness: how long after that start the band finder heard
@@ -41,10 +41,10 @@ const BLOCK_S: f64 = 0.0005;
 /// A block's energy in the average this many times what the strikes'
 /// spread leaves there is the bell's.
 const START: f64 = 4.0;
-/// From a block over [`START`], the start is moved back over blocks above
+/// From a block over `START`, the start is moved back over blocks above
 /// this (the strikes' spread alone gives 1).
 const ABOVE: f64 = 1.3;
-/// Blocks under [`START`] allowed between the start and the loudest.
+/// Blocks under `START` allowed between the start and the loudest.
 const GAPS: usize = 6;
 /// Silence put before a template's sound (s): its start is then where
 /// [`crate::sampled_ring::sample_onset`] finds it.
@@ -74,7 +74,7 @@ pub struct BellCalibration {
 pub struct SelfCalibration {
     /// Each bell's voice (partials), treble first.
     pub voices: Vec<BellVoice>,
-    /// Each bell's template: its sound from [`LEAD_S`] of silence on, at the
+    /// Each bell's template: its sound from `LEAD_S` of silence on, at the
     /// recording's rate; a bell without one has a template too short to
     /// match (its strikes keep their times heard).
     pub templates: Vec<Signal>,
@@ -98,7 +98,7 @@ impl SelfCalibration {
     /// Time each strike of `heard` (times from the start of `sig`, as the
     /// band finder heard them through [`SelfCalibration::voices`]) again:
     /// lined up on its bell's average strike as the clean strikes were,
-    /// within [`SHIFT_S`] of its time heard, its start is the average's.
+    /// within `SHIFT_S` of its time heard, its start is the average's.
     /// In place (the strikes then out of time order); how far each moved
     /// (s; none where its bell has no average or the recording ends).
     pub fn retime_each(&self, sig: &Signal, heard: &mut Heard) -> Vec<Option<f64>> {
@@ -329,8 +329,8 @@ fn best_lag(x: &[f64], reference: &[f64], shift: usize, at: usize, rate: f64) ->
 /// lined up, their summed squared spread about it `spread` (per sample):
 /// of the blocks up to `heard` (the time the strikes were heard, samples
 /// from the start of `mean`), the first before the loudest from which the average stands
-/// [`START`] times above what the spread leaves in it, with at most
-/// [`GAPS`] blocks under on the way to the loudest. None if the average
+/// `START` times above what the spread leaves in it, with at most
+/// `GAPS` blocks under on the way to the loudest. None if the average
 /// never stands out.
 fn sound_start(mean: &[f64], spread: &[f64], n: f64, rate: f64, heard: usize) -> Option<usize> {
     let b = ((BLOCK_S * rate).round() as usize).max(1);

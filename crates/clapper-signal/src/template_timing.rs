@@ -17,9 +17,9 @@
 //! 200 ms before to 100 ms after it where that lateness is not sure; the
 //! strike is the best match unless one at least 0.6 as good lies 30 ms
 //! or more before it (a double strike's second blow, no louder, matches
-//! later: [`lag`]). Strikes the band finder missed are found by their
-//! templates ([`fill`]), and double strikes judged by the match
-//! ([`doubles`]).
+//! later: `lag`). Strikes the band finder missed are found by their
+//! templates (`fill`), and double strikes judged by the match
+//! (`doubles`).
 
 mod doubles;
 mod fill;
@@ -99,9 +99,9 @@ pub fn retime_each(
 /// [`retime_each`], the strikes taken in time order, each matched in the
 /// recording with the strikes before it taken out (their templates,
 /// scaled to fit), with the strikes the band finder missed added where
-/// their templates match and the bell's rhythm leaves room ([`fill`]; at
+/// their templates match and the bell's rhythm leaves room (`fill`; at
 /// the end of `heard.strikes`, moved by none), and every strike's double
-/// judged by the match ([`doubles`]: a second copy of the template within
+/// judged by the match (`doubles`: a second copy of the template within
 /// `opts.double_window_ms`, at least `opts.double_min_ratio` of the first
 /// beyond the room's own echo of the bell), replacing the band finder's.
 pub fn retime_each_with(
