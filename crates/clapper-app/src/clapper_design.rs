@@ -189,12 +189,9 @@ fn within_period(field: &'static str, v: f64, allowed: &'static str) -> Result<f
     }
 }
 
-/// Answer a [`DesignRequest`].
-pub fn design(req: &DesignRequest) -> Result<DesignReport, AppError> {
-    let parts = req.clapper.parts().map_err(|e| AppError::Request(e.to_string()))?;
-    let c = parts.mass_properties()?;
-    let figures = ClapperFigures::of(&parts, &c);
-    let r = req
+/// The clapper's pivot below the bell's (m), if given: within 5 m either way.
+fn pivot_of(req: &DesignRequest) -> Result<Option<f64>, AppError> {
+    Ok(req
         .pivot_m
         .map(|r| {
             if r.is_finite() && r.abs() <= MAX_CLAPPER_LENGTH {
@@ -207,7 +204,15 @@ pub fn design(req: &DesignRequest) -> Result<DesignReport, AppError> {
                 })
             }
         })
-        .transpose()?;
+        .transpose()?)
+}
+
+/// Answer a [`DesignRequest`].
+pub fn design(req: &DesignRequest) -> Result<DesignReport, AppError> {
+    let parts = req.clapper.parts().map_err(|e| AppError::Request(e.to_string()))?;
+    let c = parts.mass_properties()?;
+    let figures = ClapperFigures::of(&parts, &c);
+    let r = pivot_of(req)?;
     let bell = match req.bell_period_s {
         None => None,
         Some(tb) => {

@@ -6,14 +6,14 @@ use std::path::PathBuf;
 
 use anyhow::{bail, Result};
 use clap::Args;
-use clapper_app::ringing_log::{read_log, text, LogReport};
+use clapper_app::ringing_log::{read_log, text, LogReading, LogReport};
 use clapper_app::simulate::{Preset, SimulateRequest};
 use clapper_core::bell::G;
 use clapper_core::sensor::SensorPlace;
 use clapper_io::accel_log::{load_accel_log, write_sleuth_log, Axes, LogFileError};
 use clapper_io::text_file::MAX_TEXT_BYTES;
 use clapper_plot::ringing_log::{ringing_log_plot, LogPhase, LogPlot, LogSwing};
-use clapper_signal::ringing_log::{LogOptions, PhaseKind};
+use clapper_signal::ringing_log::{AccelLog, LogOptions, PhaseKind};
 use clapper_signal::ringing_log_synth::{plan_log, render_log, LogSpec, LogTruth};
 use serde_json::json;
 
@@ -105,51 +105,58 @@ pub fn ringing_log(args: RingingLogArgs) -> Result<()> {
         write_bytes(path, csv(r)?)?;
     }
     if let Some(path) = &args.plot {
-        let a = &reading.analysis;
-        let theta: Vec<f64> = a.theta.iter().map(|x| x.to_degrees()).collect();
-        let phases: Vec<LogPhase> = a
-            .phases
-            .iter()
-            .map(|p| LogPhase {
-                kind: p.kind.name(),
-                span: (p.start, p.end),
-            })
-            .collect();
-        let swings: Vec<LogSwing> = a
-            .strokes
-            .iter()
-            .map(|s| LogSwing {
-                bdc: s.bdc,
-                strike: s.strike.zip(s.strike_theta.map(f64::to_degrees)),
-                amplitude: s.amplitude.to_degrees(),
-                hand: s.hand,
-                ringing_up_or_down: matches!(s.phase, PhaseKind::Raising | PhaseKind::Lowering),
-            })
-            .collect();
-        let title = format!(
-            "{}: {} swings, odd-struck {}",
-            r.bell.as_deref().unwrap_or(&args.file.display().to_string()),
-            r.strokes.len(),
-            r.odd_struck_ms.map_or("unknown".into(), |o| format!("{o:+.1} ms"))
-        );
-        crate::files::write_atomically(path, |tmp| {
-            Ok(ringing_log_plot(
-                tmp,
-                &LogPlot {
-                    title: &title,
-                    t: &log.t,
-                    theta: &theta,
-                    phases: &phases,
-                    swings: &swings,
-                },
-            )?)
-        })?;
+        plot_reading(path, &reading, &log, &args.file)?;
     }
     if args.json {
         crate::say!("{}", serde_json::to_string(r)?);
     } else {
         crate::say_text!("{}", text(r));
     }
+    Ok(())
+}
+
+/// The log's angle, phases and swings drawn to `path` (SVG or PNG).
+fn plot_reading(path: &std::path::Path, reading: &LogReading, log: &AccelLog, file: &std::path::Path) -> Result<()> {
+    let r = &reading.report;
+    let a = &reading.analysis;
+    let theta: Vec<f64> = a.theta.iter().map(|x| x.to_degrees()).collect();
+    let phases: Vec<LogPhase> = a
+        .phases
+        .iter()
+        .map(|p| LogPhase {
+            kind: p.kind.name(),
+            span: (p.start, p.end),
+        })
+        .collect();
+    let swings: Vec<LogSwing> = a
+        .strokes
+        .iter()
+        .map(|s| LogSwing {
+            bdc: s.bdc,
+            strike: s.strike.zip(s.strike_theta.map(f64::to_degrees)),
+            amplitude: s.amplitude.to_degrees(),
+            hand: s.hand,
+            ringing_up_or_down: matches!(s.phase, PhaseKind::Raising | PhaseKind::Lowering),
+        })
+        .collect();
+    let title = format!(
+        "{}: {} swings, odd-struck {}",
+        r.bell.as_deref().unwrap_or(&file.display().to_string()),
+        r.strokes.len(),
+        r.odd_struck_ms.map_or("unknown".into(), |o| format!("{o:+.1} ms"))
+    );
+    crate::files::write_atomically(path, |tmp| {
+        Ok(ringing_log_plot(
+            tmp,
+            &LogPlot {
+                title: &title,
+                t: &log.t,
+                theta: &theta,
+                phases: &phases,
+                swings: &swings,
+            },
+        )?)
+    })?;
     Ok(())
 }
 
@@ -271,8 +278,9 @@ fn too_long(args: &SynthLogArgs, seconds: f64, bytes: f64) -> String {
     )
 }
 
-pub fn synth_log_cmd(args: SynthLogArgs) -> Result<()> {
-    // Counts bounded before anything is allocated for them.
+/// synth-log's counts, noise, sensor and name refused before anything is
+/// simulated or allocated for them.
+fn check_synth_args(args: &SynthLogArgs) -> Result<()> {
     if args.strokes > MAX_LOG_STROKES {
         anyhow::bail!(
             "--strokes {}: at most {MAX_LOG_STROKES} (a peal is about 5,000)",
@@ -294,6 +302,11 @@ pub fn synth_log_cmd(args: SynthLogArgs) -> Result<()> {
             args.name.trim()
         );
     }
+    Ok(())
+}
+
+pub fn synth_log_cmd(args: SynthLogArgs) -> Result<()> {
+    check_synth_args(&args)?;
     // The bell as `simulate` names it, the tenor when none is named.
     let file = args.source.file()?;
     let preset = match (args.source.given(), args.source.preset) {

@@ -195,18 +195,8 @@ impl ClapperParts {
         (self.ball_position - r, self.ball_position + r)
     }
 
-    /// Sizes that are numbers ≥ 0, parts that do not overlap, and some mass.
-    pub fn validate(&self) -> Result<(), ParamError> {
-        for (field, v) in [
-            ("shaft_length_m", self.shaft_length),
-            ("shaft_diameter_m", self.shaft_diameter),
-            ("ball_diameter_m", self.ball_diameter),
-            ("ball_position_m", self.ball_position),
-            ("flight_length_m", self.flight_length),
-            ("flight_diameter_m", self.flight_diameter),
-        ] {
-            nonnegative(field, v)?;
-        }
+    /// Each size at most its bound (5 m along the clapper, 1 m across).
+    fn within_size_bounds(&self) -> Result<(), ParamError> {
         for (field, v, max, allowed) in [
             (
                 "shaft_length_m",
@@ -253,6 +243,22 @@ impl ClapperParts {
                 });
             }
         }
+        Ok(())
+    }
+
+    /// Sizes that are numbers ≥ 0, parts that do not overlap, and some mass.
+    pub fn validate(&self) -> Result<(), ParamError> {
+        for (field, v) in [
+            ("shaft_length_m", self.shaft_length),
+            ("shaft_diameter_m", self.shaft_diameter),
+            ("ball_diameter_m", self.ball_diameter),
+            ("ball_position_m", self.ball_position),
+            ("flight_length_m", self.flight_length),
+            ("flight_diameter_m", self.flight_diameter),
+        ] {
+            nonnegative(field, v)?;
+        }
+        self.within_size_bounds()?;
         let (top, bottom) = self.ball_ends();
         let lowest = if self.has_ball() { bottom } else { self.ball_position } + self.flight_length;
         if lowest > MAX_CLAPPER_LENGTH {

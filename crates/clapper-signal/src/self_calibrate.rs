@@ -497,7 +497,6 @@ mod tests {
             .iter()
             .filter(|b| b.lateness_s.is_some() && b.spread_s < 1e-3)
             .collect();
-        eprintln!("{:?}", c.bells);
         assert!(!sure.is_empty(), "{:?}", c.bells);
         for b in sure {
             let m = median_ms(b.bell);

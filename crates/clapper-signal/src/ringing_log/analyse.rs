@@ -107,6 +107,35 @@ fn check(log: &AccelLog) -> Result<(), SignalError> {
     Ok(())
 }
 
+/// The falls from the balance the angle is read with: the calibration's,
+/// or, without one, those fitted on the log's own falls (`out`: samples
+/// left out; `still`: its rests, start, end and angle in s, s, rad).
+fn falls_of(
+    calibration: Option<&Calibration>,
+    log: &AccelLog,
+    (out, still): (&[bool], &[(f64, f64, f64)]),
+    interval: f64,
+) -> Option<Falls> {
+    match calibration {
+        Some(c) => Some(Falls {
+            kappa: c.kappa,
+            delta: c.delta,
+            length: c.length.unwrap_or(1.0),
+            count: c.free,
+        }),
+        None => place_from_falls(log, out, still, interval),
+    }
+}
+
+/// Each stroke labelled hand or back: a handstroke falls from the side the
+/// bell is set on (+1 where it is never seen set).
+fn label_hand(strokes: &mut [LogStroke], set_side: Option<f64>) {
+    let hand_side = set_side.unwrap_or(1.0);
+    for s in strokes {
+        s.hand = s.from_side == hand_side;
+    }
+}
+
 /// Read `log` (module docs).
 pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, SignalError> {
     let (interval, (burst, onsets), mut warnings) = prepare(log, opts)?;
@@ -127,15 +156,7 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         log,
         still,
     } = calibrate_log(&log, &out, interval, &mut warnings);
-    let falls = match &calibration {
-        Some(c) => Some(Falls {
-            kappa: c.kappa,
-            delta: c.delta,
-            length: c.length.unwrap_or(1.0),
-            count: c.free,
-        }),
-        None => place_from_falls(&log, &out, &still, interval),
-    };
+    let falls = falls_of(calibration.as_ref(), &log, (&out, &still), interval);
     let bad = ringing_masked(&log, &burst, &onsets, opts.clip, opts.through_ringing);
     let a = judged_angle(&log, (&bad, &rclip, &out), opts.sensor_along, falls.as_ref(), interval);
     place_warning(&a, falls.as_ref(), &mut warnings);
@@ -168,11 +189,7 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
     let phases = phases(&log.t, &rests, &mut strokes, &theta, opts.full_swing);
     radial_clip_warning(&log.t, &rclip, &strokes, &mut warnings);
     let set_side = set_side(&log.t, &theta, &phases, &strokes);
-    let hand_side = set_side.unwrap_or(1.0);
-    for s in &mut strokes {
-        // A handstroke falls from the hand side.
-        s.hand = s.from_side == hand_side;
-    }
+    label_hand(&mut strokes, set_side);
     let clappering_starts = clappering_start(&strong_onsets(&log, &onsets), &phases, &strokes);
     let (odd_struck, odd_struck_withheld) =
         odd_struck_checked(odd_struck_with_se(&strokes), set_side, a.misfit <= MAX_MISFIT);
