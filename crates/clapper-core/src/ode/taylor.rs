@@ -292,8 +292,20 @@ impl<const N: usize> Taylor<N> {
     }
 
     /// The earliest time in `(0, h]` (as an offset from the expansion
-    /// point) where `series - level` crosses zero in direction `dir`, if any.
-    fn first_root(&self, series: &Coeffs, level: f64, dir: Direction, h: f64, hk: &Coeffs, p: usize) -> Option<f64> {
+    /// point) where `series - level` crosses zero in direction `dir`, if
+    /// any; `None` too where it is proven to come after `limit` (the first
+    /// event found so far: a later crossing cannot be the step's first).
+    #[allow(clippy::too_many_arguments)]
+    fn first_root(
+        &self,
+        series: &Coeffs,
+        level: f64,
+        dir: Direction,
+        h: f64,
+        hk: &Coeffs,
+        p: usize,
+        limit: f64,
+    ) -> Option<f64> {
         // Cheapest test first: the constant term outweighs all the others.
         let c0 = series[0] - level;
         if c0 != 0.0 {
@@ -327,8 +339,9 @@ impl<const N: usize> Taylor<N> {
         let walk = if crossed(dir, s0, sign(eval(h))) { 0 } else { 4 };
         for _ in 0..walk {
             let next = a + ga.abs() / slope;
-            // Also when the slope is zero (next is infinite) or NaN.
-            if next.is_nan() || next >= h {
+            // Also when the slope is zero (next is infinite) or NaN. A
+            // root past the limit is no step's first.
+            if next.is_nan() || next >= h || next > limit {
                 return None;
             }
             let gn = eval(next);
@@ -353,6 +366,10 @@ impl<const N: usize> Taylor<N> {
             }
         }
         for (&b, &gb) in at.iter().zip(&val) {
+            // Any crossing from here on is after pa, past the limit.
+            if pa > limit {
+                return None;
+            }
             if crossed(dir, sa, sign(gb)) {
                 return Some(poly_root(c, p, pa, ga, sa, b, gb, self.opts.event_time_tol));
             }
@@ -433,14 +450,20 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
             for k in 1..=p {
                 hk[k] = if k == 1 { h } else { hk[k / 2] * hk[k - k / 2] };
             }
+            // The step's first event, the one listed first on a tie. Taken
+            // from the last listed (friction's, whose crossing comes first
+            // in a bounce's flight): a crossing found bounds the search for
+            // the others, which are dropped once proven later (strictly:
+            // equal times still go to the event listed first).
             let mut best: Option<(f64, usize)> = None;
-            for (i, e) in events.iter().enumerate() {
+            for (i, e) in events.iter().enumerate().rev() {
                 let series = match e.source {
                     Source::State(k) => &self.series.x[k],
                     Source::Extra(k) => &self.extra[k],
                 };
-                if let Some(s) = self.first_root(series, e.level, e.direction, h, &hk, p) {
-                    if best.is_none_or(|(sb, _)| s < sb) {
+                let limit = best.map_or(f64::INFINITY, |(sb, _)| sb);
+                if let Some(s) = self.first_root(series, e.level, e.direction, h, &hk, p, limit) {
+                    if s <= limit {
                         best = Some((s, i));
                     }
                 }
@@ -697,13 +720,21 @@ mod tests {
         let mut c = [0.0; MAX_ORDER + 1];
         c[4] = 1.0;
         let hk: Coeffs = std::array::from_fn(|k| 0.5f64.powi(k as i32));
-        assert_eq!(s.first_root(&c, 0.0, Direction::Rising, 0.5, &hk, 4), None);
+        assert_eq!(
+            s.first_root(&c, 0.0, Direction::Rising, 0.5, &hk, 4, f64::INFINITY),
+            None
+        );
         // The same on a level: 3 + s^4 starts at the level 3 (a restart).
         c[0] = 3.0;
-        assert_eq!(s.first_root(&c, 3.0, Direction::Rising, 0.5, &hk, 4), None);
+        assert_eq!(
+            s.first_root(&c, 3.0, Direction::Rising, 0.5, &hk, 4, f64::INFINITY),
+            None
+        );
         c[4] = 32.0;
         // 3 + 32 s^4 crosses 5 where s^4 = 1/16: at s = 0.5.
-        let root = s.first_root(&c, 5.0, Direction::Rising, 0.5, &hk, 4).unwrap();
+        let root = s
+            .first_root(&c, 5.0, Direction::Rising, 0.5, &hk, 4, f64::INFINITY)
+            .unwrap();
         assert!((root - 0.5).abs() < 1e-11, "{root}");
         // A bad order is refused, and a hint does not panic on it.
         let mut bad = Taylor::<2>::new(Options::default(), 1, 1.0);

@@ -234,9 +234,13 @@ where
     let (d, law, frame, s0) = (course.d, course.law, &course.frame, course.s0);
     let mut bottom_passed = false;
     let mut events = 0u32;
+    // The torque holding the clapper still relative to the bell, where a
+    // slip has just stopped: computed once for the stick check, the next
+    // flight's direction of slip and its length.
+    let mut hold = None;
     loop {
         let (t, y, clapper) = *now;
-        let seg = Segment::new(d, law, frame, clapper, &y, s0, bottom_passed);
+        let seg = Segment::new(d, law, frame, clapper, &y, s0, bottom_passed, hold.take());
         let (law_now, load_now) = (seg.force_law(), seg.load());
         let stop = stepper.integrate(&seg, t, y, t_limit, &mut |dense, t_to| {
             observer.on_step(&StepView {
@@ -258,7 +262,8 @@ where
                 t: now.0,
             });
         }
-        let before = Sample::new(now.0, now.1, law_now, load_now.as_ref(), d);
+        // Samples only for an observer that watches.
+        let before = (!O::SILENT).then(|| Sample::new(now.0, now.1, law_now, load_now.as_ref(), d));
         match seg.kind(i) {
             Ev::Bell(BellEvent::OverTop) => return Ok((EndReason::OverTheBalance, events)),
             Ev::Bell(BellEvent::Turning) => return Ok((EndReason::TurningPoint, events)),
@@ -270,18 +275,24 @@ where
             Ev::Forcing => {}
             Ev::Contact(e) => {
                 if contact(stepper, course, &seg, e, now, rec) {
-                    observer.on_jump(&before, &course.sample(*now));
+                    if let Some(before) = &before {
+                        observer.on_jump(before, &course.sample(*now));
+                    }
                     return Ok((EndReason::TurningPoint, events));
                 }
             }
             Ev::Friction(e) => {
-                (now.1, now.2) = frictional(d, frame, e, now.1, now.2, load_now);
-                if let Some(next) = flight_from_apex(d, frame, e, &now.1, now.2) {
+                let held;
+                (now.1, now.2, held) = frictional(d, frame, e, now.1, now.2, load_now);
+                hold = held;
+                if let Some(next) = flight_from_apex(d, frame, e, &now.1, now.2, hold) {
                     stepper.expect(next);
                 }
             }
         }
-        observer.on_jump(&before, &course.sample(*now));
+        if let Some(before) = &before {
+            observer.on_jump(before, &course.sample(*now));
+        }
     }
 }
 
@@ -365,8 +376,9 @@ where
     M: for<'a> Stepper<4, Segment<'a>>,
 {
     let mut bottom_passed = false;
+    let mut hold = None;
     for _ in 0..budget {
-        let seg = Segment::new(d, law, frame, clapper, &y, s0, bottom_passed);
+        let seg = Segment::new(d, law, frame, clapper, &y, s0, bottom_passed, hold.take());
         let load_now = seg.load();
         let stop = stepper.integrate(&seg, t, y, t_limit, &mut |_: &dyn DenseOutput<4>, _| {})?;
         (t, y) = (stop.t, stop.y);
@@ -400,8 +412,8 @@ where
                 }
             }
             Ev::Friction(e) => {
-                (y, clapper) = frictional(d, frame, e, y, clapper, load_now);
-                if let Some(next) = flight_from_apex(d, frame, e, &y, clapper) {
+                (y, clapper, hold) = frictional(d, frame, e, y, clapper, load_now);
+                if let Some(next) = flight_from_apex(d, frame, e, &y, clapper, hold) {
                     stepper.expect(next);
                 }
             }
@@ -412,7 +424,10 @@ where
 
 /// The clapper at a friction event: still relative to the bell, for an
 /// instant (slip stops, unless the pivot's friction can hold it: stuck) or
-/// from now on; or free again (breakaway).
+/// from now on; or free again (breakaway). With the state after it, the
+/// torque that would hold the clapper still relative to the bell with the
+/// frame's friction ([`StrokeFrame::load_held`]), where the check for
+/// sticking computed it.
 fn frictional(
     d: &Dynamics,
     frame: &StrokeFrame,
@@ -420,21 +435,24 @@ fn frictional(
     mut y: State,
     clapper: ClapperState,
     load: Option<Load>,
-) -> (State, ClapperState) {
+) -> (State, ClapperState, Option<f64>) {
     y[PHI_DOT] = 0.0;
-    let clapper = match e {
+    match e {
         FrictionEvent::SlipStops => {
             let bell_load = load.map_or(0.0, |l| l.theta(&y));
             let hold = d.resting_q(&y, bell_load).1;
-            if hold.abs() <= frame.stops.grip {
+            // The same torque as the frame's unless a forcing adds to the
+            // bell's (then the frame's is worked out afresh).
+            let same = frame.friction.is_some_and(|f| f.theta(&y) == bell_load);
+            let clapper = if hold.abs() <= frame.stops.grip {
                 ClapperState::Stuck
             } else {
                 clapper
-            }
+            };
+            (y, clapper, same.then_some(hold))
         }
-        FrictionEvent::Breakaway => ClapperState::FLYING,
-    };
-    (y, clapper)
+        FrictionEvent::Breakaway => (y, ClapperState::FLYING, None),
+    }
 }
 
 /// The rest of a bounce's flight after its apex (a friction event at which
@@ -448,6 +466,7 @@ fn flight_from_apex(
     e: FrictionEvent,
     y: &State,
     clapper: ClapperState,
+    hold: Option<f64>,
 ) -> Option<NextSegment> {
     let ClapperState::Flying {
         bounced_off: Some(side),
@@ -460,7 +479,7 @@ fn flight_from_apex(
     }
     let s = side.sign();
     let distance = s * (frame.stops.at(side) - y[PHI]);
-    let load = frame.load(d, clapper, y)?;
+    let load = frame.load_held(d, clapper, y, hold)?;
     let toward = s * d.accel_q(y, load.theta(y), load.phi(y)).phi;
     (distance > 0.0 && toward > 0.0).then(|| NextSegment::ShortFlight {
         span: 1.5 * (2.0 * distance / toward).sqrt(),

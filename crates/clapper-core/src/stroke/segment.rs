@@ -64,6 +64,13 @@ pub(super) struct StrokeFrame<'f> {
 impl StrokeFrame<'_> {
     /// The load in a segment with the clapper in `clapper` from state `y`.
     pub(super) fn load(&self, d: &Dynamics, clapper: ClapperState, y: &State) -> Option<Load> {
+        self.load_held(d, clapper, y, None)
+    }
+
+    /// [`load`](Self::load), given the torque `hold` (N m) that would hold
+    /// the clapper still relative to the bell at `y` with this frame's
+    /// friction, where it is known (at a slip's stop it was just computed).
+    pub(super) fn load_held(&self, d: &Dynamics, clapper: ClapperState, y: &State, hold: Option<f64>) -> Option<Load> {
         let f = self.friction?;
         let tau = f.clapper_torque;
         // The clapper's direction of slip relative to the bell.
@@ -74,7 +81,8 @@ impl StrokeFrame<'_> {
                 } else {
                     // From rest relative to the bell: against the torque
                     // that would hold it.
-                    let hold = d.resting_q(&[y[THETA], y[PHI], y[THETA_DOT], 0.0], f.theta(y)).1;
+                    let hold =
+                        hold.unwrap_or_else(|| d.resting_q(&[y[THETA], y[PHI], y[THETA_DOT], 0.0], f.theta(y)).1);
                     -hold.signum()
                 }
             }
@@ -105,7 +113,10 @@ pub(super) struct Segment<'a> {
 
 impl<'a> Segment<'a> {
     /// The segment of a stroke that started at θ of sign `s0` (±1), with
-    /// the clapper in `clapper` under `law`, from state `y`.
+    /// the clapper in `clapper` under `law`, from state `y`; `hold`: the
+    /// torque holding the clapper still relative to the bell there, if
+    /// known ([`StrokeFrame::load_held`]).
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn new(
         d: &'a Dynamics,
         law: &dyn ContactLaw,
@@ -114,6 +125,7 @@ impl<'a> Segment<'a> {
         y: &State,
         s0: f64,
         bottom_passed: bool,
+        hold: Option<f64>,
     ) -> Self {
         let placeholder = Event {
             source: Source::State(0),
@@ -121,7 +133,7 @@ impl<'a> Segment<'a> {
             direction: Direction::Either,
         };
         let stops = &frame.stops;
-        let friction = frame.load(d, clapper, y);
+        let friction = frame.load_held(d, clapper, y, hold);
         let mut seg = Self {
             d,
             law: law.force_law(clapper, stops),
