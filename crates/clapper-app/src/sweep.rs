@@ -4,7 +4,7 @@
 
 use std::ops::Range;
 
-use clapper_core::chart::{sweep_cells, ChartCell, ChartSpec};
+use clapper_core::chart::{sweep_cells_counting, ChartCell, ChartSpec};
 use serde::{Deserialize, Serialize};
 
 use crate::chart::ChartRequest;
@@ -127,6 +127,18 @@ impl SweepPlan {
         range: Range<usize>,
         progress: &(dyn Fn(u64) + Sync),
     ) -> Result<Vec<(usize, ChartCell)>, AppError> {
+        self.cells_counting(range, progress, &std::sync::atomic::AtomicU64::new(0))
+    }
+
+    /// [`cells`](Self::cells), counting the strokes simulated in `rung`
+    /// (a bell off the ideal rings its backstroke too:
+    /// `clapper_core::chart::sweep_cells_counting`).
+    pub fn cells_counting(
+        &self,
+        range: Range<usize>,
+        progress: &(dyn Fn(u64) + Sync),
+        rung: &std::sync::atomic::AtomicU64,
+    ) -> Result<Vec<(usize, ChartCell)>, AppError> {
         let per = self.per_chart();
         let end = range.end.min(self.total());
         let mut k = range.start.min(end);
@@ -136,9 +148,14 @@ impl SweepPlan {
             let chart = k / per;
             let stop = end.min((chart + 1) * per);
             let before = base.load(std::sync::atomic::Ordering::Relaxed);
-            let cells = sweep_cells(&self.charts[chart].1, k - chart * per..stop - chart * per, &|d| {
-                progress(before + d)
-            })?;
+            let cells = sweep_cells_counting(
+                &self.charts[chart].1,
+                k - chart * per..stop - chart * per,
+                &|d| progress(before + d),
+                &|| false,
+                rung,
+            )?
+            .unwrap_or_default();
             base.fetch_add(cells.len() as u64, std::sync::atomic::Ordering::Relaxed);
             out.extend(cells.into_iter().map(|c| (chart, c)));
             k = stop;

@@ -5,10 +5,11 @@ use std::time::Instant;
 
 use anyhow::{bail, Context, Result};
 use clap::{Args, ValueEnum};
-use clapper_core::chart::{sweep, Chart, ChartSpec, Styles};
+use clapper_core::chart::{sweep_cells_counting, Chart, ChartSpec, Styles};
 use clapper_core::prelude::*;
 use clapper_plot::chart::Marker;
 use clapper_plot::quantity::{self, Quantity};
+use std::sync::atomic::AtomicU64;
 
 use std::sync::LazyLock;
 
@@ -203,11 +204,30 @@ impl SweepArgs {
 /// Run a sweep with a progress bar on the terminal (none when stderr is
 /// not one). Returns the chart and the wall time (s).
 pub fn run_sweep(spec: &ChartSpec, pool: &rayon::ThreadPool, what: &str) -> Result<(Chart, f64)> {
+    run_sweep_counting(spec, pool, what).map(|(chart, secs, _)| (chart, secs))
+}
+
+/// [`run_sweep`], with the strokes it simulated (a bell off the ideal
+/// rings its backstroke too).
+fn run_sweep_counting(spec: &ChartSpec, pool: &rayon::ThreadPool, what: &str) -> Result<(Chart, f64, u64)> {
     let bar = crate::progress::bar(spec.cell_count() as u64, what);
     let start = Instant::now();
-    let chart = pool.install(|| sweep(spec, &|done| bar.set_position(done)))?;
+    let rung = AtomicU64::new(0);
+    let cells = pool.install(|| {
+        sweep_cells_counting(
+            spec,
+            0..spec.cell_count(),
+            &|done| bar.set_position(done),
+            &|| false,
+            &rung,
+        )
+    })?;
     bar.finish_and_clear();
-    Ok((chart, start.elapsed().as_secs_f64()))
+    let chart = Chart {
+        spec: *spec,
+        cells: cells.unwrap_or_default(),
+    };
+    Ok((chart, start.elapsed().as_secs_f64(), rung.into_inner()))
 }
 
 #[derive(Args, Debug)]
@@ -303,7 +323,7 @@ pub fn run(args: ChartArgs) -> Result<()> {
         return run_to_file(&args, &plan, &pool);
     }
     let markers = markers(args.bells.as_deref())?;
-    let (chart, secs, strokes) = one_chart(&args, &plan, &pool)?;
+    let (chart, secs, strokes, rung) = one_chart(&args, &plan, &pool)?;
     if args.json {
         if let Some(path) = &args.out {
             draw_chart(quantity, &chart, &markers, path)?;
@@ -312,8 +332,15 @@ pub fn run(args: ChartArgs) -> Result<()> {
         return Ok(());
     }
     report_chart(&args, quantity, styles, &chart, &markers)?;
+    // A bell off the ideal rings its backstroke too where its handstroke
+    // keeps the style: the strokes simulated, where they are more.
+    let simulated = if rung > strokes as u64 {
+        format!(", {rung} strokes simulated")
+    } else {
+        String::new()
+    };
     crate::say!(
-        "  {strokes} strokes in {secs:.4} s on {threads} thread{} ({:.0} strokes/s)",
+        "  {strokes} strokes in {secs:.4} s on {threads} thread{} ({:.0} strokes/s{simulated})",
         if threads == 1 { "" } else { "s" },
         strokes as f64 / secs.max(1e-9)
     );
@@ -390,7 +417,7 @@ fn markers(bells: Option<&Path>) -> Result<Vec<Marker>> {
 /// The one chart of `plan`, computed (into --csv, resuming a run stopped
 /// part-way, when --csv names a file), with the seconds it took and the
 /// strokes computed.
-fn one_chart(args: &ChartArgs, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result<(Chart, f64, usize)> {
+fn one_chart(args: &ChartArgs, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result<(Chart, f64, usize, u64)> {
     let spec = plan.charts[0].1;
     Ok(match args.csv.as_deref().filter(|p| !crate::files::is_stdout(p)) {
         Some(csv) => {
@@ -415,17 +442,17 @@ fn one_chart(args: &ChartArgs, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Re
                     read_chart(csv, spec)?
                 }
             };
-            (chart, o.seconds, n)
+            (chart, o.seconds, n, o.rung)
         }
         None => {
-            let (chart, secs) = run_sweep(&spec, pool, "chart")?;
+            let (chart, secs, rung) = run_sweep_counting(&spec, pool, "chart")?;
             let n = chart.cells.len();
             if let Some(dash) = &args.csv {
                 let mut text = vec![];
                 clapper_io::write_chart_csv(&mut text, &chart)?;
                 crate::files::write_bytes(dash, text)?;
             }
-            (chart, secs, n)
+            (chart, secs, n, rung)
         }
     })
 }

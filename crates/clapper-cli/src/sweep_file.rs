@@ -96,6 +96,9 @@ pub struct Outcome {
     pub cells: Vec<(usize, ChartCell)>,
     /// How many strokes this run computed.
     pub computed: usize,
+    /// How many strokes it simulated for them (a bell off the ideal rings
+    /// its backstroke too).
+    pub rung: u64,
     /// Where this run started, if it resumed an earlier one.
     pub resumed_from: Option<usize>,
     /// Wall time of this run (s).
@@ -296,10 +299,11 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
         .with_context(|| format!("cannot open {}", partial.display()))?;
     let mut mine = vec![];
     let mut computed = 0;
+    let rung = std::sync::atomic::AtomicU64::new(0);
     while done < range.end {
         let end = range.end.min(done + f.block.max(1));
         let base = (done - range.start) as u64;
-        let cells = pool.install(|| plan.cells(done..end, &|d| bar.set_position(base + d)))?;
+        let cells = pool.install(|| plan.cells_counting(done..end, &|d| bar.set_position(base + d), &rung))?;
         let buf = rows_of(plan, &cells, columns)?;
         out.write_all(&buf)
             .and_then(|()| out.sync_data())
@@ -333,6 +337,7 @@ pub fn run(f: RunFile<'_>, plan: &SweepPlan, pool: &rayon::ThreadPool) -> Result
     Ok(Outcome {
         cells: mine,
         computed,
+        rung: rung.into_inner(),
         resumed_from,
         seconds: started.elapsed().as_secs_f64(),
     })

@@ -321,6 +321,29 @@ pub fn sweep_cells_until(
     progress: &(dyn Fn(u64) + Sync),
     stop: &(dyn Fn() -> bool + Sync),
 ) -> Result<Option<Vec<ChartCell>>, ParamError> {
+    sweep_cells_counting(spec, range, progress, stop, &AtomicU64::new(0))
+}
+
+/// [`sweep_cells_until`] that also counts the strokes it simulates in
+/// `rung`: one a cell for an ideal bell, two where a bell off the ideal
+/// rings its backstroke too (after a handstroke that keeps its style). A
+/// chart's cost goes with them, not with its cells.
+///
+/// ```
+/// use std::sync::atomic::{AtomicU64, Ordering};
+/// use clapper_core::chart::{sweep_cells_counting, ChartSpec};
+/// let spec = ChartSpec { nx: 2, ny: 2, ..ChartSpec::default() };
+/// let rung = AtomicU64::new(0);
+/// let cells = sweep_cells_counting(&spec, 0..8, &|_| {}, &|| false, &rung).unwrap().unwrap();
+/// assert_eq!(rung.load(Ordering::Relaxed), cells.len() as u64);
+/// ```
+pub fn sweep_cells_counting(
+    spec: &ChartSpec,
+    range: std::ops::Range<usize>,
+    progress: &(dyn Fn(u64) + Sync),
+    stop: &(dyn Fn() -> bool + Sync),
+    rung: &AtomicU64,
+) -> Result<Option<Vec<ChartCell>>, ParamError> {
     spec.validate()?;
     let xs = spec.xs();
     let ys = spec.ys();
@@ -345,6 +368,7 @@ pub fn sweep_cells_until(
                 .map(|bell| bell.with_hanging(spec.hanging))
                 .map_err(SimError::from)
                 .and_then(|bell| {
+                    rung.fetch_add(1, Ordering::Relaxed);
                     let hand = first_stroke(&bell, &spec.config, style)?;
                     // No mirror symmetry: the backstroke too, where it can
                     // change the answer (after a handstroke that keeps its
@@ -353,6 +377,7 @@ pub fn sweep_cells_until(
                     if spec.hanging.is_ideal() || !hand.sustained() {
                         Ok(StrokeSummary::from(&hand))
                     } else {
+                        rung.fetch_add(1, Ordering::Relaxed);
                         backstroke(&bell, &spec.config, &hand).map(|back| StrokeSummary::of_pair(&hand, &back))
                     }
                 });

@@ -335,8 +335,27 @@ impl<const N: usize> Taylor<N> {
         let eval = |s: f64| horner(r, deg, s);
         let mut a = 0.0;
         let mut ga = r[0];
-        // A crossing by the step's end is certain: no walk, find the first.
-        let walk = if crossed(dir, s0, sign(eval(h))) { 0 } else { 4 };
+        // A crossing by the step's end is certain: no walk, find the first;
+        // but first a walk to the limit, which may prove it later than an
+        // event already found (then the search is over; if not, it goes on
+        // from the step's start as before).
+        let certain = crossed(dir, s0, sign(eval(h)));
+        if certain && limit < h {
+            let (mut a, mut ga) = (0.0, r[0]);
+            for _ in 0..4 {
+                let next = a + ga.abs() / slope;
+                if next > limit {
+                    return None;
+                }
+                // A NaN (no slope bound) has no sign: the walk stops.
+                let gn = eval(next);
+                if sign(gn) != s0 {
+                    break;
+                }
+                (a, ga) = (next, gn);
+            }
+        }
+        let walk = if certain { 0 } else { 4 };
         for _ in 0..walk {
             let next = a + ga.abs() / slope;
             // Also when the slope is zero (next is infinite) or NaN. A
@@ -366,11 +385,11 @@ impl<const N: usize> Taylor<N> {
             }
         }
         for (&b, &gb) in at.iter().zip(&val) {
-            // Any crossing from here on is after pa, past the limit.
-            if pa > limit {
-                return None;
-            }
             if crossed(dir, sa, sign(gb)) {
+                // A crossing after pa, past the limit, need not be located.
+                if pa > limit {
+                    return None;
+                }
                 return Some(poly_root(c, p, pa, ga, sa, b, gb, self.opts.event_time_tol));
             }
             // A crossing the other way, or a touch of zero that keeps the side.
@@ -456,15 +475,16 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
             // the others, which are dropped once proven later (strictly:
             // equal times still go to the event listed first).
             let mut best: Option<(f64, usize)> = None;
-            for (i, e) in events.iter().enumerate().rev() {
+            let mut limit = f64::INFINITY;
+            for i in (0..events.len()).rev() {
+                let e = &events[i];
                 let series = match e.source {
                     Source::State(k) => &self.series.x[k],
                     Source::Extra(k) => &self.extra[k],
                 };
-                let limit = best.map_or(f64::INFINITY, |(sb, _)| sb);
                 if let Some(s) = self.first_root(series, e.level, e.direction, h, &hk, p, limit) {
                     if s <= limit {
-                        best = Some((s, i));
+                        (best, limit) = (Some((s, i)), s);
                     }
                 }
             }
