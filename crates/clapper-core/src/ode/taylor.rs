@@ -14,8 +14,8 @@
 //! every component, capped at `h_max`.
 
 use super::interface::{
-    begin, check_options, crossed, sign, split_exp2, split_exponent, DenseOutput, Direction, ErrorWeights, NextSegment,
-    Observe, OdeError, Options, Run, Segment, Source, Span, Stats, Stepper, Stop, System, MAX_EXTRA,
+    begin, check_options, crossed, sign, split_exp2, split_exponent, DenseOutput, Direction, ErrorWeights, Event,
+    NextSegment, Observe, OdeError, Options, Run, Segment, Source, Span, Stats, Stepper, Stop, System, MAX_EXTRA,
 };
 
 /// The highest order an expansion may have.
@@ -323,58 +323,48 @@ impl<const N: usize> Taylor<N> {
         let lead = c[..=p].iter().position(|&v| v != 0.0)?;
         let s0 = sign(c[lead]);
         let r: &[f64] = &c[lead..=p];
-        // Exclusion walk: |g'| <= slope on [0, h], so g keeps its sign on
-        // [s, s + |g(s)| / slope). Usually proves there is no root in one
-        // or two evaluations; a root close by stops the walk.
+        // The walks' bound on the slope over the step.
         let deg = r.len() - 1;
         let mut kh = [0.0; MAX_ORDER + 1];
         for k in 1..=deg {
             kh[k] = k as f64 * hk[k - 1];
         }
         let slope = abs_dot(&r[1..], &kh[1..=deg]);
-        let eval = |s: f64| horner(r, deg, s);
-        let mut a = 0.0;
-        let mut ga = r[0];
         // A crossing by the step's end is certain: no walk, find the first;
         // but first a walk to the limit, which may prove it later than an
         // event already found (then the search is over; if not, it goes on
         // from the step's start as before).
-        let certain = crossed(dir, s0, sign(eval(h)));
+        let certain = crossed(dir, s0, sign(horner(r, deg, h)));
         if certain && limit < h {
-            let (mut a, mut ga) = (0.0, r[0]);
-            for _ in 0..4 {
-                let next = a + ga.abs() / slope;
-                if next > limit {
-                    return None;
-                }
-                // A NaN (no slope bound) has no sign: the walk stops.
-                let gn = eval(next);
-                if sign(gn) != s0 {
-                    break;
-                }
-                (a, ga) = (next, gn);
-            }
+            exclusion_walk(r, s0, slope, |next| next > limit)?;
         }
-        let walk = if certain { 0 } else { 4 };
-        for _ in 0..walk {
-            let next = a + ga.abs() / slope;
+        let a = if certain {
+            0.0
+        } else {
             // Also when the slope is zero (next is infinite) or NaN. A
             // root past the limit is no step's first.
-            if next.is_nan() || next >= h || next > limit {
-                return None;
-            }
-            let gn = eval(next);
-            if sign(gn) != s0 {
-                break;
-            }
-            a = next;
-            ga = gn;
-        }
+            exclusion_walk(r, s0, slope, |next| next.is_nan() || next >= h || next > limit)?.0
+        };
         // A root may be near: sample the rest of the step for the first
         // crossing, then locate it on the polynomial.
-        let mut ga = if lead > 0 && a == 0.0 { 0.0 } else { horner(c, p, a) };
-        let mut sa = s0;
-        let mut pa = a;
+        let ga = if lead > 0 && a == 0.0 { 0.0 } else { horner(c, p, a) };
+        self.sampled_root(c, p, (a, ga, s0), h, dir, limit)
+    }
+
+    /// The first crossing in direction `dir` of the polynomial `c` over
+    /// `(a, h]`, from `a` (its value `ga` there, on side `sa`): the rest
+    /// of the step sampled, the crossing located on the polynomial;
+    /// `None` if none, or if it comes after `limit`.
+    fn sampled_root(
+        &self,
+        c: &Coeffs,
+        p: usize,
+        (a, ga, sa): (f64, f64, i8),
+        h: f64,
+        dir: Direction,
+        limit: f64,
+    ) -> Option<f64> {
+        let (mut pa, mut ga, mut sa) = (a, ga, sa);
         // All samples at once: independent Horner chains run side by side.
         let span = h - a;
         let at: [f64; EVENT_SAMPLES] = std::array::from_fn(|m| a + span * (m + 1) as f64 / EVENT_SAMPLES as f64);
@@ -401,6 +391,55 @@ impl<const N: usize> Taylor<N> {
         }
         None
     }
+
+    /// The step's first event over `(0, h]` (`hk`: the powers of `h`): its
+    /// offset and index, the one listed first on a tie. Taken from the last
+    /// listed (friction's, whose crossing comes first in a bounce's
+    /// flight): a crossing found bounds the search for the others, which
+    /// are dropped once proven later (strictly: equal times still go to
+    /// the event listed first).
+    fn first_event(&self, events: &[Event], h: f64, hk: &Coeffs, p: usize) -> Option<(f64, usize)> {
+        let mut best: Option<(f64, usize)> = None;
+        let mut limit = f64::INFINITY;
+        for i in (0..events.len()).rev() {
+            let e = &events[i];
+            let series = match e.source {
+                Source::State(k) => &self.series.x[k],
+                Source::Extra(k) => &self.extra[k],
+            };
+            if let Some(s) = self.first_root(series, e.level, e.direction, h, hk, p, limit) {
+                if s <= limit {
+                    (best, limit) = (Some((s, i)), s);
+                }
+            }
+        }
+        best
+    }
+}
+
+/// The exclusion walk over a polynomial `r` on side `s0` from 0: |r'| <=
+/// `slope` on the step, so r keeps its sign on [s, s + |r(s)| / slope). At
+/// most four moves, each stopped where `beyond` says the rest need not be
+/// searched (then `None`); else where it stopped (a root may be near) and
+/// the value there. Usually proves there is no root in one or two
+/// evaluations.
+#[inline]
+fn exclusion_walk(r: &[f64], s0: i8, slope: f64, beyond: impl Fn(f64) -> bool) -> Option<(f64, f64)> {
+    let deg = r.len() - 1;
+    let (mut a, mut ga) = (0.0, r[0]);
+    for _ in 0..4 {
+        let next = a + ga.abs() / slope;
+        if beyond(next) {
+            return None;
+        }
+        // A NaN (no slope bound) has no sign: the walk stops.
+        let gn = horner(r, deg, next);
+        if sign(gn) != s0 {
+            break;
+        }
+        (a, ga) = (next, gn);
+    }
+    Some((a, ga))
 }
 
 /// A Taylor order for a first step of `flight` (s) after a bounce: the terms
@@ -469,25 +508,7 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
             for k in 1..=p {
                 hk[k] = if k == 1 { h } else { hk[k / 2] * hk[k - k / 2] };
             }
-            // The step's first event, the one listed first on a tie. Taken
-            // from the last listed (friction's, whose crossing comes first
-            // in a bounce's flight): a crossing found bounds the search for
-            // the others, which are dropped once proven later (strictly:
-            // equal times still go to the event listed first).
-            let mut best: Option<(f64, usize)> = None;
-            let mut limit = f64::INFINITY;
-            for i in (0..events.len()).rev() {
-                let e = &events[i];
-                let series = match e.source {
-                    Source::State(k) => &self.series.x[k],
-                    Source::Extra(k) => &self.extra[k],
-                };
-                if let Some(s) = self.first_root(series, e.level, e.direction, h, &hk, p, limit) {
-                    if s <= limit {
-                        (best, limit) = (Some((s, i)), s);
-                    }
-                }
-            }
+            let best = self.first_event(events, h, &hk, p);
             (self.series.span, self.series.p) = (Span { t0: t, h }, p);
             if let Some((s, i)) = best {
                 let t_ev = t + s;
