@@ -333,14 +333,41 @@ pub fn summary(r: &RingReport) -> String {
     o
 }
 
-/// The line on how far the pull may change before the verdict does.
+/// The fewest decimals, from `min`, at which the distinct numbers of
+/// `vals` print apart (at most 12): 15.6364 N and 15.6349 N both printed
+/// as 15.64 N.
+fn decimals_apart(vals: &[f64], min: usize) -> usize {
+    (min..=12)
+        .find(|&d| {
+            vals.iter()
+                .all(|a| vals.iter().all(|b| a == b || format!("{a:.d$}") != format!("{b:.d$}")))
+        })
+        .unwrap_or(12)
+}
+
+/// The line on how far the pull may change before the verdict does, its
+/// numbers printed to as many decimals as tell them apart.
 fn margin_line(m: &MarginReport) -> String {
     let pct = |f: f64| 100.0 * (f / m.force_n - 1.0);
+    let forces: Vec<f64> = [
+        Some(m.force_n),
+        Some(m.holds_from_n),
+        Some(m.holds_to_n),
+        m.changes_below_n,
+        m.changes_above_n,
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
+    let d = decimals_apart(&forces, 2);
+    // The pull itself is 0 %: any other force's percentage prints apart from it.
+    let pcts: Vec<f64> = forces.iter().map(|f| pct(*f)).chain([0.0]).collect();
+    let dp = decimals_apart(&pcts, 2);
     let mut l = if m.holds_from_n == m.holds_to_n {
-        format!("  the verdict holds only at the pull used, {:.2} N", m.force_n)
+        format!("  the verdict holds only at the pull used, {:.d$} N", m.force_n)
     } else {
         format!(
-            "  the verdict holds for rope forces from {:.2} N to {:.2} N ({:+.2} % to {:+.2} % of the pull)",
+            "  the verdict holds for rope forces from {:.d$} N to {:.d$} N ({:+.dp$} % to {:+.dp$} % of the pull)",
             m.holds_from_n,
             m.holds_to_n,
             pct(m.holds_from_n),
@@ -350,7 +377,7 @@ fn margin_line(m: &MarginReport) -> String {
     let flips: Vec<String> = [m.changes_below_n, m.changes_above_n]
         .iter()
         .flatten()
-        .map(|f| format!("{f:.2} N ({:+.2} %)", pct(*f)))
+        .map(|f| format!("{f:.d$} N ({:+.dp$} %)", pct(*f)))
         .collect();
     if !flips.is_empty() {
         let _ = write!(l, "; it changes at {}", flips.join(" and "));

@@ -298,13 +298,19 @@ fn run<O: Observer>(
         (Protocol::Restart, _) => odd_struck_of(&pair.hand, &pair.back).map_err(|e| e.to_string()),
         (Protocol::Free, [hand, back, ..]) => odd_struck_of(hand, back).map_err(|e| e.to_string()),
     };
-    let report = SimulationReport::new(
+    let mut report = SimulationReport::new(
         BellReport::new(&loaded.name, bell, &loaded.source),
         SimulationSettings::new(&cfg, protocol, req.strokes),
         &ringing,
         pair.sustained(),
         odd,
     );
+    if !pair.sustained() {
+        // What the bell does sustain, where the style asked is not.
+        let other = style.opposite();
+        let sustained = clapper_core::ringing::sustains(bell, &cfg, other)?;
+        report.sustains_instead = Some(if sustained { other.name() } else { "neither" }.into());
+    }
     Ok(Simulation {
         report,
         samples: vec![],
@@ -469,6 +475,15 @@ fn verdict_text(o: &mut String, r: &SimulationReport) {
         if r.sustained { "sustains" } else { "does not sustain" },
         r.style
     );
+    match r.sustains_instead.as_deref() {
+        Some("neither") => {
+            let _ = writeln!(o, "  it sustains neither style steadily");
+        }
+        Some(other) => {
+            let _ = writeln!(o, "  it sustains ringing {other} instead");
+        }
+        None => {}
+    }
     if let Some(odd) = r.odd_struck_ms {
         let _ = writeln!(
             o,

@@ -842,8 +842,8 @@ pub struct HeardBeside {
     /// Its standard error (ms).
     pub heard_odd_struck_se_ms: Option<f64>,
     /// Odd-struckness the model gives with the tower's readings (ms; 0 for
-    /// a symmetric hanging).
-    pub simulated_odd_struck_ms: f64,
+    /// a symmetric hanging; null when the bell sustains neither style).
+    pub simulated_odd_struck_ms: Option<f64>,
     /// Double strikes heard over strikes.
     pub heard_double_rate: f64,
     /// Mean D of the double strikes heard.
@@ -882,11 +882,12 @@ pub fn beside(diag: &crate::diagnosis::DiagnosisReport, heard: &StrikesReport, f
         .iter()
         .zip(&heard.per_bell)
         .map(|(d, h)| {
-            let sim_odd = d.odd_struck.as_ref().map_or(0.0, |o| o.odd_struck_ms);
+            let sim = d.odd_struck.as_ref().map_or(Some(0.0), |o| o.odd_struck_ms);
             let sim_d = d.double_strike_index.r01;
             let mut words = vec![];
-            match (h.odd_struck_ms, h.odd_struck_se_ms) {
-                (Some(o), se) => {
+            match (h.odd_struck_ms, h.odd_struck_se_ms, sim) {
+                (Some(_), _, None) => words.push("the model gives no odd-struckness: it sustains neither style".into()),
+                (Some(o), se, Some(sim_odd)) => {
                     let se = se.unwrap_or(f64::NAN);
                     // Agreement within twice the standard error, and never
                     // closer than 5 ms: a ringer's own habit, and what an
@@ -922,7 +923,7 @@ pub fn beside(diag: &crate::diagnosis::DiagnosisReport, heard: &StrikesReport, f
                 strikes: h.strikes,
                 heard_odd_struck_ms: h.odd_struck_ms,
                 heard_odd_struck_se_ms: h.odd_struck_se_ms,
-                simulated_odd_struck_ms: sim_odd,
+                simulated_odd_struck_ms: sim,
                 heard_double_rate: h.double_rate,
                 heard_mean_d: heard_d,
                 simulated_d: sim_d,
@@ -965,7 +966,7 @@ impl RecordingBeside {
                 b.bell,
                 b.name.chars().take(14).collect::<String>(),
                 odd,
-                format!("{:+.1}", b.simulated_odd_struck_ms),
+                b.simulated_odd_struck_ms.map_or("-".into(), |v| format!("{v:+.1}")),
                 format!("{:.0} %", 100.0 * b.heard_double_rate),
                 b.simulated_d.map_or("-".into(), |v| format!("{v:.1}"))
             );

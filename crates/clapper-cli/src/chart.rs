@@ -340,8 +340,8 @@ pub fn run(args: ChartArgs) -> Result<()> {
         String::new()
     };
     crate::say!(
-        "  {strokes} strokes in {secs:.4} s on {threads} thread{} ({:.0} strokes/s{simulated})",
-        if threads == 1 { "" } else { "s" },
+        "  {strokes} strokes in {secs:.4} s on {} ({:.0} strokes/s{simulated})",
+        threads_words(threads),
         strokes as f64 / secs.max(1e-9)
     );
     Ok(())
@@ -380,7 +380,7 @@ fn run_to_file(args: &ChartArgs, plan: &SweepPlan, pool: &rayon::ThreadPool) -> 
         crate::say!("resumed at stroke {} of {}..{}", from, range[0], range[1]);
     }
     crate::say!(
-        "{} chart(s) of {} strokes; {}strokes {}..{} of {}: {} computed in {:.2} s on {} threads, written to {}",
+        "{} chart(s) of {} strokes; {}strokes {}..{} of {}: {} computed in {:.2} s on {}, written to {}",
         plan.charts.len(),
         plan.per_chart(),
         args.shard
@@ -390,7 +390,7 @@ fn run_to_file(args: &ChartArgs, plan: &SweepPlan, pool: &rayon::ThreadPool) -> 
         plan.total(),
         o.computed,
         o.seconds,
-        pool.current_num_threads(),
+        threads_words(pool.current_num_threads()),
         csv.display()
     );
     if args.shard.is_some() {
@@ -652,4 +652,9 @@ pub fn merge(args: MergeArgs) -> Result<()> {
         crate::say!("removed the shards' {removed} .shard.json files (--keep-shard-json keeps them)");
     }
     Ok(())
+}
+
+/// "1 thread", "2 threads".
+pub(crate) fn threads_words(n: usize) -> String {
+    format!("{n} thread{}", if n == 1 { "" } else { "s" })
 }

@@ -61,8 +61,8 @@ pub fn run(args: &ChartArgs) -> Result<()> {
         crate::chart::draw(path, &figure(&spec, &cells))?;
     }
     crate::say!(
-        "  {n} ring-ups in {secs:.2} s on {} threads",
-        pool.current_num_threads()
+        "  {n} ring-ups in {secs:.2} s on {}",
+        crate::chart::threads_words(pool.current_num_threads())
     );
     Ok(())
 }

@@ -120,7 +120,9 @@ fn simulate_json_is_unchanged() {
 /// (each is a line of its own, never an object's last): issue 17's
 /// `odd_struck_ms` once at the top and `bdc_to_strike_ms` on every stroke,
 /// issue 21's `liftoff_kind` and `no_second_impact` on every stroke, and
-/// issue 45's `odd_struck_undefined` (why there is none). Everything else must be
+/// issue 45's `odd_struck_undefined` (why there is none) and
+/// `sustains_instead` (what a bell sustains where the style asked is not,
+/// beside `"verdict": "neither"`). Everything else must be
 /// the reference, byte for byte; the additions must be there.
 fn without_added_keys(got: &[u8]) -> Vec<u8> {
     let text = String::from_utf8(got.to_vec()).unwrap();
@@ -131,12 +133,18 @@ fn without_added_keys(got: &[u8]) -> Vec<u8> {
             || l.starts_with("\"bdc_to_strike_ms\": ")
             || l.starts_with("\"liftoff_kind\": ")
             || l.starts_with("\"no_second_impact\": ")
+            || l.starts_with("\"sustains_instead\": ")
     };
     let strokes = text.matches("\"number\": ").count();
     for key in ["\"bdc_to_strike_ms\": ", "\"liftoff_kind\": ", "\"no_second_impact\": "] {
         assert_eq!(text.matches(key).count(), strokes, "{key}: one per stroke");
     }
     assert_eq!(text.matches("\"odd_struck_ms\": ").count(), 1);
+    assert_eq!(
+        text.contains("\"sustains_instead\": "),
+        text.contains("\"verdict\": \"neither\""),
+        "sustains_instead where, and only where, the style asked is not sustained"
+    );
     let kept: Vec<&str> = text.split_inclusive('\n').filter(|l| !is_added(l)).collect();
     kept.concat().into_bytes()
 }

@@ -68,13 +68,95 @@ fn mirror_images_get_one_diagnosis() {
         // And the same verdict as simulate.
         let s = common::json(&["simulate", "--preset", "lab", "--pivot-offset", d]);
         assert_eq!(p["rings_right"], s["sustained"], "diagnose and simulate at {d}");
-        if p["rings_right"] == false {
+        // The odd-struckness and its advice are of the style the bell
+        // sustains (wrong at 5 mm), never of a right handstroke beside a
+        // wrong backstroke.
+        assert_eq!(p["odd_struck"]["style"], p["usual_style"], "{p}");
+    }
+}
+
+/// `diagnose --json` at ±2, ±5 and ±10 mm through the binary: the same
+/// problems and changes for a bell and its mirror image (+2 mm had listed
+/// "strikes softly" and three changes, -2 mm a new clapper only, judged
+/// from the handstroke alone), the table showing both strokes, swapped;
+/// and at ±5 mm, where it rings only wrong, its odd-struckness in that
+/// style, as `simulate --style wrong` gives it.
+#[test]
+fn diagnose_gives_mirror_images_the_same_problems_and_changes() {
+    let strip = |v: &serde_json::Value| {
+        let changes: Vec<serde_json::Value> = v["changes"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| {
+                serde_json::json!([
+                    c["kind"],
+                    c["problems_left"],
+                    c["flight_mass_change_kg"],
+                    c["clapper_period_s"],
+                    c["goes_up"]
+                ])
+            })
+            .collect();
+        serde_json::json!([v["verdict"], v["problems"], changes, v["goes_up"]])
+    };
+    for mm in ["0.002", "0.005", "0.01"] {
+        let minus = format!("-{mm}");
+        let p = common::json(&["diagnose", "--preset", "lab", "--pivot-offset", mm]);
+        let m = common::json(&["diagnose", "--preset", "lab", "--pivot-offset", &minus]);
+        let (p, m) = (bell(&p), bell(&m));
+        assert_eq!(strip(p), strip(m), "±{mm} m");
+        assert_eq!(
+            p["double_strike_index"], m["backstroke"]["double_strike_index"],
+            "±{mm} m"
+        );
+        let odd = |v: &serde_json::Value| v["odd_struck"]["odd_struck_ms"].as_f64().unwrap();
+        assert_eq!(odd(p), -odd(m), "±{mm} m");
+        if mm == "0.005" {
+            assert_eq!(p["usual_style"], "wrong");
+            let s = common::json(&["simulate", "--preset", "lab", "--style", "wrong", "--pivot-offset", mm]);
+            assert_eq!(p["odd_struck"]["odd_struck_ms"], s["odd_struck_ms"]);
+            let out = common::clapper()
+                .args(["diagnose", "--preset", "lab", "--pivot-offset", mm])
+                .output()
+                .unwrap();
+            let text = String::from_utf8_lossy(&out.stdout);
             assert!(
-                p.get("odd_struck").is_none_or(|o| o.is_null()),
-                "advice from nothing: {p}"
+                text.contains("odd-struck by -35.3 ms (backstroke late), ringing wrong"),
+                "{text}"
+            );
+            assert!(
+                text.contains("\n  backstroke "),
+                "the table shows the backstroke: {text}"
             );
         }
     }
+}
+
+/// `simulate --style right` of a bell that rings only wrong (the pivot
+/// ±5 mm off) says so: `sustains_instead` "wrong" beside the verdict
+/// "neither" (kept for compatibility), in text and JSON.
+#[test]
+fn simulate_says_what_a_bell_sustains_instead_of_the_style_asked() {
+    for d in ["0.005", "-0.005"] {
+        let v = simulate(d.parse::<f64>().unwrap() * 1e3, "right");
+        assert_eq!(
+            (&v["sustained"], &v["verdict"]),
+            (&serde_json::json!(false), &serde_json::json!("neither"))
+        );
+        assert_eq!(v["sustains_instead"], "wrong", "{d}");
+        let w = simulate(d.parse::<f64>().unwrap() * 1e3, "wrong");
+        assert!(w.get("sustains_instead").is_none(), "asked what it sustains: {w}");
+    }
+    let out = common::clapper()
+        .args(["simulate", "--preset", "lab", "--pivot-offset", "0.005"])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("does not sustain ringing right") && text.contains("it sustains ringing wrong instead"),
+        "{text}"
+    );
 }
 
 /// The one bell of a diagnosis, whether the report is a bell or a ring.
@@ -135,4 +217,68 @@ fn a_knife_edge_ring_up_says_so() {
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(text.contains("a knife-edge verdict"), "{text}");
     assert!(text.contains("set at the balance"), "{text}");
+}
+
+/// The pull margin's forces print to as many decimals as tell them apart
+/// (it said "holds only at ... 15.64 N; it changes at 15.63 N ... and
+/// 15.64 N"): every distinct force of the JSON prints distinctly in the
+/// text, and no percentage other than the pull's own prints as zero.
+#[test]
+fn ring_up_margin_prints_its_forces_apart() {
+    let point = "--chart-point=0.5181818181818183,1.590910681818182";
+    let v = common::json(&["ring-up", point]);
+    let m = &v["pull_margin"];
+    let mut forces: Vec<f64> = ["force_n", "changes_below_n", "changes_above_n"]
+        .iter()
+        .filter_map(|k| m[*k].as_f64())
+        .collect();
+    forces.dedup();
+    assert_eq!(forces.len(), 3, "{m}");
+    let out = common::clapper().args(["ring-up", point]).output().unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    let line = text.lines().find(|l| l.contains("the verdict holds")).unwrap();
+    let printed: Vec<&str> = line
+        .split(" N")
+        .filter_map(|part| part.rsplit(' ').next())
+        .filter(|w| w.parse::<f64>().is_ok())
+        .collect();
+    let mut distinct = printed.clone();
+    distinct.sort();
+    distinct.dedup();
+    assert_eq!(distinct.len(), 3, "three forces apart: {line}");
+    assert!(!line.contains("+0.00 %") && !line.contains("-0.00 %"), "{line}");
+}
+
+/// Progress lines count threads in good English: "on 1 thread".
+#[test]
+fn one_thread_is_one_thread() {
+    let dir = tempfile::tempdir().unwrap();
+    let csv = dir.path().join("c.csv");
+    let runs: [Vec<&str>; 2] = [
+        vec![
+            "chart",
+            "--grid",
+            "3",
+            "--threads",
+            "1",
+            "--shard",
+            "1/1",
+            "--csv",
+            csv.to_str().unwrap(),
+        ],
+        vec!["chart", "--quantity", "goes-up", "--grid", "2", "--threads", "1"],
+    ];
+    for args in runs {
+        let out = common::clapper().args(&args).output().unwrap();
+        assert!(out.status.success(), "{args:?}");
+        let all = format!(
+            "{}{}",
+            String::from_utf8_lossy(&out.stdout),
+            String::from_utf8_lossy(&out.stderr)
+        );
+        assert!(
+            all.contains("on 1 thread") && !all.contains("1 threads"),
+            "{args:?}: {all}"
+        );
+    }
 }

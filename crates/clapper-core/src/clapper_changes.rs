@@ -153,9 +153,26 @@ pub fn with_clapper(bell: &Bell, c: &ClapperMass) -> Result<Bell, ParamError> {
     Ok(b)
 }
 
-/// How the bell goes up with the diagnosis's ringer.
+/// How the bell goes up with the diagnosis's ringer, judged both ways
+/// round: a bell hung out of true is rung up as it is and as its mirror
+/// image (the ringer's first pull the other way), and goes up right only
+/// if both do (wrong if either goes wrong), so that a bell and its mirror
+/// image go up alike. An ideal hanging is its own mirror image: rung once.
 pub fn goes_up(bell: &Bell, cfg: &DiagnoseConfig) -> Result<Settles, SimError> {
-    Ok(ring_up(bell, &cfg.sim, &cfg.ringer, &mut ())?.settles())
+    let once = |b: &Bell| -> Result<Settles, SimError> { Ok(ring_up(b, &cfg.sim, &cfg.ringer, &mut ())?.settles()) };
+    let first = once(bell)?;
+    if bell.hanging.is_ideal() {
+        return Ok(first);
+    }
+    let h = bell.hanging;
+    let mirror = bell.with_hanging(crate::hanging::Hanging {
+        pivot_offset: -h.pivot_offset,
+        phi_max_skew: -h.phi_max_skew,
+        ..h
+    });
+    let second = once(&mirror)?;
+    let worst = [Settles::Wrong, Settles::NoStrike, Settles::Right];
+    Ok(*worst.iter().find(|s| first == **s || second == **s).unwrap_or(&first))
 }
 
 /// 1, -1, 2, -2, ...: step counts nearest first, up to `up` one way and

@@ -11,7 +11,9 @@ use crate::dynamics::Dynamics;
 use crate::frame::{frame_peaks, FramePeaks};
 use crate::ringer::Settles;
 use crate::stroke::{run_stroke, SimConfig, SimError, StrokeStart, Style, TraceRecorder};
-pub use crate::verdicts::{adjusted, margin, min_theta0_right, DiagnoseConfig, Margin, Problem, StyleOutcome};
+pub use crate::verdicts::{
+    adjusted, margin, min_theta0_right, DiagnoseConfig, Margin, Problem, StrokeFigures, StyleOutcome,
+};
 use crate::verdicts::{outcome, problems_of};
 
 /// Everything the diagnosis says about one bell.
@@ -37,7 +39,8 @@ pub struct BellDiagnosis {
     /// The clapper changes that cure its problems, in the hanger's order
     /// ([`hanger_changes`]); empty without problems or without a cure.
     pub changes: Vec<HangerChange>,
-    /// Loads on the frame over a stroke of the usual style.
+    /// Loads on the frame over a stroke of the usual style (the larger of
+    /// handstroke and backstroke for a bell hung out of true).
     pub frame: Option<FramePeaks>,
 }
 
@@ -89,13 +92,7 @@ pub fn diagnose_with_parts(
         problems.push(Problem::GoesUpWrong);
     }
     let changes = hanger_changes(bell, parts, cfg, &problems);
-    let frame = {
-        let style = usual.unwrap_or(Style::Right);
-        let mut rec = TraceRecorder::new(1e-3);
-        let start = StrokeStart::at_rest(bell, &cfg.sim, 0.0, cfg.sim.theta0, style.side(cfg.sim.theta0));
-        run_stroke(bell, &cfg.sim, start, &mut rec)?;
-        frame_peaks(&Dynamics::new(bell), &rec.samples)
-    };
+    let frame = frame_of(bell, cfg, usual.unwrap_or(Style::Right))?;
     Ok(BellDiagnosis {
         position: (bell.r_over_lc(), bell.lb_over_lc()),
         min_theta0_right: min_theta0_right(bell, &cfg.sim),
@@ -107,6 +104,31 @@ pub fn diagnose_with_parts(
         goes_up,
         changes,
         frame,
+    })
+}
+
+/// Loads on the frame over a stroke of `style` from +θ0; for a bell hung
+/// out of true, the larger over that stroke and the backstroke of the
+/// style from −θ0, so that a bell and its mirror image bear alike.
+fn frame_of(bell: &Bell, cfg: &DiagnoseConfig, style: Style) -> Result<Option<FramePeaks>, SimError> {
+    let peaks = |theta0: f64| -> Result<Option<FramePeaks>, SimError> {
+        let mut rec = TraceRecorder::new(1e-3);
+        let start = StrokeStart::at_rest(bell, &cfg.sim, 0.0, theta0, style.side(theta0));
+        run_stroke(bell, &cfg.sim, start, &mut rec)?;
+        Ok(frame_peaks(&Dynamics::new(bell), &rec.samples))
+    };
+    let hand = peaks(cfg.sim.theta0)?;
+    if bell.hanging.is_ideal() {
+        return Ok(hand);
+    }
+    Ok(match (hand, peaks(-cfg.sim.theta0)?) {
+        (Some(h), Some(b)) => Some(FramePeaks {
+            weight: h.weight,
+            horizontal: h.horizontal.max(b.horizontal),
+            vertical_down: h.vertical_down.max(b.vertical_down),
+            vertical_min: h.vertical_min.min(b.vertical_min),
+        }),
+        (h, b) => h.or(b),
     })
 }
 
@@ -234,6 +256,19 @@ pub fn odd_struck_fix(
     ball_below_pivot: f64,
     tolerance: f64,
 ) -> Result<Option<OddStruckFix>, SimError> {
+    odd_struck_fix_in(bell, cfg, Style::Right, ball_below_pivot, tolerance)
+}
+
+/// [`odd_struck_fix`] for a bell ringing in `style` (a bell that rings
+/// only wrong is odd-struck in that style). `None` unless both strokes
+/// strike and keep the style, now and after each move tried.
+pub fn odd_struck_fix_in(
+    bell: &Bell,
+    cfg: &SimConfig,
+    style: Style,
+    ball_below_pivot: f64,
+    tolerance: f64,
+) -> Result<Option<OddStruckFix>, SimError> {
     use crate::hanging::Hanging;
     use crate::ringing::odd_struck;
     let per_m_skew = 1.0 / (ball_below_pivot * bell.phi_max.cos());
@@ -250,7 +285,7 @@ pub fn odd_struck_fix(
         if moved.validate().is_err() {
             return Ok(None);
         }
-        Ok(odd_struck(&moved, cfg, Style::Right)?.odd_struck())
+        Ok(odd_struck(&moved, cfg, style)?.odd_struck())
     };
     let Some(now) = odd(0.0, 0.0)? else { return Ok(None) };
     // Sensitivities by central differences over half a millimetre.

@@ -7,8 +7,8 @@ use rayon::prelude::*;
 
 use crate::bell::{length_of_period, Bell, ParamError};
 use crate::ringer::RingerConfig;
-use crate::ringing::{first_stroke, keeps_style};
-use crate::stroke::{SimConfig, SimError, Style};
+use crate::ringing::first_stroke;
+use crate::stroke::{run_stroke, SimConfig, SimError, Stroke, StrokeStart, Style};
 
 /// Thresholds and search ranges of a diagnosis.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -84,6 +84,26 @@ pub struct StyleOutcome {
     /// Sustained when fully up, in steady ringing: the handstroke and the
     /// backstroke after it both keep the style.
     pub sustained: bool,
+    /// θ at the first strike (rad), handstroke.
+    pub strike_theta: Option<f64>,
+    /// φ' before the first strike (rad/s), handstroke.
+    pub strike_phidot: Option<f64>,
+    /// Lift-off angle (rad), handstroke.
+    pub liftoff_theta: Option<f64>,
+    /// D at each of [`DiagnoseConfig::d_restitutions`], handstroke.
+    pub double_strike_index: [Option<f64>; 3],
+    /// The backstroke of steady ringing in this style (from rest at −θ0,
+    /// the clapper on the style's side), when the style is sustained: its
+    /// angles and rates in its own sign (a right backstroke strikes at
+    /// θ > 0). A bell with an ideal hanging is its own mirror image: its
+    /// backstroke is the handstroke mirrored, and is not rung. A bell and
+    /// its mirror image swap handstroke and backstroke.
+    pub back: Option<StrokeFigures>,
+}
+
+/// What a verdict reads off one stroke.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct StrokeFigures {
     /// θ at the first strike (rad).
     pub strike_theta: Option<f64>,
     /// φ' before the first strike (rad/s).
@@ -92,6 +112,36 @@ pub struct StyleOutcome {
     pub liftoff_theta: Option<f64>,
     /// D at each of [`DiagnoseConfig::d_restitutions`].
     pub double_strike_index: [Option<f64>; 3],
+}
+
+impl StrokeFigures {
+    /// The same stroke seen in the mirror (angles and rates negated).
+    pub fn mirrored(&self) -> Self {
+        Self {
+            strike_theta: self.strike_theta.map(|t| -t),
+            strike_phidot: self.strike_phidot.map(|v| -v),
+            liftoff_theta: self.liftoff_theta.map(|t| -t),
+            double_strike_index: self.double_strike_index,
+        }
+    }
+}
+
+impl StyleOutcome {
+    /// The handstroke's figures.
+    pub fn hand(&self) -> StrokeFigures {
+        StrokeFigures {
+            strike_theta: self.strike_theta,
+            strike_phidot: self.strike_phidot,
+            liftoff_theta: self.liftoff_theta,
+            double_strike_index: self.double_strike_index,
+        }
+    }
+
+    /// The handstroke, and the backstroke seen in the mirror (so both read
+    /// as handstrokes from +θ0): what a problem is judged over.
+    fn strokes_as_hand(&self) -> impl Iterator<Item = StrokeFigures> {
+        std::iter::once(self.hand()).chain(self.back.map(|b| b.mirrored()))
+    }
 }
 
 /// Something a hanger would want changed.
@@ -124,22 +174,61 @@ pub struct Margin {
     pub r_up: Option<f64>,
 }
 
+/// The backstroke of steady ringing in `style`: from rest at −θ0 with the
+/// clapper on the style's side (where a handstroke that keeps the style
+/// leaves it), on its own clock.
+fn back_in_style(bell: &Bell, cfg: &SimConfig, style: Style) -> Result<Stroke, SimError> {
+    let start = StrokeStart::at_rest(bell, cfg, 0.0, -cfg.theta0, style.side(-cfg.theta0));
+    run_stroke(bell, cfg, start, &mut ())
+}
+
 pub(crate) fn outcome(bell: &Bell, cfg: &DiagnoseConfig, style: Style) -> Result<StyleOutcome, SimError> {
     let s = first_stroke(bell, &cfg.sim, style)?;
+    let ideal = bell.hanging.is_ideal();
+    // The verdict of [`crate::ringing::keeps_style`]: a handstroke that
+    // keeps the style leaves the clapper on the style's side, so its
+    // backstroke is `back_in_style`.
+    let back = if s.sustained() && !ideal {
+        Some(back_in_style(bell, &cfg.sim, style)?)
+    } else {
+        None
+    };
+    let sustained = s.sustained() && (ideal || back.as_ref().is_some_and(Stroke::sustained));
     let mut d = [None; 3];
+    let mut back_d = [None; 3];
     for (k, r) in cfg.d_restitutions.iter().enumerate() {
         let sim = SimConfig {
             restitution: *r,
             ..cfg.sim
         };
         d[k] = first_stroke(bell, &sim, style)?.double_strike_index();
+        if sustained && !ideal {
+            back_d[k] = back_in_style(bell, &sim, style)?.double_strike_index();
+        }
     }
-    Ok(StyleOutcome {
-        sustained: keeps_style(bell, &cfg.sim, &s)?,
+    let hand = StrokeFigures {
         strike_theta: s.strike_angle(),
         strike_phidot: s.strike_velocity(),
         liftoff_theta: s.liftoff_angle(),
         double_strike_index: d,
+    };
+    let back = match back {
+        _ if !sustained => None,
+        None => Some(hand.mirrored()),
+        Some(b) => Some(StrokeFigures {
+            strike_theta: b.strike_angle(),
+            strike_phidot: b.strike_velocity(),
+            liftoff_theta: b.liftoff_angle(),
+            double_strike_index: back_d,
+        }),
+    };
+    Ok(StyleOutcome {
+        sustained,
+        strike_theta: hand.strike_theta,
+        strike_phidot: hand.strike_phidot,
+        liftoff_theta: hand.liftoff_theta,
+        double_strike_index: d,
+        back,
     })
 }
 
@@ -157,19 +246,33 @@ fn r01_index(cfg: &DiagnoseConfig) -> usize {
         .unwrap_or(1)
 }
 
+/// What is wrong with a bell ringing right, judged over both strokes of
+/// steady ringing (the worse of the two), so that a bell and its mirror
+/// image have the same problems.
 pub(crate) fn problems_of(bell: &Bell, right: &StyleOutcome, cfg: &DiagnoseConfig) -> Vec<Problem> {
     if !right.sustained {
         return vec![Problem::CannotRingRight];
     }
     let mut p = vec![];
-    if right.strike_theta.is_some_and(|t| t < cfg.late_strike) {
+    let strokes: Vec<StrokeFigures> = right.strokes_as_hand().collect();
+    if strokes
+        .iter()
+        .any(|s| s.strike_theta.is_some_and(|t| t < cfg.late_strike))
+    {
         p.push(Problem::LateStrike);
     }
     let omega_b = 2.0 * std::f64::consts::PI / bell.tb();
-    if right.strike_phidot.is_some_and(|v| v.abs() < cfg.quiet_ratio * omega_b) {
+    if strokes
+        .iter()
+        .any(|s| s.strike_phidot.is_some_and(|v| v.abs() < cfg.quiet_ratio * omega_b))
+    {
         p.push(Problem::Quiet);
     }
-    if right.double_strike_index[r01_index(cfg)].is_some_and(|d| d > cfg.double_strike_limit) {
+    let k = r01_index(cfg);
+    if strokes
+        .iter()
+        .any(|s| s.double_strike_index[k].is_some_and(|d| d > cfg.double_strike_limit))
+    {
         p.push(Problem::DoubleStrike);
     }
     p

@@ -301,8 +301,15 @@ pub struct SimulationReport {
     /// handstroke and the backstroke after it both keep it (restart
     /// protocol, whatever the protocol of the strokes listed).
     pub sustained: bool,
-    /// "right", "wrong" or "neither": the style asked for if sustained.
+    /// The style asked for if the bell sustains it, else "neither" (read:
+    /// not the style asked; the name is kept for compatibility):
+    /// `sustains_instead` then says what the bell does sustain.
     pub verdict: String,
+    /// Only when the style asked is not sustained: the style the bell does
+    /// sustain in steady ringing, "right" or "wrong" (one that will not
+    /// ring right fully up rings wrong steadily), or "neither".
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub sustains_instead: Option<String>,
     /// Odd-struckness (ms): handstroke minus backstroke time from bottom dead
     /// centre to the first strike, of the first two strokes (positive: the
     /// handstroke strikes late); 0 for a symmetric bell; null unless both
@@ -337,6 +344,7 @@ impl SimulationReport {
             } else {
                 "neither".into()
             },
+            sustains_instead: None,
             odd_struck_ms: odd_struck.as_ref().ok().map(|t| t * 1e3),
             odd_struck_undefined: odd_struck.err(),
             strokes: ringing

@@ -188,13 +188,34 @@ const CHART_QUANTITIES: [(&str, CellReader); 8] = [
 /// Sweep a clapping chart (in parallel, the GIL released). Returns a dict:
 /// `r_over_lc` (nx), `lb_over_lc` (ny) as f64 bytes, `styles` (names), and
 /// for each style a dict of quantity -> f64 bytes of ny x nx values, rows
-/// by L_b/L_c ascending (NaN where the style is not sustained).
+/// by L_b/L_c ascending (NaN where the style is not sustained). `threads`:
+/// the worker threads (1 to 1024; default one per core), as the command
+/// line's `--threads`; the result does not depend on it.
 #[pyfunction]
-fn chart<'py>(py: Python<'py>, request_json: &str) -> PyResult<Bound<'py, PyDict>> {
+#[pyo3(signature = (request_json, threads = None))]
+fn chart<'py>(py: Python<'py>, request_json: &str, threads: Option<usize>) -> PyResult<Bound<'py, PyDict>> {
     let req: ChartRequest = request(request_json, "chart")?;
     let spec = req.spec().map_err(py_err)?;
+    let pool = match threads {
+        Some(n) if !(1..=1024).contains(&n) => {
+            return Err(PyValueError::new_err(format!(
+                "chart: threads must be 1 to 1024, not {n}"
+            )));
+        }
+        Some(n) => Some(
+            rayon::ThreadPoolBuilder::new()
+                .num_threads(n)
+                .build()
+                .map_err(|e| PyRuntimeError::new_err(format!("chart: {e}")))?,
+        ),
+        None => None,
+    };
+    let run = || sweep(&spec, &|_| {});
     let chart = py
-        .detach(|| sweep(&spec, &|_| {}))
+        .detach(|| match &pool {
+            Some(p) => p.install(run),
+            None => run(),
+        })
         .map_err(|e| py_err(AppError::Param(e)))?;
     let out = PyDict::new(py);
     out.set_item("r_over_lc", f64_bytes(py, spec.xs()))?;

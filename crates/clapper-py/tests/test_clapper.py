@@ -385,3 +385,43 @@ def test_tower_rings_the_example_ring_as_the_command_line_does():
     assert abs(peak - rep["peak_sway_m"]) < 1e-12 * max(peak, 1.0)
     with pytest.raises(ValueError, match="no method 'Plain Bobb Major'"):
         clapper.tower(ring, "Plain Bobb Major")
+
+
+def test_diagnose_gives_mirror_images_the_same_problems_and_changes_as_the_cli(tmp_path):
+    # Issue 45: the lab bell with its clapper pivot 2 and 5 mm either way.
+    lab = (ROOT / "examples/lab.toml").read_text()
+    for d in ["0.002", "0.005"]:
+        bells = {}
+        for sign in ["", "-"]:
+            path = tmp_path / f"lab{sign}{d}.toml"
+            path.write_text(lab + f"pivot_offset_m = {sign}{d}\n")
+            rep = clapper.diagnose(path)
+            cli_json = subprocess.run(
+                [cli(), "diagnose", str(path), "--json"], capture_output=True, text=True, check=True
+            ).stdout
+            assert rep.data == json.loads(cli_json)
+            bells[sign] = rep["bells"][0]
+        p, m = bells[""], bells["-"]
+        assert p["problems"] == m["problems"] and p["problems"]
+        kinds = lambda b: [(c["kind"], c["problems_left"], c.get("flight_mass_change_kg")) for c in b["changes"]]
+        assert kinds(p) == kinds(m)
+        assert p["odd_struck"]["odd_struck_ms"] == -m["odd_struck"]["odd_struck_ms"]
+        assert p["odd_struck"]["style"] == p["usual_style"]
+
+
+@pytest.mark.filterwarnings("ignore::clapper.ClapperWarning")
+def test_simulate_says_what_a_bell_sustains_instead():
+    sim = clapper.simulate(clapper.preset("lab"), pivot_offset=0.005, trace=False)
+    assert (sim.sustained, sim.verdict, sim.sustains_instead) == (False, "neither", "wrong")
+    assert clapper.simulate(clapper.preset("lab"), trace=False).sustains_instead is None
+
+
+def test_chart_takes_threads_and_the_count_changes_nothing():
+    one = clapper.chart(grid=5, threads=1)
+    two = clapper.chart(grid=5, threads=2)
+    for style in ["right", "wrong"]:
+        for q, v in one.values[style].items():
+            np.testing.assert_array_equal(v, two.values[style][q], err_msg=f"{style} {q}")
+    for bad in [0, 2000]:
+        with pytest.raises(ValueError, match="threads"):
+            clapper.chart(grid=3, threads=bad)

@@ -563,7 +563,9 @@ async function showStroke(p) {
 }
 
 function strokeTable(r) {
-  let h = `<p><b>The bell ${r.sustained ? "sustains" : "does not sustain"} ringing ${esc(r.style)}</b> · T<sub>b</sub> = ${fmt(r.bell.tb_s, 3)} s, T<sub>c</sub> = ${fmt(r.bell.tc_s, 3)} s, φ<sub>max</sub> = ${fmt(r.bell.phi_max_deg, 1)} deg · ${r.odd_struck_ms === null || r.odd_struck_ms === undefined
+  const instead = r.sustains_instead === "neither" ? "; it sustains neither style"
+    : r.sustains_instead ? `; it sustains ringing ${esc(r.sustains_instead)} instead` : "";
+  let h = `<p><b>The bell ${r.sustained ? "sustains" : "does not sustain"} ringing ${esc(r.style)}${instead}</b> · T<sub>b</sub> = ${fmt(r.bell.tb_s, 3)} s, T<sub>c</sub> = ${fmt(r.bell.tc_s, 3)} s, φ<sub>max</sub> = ${fmt(r.bell.phi_max_deg, 1)} deg · ${r.odd_struck_ms === null || r.odd_struck_ms === undefined
     ? `odd-struck not defined${r.odd_struck_undefined ? ` (${esc(r.odd_struck_undefined)}: it compares strokes of one style)` : ""}`
     : `odd-struck ${fmt(r.odd_struck_ms, 1)} ms (handstroke minus backstroke)`}</p>`;
   h += "<table><tr><th>stroke</th><th>style</th><th>lift-off (deg)</th><th>first strike θ (deg)</th><th>at (s)</th><th>bottom to strike (ms)</th><th>φ' (rad/s)</th><th>2nd impact after (ms)</th><th>amplitude ratio</th><th>D</th><th>impacts</th><th>sustained</th></tr>";
@@ -838,6 +840,9 @@ function diagnosisHtml(rep) {
   for (const b of rep.bells) {
     const d = b.double_strike_index;
     h += `<tr class="bell-row"><td>${esc(b.name)}</td><td>${fmt(b.r_over_lc, 3)}</td><td>${fmt(b.lb_over_lc, 3)}</td><td>${esc(b.verdict)}</td><td>${fmt(b.first_strike_theta_deg, 1)}</td><td>${fmt(b.strike_phidot_rad_s, 2)}</td><td>${fmt(b.liftoff_theta_deg, 1)}</td><td>${fmt(d["0.05"], 1)}</td><td>${fmt(d["0.1"], 1)}</td><td>${fmt(d["0.2"], 1)}</td><td>${fmt(b.min_theta0_right_deg, 1)}</td><td class="goes-up">${esc(b.goes_up)}</td></tr>`;
+    // A bell hung out of true: its backstroke too (its problems are judged from the worse stroke).
+    const k = b.backstroke;
+    if (k) h += `<tr class="back-row"><td>&nbsp;&nbsp;backstroke</td><td></td><td></td><td></td><td>${fmt(k.first_strike_theta_deg, 1)}</td><td>${fmt(k.strike_phidot_rad_s, 2)}</td><td>${fmt(k.liftoff_theta_deg, 1)}</td><td>${fmt(k.double_strike_index["0.05"], 1)}</td><td>${fmt(k.double_strike_index["0.1"], 1)}</td><td>${fmt(k.double_strike_index["0.2"], 1)}</td><td></td><td></td></tr>`;
   }
   h += "</table>";
   for (const b of rep.bells) {
@@ -845,7 +850,10 @@ function diagnosisHtml(rep) {
     h += b.usual_style ? `, usually ${esc(b.usual_style)}.` : ".";
     if (b.striking_speed_m_s !== null) h += ` Strikes at ${fmt(b.striking_speed_m_s, 2)} m/s` + (b.strike_energy_j !== null ? ` (${fmt(b.strike_energy_j, 1)} J).` : ".");
     if (b.assumed.length) h += `<br>Assumed, not measured: ${esc(b.assumed.join(", "))}`;
-    if (b.odd_struck) h += `<br><span class="${Math.abs(b.odd_struck.odd_struck_ms) > b.odd_struck.tolerance_ms ? "problem" : ""} odd-struck">Odd-struck: ${esc(b.odd_struck.words)}</span>`;
+    // odd_struck_ms is null where the bell sustains neither style: its words then say why.
+    const odd = b.odd_struck;
+    if (odd && odd.odd_struck_ms === null) h += `<br><span class="odd-struck">${esc(odd.words)}</span>`;
+    else if (odd) h += `<br><span class="${Math.abs(odd.odd_struck_ms) > odd.tolerance_ms ? "problem" : ""} odd-struck">Odd-struck: ${esc(odd.words)}</span>`;
     for (const p of b.problems) h += `<br><span class="problem">Problem: ${esc(p)}</span>`;
     h += `<br>Goes up <b>${esc(b.goes_up)}</b> (rung up from rest).`;
     if (b.changes.length) {
@@ -1070,7 +1078,7 @@ function strikesHtml(r) {
     if (beside) {
       const d = lastDiagnosis.bells[b.bell - 1];
       h += d
-        ? `<td>${esc(d.name)}</td><td>${fmt(d.odd_struck ? d.odd_struck.odd_struck_ms : 0, 1)}</td><td>${fmt(d.double_strike_index["0.1"], 1)}</td>`
+        ? `<td>${esc(d.name)}</td><td class="odd-model">${d.odd_struck ? fmt(d.odd_struck.odd_struck_ms, 1) : "0.0"}</td><td>${fmt(d.double_strike_index["0.1"], 1)}</td>`
         : "<td>–</td><td>–</td><td>–</td>";
     }
     h += "</tr>";

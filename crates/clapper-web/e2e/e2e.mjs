@@ -264,6 +264,25 @@ try {
   await page.screenshot({ path: `${out}/05-odd-struck.png`, fullPage: true });
   for (const k of Object.keys(tape)) await page.fill(`#hanging-fields input[data-key="${k}"]`, "");
 
+  // Issue 45: the lab bell with its clapper pivot 5 mm off rings only
+  // wrong; the diagnosis shows its backstroke beside its handstroke and
+  // the odd-struckness of the style it sustains (it said nothing of it).
+  await page.click("#clear-bells");
+  await page.check('input[name="bell-kind"][value="mass"]');
+  await page.fill("#bell-name", "Lab 5 mm off");
+  const labMass = { bell_mass_kg: "45.8", clapper_mass_kg: "1.65", a_m: "0.24", b_m: "0.25", bell_inertia_kg_m2: "4.1", clapper_inertia_kg_m2: "0.093", r_m: "0.10", phi_max_deg: "26" };
+  for (const [k, v] of Object.entries(labMass)) await page.fill(`#mass-fields input[data-key="${k}"]`, v);
+  await page.fill('#hanging-fields input[data-key="pivot_offset_m"]', "0.005");
+  await page.click("#add-bell");
+  await page.click("#diagnose");
+  await page.waitForSelector(".back-row", { timeout: 60000 });
+  const oddWrong = await page.textContent(".odd-struck");
+  check(/odd-struck by -35\.\d ms \(backstroke late\), ringing wrong/.test(oddWrong),
+    "a bell that rings only wrong is odd-struck in that style: " + oddWrong);
+  check((await page.textContent(".back-row")).includes("backstroke"), "the table shows the backstroke beside the handstroke");
+  await page.fill('#hanging-fields input[data-key="pivot_offset_m"]', "");
+  await page.check('input[name="bell-kind"][value="tower"]');
+
   // The two questions ringers ask: will it go up right, and what clapper
   // fixes it? The tenor with its clapper given by its parts.
   await page.click("#clear-bells");

@@ -877,3 +877,48 @@ async fn a_ring_is_rung_in_its_tower_through_the_api() {
     assert_eq!(status, StatusCode::BAD_REQUEST);
     assert!(json(&bytes)["error"].as_str().unwrap().contains("at most 5040"));
 }
+
+/// `/api/diagnose` gives the lab bell with its clapper pivot 2 mm one way
+/// and 2 mm the other (a ring of two, bell files with `pivot_offset_m`) the
+/// same problems and changes (issue 45: judged from the handstroke alone,
+/// +2 mm had "strikes softly" and three changes, -2 mm a new clapper only),
+/// each with its backstroke; and at ±5 mm, where it rings only wrong, the
+/// odd-struckness of that style, negated.
+#[tokio::test]
+async fn diagnose_gives_mirror_images_the_same_problems_and_changes() {
+    let app = router(Limits::default());
+    let lab = "bell_mass_kg = 45.8\nclapper_mass_kg = 1.65\na_m = 0.24\nb_m = 0.25\n\
+               bell_inertia_kg_m2 = 4.1\nclapper_inertia_kg_m2 = 0.093\nr_m = 0.10\nphi_max_deg = 26\n";
+    for d in [0.002, 0.005] {
+        let ring = format!(
+            "[[bell]]\nname = \"Plus\"\npivot_offset_m = {d}\n{lab}\n[[bell]]\nname = \"Minus\"\npivot_offset_m = -{d}\n{lab}"
+        );
+        let req = serde_json::json!({ "toml": ring });
+        let (status, bytes) = send(&app, "POST", "/api/diagnose", Some(&req.to_string())).await;
+        assert_eq!(status, StatusCode::OK, "{}", String::from_utf8_lossy(&bytes));
+        let rep = json(&bytes);
+        let (p, m) = (&rep["bells"][0], &rep["bells"][1]);
+        let changes = |b: &Value| -> Vec<Value> {
+            b["changes"]
+                .as_array()
+                .unwrap()
+                .iter()
+                .map(|c| {
+                    serde_json::json!([
+                        c["kind"],
+                        c["problems_left"],
+                        c["flight_mass_change_kg"],
+                        c["clapper_period_s"]
+                    ])
+                })
+                .collect()
+        };
+        assert_eq!(p["problems"], m["problems"], "±{d}");
+        assert!(!p["problems"].as_array().unwrap().is_empty());
+        assert_eq!(changes(p), changes(m), "±{d}");
+        assert_eq!(p["backstroke"]["double_strike_index"], m["double_strike_index"], "±{d}");
+        let odd = |b: &Value| b["odd_struck"]["odd_struck_ms"].as_f64().unwrap();
+        assert_eq!(odd(p), -odd(m), "±{d}");
+        assert_eq!(p["odd_struck"]["style"], p["usual_style"], "±{d}");
+    }
+}

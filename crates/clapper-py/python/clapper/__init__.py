@@ -496,8 +496,15 @@ class Simulation(Report):
 
     bell = property(lambda self: self.data["bell"], doc="The bell simulated (dict).")
     strokes = property(lambda self: self.data["strokes"], doc="The strokes (list of dicts).")
-    verdict = property(lambda self: self.data["verdict"], doc='"right", "wrong" or "neither".')
+    verdict = property(
+        lambda self: self.data["verdict"],
+        doc='The style asked if sustained, else "neither" (not the style asked: sustains_instead says what is).',
+    )
     sustained = property(lambda self: self.data["sustained"], doc="Whether the style asked for is sustained.")
+    sustains_instead = property(
+        lambda self: self.data.get("sustains_instead"),
+        doc='Where the style asked is not sustained: "right", "wrong" or "neither", what the bell sustains; else None.',
+    )
     odd_struck_ms = property(
         lambda self: self.data["odd_struck_ms"],
         doc="Handstroke minus backstroke, bottom dead centre to strike (ms); None unless both strike.",
@@ -610,18 +617,27 @@ class Chart:
         )
 
 
-def chart(*, grid: Union[int, Sequence[int]] = 40, style: str = "both", **options: Any) -> Chart:
+def chart(
+    *, grid: Union[int, Sequence[int]] = 40, style: str = "both", threads: Optional[int] = None, **options: Any
+) -> Chart:
     """Sweep a clapping chart, in parallel; the GIL is released meanwhile.
 
     ``grid`` is points along r/L_c and L_b/L_c (one number for both);
-    ``options`` are ``clapper chart``'s long options in snake case:
-    ``r_range``, ``lb_range`` (pairs), ``phi_max`` (deg), ``theta0`` (deg),
-    ``restitution``, ``contact`` and the rest.
+    ``threads`` the worker threads (1 to 1024; default one per core: the
+    result is the same whatever the count); ``options`` are ``clapper
+    chart``'s long options in snake case: ``r_range``, ``lb_range``
+    (pairs), ``phi_max`` (deg), ``theta0`` (deg), ``restitution``,
+    ``contact`` and the rest.
     """
     # One number for both: checked as the one number given.
     g = [_value("chart", "grid", grid, "count", [], 0)] * 2 if _is_number(grid) else grid
-    req = _checked("chart", "chart", dict(grid=g, style=style, **options))
-    return Chart(_clapper.chart(json.dumps(req)))
+    req = _checked("chart", "chart", dict(grid=g, style=style, **options), own=["threads"])
+    n = None
+    if threads is not None:
+        n = _value("chart", "threads", threads, "count", [], 0)
+        if not 1 <= n <= 1024:
+            raise ValueError(f"chart: threads must be 1 to 1024, not {n}")
+    return Chart(_clapper.chart(json.dumps(req), n))
 
 
 def diagnose(bells: Union[Bell, PathLike, None] = None) -> Report:
