@@ -11,6 +11,7 @@ use super::phases::{odd_struck, phases};
 use super::plausible::{half_swing, plausibility, Plausibility};
 use super::reading::{angle, misfit, Angle};
 use super::rests::{calibrate_from_rests, rests};
+use super::tops;
 use super::types::{AccelLog, ClapperingStart, LogOptions, LogStroke, Phase, PhaseKind};
 use crate::{median, SignalError};
 use clapper_core::bell::G;
@@ -186,6 +187,10 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
     if let Some(c) = &calibration {
         checks::bottom_errors(c, &log, &a.joint_rate, &mut strokes);
     }
+    if let Some(length) = calibration.as_ref().and_then(|c| c.length) {
+        tops::timed_tops(&log.t, &burst, &rests, length, &mut strokes);
+    }
+    tops::stands(&log, &burst, &rests, &mut strokes);
     let phases = phases(&log.t, &rests, &mut strokes, &theta, opts.full_swing);
     radial_clip_warning(&log.t, &rclip, &strokes, &mut warnings);
     let set_side = set_side(&log.t, &theta, &phases, &strokes);
@@ -641,6 +646,8 @@ mod tests {
             phase: PhaseKind::Raising,
             speed_peak: None,
             bdc_se: None,
+            stand: None,
+            amplitude_timed: false,
         }
     }
 
