@@ -177,8 +177,13 @@ pub struct LogReport {
     pub model: Option<ModelReport>,
     /// Mean handstroke minus mean backstroke BDC-to-strike while ringing (ms).
     pub odd_struck_ms: Option<f64>,
-    /// Its standard error (ms).
+    /// Its standard error (ms): the strokes' scatter and the calibration's
+    /// share together.
     pub odd_struck_se_ms: Option<f64>,
+    /// The calibration's share of it (ms): the larger of the calibration's
+    /// covariance propagated and its jackknife (refitted without each part
+    /// of the log's free stretches, the bottoms re-read with each).
+    pub odd_struck_calibration_se_ms: Option<f64>,
     /// Why the odd-struckness is null though the ringing was read (its
     /// standard error too large, or hand and back not told apart).
     pub odd_struck_withheld: Option<String>,
@@ -279,6 +284,7 @@ pub fn read_log(log: &AccelLog, opts: &LogOptions, bell: Option<LoadedBell>) -> 
         model,
         odd_struck_ms: a.odd_struck.map(|o| o.0 * 1e3),
         odd_struck_se_ms: a.odd_struck.map(|o| o.1 * 1e3),
+        odd_struck_calibration_se_ms: a.odd_struck_calibration_se.map(|x| x * 1e3),
         odd_struck_withheld: a.odd_struck_withheld.clone(),
         phase_summary,
         phases: phase_reports(&a),
@@ -537,7 +543,11 @@ pub fn text(r: &LogReport) -> String {
         o,
         "odd-struck (hand minus back, ringing): {}{}{}",
         opt(r.odd_struck_ms, 1, "ms"),
-        r.odd_struck_se_ms.map_or(String::new(), |se| format!(" ± {se:.1} ms")),
+        r.odd_struck_se_ms.map_or(String::new(), |se| format!(
+            " ± {se:.1} ms{}",
+            r.odd_struck_calibration_se_ms
+                .map_or(String::new(), |c| format!(" (the calibration's share {c:.1} ms)"))
+        )),
         if r.odd_struck_withheld.is_some() {
             " (withheld: see the warnings)"
         } else {
