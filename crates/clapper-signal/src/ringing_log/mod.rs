@@ -65,5 +65,5 @@ pub use calibrate::{Calibration, CalibrationSe};
 pub use orient::{orientation, Orientation};
 pub use phases::STAND_MAX_S;
 pub use plausible::{plausibility, Plausibility, GRAVITY_BAND, MAX_JUMPS};
-pub use tops::{STAND_LONG_S, STAND_PAST, TIMED_MAX};
+pub use tops::{STAND_PAST, TIMED_MAX};
 pub use types::{AccelLog, ClapperingStart, LogOptions, LogStroke, Phase, PhaseKind, Stand};

@@ -270,9 +270,15 @@ const DECLINE_DROP: f64 = 10.0 * std::f64::consts::PI / 180.0;
 /// as dying away (the amplitude's reading error): 2 deg.
 const DECLINE_SLACK: f64 = 2.0 * std::f64::consts::PI / 180.0;
 
+/// The first of them rises at least this far (rad) below the full swings'
+/// median: 1 deg (a ringing stroke rises to the median itself, give or
+/// take its reading; the generator's lowering follows on from a ringing
+/// stroke that rose to it).
+const DECLINE_BELOW: f64 = std::f64::consts::PI / 180.0;
+
 /// Whether the swings the stroke at `p` and the next rise to (the
 /// amplitudes `amps[p + 1..]`) die away: [`DECLINE_SWINGS`] of them, the
-/// first below the full swings' median `height` (rad), each no higher than
+/// first [`DECLINE_BELOW`] under the full swings' median `height` (rad), each no higher than
 /// the one before (give or take [`DECLINE_SLACK`]), losing
 /// [`DECLINE_DROP`] in all. The stroke at `p` is then the lowering's first
 /// (an independent tester's log, lowered from a stand at 184 deg: 171,
@@ -283,7 +289,7 @@ fn declines_after(amps: &[f64], p: usize, height: f64) -> bool {
     let Some(run) = amps.get(p + 1..p + 1 + DECLINE_SWINGS) else {
         return false;
     };
-    run[0] < height
+    run[0] < height - DECLINE_BELOW
         && run.windows(2).all(|w| w[1] <= w[0] + DECLINE_SLACK)
         && run[0] - run[DECLINE_SWINGS - 1] >= DECLINE_DROP
 }

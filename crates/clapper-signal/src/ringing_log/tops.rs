@@ -11,15 +11,12 @@ use clapper_core::elliptic::complete_k;
 use std::f64::consts::{FRAC_PI_2, PI};
 
 /// A turning point at least this high (rad) is on the stay: a bell that
-/// turns back from past the balance was held there (179 deg: the balance
-/// less a degree for the calibration's error).
-pub const STAND_PAST: f64 = 179.0 * PI / 180.0;
-
-/// A still top short of [`STAND_PAST`] is a stand only when it lasts at
-/// least this (s): a free swing's slow top at 175-178 deg stays within 3
-/// deg of its height for 0.4-0.8 s (measured on an independent tester's
-/// logs, the bell's equivalent pendulum 1.1 m).
-pub const STAND_LONG_S: f64 = 1.0;
+/// turns back from past the balance was held there (179.5 deg: the
+/// balance less half a degree for the calibration's error). How long a top
+/// stays still cannot tell a stand from a free swing's slow top: one
+/// turning 1 deg short of the balance stays within 3 deg of its height
+/// for 1.4 s (the project's generator), longer than a short stand.
+pub const STAND_PAST: f64 = 179.5 * PI / 180.0;
 
 /// A hidden turning point is read from the swing's time only up to this
 /// height (rad): 172 deg. Nearer the balance the time grows without bound
@@ -45,8 +42,8 @@ fn rest_between(rests: &[(f64, f64, f64)], (a, b): (f64, f64)) -> Option<(f64, f
 /// Each stroke's stand (`LogStroke::stand`): a rest at the balance before
 /// the next bottom (a set when longer than [`STAND_MAX_S`]); else a still
 /// run of the calibrated gravity angle there (`stand_height`) at least
-/// [`STAND_PAST`] high or lasting [`STAND_LONG_S`]; else a turning point
-/// read at least [`STAND_PAST`] high (not timed). Its angle is the
+/// [`STAND_PAST`] high, how long it stood read from it; else a turning
+/// point read at least [`STAND_PAST`] high (not timed). Its angle is the
 /// amplitude the next stroke falls from.
 pub(super) fn stands(log: &AccelLog, burst: &[bool], rests: &[(f64, f64, f64)], strokes: &mut [LogStroke]) {
     let t = &log.t;
@@ -68,7 +65,7 @@ pub(super) fn stands(log: &AccelLog, burst: &[bool], rests: &[(f64, f64, f64)], 
         let (ia, ib) = (t.partition_point(|&x| x < a), t.partition_point(|&x| x < b).min(n - 1));
         let read = stand_height(log, burst, (ia, ib), next.from_side);
         strokes[i].stand = match read {
-            Some(s) if s.height >= STAND_PAST || s.off - s.on >= STAND_LONG_S => Some(Stand {
+            Some(s) if s.height >= STAND_PAST => Some(Stand {
                 angle: next.amplitude,
                 duration: Some(s.off - s.on),
                 set: false,
