@@ -27,8 +27,26 @@ pub struct PhaseReport {
     pub end_s: f64,
     /// "down", "raising", "up", "ringing" or "lowering".
     pub kind: &'static str,
+    /// As the issue names the phases: "down", "raising", "set", "ringing
+    /// with stands", "ringing without stands", "lowering from its first
+    /// swing" (straight after a set or stand, no ringing between) or
+    /// "lowering".
+    pub name: &'static str,
+    /// Stands on the stay within it (ringing), sets left out.
+    pub stands: usize,
     /// When it started (s).
     pub start_s: f64,
+}
+
+/// A stroke's end on the stay, as reported.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct StandReport {
+    /// Its angle from the bottom (deg): where the next stroke falls from.
+    pub angle_deg: f64,
+    /// How long it stood (s), when read.
+    pub duration_s: Option<f64>,
+    /// A set (a rest at the balance), not a stand within the ringing.
+    pub set: bool,
 }
 
 /// One swing, as reported.
@@ -60,6 +78,13 @@ pub struct StrokeReport {
     pub speed_peak_s: Option<f64>,
     /// The standard error of `bdc_s` the sensor's calibration leaves (ms).
     pub bdc_se_ms: Option<f64>,
+    /// The stay it rose to after its strike, if it stood there (null: it
+    /// turned back short of the stay).
+    pub stand: Option<StandReport>,
+    /// True when `amplitude_deg` was read from the swing's time, the
+    /// headstock's ringing hiding its turning point; left out when false.
+    #[serde(skip_serializing_if = "std::ops::Not::not")]
+    pub amplitude_timed: bool,
 }
 
 /// Mean and spread of a phase's BDC-to-strike at one stroke.
@@ -152,8 +177,13 @@ pub struct LogReport {
     pub model: Option<ModelReport>,
     /// Mean handstroke minus mean backstroke BDC-to-strike while ringing (ms).
     pub odd_struck_ms: Option<f64>,
-    /// Its standard error (ms).
+    /// Its standard error (ms): the strokes' scatter and the calibration's
+    /// share together.
     pub odd_struck_se_ms: Option<f64>,
+    /// The calibration's share of it (ms): the larger of the calibration's
+    /// covariance propagated and its jackknife (refitted without each part
+    /// of the log's free stretches, the bottoms re-read with each).
+    pub odd_struck_calibration_se_ms: Option<f64>,
     /// Why the odd-struckness is null though the ringing was read (its
     /// standard error too large, or hand and back not told apart).
     pub odd_struck_withheld: Option<String>,
@@ -231,6 +261,12 @@ pub fn read_log(log: &AccelLog, opts: &LogOptions, bell: Option<LoadedBell>) -> 
             strike_theta_deg: s.strike_theta.map(f64::to_degrees),
             speed_peak_s: s.speed_peak,
             bdc_se_ms: s.bdc_se.map(|x| x * 1e3),
+            stand: s.stand.map(|x| StandReport {
+                angle_deg: x.angle.to_degrees(),
+                duration_s: x.duration,
+                set: x.set,
+            }),
+            amplitude_timed: s.amplitude_timed,
         })
         .collect();
     let phase_summary = phase_summaries(&a.strokes);
@@ -248,17 +284,10 @@ pub fn read_log(log: &AccelLog, opts: &LogOptions, bell: Option<LoadedBell>) -> 
         model,
         odd_struck_ms: a.odd_struck.map(|o| o.0 * 1e3),
         odd_struck_se_ms: a.odd_struck.map(|o| o.1 * 1e3),
+        odd_struck_calibration_se_ms: a.odd_struck_calibration_se.map(|x| x * 1e3),
         odd_struck_withheld: a.odd_struck_withheld.clone(),
         phase_summary,
-        phases: a
-            .phases
-            .iter()
-            .map(|p| PhaseReport {
-                end_s: p.end,
-                kind: p.kind.name(),
-                start_s: p.start,
-            })
-            .collect(),
+        phases: phase_reports(&a),
         sample_interval_ms: a.interval * 1e3,
         sensor_m: a.sensor_along,
         sensor_across_m: a.sensor_across,
@@ -275,6 +304,37 @@ pub fn read_log(log: &AccelLog, opts: &LogOptions, bell: Option<LoadedBell>) -> 
         warnings: a.warnings.clone(),
     };
     Ok(LogReading { report, analysis: a })
+}
+
+/// The phases, named as the issue names them, with their stands.
+fn phase_reports(a: &LogAnalysis) -> Vec<PhaseReport> {
+    a.phases
+        .iter()
+        .enumerate()
+        .map(|(i, p)| {
+            let stands = a
+                .strokes
+                .iter()
+                .filter(|s| s.phase == p.kind && s.bdc >= p.start && s.bdc <= p.end)
+                .filter(|s| s.stand.is_some_and(|x| !x.set))
+                .count();
+            let after_set = i > 0 && a.phases[i - 1].kind == PhaseKind::Up;
+            let name = match p.kind {
+                PhaseKind::Up => "set",
+                PhaseKind::Ringing if stands > 0 => "ringing with stands",
+                PhaseKind::Ringing => "ringing without stands",
+                PhaseKind::Lowering if after_set => "lowering from its first swing",
+                k => k.name(),
+            };
+            PhaseReport {
+                end_s: p.end,
+                kind: p.kind.name(),
+                name,
+                stands,
+                start_s: p.start,
+            }
+        })
+        .collect()
 }
 
 /// Each phase's strokes summed up: their mean amplitude and the spread
@@ -404,6 +464,32 @@ fn opt(v: Option<f64>, digits: usize, unit: &str) -> String {
     v.map_or("none".into(), |x| format!("{x:.digits$} {unit}"))
 }
 
+/// A line for each stand on the stay (sets left out: the phases show
+/// them), and how many amplitudes were read from the swing's time.
+fn stand_lines(r: &LogReport, o: &mut String) {
+    for s in &r.strokes {
+        let Some(x) = s.stand.as_ref().filter(|x| !x.set) else {
+            continue;
+        };
+        let _ = writeln!(
+            o,
+            "stand after the {} at {:.1} s ({}): {:.1} deg{}",
+            s.stroke,
+            s.bdc_s,
+            s.phase,
+            x.angle_deg,
+            x.duration_s.map_or(String::new(), |d| format!(", {d:.1} s"))
+        );
+    }
+    let timed = r.strokes.iter().filter(|s| s.amplitude_timed).count();
+    if timed > 0 {
+        let _ = writeln!(
+            o,
+            "{timed} amplitude(s) read from the swing's time: the headstock's ringing hid the turning point"
+        );
+    }
+}
+
 /// The summary `clapper ringing-log` prints.
 pub fn text(r: &LogReport) -> String {
     let mut o = String::new();
@@ -430,7 +516,12 @@ pub fn text(r: &LogReport) -> String {
         r.sensor_across_m
     );
     for p in &r.phases {
-        let _ = writeln!(o, "  {:<9} {:>8.1} s to {:>8.1} s", p.kind, p.start_s, p.end_s);
+        let stands = if p.stands > 0 {
+            format!(" ({} stands)", p.stands)
+        } else {
+            String::new()
+        };
+        let _ = writeln!(o, "  {:<29} {:>8.1} s to {:>8.1} s{stands}", p.name, p.start_s, p.end_s);
     }
     for s in &r.phase_summary {
         let line = |x: &Spread| match (x.mean_ms, x.sd_ms) {
@@ -452,7 +543,11 @@ pub fn text(r: &LogReport) -> String {
         o,
         "odd-struck (hand minus back, ringing): {}{}{}",
         opt(r.odd_struck_ms, 1, "ms"),
-        r.odd_struck_se_ms.map_or(String::new(), |se| format!(" ± {se:.1} ms")),
+        r.odd_struck_se_ms.map_or(String::new(), |se| format!(
+            " ± {se:.1} ms{}",
+            r.odd_struck_calibration_se_ms
+                .map_or(String::new(), |c| format!(" (the calibration's share {c:.1} ms)"))
+        )),
         if r.odd_struck_withheld.is_some() {
             " (withheld: see the warnings)"
         } else {
@@ -466,6 +561,7 @@ pub fn text(r: &LogReport) -> String {
             c.t_s, c.stroke, c.amplitude_deg
         );
     }
+    stand_lines(r, &mut o);
     if let Some(m) = &r.model {
         let _ = writeln!(
             o,

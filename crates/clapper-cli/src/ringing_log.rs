@@ -171,6 +171,10 @@ fn csv(r: &LogReport) -> Result<String> {
         "strike_theta_deg",
         "model_bdc_to_strike_ms",
         "strike_hidden",
+        "stand_deg",
+        "stand_s",
+        "set",
+        "amplitude_timed",
     ]
     .map(String::from)];
     let f = |v: Option<f64>, d: usize| v.map_or(String::new(), |x| format!("{x:.d$}"));
@@ -185,6 +189,10 @@ fn csv(r: &LogReport) -> Result<String> {
             f(s.strike_theta_deg, 2),
             f(s.model_bdc_to_strike_ms, 1),
             s.strike_hidden.to_string(),
+            f(s.stand.as_ref().map(|x| x.angle_deg), 2),
+            f(s.stand.as_ref().and_then(|x| x.duration_s), 2),
+            s.stand.as_ref().is_some_and(|x| x.set).to_string(),
+            s.amplitude_timed.to_string(),
         ]);
     }
     clapper_io::strike_file::csv_text(&rows).map_err(anyhow::Error::msg)

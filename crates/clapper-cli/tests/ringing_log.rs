@@ -332,3 +332,98 @@ fn a_log_upside_down_is_read_right_way_up_by_default() {
     // And given the right way, as read by default.
     assert_eq!(kinds(&read(&["--axes", "-y,z"])), kinds(&truth));
 }
+
+/// Issue 44: a log rung with stands on the stay and lowered straight on
+/// from the ringing (from the project's generator, written as belfry-sleuth
+/// writes): the phases are named as the issue names them (set, ringing
+/// with stands, then lowering), each stroke that rose onto the stay says
+/// so in JSON (its angle, how long it stood), CSV and text, and the
+/// odd-struckness's standard error gives the calibration's share.
+#[test]
+fn stands_and_phases_are_reported_per_stroke() {
+    use clapper_signal::ringing_log_synth::{synth_log, LogSpec};
+    let mut spec = LogSpec::new(clapper_core::bell::Bell::gsm_tenor(), 2);
+    spec.sensor.along = 0.2;
+    spec.strokes = 12;
+    spec.rest_s = 6.0;
+    spec.set_s = 5.0;
+    (spec.ring, spec.ring_s) = (0.3, 0.25);
+    spec.stand_every = 2;
+    spec.stand_s = 2.0;
+    spec.stay = 4f64.to_radians();
+    spec.free_s = 25.0;
+    let (mut log, truth) = synth_log(&spec).unwrap();
+    log.name = Some("Bell 3".into());
+    let dir = tempfile::tempdir().unwrap();
+    let (path, csv) = (dir.path().join("stands.txt"), dir.path().join("stands.csv"));
+    std::fs::write(&path, clapper_io::accel_log::write_sleuth_log(&log)).unwrap();
+    let out = clapper()
+        .args([
+            "ringing-log",
+            path.to_str().unwrap(),
+            "--json",
+            "--csv",
+            csv.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let r: Value = serde_json::from_slice(&out.stdout).unwrap();
+    let names: Vec<&str> = r["phases"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|p| p["name"].as_str().unwrap())
+        .collect();
+    assert_eq!(&names[..3], ["down", "raising", "set"], "{names:?}");
+    assert_eq!(names[3], "ringing with stands", "{names:?}");
+    assert!(names.contains(&"lowering"), "{names:?}");
+    // Each ringing stroke that rose onto the stay: the next falls from
+    // past the balance.
+    let strokes = r["strokes"].as_array().unwrap();
+    let mut stood = 0;
+    for (i, t) in truth.strokes.iter().enumerate() {
+        let Some(next) = truth.strokes.get(i + 1) else { continue };
+        if t.phase != clapper_signal::ringing_log::PhaseKind::Ringing
+            || next.phase != clapper_signal::ringing_log::PhaseKind::Ringing
+        {
+            continue;
+        }
+        let s = strokes
+            .iter()
+            .find(|s| (s["bdc_s"].as_f64().unwrap() - t.bdc).abs() < 0.1)
+            .expect("the stroke read");
+        if next.amplitude > std::f64::consts::PI {
+            stood += 1;
+            let angle = s["stand"]["angle_deg"].as_f64().expect("a stand");
+            assert!((angle - next.amplitude.to_degrees()).abs() <= 2.0, "{s}");
+            assert!(s["stand"]["duration_s"].as_f64().unwrap() > 0.0, "{s}");
+        } else {
+            assert!(s["stand"].is_null(), "{s}");
+        }
+    }
+    assert!(stood >= 4, "{stood} stands");
+    let se = r["odd_struck_se_ms"].as_f64().unwrap();
+    let cal = r["odd_struck_calibration_se_ms"].as_f64().unwrap();
+    assert!(cal > 0.0 && cal <= se, "{cal} of {se}");
+    // The CSV's stand columns, one stand a stroke that stood.
+    let text = std::fs::read_to_string(&csv).unwrap();
+    let head: Vec<&str> = text.lines().next().unwrap().split(',').collect();
+    let col = head.iter().position(|h| *h == "stand_deg").expect("stand_deg");
+    assert!(head.contains(&"stand_s"));
+    let rows = text
+        .lines()
+        .skip(1)
+        .filter(|l| !l.split(',').nth(col).unwrap().is_empty())
+        .count();
+    assert!(rows >= stood, "{rows} rows with a stand");
+    // And the text says where each stand was.
+    let out = clapper()
+        .args(["ringing-log", path.to_str().unwrap()])
+        .output()
+        .unwrap();
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(text.contains("ringing with stands"), "{text}");
+    assert!(text.matches("stand after the").count() >= stood, "{text}");
+    assert!(text.contains("the calibration's share"), "{text}");
+}

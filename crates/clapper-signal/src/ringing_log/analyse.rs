@@ -2,7 +2,7 @@
 
 use super::bottoms::{hide_strikes_after_gaps, strokes, strokes_by_zeros, MAX_MISFIT};
 use super::bursts::{bursts, radial_clipped, ringing_masked, STRIKE_S};
-use super::calibrate::{self, Calibration};
+use super::calibrate::{self, Calibration, Stretch};
 use super::checks;
 use super::falls::{place_from_falls, Falls};
 use super::fits::{bounded, quadratic_fits, unwrap_fill};
@@ -11,6 +11,7 @@ use super::phases::{odd_struck, phases};
 use super::plausible::{half_swing, plausibility, Plausibility};
 use super::reading::{angle, misfit, Angle};
 use super::rests::{calibrate_from_rests, rests};
+use super::tops;
 use super::types::{AccelLog, ClapperingStart, LogOptions, LogStroke, Phase, PhaseKind};
 use crate::{median, SignalError};
 use clapper_core::bell::G;
@@ -35,6 +36,11 @@ pub struct LogAnalysis {
     /// BDC-to-strike (s), and its standard error (s); `None` when not read
     /// or withheld ([`LogAnalysis::odd_struck_withheld`]).
     pub odd_struck: Option<(f64, f64)>,
+    /// The calibration's share of the odd-struckness's standard error (s):
+    /// the larger of its covariance's and its jackknife's (the calibration
+    /// refitted without each part of the log's free stretches, the bottoms
+    /// re-read with each).
+    pub odd_struck_calibration_se: Option<f64>,
     /// Why an odd-struckness that was computed is not given: its standard
     /// error over [`MAX_ODD_SE`], or hand and back not told apart for sure.
     pub odd_struck_withheld: Option<String>,
@@ -150,12 +156,13 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
     let rclip = radial_clipped(log, opts.clip);
     let out: Vec<bool> = burst.iter().zip(&rclip).map(|(b, r)| *b || *r).collect();
     // Which way is down (the bursts are the same either way up).
-    let (orientation, log) = orient_log(log, &out, opts.find_down, &mut warnings);
+    let (orientation, oriented) = orient_log(log, &out, opts.find_down, &mut warnings);
     let Calibrated {
         calibration,
         log,
         still,
-    } = calibrate_log(&log, &out, interval, &mut warnings);
+        stretches,
+    } = calibrate_log(&oriented, &out, interval, &mut warnings);
     let falls = falls_of(calibration.as_ref(), &log, (&out, &still), interval);
     let bad = ringing_masked(&log, &burst, &onsets, opts.clip, opts.through_ringing);
     let a = judged_angle(&log, (&bad, &rclip, &out), opts.sensor_along, falls.as_ref(), interval);
@@ -186,17 +193,38 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
     if let Some(c) = &calibration {
         checks::bottom_errors(c, &log, &a.joint_rate, &mut strokes);
     }
+    if let Some(length) = calibration.as_ref().and_then(|c| c.length) {
+        tops::timed_tops(&log.t, &burst, &rests, length, &mut strokes);
+    }
+    tops::stands(&log, &burst, &rests, &mut strokes);
     let phases = phases(&log.t, &rests, &mut strokes, &theta, opts.full_swing);
     radial_clip_warning(&log.t, &rclip, &strokes, &mut warnings);
     let set_side = set_side(&log.t, &theta, &phases, &strokes);
     label_hand(&mut strokes, set_side);
     let clappering_starts = clappering_start(&strong_onsets(&log, &onsets), &phases, &strokes);
+    // The calibration's own uncertainty: refitted without each part of
+    // the log's free stretches, the bottoms re-read with each.
+    let refits = match &calibration {
+        Some(_) => checks::jackknife(&oriented, &stretches),
+        None => vec![],
+    };
+    let jack = checks::jackknife_errors(
+        &refits,
+        &oriented,
+        (&a.joint_rate, &a.acc),
+        (&burst, &a.cubic),
+        interval,
+        &mut strokes,
+    );
+    let with_se = odd_struck_with_se(&strokes, jack);
+    let odd_struck_calibration_se = with_se.map(|o| o.2);
     let (odd_struck, odd_struck_withheld) =
-        odd_struck_checked(odd_struck_with_se(&strokes), set_side, a.misfit <= MAX_MISFIT);
+        odd_struck_checked(with_se.map(|o| (o.0, o.1)), set_side, a.misfit <= MAX_MISFIT);
     warnings.extend(odd_struck_withheld.clone());
     Ok(LogAnalysis {
         phases,
         odd_struck,
+        odd_struck_calibration_se: odd_struck.and(odd_struck_calibration_se),
         odd_struck_withheld,
         strokes,
         clappering_starts,
@@ -256,6 +284,7 @@ fn not_a_ringing_log(
         phases: vec![],
         strokes: vec![],
         odd_struck: None,
+        odd_struck_calibration_se: None,
         odd_struck_withheld: None,
         clappering_starts: None,
         sensor_along: opts.sensor_along.unwrap_or(0.0),
@@ -342,6 +371,8 @@ struct Calibrated<'a> {
     log: Cow<'a, AccelLog>,
     /// Rests (start, end, mean angle; s, s, rad) on the calibrated readings.
     still: Vec<(f64, f64, f64)>,
+    /// The quiet stretches it was fitted on (empty without a calibration).
+    stretches: Vec<Stretch>,
 }
 
 /// Rests from the plain angle atan2(tangential, radial), smoothed over ±0.5 s.
@@ -363,12 +394,13 @@ fn calibrate_log<'a>(
 ) -> Calibrated<'a> {
     let n = log.t.len();
     let still0 = plain_rests(log, burst, interval);
-    let calibration = {
+    let (calibration, stretches) = {
         let plain: Vec<f64> = (0..n).map(|k| log.tangential[k].atan2(log.radial[k])).collect();
         let (fine, _, _) = quadratic_fits(&log.t, &unwrap_fill(&log.t, &plain, burst), burst, 0.1);
         let turns = orient::turning_points(&fine, 5f64.to_radians());
         let stretches = calibrate::quiet_stretches(log, burst, &still0, (&fine, &turns));
-        calibrate::calibrate(log, &stretches).filter(|c| c.free >= MIN_FREE && c.length.is_some())
+        let c = calibrate::calibrate(log, &stretches).filter(|c| c.free >= MIN_FREE && c.length.is_some());
+        (c, stretches)
     };
     let Some(c) = calibration else {
         warnings.push(
@@ -382,6 +414,7 @@ fn calibrate_log<'a>(
             calibration,
             log,
             still: still0,
+            stretches: vec![],
         };
     };
     calibration_warnings(&c, warnings);
@@ -399,6 +432,7 @@ fn calibrate_log<'a>(
         calibration,
         log: Cow::Owned(calibrated),
         still,
+        stretches,
     }
 }
 
@@ -606,10 +640,13 @@ fn odd_struck_checked(
 }
 
 /// The ringing's odd-struckness and its standard error: the strokes'
-/// spread, and the calibration's share (an error in the bottoms' zero
-/// moves hand and back bottoms opposite ways, so the difference by twice
-/// the mean bottom error).
-fn odd_struck_with_se(strokes: &[LogStroke]) -> Option<(f64, f64)> {
+/// spread, and the calibration's share: the larger of its covariance's
+/// (an error in the bottoms' zero moves hand and back bottoms opposite
+/// ways, so the difference by twice the mean bottom error) and `jack`, the
+/// jackknife's over the calibration's free stretches (s), which also
+/// holds what the covariance leaves out (a model the stretches fit
+/// differently).
+fn odd_struck_with_se(strokes: &[LogStroke], jack: Option<f64>) -> Option<(f64, f64, f64)> {
     odd_struck(strokes).map(|(o, se)| {
         let ses: Vec<f64> = strokes
             .iter()
@@ -621,7 +658,8 @@ fn odd_struck_with_se(strokes: &[LogStroke]) -> Option<(f64, f64)> {
         } else {
             2.0 * ses.iter().sum::<f64>() / ses.len() as f64
         };
-        (o, se.hypot(cal))
+        let cal = cal.max(jack.unwrap_or(0.0));
+        (o, se.hypot(cal), cal)
     })
 }
 
@@ -641,6 +679,8 @@ mod tests {
             phase: PhaseKind::Raising,
             speed_peak: None,
             bdc_se: None,
+            stand: None,
+            amplitude_timed: false,
         }
     }
 

@@ -69,7 +69,9 @@ pub(super) fn strokes(
         // From the smoothed angle: the largest of noisy samples overshoots.
         // A stand's still samples first: a rest's mean angle, smoothed over
         // a second, mixes readings either side of the ±200 deg hold.
-        let stand = stand_height(log, burst, (from, k), side).or_else(|| short_stand(t, theta, burst, (from, k), side));
+        let stand = stand_height(log, burst, (from, k), side)
+            .map(|s| s.height)
+            .or_else(|| short_stand(t, theta, burst, (from, k), side));
         let amplitude = match (stand, stood) {
             (Some(h), _) => h,
             (None, Some(r)) if r.2.signum() == side => r.2.abs(),
@@ -90,8 +92,9 @@ pub(super) fn strokes(
 /// clipped and whose force is within [`STAND_FORCE`] of g (the shaking
 /// moves the rest), each one's height on `side` (as in [`short_stand`])
 /// smoothed by the median over ±[`STAND_SMOOTH_S`]; the highest still
-/// run of them (below), at its highest (rad).
-fn stand_height(log: &AccelLog, burst: &[bool], (from, k): (usize, usize), side: f64) -> Option<f64> {
+/// run of them (below), at its highest, and how long the smoothed heights
+/// stayed within [`STAND_NEAR`] of that around the run.
+pub(super) fn stand_height(log: &AccelLog, burst: &[bool], (from, k): (usize, usize), side: f64) -> Option<StandRead> {
     let t = &log.t;
     let height = |j: usize| {
         let p = log.tangential[j].atan2(log.radial[j]);
@@ -131,7 +134,7 @@ fn stand_height(log: &AccelLog, burst: &[bool], (from, k): (usize, usize), side:
     // start its fall, is lower), read at its highest smoothed height (a
     // swing's slow top, not still, at its top).
     let still = |i: usize| (STAND_MIN..=200f64.to_radians()).contains(&smooth[i]) && spread[i] <= STAND_SPREAD;
-    let mut best: Option<f64> = None;
+    let mut best: Option<(f64, usize, usize)> = None;
     let mut i = 0;
     while i < good.len() {
         if !still(i) {
@@ -144,13 +147,40 @@ fn stand_height(log: &AccelLog, burst: &[bool], (from, k): (usize, usize), side:
             (lo, hi) = (smooth[i].min(lo), smooth[i].max(hi));
             i += 1;
         }
-        if t[good[i - 1]] - t[good[a]] >= SHORT_STAND_S && best.is_none_or(|b| hi > b) {
-            best = Some(hi);
+        if t[good[i - 1]] - t[good[a]] >= SHORT_STAND_S && best.is_none_or(|b| hi > b.0) {
+            best = Some((hi, a, i - 1));
         }
         // The next run may start inside this one.
         i = i.max(a + 1);
     }
-    best
+    // On the stay from arriving to leaving: the smoothed heights near the
+    // stand's on either side of the still run (the shaking at its start
+    // left in).
+    best.map(|(height, mut a, mut b)| {
+        let near = |i: usize| (smooth[i] - height).abs() <= STAND_NEAR;
+        while a > 0 && near(a - 1) {
+            a -= 1;
+        }
+        while b + 1 < good.len() && near(b + 1) {
+            b += 1;
+        }
+        StandRead {
+            height,
+            on: t[good[a]],
+            off: t[good[b]],
+        }
+    })
+}
+
+/// A stand on the stay as [`stand_height`] reads it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct StandRead {
+    /// Its height on the side the stroke falls to (rad).
+    pub height: f64,
+    /// When the bell came onto the stay (s).
+    pub on: f64,
+    /// When it left (s).
+    pub off: f64,
 }
 
 /// A stand's heights' median absolute deviation over ±[`STAND_SMOOTH_S`]
@@ -412,6 +442,8 @@ pub(super) fn stroke_between(
         phase: PhaseKind::Ringing,
         speed_peak: None,
         bdc_se: None,
+        stand: None,
+        amplitude_timed: false,
     }
 }
 
@@ -650,6 +682,8 @@ mod tests {
             phase: PhaseKind::Ringing,
             speed_peak: None,
             bdc_se: None,
+            stand: None,
+            amplitude_timed: false,
         };
         let mut strokes = [stroke(1.0, 1.4), stroke(2.0, 2.4), stroke(3.4, 3.8)];
         let mut warnings = vec![];
@@ -724,7 +758,7 @@ mod tests {
             burst.push(clipped);
         }
         let n = log.t.len();
-        let h = stand_height(&log, &burst, (0, n - 1), 1.0).expect("a stand");
+        let h = stand_height(&log, &burst, (0, n - 1), 1.0).expect("a stand").height;
         assert!((h.to_degrees() - 186.0).abs() < 1.0, "{}", h.to_degrees());
     }
 }

@@ -39,8 +39,9 @@
 //! fits, unwrapping), `bursts` (step 1), `rests`, `falls` and `calibrate`
 //! (the sensor's place and calibration), `orient` (which way is down),
 //! `reading` (step 2), `bottoms` (step 3), `phases` (step 4), `checks`,
-//! `plausible` (whether it is a bell's log at all) and `analyse` (the
-//! steps in order).
+//! `tops` (what each stroke rose to: a stand on the stay, or a turning
+//! point hidden by the headstock's ringing, timed), `plausible` (whether
+//! it is a bell's log at all) and `analyse` (the steps in order).
 
 mod analyse;
 mod bottoms;
@@ -54,6 +55,7 @@ mod phases;
 mod plausible;
 mod reading;
 mod rests;
+mod tops;
 mod types;
 
 pub use analyse::{analyse_log, LogAnalysis, MAX_ODD_SE};
@@ -63,4 +65,5 @@ pub use calibrate::{Calibration, CalibrationSe};
 pub use orient::{orientation, Orientation};
 pub use phases::STAND_MAX_S;
 pub use plausible::{plausibility, Plausibility, GRAVITY_BAND, MAX_JUMPS};
-pub use types::{AccelLog, ClapperingStart, LogOptions, LogStroke, Phase, PhaseKind};
+pub use tops::{STAND_PAST, TIMED_MAX};
+pub use types::{AccelLog, ClapperingStart, LogOptions, LogStroke, Phase, PhaseKind, Stand};

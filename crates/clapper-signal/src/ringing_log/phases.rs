@@ -224,7 +224,20 @@ fn ringing_within(
         return;
     }
     let first = (0..idx.len()).find(|&p| core(p)).unwrap_or(0);
-    let last = (0..idx.len()).rev().find(|&p| core(p)).unwrap_or(idx.len() - 1);
+    let mut last = (0..idx.len()).rev().find(|&p| core(p)).unwrap_or(idx.len() - 1);
+    // Lowering from its first swing: the ringing ends before the first
+    // stroke after which the swings die away steadily.
+    let amps: Vec<f64> = idx.iter().map(|&i| amp(i)).collect();
+    if let Some(p) = (first..=last).find(|&p| declines_after(&amps, p, height)) {
+        if p == 0 && from == Some(PhaseKind::Up) {
+            for &i in idx {
+                strokes[i].phase = PhaseKind::Lowering;
+            }
+            push(out, PhaseKind::Lowering, a, b);
+            return;
+        }
+        last = p.saturating_sub(1).max(first);
+    }
     // The turning point just before the stroke at position p.
     let before = |p: usize| {
         let since = if p == 0 { a } else { strokes[idx[p - 1]].bdc };
@@ -244,6 +257,41 @@ fn ringing_within(
     push(out, PhaseKind::Raising, a, start_ring);
     push(out, PhaseKind::Ringing, start_ring, end_ring);
     push(out, PhaseKind::Lowering, end_ring, b);
+}
+
+/// Swings in a row that must die away for a lowering to start.
+const DECLINE_SWINGS: usize = 4;
+
+/// How much (rad) they must lose in all: 10 deg (a ringing's swings, with
+/// or without stands, keep their height within a few degrees).
+const DECLINE_DROP: f64 = 10.0 * std::f64::consts::PI / 180.0;
+
+/// A swing may read this much (rad) above the one before and still count
+/// as dying away (the amplitude's reading error): 2 deg.
+const DECLINE_SLACK: f64 = 2.0 * std::f64::consts::PI / 180.0;
+
+/// The first of them rises at least this far (rad) below the full swings'
+/// median: 1 deg (a ringing stroke rises to the median itself, give or
+/// take its reading; the generator's lowering follows on from a ringing
+/// stroke that rose to it).
+const DECLINE_BELOW: f64 = std::f64::consts::PI / 180.0;
+
+/// Whether the swings the stroke at `p` and the next rise to (the
+/// amplitudes `amps[p + 1..]`) die away: [`DECLINE_SWINGS`] of them, the
+/// first [`DECLINE_BELOW`] under the full swings' median `height` (rad), each no higher than
+/// the one before (give or take [`DECLINE_SLACK`]), losing
+/// [`DECLINE_DROP`] in all. The stroke at `p` is then the lowering's first
+/// (an independent tester's log, lowered from a stand at 184 deg: 171,
+/// 168, 157, 157 deg read, where its ringing's rose to 172-177 and the
+/// first lowering stroke was counted as ringing; its ringing with stands
+/// rose to 186, 182, 183, 175 deg, which is no lowering).
+fn declines_after(amps: &[f64], p: usize, height: f64) -> bool {
+    let Some(run) = amps.get(p + 1..p + 1 + DECLINE_SWINGS) else {
+        return false;
+    };
+    run[0] < height - DECLINE_BELOW
+        && run.windows(2).all(|w| w[1] <= w[0] + DECLINE_SLACK)
+        && run[0] - run[DECLINE_SWINGS - 1] >= DECLINE_DROP
 }
 
 /// The turning point (largest |θ|) before bottom dead centre `bdc`, after `from`.

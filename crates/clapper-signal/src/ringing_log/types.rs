@@ -125,6 +125,28 @@ pub struct LogStroke {
     /// The standard error of `bdc` (s) that the sensor's calibration
     /// leaves (its tilt, offset and place across the axis).
     pub bdc_se: Option<f64>,
+    /// The stay it rose to after its strike, if it stood there (a stand,
+    /// or the bell set): where the next stroke falls from.
+    pub stand: Option<Stand>,
+    /// Whether `amplitude` was read from the swing's time (bottom to
+    /// bottom, a free pendulum's half period) because the headstock's
+    /// ringing hid the turning point.
+    pub amplitude_timed: bool,
+}
+
+/// A stroke's end on the stay: the bell held at or past the balance.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stand {
+    /// Its angle from the bottom (rad): the amplitude the next stroke falls
+    /// from.
+    pub angle: f64,
+    /// How long it stood (s): a rest's length, or the time the angle read
+    /// stayed within 3 deg of the stand's; `None` when only its angle was
+    /// read (a turning point past the balance).
+    pub duration: Option<f64>,
+    /// A set (a rest at the balance longer than [`STAND_MAX_S`](super::STAND_MAX_S)),
+    /// not a stand within the ringing.
+    pub set: bool,
 }
 
 impl LogStroke {
