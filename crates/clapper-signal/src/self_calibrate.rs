@@ -51,9 +51,13 @@ const START: f64 = 4.0;
 const ABOVE: f64 = 1.3;
 /// Blocks under `START` allowed between the start and the loudest.
 const GAPS: usize = 6;
-/// The band finder heard the recorded tower bells up to 85 ms late: a
-/// start found further back than this before the time heard is unsure (s).
-const LATEST_S: f64 = 0.1;
+/// The band finder heard the recorded tower bells up to 85 ms late (more
+/// in a room): a start where the strikes agree found further back than
+/// this before the time heard is another sound's (s).
+const LATEST_S: f64 = 0.15;
+/// The same for a start found by the whitened average's step, a weaker
+/// sign (s).
+const LATEST_STEP_S: f64 = 0.1;
 /// The whitening's spectrum is smoothed over this much either side (Hz).
 const SMOOTH_HZ: f64 = 11.0;
 /// The whitened average's energy must step up this many times at the start.
@@ -287,7 +291,7 @@ fn template_of(sig: &Signal, times: &[f64]) -> Option<Learned> {
             let segs: Vec<&[f64]> = starts.iter().zip(&lags).map(|(&s, &lag)| seg(s, lag)).collect();
             let latest = before + (0.005 * rate) as usize;
             let s = step_start(&block_energy(&whiten(&reference, &segs, rate), rate), rate, latest)?;
-            (s + (LATEST_S * rate) as usize >= before).then_some(s)?
+            (s + (LATEST_STEP_S * rate) as usize >= before).then_some(s)?
         }
     };
     // Each clean strike's start of sound, and how late it was heard.
