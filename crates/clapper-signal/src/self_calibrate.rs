@@ -19,9 +19,11 @@
 //!    bells before), the start is the average's greatest step up in
 //!    broadband energy once whitened against what rings through all the
 //!    strikes (every bell's partials pressed down, the blow left).
-//! 3. Every strike is timed again against its bell's template
-//!    ([`crate::template_timing::retime_each`]), near its time heard less
-//!    the bell's lateness: how long after that start the band finder heard
+//! 3. Every strike is lined up on its bell's average as the clean ones
+//!    were (on the part from `CORE_S` before its time heard: in rounds
+//!    the part before belongs to the bell struck just before), and its
+//!    start is the average's ([`SelfCalibration::retime_each`]); the
+//!    bell's lateness is how long after that start the band finder heard
 //!    the clean strikes (their median).
 
 use realfft::RealFftPlanner;
