@@ -64,9 +64,9 @@ fn median_error_ms(j: &serde_json::Value, truth: &[TrueStrike], b: usize) -> f64
     e[e.len() / 2]
 }
 
-#[test]
-fn strikes_self_calibrated_from_the_recording_times_a_bell_at_the_start_of_its_sound() {
-    let dir = tempfile::tempdir().unwrap();
+/// Four such bells rung by `method`, written to `dir`: the file, the
+/// truth and the nominals given, as `--nominals` takes them.
+fn untuned_ring(dir: &std::path::Path, method: Method) -> (std::path::PathBuf, Vec<TrueStrike>, String) {
     let rate = 16_000.0;
     let bells = major_scale(4, 1000.0).unwrap();
     let nominals: Vec<f64> = bells.iter().map(|b| b.nominal_hz).collect();
@@ -79,14 +79,21 @@ fn strikes_self_calibrated_from_the_recording_times_a_bell_at_the_start_of_its_s
         rate,
         rows: 20,
         interval: 2.0 / 5.0,
-        method: Method::PlainHunt,
+        method,
         snr_db: Some(25.0),
         ..TowerSpec::new(bells)
     };
     let (sig, truth) = sampled_ring(&spec, &strikes).unwrap();
-    let ring = dir.path().join("ring.wav");
+    let ring = dir.join("ring.wav");
     write_wav(&ring, &sig, 0.9).unwrap();
     let given = nominals.iter().map(|f| format!("{f:.2}")).collect::<Vec<_>>().join(",");
+    (ring, truth, given)
+}
+
+#[test]
+fn strikes_self_calibrated_from_the_recording_times_a_bell_at_the_start_of_its_sound() {
+    let dir = tempfile::tempdir().unwrap();
+    let (ring, truth, given) = untuned_ring(dir.path(), Method::PlainHunt);
     let run = |extra: &[&str]| {
         let out = clapper()
             .arg("strikes")
@@ -116,6 +123,34 @@ fn strikes_self_calibrated_from_the_recording_times_a_bell_at_the_start_of_its_s
     // In words too.
     let text = String::from_utf8(run(&["--self-calibrate"])).unwrap();
     assert!(text.contains("timing from the recording's own clean strikes"), "{text}");
+}
+
+/// In rounds each bell strikes just after the same one, whose sound fills
+/// the part of its strikes before they are heard. Lined up on that part,
+/// two bells of this ring were timed 50-170 ms early; lined up on their
+/// own sound, every bell whose lateness is learned is timed within 3 ms
+/// of the start of its sound, and three bells of four are.
+#[test]
+fn strikes_self_calibrated_in_rounds_times_each_bell_on_its_own_sound() {
+    let dir = tempfile::tempdir().unwrap();
+    let (ring, truth, given) = untuned_ring(dir.path(), Method::Rounds);
+    let out = clapper()
+        .arg("strikes")
+        .arg(&ring)
+        .args(["--nominals", &given, "--self-calibrate", "--json"])
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let per_bell = j["timing"]["per_bell"].as_array().unwrap();
+    let learned: Vec<usize> = (1..=4)
+        .filter(|&b| per_bell[b - 1]["learned_from"].as_u64().unwrap_or(0) > 0)
+        .collect();
+    assert!(learned.len() >= 3, "{per_bell:?}");
+    for b in learned {
+        let e = median_error_ms(&j, &truth, b);
+        assert!(e.abs() <= 3.0, "bell {b}: median error {e:.2} ms");
+    }
 }
 
 #[test]
