@@ -464,6 +464,18 @@ fn opt(v: Option<f64>, digits: usize, unit: &str) -> String {
     v.map_or("none".into(), |x| format!("{x:.digits$} {unit}"))
 }
 
+/// A line for each phase, with its stands.
+fn phase_lines(r: &LogReport, o: &mut String) {
+    for p in &r.phases {
+        let stands = if p.stands > 0 {
+            format!(" ({} stands)", p.stands)
+        } else {
+            String::new()
+        };
+        let _ = writeln!(o, "  {:<29} {:>8.1} s to {:>8.1} s{stands}", p.name, p.start_s, p.end_s);
+    }
+}
+
 /// A line for each stand on the stay (sets left out: the phases show
 /// them), and how many amplitudes were read from the swing's time.
 fn stand_lines(r: &LogReport, o: &mut String) {
@@ -515,14 +527,7 @@ pub fn text(r: &LogReport) -> String {
         if r.sensor_fitted { " (fitted)" } else { "" },
         r.sensor_across_m
     );
-    for p in &r.phases {
-        let stands = if p.stands > 0 {
-            format!(" ({} stands)", p.stands)
-        } else {
-            String::new()
-        };
-        let _ = writeln!(o, "  {:<29} {:>8.1} s to {:>8.1} s{stands}", p.name, p.start_s, p.end_s);
-    }
+    phase_lines(r, &mut o);
     for s in &r.phase_summary {
         let line = |x: &Spread| match (x.mean_ms, x.sd_ms) {
             (Some(m), Some(sd)) => format!("{m:.1} ms ± {sd:.1} ({})", x.n),

@@ -189,42 +189,27 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         return Ok(not_a_ringing_log(raw, opts, (interval, burst), plausibility, warnings));
     }
     hide_strikes_after_gaps(&log.t, interval, &mut strokes, &mut warnings);
-    checks::speed_peaks(&log.t, &a.joint_rate, &a.cubic, &burst, &mut strokes);
-    if let Some(c) = &calibration {
-        checks::bottom_errors(c, &log, &a.joint_rate, &mut strokes);
-    }
-    if let Some(length) = calibration.as_ref().and_then(|c| c.length) {
-        tops::timed_tops(&log.t, &burst, &rests, length, &mut strokes);
-    }
-    tops::stands(&log, &burst, &rests, &mut strokes);
+    checks_and_tops(calibration.as_ref(), &log, &a, (&burst, &rests), &mut strokes);
     let phases = phases(&log.t, &rests, &mut strokes, &theta, opts.full_swing);
     radial_clip_warning(&log.t, &rclip, &strokes, &mut warnings);
     let set_side = set_side(&log.t, &theta, &phases, &strokes);
     label_hand(&mut strokes, set_side);
     let clappering_starts = clappering_start(&strong_onsets(&log, &onsets), &phases, &strokes);
-    // The calibration's own uncertainty: refitted without each part of
-    // the log's free stretches, the bottoms re-read with each.
-    let refits = match &calibration {
-        Some(_) => checks::jackknife(&oriented, &stretches),
-        None => vec![],
-    };
-    let jack = checks::jackknife_errors(
-        &refits,
-        &oriented,
-        (&a.joint_rate, &a.acc),
-        (&burst, &a.cubic),
-        interval,
+    let jack = calibration_spread(
+        calibration.as_ref(),
+        (&oriented, &stretches),
+        &a,
+        (&burst, interval),
         &mut strokes,
     );
     let with_se = odd_struck_with_se(&strokes, jack);
-    let odd_struck_calibration_se = with_se.map(|o| o.2);
     let (odd_struck, odd_struck_withheld) =
         odd_struck_checked(with_se.map(|o| (o.0, o.1)), set_side, a.misfit <= MAX_MISFIT);
     warnings.extend(odd_struck_withheld.clone());
     Ok(LogAnalysis {
         phases,
         odd_struck,
-        odd_struck_calibration_se: odd_struck.and(odd_struck_calibration_se),
+        odd_struck_calibration_se: odd_struck.and(with_se.map(|o| o.2)),
         odd_struck_withheld,
         strokes,
         clappering_starts,
@@ -241,6 +226,51 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         plausibility,
         warnings,
     })
+}
+
+/// Each stroke's moment of greatest speed and its bottom's standard error
+/// from the calibration's covariance (`checks`); its turning point read
+/// from the swing's time where the headstock's ringing hid it, and its
+/// stand on the stay (`tops`).
+fn checks_and_tops(
+    calibration: Option<&Calibration>,
+    log: &AccelLog,
+    a: &Angle,
+    (burst, rests): (&[bool], &[(f64, f64, f64)]),
+    strokes: &mut [LogStroke],
+) {
+    checks::speed_peaks(&log.t, &a.joint_rate, &a.cubic, burst, strokes);
+    if let Some(c) = calibration {
+        checks::bottom_errors(c, log, &a.joint_rate, strokes);
+        if let Some(length) = c.length {
+            tops::timed_tops(&log.t, burst, rests, length, strokes);
+        }
+    }
+    tops::stands(log, burst, rests, strokes);
+}
+
+/// The calibration's own uncertainty (when the log was calibrated):
+/// refitted without each part of the log's free `stretches` (of the
+/// oriented, uncalibrated log `raw`), the bottoms re-read with each; each
+/// stroke's `bdc_se` widened, and the odd-struckness's jackknife standard
+/// error (s).
+fn calibration_spread(
+    calibration: Option<&Calibration>,
+    (raw, stretches): (&AccelLog, &[Stretch]),
+    a: &Angle,
+    (burst, interval): (&[bool], f64),
+    strokes: &mut [LogStroke],
+) -> Option<f64> {
+    calibration?;
+    let refits = checks::jackknife(raw, stretches);
+    checks::jackknife_errors(
+        &refits,
+        raw,
+        (&a.joint_rate, &a.acc),
+        (burst, &a.cubic),
+        interval,
+        strokes,
+    )
 }
 
 /// The angle (method step 2) read with the samples `bad` left out, and how
