@@ -170,8 +170,11 @@ pub(super) const STARTS: [f64; 5] = [0.0, 0.1, 0.2, 0.3, 0.4];
 /// 4κ g against g), and at κ = 1/2 a free fall's radial reading is the
 /// same at every angle, so the first pass's (f_r + 2gκ)/(1 − 2κ) is noise
 /// over nothing, and θ'² from the smoothed angle (±0.3 s) reads the fast
-/// bottom slow, which turned the corrected angle over there.
-pub(super) const FAR_KAPPA: f64 = 0.25;
+/// bottom slow, which turned the corrected angle over there. Below it
+/// (|1 − 2κ| over 0.3) the first pass reads well: Data141's sensor, at
+/// κ = 0.32, read from the tangential axis, found two swings that were
+/// not there.
+pub(super) const FAR_KAPPA: f64 = 0.35;
 
 /// The first pass for a sensor far from the pivot (κ = `kappa` over
 /// [`FAR_KAPPA`], at `place` = (h, d), m), as a free pendulum's:
