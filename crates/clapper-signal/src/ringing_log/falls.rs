@@ -145,7 +145,7 @@ pub(super) fn place_from_falls(
         }
         let ft: Vec<f64> = log.tangential[j..e].iter().map(|v| v / G).collect();
         let fr: Vec<f64> = log.radial[j..e].iter().map(|v| v / G).collect();
-        let Some((p, th, rms)) = [0.0, 0.15, 0.3, 0.45, 0.6, 0.8, 1.0]
+        let Some((p, th, rms)) = [0.0, 0.15, 0.3, 0.45]
             .iter()
             .filter_map(|&k0| fit_fall(&ft, &fr, rest, k0))
             .min_by(|a, b| a.2.total_cmp(&b.2))
