@@ -329,7 +329,7 @@ pub(crate) fn calibrate(log: &AccelLog, stretches: &[Stretch]) -> Option<Calibra
         // where it ended).
         let starts: Vec<f64> = match best_kappa {
             Some(k) => vec![k],
-            None => vec![0.0, 0.15, 0.3, 0.45],
+            None => vec![0.0, 0.15, 0.3, 0.45, 0.6, 0.8, 1.0],
         };
         let fit = starts
             .iter()

@@ -6,6 +6,7 @@
 
 use super::fits::{quadratic_fits, unwrap_fill, wrap};
 use super::types::AccelLog;
+use clapper_core::bell::G;
 
 /// Which way up the log reads, and on what evidence.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -20,6 +21,10 @@ pub struct Orientation {
     /// way up, near −1 upside down.
     pub agreement: f64,
 }
+
+/// A half swing counts only where every sample's force is within this
+/// fraction of g.
+const NEAR_G: f64 = 0.3;
 
 /// Fewer small swings than this cannot tell which way is down.
 pub const MIN_SWINGS: usize = 4;
@@ -85,7 +90,12 @@ pub fn orientation(log: &AccelLog, bad: &[bool]) -> Orientation {
         // shaking turns faster), and is read clean.
         let took = log.t[w[1]] - log.t[w[0]];
         let clean = !bad[w[0]..=w[1]].iter().any(|&b| b);
-        if span > 10f64.to_radians() && span < 120f64.to_radians() && (0.25..3.0).contains(&took) && clean {
+        // A small swing reads about g throughout; a turn of the plain angle
+        // inside a fast swing, read by a sensor far from the pivot (its
+        // centripetal part as large as gravity, the plain angle turning
+        // where the bell does not), reads far from it.
+        let near_g = (w[0]..=w[1]).all(|k| (log.tangential[k].hypot(log.radial[k]) / G - 1.0).abs() < NEAR_G);
+        if span > 10f64.to_radians() && span < 120f64.to_radians() && (0.25..3.0).contains(&took) && clean && near_g {
             n += 1;
             sum += wrap(0.5 * (a + b)).cos();
         }

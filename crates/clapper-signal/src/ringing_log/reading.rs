@@ -32,6 +32,8 @@ pub(super) struct Angle {
     /// The median departure of the corrected force from g while the bell
     /// moves, over g: small when the angle is read right.
     pub(super) misfit: f64,
+    /// Its 95th percentile.
+    pub(super) tail: f64,
 }
 
 /// The angle (method step 2) from the samples not `bad`, those whose
@@ -67,11 +69,48 @@ pub(super) fn angle(
         Some(k) => k,
         None => &STARTS,
     };
-    let best = starts
+    let plain = starts
         .iter()
         .map(|&kappa| first_pass(log, &both, known, interval, kappa))
         .reduce(|best, a| if a.misfit < best.misfit - 1e-3 { a } else { best })
         .expect("STARTS is not empty");
+    let read = |best: FirstPass| read_from(log, (bad, rclip, &both), best, (known, given), interval);
+    match falls {
+        // Far from the pivot, also from the tangential axis (see
+        // FAR_KAPPA), and the reading whose corrected force is nearer g
+        // at its worst (the 95th percentile: a few swings read wrong leave
+        // the median as it was) kept: on a GSM tenor with its sensor 0.5 m up (κ = 0.4) the
+        // first pass read every bottom within 0.4 ms and the tangential
+        // one some 86 ms off; on the tester's far logs the other way about.
+        Some(f) if f.kappa.abs() > FAR_KAPPA => {
+            let place = (known.along.unwrap_or(0.0), known.across.unwrap_or(0.0));
+            let far = FirstPass {
+                theta: tangential_seed(log, (bad, &both), place, place.0 / f.length, interval),
+                place,
+                misfit: 0.0,
+                window: (5.0 * interval).max(0.3),
+            };
+            let (a, b) = (read(plain), read(far));
+            if b.tail < a.tail {
+                b
+            } else {
+                a
+            }
+        }
+        _ => read(plain),
+    }
+}
+
+/// The angle from its first pass `best` (method step 2's second pass): the
+/// joint fits, the place refitted where not `known`, and the misfit.
+fn read_from(
+    log: &AccelLog,
+    (bad, rclip, both): (&[bool], &[bool], &[bool]),
+    best: FirstPass,
+    (known, given): (Known, Option<f64>),
+    interval: f64,
+) -> Angle {
+    let n = log.t.len();
     let (mut theta, mut place) = (best.theta, best.place);
     // Then θ, θ', θ'' fitted to both readings at once over ±0.15 s (at
     // least 4 samples), and the sensor's place refitted from them; twice.
@@ -80,12 +119,17 @@ pub(super) fn angle(
     for _ in 0..2 {
         let (_, q1, q2) = quadratic_fits(&log.t, &theta, bad, best.window);
         let j = joint_fits(log, (bad, rclip), &theta, place, jw, (&q1, &q2));
-        place = fit_sensor(log, &both, &j.d1, &j.d2, known);
+        place = fit_sensor(log, both, &j.d1, &j.d2, known);
         theta = unwrap_fill(&log.t, &j.theta, bad);
         derivatives = Some((j.d1, j.d2, j.cubic));
     }
     let (d1, d2, cubic) = derivatives.expect("two passes");
-    let misfit = misfit(log, &both, place, &d1, &d2);
+    let misfit = misfit(log, both, place, &d1, &d2);
+    let tail = {
+        let mut m = departures(log, both, place, &d1, &d2);
+        m.sort_by(f64::total_cmp);
+        m.get(m.len() * 95 / 100).copied().unwrap_or(f64::INFINITY)
+    };
     let (smooth, rate, _) = quadratic_fits(&log.t, &theta, bad, best.window);
     // Across a burst the fit bridges better than a straight line, unless
     // the burst is so long that the fit has little to stand on (then the
@@ -110,6 +154,7 @@ pub(super) fn angle(
         d: place.1,
         fitted: given.is_none(),
         misfit,
+        tail,
     }
 }
 
@@ -126,15 +171,19 @@ pub(super) fn gravity_part(log: &AccelLog, k: usize, (h, d): (f64, f64), rate: f
 /// The median departure of the corrected force from g while the bell
 /// moves (|θ'| > 0.5 rad/s), over g.
 pub(super) fn misfit(log: &AccelLog, bad: &[bool], place: (f64, f64), d1: &[f64], d2: &[f64]) -> f64 {
-    median(
-        &(0..log.t.len())
-            .filter(|&k| !bad[k] && d1[k].abs() > 0.5)
-            .map(|k| {
-                let [a, b] = gravity_part(log, k, place, d1[k], d2[k]);
-                (a.hypot(b) - G).abs() / G
-            })
-            .collect::<Vec<_>>(),
-    )
+    median(&departures(log, bad, place, d1, d2))
+}
+
+/// Each moving good sample's departure of the corrected force from g,
+/// over g.
+fn departures(log: &AccelLog, bad: &[bool], place: (f64, f64), d1: &[f64], d2: &[f64]) -> Vec<f64> {
+    (0..log.t.len())
+        .filter(|&k| !bad[k] && d1[k].abs() > 0.5)
+        .map(|k| {
+            let [a, b] = gravity_part(log, k, place, d1[k], d2[k]);
+            (a.hypot(b) - G).abs() / G
+        })
+        .collect()
 }
 
 /// Starting guesses of κ = h/L (sensor height over the bell's equivalent
@@ -149,6 +198,77 @@ pub(super) fn misfit(log: &AccelLog, bad: &[bool], place: (f64, f64), d1: &[f64]
 /// the bottom where it should (for smaller swings it reads them smaller,
 /// but on the right side of the horizontal), and the correction refines it.
 pub(super) const STARTS: [f64; 5] = [0.0, 0.1, 0.2, 0.3, 0.4];
+
+/// Above this κ = h/L (the sensor's height over the bell's equivalent
+/// pendulum length) the angle's first pass is read from the tangential
+/// axis ([`tangential_seed`]): the radial reading's centripetal part,
+/// h θ'², is then as large as gravity's (at the bottom of a full swing
+/// 4κ g against g), and at κ = 1/2 a free fall's radial reading is the
+/// same at every angle, so the first pass's (f_r + 2gκ)/(1 − 2κ) is noise
+/// over nothing, and θ'² from the smoothed angle (±0.3 s) reads the fast
+/// bottom slow, which turned the corrected angle over there. Below it
+/// (|1 − 2κ| over 0.1) the first pass reads well enough: Data141's
+/// sensor, at κ = 0.32, read from the tangential axis, found two swings
+/// that were not there, and a GSM tenor's at 0.5 m (κ = 0.4) three
+/// bottoms 48-86 ms off that the first pass read within 0.4 ms.
+pub(super) const FAR_KAPPA: f64 = 0.45;
+
+/// The first pass for a sensor far from the pivot (κ = `kappa` over
+/// [`FAR_KAPPA`], at `place` = (h, d), m), as a free pendulum's:
+/// θ'' = −(g/L) sin θ makes f_t = g (1 + κ) sin θ − d θ'² and
+/// f_r = g cos θ − h θ'² − δ g sin θ (δ = d/L); the combination
+/// f_t − (d/h) f_r = g ((1 + κ + δ²/κ) sin θ − (δ/κ) cos θ) holds no θ'²,
+/// and gives θ up to its mirror about the horizontal. Which side: the
+/// radial reading with the centripetal part put back,
+/// g cos θ = f_r + h θ'² + δ g sin θ, θ'² from the first solution's rate
+/// (the mirror's is the same). cos θ changes sign only near 90 deg, so
+/// the side is voted on over each run of samples clear of it and of `bad`
+/// (bursts): one sample's radial reading is noisy where the bell is fast,
+/// a run's vote is not. Samples in `both` (bursts, and a clipped radial
+/// axis) do not vote.
+fn tangential_seed(
+    log: &AccelLog,
+    (bad, both): (&[bool], &[bool]),
+    (h, d): (f64, f64),
+    kappa: f64,
+    interval: f64,
+) -> Vec<f64> {
+    let n = log.t.len();
+    let (delta, ratio) = (kappa * d / h, d / h);
+    let (a, b) = (G * (1.0 + kappa + delta * ratio), G * ratio);
+    let (r, phi) = (a.hypot(b), b.atan2(a));
+    let s: Vec<f64> = (0..n)
+        .map(|k| ((log.tangential[k] - ratio * log.radial[k]) / r).clamp(-1.0, 1.0))
+        .collect();
+    let first: Vec<f64> = s.iter().map(|v| phi + v.asin()).collect();
+    let (_, rate, _) = quadratic_fits(&log.t, &first, bad, (3.0 * interval).max(0.04));
+    let cos_est: Vec<f64> = (0..n)
+        .map(|k| log.radial[k] + h * rate[k] * rate[k] + delta * G * first[k].sin())
+        .collect();
+    let near_90 = |k: usize| s[k].abs() >= 0.95;
+    let mut side = vec![1.0f64; n];
+    let mut lo = 0;
+    while lo < n {
+        let mut hi = lo + 1;
+        while hi < n && bad[hi] == bad[lo] && near_90(hi) == near_90(lo) {
+            hi += 1;
+        }
+        let vote: f64 = (lo..hi).filter(|&k| !both[k]).map(|k| cos_est[k].signum()).sum();
+        let sign = if vote < 0.0 { -1.0 } else { 1.0 };
+        side[lo..hi].iter_mut().for_each(|v| *v = sign);
+        lo = hi;
+    }
+    let plain: Vec<f64> = (0..n)
+        .map(|k| {
+            if side[k] > 0.0 {
+                first[k]
+            } else {
+                2.0 * phi + std::f64::consts::PI - first[k]
+            }
+        })
+        .collect();
+    unwrap_fill(&log.t, &plain, bad)
+}
 
 /// The angle's first pass from start κ: θ unwrapped, the sensor's place,
 /// the misfit, and the smoothing window used (s).
