@@ -1,7 +1,7 @@
 //! Onsets: each bell's onset function from its bands, the peaks that are
 //! strikes (a bell strikes once a row), and each strike timed.
 
-use super::band::{change, decay_ratio, Band, SharedBand, BAND_RATE, C};
+use super::band::{change, Band, SharedBand, BAND_RATE};
 use super::heard::StrikeOptions;
 use super::stats::{local_peaks, median, typical_peak};
 use super::timing::{band_onset, on_one_footing, onset_time, ONSET_LEVEL};
@@ -24,18 +24,7 @@ pub(super) fn hear_bell(mut bands: Vec<Band>, opts: &StrikeOptions) -> BellHeari
     let rate = bands.first().map_or(BAND_RATE, |b| b.rate);
     let sep = (opts.min_separation_s * rate) as usize;
     // Each band's change across a step's rise, and its typical size.
-    // The change as it is or with the band's turning taken out, the less
-    // (`turning_change`: a bell's Doppler shift, a doublet's beat).
-    let changes: Vec<Vec<f64>> = bands
-        .iter()
-        .map(|b| {
-            change(b)[..n]
-                .iter()
-                .zip(turning_change(b))
-                .map(|(c, t)| c.min(t))
-                .collect()
-        })
-        .collect();
+    let changes: Vec<Vec<f64>> = bands.iter().map(|b| change(b)[..n].to_vec()).collect();
     for (b, c) in bands.iter_mut().zip(&changes) {
         b.scale = typical_peak(c, sep);
     }
@@ -199,61 +188,6 @@ impl BellHearing {
         }
         best.unwrap_or(m)
     }
-}
-
-/// A band's change across a rise (the windows of [`change`]) with its
-/// turning taken out: the after window's mean against the before
-/// window's turned on as far as the band turns within them (each window's
-/// halves against each other, their mean rate carried across the gap,
-/// which is exact for a pitch changing steadily). A bell's Doppler shift
-/// turns its bands by radians from one window to the next mid-stroke, a
-/// change as large as a strike's; at a strike the bell is at the end of
-/// its swing and its pitch steady, so its step is kept whole.
-pub(super) fn turning_change(b: &Band) -> Vec<f64> {
-    let n = b.z.len();
-    let g = b.rise.div_ceil(2);
-    let w = b.rise;
-    let h = (w / 2).max(1);
-    let mut cum = vec![(0.0, 0.0); n + 1];
-    for (k, z) in b.z.iter().enumerate() {
-        cum[k + 1] = (cum[k].0 + z.0, cum[k].1 + z.1);
-    }
-    let sum = |a: usize, e: usize| (cum[e].0 - cum[a].0, cum[e].1 - cum[a].1);
-    let valid = |m: usize| m + 1 >= g + w && m + g + w <= n;
-    let mean = |a: usize, e: usize| {
-        let (x, y) = sum(a, e);
-        let d = (e - a) as f64;
-        (x / d, y / d)
-    };
-    let pairs: Vec<(C, C)> = (0..n)
-        .map(|m| {
-            if valid(m) {
-                (mean(m + g, m + g + w), mean(m + 1 - g - w, m + 1 - g))
-            } else {
-                ((0.0, 0.0), (0.0, 0.0))
-            }
-        })
-        .collect();
-    let rho = decay_ratio(&pairs);
-    // The angle from one half of window [a, a + w) to the other.
-    let turn = |a: usize| {
-        let (p, q) = (sum(a, a + h), sum(a + w - h, a + w));
-        (q.1 * p.0 - q.0 * p.1).atan2(q.0 * p.0 + q.1 * p.1)
-    };
-    let gap = (2 * g + w - 1) as f64 / (w - h) as f64;
-    (0..n)
-        .map(|m| {
-            if !valid(m) {
-                return 0.0;
-            }
-            let (after, before) = pairs[m];
-            let phi = 0.5 * gap * (turn(m + g) + turn(m + 1 - g - w));
-            let (c, s) = (phi.cos(), phi.sin());
-            let pb = (rho.0 * before.0 - rho.1 * before.1, rho.0 * before.1 + rho.1 * before.0);
-            let pred = (c * pb.0 - s * pb.1, c * pb.1 + s * pb.0);
-            (after.0 - pred.0).hypot(after.1 - pred.1)
-        })
-        .collect()
 }
 
 /// A bell rung full circle strikes once a row, and moves at most one place
