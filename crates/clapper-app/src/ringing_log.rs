@@ -468,7 +468,7 @@ fn opt(v: Option<f64>, digits: usize, unit: &str) -> String {
 fn phase_lines(r: &LogReport, o: &mut String) {
     for p in &r.phases {
         let stands = if p.stands > 0 {
-            format!(" ({} stands)", p.stands)
+            format!(" ({} stand{})", p.stands, if p.stands == 1 { "" } else { "s" })
         } else {
             String::new()
         };
