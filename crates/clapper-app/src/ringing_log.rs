@@ -502,6 +502,26 @@ fn stand_lines(r: &LogReport, o: &mut String) {
     }
 }
 
+/// A line for each phase's swings: amplitude and BDC to strike.
+fn summary_lines(r: &LogReport, o: &mut String) {
+    for s in &r.phase_summary {
+        let line = |x: &Spread| match (x.mean_ms, x.sd_ms) {
+            (Some(m), Some(sd)) => format!("{m:.1} ms ± {sd:.1} ({})", x.n),
+            (Some(m), None) => format!("{m:.1} ms ({})", x.n),
+            _ => "no strikes".into(),
+        };
+        let _ = writeln!(
+            *o,
+            "  {}: {} swings, mean amplitude {:.1} deg; BDC to strike: hand {}, back {}",
+            s.kind,
+            s.strokes,
+            s.amplitude_mean_deg,
+            line(&s.hand),
+            line(&s.back)
+        );
+    }
+}
+
 /// The summary `clapper ringing-log` prints.
 pub fn text(r: &LogReport) -> String {
     let mut o = String::new();
@@ -528,22 +548,7 @@ pub fn text(r: &LogReport) -> String {
         r.sensor_across_m
     );
     phase_lines(r, &mut o);
-    for s in &r.phase_summary {
-        let line = |x: &Spread| match (x.mean_ms, x.sd_ms) {
-            (Some(m), Some(sd)) => format!("{m:.1} ms ± {sd:.1} ({})", x.n),
-            (Some(m), None) => format!("{m:.1} ms ({})", x.n),
-            _ => "no strikes".into(),
-        };
-        let _ = writeln!(
-            o,
-            "  {}: {} swings, mean amplitude {:.1} deg; BDC to strike: hand {}, back {}",
-            s.kind,
-            s.strokes,
-            s.amplitude_mean_deg,
-            line(&s.hand),
-            line(&s.back)
-        );
-    }
+    summary_lines(r, &mut o);
     let _ = writeln!(
         o,
         "odd-struck (hand minus back, ringing): {}{}{}",

@@ -167,14 +167,7 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
     let bad = ringing_masked(&log, &burst, &onsets, opts.clip, opts.through_ringing);
     let a = judged_angle(&log, (&bad, &rclip, &out), opts.sensor_along, falls.as_ref(), interval);
     place_warning(&a, falls.as_ref(), &mut warnings);
-    // The angle continuous but held within ±200 deg of the bottom: a bell
-    // set past the balance (185 deg, say) reads more than 180 deg, not a
-    // wrap to -175, and a strike's shaking cannot wind it round.
-    let theta = bounded(&a.theta);
-    let smooth = bounded(&a.smooth);
-    // Rests by the slope over ±0.5 s: still to a few hundredths of a rad/s.
-    let (level, slow, _) = quadratic_fits(&log.t, &theta, &burst, 0.5);
-    let rests = rests(&log.t, &level, &slow, interval);
+    let (theta, smooth, rests) = bounded_and_rests(&log.t, (&a.theta, &a.smooth), &burst, interval);
     let mut strokes = read_strokes(
         &log,
         (&theta, &smooth),
@@ -202,14 +195,13 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         (&burst, interval),
         &mut strokes,
     );
-    let with_se = odd_struck_with_se(&strokes, jack);
-    let (odd_struck, odd_struck_withheld) =
-        odd_struck_checked(with_se.map(|o| (o.0, o.1)), set_side, a.misfit <= MAX_MISFIT);
+    let (odd_struck, odd_struck_calibration_se, odd_struck_withheld) =
+        odd_struck_judged(&strokes, jack, set_side, a.misfit <= MAX_MISFIT);
     warnings.extend(odd_struck_withheld.clone());
     Ok(LogAnalysis {
         phases,
         odd_struck,
-        odd_struck_calibration_se: odd_struck.and(with_se.map(|o| o.2)),
+        odd_struck_calibration_se,
         odd_struck_withheld,
         strokes,
         clappering_starts,
@@ -226,6 +218,39 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         plausibility,
         warnings,
     })
+}
+
+/// The angle and its smoothed form held within ±200 deg of the bottom (a
+/// bell set past the balance, 185 deg say, reads more than 180 deg, not a
+/// wrap to -175, and a strike's shaking cannot wind it round), and the
+/// rests found on it by the slope over ±0.5 s (still to a few hundredths
+/// of a rad/s).
+#[allow(clippy::type_complexity)]
+fn bounded_and_rests(
+    t: &[f64],
+    (raw, raw_smooth): (&[f64], &[f64]),
+    burst: &[bool],
+    interval: f64,
+) -> (Vec<f64>, Vec<f64>, Vec<(f64, f64, f64)>) {
+    let theta = bounded(raw);
+    let smooth = bounded(raw_smooth);
+    let (level, slow, _) = quadratic_fits(t, &theta, burst, 0.5);
+    let rests = rests(t, &level, &slow, interval);
+    (theta, smooth, rests)
+}
+
+/// The ringing's odd-struckness with its standard error, the
+/// calibration's share of it (ms), and why it is withheld where it is.
+#[allow(clippy::type_complexity)]
+fn odd_struck_judged(
+    strokes: &[LogStroke],
+    jack: Option<f64>,
+    set_side: Option<f64>,
+    fits: bool,
+) -> (Option<(f64, f64)>, Option<f64>, Option<String>) {
+    let with_se = odd_struck_with_se(strokes, jack);
+    let (odd_struck, withheld) = odd_struck_checked(with_se.map(|o| (o.0, o.1)), set_side, fits);
+    (odd_struck, odd_struck.and(with_se.map(|o| o.2)), withheld)
 }
 
 /// Each stroke's moment of greatest speed and its bottom's standard error
