@@ -8,7 +8,7 @@
 mod common;
 
 use clapper_io::signal_file::write_wav;
-use clapper_signal::sampled_ring::sampled_ring;
+use clapper_signal::sampled_ring::{sampled_ring, UntunedStrike};
 use clapper_signal::tower::{major_scale, Method, TowerSpec};
 use clapper_signal::Signal;
 use common::clapper;
@@ -17,26 +17,14 @@ use common::clapper;
 /// measured on a recorded tower bell, starting at a tenth of their peak
 /// and rising over 30 ms.
 fn slow_bell(rate: f64, top: f64) -> Signal {
-    let parts = [
-        (0.5003, 0.32),
-        (1.0, 1.0),
-        (1.1837, 0.45),
-        (1.5628, 0.24),
-        (2.0037, 0.30),
-        (2.712, 0.17),
-        (2.979, 0.45),
-    ];
-    let mut samples = vec![0.0; (0.02 * rate) as usize];
-    samples.extend((0..(1.5 * rate) as usize).map(|k| {
-        let t = k as f64 / rate;
-        let env = (0.1 + 0.9 * (1.0 - (-t / 0.03).exp())) * (-t / 0.8).exp();
-        parts
-            .iter()
-            .map(|&(r, a)| a * (2.0 * std::f64::consts::PI * r * top * t + r).sin())
-            .sum::<f64>()
-            * env
-    }));
-    Signal { rate, samples }
+    UntunedStrike {
+        nominal_hz: top,
+        rise_s: 0.03,
+        decay_s: 0.8,
+        length_s: 1.5,
+        blow: None,
+    }
+    .signal(rate)
 }
 
 #[test]

@@ -14,6 +14,76 @@
 use crate::tower::{tower_strikes, TowerSpec, TrueStrike};
 use crate::{Signal, SignalError};
 
+/// Partials of a recorded tower bell: each one's ratio to the nominal and
+/// its strength (docs/strikes.md, "What real bells sound like"). Not a
+/// tuned bell's ratios: only the prime and octave lie near whole ones.
+pub const RECORDED_PARTIALS: [(f64, f64); 7] = [
+    (0.5003, 0.32),
+    (1.0, 1.0),
+    (1.1837, 0.45),
+    (1.5628, 0.24),
+    (2.0037, 0.30),
+    (2.712, 0.17),
+    (2.979, 0.45),
+];
+
+/// The clapper's blow in an [`UntunedStrike`]: broadband noise dying away.
+#[derive(Clone, Copy, Debug)]
+pub struct Blow {
+    /// Its peak, against the nominal's peak of 1.
+    pub amplitude: f64,
+    /// Its decay time (s): recorded strikes' blows die in 2-30 ms.
+    pub decay_s: f64,
+    /// The noise's seed.
+    pub seed: u64,
+}
+
+/// A synthetic strike of a bell with a recorded tower bell's partials
+/// ([`RECORDED_PARTIALS`]), as the tests of the untuned-bell paths use it:
+/// 20 ms of silence, then partials stepping to a tenth of their peak at the
+/// blow (recorded bells jump to -20 dB of it) and building up over
+/// `rise_s`, all dying away over `decay_s`.
+#[derive(Clone, Copy, Debug)]
+pub struct UntunedStrike {
+    /// The nominal (Hz).
+    pub nominal_hz: f64,
+    /// The partials' build-up time (s).
+    pub rise_s: f64,
+    /// Their decay time (s).
+    pub decay_s: f64,
+    /// The strike's length after the silence (s).
+    pub length_s: f64,
+    /// The clapper's blow, if heard.
+    pub blow: Option<Blow>,
+}
+
+impl UntunedStrike {
+    /// The strike sampled at `rate` (Hz); its sound starts at 20 ms.
+    pub fn signal(&self, rate: f64) -> Signal {
+        let mut samples = vec![0.0; (0.02 * rate) as usize];
+        let mut seed = self.blow.map_or(0, |b| b.seed);
+        samples.extend((0..(self.length_s * rate) as usize).map(|k| {
+            let t = k as f64 / rate;
+            let env = (0.1 + 0.9 * (1.0 - (-t / self.rise_s).exp())) * (-t / self.decay_s).exp();
+            let tone = RECORDED_PARTIALS
+                .iter()
+                .map(|&(r, a)| a * (2.0 * std::f64::consts::PI * r * self.nominal_hz * t + r).sin())
+                .sum::<f64>()
+                * env;
+            match self.blow {
+                Some(b) => {
+                    // A small linear congruential generator: the blow's noise.
+                    seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                    let noise = (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
+                    tone + b.amplitude * noise * (-t / b.decay_s).exp()
+                }
+                None => tone,
+            }
+        }));
+        Signal { rate, samples }
+    }
+}
+
 /// Where a recorded strike's sound starts (s from the recording's start).
 ///
 /// The noise before it is measured over the first 5 ms (or none, if the

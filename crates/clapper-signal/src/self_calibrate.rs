@@ -491,39 +491,26 @@ fn step_start(energy: &[f64], rate: f64, heard: usize) -> Option<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sampled_ring::sampled_ring;
+    use crate::sampled_ring::{sampled_ring, Blow, UntunedStrike};
     use crate::tower::{major_scale, score, Method, Room, TowerSpec, TrueStrike};
 
-    /// A bell struck alone after 20 ms of silence whose partials lie at a
-    /// recorded tower bell's ratios to its nominal (not a tuned bell's:
-    /// docs/strikes.md), with the clapper's blow a burst of broadband noise
-    /// dying away over tens of ms, as recorded strikes' does, and the partials starting at a tenth of their peak and building up
+    /// A bell with a recorded bell's partial ratios (docs/strikes.md), its
+    /// blow broadband noise dying away over 30 ms, its partials building up
     /// over `rise_s`.
     fn recorded_like(rate: f64, nominal: f64, rise_s: f64) -> Signal {
-        let parts = [
-            (0.5003, 0.32),
-            (1.0, 1.0),
-            (1.1837, 0.45),
-            (1.5628, 0.24),
-            (2.0037, 0.30),
-            (2.712, 0.17),
-            (2.979, 0.45),
-        ];
-        let mut samples = vec![0.0; (0.02 * rate) as usize];
-        let mut seed = (nominal * 7.0) as u64 | 1;
-        samples.extend((0..(1.6 * rate) as usize).map(|k| {
-            let t = k as f64 / rate;
-            let env = (0.1 + 0.9 * (1.0 - (-t / rise_s).exp())) * (-t / 0.9).exp();
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            let click = ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.3 * (-t / 0.03).exp();
-            parts
-                .iter()
-                .map(|&(r, a)| a * (2.0 * std::f64::consts::PI * r * nominal * t + r).sin())
-                .sum::<f64>()
-                * env
-                + click
-        }));
-        Signal { rate, samples }
+        let blow = Blow {
+            amplitude: 0.3,
+            decay_s: 0.03,
+            seed: (nominal * 7.0) as u64 | 1,
+        };
+        UntunedStrike {
+            nominal_hz: nominal,
+            rise_s,
+            decay_s: 0.9,
+            length_s: 1.6,
+            blow: Some(blow),
+        }
+        .signal(rate)
     }
 
     /// Four bells with a recorded bell's partial ratios (none of a tuned

@@ -217,7 +217,7 @@ fn missing(
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sampled_ring::sampled_ring;
+    use crate::sampled_ring::{sampled_ring, Blow, UntunedStrike};
     use crate::strikes::{find_strikes, BellVoice, StrikeOptions};
     use crate::tower::{major_scale, score, Method, TowerSpec};
 
@@ -226,37 +226,19 @@ mod tests {
     /// tower bells' do, with the clapper's blow a broadband click at its
     /// start.
     pub(crate) fn slow_bell(rate: f64, nominal: f64, rise_s: f64) -> Signal {
-        // Partials at the ratios (to the strongest) and strengths measured
-        // on a recorded tower bell (docs/strikes.md): not whole ratios.
-        let parts = [
-            (0.5003, 0.32),
-            (1.0, 1.0),
-            (1.1837, 0.45),
-            (1.5628, 0.24),
-            (2.0037, 0.30),
-            (2.712, 0.17),
-            (2.979, 0.45),
-        ];
-        let lead = (0.02 * rate) as usize;
-        let mut samples = vec![0.0; lead];
-        let mut seed = (nominal * 1000.0) as u64 | 1;
-        samples.extend((0..(1.5 * rate) as usize).map(|k| {
-            let t = k as f64 / rate;
-            // A step to a tenth (the recorded bells jump to -20 dB of their
-            // peak at the blow), then the rise.
-            let env = (0.1 + 0.9 * (1.0 - (-t / rise_s).exp())) * (-t / 0.8).exp();
-            // A small linear congruential generator: the click's noise.
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            let noise = (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
-            let click = 0.6 * noise * (-t / 0.002).exp();
-            parts
-                .iter()
-                .map(|&(r, a)| a * (2.0 * std::f64::consts::PI * r * nominal * t + r).sin())
-                .sum::<f64>()
-                * env
-                + click
-        }));
-        Signal { rate, samples }
+        let blow = Blow {
+            amplitude: 0.6,
+            decay_s: 0.002,
+            seed: (nominal * 1000.0) as u64 | 1,
+        };
+        UntunedStrike {
+            nominal_hz: nominal,
+            rise_s,
+            decay_s: 0.8,
+            length_s: 1.5,
+            blow: Some(blow),
+        }
+        .signal(rate)
     }
 
     /// The median error (ms) and the share of strikes within 2 ms.
