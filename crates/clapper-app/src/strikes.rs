@@ -9,8 +9,8 @@ use clapper_core::stroke::double_strike_index;
 use clapper_signal::lateness::{from_templates, Lateness};
 use clapper_signal::self_calibrate::{calibrate, SelfCalibration};
 use clapper_signal::strikes::{
-    find_strikes_streamed, rising, BellVoice, Heard, InMemory, RecordingBlocks, StrikeOptions, Window, Windows,
-    PLAUSIBLE_SHARE,
+    find_strikes_streamed_deferred, rising, BellVoice, Heard, Hearing, InMemory, RecordingBlocks, StrikeOptions,
+    Window, Windows, PLAUSIBLE_SHARE,
 };
 use clapper_signal::striking::{mean_sd, rhythm, Rhythm, Timed};
 use clapper_signal::template_timing::median_of;
@@ -369,7 +369,7 @@ impl StrikesReport {
         let mut moved: Vec<Vec<f64>> = vec![];
         // Strikes judged, and of them those that rise ([`rising`]).
         let mut rises = (0usize, 0usize);
-        let mut each = |w: &Window, heard: &mut Heard| -> Result<(), clapper_signal::SignalError> {
+        let mut each = |w: &Window, heard: &mut Heard, hearing: &Hearing| -> Result<(), clapper_signal::SignalError> {
             peak = w.sig.samples.iter().fold(peak, |p, v| p.max(v.abs()));
             for (s, r) in heard.strikes.iter().zip(rising(w.sig, &heard.strikes, voices)) {
                 if let (Some(r), true) = (r, in_core(w, s.t)) {
@@ -383,9 +383,9 @@ impl StrikesReport {
                     samples: w.sig.samples[..end].to_vec(),
                 };
             }
-            timed_again(timing, w, heard, &late, opts, &mut moved)
+            timed_again(timing, w, heard, hearing, &late, opts, &mut moved)
         };
-        let mut heard = find_strikes_streamed(src, voices, opts, windows, &mut each).map_err(signal_error)?;
+        let mut heard = find_strikes_streamed_deferred(src, voices, opts, windows, &mut each).map_err(signal_error)?;
         let matched: Vec<Option<f64>> = moved.into_iter().map(median_of).collect();
         let mut warnings = std::mem::take(&mut heard.warnings);
         warnings.extend(no_lateness);
@@ -654,19 +654,26 @@ fn correct_lateness(
 /// moved kept per bell in `moved`. With templates, each strike is timed
 /// against its bell's template; the lateness learned on a ring of the
 /// templates (`late`) then serves only a bell whose template is too short
-/// to match.
+/// to match. The strikes come not yet judged double: the templates judge
+/// them, else the band finder (`hearing`).
 fn timed_again(
     timing: Timing,
     w: &Window,
     heard: &mut Heard,
+    hearing: &Hearing,
     late: &[Option<f64>],
     opts: &StrikeOptions,
     moved: &mut Vec<Vec<f64>>,
 ) -> Result<(), clapper_signal::SignalError> {
+    if let Timing::Templates(t) = timing {
+        return retime_window(w, heard, hearing, t, late, opts, moved);
+    }
+    for (i, s) in heard.strikes.iter_mut().enumerate() {
+        s.double = hearing.double(i);
+    }
     match timing {
-        Timing::Templates(t) => retime_window(w, heard, t, late, opts, moved)?,
         Timing::Recording(c) => realign_window(w, heard, c, moved),
-        Timing::AsHeard => {}
+        Timing::AsHeard | Timing::Templates(_) => {}
     }
     Ok(())
 }

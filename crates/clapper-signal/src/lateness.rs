@@ -1,5 +1,5 @@
 //! Each bell's lateness: how far after the start of its sound the strike
-//! finder ([`find_strikes`]) times its strikes, learned per bell and taken
+//! finder ([`find_strikes`](crate::strikes::find_strikes)) times its strikes, learned per bell and taken
 //! off (issue 43, docs/strikes.md).
 //!
 //! The finder times a strike where its bands have risen a fifth of the way
@@ -20,7 +20,7 @@
 //! on the recorded bells: docs/strikes.md.)
 
 use crate::sampled_ring::sampled_ring;
-use crate::strikes::{find_strikes, BellVoice, Heard, HeardStrike, StrikeOptions};
+use crate::strikes::{hear_strikes, BellVoice, Heard, HeardStrike, StrikeOptions};
 use crate::tower::{Method, RingBell, TowerSpec, TrueStrike};
 use crate::{Signal, SignalError};
 
@@ -113,7 +113,8 @@ pub fn from_templates(
     let n = templates.len();
     let interval = (2.0 / (n as f64 + 1.0)).max(0.15);
     let (sig, truth) = ring_of_templates(templates, interval)?;
-    let heard = find_strikes(&sig, voices, opts)?;
+    // Only the strikes' times are wanted: no double strikes judged.
+    let heard = hear_strikes(&sig, voices, opts)?.singles();
     let mut out = Lateness {
         source: "templates",
         bells: vec![],

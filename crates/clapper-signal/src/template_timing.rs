@@ -29,7 +29,7 @@ mod matcher;
 use lag::best_match;
 use matcher::Matcher;
 
-use crate::strikes::{Heard, HeardStrike, StrikeOptions};
+use crate::strikes::{Heard, HeardStrike, Hearing, StrikeOptions};
 use crate::{Signal, SignalError};
 
 /// How far before the strike's time as first heard, less its bell's
@@ -111,6 +111,42 @@ pub fn retime_each_with(
     lateness: &[Option<f64>],
     opts: &StrikeOptions,
 ) -> Result<Vec<Option<f64>>, SignalError> {
+    Ok(retime_judging(sig, heard, templates, lateness, opts)?.0)
+}
+
+/// [`retime_each_with`] for a window whose strikes were handed not yet
+/// judged double ([`crate::strikes::find_strikes_streamed_deferred`]):
+/// a strike the templates cannot judge (its bell's template too short,
+/// the recording silent about it) takes the band finder's judgement from
+/// `hearing` (by its index as handed), so the finder fits no second
+/// strike after the others. The strikes and doubles are those
+/// [`retime_each_with`] gives strikes handed with the band finder's doubles.
+pub fn retime_each_deferred(
+    sig: &Signal,
+    heard: &mut Heard,
+    hearing: &Hearing,
+    templates: &[Signal],
+    lateness: &[Option<f64>],
+    opts: &StrikeOptions,
+) -> Result<Vec<Option<f64>>, SignalError> {
+    let (moves, judged) = retime_judging(sig, heard, templates, lateness, opts)?;
+    for (i, s) in heard.strikes.iter_mut().enumerate() {
+        if !judged.get(i).copied().unwrap_or(true) {
+            s.double = hearing.double(i);
+        }
+    }
+    Ok(moves)
+}
+
+/// [`retime_each_with`], and whether each strike's double was judged by
+/// its template (those not keep the double they came with).
+fn retime_judging(
+    sig: &Signal,
+    heard: &mut Heard,
+    templates: &[Signal],
+    lateness: &[Option<f64>],
+    opts: &StrikeOptions,
+) -> Result<(Vec<Option<f64>>, Vec<bool>), SignalError> {
     sig.validate()?;
     let m = Matcher::new(sig.rate, templates)?;
     let mut sc = m.scratch();
@@ -168,10 +204,12 @@ pub fn retime_each_with(
         moves.push(None);
     }
     let (which, fits): (Vec<usize>, Vec<(usize, Vec<f64>)>) = judged.into_iter().unzip();
+    let mut by_template = vec![false; heard.strikes.len()];
     for (i, fit) in which.into_iter().zip(pairs.judge(&fits, window, opts.double_min_ratio)) {
         heard.strikes[i].double = fit;
+        by_template[i] = true;
     }
-    Ok(moves)
+    Ok((moves, by_template))
 }
 
 /// The strikes (bell, time s, match over the bell's typical) that the
@@ -295,6 +333,54 @@ mod tests {
         assert!(recall >= 0.97, "recall within 10 ms {recall:.3}");
         assert!(found >= 9, "{found} of 12 doubles");
         assert!(false_doubles * 50 <= n, "{false_doubles} false doubles in {n}");
+    }
+
+    /// Strikes handed not yet judged double, their doubles judged by the
+    /// templates and, where a bell's template is too short to match, by
+    /// the band finder asked afterwards: the same strikes and doubles as
+    /// the band finder judging every strike first and the templates
+    /// judging again (the band finder's fit after each strike spared).
+    #[test]
+    fn doubles_judged_after_the_templates_are_those_judged_before() {
+        use crate::strikes::hear_strikes;
+        use crate::tower::DoubleStrikeSpec;
+        let rate = 16_000.0;
+        let bells = major_scale(5, 1000.0).unwrap();
+        let templates: Vec<Signal> = bells.iter().map(|b| slow_bell(rate, b.nominal_hz, 0.03)).collect();
+        let spec = TowerSpec {
+            rate,
+            rows: 16,
+            snr_db: Some(30.0),
+            doubles: [(2, 3), (2, 9), (4, 6), (4, 12)]
+                .iter()
+                .map(|&(bell, row)| DoubleStrikeSpec {
+                    bell,
+                    row,
+                    delay_ms: 70.0,
+                    amplitude_ratio: 0.9,
+                })
+                .collect(),
+            ..TowerSpec::new(bells)
+        };
+        let (sig, _) = sampled_ring(&spec, &templates).unwrap();
+        let voices: Vec<BellVoice> = templates.iter().map(|t| BellVoice::from_template(t).unwrap()).collect();
+        let opts = StrikeOptions::default();
+        // Bell 2's template cut to 0.1 s: too short to match, so its
+        // strikes keep the band finder's doubles.
+        let mut given = templates.clone();
+        given[1].samples.truncate((0.1 * rate) as usize);
+        let late = vec![None; 5];
+        let mut before = find_strikes(&sig, &voices, &opts).unwrap();
+        let moved_before = retime_each_with(&sig, &mut before, &given, &late, &opts).unwrap();
+        let hearing = hear_strikes(&sig, &voices, &opts).unwrap();
+        let mut after = hearing.singles();
+        let moved_after = retime_each_deferred(&sig, &mut after, &hearing, &given, &late, &opts).unwrap();
+        assert_eq!(after, before);
+        assert_eq!(moved_after, moved_before);
+        assert!(
+            before.strikes.iter().any(|s| s.bell == 2 && s.double.is_some()),
+            "bell 2's doubles (the band finder's) not heard"
+        );
     }
 
     #[test]

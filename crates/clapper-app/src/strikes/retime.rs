@@ -3,24 +3,26 @@
 
 use clapper_signal::self_calibrate::SelfCalibration;
 use clapper_signal::strikes::StrikeOptions;
-use clapper_signal::strikes::{Heard, Window};
-use clapper_signal::template_timing::retime_each_with;
+use clapper_signal::strikes::{Heard, Hearing, Window};
+use clapper_signal::template_timing::retime_each_deferred;
 use clapper_signal::Signal;
 
 /// Each strike of window `w` timed again against its bell's template
-/// ([`retime_each_with`], with the user's options: the double's window
+/// ([`retime_each_deferred`]: the doubles judged by the templates, else by
+/// the band finder's `hearing`; with the user's options: the double's window
 /// and ratio), how far each moved kept per bell in `moved` (those of
 /// the window's core only, so a strike two windows hear counts once).
 pub(super) fn retime_window(
     w: &Window,
     heard: &mut Heard,
+    hearing: &Hearing,
     templates: &[Signal],
     late: &[Option<f64>],
     opts: &StrikeOptions,
     moved: &mut Vec<Vec<f64>>,
 ) -> Result<(), clapper_signal::SignalError> {
     moved.resize(templates.len(), vec![]);
-    let moves = retime_each_with(w.sig, heard, templates, late, opts)?;
+    let moves = retime_each_deferred(w.sig, heard, hearing, templates, late, opts)?;
     for (s, m) in heard.strikes.iter().zip(moves) {
         if let (Some(m), true) = (m, in_core(w, s.t)) {
             moved[s.bell - 1].push(m);

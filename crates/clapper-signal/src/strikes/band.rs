@@ -66,50 +66,105 @@ pub(super) fn decimate(sig: &Signal, fmax: f64) -> Signal {
 
 /// The band of partial `f` (Hz): x e^{−iωt} through three boxes of
 /// `len` samples, centred (no delay), kept at about [`BAND_RATE`].
+#[cfg(test)]
 pub(super) fn band(sig: &Signal, f: f64, weight: f64, len: usize) -> Band {
+    bands(sig, &[(f, weight, len)]).remove(0)
+}
+
+/// One band being made: its phasor, its three boxes' running sums and
+/// what entered them.
+struct Making {
+    w: f64,
+    /// e^{−iω} per sample.
+    c: (f64, f64),
+    p: (f64, f64),
+    /// What entered each box at each slot (slot = sample mod `len`).
+    hist: Vec<[(f64, f64); 3]>,
+    sum: [(f64, f64); 3],
+    slot: usize,
+    len: usize,
+    /// Input samples to run past the signal's end (to flush the boxes).
+    end: usize,
+    /// The next input sample whose output is kept.
+    next: usize,
+    norm: f64,
+    z: Vec<(f64, f64)>,
+}
+
+/// The bands `specs` (partial Hz, weight, box length in samples) of one
+/// signal, each as [`band`] makes it alone, bit for bit: made side by side
+/// in one pass, so that no band's chain of sums waits on another's (each
+/// band's phasor and boxes are a chain of dependent additions; alone, the
+/// processor idles between its steps).
+pub(super) fn bands(sig: &Signal, specs: &[(f64, f64, usize)]) -> Vec<Band> {
     let hop = ((sig.rate / BAND_RATE).round() as usize).max(1);
     let x = &sig.samples;
     let n = x.len();
-    let w = 2.0 * PI * f / sig.rate;
-    let delay = 3 * (len - 1) / 2;
-    let mut z = Vec::with_capacity(n / hop + 1);
-    // Three running sums, each with its own history of what entered it.
-    let mut hist = [vec![(0.0, 0.0); len], vec![(0.0, 0.0); len], vec![(0.0, 0.0); len]];
-    let mut sum = [(0.0f64, 0.0f64); 3];
-    let norm = 2.0 / (len as f64).powi(3);
-    let (cr, ci) = (w.cos(), -w.sin());
-    let mut p = (1.0f64, 0.0f64);
+    let mut making: Vec<Making> = specs
+        .iter()
+        .map(|&(f, _, len)| {
+            let w = 2.0 * PI * f / sig.rate;
+            let delay = 3 * (len - 1) / 2;
+            Making {
+                w,
+                c: (w.cos(), -w.sin()),
+                p: (1.0, 0.0),
+                hist: vec![[(0.0, 0.0); 3]; len],
+                sum: [(0.0, 0.0); 3],
+                slot: 0,
+                len,
+                end: n + delay,
+                // Output i is centred on input i − delay.
+                next: delay,
+                norm: 2.0 / (len as f64).powi(3),
+                z: Vec::with_capacity(n / hop + 1),
+            }
+        })
+        .collect();
+    let last = making.iter().map(|m| m.end).max().unwrap_or(0);
     #[allow(clippy::needless_range_loop)] // i runs past the signal's end, to flush the boxes
-    for i in 0..n + delay {
-        if i % 4096 == 0 {
-            // The exact phasor, now and then, so rounding never builds up.
-            let a = -w * i as f64;
-            p = (a.cos(), a.sin());
-        }
+    for i in 0..last {
         let v = if i < n { x[i] } else { 0.0 };
-        let mut input = (v * p.0, v * p.1);
-        p = (p.0 * cr - p.1 * ci, p.0 * ci + p.1 * cr);
-        let slot = i % len;
-        for s in 0..3 {
-            let old = hist[s][slot];
-            hist[s][slot] = input;
-            sum[s] = (sum[s].0 + input.0 - old.0, sum[s].1 + input.1 - old.1);
-            input = sum[s];
-        }
-        // Output i is centred on input i − delay.
-        if i >= delay && (i - delay) % hop == 0 {
-            z.push((input.0 * norm, input.1 * norm));
+        // The exact phasor, now and then, so rounding never builds up.
+        let exact = i % 4096 == 0;
+        for m in making.iter_mut().filter(|m| i < m.end) {
+            if exact {
+                let a = -m.w * i as f64;
+                m.p = (a.cos(), a.sin());
+            }
+            let p = m.p;
+            let mut input = (v * p.0, v * p.1);
+            m.p = (p.0 * m.c.0 - p.1 * m.c.1, p.0 * m.c.1 + p.1 * m.c.0);
+            let h = &mut m.hist[m.slot];
+            for (s, old) in h.iter_mut().enumerate() {
+                let o = *old;
+                *old = input;
+                let sum = &mut m.sum[s];
+                *sum = (sum.0 + input.0 - o.0, sum.1 + input.1 - o.1);
+                input = *sum;
+            }
+            m.slot += 1;
+            if m.slot == m.len {
+                m.slot = 0;
+            }
+            if i == m.next {
+                m.z.push((input.0 * m.norm, input.1 * m.norm));
+                m.next += hop;
+            }
         }
     }
-    let rise = (3 * len).div_ceil(hop).max(2);
-    Band {
-        rate: sig.rate / hop as f64,
-        weight,
-        box_s: len as f64 / sig.rate,
-        z,
-        rise,
-        scale: 1.0,
-    }
+    making
+        .into_iter()
+        .zip(specs)
+        .map(|(m, &(_, weight, len))| Band {
+            rate: sig.rate / hop as f64,
+            weight,
+            box_s: len as f64 / sig.rate,
+            z: m.z,
+            rise: (3 * len).div_ceil(hop).max(2),
+            scale: 1.0,
+        })
+        .collect()
 }
 
 pub(super) fn diff(a: (f64, f64), b: (f64, f64)) -> f64 {
@@ -229,5 +284,67 @@ mod tests {
         assert!((at(1.5) - 0.3).abs() < 1e-6, "{}", at(1.5));
         assert!((at(0.5) - 0.15).abs() < 0.3 * 0.02, "{}", at(0.5));
         assert!(at(0.45) < 1e-9);
+    }
+
+    /// The one-band loop as it was before bands were made side by side
+    /// (a reference for the test below).
+    #[allow(clippy::needless_range_loop)]
+    fn band_alone(sig: &Signal, f: f64, len: usize) -> Vec<(f64, f64)> {
+        let hop = ((sig.rate / BAND_RATE).round() as usize).max(1);
+        let x = &sig.samples;
+        let n = x.len();
+        let w = 2.0 * PI * f / sig.rate;
+        let delay = 3 * (len - 1) / 2;
+        let mut z = vec![];
+        let mut hist = [vec![(0.0, 0.0); len], vec![(0.0, 0.0); len], vec![(0.0, 0.0); len]];
+        let mut sum = [(0.0f64, 0.0f64); 3];
+        let norm = 2.0 / (len as f64).powi(3);
+        let (cr, ci) = (w.cos(), -w.sin());
+        let mut p = (1.0f64, 0.0f64);
+        for i in 0..n + delay {
+            if i % 4096 == 0 {
+                let a = -w * i as f64;
+                p = (a.cos(), a.sin());
+            }
+            let v = if i < n { x[i] } else { 0.0 };
+            let mut input = (v * p.0, v * p.1);
+            p = (p.0 * cr - p.1 * ci, p.0 * ci + p.1 * cr);
+            let slot = i % len;
+            for s in 0..3 {
+                let old = hist[s][slot];
+                hist[s][slot] = input;
+                sum[s] = (sum[s].0 + input.0 - old.0, sum[s].1 + input.1 - old.1);
+                input = sum[s];
+            }
+            if i >= delay && (i - delay) % hop == 0 {
+                z.push((input.0 * norm, input.1 * norm));
+            }
+        }
+        z
+    }
+
+    /// Bands made side by side in one pass (boxes of different lengths,
+    /// so each runs on past the signal's end by its own delay) are each
+    /// the band made alone, to the bit.
+    #[test]
+    fn bands_made_side_by_side_are_each_the_band_made_alone() {
+        let rate = 11_025.0;
+        let samples: Vec<f64> = (0..30_000)
+            .map(|i| {
+                let t = i as f64 / rate;
+                (2.0 * PI * 523.0 * t).sin() * (-t).exp() + 0.3 * (2.0 * PI * 1187.0 * t + 0.4).cos()
+            })
+            .collect();
+        let sig = Signal { rate, samples };
+        let specs = [
+            (523.0, 1.0, 81),
+            (1187.0, 0.5, 33),
+            (260.0, 0.2, 551),
+            (2050.0, 0.1, 35),
+        ];
+        let made = bands(&sig, &specs);
+        for (b, &(f, _, len)) in made.iter().zip(&specs) {
+            assert_eq!(b.z, band_alone(&sig, f, len), "band at {f} Hz");
+        }
     }
 }

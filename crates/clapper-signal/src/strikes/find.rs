@@ -1,8 +1,10 @@
 //! The strike finder's steps put together: bands, onsets, strikes told
 //! between bells, timing and double strikes.
 
-use super::band::{band, decimate, Band, SharedBand};
-use super::heard::{check_options, Heard, HeardStrike, StrikeOptions};
+use std::cell::OnceCell;
+
+use super::band::{bands, decimate, Band, SharedBand};
+use super::heard::{check_options, Heard, HeardDouble, HeardStrike, StrikeOptions};
 use super::onsets::{hear_bell, BellHearing};
 use super::plan::{mean_spectrum, plan_bands};
 use super::voice::BellVoice;
@@ -10,6 +12,71 @@ use crate::{Signal, SignalError};
 
 /// Find every strike of every bell in `sig`; `voices[0]` is bell 1.
 pub fn find_strikes(sig: &Signal, voices: &[BellVoice], opts: &StrikeOptions) -> Result<Heard, SignalError> {
+    Ok(hear_strikes(sig, voices, opts)?.with_doubles())
+}
+
+/// What the band finder hears in a recording: every strike of every bell,
+/// timed, with its double strikes judged only when asked
+/// ([`Hearing::double`]). Fitting a second strike after each strike is a
+/// fifth of the finder's time, wasted where the doubles are judged
+/// otherwise (against each bell's template) or not needed (a bell's
+/// lateness learned from the strikes' times).
+pub struct Hearing {
+    heard: Vec<BellHearing>,
+    shared: Vec<Vec<SharedBand>>,
+    /// Every bell's strikes as first found (onset s), before timing.
+    times: Vec<Vec<f64>>,
+    /// Every bell's strikes timed: (onset s, strength).
+    timed: Vec<Vec<(f64, f64)>>,
+    /// The strikes in time order: (bell from 0, index in `timed`).
+    order: Vec<(usize, usize)>,
+    warnings: Vec<String>,
+    opts: StrikeOptions,
+    /// Each bell's double strikes, judged when first asked.
+    doubles: Vec<OnceCell<Vec<Option<HeardDouble>>>>,
+}
+
+impl Hearing {
+    /// The strikes heard, in time order, none judged double.
+    pub fn singles(&self) -> Heard {
+        Heard {
+            strikes: self
+                .order
+                .iter()
+                .map(|&(b, k)| HeardStrike {
+                    bell: b + 1,
+                    t: self.timed[b][k].0,
+                    strength: self.timed[b][k].1,
+                    double: None,
+                })
+                .collect(),
+            warnings: self.warnings.clone(),
+        }
+    }
+
+    /// The double strike of strike `i` of [`Self::singles`], if it is one
+    /// (its bell's strikes are all judged at the first ask, each as
+    /// [`find_strikes`] judges it).
+    pub fn double(&self, i: usize) -> Option<HeardDouble> {
+        let &(b, k) = self.order.get(i)?;
+        let all = self.doubles[b]
+            .get_or_init(|| self.heard[b].doubles(&self.timed[b], &self.shared[b], &self.times, &self.opts));
+        all[k]
+    }
+
+    /// The strikes with their double strikes: what [`find_strikes`] hears.
+    pub fn with_doubles(&self) -> Heard {
+        let mut heard = self.singles();
+        for (i, s) in heard.strikes.iter_mut().enumerate() {
+            s.double = self.double(i);
+        }
+        heard
+    }
+}
+
+/// [`find_strikes`] with the double strikes left to be judged when asked
+/// ([`Hearing`]).
+pub fn hear_strikes(sig: &Signal, voices: &[BellVoice], opts: &StrikeOptions) -> Result<Hearing, SignalError> {
     check_inputs(sig, voices, opts)?;
     let nyq = 0.45 * sig.rate;
     let fmax = voices
@@ -22,21 +89,26 @@ pub fn find_strikes(sig: &Signal, voices: &[BellVoice], opts: &StrikeOptions) ->
     let plan = plan_bands(voices, low.rate, &spectrum);
     // 1. Each bell's bands and onset function, and its candidate strikes.
     let mut shared_bands: Vec<Vec<SharedBand>> = vec![];
-    let mut heard: Vec<BellHearing> = plan
+    let heard: Vec<BellHearing> = plan
         .into_iter()
         .map(|p| {
-            let bands: Vec<Band> = p.bands.into_iter().map(|(f, w, l)| band(&low, f, w, l)).collect();
+            // The bell's own bands and its shared ones, made in one pass.
+            let own = p.bands.len();
+            let specs: Vec<_> = p.bands.into_iter().chain(p.shared.iter().map(|s| s.0)).collect();
+            let mut made = bands(&low, &specs);
+            let shared: Vec<Band> = made.split_off(own);
             shared_bands.push(
-                p.shared
+                shared
                     .into_iter()
-                    .map(|((f, w, l), with)| SharedBand::new(band(&low, f, w, l), with, opts))
+                    .zip(p.shared)
+                    .map(|(b, (_, with))| SharedBand::new(b, with, opts))
                     .collect(),
             );
-            hear_bell(bands, opts)
+            hear_bell(made, opts)
         })
         .collect();
     drop(low);
-    Ok(strikes_of(&mut heard, &shared_bands, voices.len(), opts))
+    Ok(strikes_of(heard, shared_bands, voices.len(), opts))
 }
 
 /// The recording, the bells and the options checked.
@@ -74,18 +146,20 @@ fn check_inputs(sig: &Signal, voices: &[BellVoice], opts: &StrikeOptions) -> Res
 }
 
 /// Steps 2 and 3: the strikes of every bell from its hearing (`heard`,
-/// with the bands it shares), in time order.
+/// with the bands it shares), timed, in time order; their double strikes
+/// judged when asked.
 fn strikes_of(
-    heard: &mut [BellHearing],
-    shared_bands: &[Vec<SharedBand>],
+    mut heard: Vec<BellHearing>,
+    shared_bands: Vec<Vec<SharedBand>>,
     bells: usize,
     opts: &StrikeOptions,
-) -> Heard {
-    explain_shared(heard);
+) -> Hearing {
+    explain_shared(&mut heard);
     let mut warnings = vec![];
     // 3. Per bell, the strikes: candidates standing clear of the rest,
-    //    timed; then each looked at for a second strike, in its own bands
-    //    and in the bands it shares where no sharing bell strikes nearby.
+    //    timed; then (when asked) each looked at for a second strike, in
+    //    its own bands and in the bands it shares where no sharing bell
+    //    strikes nearby.
     let firsts: Vec<Vec<(f64, f64)>> = heard
         .iter()
         .enumerate()
@@ -105,29 +179,33 @@ fn strikes_of(
         })
         .collect();
     let times: Vec<Vec<f64>> = firsts.iter().map(|f| f.iter().map(|x| x.0).collect()).collect();
-    let mut strikes = vec![];
-    for (b, (h, found)) in heard.iter().zip(firsts).enumerate() {
-        // Doubles are fitted about the start times, each strike free to
-        // slide a little first (`second_strike`): about the half-way times
-        // (moved by the bell's median lateness) doubles of 52 and 76 ms
-        // were fitted 37 and 64 ms late at RT60 1.2 s, the first strike's
-        // rise merged with the second's in the long bands.
-        let timed = h.timed(found, &shared_bands[b], &times);
-        let doubles = h.doubles(&timed, &shared_bands[b], &times, opts);
-        strikes.extend(
-            timed
-                .into_iter()
-                .zip(doubles)
-                .map(|((t, strength), double)| HeardStrike {
-                    bell: b + 1,
-                    t,
-                    strength,
-                    double,
-                }),
-        );
+    // Doubles are fitted about the start times, each strike free to
+    // slide a little first (`second_strike`): about the half-way times
+    // (moved by the bell's median lateness) doubles of 52 and 76 ms
+    // were fitted 37 and 64 ms late at RT60 1.2 s, the first strike's
+    // rise merged with the second's in the long bands.
+    let timed: Vec<Vec<(f64, f64)>> = heard
+        .iter()
+        .zip(firsts)
+        .enumerate()
+        .map(|(b, (h, found))| h.timed(found, &shared_bands[b], &times))
+        .collect();
+    let mut order: Vec<(usize, usize)> = timed
+        .iter()
+        .enumerate()
+        .flat_map(|(b, v)| (0..v.len()).map(move |k| (b, k)))
+        .collect();
+    order.sort_by(|&(a, i), &(b, j)| timed[a][i].0.total_cmp(&timed[b][j].0).then(a.cmp(&b)));
+    Hearing {
+        doubles: heard.iter().map(|_| OnceCell::new()).collect(),
+        heard,
+        shared: shared_bands,
+        times,
+        timed,
+        order,
+        warnings,
+        opts: *opts,
     }
-    strikes.sort_by(|a, b| a.t.total_cmp(&b.t).then(a.bell.cmp(&b.bell)));
-    Heard { strikes, warnings }
 }
 
 /// Step 2: a strike that steps a band two bells share is heard in both; it

@@ -33,10 +33,10 @@ mod stream;
 mod timing;
 mod voice;
 
-pub use find::find_strikes;
+pub use find::{find_strikes, hear_strikes, Hearing};
 pub use heard::{Heard, HeardDouble, HeardStrike, StrikeOptions, DEFAULT_DOUBLE_MIN_RATIO};
 pub use learn::{learn_nominals, Learned, LearnedBell};
 pub use learn_voices::{learn_voices, LearnedVoice, LearnedVoices};
 pub use plausible::{rising, PLAUSIBLE_SHARE, RISE_POWER};
-pub use stream::{find_strikes_streamed, InMemory, RecordingBlocks, Window, Windows};
+pub use stream::{find_strikes_streamed, find_strikes_streamed_deferred, InMemory, RecordingBlocks, Window, Windows};
 pub use voice::{BellVoice, VoicePartial};

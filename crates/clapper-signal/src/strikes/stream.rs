@@ -1,6 +1,6 @@
 //! A long recording heard in windows (issue 46): read in blocks, never
 //! held whole. A recording up to [`Windows::whole_s`] long is one window
-//! and heard exactly as [`find_strikes`] hears it; a longer one is cut into
+//! and heard exactly as [`find_strikes`](super::find_strikes) hears it; a longer one is cut into
 //! equal cores of at most [`Windows::core_s`], each heard with
 //! [`Windows::overlap_s`] of the recording either side (so its strikes lie
 //! far from where its bands, its strikes' responses and its rhythm are
@@ -15,7 +15,7 @@
 //! Memory is the window's audio and its bands: independent of the
 //! recording's length, and time is linear in it.
 
-use super::find::find_strikes;
+use super::find::{hear_strikes, Hearing};
 use super::heard::{Heard, HeardStrike, StrikeOptions};
 use super::voice::BellVoice;
 use crate::{Signal, SignalError};
@@ -147,6 +147,26 @@ pub fn find_strikes_streamed(
     windows: &Windows,
     each: &mut dyn FnMut(&Window, &mut Heard) -> Result<(), SignalError>,
 ) -> Result<Heard, SignalError> {
+    find_strikes_streamed_deferred(src, voices, opts, windows, &mut |w, heard, hearing| {
+        for (i, s) in heard.strikes.iter_mut().enumerate() {
+            s.double = hearing.double(i);
+        }
+        each(w, heard)
+    })
+}
+
+/// [`find_strikes_streamed`], each window's strikes handed to `each` not
+/// yet judged double: `each` asks the window's [`Hearing`] for the band
+/// finder's judgement of those it wants (by the strike's index as handed,
+/// [`Hearing::double`]) and judges the rest otherwise (against the bells'
+/// templates, say), and the finder spends no time fitting those.
+pub fn find_strikes_streamed_deferred(
+    src: &mut dyn RecordingBlocks,
+    voices: &[BellVoice],
+    opts: &StrikeOptions,
+    windows: &Windows,
+    each: &mut dyn FnMut(&Window, &mut Heard, &Hearing) -> Result<(), SignalError>,
+) -> Result<Heard, SignalError> {
     let rate = src.rate();
     let plan = windows.plan(src.total(), rate)?;
     let mut audio: Vec<f64> = vec![];
@@ -173,13 +193,15 @@ pub fn find_strikes_streamed(
             rate,
             samples: std::mem::take(&mut audio),
         };
-        let mut heard = find_strikes(&sig, voices, opts)?;
+        let hearing = hear_strikes(&sig, voices, opts)?;
+        let mut heard = hearing.singles();
         let window = Window {
             sig: &sig,
             start: from,
             core: (core_from, core_to),
         };
-        each(&window, &mut heard)?;
+        each(&window, &mut heard, &hearing)?;
+        drop(hearing);
         audio = sig.samples;
         for m in heard.warnings {
             if !warnings.contains(&m) {
@@ -241,6 +263,7 @@ fn once(mut kept: Vec<(HeardStrike, f64, usize)>, sep: f64) -> Vec<HeardStrike> 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::strikes::find_strikes;
 
     /// A short recording is one window; a longer one is cut into equal
     /// cores with the overlap either side.

@@ -46,7 +46,27 @@ pub(super) fn missed(
     interval: f64,
     sc: &mut Scratch,
 ) -> Result<Vec<(f64, f64)>, SignalError> {
-    let (proj, ncc) = whole(m, x, t, sc)?;
+    let (mut proj, mut ncc) = std::mem::take(&mut sc.whole);
+    whole(m, x, t, sc, &mut proj, &mut ncc)?;
+    let found = missed_in(m, x, t, have, typical, interval, sc, &proj, &ncc);
+    sc.whole = (proj, ncc);
+    found
+}
+
+/// [`missed`], the match over the whole recording given: the projection
+/// `proj` and the normalised match `ncc` ([`whole`]).
+#[allow(clippy::too_many_arguments)]
+fn missed_in(
+    m: &Matcher,
+    x: &[f64],
+    t: &Template,
+    have: &[f64],
+    typical: f64,
+    interval: f64,
+    sc: &mut Scratch,
+    proj: &[f64],
+    ncc: &[f64],
+) -> Result<Vec<(f64, f64)>, SignalError> {
     let rate = m.rate;
     let half = ((PEAK_S * rate) as usize).max(1);
     // Local peaks over ±PEAK_S, best first.
@@ -65,7 +85,7 @@ pub(super) fn missed(
     let mut found = vec![];
     for (k, _) in peaks {
         let at = k as f64 / rate;
-        if times.iter().any(|h| (h - at).abs() < ROOM * interval) || !rises(&proj, k, rate) {
+        if times.iter().any(|h| (h - at).abs() < ROOM * interval) || !rises(proj, k, rate) {
             continue;
         }
         if let Some((tt, q)) = best_match(m, x, t, at - REFINE_S.0, at + REFINE_S.1, sc)? {
@@ -94,10 +114,21 @@ fn rises(proj: &[f64], k: usize, rate: f64) -> bool {
 
 /// The match of template `t` with its sound starting at each sample of
 /// `x`: the recording's projection on the template (its level, as the
-/// template's) and that over the recording's level there (normalised).
-fn whole(m: &Matcher, x: &[f64], t: &Template, sc: &mut Scratch) -> Result<(Vec<f64>, Vec<f64>), SignalError> {
+/// template's) into `proj` and that over the recording's level there
+/// (normalised) into `ncc`.
+fn whole(
+    m: &Matcher,
+    x: &[f64],
+    t: &Template,
+    sc: &mut Scratch,
+    proj: &mut Vec<f64>,
+    ncc: &mut Vec<f64>,
+) -> Result<(), SignalError> {
     let span = m.span();
-    let (mut proj, mut ncc) = (Vec::with_capacity(x.len() + span), Vec::with_capacity(x.len() + span));
+    proj.clear();
+    ncc.clear();
+    proj.reserve(x.len() + span);
+    ncc.reserve(x.len() + span);
     let norm = t.energy.sqrt();
     let mut start = -(m.pre as i64);
     while proj.len() < x.len() {
@@ -115,7 +146,7 @@ fn whole(m: &Matcher, x: &[f64], t: &Template, sc: &mut Scratch) -> Result<(Vec<
     }
     proj.truncate(x.len());
     ncc.truncate(x.len());
-    Ok((proj, ncc))
+    Ok(())
 }
 
 #[cfg(test)]

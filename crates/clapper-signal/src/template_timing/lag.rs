@@ -71,14 +71,11 @@ fn first_blow(out: &[f64], lags: usize, top: f64, rate: f64) -> usize {
         .unwrap_or(0);
     let gap = (GAP_S * rate).round() as usize;
     let half = (0.0015 * rate).round() as usize;
-    let env = |k: usize| {
-        out[k.saturating_sub(half)..=(k + half).min(lags)]
-            .iter()
-            .fold(0.0f64, |m, v| m.max(v.abs()))
-    };
+    // The largest |out| within `half` of each lag, found once.
+    let env = envelope(&out[..=lags], half);
     let first = (0..top_k.saturating_sub(gap)).find(|&k| {
-        let e = env(k);
-        e >= FIRST_SHARE * top && (k..top_k).step_by(half.max(1)).any(|j| env(j) < DIP * e)
+        let e = env[k];
+        e >= FIRST_SHARE * top && (k..top_k).step_by(half.max(1)).any(|j| env[j] < DIP * e)
     });
     match first {
         Some(first) => {
@@ -88,5 +85,53 @@ fn first_blow(out: &[f64], lags: usize, top: f64, rate: f64) -> usize {
                 .unwrap_or(first)
         }
         None => top_k,
+    }
+}
+
+/// The largest |v| within `half` samples of each sample of `v` (0 for an
+/// empty window), in one pass: the indices of a falling run of |v| kept,
+/// each dropped once a larger one comes or it leaves the window.
+fn envelope(v: &[f64], half: usize) -> Vec<f64> {
+    let mut env = Vec::with_capacity(v.len());
+    let mut run: std::collections::VecDeque<usize> = std::collections::VecDeque::new();
+    let mut next = 0;
+    for k in 0..v.len() {
+        let hi = (k + half).min(v.len() - 1);
+        while next <= hi {
+            let a = v[next].abs();
+            while run.back().is_some_and(|&b| v[b].abs() <= a) {
+                run.pop_back();
+            }
+            run.push_back(next);
+            next += 1;
+        }
+        while run.front().is_some_and(|&f| f + half < k) {
+            run.pop_front();
+        }
+        env.push(run.front().map_or(0.0, |&f| v[f].abs().max(0.0)));
+    }
+    env
+}
+
+#[cfg(test)]
+mod tests {
+    use super::envelope;
+
+    /// The envelope in one pass is the largest |v| over each window,
+    /// found window by window.
+    #[test]
+    fn the_envelope_is_the_largest_magnitude_near_each_sample() {
+        let v: Vec<f64> = (0..500)
+            .map(|k| ((k * 7919) % 263) as f64 / 263.0 - 0.5 + if k % 97 == 0 { -2.0 } else { 0.0 })
+            .collect();
+        for half in [0, 1, 3, 66] {
+            let env = envelope(&v, half);
+            for (k, e) in env.iter().enumerate() {
+                let direct = v[k.saturating_sub(half)..=(k + half).min(v.len() - 1)]
+                    .iter()
+                    .fold(0.0f64, |m, x| m.max(x.abs()));
+                assert_eq!(*e, direct, "half {half}, sample {k}");
+            }
+        }
     }
 }

@@ -69,6 +69,10 @@ pub(super) struct Scratch {
     spec: Vec<Complex<f64>>,
     /// The correlation at lags 0.. from the start asked.
     pub out: Vec<f64>,
+    /// A whole recording's match, kept from one bell's to the next
+    /// ([`super::fill`]): not allocated (and its pages not zeroed) anew
+    /// for each.
+    pub whole: (Vec<f64>, Vec<f64>),
 }
 
 impl Matcher {
@@ -124,6 +128,7 @@ impl Matcher {
             buf: self.fwd.make_input_vec(),
             spec: self.fwd.make_output_vec(),
             out: self.inv.make_output_vec(),
+            whole: (vec![], vec![]),
         }
     }
 
