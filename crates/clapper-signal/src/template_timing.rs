@@ -236,6 +236,7 @@ fn missing(
     let all_q: Vec<f64> = matched.iter().map(|s| s.2).collect();
     let all_gaps: Vec<f64> = (1..=m.bells.len()).flat_map(|b| gaps(&times(b))).collect();
     let (typical_q, typical_gap) = (crate::median(&all_q), crate::median(&all_gaps));
+    let chunks = fill::Chunks::new(m, left, sc)?;
     for (b, tm) in m.bells.iter().enumerate() {
         let Some(tm) = tm else { continue };
         let have = times(b + 1);
@@ -245,7 +246,7 @@ fn missing(
         } else {
             (typical_q, typical_gap)
         };
-        for (t, mq) in fill::missed(m, left, tm, &have, q, gap, sc)? {
+        for (t, mq) in fill::missed(m, left, &chunks, tm, &have, q, gap, sc)? {
             found.push((b + 1, t, mq / q));
         }
     }

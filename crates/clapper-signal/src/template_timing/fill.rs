@@ -9,6 +9,8 @@
 //! and double strikes' second blows lie nearer).
 
 use super::lag::best_match;
+use realfft::num_complex::Complex;
+
 use super::matcher::{at, Matcher, Scratch, Template};
 use crate::SignalError;
 
@@ -37,9 +39,11 @@ const PEAK_S: f64 = 0.02;
 /// The strikes (time s, match) of the bell of template `t` in `x` that
 /// its strikes heard at `have` (s, in time order) leave out: its typical
 /// match `typical`, its typical interval `interval` (s).
+#[allow(clippy::too_many_arguments)]
 pub(super) fn missed(
     m: &Matcher,
     x: &[f64],
+    chunks: &Chunks,
     t: &Template,
     have: &[f64],
     typical: f64,
@@ -47,7 +51,7 @@ pub(super) fn missed(
     sc: &mut Scratch,
 ) -> Result<Vec<(f64, f64)>, SignalError> {
     let (mut proj, mut ncc) = std::mem::take(&mut sc.whole);
-    whole(m, x, t, sc, &mut proj, &mut ncc)?;
+    whole(m, chunks, t, sc, &mut proj, &mut ncc)?;
     let found = missed_in(m, x, t, have, typical, interval, sc, &proj, &ncc);
     sc.whole = (proj, ncc);
     found
@@ -112,13 +116,46 @@ fn rises(proj: &[f64], k: usize, rate: f64) -> bool {
     now >= RISE * before
 }
 
+/// What every bell's match over the whole recording `x` shares, found
+/// once: the recording's spectrum in each stretch one transform covers
+/// ([`Matcher::span`] lags; the transforms of the recording were half the
+/// fill's time, and as many again as the bells'), and its level (the root
+/// of its energy in the matched length, 0 where silent) at each lag. It
+/// holds about 1.4 times the recording's samples.
+pub(super) struct Chunks {
+    spectra: Vec<Vec<Complex<f64>>>,
+    root: Vec<f64>,
+}
+
+impl Chunks {
+    pub(super) fn new(m: &Matcher, x: &[f64], sc: &mut Scratch) -> Result<Self, SignalError> {
+        let span = m.span();
+        let (mut spectra, mut root) = (vec![], Vec::with_capacity(x.len() + span));
+        let mut start = -(m.pre as i64);
+        while root.len() < x.len() {
+            m.spectrum(x, start, sc)?;
+            spectra.push(sc.spec.clone());
+            let mut e: f64 = (0..m.len).map(|k| at(x, start + k as i64).powi(2)).sum();
+            for k in 0..span {
+                root.push(if e > 1e-300 { e.sqrt() } else { 0.0 });
+                let j = start + k as i64;
+                let (gone, come) = (at(x, j), at(x, j + m.len as i64));
+                e = (e - gone * gone + come * come).max(0.0);
+            }
+            start += span as i64;
+        }
+        root.truncate(x.len());
+        Ok(Chunks { spectra, root })
+    }
+}
+
 /// The match of template `t` with its sound starting at each sample of
-/// `x`: the recording's projection on the template (its level, as the
-/// template's) into `proj` and that over the recording's level there
-/// (normalised) into `ncc`.
+/// the recording (`chunks`): the recording's projection on the template
+/// (its level, as the template's) into `proj` and that over the
+/// recording's level there (normalised) into `ncc`.
 fn whole(
     m: &Matcher,
-    x: &[f64],
+    chunks: &Chunks,
     t: &Template,
     sc: &mut Scratch,
     proj: &mut Vec<f64>,
@@ -127,25 +164,17 @@ fn whole(
     let span = m.span();
     proj.clear();
     ncc.clear();
-    proj.reserve(x.len() + span);
-    ncc.reserve(x.len() + span);
+    proj.reserve(chunks.root.len());
+    ncc.reserve(chunks.root.len());
     let norm = t.energy.sqrt();
-    let mut start = -(m.pre as i64);
-    while proj.len() < x.len() {
-        m.correlate(x, t, start, sc)?;
-        let mut e: f64 = (0..m.len).map(|k| at(x, start + k as i64).powi(2)).sum();
-        for (k, v) in sc.out[..span].iter().enumerate() {
+    for (spec, roots) in chunks.spectra.iter().zip(chunks.root.chunks(span)) {
+        m.correlate_spectrum(spec, t, sc)?;
+        for (v, r) in sc.out.iter().zip(roots) {
             let p = if norm > 0.0 { v.abs() / norm } else { 0.0 };
             proj.push(p);
-            ncc.push(if e > 1e-300 { p / e.sqrt() } else { 0.0 });
-            let j = start + k as i64;
-            let (gone, come) = (at(x, j), at(x, j + m.len as i64));
-            e = (e - gone * gone + come * come).max(0.0);
+            ncc.push(if *r > 0.0 { p / r } else { 0.0 });
         }
-        start += span as i64;
     }
-    proj.truncate(x.len());
-    ncc.truncate(x.len());
     Ok(())
 }
 

@@ -66,7 +66,8 @@ pub(super) struct Matcher {
 /// The buffers one match works in.
 pub(super) struct Scratch {
     buf: Vec<f64>,
-    spec: Vec<Complex<f64>>,
+    /// A spectrum ([`Matcher::spectrum`]).
+    pub spec: Vec<Complex<f64>>,
     /// The correlation at lags 0.. from the start asked.
     pub out: Vec<f64>,
     /// A whole recording's match, kept from one bell's to the next
@@ -141,12 +142,31 @@ impl Matcher {
     /// template `t` (its sound from `start + k + pre`), for k up to
     /// [`Self::span`]; raw (not normalised).
     pub fn correlate(&self, x: &[f64], t: &Template, start: i64, sc: &mut Scratch) -> Result<(), SignalError> {
+        self.spectrum(x, start, sc)?;
+        self.times_template(t, sc)
+    }
+
+    /// `sc.spec`: the spectrum of the recording `x` from sample `start`,
+    /// as [`Self::correlate`] takes it.
+    pub fn spectrum(&self, x: &[f64], start: i64, sc: &mut Scratch) -> Result<(), SignalError> {
         for (k, b) in sc.buf.iter_mut().enumerate() {
             *b = at(x, start + k as i64);
         }
         self.fwd
             .process(&mut sc.buf, &mut sc.spec)
-            .map_err(|e| SignalError::Invalid(e.to_string()))?;
+            .map_err(|e| SignalError::Invalid(e.to_string()))
+    }
+
+    /// [`Self::correlate`] from the recording's spectrum `spec` there
+    /// ([`Self::spectrum`]), found once for every bell.
+    pub fn correlate_spectrum(&self, spec: &[Complex<f64>], t: &Template, sc: &mut Scratch) -> Result<(), SignalError> {
+        sc.spec.copy_from_slice(spec);
+        self.times_template(t, sc)
+    }
+
+    /// `sc.out` from the recording's spectrum in `sc.spec`: times the
+    /// template's, back to lags.
+    fn times_template(&self, t: &Template, sc: &mut Scratch) -> Result<(), SignalError> {
         for (a, b) in sc.spec.iter_mut().zip(&t.spec) {
             *a *= b;
         }
