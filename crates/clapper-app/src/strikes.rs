@@ -369,7 +369,7 @@ impl StrikesReport {
         let mut moved: Vec<Vec<f64>> = vec![];
         // Strikes judged, and of them those that rise ([`rising`]).
         let mut rises = (0usize, 0usize);
-        let mut each = |w: &Window, heard: &mut Heard, hearing: &Hearing| -> Result<(), clapper_signal::SignalError> {
+        let mut each = |w: &Window, heard: &mut Heard, hearing: Hearing| -> Result<(), clapper_signal::SignalError> {
             peak = w.sig.samples.iter().fold(peak, |p, v| p.max(v.abs()));
             for (s, r) in heard.strikes.iter().zip(rising(w.sig, &heard.strikes, voices)) {
                 if let (Some(r), true) = (r, in_core(w, s.t)) {
@@ -660,7 +660,7 @@ fn timed_again(
     timing: Timing,
     w: &Window,
     heard: &mut Heard,
-    hearing: &Hearing,
+    hearing: Hearing,
     late: &[Option<f64>],
     opts: &StrikeOptions,
     moved: &mut Vec<Vec<f64>>,
@@ -671,6 +671,7 @@ fn timed_again(
     for (i, s) in heard.strikes.iter_mut().enumerate() {
         s.double = hearing.double(i);
     }
+    drop(hearing);
     match timing {
         Timing::Recording(c) => realign_window(w, heard, c, moved),
         Timing::AsHeard | Timing::Templates(_) => {}

@@ -111,7 +111,7 @@ pub fn retime_each_with(
     lateness: &[Option<f64>],
     opts: &StrikeOptions,
 ) -> Result<Vec<Option<f64>>, SignalError> {
-    Ok(retime_judging(sig, heard, templates, lateness, opts)?.0)
+    retime_judging(sig, heard, templates, lateness, opts, None)
 }
 
 /// [`retime_each_with`] for a window whose strikes were handed not yet
@@ -119,34 +119,31 @@ pub fn retime_each_with(
 /// a strike the templates cannot judge (its bell's template too short,
 /// the recording silent about it) takes the band finder's judgement from
 /// `hearing` (by its index as handed), so the finder fits no second
-/// strike after the others. The strikes and doubles are those
-/// [`retime_each_with`] gives strikes handed with the band finder's doubles.
+/// strike after the others; `hearing` (its bands) is let go once every
+/// strike is matched, before the missed strikes are sought. The strikes
+/// and doubles are those [`retime_each_with`] gives strikes handed with
+/// the band finder's doubles.
 pub fn retime_each_deferred(
     sig: &Signal,
     heard: &mut Heard,
-    hearing: &Hearing,
+    hearing: Hearing,
     templates: &[Signal],
     lateness: &[Option<f64>],
     opts: &StrikeOptions,
 ) -> Result<Vec<Option<f64>>, SignalError> {
-    let (moves, judged) = retime_judging(sig, heard, templates, lateness, opts)?;
-    for (i, s) in heard.strikes.iter_mut().enumerate() {
-        if !judged.get(i).copied().unwrap_or(true) {
-            s.double = hearing.double(i);
-        }
-    }
-    Ok(moves)
+    retime_judging(sig, heard, templates, lateness, opts, Some(hearing))
 }
 
-/// [`retime_each_with`], and whether each strike's double was judged by
-/// its template (those not keep the double they came with).
+/// [`retime_each_with`]; with a `hearing`, the strikes their templates do
+/// not judge take its doubles ([`retime_each_deferred`]).
 fn retime_judging(
     sig: &Signal,
     heard: &mut Heard,
     templates: &[Signal],
     lateness: &[Option<f64>],
     opts: &StrikeOptions,
-) -> Result<(Vec<Option<f64>>, Vec<bool>), SignalError> {
+    hearing: Option<Hearing>,
+) -> Result<Vec<Option<f64>>, SignalError> {
     sig.validate()?;
     let m = Matcher::new(sig.rate, templates)?;
     let mut sc = m.scratch();
@@ -185,6 +182,10 @@ fn retime_judging(
         judged.push((i, (s.bell, c)));
         matched.push((s.bell, s.t, q));
     }
+    // Its hearing (its bands, as large as the fill's match) let go here.
+    if let Some(hearing) = hearing {
+        band_doubles(heard, hearing, judged.iter().map(|j| j.0));
+    }
     // Strikes the band finder missed, where the rhythm leaves room.
     for (bell, t, q) in missing(&m, &left, &matched, &mut sc)? {
         let (Some(c), Some(Some(tm))) = (
@@ -204,12 +205,22 @@ fn retime_judging(
         moves.push(None);
     }
     let (which, fits): (Vec<usize>, Vec<(usize, Vec<f64>)>) = judged.into_iter().unzip();
-    let mut by_template = vec![false; heard.strikes.len()];
     for (i, fit) in which.into_iter().zip(pairs.judge(&fits, window, opts.double_min_ratio)) {
         heard.strikes[i].double = fit;
-        by_template[i] = true;
     }
-    Ok((moves, by_template))
+    Ok(moves)
+}
+
+/// The strikes of `heard` no template judged (those not in `judged`, by
+/// index) take the band finder's doubles from `hearing`.
+fn band_doubles(heard: &mut Heard, hearing: Hearing, judged: impl Iterator<Item = usize>) {
+    let mut by_template = vec![false; heard.strikes.len()];
+    judged.for_each(|i| by_template[i] = true);
+    for (i, (s, by)) in heard.strikes.iter_mut().zip(by_template).enumerate() {
+        if !by {
+            s.double = hearing.double(i);
+        }
+    }
 }
 
 /// The strikes (bell, time s, match over the bell's typical) that the
@@ -375,7 +386,7 @@ mod tests {
         let moved_before = retime_each_with(&sig, &mut before, &given, &late, &opts).unwrap();
         let hearing = hear_strikes(&sig, &voices, &opts).unwrap();
         let mut after = hearing.singles();
-        let moved_after = retime_each_deferred(&sig, &mut after, &hearing, &given, &late, &opts).unwrap();
+        let moved_after = retime_each_deferred(&sig, &mut after, hearing, &given, &late, &opts).unwrap();
         assert_eq!(after, before);
         assert_eq!(moved_after, moved_before);
         assert!(

@@ -15,7 +15,7 @@ use clapper_signal::Signal;
 pub(super) fn retime_window(
     w: &Window,
     heard: &mut Heard,
-    hearing: &Hearing,
+    hearing: Hearing,
     templates: &[Signal],
     late: &[Option<f64>],
     opts: &StrikeOptions,

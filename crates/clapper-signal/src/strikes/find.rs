@@ -150,7 +150,7 @@ fn check_inputs(sig: &Signal, voices: &[BellVoice], opts: &StrikeOptions) -> Res
 /// judged when asked.
 fn strikes_of(
     mut heard: Vec<BellHearing>,
-    shared_bands: Vec<Vec<SharedBand>>,
+    mut shared_bands: Vec<Vec<SharedBand>>,
     bells: usize,
     opts: &StrikeOptions,
 ) -> Hearing {
@@ -190,6 +190,15 @@ fn strikes_of(
         .enumerate()
         .map(|(b, (h, found))| h.timed(found, &shared_bands[b], &times))
         .collect();
+    // Judging doubles later needs only the bands: the changes and onset
+    // functions (a third of the hearing) are let go.
+    for h in &mut heard {
+        h.changes = vec![];
+        h.onset = vec![];
+    }
+    for sb in shared_bands.iter_mut().flatten() {
+        sb.change = vec![];
+    }
     let mut order: Vec<(usize, usize)> = timed
         .iter()
         .enumerate()

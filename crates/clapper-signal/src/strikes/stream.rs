@@ -151,6 +151,7 @@ pub fn find_strikes_streamed(
         for (i, s) in heard.strikes.iter_mut().enumerate() {
             s.double = hearing.double(i);
         }
+        drop(hearing);
         each(w, heard)
     })
 }
@@ -159,13 +160,15 @@ pub fn find_strikes_streamed(
 /// yet judged double: `each` asks the window's [`Hearing`] for the band
 /// finder's judgement of those it wants (by the strike's index as handed,
 /// [`Hearing::double`]) and judges the rest otherwise (against the bells'
-/// templates, say), and the finder spends no time fitting those.
+/// templates, say), and the finder spends no time fitting those. The
+/// hearing is `each`'s to let go of (its bands are the window's largest
+/// part) once it has asked.
 pub fn find_strikes_streamed_deferred(
     src: &mut dyn RecordingBlocks,
     voices: &[BellVoice],
     opts: &StrikeOptions,
     windows: &Windows,
-    each: &mut dyn FnMut(&Window, &mut Heard, &Hearing) -> Result<(), SignalError>,
+    each: &mut dyn FnMut(&Window, &mut Heard, Hearing) -> Result<(), SignalError>,
 ) -> Result<Heard, SignalError> {
     let rate = src.rate();
     let plan = windows.plan(src.total(), rate)?;
@@ -200,8 +203,7 @@ pub fn find_strikes_streamed_deferred(
             start: from,
             core: (core_from, core_to),
         };
-        each(&window, &mut heard, &hearing)?;
-        drop(hearing);
+        each(&window, &mut heard, hearing)?;
         audio = sig.samples;
         for m in heard.warnings {
             if !warnings.contains(&m) {
