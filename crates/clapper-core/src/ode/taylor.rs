@@ -308,9 +308,32 @@ impl<const N: usize> Taylor<N> {
     ) -> Option<f64> {
         // Cheapest test first: the constant term outweighs all the others.
         let c0 = series[0] - level;
-        if c0 != 0.0 {
-            let bound = abs_dot(&series[1..=p], &hk[1..=p]);
-            if c0.abs() > bound {
+        let (lead, first) = if c0 != 0.0 {
+            if c0.abs() > abs_dot(&series[1..=p], &hk[1..=p]) {
+                return None;
+            }
+            (0, c0)
+        } else {
+            // Restarted at its own root (a clapper's slip after the apex of
+            // its flight, or a flight off a stop): c = t^lead r(t) has the
+            // sign of r on (0, h], and r none of its roots where its first
+            // term outweighs the others there.
+            let lead = series[1..=p].iter().position(|&v| v != 0.0)? + 1;
+            if (series[lead] * hk[lead]).abs() > abs_dot(&series[lead + 1..=p], &hk[lead + 1..=p]) {
+                return None;
+            }
+            (lead, series[lead])
+        };
+        // The same test up to the limit: no crossing before an event
+        // already found (a flight off a stop, whose return comes after
+        // the apex that friction stops it at).
+        if limit < h {
+            let mut lk = [0.0; MAX_ORDER + 1];
+            lk[0] = 1.0;
+            for k in 1..=p {
+                lk[k] = lk[k - 1] * limit;
+            }
+            if (first * lk[lead]).abs() > abs_dot(&series[lead + 1..=p], &lk[lead + 1..=p]) {
                 return None;
             }
         }
