@@ -39,6 +39,18 @@ pub trait SeriesSystem<const N: usize>: System<N> {
     /// through `y` (so `x[i][0] = y[i]`) and `extra[j][0..=p]` with those
     /// of every extra function an event reads.
     fn expand(&self, y: &[f64; N], p: usize, x: &mut [Coeffs; N], extra: &mut [Coeffs; MAX_EXTRA]);
+
+    /// Event `i`, reached at state `y`, as one the system passes through
+    /// by changing its own equations (a Coulomb torque turned at the apex
+    /// of a flight) rather than one that ends the run: if it is, the
+    /// system turns them, sets `y` to the state after it and answers with
+    /// what a caller would have said of the run that follows
+    /// ([`Taylor::hint_next`]'s first step, if any). The run then goes on
+    /// as a new one from there would, bit for bit, without returning.
+    /// `None` (the default): the run stops at the event.
+    fn pass_through(&self, _i: usize, _y: &mut [f64; N]) -> Option<Option<f64>> {
+        None
+    }
 }
 
 /// `c_0 + c_1 s + ... + c_p s^p`, as two interleaved Horner chains in s²
@@ -495,9 +507,9 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
         if let Some(done) = begin(sys, t0, y0, t_end)? {
             return Ok(done);
         }
-        let events = sys.events();
+        let mut events = sys.events();
         let weights = sys.error_weights(self.opts.atol, self.opts.rtol);
-        let p = self.next_order.take().unwrap_or(self.order);
+        let mut p = self.next_order.take().unwrap_or(self.order);
         let mut cap = self.next_cap.take().unwrap_or(f64::INFINITY);
         let mut t = t0;
         let mut y = y0;
@@ -536,11 +548,37 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
             if let Some((s, i)) = best {
                 let t_ev = t + s;
                 observe(&self.series, t_ev);
-                return Ok(Segment {
-                    t: t_ev,
-                    y: self.series.eval(t_ev),
-                    stop: Stop::Event(i),
-                });
+                let mut y_ev = self.series.eval(t_ev);
+                let Some(hint) = sys.pass_through(i, &mut y_ev) else {
+                    return Ok(Segment {
+                        t: t_ev,
+                        y: y_ev,
+                        stop: Stop::Event(i),
+                    });
+                };
+                // Passed through: on from there as a new run would go,
+                // with its checks, its events, and the order and first
+                // step of its hint.
+                if !t_ev.is_finite() || y_ev.iter().any(|v| !v.is_finite()) {
+                    return Err(OdeError::NonFinite { t: t_ev });
+                }
+                if t_end <= t_ev {
+                    return Ok(Segment {
+                        t: t_ev,
+                        y: y_ev,
+                        stop: Stop::EndTime,
+                    });
+                }
+                events = sys.events();
+                (p, cap) = match hint {
+                    Some(span) => (
+                        bounce_order(span, self.opts.rtol).clamp(2, self.order.max(2)),
+                        if span > 0.0 { span } else { f64::INFINITY },
+                    ),
+                    None => (self.order, f64::INFINITY),
+                };
+                (t, y) = (t_ev, y_ev);
+                continue;
             }
             let t_new = if last { t_end } else { t + h };
             observe(&self.series, t_new);

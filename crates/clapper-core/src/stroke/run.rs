@@ -240,18 +240,23 @@ where
     let mut hold = None;
     loop {
         let (t, y, clapper) = *now;
-        let seg = Segment::new(d, law, frame, clapper, &y, s0, bottom_passed, hold.take());
-        let (law_now, load_now) = (seg.force_law(), seg.load());
+        // An observer that watches nothing is not shown the jumps at the
+        // apexes of the clapper's flight: the stepper passes through them.
+        let apexes = O::SILENT.then_some(max_events - events);
+        let seg = Segment::new(d, law, frame, clapper, &y, s0, bottom_passed, hold.take(), apexes);
+        let (law_now, load_start) = (seg.force_law(), seg.load());
         let stop = stepper.integrate(&seg, t, y, t_limit, &mut |dense, t_to| {
             observer.on_step(&StepView {
                 dense,
                 t_to,
                 law: law_now,
-                load: load_now,
+                load: load_start,
                 dynamics: d,
             })
         })?;
         (now.0, now.1) = (stop.t, stop.y);
+        events += seg.apexes_passed();
+        let load_now = seg.load();
         let Stop::Event(i) = stop.stop else {
             return Ok((EndReason::TimeLimit, events));
         };
@@ -378,7 +383,7 @@ where
     let mut bottom_passed = false;
     let mut hold = None;
     for _ in 0..budget {
-        let seg = Segment::new(d, law, frame, clapper, &y, s0, bottom_passed, hold.take());
+        let seg = Segment::new(d, law, frame, clapper, &y, s0, bottom_passed, hold.take(), None);
         let load_now = seg.load();
         let stop = stepper.integrate(&seg, t, y, t_limit, &mut |_: &dyn DenseOutput<4>, _| {})?;
         (t, y) = (stop.t, stop.y);
@@ -439,20 +444,25 @@ fn frictional(
     y[PHI_DOT] = 0.0;
     match e {
         FrictionEvent::SlipStops => {
-            let bell_load = load.map_or(0.0, |l| l.theta(&y));
-            let hold = d.resting_q(&y, bell_load).1;
-            // The same torque as the frame's unless a forcing adds to the
-            // bell's (then the frame's is worked out afresh).
-            let same = frame.friction.is_some_and(|f| f.theta(&y) == bell_load);
-            let clapper = if hold.abs() <= frame.stops.grip {
-                ClapperState::Stuck
-            } else {
-                clapper
-            };
-            (y, clapper, same.then_some(hold))
+            let (stuck, hold) = slip_stop_hold(d, frame, &y, load);
+            let clapper = if stuck { ClapperState::Stuck } else { clapper };
+            (y, clapper, hold)
         }
         FrictionEvent::Breakaway => (y, ClapperState::FLYING, None),
     }
+}
+
+/// Where a flying clapper's slip stops (`y`, with φ' = 0) in a segment
+/// with `load`: whether the pivot's friction holds it (it sticks), and the
+/// torque that would hold it with the frame's friction
+/// ([`StrokeFrame::load_held`]), where that is the segment's.
+pub(super) fn slip_stop_hold(d: &Dynamics, frame: &StrokeFrame, y: &State, load: Option<Load>) -> (bool, Option<f64>) {
+    let bell_load = load.map_or(0.0, |l| l.theta(y));
+    let hold = d.resting_q(y, bell_load).1;
+    // The same torque as the frame's unless a forcing adds to the
+    // bell's (then the frame's is worked out afresh).
+    let same = frame.friction.is_some_and(|f| f.theta(y) == bell_load);
+    (hold.abs() <= frame.stops.grip, same.then_some(hold))
 }
 
 /// The rest of a bounce's flight after its apex (a friction event at which
@@ -460,7 +470,7 @@ fn frictional(
 /// short flight of about √(2Δ/a) for a distance Δ (rad) to the stop under
 /// the relative acceleration a toward it (rad/s²), which the stepper is
 /// told, as after the bounce itself (with the same margin, 1.5 times).
-fn flight_from_apex(
+pub(super) fn flight_from_apex(
     d: &Dynamics,
     frame: &StrokeFrame,
     e: FrictionEvent,
