@@ -217,6 +217,8 @@ pub struct Taylor<const N: usize> {
     next_order: Option<usize>,
     next_cap: Option<f64>,
     h_max: f64,
+    /// ln rtol, for the order of a short flight ([`bounce_order`]).
+    ln_rtol: f64,
     stats: Stats,
     // Kept so that a step allocates and copies nothing: the current step's
     // series (handed to the observer as it is) and the extra series.
@@ -235,6 +237,7 @@ impl<const N: usize> Taylor<N> {
             next_order: None,
             next_cap: None,
             h_max,
+            ln_rtol: opts.rtol.ln(),
             stats: Stats::default(),
             series: Series {
                 span: Span::default(),
@@ -479,14 +482,15 @@ fn exclusion_walk(r: &[f64], s0: i8, slope: f64, beyond: impl Fn(f64) -> bool) -
 
 /// A Taylor order for a first step of `flight` (s) after a bounce: the terms
 /// of a series fall off about as (t / 0.25 s)^n over the bell's motion, so
-/// a short flight needs few of them to reach `rtol`. Only a work estimate:
+/// a short flight needs few of them to reach rtol (`ln_rtol`: its
+/// logarithm, worked out once). Only a work estimate:
 /// the step-size control keeps the accuracy whatever the order.
-fn bounce_order(flight: f64, rtol: f64) -> usize {
+fn bounce_order(flight: f64, ln_rtol: f64) -> usize {
     let ratio = flight / 0.25;
     if !(ratio > 0.0 && ratio < 0.5) {
         return usize::MAX;
     }
-    (rtol.ln() / ratio.ln()).ceil().max(2.0) as usize + 1
+    (ln_rtol / ratio.ln()).ceil().max(2.0) as usize + 1
 }
 
 /// An event function that is exactly zero at `t0` takes the sign of its
@@ -498,7 +502,7 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
 
     fn expect(&mut self, next: NextSegment) {
         if let NextSegment::ShortFlight { span } = next {
-            self.hint_next(bounce_order(span, self.opts.rtol), span);
+            self.hint_next(bounce_order(span, self.ln_rtol), span);
         }
     }
 
@@ -572,7 +576,7 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
                 events = sys.events();
                 (p, cap) = match hint {
                     Some(span) => (
-                        bounce_order(span, self.opts.rtol).clamp(2, self.order.max(2)),
+                        bounce_order(span, self.ln_rtol).clamp(2, self.order.max(2)),
                         if span > 0.0 { span } else { f64::INFINITY },
                     ),
                     None => (self.order, f64::INFINITY),

@@ -6,7 +6,7 @@
 
 use crate::bell::Bell;
 use crate::contact::{ClapperState, ContactEvent, ContactLaw, ContactModel, Stops};
-use crate::dynamics::{Dynamics, Load, State, PHI, PHI_DOT, THETA, THETA_DOT};
+use crate::dynamics::{Dynamics, Load, State, Trig, PHI, PHI_DOT, THETA, THETA_DOT};
 use crate::ode::{DenseOutput, Dopri5, Fallback, NextSegment, Stepper, Stop, Taylor};
 use crate::swing::ClosedFormSwing;
 
@@ -456,9 +456,21 @@ fn frictional(
 /// with `load`: whether the pivot's friction holds it (it sticks), and the
 /// torque that would hold it with the frame's friction
 /// ([`StrokeFrame::load_held`]), where that is the segment's.
-pub(super) fn slip_stop_hold(d: &Dynamics, frame: &StrokeFrame, y: &State, load: Option<Load>) -> (bool, Option<f64>) {
+fn slip_stop_hold(d: &Dynamics, frame: &StrokeFrame, y: &State, load: Option<Load>) -> (bool, Option<f64>) {
+    slip_stop_hold_at(d, frame, y, &Trig::of(y), load)
+}
+
+/// [`slip_stop_hold`] with the sines and cosines of `y`'s angles given.
+pub(super) fn slip_stop_hold_at(
+    d: &Dynamics,
+    frame: &StrokeFrame,
+    y: &State,
+    trig: &Trig,
+    load: Option<Load>,
+) -> (bool, Option<f64>) {
     let bell_load = load.map_or(0.0, |l| l.theta(y));
-    let hold = d.resting_q(y, bell_load).1;
+    // As resting_q: its sines and cosines of φ at a stop are trig's.
+    let hold = d.resting_at(y, trig, bell_load).1;
     // The same torque as the frame's unless a forcing adds to the
     // bell's (then the frame's is worked out afresh).
     let same = frame.friction.is_some_and(|f| f.theta(y) == bell_load);
@@ -470,7 +482,7 @@ pub(super) fn slip_stop_hold(d: &Dynamics, frame: &StrokeFrame, y: &State, load:
 /// short flight of about √(2Δ/a) for a distance Δ (rad) to the stop under
 /// the relative acceleration a toward it (rad/s²), which the stepper is
 /// told, as after the bounce itself (with the same margin, 1.5 times).
-pub(super) fn flight_from_apex(
+fn flight_from_apex(
     d: &Dynamics,
     frame: &StrokeFrame,
     e: FrictionEvent,
@@ -478,20 +490,33 @@ pub(super) fn flight_from_apex(
     clapper: ClapperState,
     hold: Option<f64>,
 ) -> Option<NextSegment> {
+    if e != FrictionEvent::SlipStops {
+        return None;
+    }
+    let load = frame.load_held(d, clapper, y, hold);
+    let span = flight_from_apex_at(d, frame, y, &Trig::of(y), clapper, load)?;
+    Some(NextSegment::ShortFlight { span })
+}
+
+/// [`flight_from_apex`]'s span (s) for the slip's stop, given the sines
+/// and cosines of `y`'s angles and the load of the flight after it.
+pub(super) fn flight_from_apex_at(
+    d: &Dynamics,
+    frame: &StrokeFrame,
+    y: &State,
+    trig: &Trig,
+    clapper: ClapperState,
+    load: Option<Load>,
+) -> Option<f64> {
     let ClapperState::Flying {
         bounced_off: Some(side),
     } = clapper
     else {
         return None;
     };
-    if e != FrictionEvent::SlipStops {
-        return None;
-    }
     let s = side.sign();
     let distance = s * (frame.stops.at(side) - y[PHI]);
-    let load = frame.load_held(d, clapper, y, hold)?;
-    let toward = s * d.accel_q(y, load.theta(y), load.phi(y)).phi;
-    (distance > 0.0 && toward > 0.0).then(|| NextSegment::ShortFlight {
-        span: 1.5 * (2.0 * distance / toward).sqrt(),
-    })
+    let load = load?;
+    let toward = s * d.accel_at(y, trig, load.theta(y), load.phi(y)).phi;
+    (distance > 0.0 && toward > 0.0).then(|| 1.5 * (2.0 * distance / toward).sqrt())
 }

@@ -7,9 +7,9 @@ use std::cell::Cell;
 use std::f64::consts::PI;
 
 use crate::contact::{linear_event, ClapperState, ContactEvent, ContactLaw, ForceLaw, Stops};
-use crate::dynamics::{Dynamics, LinearSpring, Load, State, PHI, PHI_DOT, THETA, THETA_DOT};
+use crate::dynamics::{Dynamics, LinearSpring, Load, State, Trig, PHI, PHI_DOT, THETA, THETA_DOT};
 use crate::ode::taylor::Coeffs;
-use crate::ode::{Direction, ErrorWeights, Event, NextSegment, SeriesSystem, Source, System, MAX_EVENTS, MAX_EXTRA};
+use crate::ode::{Direction, ErrorWeights, Event, SeriesSystem, Source, System, MAX_EVENTS, MAX_EXTRA};
 use crate::swing::SwingSystem;
 
 use super::forcing::{Applied, Forcing, SegmentStart};
@@ -131,6 +131,9 @@ pub(super) struct Apexes<'a> {
     /// How many it may pass through: the stroke's events left.
     budget: u32,
     passed: Cell<u32>,
+    /// The state of the last apex passed through (its bits) and its sines
+    /// and cosines, for the expansion from it.
+    trig: Cell<Option<([u64; 4], Trig)>>,
 }
 
 impl<'a> Segment<'a> {
@@ -302,6 +305,7 @@ impl<'a> Segment<'a> {
             clapper,
             budget,
             passed: Cell::new(0),
+            trig: Cell::new(None),
         });
     }
 
@@ -400,7 +404,13 @@ impl SeriesSystem<4> for Segment<'_> {
         let load = self.load.get();
         let load = load.as_ref();
         match self.law {
-            ForceLaw::Zero => self.d.series_free(y, &LinearSpring::NONE, load, p, x),
+            ForceLaw::Zero => {
+                // From an apex just passed through: its sines and cosines.
+                let trig = self.apexes.as_ref().and_then(|a| a.trig.take());
+                let trig = trig.filter(|(bits, _)| *bits == y.map(f64::to_bits));
+                self.d
+                    .series_free_at(y, trig.as_ref().map(|(_, t)| t), &LinearSpring::NONE, load, p, x)
+            }
             // The holding force is extra series 0, less what is applied to
             // the clapper from outside (a constant).
             ForceLaw::Resting => {
@@ -424,11 +434,13 @@ impl SeriesSystem<4> for Segment<'_> {
             return None;
         }
         let frame = &a.frame;
-        let load = self.load.get();
         let mut ya = *y;
         ya[PHI_DOT] = 0.0;
-        let (held, hold) = super::run::slip_stop_hold(self.d, frame, &ya, load);
-        let hold = hold.filter(|_| !held)?;
+        // The sines and cosines at the apex, once: for the check for
+        // sticking, the flight's hint and the next expansion.
+        let trig = Trig::of(&ya);
+        let (stuck, hold) = super::run::slip_stop_hold_at(self.d, frame, &ya, &trig, self.load.get());
+        let hold = hold.filter(|_| !stuck)?;
         let turned = frame.load_held(self.d, a.clapper, &ya, Some(hold));
         // The slip's stop of the turned torque is the other array's.
         let dir = -turned.map_or(0.0, |l| l.clapper_torque).signum();
@@ -436,15 +448,13 @@ impl SeriesSystem<4> for Segment<'_> {
         if self.events[other][i] != slip_stops(dir) {
             return None;
         }
-        let hint = super::run::flight_from_apex(self.d, frame, FrictionEvent::SlipStops, &ya, a.clapper, Some(hold));
+        let hint = super::run::flight_from_apex_at(self.d, frame, &ya, &trig, a.clapper, turned);
         self.load.set(turned);
         self.turned.set(other);
         a.passed.set(a.passed.get() + 1);
+        a.trig.set(Some((ya.map(f64::to_bits), trig)));
         *y = ya;
-        Some(hint.and_then(|n| match n {
-            NextSegment::ShortFlight { span } => Some(span),
-            NextSegment::Stiffer => None,
-        }))
+        Some(hint)
     }
 }
 
