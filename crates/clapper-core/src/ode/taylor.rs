@@ -51,6 +51,15 @@ pub trait SeriesSystem<const N: usize>: System<N> {
     fn pass_through(&self, _i: usize, _y: &mut [f64; N]) -> Option<Option<f64>> {
         None
     }
+
+    /// The events (bit `i` for event `i`) whose crossing, where it is
+    /// certain by a step's end and the step's polynomial is proven
+    /// monotone over it, may be located on the whole step without
+    /// sampling it first. None by default: the sampled search keeps every
+    /// other event's roots, and so the ideal bell's results, to the bit.
+    fn whole_step_events(&self) -> u32 {
+        0
+    }
 }
 
 /// `c_0 + c_1 s + ... + c_p s^p`, as two interleaved Horner chains in s²
@@ -320,6 +329,7 @@ impl<const N: usize> Taylor<N> {
         hk: &Coeffs,
         p: usize,
         limit: f64,
+        whole: bool,
     ) -> Option<f64> {
         // Cheapest test first: the constant term outweighs all the others.
         let c0 = series[0] - level;
@@ -372,7 +382,14 @@ impl<const N: usize> Taylor<N> {
         // but first a walk to the limit, which may prove it later than an
         // event already found (then the search is over; if not, it goes on
         // from the step's start as before).
-        let certain = crossed(dir, s0, sign(horner(r, deg, h)));
+        let gh = horner(r, deg, h);
+        let certain = crossed(dir, s0, sign(gh));
+        // Where the slope's first term outweighs the rest, the polynomial
+        // is monotone over the step: a certain crossing is its only one,
+        // located between the step's ends (for the events that allow it).
+        if whole && certain && lead == 0 && limit >= h && 2.0 * r[1].abs() > slope {
+            return Some(poly_root(c, p, 0.0, c[0], s0, h, gh, self.opts.event_time_tol));
+        }
         if certain && limit < h {
             exclusion_walk(r, s0, slope, |next| next > limit)?;
         }
@@ -436,7 +453,7 @@ impl<const N: usize> Taylor<N> {
     /// flight): a crossing found bounds the search for the others, which
     /// are dropped once proven later (strictly: equal times still go to
     /// the event listed first).
-    fn first_event(&self, events: &[Event], h: f64, hk: &Coeffs, p: usize) -> Option<(f64, usize)> {
+    fn first_event(&self, events: &[Event], whole: u32, h: f64, hk: &Coeffs, p: usize) -> Option<(f64, usize)> {
         let mut best: Option<(f64, usize)> = None;
         let mut limit = f64::INFINITY;
         for i in (0..events.len()).rev() {
@@ -445,7 +462,8 @@ impl<const N: usize> Taylor<N> {
                 Source::State(k) => &self.series.x[k],
                 Source::Extra(k) => &self.extra[k],
             };
-            if let Some(s) = self.first_root(series, e.level, e.direction, h, hk, p, limit) {
+            let whole = whole >> i & 1 == 1;
+            if let Some(s) = self.first_root(series, e.level, e.direction, h, hk, p, limit, whole) {
                 if s <= limit {
                     (best, limit) = (Some((s, i)), s);
                 }
@@ -512,6 +530,7 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
             return Ok(done);
         }
         let mut events = sys.events();
+        let mut whole = sys.whole_step_events();
         let weights = sys.error_weights(self.opts.atol, self.opts.rtol);
         let mut p = self.next_order.take().unwrap_or(self.order);
         let mut cap = self.next_cap.take().unwrap_or(f64::INFINITY);
@@ -547,7 +566,7 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
             for k in 1..=p {
                 hk[k] = if k == 1 { h } else { hk[k / 2] * hk[k - k / 2] };
             }
-            let best = self.first_event(events, h, &hk, p);
+            let best = self.first_event(events, whole, h, &hk, p);
             (self.series.span, self.series.p) = (Span { t0: t, h }, p);
             if let Some((s, i)) = best {
                 let t_ev = t + s;
@@ -573,7 +592,7 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
                         stop: Stop::EndTime,
                     });
                 }
-                events = sys.events();
+                (events, whole) = (sys.events(), sys.whole_step_events());
                 (p, cap) = match hint {
                     Some(span) => (
                         bounce_order(span, self.ln_rtol).clamp(2, self.order.max(2)),
@@ -827,19 +846,19 @@ mod tests {
         c[4] = 1.0;
         let hk: Coeffs = std::array::from_fn(|k| 0.5f64.powi(k as i32));
         assert_eq!(
-            s.first_root(&c, 0.0, Direction::Rising, 0.5, &hk, 4, f64::INFINITY),
+            s.first_root(&c, 0.0, Direction::Rising, 0.5, &hk, 4, f64::INFINITY, false),
             None
         );
         // The same on a level: 3 + s^4 starts at the level 3 (a restart).
         c[0] = 3.0;
         assert_eq!(
-            s.first_root(&c, 3.0, Direction::Rising, 0.5, &hk, 4, f64::INFINITY),
+            s.first_root(&c, 3.0, Direction::Rising, 0.5, &hk, 4, f64::INFINITY, false),
             None
         );
         c[4] = 32.0;
         // 3 + 32 s^4 crosses 5 where s^4 = 1/16: at s = 0.5.
         let root = s
-            .first_root(&c, 5.0, Direction::Rising, 0.5, &hk, 4, f64::INFINITY)
+            .first_root(&c, 5.0, Direction::Rising, 0.5, &hk, 4, f64::INFINITY, false)
             .unwrap();
         assert!((root - 0.5).abs() < 1e-11, "{root}");
         // A bad order is refused, and a hint does not panic on it.

@@ -423,6 +423,16 @@ impl SeriesSystem<4> for Segment<'_> {
         }
     }
 
+    /// Friction's slip stop, the apex of a flight: its root located on the
+    /// whole step where φ' is monotone over it (its crossing is then the
+    /// only one).
+    fn whole_step_events(&self) -> u32 {
+        match self.n.checked_sub(1) {
+            Some(i) if self.kinds[i] == Ev::Friction(FrictionEvent::SlipStops) => 1 << i,
+            _ => 0,
+        }
+    }
+
     /// A flying clapper's slip stopping, where it does not stick: what
     /// `run::frictional` and the next segment would make of it (the same
     /// holding torque, the same torque turned, the same flight hint), done
