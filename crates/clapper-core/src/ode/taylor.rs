@@ -268,6 +268,18 @@ impl<const N: usize> Taylor<N> {
         self.next_cap = (first_step > 0.0).then_some(first_step);
     }
 
+    /// The order and first step (s) of a run after [`hint_next`](Self::hint_next)
+    /// with a short flight of `span` (s), if any; else the integrator's own.
+    fn hinted(&self, span: Option<f64>) -> (usize, f64) {
+        match span {
+            Some(span) => (
+                bounce_order(span, self.ln_rtol).clamp(2, self.order.max(2)),
+                if span > 0.0 { span } else { f64::INFINITY },
+            ),
+            None => (self.order, f64::INFINITY),
+        }
+    }
+
     /// Work done so far: every step is one expansion (`steps`); no step is
     /// rejected and `rhs_evals` stays zero.
     pub fn stats(&self) -> Stats {
@@ -331,44 +343,14 @@ impl<const N: usize> Taylor<N> {
         limit: f64,
         whole: bool,
     ) -> Option<f64> {
-        // Cheapest test first: the constant term outweighs all the others.
         let c0 = series[0] - level;
-        let (lead, first) = if c0 != 0.0 {
-            if c0.abs() > abs_dot(&series[1..=p], &hk[1..=p]) {
-                return None;
-            }
-            (0, c0)
-        } else {
-            // Restarted at its own root (a clapper's slip after the apex of
-            // its flight, or a flight off a stop): c = t^lead r(t) has the
-            // sign of r on (0, h], and r none of its roots where its first
-            // term outweighs the others there.
-            let lead = series[1..=p].iter().position(|&v| v != 0.0)? + 1;
-            if (series[lead] * hk[lead]).abs() > abs_dot(&series[lead + 1..=p], &hk[lead + 1..=p]) {
-                return None;
-            }
-            (lead, series[lead])
-        };
-        // The same test up to the limit: no crossing before an event
-        // already found (a flight off a stop, whose return comes after
-        // the apex that friction stops it at).
-        if limit < h {
-            let mut lk = [0.0; MAX_ORDER + 1];
-            lk[0] = 1.0;
-            for k in 1..=p {
-                lk[k] = lk[k - 1] * limit;
-            }
-            if (first * lk[lead]).abs() > abs_dot(&series[lead + 1..=p], &lk[lead + 1..=p]) {
-                return None;
-            }
-        }
+        let lead = not_ruled_out(series, c0, hk, p, h, limit)?;
         // Rarely reached: the shifted polynomial, copied.
         let mut shifted = *series;
         shifted[0] = c0;
         let c = &shifted;
         // A function that starts at zero (a restart at its own root) has
         // the roots of c / t in (0, h]: shift out the leading zeros.
-        let lead = c[..=p].iter().position(|&v| v != 0.0)?;
         let s0 = sign(c[lead]);
         let r: &[f64] = &c[lead..=p];
         // The walks' bound on the slope over the step.
@@ -473,6 +455,58 @@ impl<const N: usize> Taylor<N> {
     }
 }
 
+/// A run passed through an event at `(t, y)` stops there as a new run
+/// from there would at once: at a state not finite, or at `t_end`.
+#[inline(always)]
+fn ended<const N: usize>(t: f64, y: [f64; N], t_end: f64) -> Option<Run<N>> {
+    if y.iter().any(|v| !v.is_finite()) {
+        return Some(Err(OdeError::NonFinite { t }));
+    }
+    (t_end <= t).then_some(Ok(Segment {
+        t,
+        y,
+        stop: Stop::EndTime,
+    }))
+}
+
+/// The first nonzero term of the series less its level (`c0` at 0), unless
+/// a bound rules out a root over the step (`hk`: the powers of `h`), or up
+/// to `limit` (an event found) where that is sooner. Cheapest test first:
+/// the constant term outweighs all the others.
+#[inline(always)]
+fn not_ruled_out(series: &Coeffs, c0: f64, hk: &Coeffs, p: usize, h: f64, limit: f64) -> Option<usize> {
+    let (lead, first) = if c0 != 0.0 {
+        if c0.abs() > abs_dot(&series[1..=p], &hk[1..=p]) {
+            return None;
+        }
+        (0, c0)
+    } else {
+        // Restarted at its own root (a clapper's slip after the apex of
+        // its flight, or a flight off a stop): c = t^lead r(t) has the
+        // sign of r on (0, h], and r none of its roots where its first
+        // term outweighs the others there.
+        let lead = series[1..=p].iter().position(|&v| v != 0.0)? + 1;
+        if (series[lead] * hk[lead]).abs() > abs_dot(&series[lead + 1..=p], &hk[lead + 1..=p]) {
+            return None;
+        }
+        (lead, series[lead])
+    };
+    // The same test up to the limit: no crossing before an event already
+    // found (a flight off a stop, whose return comes after the apex that
+    // friction stops it at).
+    if limit < h {
+        let mut lk = [0.0; MAX_ORDER + 1];
+        lk[0] = 1.0;
+        for k in 1..=p {
+            lk[k] = lk[k - 1] * limit;
+        }
+        if (first * lk[lead]).abs() > abs_dot(&series[lead + 1..=p], &lk[lead + 1..=p]) {
+            return None;
+        }
+    }
+    Some(lead)
+}
+
 /// The exclusion walk over a polynomial `r` on side `s0` from 0: |r'| <=
 /// `slope` on the step, so r keeps its sign on [s, s + |r(s)| / slope). At
 /// most four moves, each stopped where `beyond` says the rest need not be
@@ -534,8 +568,7 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
         let weights = sys.error_weights(self.opts.atol, self.opts.rtol);
         let mut p = self.next_order.take().unwrap_or(self.order);
         let mut cap = self.next_cap.take().unwrap_or(f64::INFINITY);
-        let mut t = t0;
-        let mut y = y0;
+        let (mut t, mut y) = (t0, y0);
         loop {
             if self.stats.steps >= self.opts.max_steps {
                 return Err(OdeError::StepLimit {
@@ -559,7 +592,6 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
             if h.is_nan() || (h <= 1e-14 * t.abs().max(1.0) && !last) {
                 return Err(OdeError::StepSizeUnderflow { h, t });
             }
-
             let mut hk = [0.0; MAX_ORDER + 1];
             hk[0] = 1.0;
             // By halves: a shorter chain of dependent products.
@@ -579,27 +611,12 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
                         stop: Stop::Event(i),
                     });
                 };
-                // Passed through: on from there as a new run would go,
-                // with its checks, its events, and the order and first
-                // step of its hint.
-                if !t_ev.is_finite() || y_ev.iter().any(|v| !v.is_finite()) {
-                    return Err(OdeError::NonFinite { t: t_ev });
-                }
-                if t_end <= t_ev {
-                    return Ok(Segment {
-                        t: t_ev,
-                        y: y_ev,
-                        stop: Stop::EndTime,
-                    });
+                // Passed through: on as a new run from there would go.
+                if let Some(done) = ended(t_ev, y_ev, t_end) {
+                    return done;
                 }
                 (events, whole) = (sys.events(), sys.whole_step_events());
-                (p, cap) = match hint {
-                    Some(span) => (
-                        bounce_order(span, self.ln_rtol).clamp(2, self.order.max(2)),
-                        if span > 0.0 { span } else { f64::INFINITY },
-                    ),
-                    None => (self.order, f64::INFINITY),
-                };
+                (p, cap) = self.hinted(hint);
                 (t, y) = (t_ev, y_ev);
                 continue;
             }

@@ -6,7 +6,7 @@
 
 use crate::bell::Bell;
 use crate::contact::{ClapperState, ContactEvent, ContactLaw, ContactModel, Stops};
-use crate::dynamics::{Dynamics, Load, State, Trig, PHI, PHI_DOT, THETA, THETA_DOT};
+use crate::dynamics::{Dynamics, Load, State, Trig, PHI_DOT, THETA, THETA_DOT};
 use crate::ode::{DenseOutput, Dopri5, Fallback, NextSegment, Stepper, Stop, Taylor};
 use crate::swing::ClosedFormSwing;
 
@@ -16,7 +16,7 @@ use super::impact::{Impact, Moment};
 use super::observe::{Observer, Sample, StepView};
 use super::quantities::{AfterEnd, EndReason, Stroke, StrokeEnd, StrokeStart};
 use super::recorder::StrokeRecorder;
-use super::segment::{BellEvent, Ev, FrictionEvent, Segment, StrokeFrame};
+use super::segment::{flight_from_apex_at, slip_stop_hold_at, BellEvent, Ev, FrictionEvent, Segment, StrokeFrame};
 
 /// Simulate one stroke from `start` until the bell's next turning point.
 ///
@@ -244,16 +244,8 @@ where
         // apexes of the clapper's flight: the stepper passes through them.
         let apexes = O::SILENT.then_some(max_events - events);
         let seg = Segment::new(d, law, frame, clapper, &y, s0, bottom_passed, hold.take(), apexes);
-        let (law_now, load_start) = (seg.force_law(), seg.load());
-        let stop = stepper.integrate(&seg, t, y, t_limit, &mut |dense, t_to| {
-            observer.on_step(&StepView {
-                dense,
-                t_to,
-                law: law_now,
-                load: load_start,
-                dynamics: d,
-            })
-        })?;
+        let law_now = seg.force_law();
+        let stop = watched(stepper, &seg, (t, y), t_limit, observer, d)?;
         (now.0, now.1) = (stop.t, stop.y);
         events += seg.apexes_passed();
         let load_now = seg.load();
@@ -299,6 +291,32 @@ where
             observer.on_jump(before, &course.sample(*now));
         }
     }
+}
+
+/// `seg` integrated from `(t, y)` to its first event or `t_limit`, every
+/// step shown to `observer` with the segment's forces.
+fn watched<M, O>(
+    stepper: &mut M,
+    seg: &Segment,
+    (t, y): (f64, State),
+    t_limit: f64,
+    observer: &mut O,
+    d: &Dynamics,
+) -> Result<crate::ode::Segment<4>, SimError>
+where
+    M: for<'a> Stepper<4, Segment<'a>>,
+    O: Observer,
+{
+    let (law, load) = (seg.force_law(), seg.load());
+    Ok(stepper.integrate(seg, t, y, t_limit, &mut |dense, t_to| {
+        observer.on_step(&StepView {
+            dense,
+            t_to,
+            law,
+            load,
+            dynamics: d,
+        })
+    })?)
 }
 
 /// A contact event `e` in `seg` at `now`, handed to the contact law and
@@ -460,23 +478,6 @@ fn slip_stop_hold(d: &Dynamics, frame: &StrokeFrame, y: &State, load: Option<Loa
     slip_stop_hold_at(d, frame, y, &Trig::of(y), load)
 }
 
-/// [`slip_stop_hold`] with the sines and cosines of `y`'s angles given.
-pub(super) fn slip_stop_hold_at(
-    d: &Dynamics,
-    frame: &StrokeFrame,
-    y: &State,
-    trig: &Trig,
-    load: Option<Load>,
-) -> (bool, Option<f64>) {
-    let bell_load = load.map_or(0.0, |l| l.theta(y));
-    // As resting_q: its sines and cosines of φ at a stop are trig's.
-    let hold = d.resting_at(y, trig, bell_load).1;
-    // The same torque as the frame's unless a forcing adds to the
-    // bell's (then the frame's is worked out afresh).
-    let same = frame.friction.is_some_and(|f| f.theta(y) == bell_load);
-    (hold.abs() <= frame.stops.grip, same.then_some(hold))
-}
-
 /// The rest of a bounce's flight after its apex (a friction event at which
 /// the clapper turns back toward the stop it bounced off, still flying): a
 /// short flight of about √(2Δ/a) for a distance Δ (rad) to the stop under
@@ -496,27 +497,4 @@ fn flight_from_apex(
     let load = frame.load_held(d, clapper, y, hold);
     let span = flight_from_apex_at(d, frame, y, &Trig::of(y), clapper, load)?;
     Some(NextSegment::ShortFlight { span })
-}
-
-/// [`flight_from_apex`]'s span (s) for the slip's stop, given the sines
-/// and cosines of `y`'s angles and the load of the flight after it.
-pub(super) fn flight_from_apex_at(
-    d: &Dynamics,
-    frame: &StrokeFrame,
-    y: &State,
-    trig: &Trig,
-    clapper: ClapperState,
-    load: Option<Load>,
-) -> Option<f64> {
-    let ClapperState::Flying {
-        bounced_off: Some(side),
-    } = clapper
-    else {
-        return None;
-    };
-    let s = side.sign();
-    let distance = s * (frame.stops.at(side) - y[PHI]);
-    let load = load?;
-    let toward = s * d.accel_at(y, trig, load.theta(y), load.phi(y)).phi;
-    (distance > 0.0 && toward > 0.0).then(|| 1.5 * (2.0 * distance / toward).sqrt())
 }

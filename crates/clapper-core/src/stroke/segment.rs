@@ -449,7 +449,7 @@ impl SeriesSystem<4> for Segment<'_> {
         // The sines and cosines at the apex, once: for the check for
         // sticking, the flight's hint and the next expansion.
         let trig = Trig::of(&ya);
-        let (stuck, hold) = super::run::slip_stop_hold_at(self.d, frame, &ya, &trig, self.load.get());
+        let (stuck, hold) = slip_stop_hold_at(self.d, frame, &ya, &trig, self.load.get());
         let hold = hold.filter(|_| !stuck)?;
         let turned = frame.load_held(self.d, a.clapper, &ya, Some(hold));
         // The slip's stop of the turned torque is the other array's.
@@ -458,7 +458,7 @@ impl SeriesSystem<4> for Segment<'_> {
         if self.events[other][i] != slip_stops(dir) {
             return None;
         }
-        let hint = super::run::flight_from_apex_at(self.d, frame, &ya, &trig, a.clapper, turned);
+        let hint = flight_from_apex_at(self.d, frame, &ya, &trig, a.clapper, turned);
         self.load.set(turned);
         self.turned.set(other);
         a.passed.set(a.passed.get() + 1);
@@ -480,4 +480,51 @@ impl SwingSystem for Segment<'_> {
         // on the bell or a torque applied from outside.
         self.closed_form.then_some(self.d)
     }
+}
+
+/// Where a flying clapper's slip stops (`y`, with φ' = 0) in a segment
+/// with `load`, given the sines and cosines of `y`'s angles: whether the
+/// pivot's friction holds it (it sticks), and the torque that would hold
+/// it with the frame's friction ([`StrokeFrame::load_held`]), where that
+/// is the segment's.
+pub(super) fn slip_stop_hold_at(
+    d: &Dynamics,
+    frame: &StrokeFrame,
+    y: &State,
+    trig: &Trig,
+    load: Option<Load>,
+) -> (bool, Option<f64>) {
+    let bell_load = load.map_or(0.0, |l| l.theta(y));
+    // As resting_q: its sines and cosines of φ at a stop are trig's.
+    let hold = d.resting_at(y, trig, bell_load).1;
+    // The same torque as the frame's unless a forcing adds to the
+    // bell's (then the frame's is worked out afresh).
+    let same = frame.friction.is_some_and(|f| f.theta(y) == bell_load);
+    (hold.abs() <= frame.stops.grip, same.then_some(hold))
+}
+
+/// The rest of a bounce's flight after its apex, where the clapper turns
+/// back toward the stop it bounced off, still flying: about √(2Δ/a) for a
+/// distance Δ (rad) to the stop under the relative acceleration a toward
+/// it (rad/s²), with a margin of 1.5 times (s); given the sines and cosines
+/// of `y`'s angles and the load of the flight after the apex.
+pub(super) fn flight_from_apex_at(
+    d: &Dynamics,
+    frame: &StrokeFrame,
+    y: &State,
+    trig: &Trig,
+    clapper: ClapperState,
+    load: Option<Load>,
+) -> Option<f64> {
+    let ClapperState::Flying {
+        bounced_off: Some(side),
+    } = clapper
+    else {
+        return None;
+    };
+    let s = side.sign();
+    let distance = s * (frame.stops.at(side) - y[PHI]);
+    let load = load?;
+    let toward = s * d.accel_at(y, trig, load.theta(y), load.phi(y)).phi;
+    (distance > 0.0 && toward > 0.0).then(|| 1.5 * (2.0 * distance / toward).sqrt())
 }
