@@ -325,9 +325,10 @@ pub fn sweep_cells_until(
 }
 
 /// [`sweep_cells_until`] that also counts the strokes it simulates in
-/// `rung`: one a cell for an ideal bell, two where a bell off the ideal
-/// rings its backstroke too (after a handstroke that keeps its style). A
-/// chart's cost goes with them, not with its cells.
+/// `rung`: one a cell for a bell that is its own mirror image (ideal, or
+/// with friction only), two where a bell with a pivot offset or unequal
+/// contact angles rings its backstroke too (after a handstroke that keeps
+/// its style). A chart's cost goes with them, not with its cells.
 ///
 /// ```
 /// use std::sync::atomic::{AtomicU64, Ordering};
@@ -370,11 +371,13 @@ pub fn sweep_cells_counting(
                 .and_then(|bell| {
                     rung.fetch_add(1, Ordering::Relaxed);
                     let hand = first_stroke(&bell, &spec.config, style)?;
-                    // No mirror symmetry: the backstroke too, where it can
+                    // A bell that is its own mirror image (friction and
+                    // damping keep the mirror) has its backstroke by
+                    // symmetry. Else the backstroke too, where it can
                     // change the answer (after a handstroke that keeps its
                     // style; else the style is not sustained and has no
                     // odd-struckness, as `of_pair` would say).
-                    if spec.hanging.is_ideal() || !hand.sustained() {
+                    if spec.hanging.is_mirror_symmetric() || !hand.sustained() {
                         Ok(StrokeSummary::from(&hand))
                     } else {
                         rung.fetch_add(1, Ordering::Relaxed);

@@ -357,8 +357,11 @@ impl RigidImpact {
             Transition {
                 departed: Some(side),
                 // The flight ends near 2 v / a: seek it over a little more.
+                // With Coulomb friction at the pivot the slip stops at the
+                // apex, near v / a, where the stepper turns the torque
+                // (measured: 1.2 v / a takes the fewest instructions).
                 next: (toward > 0.0).then(|| NextSegment::ShortFlight {
-                    span: 3.0 * away / toward,
+                    span: if stops.grip > 0.0 { 1.2 } else { 3.0 } * away / toward,
                 }),
                 ..Transition::to(
                     bounced,

@@ -128,6 +128,28 @@ impl LinearSpring {
     }
 }
 
+/// sin and cos of a state's clapper and bell angles, φ and θ: worked out
+/// once where several of the equations' terms are wanted at one state.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(crate) struct Trig {
+    /// sin φ, cos φ.
+    pub(crate) sp: f64,
+    pub(crate) cp: f64,
+    /// sin θ, cos θ.
+    pub(crate) st: f64,
+    pub(crate) ct: f64,
+}
+
+impl Trig {
+    /// Those of `y`, as [`crate::trig::sin_cos`] gives them.
+    #[inline(always)]
+    pub(crate) fn of(y: &State) -> Self {
+        let (sp, cp) = crate::trig::sin_cos(y[PHI]);
+        let (st, ct) = crate::trig::sin_cos(y[THETA]);
+        Self { sp, cp, st, ct }
+    }
+}
+
 /// Accelerations and the mass matrix at one state.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Accel {
@@ -190,13 +212,13 @@ struct OrderSums {
 impl FreeSeries<'_> {
     /// Order 0 from the state `y`, written into `x` as well.
     #[inline(always)]
-    fn start(&mut self, y: &State, x: &mut [Coeffs; 4]) {
+    fn start(&mut self, y: &State, trig: Option<&Trig>, x: &mut [Coeffs; 4]) {
         x[THETA][0] = y[THETA];
         x[PHI][0] = y[PHI];
         x[THETA_DOT][0] = y[THETA_DOT];
         x[PHI_DOT][0] = y[PHI_DOT];
-        (self.sp[0], self.cp[0]) = crate::trig::sin_cos(y[PHI]);
-        (self.st[0], self.ct[0]) = crate::trig::sin_cos(y[THETA]);
+        let Trig { sp, cp, st, ct } = trig.copied().unwrap_or_else(|| Trig::of(y));
+        (self.sp[0], self.cp[0], self.st[0], self.ct[0]) = (sp, cp, st, ct);
         // As in accel: sin and cos of θ + φ from the two pairs.
         self.sa[0] = self.st[0] * self.cp[0] + self.ct[0] * self.sp[0];
         self.ca[0] = self.ct[0] * self.cp[0] - self.st[0] * self.sp[0];
@@ -308,9 +330,15 @@ impl Dynamics {
     /// φ (N m).
     #[inline]
     pub fn accel_q(&self, y: &State, q_theta: f64, q_phi: f64) -> Accel {
-        let [th, ph, thd, phd] = *y;
-        let (sp, cp) = crate::trig::sin_cos(ph);
-        let (st, ct) = crate::trig::sin_cos(th);
+        self.accel_at(y, &Trig::of(y), q_theta, q_phi)
+    }
+
+    /// [`accel_q`](Self::accel_q) with the sines and cosines of `y`'s
+    /// angles given (bit for bit the same).
+    #[inline(always)]
+    pub(crate) fn accel_at(&self, y: &State, trig: &Trig, q_theta: f64, q_phi: f64) -> Accel {
+        let [_, _, thd, phd] = *y;
+        let Trig { sp, cp, st, ct } = *trig;
         // sin(θ + φ) from the two sin_cos calls: one trig call fewer per step
         // stage, and still exactly odd under (θ, φ) → (−θ, −φ).
         let s_abs = st * cp + ct * sp;
@@ -372,9 +400,17 @@ impl Dynamics {
     /// [`resting`](Self::resting) with a force `q_theta` (N m) on the bell.
     #[inline]
     pub fn resting_q(&self, y: &State, q_theta: f64) -> (f64, f64) {
-        let [th, ph, thd, _] = *y;
-        let (sp, cp) = self.sin_cos_phi(ph);
-        let (st, ct) = crate::trig::sin_cos(th);
+        let (sp, cp) = self.sin_cos_phi(y[PHI]);
+        let (st, ct) = crate::trig::sin_cos(y[THETA]);
+        self.resting_at(y, &Trig { sp, cp, st, ct }, q_theta)
+    }
+
+    /// [`resting_q`](Self::resting_q) with the sines and cosines of `y`'s
+    /// angles given (bit for bit the same).
+    #[inline(always)]
+    pub(crate) fn resting_at(&self, y: &State, trig: &Trig, q_theta: f64) -> (f64, f64) {
+        let thd = y[THETA_DOT];
+        let Trig { sp, cp, st, ct } = *trig;
         let s_abs = st * cp + ct * sp;
         if self.offset {
             let (kc, ks) = self.coupling(sp, cp);
@@ -458,12 +494,26 @@ impl Dynamics {
     /// The recurrences are those of [`accel_q`](Self::accel_q), term by
     /// term, and keep its exact symmetry under (θ, φ, d) → (−θ, −φ, −d).
     pub fn series_free(&self, y: &State, spring: &LinearSpring, load: Option<&Load>, p: usize, x: &mut [Coeffs; 4]) {
+        self.series_free_at(y, None, spring, load, p, x)
+    }
+
+    /// [`series_free`](Self::series_free) with the sines and cosines of
+    /// `y`'s angles given, where they are known (bit for bit the same).
+    pub(crate) fn series_free_at(
+        &self,
+        y: &State,
+        trig: Option<&Trig>,
+        spring: &LinearSpring,
+        load: Option<&Load>,
+        p: usize,
+        x: &mut [Coeffs; 4],
+    ) {
         // The offset's extra sums only where there is an offset: the paper's
         // bell pays nothing for it.
         if self.offset {
-            self.series_free_impl::<true>(y, spring, load, p, x)
+            self.series_free_impl::<true>(y, trig, spring, load, p, x)
         } else {
-            self.series_free_impl::<false>(y, spring, load, p, x)
+            self.series_free_impl::<false>(y, trig, spring, load, p, x)
         }
     }
 
@@ -471,6 +521,7 @@ impl Dynamics {
     fn series_free_impl<const OFFSET: bool>(
         &self,
         y: &State,
+        trig: Option<&Trig>,
         spring: &LinearSpring,
         load: Option<&Load>,
         p: usize,
@@ -496,7 +547,7 @@ impl Dynamics {
             tdd: &mut tdd,
             pdd: &mut pdd,
         };
-        s.start(y, x);
+        s.start(y, trig, x);
         // W(t) a(t) = F(t) order by order: W_0 a_n = F_n − Σ_{k≥1} W_k a_{n−k},
         // where W_k = m b (r cos φ + d sin φ)_k [[2, 1], [1, 0]] for k ≥ 1.
         let (w11, w12) = if OFFSET {

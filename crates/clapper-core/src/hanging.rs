@@ -86,6 +86,15 @@ impl Hanging {
         *self == Hanging::default()
     }
 
+    /// Whether a bell hung so is its own mirror image: no pivot offset and
+    /// equal contact angles. Friction and damping, of any size, are odd in
+    /// the rates and keep the mirror: such a bell's backstroke is its
+    /// handstroke mirrored, bit for bit (`tests/chart.rs`), as an ideal
+    /// bell's is.
+    pub fn is_mirror_symmetric(&self) -> bool {
+        self.pivot_offset == 0.0 && self.phi_max_skew == 0.0
+    }
+
     /// Check the offset and friction (the skew is checked with φ_max by
     /// [`Bell::validate`](crate::bell::Bell::validate)).
     pub fn validate(&self) -> Result<(), ParamError> {

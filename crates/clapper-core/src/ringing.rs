@@ -62,16 +62,17 @@ pub fn backstroke(bell: &Bell, cfg: &SimConfig, hand: &Stroke) -> Result<Stroke,
 /// `hand` in that style from +θ0 (docs/model.md §4): under the restart
 /// protocol the style is sustained when the handstroke and the backstroke
 /// after it both keep it (the third stroke is then the first again). A
-/// bell with an ideal hanging is its own mirror image, so its backstroke
-/// is the handstroke mirrored, bit for bit, and is not rung; any other
-/// bell rings it. A bell and its mirror image (d → −d, the contact angles
+/// bell with no pivot offset and equal contact angles (ideal, or with
+/// friction only) is its own mirror image, so its backstroke is the
+/// handstroke mirrored, bit for bit, and is not rung; any other bell
+/// rings it. A bell and its mirror image (d → −d, the contact angles
 /// swapped) get the same verdict: each one's handstroke is the other's
 /// backstroke mirrored.
 pub fn keeps_style(bell: &Bell, cfg: &SimConfig, hand: &Stroke) -> Result<bool, SimError> {
     if !hand.sustained() {
         return Ok(false);
     }
-    if bell.hanging.is_ideal() {
+    if bell.hanging.is_mirror_symmetric() {
         return Ok(true);
     }
     Ok(backstroke(bell, cfg, hand)?.sustained())

@@ -532,3 +532,65 @@ fn pivot_friction_lifts_off_alike_in_closed_form_and_integrated() {
     assert!(worst_liftoff < 1e-6, "lift-off angles differ by {worst_liftoff} deg");
     assert!(worst_strike < 1e-5, "strike angles differ by {worst_strike} deg");
 }
+
+/// A run watched by no observer passes through the apexes of the
+/// clapper's flight inside the stepper (the Coulomb torque turned in
+/// place, issue 45); a watched run stops at each and starts a new
+/// segment. The two give the same strokes to the bit: every impact, the
+/// lift-off, rest and end, the events handled and the steps taken, for
+/// the paper's chart with Coulomb friction at the clapper's pivot alone
+/// and with everything else a real bell has.
+#[test]
+fn apexes_passed_in_the_stepper_change_no_stroke() {
+    use clapper_core::chart::ChartSpec;
+    use clapper_core::stroke::Sample;
+    /// Watches the jumps (so the stepper stops at every apex) and counts them.
+    struct Jumps(u32);
+    impl Observer for Jumps {
+        fn on_jump(&mut self, _before: &Sample, _after: &Sample) {
+            self.0 += 1;
+        }
+    }
+    let spec = ChartSpec::default();
+    let grip = Friction {
+        clapper_friction: 0.05,
+        ..Friction::default()
+    };
+    let everything = Hanging {
+        pivot_offset: 0.003,
+        phi_max_skew: 0.01,
+        friction: Friction {
+            bell_damping: 0.5,
+            bell_friction: 1.0,
+            clapper_damping: 0.01,
+            clapper_friction: 0.1,
+        },
+    };
+    let mut apexes = 0;
+    for hanging in [
+        Hanging {
+            friction: grip,
+            ..Hanging::default()
+        },
+        everything,
+    ] {
+        for y in spec.ys() {
+            for x in spec.xs() {
+                let bell = spec.construction.bell(x, y).unwrap().with_hanging(hanging);
+                for (theta0, side) in [(1.0, Side::Plus), (1.0, Side::Minus), (-1.0, Side::Minus)] {
+                    let cfg = &spec.config;
+                    let start = StrokeStart::at_rest(&bell, cfg, 0.0, theta0 * cfg.theta0, side);
+                    let silent = run_stroke(&bell, cfg, start, &mut ()).unwrap();
+                    let mut jumps = Jumps(0);
+                    let watched = run_stroke(&bell, cfg, start, &mut jumps).unwrap();
+                    assert_eq!(silent, watched, "{hanging:?} at {x} {y}");
+                    // Jumps: the start, the end and one an event; impacts
+                    // and the bottom are events too, the rest are apexes
+                    // (and a stuck clapper's breakaway).
+                    apexes += jumps.0 - 2 - watched.impacts.len() as u32;
+                }
+            }
+        }
+    }
+    assert!(apexes > 1000, "{apexes}");
+}

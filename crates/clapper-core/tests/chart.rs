@@ -129,3 +129,150 @@ fn right_region_lies_below_wrong_region() {
     };
     assert!(top(&hc).unwrap() < top(&chart).unwrap());
 }
+
+/// `b` is `a` mirrored bit for bit: every angle and rate negated, every
+/// side swapped, times, work and verdict the same.
+fn exact_mirror(a: &Stroke, b: &Stroke) -> Result<(), String> {
+    use clapper_core::stroke::{AfterEnd, Impact};
+    let neg = |y: [f64; 4]| y.map(|v| -v);
+    let imp = |i: &Impact| Impact {
+        theta: -i.theta,
+        phi_dot_before: -i.phi_dot_before,
+        phi_dot_after: i.phi_dot_after.map(|v| -v),
+        side: i.side.opposite(),
+        ..*i
+    };
+    let moment = |m: &Option<clapper_core::stroke::Moment>| m.map(|m| (m.t, -m.theta));
+    let checks = [
+        ("start", a.start.t == b.start.t && neg(a.start.y) == b.start.y),
+        ("start side", a.start_side == b.start_side.opposite()),
+        ("style", a.style == b.style),
+        (
+            "impacts",
+            a.impacts.len() == b.impacts.len() && a.impacts.iter().zip(&b.impacts).all(|(p, q)| imp(p) == *q),
+        ),
+        (
+            "lift-off",
+            moment(&a.liftoff) == b.liftoff.map(|m| (m.t, m.theta)) && a.liftoff_kind == b.liftoff_kind,
+        ),
+        (
+            "rest",
+            moment(&a.rest_after_strike) == b.rest_after_strike.map(|m| (m.t, m.theta)),
+        ),
+        ("bottom", moment(&a.bottom) == b.bottom.map(|m| (m.t, m.theta))),
+        (
+            "end",
+            a.end.t == b.end.t
+                && neg(a.end.y) == b.end.y
+                && a.end.reason == b.end.reason
+                && a.end.side() == b.end.side().opposite(),
+        ),
+        (
+            "after end",
+            match (&a.after_end, &b.after_end) {
+                (Some(AfterEnd::Impact(p)), Some(AfterEnd::Impact(q))) => imp(p) == *q,
+                (Some(AfterEnd::Rested(p)), Some(AfterEnd::Rested(q))) => (p.t, -p.theta) == (q.t, q.theta),
+                (p, q) => p == q,
+            },
+        ),
+        ("work", a.stats == b.stats && a.events == b.events),
+    ];
+    match checks.iter().find(|(_, ok)| !ok) {
+        Some((what, _)) => Err(format!("{what}: {a:?}\n vs {b:?}")),
+        None => Ok(()),
+    }
+}
+
+/// Friction and damping are odd in the rates, so a bell that has them but
+/// no pivot offset or skew is its own mirror image: at every point of a
+/// chart its backstroke is its handstroke mirrored, bit for bit, and the
+/// chart, which takes the backstroke by that symmetry and rings one stroke
+/// a cell, says what ringing both would (issue 45).
+#[test]
+fn friction_bells_take_their_backstroke_by_symmetry() {
+    use clapper_core::chart::{sweep_cells_counting, StrokeSummary};
+    use clapper_core::hanging::{Friction, Hanging};
+    use clapper_core::ringing::backstroke;
+    use clapper_core::stroke::Integrator;
+    use std::sync::atomic::{AtomicU64, Ordering};
+    let f = Friction::default();
+    let penalty = SimConfig {
+        contact: ContactModel::Penalty,
+        ..SimConfig::default()
+    };
+    let dopri5 = SimConfig {
+        integrator: Integrator::Dopri5,
+        ..SimConfig::default()
+    };
+    let cases = [
+        (
+            Friction {
+                clapper_friction: 0.05,
+                ..f
+            },
+            SimConfig::default(),
+            30,
+        ),
+        (Friction { bell_damping: 0.5, ..f }, SimConfig::default(), 30),
+        (
+            Friction {
+                bell_friction: 2.0,
+                clapper_damping: 0.01,
+                ..f
+            },
+            SimConfig::default(),
+            30,
+        ),
+        (
+            Friction {
+                clapper_friction: 0.1,
+                bell_damping: 0.2,
+                ..f
+            },
+            dopri5,
+            10,
+        ),
+        (
+            Friction {
+                bell_damping: 0.5,
+                clapper_damping: 0.01,
+                ..f
+            },
+            penalty,
+            8,
+        ),
+    ];
+    for (friction, config, n) in cases {
+        let hanging = Hanging {
+            friction,
+            ..Hanging::default()
+        };
+        let spec = ChartSpec {
+            nx: n,
+            ny: n,
+            config,
+            hanging,
+            ..ChartSpec::default()
+        };
+        let rung = AtomicU64::new(0);
+        let cells = sweep_cells_counting(&spec, 0..spec.cell_count(), &|_| {}, &|| false, &rung)
+            .unwrap()
+            .unwrap();
+        assert_eq!(rung.load(Ordering::Relaxed), cells.len() as u64, "{friction:?}");
+        let mut mirrored = 0;
+        for cell in &cells {
+            let bell = spec.construction.bell(cell.x, cell.y).unwrap().with_hanging(hanging);
+            let hand = first_stroke(&bell, &config, cell.style).unwrap();
+            let rung_both = if hand.sustained() {
+                let back = backstroke(&bell, &config, &hand).unwrap();
+                exact_mirror(&hand, &back).unwrap_or_else(|e| panic!("{friction:?} at {} {}: {e}", cell.x, cell.y));
+                mirrored += 1;
+                StrokeSummary::of_pair(&hand, &back)
+            } else {
+                StrokeSummary::from(&hand)
+            };
+            assert_eq!(cell.result, Ok(rung_both), "{friction:?} at {} {}", cell.x, cell.y);
+        }
+        assert!(mirrored > n * n / 2, "{friction:?}: {mirrored}");
+    }
+}

@@ -39,6 +39,27 @@ pub trait SeriesSystem<const N: usize>: System<N> {
     /// through `y` (so `x[i][0] = y[i]`) and `extra[j][0..=p]` with those
     /// of every extra function an event reads.
     fn expand(&self, y: &[f64; N], p: usize, x: &mut [Coeffs; N], extra: &mut [Coeffs; MAX_EXTRA]);
+
+    /// Event `i`, reached at state `y`, as one the system passes through
+    /// by changing its own equations (a Coulomb torque turned at the apex
+    /// of a flight) rather than one that ends the run: if it is, the
+    /// system turns them, sets `y` to the state after it and answers with
+    /// what a caller would have said of the run that follows
+    /// ([`Taylor::hint_next`]'s first step, if any). The run then goes on
+    /// as a new one from there would, bit for bit, without returning.
+    /// `None` (the default): the run stops at the event.
+    fn pass_through(&self, _i: usize, _y: &mut [f64; N]) -> Option<Option<f64>> {
+        None
+    }
+
+    /// The events (bit `i` for event `i`) whose crossing, where it is
+    /// certain by a step's end and the step's polynomial is proven
+    /// monotone over it, may be located on the whole step without
+    /// sampling it first. None by default: the sampled search keeps every
+    /// other event's roots, and so the ideal bell's results, to the bit.
+    fn whole_step_events(&self) -> u32 {
+        0
+    }
 }
 
 /// `c_0 + c_1 s + ... + c_p s^p`, as two interleaved Horner chains in s²
@@ -205,6 +226,8 @@ pub struct Taylor<const N: usize> {
     next_order: Option<usize>,
     next_cap: Option<f64>,
     h_max: f64,
+    /// ln rtol, for the order of a short flight ([`bounce_order`]).
+    ln_rtol: f64,
     stats: Stats,
     // Kept so that a step allocates and copies nothing: the current step's
     // series (handed to the observer as it is) and the extra series.
@@ -223,6 +246,7 @@ impl<const N: usize> Taylor<N> {
             next_order: None,
             next_cap: None,
             h_max,
+            ln_rtol: opts.rtol.ln(),
             stats: Stats::default(),
             series: Series {
                 span: Span::default(),
@@ -242,6 +266,18 @@ impl<const N: usize> Taylor<N> {
     pub fn hint_next(&mut self, order: usize, first_step: f64) {
         self.next_order = Some(order.clamp(2, self.order.max(2)));
         self.next_cap = (first_step > 0.0).then_some(first_step);
+    }
+
+    /// The order and first step (s) of a run after [`hint_next`](Self::hint_next)
+    /// with a short flight of `span` (s), if any; else the integrator's own.
+    fn hinted(&self, span: Option<f64>) -> (usize, f64) {
+        match span {
+            Some(span) => (
+                bounce_order(span, self.ln_rtol).clamp(2, self.order.max(2)),
+                if span > 0.0 { span } else { f64::INFINITY },
+            ),
+            None => (self.order, f64::INFINITY),
+        }
     }
 
     /// Work done so far: every step is one expansion (`steps`); no step is
@@ -305,22 +341,16 @@ impl<const N: usize> Taylor<N> {
         hk: &Coeffs,
         p: usize,
         limit: f64,
+        whole: bool,
     ) -> Option<f64> {
-        // Cheapest test first: the constant term outweighs all the others.
         let c0 = series[0] - level;
-        if c0 != 0.0 {
-            let bound = abs_dot(&series[1..=p], &hk[1..=p]);
-            if c0.abs() > bound {
-                return None;
-            }
-        }
+        let lead = not_ruled_out(series, c0, hk, p, h, limit)?;
         // Rarely reached: the shifted polynomial, copied.
         let mut shifted = *series;
         shifted[0] = c0;
         let c = &shifted;
         // A function that starts at zero (a restart at its own root) has
         // the roots of c / t in (0, h]: shift out the leading zeros.
-        let lead = c[..=p].iter().position(|&v| v != 0.0)?;
         let s0 = sign(c[lead]);
         let r: &[f64] = &c[lead..=p];
         // The walks' bound on the slope over the step.
@@ -334,7 +364,14 @@ impl<const N: usize> Taylor<N> {
         // but first a walk to the limit, which may prove it later than an
         // event already found (then the search is over; if not, it goes on
         // from the step's start as before).
-        let certain = crossed(dir, s0, sign(horner(r, deg, h)));
+        let gh = horner(r, deg, h);
+        let certain = crossed(dir, s0, sign(gh));
+        // Where the slope's first term outweighs the rest, the polynomial
+        // is monotone over the step: a certain crossing is its only one,
+        // located between the step's ends (for the events that allow it).
+        if whole && certain && lead == 0 && limit >= h && 2.0 * r[1].abs() > slope {
+            return Some(poly_root(c, p, 0.0, c[0], s0, h, gh, self.opts.event_time_tol));
+        }
         if certain && limit < h {
             exclusion_walk(r, s0, slope, |next| next > limit)?;
         }
@@ -398,7 +435,7 @@ impl<const N: usize> Taylor<N> {
     /// flight): a crossing found bounds the search for the others, which
     /// are dropped once proven later (strictly: equal times still go to
     /// the event listed first).
-    fn first_event(&self, events: &[Event], h: f64, hk: &Coeffs, p: usize) -> Option<(f64, usize)> {
+    fn first_event(&self, events: &[Event], whole: u32, h: f64, hk: &Coeffs, p: usize) -> Option<(f64, usize)> {
         let mut best: Option<(f64, usize)> = None;
         let mut limit = f64::INFINITY;
         for i in (0..events.len()).rev() {
@@ -407,7 +444,8 @@ impl<const N: usize> Taylor<N> {
                 Source::State(k) => &self.series.x[k],
                 Source::Extra(k) => &self.extra[k],
             };
-            if let Some(s) = self.first_root(series, e.level, e.direction, h, hk, p, limit) {
+            let whole = whole >> i & 1 == 1;
+            if let Some(s) = self.first_root(series, e.level, e.direction, h, hk, p, limit, whole) {
                 if s <= limit {
                     (best, limit) = (Some((s, i)), s);
                 }
@@ -415,6 +453,58 @@ impl<const N: usize> Taylor<N> {
         }
         best
     }
+}
+
+/// A run passed through an event at `(t, y)` stops there as a new run
+/// from there would at once: at a state not finite, or at `t_end`.
+#[inline(always)]
+fn ended<const N: usize>(t: f64, y: [f64; N], t_end: f64) -> Option<Run<N>> {
+    if y.iter().any(|v| !v.is_finite()) {
+        return Some(Err(OdeError::NonFinite { t }));
+    }
+    (t_end <= t).then_some(Ok(Segment {
+        t,
+        y,
+        stop: Stop::EndTime,
+    }))
+}
+
+/// The first nonzero term of the series less its level (`c0` at 0), unless
+/// a bound rules out a root over the step (`hk`: the powers of `h`), or up
+/// to `limit` (an event found) where that is sooner. Cheapest test first:
+/// the constant term outweighs all the others.
+#[inline(always)]
+fn not_ruled_out(series: &Coeffs, c0: f64, hk: &Coeffs, p: usize, h: f64, limit: f64) -> Option<usize> {
+    let (lead, first) = if c0 != 0.0 {
+        if c0.abs() > abs_dot(&series[1..=p], &hk[1..=p]) {
+            return None;
+        }
+        (0, c0)
+    } else {
+        // Restarted at its own root (a clapper's slip after the apex of
+        // its flight, or a flight off a stop): c = t^lead r(t) has the
+        // sign of r on (0, h], and r none of its roots where its first
+        // term outweighs the others there.
+        let lead = series[1..=p].iter().position(|&v| v != 0.0)? + 1;
+        if (series[lead] * hk[lead]).abs() > abs_dot(&series[lead + 1..=p], &hk[lead + 1..=p]) {
+            return None;
+        }
+        (lead, series[lead])
+    };
+    // The same test up to the limit: no crossing before an event already
+    // found (a flight off a stop, whose return comes after the apex that
+    // friction stops it at).
+    if limit < h {
+        let mut lk = [0.0; MAX_ORDER + 1];
+        lk[0] = 1.0;
+        for k in 1..=p {
+            lk[k] = lk[k - 1] * limit;
+        }
+        if (first * lk[lead]).abs() > abs_dot(&series[lead + 1..=p], &lk[lead + 1..=p]) {
+            return None;
+        }
+    }
+    Some(lead)
 }
 
 /// The exclusion walk over a polynomial `r` on side `s0` from 0: |r'| <=
@@ -444,14 +534,15 @@ fn exclusion_walk(r: &[f64], s0: i8, slope: f64, beyond: impl Fn(f64) -> bool) -
 
 /// A Taylor order for a first step of `flight` (s) after a bounce: the terms
 /// of a series fall off about as (t / 0.25 s)^n over the bell's motion, so
-/// a short flight needs few of them to reach `rtol`. Only a work estimate:
+/// a short flight needs few of them to reach rtol (`ln_rtol`: its
+/// logarithm, worked out once). Only a work estimate:
 /// the step-size control keeps the accuracy whatever the order.
-fn bounce_order(flight: f64, rtol: f64) -> usize {
+fn bounce_order(flight: f64, ln_rtol: f64) -> usize {
     let ratio = flight / 0.25;
     if !(ratio > 0.0 && ratio < 0.5) {
         return usize::MAX;
     }
-    (rtol.ln() / ratio.ln()).ceil().max(2.0) as usize + 1
+    (ln_rtol / ratio.ln()).ceil().max(2.0) as usize + 1
 }
 
 /// An event function that is exactly zero at `t0` takes the sign of its
@@ -463,7 +554,7 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
 
     fn expect(&mut self, next: NextSegment) {
         if let NextSegment::ShortFlight { span } = next {
-            self.hint_next(bounce_order(span, self.opts.rtol), span);
+            self.hint_next(bounce_order(span, self.ln_rtol), span);
         }
     }
 
@@ -472,12 +563,12 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
         if let Some(done) = begin(sys, t0, y0, t_end)? {
             return Ok(done);
         }
-        let events = sys.events();
+        let mut events = sys.events();
+        let mut whole = sys.whole_step_events();
         let weights = sys.error_weights(self.opts.atol, self.opts.rtol);
-        let p = self.next_order.take().unwrap_or(self.order);
+        let mut p = self.next_order.take().unwrap_or(self.order);
         let mut cap = self.next_cap.take().unwrap_or(f64::INFINITY);
-        let mut t = t0;
-        let mut y = y0;
+        let (mut t, mut y) = (t0, y0);
         loop {
             if self.stats.steps >= self.opts.max_steps {
                 return Err(OdeError::StepLimit {
@@ -501,23 +592,33 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
             if h.is_nan() || (h <= 1e-14 * t.abs().max(1.0) && !last) {
                 return Err(OdeError::StepSizeUnderflow { h, t });
             }
-
             let mut hk = [0.0; MAX_ORDER + 1];
             hk[0] = 1.0;
             // By halves: a shorter chain of dependent products.
             for k in 1..=p {
                 hk[k] = if k == 1 { h } else { hk[k / 2] * hk[k - k / 2] };
             }
-            let best = self.first_event(events, h, &hk, p);
+            let best = self.first_event(events, whole, h, &hk, p);
             (self.series.span, self.series.p) = (Span { t0: t, h }, p);
             if let Some((s, i)) = best {
                 let t_ev = t + s;
                 observe(&self.series, t_ev);
-                return Ok(Segment {
-                    t: t_ev,
-                    y: self.series.eval(t_ev),
-                    stop: Stop::Event(i),
-                });
+                let mut y_ev = self.series.eval(t_ev);
+                let Some(hint) = sys.pass_through(i, &mut y_ev) else {
+                    return Ok(Segment {
+                        t: t_ev,
+                        y: y_ev,
+                        stop: Stop::Event(i),
+                    });
+                };
+                // Passed through: on as a new run from there would go.
+                if let Some(done) = ended(t_ev, y_ev, t_end) {
+                    return done;
+                }
+                (events, whole) = (sys.events(), sys.whole_step_events());
+                (p, cap) = self.hinted(hint);
+                (t, y) = (t_ev, y_ev);
+                continue;
             }
             let t_new = if last { t_end } else { t + h };
             observe(&self.series, t_new);
@@ -762,19 +863,19 @@ mod tests {
         c[4] = 1.0;
         let hk: Coeffs = std::array::from_fn(|k| 0.5f64.powi(k as i32));
         assert_eq!(
-            s.first_root(&c, 0.0, Direction::Rising, 0.5, &hk, 4, f64::INFINITY),
+            s.first_root(&c, 0.0, Direction::Rising, 0.5, &hk, 4, f64::INFINITY, false),
             None
         );
         // The same on a level: 3 + s^4 starts at the level 3 (a restart).
         c[0] = 3.0;
         assert_eq!(
-            s.first_root(&c, 3.0, Direction::Rising, 0.5, &hk, 4, f64::INFINITY),
+            s.first_root(&c, 3.0, Direction::Rising, 0.5, &hk, 4, f64::INFINITY, false),
             None
         );
         c[4] = 32.0;
         // 3 + 32 s^4 crosses 5 where s^4 = 1/16: at s = 0.5.
         let root = s
-            .first_root(&c, 5.0, Direction::Rising, 0.5, &hk, 4, f64::INFINITY)
+            .first_root(&c, 5.0, Direction::Rising, 0.5, &hk, 4, f64::INFINITY, false)
             .unwrap();
         assert!((root - 0.5).abs() < 1e-11, "{root}");
         // A bad order is refused, and a hint does not panic on it.

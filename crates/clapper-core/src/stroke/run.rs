@@ -6,7 +6,7 @@
 
 use crate::bell::Bell;
 use crate::contact::{ClapperState, ContactEvent, ContactLaw, ContactModel, Stops};
-use crate::dynamics::{Dynamics, Load, State, PHI, PHI_DOT, THETA, THETA_DOT};
+use crate::dynamics::{Dynamics, Load, State, Trig, PHI_DOT, THETA, THETA_DOT};
 use crate::ode::{DenseOutput, Dopri5, Fallback, NextSegment, Stepper, Stop, Taylor};
 use crate::swing::ClosedFormSwing;
 
@@ -16,7 +16,7 @@ use super::impact::{Impact, Moment};
 use super::observe::{Observer, Sample, StepView};
 use super::quantities::{AfterEnd, EndReason, Stroke, StrokeEnd, StrokeStart};
 use super::recorder::StrokeRecorder;
-use super::segment::{BellEvent, Ev, FrictionEvent, Segment, StrokeFrame};
+use super::segment::{flight_from_apex_at, slip_stop_hold_at, BellEvent, Ev, FrictionEvent, Segment, StrokeFrame};
 
 /// Simulate one stroke from `start` until the bell's next turning point.
 ///
@@ -240,18 +240,15 @@ where
     let mut hold = None;
     loop {
         let (t, y, clapper) = *now;
-        let seg = Segment::new(d, law, frame, clapper, &y, s0, bottom_passed, hold.take());
-        let (law_now, load_now) = (seg.force_law(), seg.load());
-        let stop = stepper.integrate(&seg, t, y, t_limit, &mut |dense, t_to| {
-            observer.on_step(&StepView {
-                dense,
-                t_to,
-                law: law_now,
-                load: load_now,
-                dynamics: d,
-            })
-        })?;
+        // An observer that watches nothing is not shown the jumps at the
+        // apexes of the clapper's flight: the stepper passes through them.
+        let apexes = O::SILENT.then_some(max_events - events);
+        let seg = Segment::new(d, law, frame, clapper, &y, s0, bottom_passed, hold.take(), apexes);
+        let law_now = seg.force_law();
+        let stop = watched(stepper, &seg, (t, y), t_limit, observer, d)?;
         (now.0, now.1) = (stop.t, stop.y);
+        events += seg.apexes_passed();
+        let load_now = seg.load();
         let Stop::Event(i) = stop.stop else {
             return Ok((EndReason::TimeLimit, events));
         };
@@ -294,6 +291,32 @@ where
             observer.on_jump(before, &course.sample(*now));
         }
     }
+}
+
+/// `seg` integrated from `(t, y)` to its first event or `t_limit`, every
+/// step shown to `observer` with the segment's forces.
+fn watched<M, O>(
+    stepper: &mut M,
+    seg: &Segment,
+    (t, y): (f64, State),
+    t_limit: f64,
+    observer: &mut O,
+    d: &Dynamics,
+) -> Result<crate::ode::Segment<4>, SimError>
+where
+    M: for<'a> Stepper<4, Segment<'a>>,
+    O: Observer,
+{
+    let (law, load) = (seg.force_law(), seg.load());
+    Ok(stepper.integrate(seg, t, y, t_limit, &mut |dense, t_to| {
+        observer.on_step(&StepView {
+            dense,
+            t_to,
+            law,
+            load,
+            dynamics: d,
+        })
+    })?)
 }
 
 /// A contact event `e` in `seg` at `now`, handed to the contact law and
@@ -378,7 +401,7 @@ where
     let mut bottom_passed = false;
     let mut hold = None;
     for _ in 0..budget {
-        let seg = Segment::new(d, law, frame, clapper, &y, s0, bottom_passed, hold.take());
+        let seg = Segment::new(d, law, frame, clapper, &y, s0, bottom_passed, hold.take(), None);
         let load_now = seg.load();
         let stop = stepper.integrate(&seg, t, y, t_limit, &mut |_: &dyn DenseOutput<4>, _| {})?;
         (t, y) = (stop.t, stop.y);
@@ -439,20 +462,20 @@ fn frictional(
     y[PHI_DOT] = 0.0;
     match e {
         FrictionEvent::SlipStops => {
-            let bell_load = load.map_or(0.0, |l| l.theta(&y));
-            let hold = d.resting_q(&y, bell_load).1;
-            // The same torque as the frame's unless a forcing adds to the
-            // bell's (then the frame's is worked out afresh).
-            let same = frame.friction.is_some_and(|f| f.theta(&y) == bell_load);
-            let clapper = if hold.abs() <= frame.stops.grip {
-                ClapperState::Stuck
-            } else {
-                clapper
-            };
-            (y, clapper, same.then_some(hold))
+            let (stuck, hold) = slip_stop_hold(d, frame, &y, load);
+            let clapper = if stuck { ClapperState::Stuck } else { clapper };
+            (y, clapper, hold)
         }
         FrictionEvent::Breakaway => (y, ClapperState::FLYING, None),
     }
+}
+
+/// Where a flying clapper's slip stops (`y`, with φ' = 0) in a segment
+/// with `load`: whether the pivot's friction holds it (it sticks), and the
+/// torque that would hold it with the frame's friction
+/// ([`StrokeFrame::load_held`]), where that is the segment's.
+fn slip_stop_hold(d: &Dynamics, frame: &StrokeFrame, y: &State, load: Option<Load>) -> (bool, Option<f64>) {
+    slip_stop_hold_at(d, frame, y, &Trig::of(y), load)
 }
 
 /// The rest of a bounce's flight after its apex (a friction event at which
@@ -468,20 +491,10 @@ fn flight_from_apex(
     clapper: ClapperState,
     hold: Option<f64>,
 ) -> Option<NextSegment> {
-    let ClapperState::Flying {
-        bounced_off: Some(side),
-    } = clapper
-    else {
-        return None;
-    };
     if e != FrictionEvent::SlipStops {
         return None;
     }
-    let s = side.sign();
-    let distance = s * (frame.stops.at(side) - y[PHI]);
-    let load = frame.load_held(d, clapper, y, hold)?;
-    let toward = s * d.accel_q(y, load.theta(y), load.phi(y)).phi;
-    (distance > 0.0 && toward > 0.0).then(|| NextSegment::ShortFlight {
-        span: 1.5 * (2.0 * distance / toward).sqrt(),
-    })
+    let load = frame.load_held(d, clapper, y, hold);
+    let span = flight_from_apex_at(d, frame, y, &Trig::of(y), clapper, load)?;
+    Some(NextSegment::ShortFlight { span })
 }

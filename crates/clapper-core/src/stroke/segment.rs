@@ -3,10 +3,11 @@
 //! it (the bell's, then the contact law's), as one system every stepper
 //! can run.
 
+use std::cell::Cell;
 use std::f64::consts::PI;
 
 use crate::contact::{linear_event, ClapperState, ContactEvent, ContactLaw, ForceLaw, Stops};
-use crate::dynamics::{Dynamics, LinearSpring, Load, State, PHI, PHI_DOT, THETA, THETA_DOT};
+use crate::dynamics::{Dynamics, LinearSpring, Load, State, Trig, PHI, PHI_DOT, THETA, THETA_DOT};
 use crate::ode::taylor::Coeffs;
 use crate::ode::{Direction, ErrorWeights, Event, SeriesSystem, Source, System, MAX_EVENTS, MAX_EXTRA};
 use crate::swing::SwingSystem;
@@ -101,31 +102,57 @@ impl StrokeFrame<'_> {
 pub(super) struct Segment<'a> {
     d: &'a Dynamics,
     law: ForceLaw,
-    load: Option<Load>,
+    /// Friction and what is applied from outside; the clapper's Coulomb
+    /// torque turns where the segment passes through the apex of a flight
+    /// ([`Apexes`]).
+    load: Cell<Option<Load>>,
     /// The torques applied from outside, included in `load`.
     applied: Applied,
     /// Whether the closed-form swing can serve this segment.
     closed_form: bool,
     kinds: [Ev; MAX_EVENTS],
-    events: [Event; MAX_EVENTS],
+    /// The events, and the same with the slip's stop turned (the other
+    /// direction of slip), in use as `turned` says.
+    events: [[Event; MAX_EVENTS]; 2],
+    turned: Cell<usize>,
     n: usize,
+    apexes: Option<Apexes<'a>>,
+}
+
+/// A flying clapper's apexes that a segment passes through (the Coulomb
+/// torque turned, the clapper slipping back), where the clapper does not
+/// stick there: what the stroke would do at the event, done without
+/// ending the segment (docs/model.md §10.2). Only for an observer that
+/// watches nothing (a jump at the apex is not shown) and nothing applied
+/// from outside.
+pub(super) struct Apexes<'a> {
+    frame: StrokeFrame<'a>,
+    clapper: ClapperState,
+    /// How many it may pass through: the stroke's events left.
+    budget: u32,
+    passed: Cell<u32>,
+    /// The state of the last apex passed through (its bits) and its sines
+    /// and cosines, for the expansion from it.
+    trig: Cell<Option<([u64; 4], Trig)>>,
 }
 
 impl<'a> Segment<'a> {
     /// The segment of a stroke that started at θ of sign `s0` (±1), with
     /// the clapper in `clapper` under `law`, from state `y`; `hold`: the
     /// torque holding the clapper still relative to the bell there, if
-    /// known ([`StrokeFrame::load_held`]).
+    /// known ([`StrokeFrame::load_held`]); `apexes`: how many apexes of a
+    /// flight it may pass through ([`Apexes`]), if any.
     #[allow(clippy::too_many_arguments)]
     pub(super) fn new(
         d: &'a Dynamics,
         law: &dyn ContactLaw,
-        frame: &StrokeFrame,
+        frame: &StrokeFrame<'a>,
         clapper: ClapperState,
         y: &State,
         s0: f64,
         bottom_passed: bool,
         hold: Option<f64>,
+        apexes: Option<u32>,
     ) -> Self {
         let placeholder = Event {
             source: Source::State(0),
@@ -137,12 +164,14 @@ impl<'a> Segment<'a> {
         let mut seg = Self {
             d,
             law: law.force_law(clapper, stops),
-            load: friction,
+            load: Cell::new(friction),
             applied: Applied::NONE,
             closed_form: false,
             kinds: [Ev::Bell(BellEvent::OverTop); MAX_EVENTS],
-            events: [placeholder; MAX_EVENTS],
+            events: [[placeholder; MAX_EVENTS]; 2],
+            turned: Cell::new(0),
             n: 0,
+            apexes: None,
         };
         // The bell's events first: on a tie the first listed wins.
         seg.push_bell_events(frame, s0, bottom_passed);
@@ -156,6 +185,9 @@ impl<'a> Segment<'a> {
         // is applied from outside.
         seg.push_friction_events(clapper, stops.grip, friction);
         seg.closed_form = seg.law == ForceLaw::Resting && seg.is_rigid_pendulum(clapper);
+        if let Some(budget) = apexes {
+            seg.pass_apexes(frame, clapper, budget);
+        }
         seg
     }
 
@@ -166,7 +198,7 @@ impl<'a> Segment<'a> {
     /// elsewhere) and sets only the level of its lift-off; nothing applied
     /// from outside.
     fn is_rigid_pendulum(&self, clapper: ClapperState) -> bool {
-        match self.load {
+        match self.load.get() {
             None => true,
             Some(l) => {
                 matches!(clapper, ClapperState::Resting(_))
@@ -207,14 +239,14 @@ impl<'a> Segment<'a> {
         // A zero torque leaves the load as it was: no load at all keeps
         // the unloaded equations (and the closed-form swing).
         if applied.bell != 0.0 || applied.clapper != 0.0 {
-            let mut l = self.load.unwrap_or_default();
+            let mut l = self.load.get().unwrap_or_default();
             if applied.bell != 0.0 {
                 l.bell_torque += applied.bell;
             }
             if applied.clapper != 0.0 {
                 l.clapper_torque += applied.clapper;
             }
-            self.load = Some(l);
+            self.load.set(Some(l));
         }
     }
 
@@ -228,10 +260,7 @@ impl<'a> Segment<'a> {
         match clapper {
             ClapperState::Flying { .. } => {
                 let dir = -friction.map_or(0.0, |l| l.clapper_torque).signum();
-                self.push(
-                    Ev::Friction(FrictionEvent::SlipStops),
-                    linear_event(Source::State(PHI_DOT), dir, 0.0, Direction::Falling),
-                );
+                self.push(Ev::Friction(FrictionEvent::SlipStops), slip_stops(dir));
             }
             ClapperState::Stuck => {
                 // The holding torque (extra 0) leaving [−τ_c, τ_c].
@@ -250,9 +279,39 @@ impl<'a> Segment<'a> {
         // A law declares at most four events and the bell two.
         if self.n < MAX_EVENTS {
             self.kinds[self.n] = kind;
-            self.events[self.n] = e;
+            self.events[0][self.n] = e;
             self.n += 1;
         }
+    }
+
+    /// Pass through the apexes of the clapper's flight where it does not
+    /// stick, up to `budget` of them ([`Apexes`]).
+    fn pass_apexes(&mut self, frame: &StrokeFrame<'a>, clapper: ClapperState, budget: u32) {
+        let flying = matches!(clapper, ClapperState::Flying { .. });
+        let n = self.n;
+        if !(flying && frame.stops.grip > 0.0 && frame.forcing.is_none() && self.applied == Applied::NONE && n > 0) {
+            return;
+        }
+        if self.kinds[n - 1] != Ev::Friction(FrictionEvent::SlipStops) {
+            return;
+        }
+        // The events with the slip's stop in the other direction, for an
+        // apex passed through.
+        self.events[1] = self.events[0];
+        let dir = -self.load.get().map_or(0.0, |l| l.clapper_torque).signum();
+        self.events[1][n - 1] = slip_stops(-dir);
+        self.apexes = Some(Apexes {
+            frame: *frame,
+            clapper,
+            budget,
+            passed: Cell::new(0),
+            trig: Cell::new(None),
+        });
+    }
+
+    /// How many apexes the run passed through (each an event handled).
+    pub(super) fn apexes_passed(&self) -> u32 {
+        self.apexes.as_ref().map_or(0, |a| a.passed.get())
     }
 
     /// What event `i` is.
@@ -265,16 +324,17 @@ impl<'a> Segment<'a> {
         self.law
     }
 
-    /// Friction in this segment, with the torques applied from outside.
+    /// Friction in this segment, with the torques applied from outside
+    /// (at its end, after any apex passed through).
     pub(super) fn load(&self) -> Option<Load> {
-        self.load
+        self.load.get()
     }
 
     /// The load a contact's outcome is judged with, the forces of the
     /// flight to come: this segment's, with the clapper's Coulomb torque
     /// the pivot's grip τ_c (unsigned) plus what is applied to the clapper.
     pub(super) fn judging_load(&self, frame: &StrokeFrame) -> Option<Load> {
-        self.load.map(|l| {
+        self.load.get().map(|l| {
             let mut clapper_torque = frame.friction.map_or(0.0, |f| f.clapper_torque);
             if self.applied.clapper != 0.0 {
                 clapper_torque += self.applied.clapper;
@@ -287,7 +347,7 @@ impl<'a> Segment<'a> {
 impl System<4> for Segment<'_> {
     #[inline]
     fn rhs(&self, _t: f64, y: &State) -> State {
-        match (self.law, &self.load) {
+        match (self.law, &self.load.get()) {
             (ForceLaw::Zero, None) => self.d.rhs_free(y),
             (ForceLaw::Resting, None) => self.d.rhs_resting(y),
             (ForceLaw::Spring(spring), None) => self.d.rhs_forced(y, spring.force(y[PHI])),
@@ -298,7 +358,7 @@ impl System<4> for Segment<'_> {
     }
 
     fn events(&self) -> &[Event] {
-        &self.events[..self.n]
+        &self.events[self.turned.get()][..self.n]
     }
 
     /// In a spring contact the clapper angle's error is measured from the
@@ -331,7 +391,7 @@ impl System<4> for Segment<'_> {
     /// applied to the clapper from outside (the stop takes the rest).
     #[inline]
     fn extra(&self, _j: usize, _t: f64, y: &State) -> f64 {
-        match &self.load {
+        match &self.load.get() {
             None => self.d.resting(y).1,
             Some(l) if self.applied.clapper != 0.0 => self.d.resting_q(y, l.theta(y)).1 - self.applied.clapper,
             Some(l) => self.d.resting_q(y, l.theta(y)).1,
@@ -341,9 +401,16 @@ impl System<4> for Segment<'_> {
 
 impl SeriesSystem<4> for Segment<'_> {
     fn expand(&self, y: &State, p: usize, x: &mut [Coeffs; 4], extra: &mut [Coeffs; MAX_EXTRA]) {
-        let load = self.load.as_ref();
+        let load = self.load.get();
+        let load = load.as_ref();
         match self.law {
-            ForceLaw::Zero => self.d.series_free(y, &LinearSpring::NONE, load, p, x),
+            ForceLaw::Zero => {
+                // From an apex just passed through: its sines and cosines.
+                let trig = self.apexes.as_ref().and_then(|a| a.trig.take());
+                let trig = trig.filter(|(bits, _)| *bits == y.map(f64::to_bits));
+                self.d
+                    .series_free_at(y, trig.as_ref().map(|(_, t)| t), &LinearSpring::NONE, load, p, x)
+            }
             // The holding force is extra series 0, less what is applied to
             // the clapper from outside (a constant).
             ForceLaw::Resting => {
@@ -355,6 +422,55 @@ impl SeriesSystem<4> for Segment<'_> {
             ForceLaw::Spring(spring) => self.d.series_free(y, &spring, load, p, x),
         }
     }
+
+    /// Friction's slip stop, the apex of a flight: its root located on the
+    /// whole step where φ' is monotone over it (its crossing is then the
+    /// only one).
+    fn whole_step_events(&self) -> u32 {
+        match self.n.checked_sub(1) {
+            Some(i) if self.kinds[i] == Ev::Friction(FrictionEvent::SlipStops) => 1 << i,
+            _ => 0,
+        }
+    }
+
+    /// A flying clapper's slip stopping, where it does not stick: what
+    /// `run::frictional` and the next segment would make of it (the same
+    /// holding torque, the same torque turned, the same flight hint), done
+    /// in place. Declined (the stroke handles the event) where it sticks,
+    /// where the budget is spent, or where a forcing is applied.
+    fn pass_through(&self, i: usize, y: &mut State) -> Option<Option<f64>> {
+        let a = self.apexes.as_ref()?;
+        if self.kinds[i] != Ev::Friction(FrictionEvent::SlipStops) || a.passed.get() >= a.budget {
+            return None;
+        }
+        let frame = &a.frame;
+        let mut ya = *y;
+        ya[PHI_DOT] = 0.0;
+        // The sines and cosines at the apex, once: for the check for
+        // sticking, the flight's hint and the next expansion.
+        let trig = Trig::of(&ya);
+        let (stuck, hold) = slip_stop_hold_at(self.d, frame, &ya, &trig, self.load.get());
+        let hold = hold.filter(|_| !stuck)?;
+        let turned = frame.load_held(self.d, a.clapper, &ya, Some(hold));
+        // The slip's stop of the turned torque is the other array's.
+        let dir = -turned.map_or(0.0, |l| l.clapper_torque).signum();
+        let other = 1 - self.turned.get();
+        if self.events[other][i] != slip_stops(dir) {
+            return None;
+        }
+        let hint = flight_from_apex_at(self.d, frame, &ya, &trig, a.clapper, turned);
+        self.load.set(turned);
+        self.turned.set(other);
+        a.passed.set(a.passed.get() + 1);
+        a.trig.set(Some((ya.map(f64::to_bits), trig)));
+        *y = ya;
+        Some(hint)
+    }
+}
+
+/// A flying clapper's slip in direction `dir` (±1) stopping.
+fn slip_stops(dir: f64) -> Event {
+    linear_event(Source::State(PHI_DOT), dir, 0.0, Direction::Falling)
 }
 
 impl SwingSystem for Segment<'_> {
@@ -364,4 +480,51 @@ impl SwingSystem for Segment<'_> {
         // on the bell or a torque applied from outside.
         self.closed_form.then_some(self.d)
     }
+}
+
+/// Where a flying clapper's slip stops (`y`, with φ' = 0) in a segment
+/// with `load`, given the sines and cosines of `y`'s angles: whether the
+/// pivot's friction holds it (it sticks), and the torque that would hold
+/// it with the frame's friction ([`StrokeFrame::load_held`]), where that
+/// is the segment's.
+pub(super) fn slip_stop_hold_at(
+    d: &Dynamics,
+    frame: &StrokeFrame,
+    y: &State,
+    trig: &Trig,
+    load: Option<Load>,
+) -> (bool, Option<f64>) {
+    let bell_load = load.map_or(0.0, |l| l.theta(y));
+    // As resting_q: its sines and cosines of φ at a stop are trig's.
+    let hold = d.resting_at(y, trig, bell_load).1;
+    // The same torque as the frame's unless a forcing adds to the
+    // bell's (then the frame's is worked out afresh).
+    let same = frame.friction.is_some_and(|f| f.theta(y) == bell_load);
+    (hold.abs() <= frame.stops.grip, same.then_some(hold))
+}
+
+/// The rest of a bounce's flight after its apex, where the clapper turns
+/// back toward the stop it bounced off, still flying: about √(2Δ/a) for a
+/// distance Δ (rad) to the stop under the relative acceleration a toward
+/// it (rad/s²), with a margin of 1.5 times (s); given the sines and cosines
+/// of `y`'s angles and the load of the flight after the apex.
+pub(super) fn flight_from_apex_at(
+    d: &Dynamics,
+    frame: &StrokeFrame,
+    y: &State,
+    trig: &Trig,
+    clapper: ClapperState,
+    load: Option<Load>,
+) -> Option<f64> {
+    let ClapperState::Flying {
+        bounced_off: Some(side),
+    } = clapper
+    else {
+        return None;
+    };
+    let s = side.sign();
+    let distance = s * (frame.stops.at(side) - y[PHI]);
+    let load = load?;
+    let toward = s * d.accel_at(y, trig, load.theta(y), load.phi(y)).phi;
+    (distance > 0.0 && toward > 0.0).then(|| 1.5 * (2.0 * distance / toward).sqrt())
 }
