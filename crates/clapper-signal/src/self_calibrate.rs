@@ -75,6 +75,9 @@ const WALK_S: f64 = 0.008;
 /// agreement shows a start, a step of this many times is taken (in a room
 /// at 15 dB the blow raised the whitened average by 2-3 dB).
 const WEAK_STEP: f64 = 1.6;
+/// The strikes' agreement may start late under the other bells' ringing:
+/// a whitened step up to this much before it is the start (s).
+const EARLIER_S: f64 = 0.015;
 /// The whitening's spectrum is smoothed over this much either side (Hz).
 const SMOOTH_HZ: f64 = 11.0;
 /// The whitened average's energy must step up this many times at the start.
@@ -348,7 +351,9 @@ fn line_up(sig: &Signal, starts: &[usize], before: usize, after: usize) -> Optio
 
 /// Where the bell's sound starts in `reference`, the average of the
 /// strikes `segs` lined up, heard at sample `heard`: where the strikes'
-/// second differences first agree ([`sound_start`]); else, if the strikes
+/// second differences first agree ([`sound_start`]), or the whitened
+/// average's step (below, not moved back) up to [`EARLIER_S`] before
+/// that; else, if the strikes
 /// were lined up alike (`in_step`), the greatest step up in the average
 /// whitened against what rings through all the strikes (its partials and
 /// the other bells' pressed down, the blow left) from [`LATEST_STEP_S`]
@@ -381,7 +386,14 @@ fn start_of(reference: &[f64], segs: &[&[f64]], heard: usize, rate: f64, in_step
     let shift = (SHIFT_S * rate).round() as usize;
     match sound_start(&mean_hi, &spread, n, rate, heard + shift) {
         // A start further back than the band finder ever heard a bell late is another sound's.
-        Some(s) if s + (LATEST_S * rate) as usize >= heard => Some(s),
+        Some(s) if s + (LATEST_S * rate) as usize >= heard => {
+            // Under the other bells' ringing the agreement can come late;
+            // the blow's step just before it is the start.
+            match step_from(&energy, rate, from, latest, STEP).filter(|_| in_step) {
+                Some(k) if k <= s && s - k <= (EARLIER_S * rate) as usize => Some(k),
+                _ => Some(s),
+            }
+        }
         _ => walked(STEP).or_else(|| walked(WEAK_STEP)),
     }
 }
@@ -804,6 +816,11 @@ mod tests {
     /// three louder bells ringing on (their phases differing from strike to
     /// strike) and noise, its partial building up after: (the strikes, `at`).
     fn strikes_under_ringing(rate: f64) -> (Vec<Vec<f64>>, usize) {
+        strikes_under_ringing_at(rate, 0.15)
+    }
+
+    /// The same, the blow's level `blow_level` against the partial's.
+    fn strikes_under_ringing_at(rate: f64, blow_level: f64) -> (Vec<Vec<f64>>, usize) {
         let (len, at) = ((0.5 * rate) as usize, (0.3 * rate) as usize);
         let mut seed = 12345u64;
         let mut rnd = move || {
@@ -827,7 +844,7 @@ mod tests {
                             .sum();
                         let own = if i >= at {
                             let u = (i - at) as f64 / rate;
-                            0.15 * blow[i] * (-u / 0.01).exp()
+                            blow_level * blow[i] * (-u / 0.01).exp()
                                 + (1.0 - (-u / 0.04).exp()) * (2.0 * std::f64::consts::PI * 1318.0 * u).sin()
                         } else {
                             0.0
@@ -890,5 +907,24 @@ mod tests {
         for e in timed {
             assert!(e.abs() <= 3.0, "median error {e:.2} ms ({m:?})");
         }
+    }
+
+    /// Under other bells ringing on, the strikes' agreement comes 10 ms
+    /// after the blow (it was taken as the start); the whitened average's
+    /// step just before it is the start, within a millisecond.
+    #[test]
+    fn a_blow_found_just_before_a_late_agreement_is_the_start() {
+        let rate = 16_000.0;
+        let (strikes, at) = strikes_under_ringing(rate);
+        let n = strikes.len() as f64;
+        let mut mean = vec![0.0; strikes[0].len()];
+        for s in &strikes {
+            mean.iter_mut().zip(s).for_each(|(m, v)| *m += v / n);
+        }
+        let heard = at + (0.05 * rate) as usize;
+        let segs: Vec<&[f64]> = strikes.iter().map(|s| s.as_slice()).collect();
+        let start = start_of(&mean, &segs, heard, rate, true).unwrap();
+        let off_ms = (start as f64 - at as f64) / rate * 1e3;
+        assert!(off_ms.abs() <= 1.0, "start {off_ms:.2} ms off");
     }
 }
