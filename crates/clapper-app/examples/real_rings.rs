@@ -261,6 +261,38 @@ fn main() {
                             );
                         }
                     }
+                    if a.show {
+                        // How late the band finder heard each bell through
+                        // the learned partials, against the truth (median,
+                        // spread): what the calibration should find.
+                        let h =
+                            clapper_signal::strikes::find_strikes(&sig, &c.voices, &StrikeOptions::default()).unwrap();
+                        for b in 1..=n {
+                            let mut e: Vec<f64> = h
+                                .strikes
+                                .iter()
+                                .filter(|s| s.bell == b)
+                                .filter_map(|s| {
+                                    truth
+                                        .iter()
+                                        .filter(|x| x.bell == b && (x.t - s.t).abs() < 0.15)
+                                        .map(|x| (s.t - x.t) * 1e3)
+                                        .min_by(|p, q| p.abs().total_cmp(&q.abs()))
+                                })
+                                .collect();
+                            e.sort_by(f64::total_cmp);
+                            let m = e.get(e.len() / 2).copied().unwrap_or(f64::NAN);
+                            let mut d: Vec<f64> = e.iter().map(|v| (v - m).abs()).collect();
+                            d.sort_by(f64::total_cmp);
+                            println!(
+                                "  bell {b}: heard late by {m:.1} ms (spread {:.1}, range {:.1} to {:.1}) at {} strikes",
+                                d.get(d.len() / 2).copied().unwrap_or(f64::NAN),
+                                e.first().copied().unwrap_or(f64::NAN),
+                                e.last().copied().unwrap_or(f64::NAN),
+                                e.len()
+                            );
+                        }
+                    }
                     c.voices.clone()
                 } else {
                     voices.clone()
