@@ -581,7 +581,7 @@ fn read_strokes(
         (&a.rate, &a.joint_rate, &a.acc, a.h, a.d),
         (burst, onsets, &a.cubic),
         rests,
-        (min_gap, interval),
+        (min_gap, interval, falls.map_or(0.0, |f| f.kappa)),
     )
 }
 
