@@ -80,6 +80,13 @@ pub struct LogSpec {
     /// After lowering, the bell let go to swing freely for this long (s; 0:
     /// stopped at once), then stopped: these swings are "down".
     pub free_s: f64,
+    /// With stands ([`LogSpec::stand_every`] over 0), the last ringing
+    /// stroke also rises onto the stay and stands there, and the lowering's
+    /// first stroke falls from the stand: lowered straight off the last
+    /// stand, with no set (as an independent tester's logs are). Else the
+    /// lowering follows on from a ringing stroke that turned short of the
+    /// balance.
+    pub lower_from_stand: bool,
 }
 
 impl LogSpec {
@@ -115,6 +122,7 @@ impl LogSpec {
             stand_s: 2.0,
             stay: 0.0,
             free_s: 0.0,
+            lower_from_stand: false,
         }
     }
 }
@@ -480,18 +488,28 @@ fn session(spec: &LogSpec) -> Result<Session, SignalError> {
     })
 }
 
+/// Whether the lowering starts from a stand ([`LogSpec::lower_from_stand`]).
+fn lowered_off_a_stand(spec: &LogSpec) -> bool {
+    spec.lower_from_stand && spec.stand_every > 0
+}
+
 /// The ringing, from the set at `cfg.theta0`, with its stands: every
 /// `stand_every`th stroke rests on the stay at the angle the next falls
 /// from.
 fn ringing_piece(spec: &LogSpec, cfg: &SimConfig, p: &mut Pieces) -> Result<(), SignalError> {
     let rung = run(spec, cfg, &spec.ringer, Run::Ring, &mut ())?;
-    let holds: Vec<(f64, f64, f64)> = match spec.stand_every {
+    let mut holds: Vec<(f64, f64, f64)> = match spec.stand_every {
         0 => vec![],
         every => (0..rung.len().saturating_sub(1))
             .filter(|i| (i + 1) % every == 0)
             .map(|i| (rung[i].end.t, spec.stand_s, rung[i + 1].start.y[0]))
             .collect(),
     };
+    // Lowered off the last stand: the lowering starts from the set angle on
+    // the side the last stroke turned on.
+    if let Some(last) = rung.last().filter(|_| lowered_off_a_stand(spec)) {
+        holds.push((last.end.t, spec.stand_s, last.end.y[0].signum() * cfg.theta0));
+    }
     let ring_len = rung.last().map_or(0.0, |s| s.end.t) + holds.iter().map(|h| h.1).sum::<f64>();
     p.add(PhaseKind::Ringing, ring_len, Motion::Sim(Run::Ring, 1.0, rung));
     if let Some(last) = p.pieces.last_mut() {
@@ -689,8 +707,12 @@ fn sim_truth(spec: &LogSpec, p: &Piece, (which, sign, strokes): (Run, f64, &[Str
                 // Falling from the + side (mirrored): a handstroke.
                 hand: sign * st.start.y[0] > 0.0,
                 strike: None,
-                // After a stand past the balance, it fell from the stay.
-                amplitude: if spec.stay > 0.0 && p.holds.iter().any(|h| (h.0 - st.start.t).abs() < 1e-9) {
+                // After a stand past the balance, it fell from the stay (the
+                // lowering's first, lowered off the last stand, too).
+                amplitude: if spec.stay > 0.0
+                    && (p.holds.iter().any(|h| (h.0 - st.start.t).abs() < 1e-9)
+                        || (which == Run::Down && lowered_off_a_stand(spec) && std::ptr::eq(st, &strokes[0])))
+                {
                     std::f64::consts::PI + spec.stay
                 } else {
                     st.start.y[0].abs()

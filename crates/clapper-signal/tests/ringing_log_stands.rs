@@ -88,16 +88,21 @@ fn each_stroke_says_whether_it_stood_on_the_stay() {
     }
 }
 
-/// Lowering that starts from a stand at the end of the ringing, straight
-/// from its first swing, is lowering from that swing: no ringing stroke
-/// after the truth's ringing (an independent tester's log, lowered from a
-/// stand, had its first lowering stroke counted as ringing, which moved
-/// its odd-struckness by 7 ms). Checked on the generator's logs, whose
-/// lowering follows on from the ringing.
+/// Lowering straight off the last stand of the ringing (no set between,
+/// as an independent tester's var20 seed 203: the first lowering stroke
+/// falls from the stay) is lowering from its first swing: no ringing
+/// stroke after the truth's ringing (that tester's log had its first
+/// lowering stroke counted as ringing, which moved its odd-struckness by 7
+/// ms), and the odd-struckness within 3 ms. (The generator's lowering
+/// drops 20 deg or more on its first swing, the tester's 8-13: the first
+/// lowering stroke here is told by its next swing's height alone, and the
+/// test passes with the end-of-ringing rule, `declines_after` in
+/// phases.rs, switched off.)
 #[test]
 fn lowering_is_read_from_its_first_swing() {
     for seed in [4u64, 5, 6, 7] {
-        let spec = spec(seed, 50.0, 2.0, 4.0);
+        let mut spec = spec(seed, 50.0, 1.2, 4.0);
+        spec.lower_from_stand = true;
         let (truth, got) = read(&spec);
         let last_ringing = truth
             .strokes
@@ -105,6 +110,9 @@ fn lowering_is_read_from_its_first_swing() {
             .filter(|t| t.phase == PhaseKind::Ringing)
             .map(|t| t.bdc)
             .fold(f64::NEG_INFINITY, f64::max);
+        // The premise: the first lowering stroke falls from the stay.
+        let first_lowering = truth.strokes.iter().find(|t| t.bdc > last_ringing).expect("lowering");
+        assert!(first_lowering.amplitude > std::f64::consts::PI);
         for g in got.strokes.iter().filter(|g| g.phase == PhaseKind::Ringing) {
             assert!(
                 g.bdc <= last_ringing + 0.1,
@@ -119,6 +127,13 @@ fn lowering_is_read_from_its_first_swing() {
             .position(|p| p.kind == PhaseKind::Lowering)
             .expect("lowering");
         assert!(lowering > 0, "{:?}", got.phases);
+        let (o, t) = (got.odd_struck.expect("read").0, truth.odd_struck.expect("truth"));
+        assert!(
+            (o - t).abs() <= 0.003,
+            "seed {seed}: {:.1} ms, truth {:.1}",
+            o * 1e3,
+            t * 1e3
+        );
     }
 }
 

@@ -183,7 +183,8 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
     }
     hide_strikes_after_gaps(&log.t, interval, &mut strokes, &mut warnings);
     checks_and_tops(calibration.as_ref(), &log, &a, (&burst, &rests), &mut strokes);
-    let phases = phases(&log.t, &rests, &mut strokes, &theta, opts.full_swing);
+    let length = falls.as_ref().map(|f| f.length);
+    let phases = phases(&log.t, &rests, &mut strokes, &theta, (opts.full_swing, length));
     radial_clip_warning(&log.t, &rclip, &strokes, &mut warnings);
     let set_side = set_side(&log.t, &theta, &phases, &strokes);
     label_hand(&mut strokes, set_side);
@@ -581,7 +582,7 @@ fn read_strokes(
         (&a.rate, &a.joint_rate, &a.acc, a.h, a.d),
         (burst, onsets, &a.cubic),
         rests,
-        (min_gap, interval),
+        (min_gap, interval, falls.map_or(0.0, |f| f.kappa)),
     )
 }
 

@@ -15,7 +15,7 @@ pub(super) fn strokes(
     (d1, j1, d2, h, across): (&[f64], &[f64], &[f64], f64, f64),
     (burst, onsets, cubic): (&[bool], &[usize], &[bool]),
     rests: &[(f64, f64, f64)],
-    (min_gap, interval): (f64, f64),
+    (min_gap, interval, kappa): (f64, f64, f64),
 ) -> Vec<LogStroke> {
     let t = &log.t;
     let n = t.len();
@@ -69,9 +69,14 @@ pub(super) fn strokes(
         // From the smoothed angle: the largest of noisy samples overshoots.
         // A stand's still samples first: a rest's mean angle, smoothed over
         // a second, mixes readings either side of the ±200 deg hold.
-        let stand = stand_height(log, burst, (from, k), side)
-            .map(|s| s.height)
-            .or_else(|| short_stand(t, theta, burst, (from, k), side));
+        // A still run at or past the balance is the bell on the stay; short
+        // of it, a free swing's slow top, read from its clean samples.
+        let still = stand_height(log, burst, (from, k), side).map(|s| s.height);
+        let stand = match still {
+            Some(h) if h >= std::f64::consts::PI => Some(h),
+            _ => clean_top(log, burst, (from, k), side, kappa).or(still),
+        }
+        .or_else(|| short_stand(t, theta, burst, (from, k), side));
         let amplitude = match (stand, stood) {
             (Some(h), _) => h,
             (None, Some(r)) if r.2.signum() == side => r.2.abs(),
@@ -96,14 +101,7 @@ pub(super) fn strokes(
 /// stayed within [`STAND_NEAR`] of that around the run.
 pub(super) fn stand_height(log: &AccelLog, burst: &[bool], (from, k): (usize, usize), side: f64) -> Option<StandRead> {
     let t = &log.t;
-    let height = |j: usize| {
-        let p = log.tangential[j].atan2(log.radial[j]);
-        if p.signum() == side {
-            p.abs()
-        } else {
-            std::f64::consts::TAU - p.abs()
-        }
-    };
+    let height = |j: usize| side_height(log, j, side);
     let good: Vec<usize> = (from..=k)
         .filter(|&j| !burst[j] && (log.tangential[j].hypot(log.radial[j]) - G).abs() <= STAND_FORCE * G)
         .collect();
@@ -170,6 +168,87 @@ pub(super) fn stand_height(log: &AccelLog, burst: &[bool], (from, k): (usize, us
             off: t[good[b]],
         }
     })
+}
+
+/// A swing's top near the balance (at least [`STAND_MIN`]) read through
+/// the headstock's ringing: the highest of the robust means (Tukey's
+/// biweight) of the clean samples' gravity heights on `side` over
+/// ±[`TOP_WINDOW_S`], the bell's own swing's share taken out (near the
+/// balance a free swing's θ'' is (g/L) ε, ε its distance short of the
+/// balance, which the sensor `kappa` = h/L up reads as ε (1 + κ)); `None`
+/// below [`STAND_MIN`] or with too few clean samples. The samples are
+/// those of [`stand_height`] (no bursts, force within [`STAND_FORCE`] of
+/// g) between 160 and 200 deg. A top's own samples shaken by the ringing
+/// but under the burst threshold (±4 deg for a second on a headstock that
+/// clips) made the smoothed angle peak read up to 200 deg, and a median's
+/// spread too wide for a still run: of 480 ringing tops of the clipping
+/// test's 30 logs, 31 read over 2 deg off (up to 21), none with this.
+fn clean_top(log: &AccelLog, burst: &[bool], (from, k): (usize, usize), side: f64, kappa: f64) -> Option<f64> {
+    let t = &log.t;
+    let pts: Vec<(f64, f64)> = (from..=k)
+        .filter(|&j| !burst[j] && (log.tangential[j].hypot(log.radial[j]) - G).abs() <= STAND_FORCE * G)
+        .map(|j| (t[j], side_height(log, j, side)))
+        .filter(|p| (160f64.to_radians()..=200f64.to_radians()).contains(&p.1))
+        .collect();
+    let (mut lo, mut hi) = (0, 0);
+    let mut best: Option<f64> = None;
+    for i in 0..pts.len() {
+        while pts[i].0 - pts[lo].0 > TOP_WINDOW_S {
+            lo += 1;
+        }
+        while hi + 1 < pts.len() && pts[hi + 1].0 - pts[i].0 <= TOP_WINDOW_S {
+            hi += 1;
+        }
+        if hi + 1 - lo >= TOP_MIN_SAMPLES {
+            let m = biweight_mean(pts[lo..=hi].iter().map(|p| p.1).collect());
+            best = Some(best.map_or(m, |b| b.max(m)));
+        }
+    }
+    let pi = std::f64::consts::PI;
+    best.map(|h| pi - (pi - h) / (1.0 + kappa)).filter(|&h| h >= STAND_MIN)
+}
+
+/// The clean top's robust means span ± this (s).
+const TOP_WINDOW_S: f64 = 0.2;
+
+/// A clean top's robust mean needs at least this many samples.
+const TOP_MIN_SAMPLES: usize = 10;
+
+/// Tukey's biweight mean of `v` (tuning 4.685 robust deviations, from the
+/// median; five reweightings).
+fn biweight_mean(mut v: Vec<f64>) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let median = v[v.len() / 2];
+    let mut d: Vec<f64> = v.iter().map(|x| (x - median).abs()).collect();
+    d.sort_by(f64::total_cmp);
+    let scale = 4.685 * (1.4826 * d[d.len() / 2]).max(1e-6);
+    let mut m = median;
+    for _ in 0..5 {
+        let (mut sw, mut sx) = (0.0, 0.0);
+        for &x in &v {
+            let u = (x - m) / scale;
+            if u.abs() < 1.0 {
+                let w = (1.0 - u * u).powi(2);
+                sw += w;
+                sx += w * x;
+            }
+        }
+        if sw > 0.0 {
+            m = sx / sw;
+        }
+    }
+    m
+}
+
+/// Sample `j`'s gravity angle's height on `side` (rad): |atan2| on that
+/// side, else a full turn less it (past the balance).
+fn side_height(log: &AccelLog, j: usize, side: f64) -> f64 {
+    let p = log.tangential[j].atan2(log.radial[j]);
+    if p.signum() == side {
+        p.abs()
+    } else {
+        std::f64::consts::TAU - p.abs()
+    }
 }
 
 /// A stand on the stay as [`stand_height`] reads it.
@@ -617,7 +696,7 @@ mod tests {
                 (&d1, &d1, &d2, 0.0, 0.0),
                 (&burst, &[], &cubic),
                 &[],
-                (min_gap, 0.01),
+                (min_gap, 0.01, 0.0),
             )
             .iter()
             .map(|s| s.bdc)

@@ -12,7 +12,7 @@ pub(super) fn phases(
     rests: &[(f64, f64, f64)],
     strokes: &mut [LogStroke],
     theta: &[f64],
-    full: f64,
+    (full, length): (f64, Option<f64>),
 ) -> Vec<Phase> {
     let (t0, t1) = (t[0], t[t.len() - 1]);
     let rest_kind = |mean: f64| {
@@ -44,7 +44,7 @@ pub(super) fn phases(
                 t,
                 theta,
                 strokes,
-                (full, height),
+                (full, height, length),
                 (cursor, seg_end),
                 (before, after),
                 &mut out,
@@ -95,7 +95,7 @@ pub(super) fn segment(
     t: &[f64],
     theta: &[f64],
     strokes: &mut [LogStroke],
-    (full, height): (f64, f64),
+    (full, height, length): (f64, f64, Option<f64>),
     (a, b): (f64, f64),
     (from, to): (Option<PhaseKind>, Option<PhaseKind>),
     out: &mut Vec<Phase>,
@@ -121,7 +121,7 @@ pub(super) fn segment(
                     t,
                     theta,
                     strokes,
-                    (full, height),
+                    (full, height, length),
                     (a, cut),
                     (from, Some(PhaseKind::Down)),
                     out,
@@ -138,7 +138,7 @@ pub(super) fn segment(
         push(out, kind, a, b);
         return;
     }
-    ringing_within(t, theta, strokes, &idx, height, (a, b), from, out);
+    ringing_within(t, theta, strokes, &idx, (height, length), (a, b), from, out);
 }
 
 /// Free swings at the end of a segment's strokes `idx`: six or more small
@@ -208,7 +208,7 @@ fn ringing_within(
     theta: &[f64],
     strokes: &mut [LogStroke],
     idx: &[usize],
-    height: f64,
+    (height, length): (f64, Option<f64>),
     (a, b): (f64, f64),
     from: Option<PhaseKind>,
     out: &mut Vec<Phase>,
@@ -228,7 +228,11 @@ fn ringing_within(
     // Lowering from its first swing: the ringing ends before the first
     // stroke after which the swings die away steadily.
     let amps: Vec<f64> = idx.iter().map(|&i| amp(i)).collect();
-    if let Some(p) = (first..=last).find(|&p| declines_after(&amps, p, height)) {
+    let bdcs: Vec<f64> = idx.iter().map(|&i| strokes[i].bdc).collect();
+    let by_amplitude = (first..=last).find(|&p| declines_after(&amps, p, height));
+    let core_at: Vec<bool> = (0..idx.len()).map(core).collect();
+    let by_time = shortens_after(&bdcs, &core_at, (first, last), length);
+    if let Some(p) = by_amplitude.into_iter().chain(by_time).min() {
         if p == 0 && from == Some(PhaseKind::Up) {
             for &i in idx {
                 strokes[i].phase = PhaseKind::Lowering;
@@ -293,6 +297,66 @@ fn declines_after(amps: &[f64], p: usize, height: f64) -> bool {
         && run.windows(2).all(|w| w[1] <= w[0] + DECLINE_SLACK)
         && run[0] - run[DECLINE_SWINGS - 1] >= DECLINE_DROP
 }
+
+/// Swings whose times say the bell no longer rises to the balance: the
+/// half swing after the stroke at `p` (bottom to bottom) and the median of
+/// the [`SHORT_SWINGS`] from it both under [`SHORT_FRACTION`] of the
+/// ringing's shorter half swings (the lower quartile of its core strokes'
+/// `core`, between `first` and `last`: a stand lengthens the others). The
+/// first such stroke is the lowering's first. A swing to the balance
+/// lingers at its top (a free pendulum's time there grows without
+/// bound), so one that turns back short of it is much the quicker,
+/// however its turning point is read: under a headstock that clips for a
+/// second after each strike the lowering's turning points read up to 199
+/// deg, which broke [`declines_after`], and the first lowering stroke,
+/// struck sooner after its bottom, was counted as ringing (the
+/// odd-struckness 4 ms off on one of the clipping test's 30 logs). A
+/// bottom sooner after the one before than [`QUICKEST`] of a free small
+/// swing's half (π √(L/g), `length` L m, when known) is the ringing's
+/// shaking read as a crossing, and is passed over here. Only the last two
+/// core strokes are judged so.
+fn shortens_after(bdcs: &[f64], core: &[bool], (first, last): (usize, usize), length: Option<f64>) -> Option<usize> {
+    let quickest = length.map_or(0.0, |l| {
+        QUICKEST * std::f64::consts::PI * (l / clapper_core::bell::G).sqrt()
+    });
+    // The bottoms kept (their positions), and each one's next kept.
+    let mut kept: Vec<usize> = vec![];
+    for p in 0..bdcs.len() {
+        if kept.last().is_none_or(|&q| bdcs[p] - bdcs[q] >= quickest) {
+            kept.push(p);
+        }
+    }
+    let halves: Vec<f64> = kept.windows(2).map(|w| bdcs[w[1]] - bdcs[w[0]]).collect();
+    let mut ringing: Vec<f64> = (0..halves.len())
+        .filter(|&j| (first..=last).contains(&kept[j]) && core[kept[j]])
+        .map(|j| halves[j])
+        .collect();
+    if ringing.len() < 3 {
+        return None;
+    }
+    ringing.sort_by(f64::total_cmp);
+    let limit = SHORT_FRACTION * ringing[ringing.len() / 4];
+    // Only the last two core strokes: the lowering's first falls from the
+    // balance and may read as core; the ringing's own shaking read as
+    // bottoms, two close together, would else cut the ringing short.
+    (0..halves.len())
+        .filter(|&j| (first.max(last.saturating_sub(1))..=last).contains(&kept[j]))
+        .find(|&j| {
+            j + SHORT_SWINGS <= halves.len() && halves[j] < limit && median(&halves[j..j + SHORT_SWINGS]) < limit
+        })
+        .map(|j| kept[j])
+}
+
+/// Half swings judged by [`shortens_after`].
+const SHORT_SWINGS: usize = 5;
+
+/// A half swing under this fraction of the ringing's shorter ones is
+/// short.
+const SHORT_FRACTION: f64 = 0.8;
+
+/// Bottoms sooner than this fraction of a free small swing's half after the
+/// one before are not counted by [`shortens_after`].
+const QUICKEST: f64 = 1.1;
 
 /// The turning point (largest |θ|) before bottom dead centre `bdc`, after `from`.
 pub(super) fn turning_before(t: &[f64], theta: &[f64], bdc: f64, from: f64) -> f64 {
