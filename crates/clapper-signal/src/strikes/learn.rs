@@ -56,6 +56,10 @@ const OCTAVE_BELOW: f64 = 0.3;
 const STRONG: f64 = 4.0;
 /// A partial this strong against the strongest is present.
 const PRESENT: f64 = 0.1;
+/// A bell is heard at this share of the onsets one bell of the ring has, at least.
+const LEAST: f64 = 0.3;
+/// Onsets at one nominal this many times one bell's are two bells'.
+const ONE_BELL: f64 = 1.5;
 /// Learned nominals closer than this (fraction, about two-thirds of a
 /// semitone) are warned of: no ring is tuned so close.
 const CLOSE: f64 = 0.04;
@@ -181,9 +185,14 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
         .collect();
     let groups = group_notes(notes, df);
     let expected = onsets.len() as f64 / bells as f64;
-    let bells_heard = same_bells(&groups, &rises, k_lo, df, (0.3 * expected).max(3.0));
     // A bell heard at fewer onsets than this is no bell of the ring.
-    let least = (0.3 * expected).max(3.0);
+    let least = (LEAST * expected).max(3.0);
+    let mut bells_heard = same_bells(&groups, &rises, k_lo, df, least, false);
+    if bells_heard.iter().filter(|b| b.onsets.len() as f64 >= least).count() < bells {
+        // Too few: a nominal heard far more often than one bell strikes
+        // may be two bells' (the tenor's octave on the treble's nominal).
+        bells_heard = same_bells(&groups, &rises, k_lo, df, least, true);
+    }
     let mut chosen: Vec<&Heard> = bells_heard.iter().filter(|b| b.onsets.len() as f64 >= least).collect();
     chosen.sort_by_key(|b| std::cmp::Reverse(b.onsets.len()));
     chosen.truncate(bells);
@@ -364,11 +373,20 @@ const PARTIAL_RANGES: [(f64, f64); 9] = [
 /// The groups of notes that are one bell's: its strikes' rise is the same
 /// across the spectrum whichever of its partials rose most. Largest
 /// first, a group whose mean rise is like a bell's first group's joins it;
-/// else one noted at `big` onsets or more is a new bell. Each bell's
+/// else one noted at `big` onsets or more is a new bell (and, with
+/// `split_crowded`, two found at one nominal are kept apart when they
+/// hold far more onsets than one bell). Each bell's
 /// nominal is then the peak of its mean rise with the most of a tuned
 /// bell's other partials at their ratios to it ([`PARTIAL_RANGES`]), the
 /// strongest among equals (handbells have only a twelfth).
-fn same_bells(groups: &[Vec<(f64, usize)>], rises: &[Vec<f64>], k_lo: usize, df: f64, big: f64) -> Vec<Heard> {
+fn same_bells(
+    groups: &[Vec<(f64, usize)>],
+    rises: &[Vec<f64>],
+    k_lo: usize,
+    df: f64,
+    big: f64,
+    split_crowded: bool,
+) -> Vec<Heard> {
     let means: Vec<Vec<f64>> = groups
         .iter()
         .map(|g| {
@@ -422,11 +440,14 @@ fn same_bells(groups: &[Vec<(f64, usize)>], rises: &[Vec<f64>], k_lo: usize, df:
         let Some(nominal_hz) = nominal_of(&mean_rise(rises, &onsets), k_lo, df) else {
             continue;
         };
-        // Two bells found at one nominal are one bell heard two ways.
-        match out
-            .iter_mut()
-            .find(|h| (h.nominal_hz - nominal_hz).abs() < 2.0 * SAME * nominal_hz)
-        {
+        // Two bells found at one nominal are one bell heard two ways,
+        // unless (`split_crowded`) together they struck far more often
+        // than a bell does (a tenor's octave nominal on the treble's
+        // nominal: two bells).
+        match out.iter_mut().find(|h| {
+            (h.nominal_hz - nominal_hz).abs() < 2.0 * SAME * nominal_hz
+                && !(split_crowded && ((h.onsets.len() + onsets.len()) as f64) >= ONE_BELL * big / LEAST)
+        }) {
             Some(h) => h.onsets.extend(onsets),
             None => out.push(Heard { nominal_hz, onsets }),
         }
