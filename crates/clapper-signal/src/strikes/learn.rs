@@ -184,18 +184,8 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
         .filter_map(|(i, d)| peak_of(d).map(|k| (freq(k), i)))
         .collect();
     let groups = group_notes(notes, df);
-    let expected = onsets.len() as f64 / bells as f64;
-    // A bell heard at fewer onsets than this is no bell of the ring.
-    let least = (LEAST * expected).max(3.0);
-    let mut bells_heard = same_bells(&groups, &rises, k_lo, df, least, false);
-    if bells_heard.iter().filter(|b| b.onsets.len() as f64 >= least).count() < bells {
-        // Too few: a nominal heard far more often than one bell strikes
-        // may be two bells' (the tenor's octave on the treble's nominal).
-        bells_heard = same_bells(&groups, &rises, k_lo, df, least, true);
-    }
-    let mut chosen: Vec<&Heard> = bells_heard.iter().filter(|b| b.onsets.len() as f64 >= least).collect();
-    chosen.sort_by_key(|b| std::cmp::Reverse(b.onsets.len()));
-    chosen.truncate(bells);
+    let bells_heard = bells_of(&groups, &rises, k_lo, df, bells);
+    let chosen: Vec<&Heard> = bells_heard.iter().collect();
     // A bell's share against the typical learned bell's: every bell of a
     // ring strikes as often as the others (onsets of the room, the noise
     // and strikes heard at another partial are no bell's).
@@ -223,6 +213,25 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
         onsets: onsets.len(),
         warnings,
     })
+}
+
+/// The `bells` bells heard at most onsets (at least [`LEAST`] of one
+/// bell's share each), from the groups of notes ([`same_bells`]).
+fn bells_of(groups: &[Vec<(f64, usize)>], rises: &[Vec<f64>], k_lo: usize, df: f64, bells: usize) -> Vec<Heard> {
+    let expected = rises.len() as f64 / bells as f64;
+    // A bell heard at fewer onsets than this is no bell of the ring.
+    let least = (LEAST * expected).max(3.0);
+    let enough = |h: &Vec<Heard>| h.iter().filter(|b| b.onsets.len() as f64 >= least).count();
+    let mut heard = same_bells(groups, rises, k_lo, df, least, false);
+    if enough(&heard) < bells {
+        // Too few: a nominal heard far more often than one bell strikes
+        // may be two bells' (the tenor's octave on the treble's nominal).
+        heard = same_bells(groups, rises, k_lo, df, least, true);
+    }
+    heard.retain(|b| b.onsets.len() as f64 >= least);
+    heard.sort_by_key(|b| std::cmp::Reverse(b.onsets.len()));
+    heard.truncate(bells);
+    heard
 }
 
 /// Onset frames: peaks of the rise standing above its neighbours within
