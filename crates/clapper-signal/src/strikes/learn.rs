@@ -501,12 +501,10 @@ fn nominal_of(mean: &[f64], k_lo: usize, df: f64) -> Option<f64> {
 
 /// Partials of a tuned bell, as ratios to its nominal: hum, prime,
 /// tierce, quint, nominal, superquint, octave nominal, the partial at
-/// 2.5 and the twelfth.
+/// 2.5 and the twelfth. The recorded tower bells are tuned bells too
+/// (docs/strikes.md: their nominal is the partial at twice the prime and
+/// four times the hum), so no other pattern is scored.
 const TUNED_PATTERN: [f64; 9] = [0.25, 0.5, 0.5946, 0.75, 1.0, 1.5, 2.0, 2.52, 3.0];
-/// Partials of the recorded tower bells (docs/strikes.md, "What real bells
-/// sound like"; no hum, no tierce or quint below the nominal), as ratios
-/// to their nominal.
-const RECORDED_PATTERN: [f64; 8] = [0.5, 1.0, 1.18, 1.56, 2.0, 2.7, 3.0, 4.05];
 /// A peak within this (fraction) of a pattern's partial is that partial.
 const ON_PATTERN: f64 = 0.015;
 /// Peaks this strong against a bell's strongest count in its fit to a pattern.
@@ -523,8 +521,7 @@ const OCTAVES: i32 = 2;
 
 /// How well one bell's mean rise (bins from `k_lo`, `df` Hz apart) fits
 /// a nominal at `f` (Hz): the share of its peaks' strength that lies on
-/// the partials of a tuned bell or of a recorded one, whichever fits
-/// better; nothing if `f` itself is not heard.
+/// the partials of a tuned bell; nothing if `f` itself is not heard.
 fn pattern_fit(mean: &[f64], f: f64, k_lo: usize, df: f64) -> f64 {
     let top = mean.iter().copied().fold(0.0, f64::max);
     if top <= 0.0 || mean.len() < 5 {
@@ -540,15 +537,12 @@ fn pattern_fit(mean: &[f64], f: f64, k_lo: usize, df: f64) -> f64 {
         .map(|k| ((k + k_lo) as f64 * df, mean[k]))
         .collect();
     let all: f64 = peaks.iter().map(|p| p.1).sum();
-    let share = |pattern: &[f64]| {
-        peaks
-            .iter()
-            .filter(|(g, _)| pattern.iter().any(|r| (g / (r * f) - 1.0).abs() < ON_PATTERN))
-            .map(|p| p.1)
-            .sum::<f64>()
-            / all
-    };
-    share(&TUNED_PATTERN).max(share(&RECORDED_PATTERN))
+    peaks
+        .iter()
+        .filter(|(g, _)| TUNED_PATTERN.iter().any(|r| (g / (r * f) - 1.0).abs() < ON_PATTERN))
+        .map(|p| p.1)
+        .sum::<f64>()
+        / all
 }
 
 /// The nominals of the bells heard, each moved by whole octaves (up to
@@ -808,11 +802,12 @@ mod tests {
     }
 
     /// A strike of a bell with a recorded tower bell's partials
-    /// ([`crate::sampled_ring::RECORDED_PARTIALS`]), its octave nominal
-    /// scaled by `upper` and its 1.18 partial by the root of that (the
-    /// recorded ring's two lowest bells have them 1.3 to 3 times as strong
-    /// as the nominal).
+    /// ([`crate::sampled_ring::RECORDED_PARTIALS`], ratios to the prime,
+    /// half the nominal `nominal`), its nominal scaled by `upper` and its
+    /// tierce by the root of that (the recorded ring's two lowest bells
+    /// have them 1.3 to 3 times as strong as the prime).
     fn untuned_strike(nominal: f64, upper: f64, rate: f64, seed: u64) -> Signal {
+        let prime = nominal / 2.0;
         use crate::sampled_ring::RECORDED_PARTIALS;
         let mut samples = vec![0.0; (0.02 * rate) as usize];
         let mut noise = seed;
@@ -826,7 +821,7 @@ mod tests {
                         _ if (r - 1.18).abs() < 0.05 => a * upper.sqrt(),
                         _ => a,
                     };
-                    a * (2.0 * std::f64::consts::PI * r * nominal * t + r).sin()
+                    a * (2.0 * std::f64::consts::PI * r * prime * t + r).sin()
                 })
                 .sum();
             noise = noise
@@ -838,15 +833,15 @@ mod tests {
         Signal { rate, samples }
     }
 
-    /// Six bells with a recorded tower bell's partials (not a tuned bell's;
-    /// the two lowest with their octave nominal the strongest, as the
-    /// recorded ring's), rung in rounds dry and in a room: every nominal
-    /// within 1 % (the octave of each was heard for it).
+    /// Six bells with a recorded tower bell's partials (the two lowest
+    /// with their nominal far stronger than their prime, as the recorded
+    /// ring's), rung in rounds dry and in a room: every nominal (twice
+    /// the prime) within 1 %, not the prime.
     #[test]
     fn learns_untuned_bells_within_one_percent_dry_and_in_a_room() {
         use crate::sampled_ring::sampled_ring;
         let rate = 22050.0;
-        let bells = tuned_ring(6, 520.0, Scale::Major).unwrap();
+        let bells = tuned_ring(6, 1040.0, Scale::Major).unwrap();
         let strikes: Vec<Signal> = bells
             .iter()
             .enumerate()
