@@ -277,3 +277,39 @@ fn a_ring_of_recorded_like_bells_in_a_room_is_learned_at_its_nominals_not_their_
     clapper_io::signal_file::write_wav(&wav, &sig, 0.9).unwrap();
     learned_within_one_percent(&strikes(&wav, &["--bells", "6"]), &truth);
 }
+
+/// Strikes spaced as if more bells rang (a handstroke gap of eight
+/// intervals) warn of the ring's size; with `--bells N` no nominals were
+/// given, so the warning does not say they were (before: "4 nominal(s)
+/// given, .. give every bell's nominal"), and with `--nominals` it still
+/// does.
+#[test]
+fn the_ring_size_warning_with_bells_does_not_say_nominals_were_given() {
+    let dir = tempfile::tempdir().unwrap();
+    let truth = synth(dir.path(), &["--bells", "4", "--gap", "8"]);
+    let wav = dir.path().join("r.wav");
+    let warnings = |j: &serde_json::Value| -> Vec<String> {
+        j["summary"]["warnings"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|w| w.as_str().unwrap().to_string())
+            .collect()
+    };
+    let learned = warnings(&strikes(&wav, &["--bells", "4"]));
+    assert!(
+        learned
+            .iter()
+            .any(|w| w.starts_with("--bells 4, but the strikes heard about the nominals learned leave room for")),
+        "{learned:?}"
+    );
+    assert!(!learned.iter().any(|w| w.contains("nominal(s) given")), "{learned:?}");
+    let given = truth.iter().map(|f| format!("{f}")).collect::<Vec<_>>().join(",");
+    let with_nominals = warnings(&strikes(&wav, &["--nominals", &given]));
+    assert!(
+        with_nominals
+            .iter()
+            .any(|w| w.starts_with("4 nominal(s) given, but the strikes leave room for")),
+        "{with_nominals:?}"
+    );
+}
