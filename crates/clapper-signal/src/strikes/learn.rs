@@ -63,6 +63,9 @@ const ONE_BELL: f64 = 1.5;
 /// Learned nominals closer than this (fraction, about two-thirds of a
 /// semitone) are warned of: no ring is tuned so close.
 const CLOSE: f64 = 0.04;
+/// Learned nominals closer than this (fraction, a twelfth of a semitone)
+/// are one bell's.
+const ONE_NOMINAL: f64 = 0.005;
 
 /// The short-time spectra: magnitudes from `k_lo` to `k_hi` of frames `hop` apart.
 pub(super) struct Frames<'a> {
@@ -207,6 +210,7 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
         })
         .collect();
     learned.sort_by(|a, b| b.nominal_hz.total_cmp(&a.nominal_hz));
+    let learned = one_per_nominal(learned);
     let warnings = warnings_of(&learned, bells);
     Ok(Learned {
         bells: learned,
@@ -709,6 +713,28 @@ fn octaves_into_ring(f: &[f64], bells: usize) -> Vec<f64> {
 }
 
 /// Warnings: fewer bells heard than asked, a bell heard seldom, two close.
+/// Bells learned (highest first) within [`ONE_NOMINAL`] of the one
+/// before are that bell heard twice (two partials moved by octaves onto
+/// one note, in a room): one bell, the one heard at more onsets, with
+/// both's onsets. No ring is tuned so close, and two voices there could
+/// not be told apart (`--nominals` refuses them).
+fn one_per_nominal(learned: Vec<LearnedBell>) -> Vec<LearnedBell> {
+    let mut out: Vec<LearnedBell> = vec![];
+    for b in learned {
+        match out.last_mut() {
+            Some(a) if a.nominal_hz - b.nominal_hz < ONE_NOMINAL * a.nominal_hz => {
+                if b.onsets > a.onsets {
+                    a.nominal_hz = b.nominal_hz;
+                }
+                a.onsets += b.onsets;
+                a.confidence = (a.confidence + b.confidence).min(1.0);
+            }
+            _ => out.push(b),
+        }
+    }
+    out
+}
+
 fn warnings_of(learned: &[LearnedBell], bells: usize) -> Vec<String> {
     let mut w = vec![];
     if learned.len() < bells {
@@ -889,6 +915,28 @@ mod tests {
         };
         let (worst, warnings) = worst_error(&spec);
         assert!(worst < 1.0, "worst {worst:.2} %; {warnings:?}");
+    }
+
+    /// Two bells learned within half a percent (seen on rings in a room
+    /// whose partials were moved by octaves onto one note) are one bell,
+    /// the one heard more, with both's onsets; others are kept.
+    #[test]
+    fn two_bells_learned_at_one_nominal_are_one() {
+        let bell = |nominal_hz: f64, onsets: usize| LearnedBell {
+            nominal_hz,
+            confidence: onsets as f64 / 20.0,
+            onsets,
+        };
+        let got = one_per_nominal(vec![
+            bell(2654.8, 6),
+            bell(2649.9, 14),
+            bell(1750.0, 20),
+            bell(1645.0, 20),
+        ]);
+        assert_eq!(got.len(), 3, "{got:?}");
+        assert_eq!(got[0].nominal_hz, 2649.9);
+        assert_eq!(got[0].onsets, 20);
+        assert_eq!(got[1].nominal_hz, 1750.0);
     }
 
     #[test]
