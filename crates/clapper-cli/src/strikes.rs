@@ -143,19 +143,7 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
     }
     let opts = strike_options(args.double_min_ratio)?;
     // --self-calibrate: partials and templates learned from the recording's first window.
-    // With --bells N, about the nominals learned.
-    let about: Option<Vec<f64>> = match (&args.nominals, &learned) {
-        (Some(n), _) => Some(n.0.clone()),
-        (None, Some(l)) => Some(l.nominals.iter().map(|b| b.nominal_hz).collect()),
-        _ => None,
-    };
-    let calibration = match (about, args.self_calibrate) {
-        (Some(n), true) => {
-            let head = recording_head(&args.file, Windows::default().whole_s)?;
-            Some(calibrate_from_recording(&head, &n, &opts).with_context(|| args.file.display().to_string())?)
-        }
-        _ => None,
-    };
+    let calibration = calibration_of(&args, learned.as_ref(), &opts)?;
     let voices = calibration.as_ref().map_or(voices, |c| c.voices.clone());
     // With templates, each strike is timed against its bell's template.
     let timing = match &calibration {
@@ -196,6 +184,28 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         crate::files::write_atomically(path, |tmp| Ok(clapper_plot::striking_plot(tmp, &fig.plot())?))?;
     }
     print_report(&report, args.json, || report.text(&args.file.display().to_string()))
+}
+
+/// With `--self-calibrate`, each bell learned from the recording's first
+/// window about the nominals given, or with `--bells N` about those
+/// `learned`.
+fn calibration_of(
+    args: &StrikesArgs,
+    learned: Option<&clapper_app::strikes::Learned>,
+    opts: &clapper_signal::strikes::StrikeOptions,
+) -> Result<Option<clapper_signal::self_calibrate::SelfCalibration>> {
+    let about: Option<Vec<f64>> = match (&args.nominals, learned) {
+        (Some(n), _) => Some(n.0.clone()),
+        (None, Some(l)) => Some(l.nominals.iter().map(|b| b.nominal_hz).collect()),
+        _ => None,
+    };
+    Ok(match (about, args.self_calibrate) {
+        (Some(n), true) => {
+            let head = recording_head(&args.file, Windows::default().whole_s)?;
+            Some(calibrate_from_recording(&head, &n, opts).with_context(|| args.file.display().to_string())?)
+        }
+        _ => None,
+    })
 }
 
 /// The first `seconds` of the recording at `path` (all of a shorter one).
