@@ -329,7 +329,7 @@ impl StrikesReport {
     }
 
     /// Listen to the recording `src`, read in blocks and heard in windows
-    /// ([`find_strikes_streamed`]: one window up to 80 s, as [`Self::timed`]
+    /// ([`find_strikes_streamed`](clapper_signal::strikes::find_strikes_streamed): one window up to 80 s, as [`Self::timed`]
     /// hears it), for the bells `voices` (treble first), timing each bell's
     /// strikes as `timing` says. Each strike is timed against its template
     /// in its window's audio. `strip`, if given, receives the first
