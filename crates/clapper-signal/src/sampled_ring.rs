@@ -14,7 +14,7 @@
 use crate::tower::{tower_strikes, TowerSpec, TrueStrike};
 use crate::{Signal, SignalError};
 
-/// Partials of a recorded tower bell: each one's ratio to the prime (its true nominal is the 2.0 partial) and
+/// Partials of a recorded tower bell: each one's ratio to the nominal and
 /// its strength (docs/strikes.md, "What real bells sound like"). Not a
 /// tuned bell's ratios: only the prime and octave lie near whole ones.
 pub const RECORDED_PARTIALS: [(f64, f64); 7] = [
