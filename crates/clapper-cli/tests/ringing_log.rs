@@ -6,12 +6,12 @@ mod common;
 
 use common::clapper;
 use serde_json::Value;
+use std::path::{Path, PathBuf};
 
-#[test]
-fn a_synthetic_log_is_read_back_against_its_truth() {
-    let dir = tempfile::tempdir().unwrap();
-    let log = dir.path().join("tenor.txt");
-    let truth = dir.path().join("truth.json");
+/// `clapper synth-log` with `args` writes its log to `dir/name.txt` and its
+/// truth to `dir/name.json`: their paths.
+fn synth_log(dir: &Path, name: &str, args: &[&str]) -> (PathBuf, PathBuf) {
+    let (log, truth) = (dir.join(format!("{name}.txt")), dir.join(format!("{name}.json")));
     clapper()
         .args([
             "synth-log",
@@ -20,9 +20,20 @@ fn a_synthetic_log_is_read_back_against_its_truth() {
             "--truth",
             truth.to_str().unwrap(),
         ])
-        .args(["--offset-mm", "3", "--strokes", "20", "--seed", "4", "--name", "Tenor"])
+        .args(args)
         .assert()
         .success();
+    (log, truth)
+}
+
+#[test]
+fn a_synthetic_log_is_read_back_against_its_truth() {
+    let dir = tempfile::tempdir().unwrap();
+    let (log, truth) = synth_log(
+        dir.path(),
+        "tenor",
+        &["--offset-mm", "3", "--strokes", "20", "--seed", "4", "--name", "Tenor"],
+    );
     let truth: Value = serde_json::from_str(&std::fs::read_to_string(&truth).unwrap()).unwrap();
     let (plot, csv) = (dir.path().join("log.png"), dir.path().join("log.csv"));
     let out = clapper()
@@ -256,18 +267,7 @@ fn bad_logs_are_refused_with_a_reason() {
 #[test]
 fn a_log_upside_down_is_read_right_way_up_by_default() {
     let dir = tempfile::tempdir().unwrap();
-    let (log, truth) = (dir.path().join("log.txt"), dir.path().join("truth.json"));
-    clapper()
-        .args([
-            "synth-log",
-            "--out",
-            log.to_str().unwrap(),
-            "--truth",
-            truth.to_str().unwrap(),
-        ])
-        .args(["--strokes", "6", "--seed", "2"])
-        .assert()
-        .success();
+    let (log, truth) = synth_log(dir.path(), "log", &["--strokes", "6", "--seed", "2"]);
     // y (radial) negated: upside down and mirrored, as Data141.
     let text: String = std::fs::read_to_string(&log)
         .unwrap()
@@ -440,18 +440,11 @@ fn stands_and_phases_are_reported_per_stroke() {
 #[test]
 fn a_log_with_the_sensor_half_a_metre_from_the_pivot_is_read_back() {
     let dir = tempfile::tempdir().unwrap();
-    let (log, truth) = (dir.path().join("far.txt"), dir.path().join("far.json"));
-    clapper()
-        .args([
-            "synth-log",
-            "--out",
-            log.to_str().unwrap(),
-            "--truth",
-            truth.to_str().unwrap(),
-        ])
-        .args(["--sensor-m", "0.5", "--strokes", "16", "--seed", "2"])
-        .assert()
-        .success();
+    let (log, truth) = synth_log(
+        dir.path(),
+        "far",
+        &["--sensor-m", "0.5", "--strokes", "16", "--seed", "2"],
+    );
     let truth: Value = serde_json::from_str(&std::fs::read_to_string(&truth).unwrap()).unwrap();
     let out = clapper()
         .args(["ringing-log", log.to_str().unwrap(), "--json"])

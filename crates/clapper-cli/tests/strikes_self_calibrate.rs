@@ -8,7 +8,7 @@
 mod common;
 
 use clapper_io::signal_file::write_wav;
-use clapper_signal::sampled_ring::{sampled_ring, Blow, UntunedStrike};
+use clapper_signal::sampled_ring::{sampled_ring, UntunedStrike};
 use clapper_signal::tower::{major_scale, Method, TowerSpec, TrueStrike};
 use clapper_signal::Signal;
 use common::clapper;
@@ -18,19 +18,7 @@ use common::clapper;
 /// and building up over `rise_s`, the blow a burst of noise dying away in
 /// 30 ms.
 fn recorded_like(rate: f64, nominal: f64, rise_s: f64) -> Signal {
-    let blow = Blow {
-        amplitude: 0.3,
-        decay_s: 0.03,
-        seed: (nominal * 7.0) as u64 | 1,
-    };
-    UntunedStrike {
-        nominal_hz: nominal,
-        rise_s,
-        decay_s: 0.9,
-        length_s: 1.6,
-        blow: Some(blow),
-    }
-    .signal(rate)
+    UntunedStrike::with_noisy_blow(nominal, rise_s).signal(rate)
 }
 
 /// The median error (ms) of bell `b`'s strikes in the JSON report `j`.

@@ -665,26 +665,14 @@ fn step_start(energy: &[f64], rate: f64, heard: usize) -> Option<usize> {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::sampled_ring::{sampled_ring, Blow, UntunedStrike};
+    use crate::sampled_ring::{sampled_ring, UntunedStrike};
     use crate::tower::{major_scale, score, Method, Room, TowerSpec, TrueStrike};
 
     /// A bell with a recorded bell's partial ratios (docs/strikes.md), its
     /// blow broadband noise dying away over 30 ms, its partials building up
     /// over `rise_s`.
     fn recorded_like(rate: f64, nominal: f64, rise_s: f64) -> Signal {
-        let blow = Blow {
-            amplitude: 0.3,
-            decay_s: 0.03,
-            seed: (nominal * 7.0) as u64 | 1,
-        };
-        UntunedStrike {
-            nominal_hz: nominal,
-            rise_s,
-            decay_s: 0.9,
-            length_s: 1.6,
-            blow: Some(blow),
-        }
-        .signal(rate)
+        UntunedStrike::with_noisy_blow(nominal, rise_s).signal(rate)
     }
 
     /// Four bells with a recorded bell's partial ratios (none of a tuned
