@@ -327,6 +327,22 @@ impl<const N: usize> Taylor<N> {
         }
     }
 
+    /// Whether the step-size rule allows at least the step whose powers
+    /// are `hk` (a hint's cap): the last two terms within 0.97 of each
+    /// component's error there. [`step_size`](Self::step_size)'s roots
+    /// err by under 5e-5 (`inv_root`), and 0.97 puts its exact roots at
+    /// least 1.2e-3 beyond the cap for every order up to [`MAX_ORDER`]: so
+    /// where this holds, the rule's step is longer than the cap and the
+    /// cap is the step, bit for bit as with the roots taken.
+    fn cap_holds(&self, y: &[f64; N], p: usize, w: &ErrorWeights<N>, hk: &Coeffs) -> bool {
+        let mut holds = true;
+        for (i, (yi, xi)) in y.iter().zip(&self.series.x).enumerate() {
+            let allowed = 0.97 * w.scale(i, *yi);
+            holds &= xi[p].abs() * hk[p] <= allowed && xi[p - 1].abs() * hk[p - 1] <= allowed;
+        }
+        holds
+    }
+
     /// The earliest time in `(0, h]` (as an offset from the expansion
     /// point) where `series - level` crosses zero in direction `dir`, if
     /// any; `None` too where it is proven to come after `limit` (the first
@@ -452,6 +468,16 @@ impl<const N: usize> Taylor<N> {
             }
         }
         best
+    }
+}
+
+/// `hk[k] = h^k` for `k` in `0..=p`, by halves: a shorter chain of
+/// dependent products.
+#[inline(always)]
+fn powers(hk: &mut Coeffs, h: f64, p: usize) {
+    hk[0] = 1.0;
+    for k in 1..=p {
+        hk[k] = if k == 1 { h } else { hk[k / 2] * hk[k - k / 2] };
     }
 }
 
@@ -585,18 +611,27 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
                 return Err(OdeError::NonFinite { t });
             }
             let remaining = t_end - t;
-            let h = self.step_size(&y, p, &weights).min(self.h_max).min(cap);
+            let mut hk = [0.0; MAX_ORDER + 1];
+            // A first step capped by a hint (a short flight) usually keeps
+            // the cap: where its powers prove it, the step-size rule's
+            // roots need not be taken (the step is the same).
+            let capped = cap < remaining && cap <= self.h_max && {
+                powers(&mut hk, cap, p);
+                self.cap_holds(&y, p, &weights, &hk)
+            };
+            let h = if capped {
+                cap
+            } else {
+                self.step_size(&y, p, &weights).min(self.h_max).min(cap)
+            };
             cap = f64::INFINITY;
             let last = h >= remaining;
             let h = if last { remaining } else { h };
             if h.is_nan() || (h <= 1e-14 * t.abs().max(1.0) && !last) {
                 return Err(OdeError::StepSizeUnderflow { h, t });
             }
-            let mut hk = [0.0; MAX_ORDER + 1];
-            hk[0] = 1.0;
-            // By halves: a shorter chain of dependent products.
-            for k in 1..=p {
-                hk[k] = if k == 1 { h } else { hk[k / 2] * hk[k - k / 2] };
+            if !capped {
+                powers(&mut hk, h, p);
             }
             let best = self.first_event(events, whole, h, &hk, p);
             (self.series.span, self.series.p) = (Span { t0: t, h }, p);
@@ -622,7 +657,10 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
             }
             let t_new = if last { t_end } else { t + h };
             observe(&self.series, t_new);
-            y = std::array::from_fn(|i| horner(&self.series.x[i], p, h));
+            // A loop, not `from_fn`: its closure is left out of line here.
+            for (yi, xi) in y.iter_mut().zip(&self.series.x) {
+                *yi = horner(xi, p, h);
+            }
             t = t_new;
             if y.iter().any(|v| !v.is_finite()) {
                 return Err(OdeError::NonFinite { t });
