@@ -214,7 +214,12 @@ impl<const N: usize> DenseOutput<N> for Series<N> {
     #[inline]
     fn eval(&self, t: f64) -> [f64; N] {
         let s = t - self.span.t0;
-        std::array::from_fn(|i| horner(&self.x[i], self.p, s))
+        // A loop, not `from_fn`: its closure is left out of line.
+        let mut y = [0.0; N];
+        for (yi, xi) in y.iter_mut().zip(&self.x) {
+            *yi = horner(xi, self.p, s);
+        }
+        y
     }
 }
 
