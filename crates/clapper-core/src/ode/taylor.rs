@@ -278,7 +278,7 @@ impl<const N: usize> Taylor<N> {
     fn hinted(&self, span: Option<f64>) -> (usize, f64) {
         match span {
             Some(span) => (
-                bounce_order(span, self.ln_rtol).clamp(2, self.order.max(2)),
+                bounce_order(span, self.ln_rtol, self.opts.rtol).clamp(2, self.order.max(2)),
                 if span > 0.0 { span } else { f64::INFINITY },
             ),
             None => (self.order, f64::INFINITY),
@@ -568,12 +568,23 @@ fn exclusion_walk(r: &[f64], s0: i8, slope: f64, beyond: impl Fn(f64) -> bool) -
 /// a short flight needs few of them to reach rtol (`ln_rtol`: its
 /// logarithm, worked out once). Only a work estimate:
 /// the step-size control keeps the accuracy whatever the order.
-fn bounce_order(flight: f64, ln_rtol: f64) -> usize {
+///
+/// ceil(ln rtol / ln ratio) is the least k with ratio^k ≤ rtol: found by
+/// powers where both k and k − 1 are clear of the boundary by 1e-9
+/// relative (the quotient of logarithms errs by under 1e-13, the powers by
+/// under 1e-14, so both give the same k), by logarithms elsewhere.
+fn bounce_order(flight: f64, ln_rtol: f64, rtol: f64) -> usize {
     let ratio = flight / 0.25;
     if !(ratio > 0.0 && ratio < 0.5) {
         return usize::MAX;
     }
-    (ln_rtol / ratio.ln()).ceil().max(2.0) as usize + 1
+    let (mut k, mut power, mut before) = (1usize, ratio, f64::INFINITY);
+    while power > rtol && k < 48 {
+        (k, before, power) = (k + 1, power, power * ratio);
+    }
+    let clear = power <= rtol * (1.0 - 1e-9) && before > rtol * (1.0 + 1e-9) && power > 1e-280;
+    let k = if clear { k as f64 } else { (ln_rtol / ratio.ln()).ceil() };
+    k.max(2.0) as usize + 1
 }
 
 /// An event function that is exactly zero at `t0` takes the sign of its
@@ -585,7 +596,7 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
 
     fn expect(&mut self, next: NextSegment) {
         if let NextSegment::ShortFlight { span } = next {
-            self.hint_next(bounce_order(span, self.ln_rtol), span);
+            self.hint_next(bounce_order(span, self.ln_rtol, self.opts.rtol), span);
         }
     }
 
@@ -924,6 +935,45 @@ mod tests {
         // A bad order is refused, and a hint does not panic on it.
         let mut bad = Taylor::<2>::new(Options::default(), 1, 1.0);
         bad.hint_next(3, 0.1);
+    }
+
+    /// The short flight's order by powers is the one by logarithms, for
+    /// every flight and tolerance tried (the boundaries included: flights
+    /// where ratio^k is rtol within rounding).
+    #[test]
+    fn bounce_order_by_powers_is_the_order_by_logarithms() {
+        let by_logs = |flight: f64, rtol: f64| {
+            let ratio = flight / 0.25;
+            if !(ratio > 0.0 && ratio < 0.5) {
+                return usize::MAX;
+            }
+            (rtol.ln() / ratio.ln()).ceil().max(2.0) as usize + 1
+        };
+        for rtol in [3e-8f64, 1e-12, 1e-6, 1e-3, 0.3, 1e-200] {
+            let mut flight = 1e-12;
+            while flight < 0.2 {
+                assert_eq!(
+                    bounce_order(flight, rtol.ln(), rtol),
+                    by_logs(flight, rtol),
+                    "{flight} {rtol}"
+                );
+                flight *= 1.0007;
+            }
+            // Where ratio^k = rtol: ratio = rtol^(1/k), and its neighbours.
+            for k in 1..30 {
+                let ratio = rtol.powf(1.0 / k as f64);
+                for f in [ratio, ratio.next_up(), ratio.next_down()] {
+                    let flight = f * 0.25;
+                    assert_eq!(
+                        bounce_order(flight, rtol.ln(), rtol),
+                        by_logs(flight, rtol),
+                        "{flight} {rtol}"
+                    );
+                }
+            }
+        }
+        assert_eq!(bounce_order(0.2, 3e-8f64.ln(), 3e-8), usize::MAX);
+        assert_eq!(bounce_order(0.0, 3e-8f64.ln(), 3e-8), usize::MAX);
     }
 
     #[test]
