@@ -85,6 +85,38 @@ fn horner(c: &[f64], p: usize, s: f64) -> f64 {
     even + s * odd
 }
 
+/// [`horner`] of every component at once: the same operations on each, in
+/// the same order (so the same bits), side by side.
+#[inline(always)]
+fn horner_all<const N: usize>(x: &[Coeffs; N], p: usize, s: f64) -> [f64; N] {
+    if p == 0 {
+        return std::array::from_fn(|i| x[i][0]);
+    }
+    let s2 = s * s;
+    let (mut ke, mut ko) = if p % 2 == 0 { (p, p - 1) } else { (p - 1, p) };
+    let (mut even, mut odd) = ([0.0; N], [0.0; N]);
+    for i in 0..N {
+        (even[i], odd[i]) = (x[i][ke], x[i][ko]);
+    }
+    while ke >= 2 {
+        ke -= 2;
+        for i in 0..N {
+            even[i] = even[i] * s2 + x[i][ke];
+        }
+    }
+    while ko >= 3 {
+        ko -= 2;
+        for i in 0..N {
+            odd[i] = odd[i] * s2 + x[i][ko];
+        }
+    }
+    let mut y = [0.0; N];
+    for i in 0..N {
+        y[i] = even[i] + s * odd[i];
+    }
+    y
+}
+
 /// `m^(-1/j)` for `m > 0`, within about 2e-4 relative: a step size needs
 /// no more. log2 from the exponent bits and a series for the mantissa's
 /// logarithm about 1.5; 2^y from its integer part's bits and a series.
@@ -206,6 +238,14 @@ pub struct Series<const N: usize> {
     x: [Coeffs; N],
 }
 
+impl<const N: usize> Series<N> {
+    /// The state at `s` (s) from the expansion point.
+    #[inline(always)]
+    fn at_offset(&self, s: f64) -> [f64; N] {
+        horner_all(&self.x, self.p, s)
+    }
+}
+
 impl<const N: usize> DenseOutput<N> for Series<N> {
     fn span(&self) -> Span {
         self.span
@@ -213,13 +253,7 @@ impl<const N: usize> DenseOutput<N> for Series<N> {
 
     #[inline]
     fn eval(&self, t: f64) -> [f64; N] {
-        let s = t - self.span.t0;
-        // A loop, not `from_fn`: its closure is left out of line.
-        let mut y = [0.0; N];
-        for (yi, xi) in y.iter_mut().zip(&self.x) {
-            *yi = horner(xi, self.p, s);
-        }
-        y
+        horner_all(&self.x, self.p, t - self.span.t0)
     }
 }
 
@@ -332,18 +366,34 @@ impl<const N: usize> Taylor<N> {
         }
     }
 
-    /// Whether the step-size rule allows at least the step whose powers
-    /// are `hk` (a hint's cap): the last two terms within 0.97 of each
-    /// component's error there. [`step_size`](Self::step_size)'s roots
-    /// err by under 5e-5 (`inv_root`), and 0.97 puts its exact roots at
-    /// least 1.2e-3 beyond the cap for every order up to [`MAX_ORDER`]: so
-    /// where this holds, the rule's step is longer than the cap and the
-    /// cap is the step, bit for bit as with the roots taken.
-    fn cap_holds(&self, y: &[f64; N], p: usize, w: &ErrorWeights<N>, hk: &Coeffs) -> bool {
+    /// The step (s) before the end time cuts it: the step-size rule's,
+    /// capped at `h_max` and at a hint's `cap`. A first step capped by a
+    /// hint (a short flight) usually keeps the cap: where the cap's powers
+    /// prove it, the rule's roots need not be taken (the step is the same).
+    fn step_for(&self, y: &[f64; N], p: usize, w: &ErrorWeights<N>, cap: f64, remaining: f64) -> f64 {
+        if cap < remaining && cap <= self.h_max && self.cap_holds(y, p, w, cap) {
+            return cap;
+        }
+        self.step_size(y, p, w).min(self.h_max).min(cap)
+    }
+
+    /// Whether the step-size rule allows more than the step `cap` (s): the
+    /// last two terms within 0.97 of each component's error there.
+    /// [`step_size`](Self::step_size)'s roots err by under 5e-5
+    /// (`inv_root`), and 0.97 puts its exact roots at least 1.2e-3 beyond
+    /// the cap for every order up to [`MAX_ORDER`] (the powers here err by
+    /// under 1e-14): so where this holds, the rule's step is longer than
+    /// the cap, and the cap is the step, bit for bit as with the roots taken.
+    fn cap_holds(&self, y: &[f64; N], p: usize, w: &ErrorWeights<N>, cap: f64) -> bool {
+        let mut before_last = 1.0;
+        for _ in 1..p {
+            before_last *= cap;
+        }
+        let last = before_last * cap;
         let mut holds = true;
         for (i, (yi, xi)) in y.iter().zip(&self.series.x).enumerate() {
             let allowed = 0.97 * w.scale(i, *yi);
-            holds &= xi[p].abs() * hk[p] <= allowed && xi[p - 1].abs() * hk[p - 1] <= allowed;
+            holds &= xi[p].abs() * last <= allowed && xi[p - 1].abs() * before_last <= allowed;
         }
         holds
     }
@@ -627,28 +677,15 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
                 return Err(OdeError::NonFinite { t });
             }
             let remaining = t_end - t;
-            let mut hk = [0.0; MAX_ORDER + 1];
-            // A first step capped by a hint (a short flight) usually keeps
-            // the cap: where its powers prove it, the step-size rule's
-            // roots need not be taken (the step is the same).
-            let capped = cap < remaining && cap <= self.h_max && {
-                powers(&mut hk, cap, p);
-                self.cap_holds(&y, p, &weights, &hk)
-            };
-            let h = if capped {
-                cap
-            } else {
-                self.step_size(&y, p, &weights).min(self.h_max).min(cap)
-            };
+            let h = self.step_for(&y, p, &weights, cap, remaining);
             cap = f64::INFINITY;
             let last = h >= remaining;
             let h = if last { remaining } else { h };
             if h.is_nan() || (h <= 1e-14 * t.abs().max(1.0) && !last) {
                 return Err(OdeError::StepSizeUnderflow { h, t });
             }
-            if !capped {
-                powers(&mut hk, h, p);
-            }
+            let mut hk = [0.0; MAX_ORDER + 1];
+            powers(&mut hk, h, p);
             let best = self.first_event(events, whole, h, &hk, p);
             (self.series.span, self.series.p) = (Span { t0: t, h }, p);
             if let Some((s, i)) = best {
@@ -673,10 +710,7 @@ impl<const N: usize, S: SeriesSystem<N> + ?Sized> Stepper<N, S> for Taylor<N> {
             }
             let t_new = if last { t_end } else { t + h };
             observe(&self.series, t_new);
-            // A loop, not `from_fn`: its closure is left out of line here.
-            for (yi, xi) in y.iter_mut().zip(&self.series.x) {
-                *yi = horner(xi, p, h);
-            }
+            y = self.series.at_offset(h);
             t = t_new;
             if y.iter().any(|v| !v.is_finite()) {
                 return Err(OdeError::NonFinite { t });
