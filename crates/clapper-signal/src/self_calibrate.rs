@@ -78,9 +78,12 @@ const WEAK_STEP: f64 = 1.6;
 /// The strikes' agreement may start late under the other bells' ringing:
 /// a whitened step up to this much before it is the start (s).
 const EARLIER_S: f64 = 0.015;
-/// Where the strikes' agreement and the whitened average's clear step
-/// lie further apart than this, the step is the start (s).
+/// Where the whitened average's step lies further than this after the
+/// strikes' agreement, and is [`CLEAR_STEP`] times or more, the step is
+/// the start (s).
 const DISAGREE_S: f64 = 0.0085;
+/// A step that clear.
+const CLEAR_STEP: f64 = 3.0;
 /// The whitening's spectrum is smoothed over this much either side (Hz).
 const SMOOTH_HZ: f64 = 11.0;
 /// The whitened average's energy must step up this many times at the start.
@@ -393,11 +396,16 @@ fn start_of(reference: &[f64], segs: &[&[f64]], heard: usize, rate: f64, in_step
         Some(s) if s + (LATEST_S * rate) as usize >= heard => {
             // Under the other bells' ringing the agreement can come late;
             // the blow's step just before it is the start.
-            match step_from(&energy, rate, from, latest, STEP).filter(|_| in_step) {
-                Some(k) if k <= s && s - k <= (EARLIER_S * rate) as usize => Some(k),
-                // Far from a clear step either way, the agreement is another
-                // sound's (the bell before's blow, or its own partials late).
-                Some(k) if k.abs_diff(s) > (DISAGREE_S * rate) as usize => Some(walk_back(&energy, k / b) * b),
+            let far = (DISAGREE_S * rate) as usize;
+            match step_of(&energy, rate, from, latest).filter(|&(_, r)| in_step && r >= STEP) {
+                Some((k, _)) if k <= s && s - k <= (EARLIER_S * rate) as usize => Some(k),
+                // A clear step well before the agreement: the agreement came
+                // late (its own partials), or was another sound's after it.
+                Some((k, _)) if k < s => Some(walk_back(&energy, k / b) * b),
+                // Well after it, only a very clear step: the agreement may be
+                // the bell before's blow, or this bell's own first sound
+                // rising slowly before its step (both seen).
+                Some((k, r)) if k - s > far && r >= CLEAR_STEP => Some(walk_back(&energy, k / b) * b),
                 _ => Some(s),
             }
         }
@@ -612,6 +620,12 @@ fn block_len(rate: f64) -> usize {
 /// over [`LOUD_S`] against the [`QUIET_S`] before, from sample `from` to
 /// `heard` (samples); none if it is under `least` times.
 fn step_from(energy: &[f64], rate: f64, from: usize, heard: usize, least: f64) -> Option<usize> {
+    step_of(energy, rate, from, heard).and_then(|(k, step)| (step >= least).then_some(k))
+}
+
+/// The greatest step up in `energy` as [`step_from`] finds it: where
+/// (samples), and how many times.
+fn step_of(energy: &[f64], rate: f64, from: usize, heard: usize) -> Option<(usize, f64)> {
     let b = block_len(rate);
     let quiet = ((QUIET_S / BLOCK_S).round() as usize).max(1);
     let loud = ((LOUD_S / BLOCK_S).round() as usize).max(1);
@@ -621,7 +635,7 @@ fn step_from(energy: &[f64], rate: f64, from: usize, heard: usize, least: f64) -
     let (k, step) = (first..last)
         .map(|k| (k, mean(k..k + loud) / mean(k - quiet..k).max(1e-300)))
         .max_by(|p, q| p.1.total_cmp(&q.1))?;
-    (step >= least).then_some(k * b)
+    Some((k * b, step))
 }
 
 /// From block `k` of `energy` (block energies, each [`BLOCK_S`]), where
