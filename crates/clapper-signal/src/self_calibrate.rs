@@ -131,7 +131,17 @@ pub struct SelfCalibration {
     /// Each bell's average strike as lined up (from [`BEFORE_S`] before
     /// its time heard to [`AFTER_S`] after) and the sample its sound
     /// starts at, where learned.
-    averages: Vec<Option<(Vec<f64>, usize)>>,
+    averages: Vec<Option<Average>>,
+}
+
+/// One bell's average strike as lined up (from [`BEFORE_S`] before its
+/// time heard to [`AFTER_S`] after), the sample its sound starts at, and
+/// how far a strike may be moved to line it up on it (samples).
+#[derive(Clone, Debug, PartialEq)]
+struct Average {
+    samples: Vec<f64>,
+    start: usize,
+    reach: usize,
 }
 
 impl SelfCalibration {
@@ -155,14 +165,15 @@ impl SelfCalibration {
             .strikes
             .iter_mut()
             .map(|s| {
-                let (avg, start) = self.averages.get(s.bell - 1)?.as_ref()?;
+                let a = self.averages.get(s.bell - 1)?.as_ref()?;
+                let (avg, start) = (&a.samples, a.start);
                 let at = (s.t * rate).round() as usize;
                 let from = at.checked_sub(before + shift)?;
                 let end = from + before + after + 2 * shift;
                 if end > sig.samples.len() || avg.len() != before + after {
                     return None;
                 }
-                let lag = best_lag(&sig.samples[from..end], avg, shift, before, rate, shift);
+                let lag = best_lag(&sig.samples[from..end], avg, shift, before, rate, a.reach);
                 let t = (from + lag + start) as f64 / rate;
                 let moved = t - s.t;
                 s.t = t;
@@ -255,7 +266,7 @@ fn clean_strikes(heard: &Heard, bell: usize, sig: &Signal) -> Vec<f64> {
 /// A template learned from strikes heard at `times`.
 struct Learned {
     template: Signal,
-    average: (Vec<f64>, usize),
+    average: Average,
     lateness_s: f64,
     spread_s: f64,
 }
@@ -272,12 +283,25 @@ fn template_of(sig: &Signal, times: &[f64]) -> Option<Learned> {
         .map(|t| (t * rate).round() as usize - before - shift)
         .collect();
     let seg = |s: usize, lag: usize| &sig.samples[s + lag..s + lag + len];
-    let (reference, lags) = line_up(sig, &starts, before, after)?;
+    let (mut reference, mut lags) = line_up(sig, &starts, before, after)?;
     // The time heard in the average's own reckoning (samples): the strikes
     // are lined up on one of them, which may have been heard off the rest.
-    let heard = heard_in(&lags, before, shift);
-    let segs: Vec<&[f64]> = starts.iter().zip(&lags).map(|(&s, &lag)| seg(s, lag)).collect();
-    let start = start_of(&reference, &segs, heard, rate, mad(&lags) <= RELINE_SPREAD_S * rate)?;
+    let start_in = |reference: &[f64], lags: &[usize]| {
+        let segs: Vec<&[f64]> = starts.iter().zip(lags).map(|(&s, &lag)| seg(s, lag)).collect();
+        let in_step = mad(lags) <= RELINE_SPREAD_S * rate;
+        start_of(reference, &segs, heard_in(lags, before, shift), rate, in_step)
+    };
+    let mut start = start_in(&reference, &lags);
+    let mut reach = shift;
+    // Lined up in scattered steps (in rounds, on the bell before's sound),
+    // with no start shown: lined up again near their times heard, where
+    // the band finder heard them (within 0.3-2 ms of one another).
+    if start.is_none() && mad(&lags) > RELINE_SPREAD_S * rate {
+        let (r, l) = reline(sig, &starts, before, after);
+        start = start_in(&r, &l);
+        (reference, lags, reach) = (r, l, ((RELINE_S * rate) as usize).min(shift));
+    }
+    let start = start?;
     // Each clean strike's start of sound, and how late it was heard.
     let mut late: Vec<f64> = starts
         .iter()
@@ -294,7 +318,11 @@ fn template_of(sig: &Signal, times: &[f64]) -> Option<Learned> {
     samples.extend_from_slice(&reference[start..]);
     Some(Learned {
         template: Signal { rate, samples },
-        average: (reference, start),
+        average: Average {
+            samples: reference,
+            start,
+            reach,
+        },
         lateness_s,
         spread_s: dev[dev.len() / 2],
     })
@@ -341,18 +369,33 @@ fn line_up(sig: &Signal, starts: &[usize], before: usize, after: usize) -> Optio
     if mad(&lags) <= RELINE_SPREAD_S * rate {
         return Some((reference, lags));
     }
-    let reach = ((RELINE_S * rate) as usize).min(shift);
-    let mut again = vec![shift; starts.len()];
-    let mut r = average(starts, &again, seg);
-    for _ in 0..3 {
-        r = pass(&r, &mut again, reach);
-    }
+    let (r, again) = reline(sig, starts, before, after);
     let holds = |avg: &[f64], lags: &[usize]| coherence(avg, starts, lags, seg, heard_in(lags, before, shift), rate);
     if holds(&r, &again) > holds(&reference, &lags) {
         Some((r, again))
     } else {
         Some((reference, lags))
     }
+}
+
+/// The strikes from `starts` lined up from their average as heard, within
+/// [`RELINE_S`] (three passes): their average and each one's lag, as
+/// [`line_up`] gives them.
+fn reline(sig: &Signal, starts: &[usize], before: usize, after: usize) -> (Vec<f64>, Vec<usize>) {
+    let rate = sig.rate;
+    let shift = (SHIFT_S * rate).round() as usize;
+    let len = before + after;
+    let seg = |s: usize, lag: usize| &sig.samples[s + lag..s + lag + len];
+    let reach = ((RELINE_S * rate) as usize).min(shift);
+    let mut lags = vec![shift; starts.len()];
+    let mut r = average(starts, &lags, seg);
+    for _ in 0..3 {
+        for (l, &s) in lags.iter_mut().zip(starts) {
+            *l = best_lag(&sig.samples[s..s + len + 2 * shift], &r, shift, before, rate, reach);
+        }
+        r = average(starts, &lags, seg);
+    }
+    (r, lags)
 }
 
 /// Where the bell's sound starts in `reference`, the average of the
