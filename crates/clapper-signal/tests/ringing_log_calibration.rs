@@ -235,8 +235,10 @@ fn thirty_logs_with_offsets_gains_and_a_clipping_headstock() {
 /// Thirty logs as above under a milder ring (under the burst threshold for
 /// most of it): the acceptance, every swing found, the ringing's
 /// bottoms within a sample and within 5 ms of the greatest speed, stands
-/// within 2 deg, odd-struckness within 3 ms; and the raising's and
-/// lowering's bottoms of 45 deg or more within 1.1 samples.
+/// within 2 deg, odd-struckness within 3 ms; and every bottom of 45 deg
+/// or more, the raising's and lowering's too, within a sample (0.52 at
+/// worst; 1.07 before the headstock's ring was taken out of the readings,
+/// `unring.rs`).
 #[test]
 fn thirty_logs_with_offsets_gains_and_a_ringing_headstock() {
     let mut w = Worst::default();
@@ -249,9 +251,7 @@ fn thirty_logs_with_offsets_gains_and_a_ringing_headstock() {
     eprintln!("{w:?}");
     assert_ringing_read(&w);
     assert_eq!(w.missed, 0);
-    // Of the rope-driven swings of raising and lowering the worst was 1.07
-    // samples (a 134 deg swing of lowering at 100 Hz).
-    assert!(w.bdc <= 1.1, "bottom off by {} samples", w.bdc);
+    assert!(w.bdc <= 1.0, "bottom off by {} samples", w.bdc);
 }
 
 /// Log `seed` of the thirty: offsets and gains spread over their ranges,

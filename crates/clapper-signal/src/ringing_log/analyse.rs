@@ -13,6 +13,7 @@ use super::reading::{angle, misfit, Angle};
 use super::rests::{calibrate_from_rests, rests};
 use super::tops;
 use super::types::{AccelLog, ClapperingStart, LogOptions, LogStroke, Phase, PhaseKind};
+use super::unring::unrung;
 use crate::{median, SignalError};
 use clapper_core::bell::G;
 use std::borrow::Cow;
@@ -165,6 +166,14 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
     } = calibrate_log(&oriented, &out, interval, &mut warnings);
     let falls = falls_of(calibration.as_ref(), &log, (&out, &still), interval);
     let bad = ringing_masked(&log, &burst, &onsets, opts.clip, opts.through_ringing);
+    // The headstock's ring taken out where it rings in one mode: the
+    // angle and the bottoms read through it.
+    let (log, shaken) = if opts.through_ringing {
+        let (l, s) = unrung(&log, &burst, &bad, &onsets);
+        (Cow::Owned(l), s)
+    } else {
+        (log, burst.clone())
+    };
     let a = judged_angle(&log, (&bad, &rclip, &out), opts.sensor_along, falls.as_ref(), interval);
     place_warning(&a, falls.as_ref(), &mut warnings);
     let (theta, smooth, rests) = bounded_and_rests(&log.t, (&a.theta, &a.smooth), &burst, interval);
@@ -172,7 +181,7 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         &log,
         (&theta, &smooth),
         &a,
-        (&burst, &onsets),
+        (&burst, &shaken, &onsets),
         &rests,
         (falls.as_ref(), interval),
         &mut warnings,
@@ -559,7 +568,7 @@ fn read_strokes(
     log: &AccelLog,
     (theta, smooth): (&[f64], &[f64]),
     a: &Angle,
-    (burst, onsets): (&[bool], &[usize]),
+    (burst, shaken, onsets): (&[bool], &[bool], &[usize]),
     rests: &[(f64, f64, f64)],
     (falls, interval): (Option<&Falls>, f64),
     warnings: &mut Vec<String>,
@@ -580,7 +589,7 @@ fn read_strokes(
         theta,
         smooth,
         (&a.rate, &a.joint_rate, &a.acc, a.h, a.d),
-        (burst, onsets, &a.cubic),
+        (burst, shaken, onsets, &a.cubic),
         rests,
         (min_gap, interval, falls.map_or(0.0, |f| f.kappa)),
     )
