@@ -204,12 +204,13 @@ fn a_log_shaped_like_data141_is_read_right() {
 /// samples, up to 21 deg off), odd-struckness within 3 ms on all 30 (28
 /// before; one, seed 306, counted its first lowering stroke as ringing
 /// until the end of the ringing was also read from the swings' times),
-/// the calibration's offsets within 0.04 m/s² and gains within 0.004. Not
-/// yet met under this ring (printed, not asserted): the ringing's bottoms
-/// within 5 ms of the greatest speed in 29 of 30 (seed 329, 83 ms: a
-/// lowering stroke read as ringing, its bottom taken in the ringing); and
-/// the raising's and lowering's swings, where the headstock still rings
-/// through the next bottom, 5-23 a log not found.
+/// the calibration's offsets within 0.04 m/s² and gains within 0.004, the
+/// ringing's bottoms within 5 ms of the greatest speed on all 30 (29
+/// before the headstock's ring was taken out of the readings, `unring.rs`:
+/// seed 329, 83 ms). Not yet met: the raising's and lowering's swings of
+/// 45 deg or more, where the headstock still rings through the next
+/// bottom, are not all found: 169 over the 30 logs (464 before the ring
+/// was taken out); asserted as a ceiling (175), not the acceptance.
 #[test]
 fn thirty_logs_with_offsets_gains_and_a_clipping_headstock() {
     let mut w = Worst::default();
@@ -230,6 +231,8 @@ fn thirty_logs_with_offsets_gains_and_a_clipping_headstock() {
     assert!(w.odd <= 3.0, "odd-struck off by {} ms", w.odd);
     assert!(w.offset <= 0.05, "offset off by {} m/s²", w.offset);
     assert!(w.gain <= 0.005, "gain off by {}", w.gain);
+    assert!(w.speed <= 5.0, "bottom {} ms from the greatest speed", w.speed);
+    assert!(w.missed <= 175, "{} swings of raising and lowering missed", w.missed);
 }
 
 /// Thirty logs as above under a milder ring (under the burst threshold for
@@ -237,8 +240,9 @@ fn thirty_logs_with_offsets_gains_and_a_clipping_headstock() {
 /// bottoms within a sample and within 5 ms of the greatest speed, stands
 /// within 2 deg, odd-struckness within 3 ms; and every bottom of 45 deg
 /// or more, the raising's and lowering's too, within a sample (0.52 at
-/// worst; 1.07 before the headstock's ring was taken out of the readings,
-/// `unring.rs`).
+/// worst, with the headstock's ring taken out of the readings or without:
+/// the 1.1 samples this test allowed, for a 1.07 once measured, no longer
+/// needed).
 #[test]
 fn thirty_logs_with_offsets_gains_and_a_ringing_headstock() {
     let mut w = Worst::default();
