@@ -209,8 +209,9 @@ fn a_log_shaped_like_data141_is_read_right() {
 /// before the headstock's ring was taken out of the readings, `unring.rs`:
 /// seed 329, 83 ms). Not yet met: the raising's and lowering's swings of
 /// 45 deg or more, where the headstock still rings through the next
-/// bottom, are not all found: 169 over the 30 logs (464 before the ring
-/// was taken out); asserted as a ceiling (175), not the acceptance.
+/// bottom, are not all found: 53 over the 30 logs (464 before the ring
+/// was taken out, 169 while a sample was left out when any axis clipped);
+/// asserted as a ceiling (60), not the acceptance.
 #[test]
 fn thirty_logs_with_offsets_gains_and_a_clipping_headstock() {
     let mut w = Worst::default();
@@ -232,7 +233,7 @@ fn thirty_logs_with_offsets_gains_and_a_clipping_headstock() {
     assert!(w.offset <= 0.05, "offset off by {} m/s²", w.offset);
     assert!(w.gain <= 0.005, "gain off by {}", w.gain);
     assert!(w.speed <= 5.0, "bottom {} ms from the greatest speed", w.speed);
-    assert!(w.missed <= 175, "{} swings of raising and lowering missed", w.missed);
+    assert!(w.missed <= 60, "{} swings of raising and lowering missed", w.missed);
 }
 
 /// Thirty logs as above under a milder ring (under the burst threshold for

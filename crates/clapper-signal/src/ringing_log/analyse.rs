@@ -168,13 +168,8 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
     let bad = ringing_masked(&log, &burst, &onsets, opts.clip, opts.through_ringing);
     // The headstock's ring taken out where it rings in one mode: the
     // angle and the bottoms read through it.
-    let (log, shaken) = if opts.through_ringing {
-        let (l, s) = unrung(&log, &burst, &bad, &onsets);
-        (Cow::Owned(l), s)
-    } else {
-        (log, burst.clone())
-    };
-    let a = judged_angle(&log, (&bad, &rclip, &out), opts.sensor_along, falls.as_ref(), interval);
+    let (log, shaken, bad, lone) = ring_taken_out(raw, log, (&burst, &bad, &rclip), &onsets, opts);
+    let a = judged_angle(&log, (&bad, &lone, &out), opts.sensor_along, falls.as_ref(), interval);
     place_warning(&a, falls.as_ref(), &mut warnings);
     let (theta, smooth, rests) = bounded_and_rests(&log.t, (&a.theta, &a.smooth), &burst, interval);
     let mut strokes = read_strokes(
@@ -228,6 +223,33 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         plausibility,
         warnings,
     })
+}
+
+/// The readings with the headstock's ring taken out (`unring`, when
+/// reading through the ringing): the log, which burst samples' tangential
+/// readings are still shaken, the samples the angle's fits leave out, and
+/// those read on the tangential axis alone. Each axis's clipping is read
+/// on the readings as logged (`raw`: the calibration's gains move the
+/// calibrated ones off the range).
+#[allow(clippy::type_complexity)]
+fn ring_taken_out<'a>(
+    raw: &AccelLog,
+    log: Cow<'a, AccelLog>,
+    (burst, bad, rclip): (&[bool], &[bool], &[bool]),
+    onsets: &[usize],
+    opts: &LogOptions,
+) -> (Cow<'a, AccelLog>, Vec<bool>, Vec<bool>, Vec<bool>) {
+    if !opts.through_ringing {
+        return (log, burst.to_vec(), bad.to_vec(), rclip.to_vec());
+    }
+    let clipped = [&raw.radial, &raw.tangential, &raw.axle]
+        .map(|a| a.iter().map(|v| v.abs() >= 0.99 * opts.clip).collect::<Vec<bool>>());
+    let u = unrung(&log, (burst, bad), &clipped, onsets);
+    // A cleaned sample is read on what it has: both axes, or the
+    // tangential alone where the radial clips.
+    let fit_bad = (0..bad.len()).map(|k| bad[k] && u.usable[k] == 0).collect();
+    let lone = (0..bad.len()).map(|k| rclip[k] || u.usable[k] == 1).collect();
+    (Cow::Owned(u.log), u.shaken, fit_bad, lone)
 }
 
 /// The angle and its smoothed form held within ±200 deg of the bottom (a

@@ -34,32 +34,73 @@ const PIECE_S: f64 = 0.5;
 /// The lowest frequency taken for a ring (Hz): slower, it is the swing's.
 const LOWEST_HZ: f64 = 8.0;
 
+/// What [`unrung`] gives: the readings with the ring taken out, which
+/// burst samples' tangential readings are still shaken (`burst` and not
+/// cleaned), and which in-plane axes each sample may now be read on (0:
+/// as before; 1: the tangential alone, the radial clipped; 2: both).
+pub(super) struct Unrung {
+    pub(super) log: AccelLog,
+    pub(super) shaken: Vec<bool>,
+    pub(super) usable: Vec<u8>,
+}
+
 /// The readings with the headstock's ring taken out of the rung runs of
-/// bursts, and which burst samples are still shaken (`burst` and not
-/// cleaned). `bad`: the samples no fit may use (clipped, a strike's first
-/// moments); `onsets`: the bursts' first samples (each strike starts the
-/// ring afresh, at a phase of its own).
-pub(super) fn unrung(log: &AccelLog, burst: &[bool], bad: &[bool], onsets: &[usize]) -> (AccelLog, Vec<bool>) {
+/// bursts. `bad`: the samples the angle's fits leave out (clipped, a
+/// strike's first moments); `clipped`: each axis's clipped samples
+/// (radial, tangential, axle; an axis is fitted and cleaned where it is
+/// not, the others' clipping notwithstanding: near a bottom the radial
+/// axis, reading g and more, clips where the tangential does not);
+/// `onsets`: the bursts' first samples (each strike starts the ring
+/// afresh, at a phase of its own).
+pub(super) fn unrung(
+    log: &AccelLog,
+    (burst, bad): (&[bool], &[bool]),
+    clipped: &[Vec<bool>; 3],
+    onsets: &[usize],
+) -> Unrung {
+    let n = log.t.len();
     let mut out = log.clone();
     let mut shaken = burst.to_vec();
+    let mut usable = vec![0u8; n];
+    // A strike's first moments (or a short burst): no axis is used there.
+    let struck: Vec<bool> = (0..n).map(|k| bad[k] && !clipped.iter().any(|c| c[k])).collect();
+    let masks: [Vec<bool>; 3] = [0, 1, 2].map(|a| (0..n).map(|k| struck[k] || clipped[a][k]).collect());
     let axes = [&log.radial, &log.tangential, &log.axle];
-    let trends = axes.map(|y| quadratic_fits(&log.t, y, bad, TREND_S).0);
-    let pieces = rung_pieces(&log.t, burst, bad, onsets);
+    let trends = [0, 1, 2].map(|a| quadratic_fits(&log.t, axes[a], &masks[a], TREND_S).0);
+    let pieces = rung_pieces(&log.t, burst, &struck, onsets);
     // One mode for the log: the headstock's, whatever struck it.
-    let resid = |j: usize| [0, 1, 2].map(|a| axes[a][j] - trends[a][j]);
+    let resid = |j: usize| [0, 1, 2].map(|a| if masks[a][j] { 0.0 } else { axes[a][j] - trends[a][j] });
     let Some(hz) = peak_frequency(&log.t, &pieces, &resid) else {
-        return (out, shaken);
+        return Unrung {
+            log: out,
+            shaken,
+            usable,
+        };
     };
     for p in &pieces {
-        let (cleaned, before, after) = clean_run(log, bad, p, hz);
+        let (cleaned, before, after) = clean_run(log, &masks, p, hz);
         if before > 0.0 && after <= (1.0 - EXPLAINED) * before {
             for (&j, c) in p.run.iter().zip(&cleaned) {
-                (out.radial[j], out.tangential[j], out.axle[j]) = (c[0], c[1], c[2]);
-                shaken[j] = false;
+                let [r, tg, ax] = c.map(|x| x.unwrap_or(f64::NAN));
+                if c[1].is_some() {
+                    out.tangential[j] = tg;
+                    shaken[j] = false;
+                    usable[j] = if c[0].is_some() { 2 } else { 1 };
+                }
+                if c[0].is_some() {
+                    out.radial[j] = r;
+                }
+                if c[2].is_some() {
+                    out.axle[j] = ax;
+                }
             }
         }
     }
-    (out, shaken)
+    Unrung {
+        log: out,
+        shaken,
+        usable,
+    }
 }
 
 /// A piece of a rung run of bursts between two strikes: its samples a fit
@@ -70,8 +111,9 @@ struct Piece {
     span: (usize, usize),
 }
 
-/// The runs of bursts lasting over [`RINGING_S`], cut at each strike.
-fn rung_pieces(t: &[f64], burst: &[bool], bad: &[bool], onsets: &[usize]) -> Vec<Piece> {
+/// The runs of bursts lasting over [`RINGING_S`], cut at each strike, of
+/// the samples not `struck` (a strike's first moments).
+fn rung_pieces(t: &[f64], burst: &[bool], struck: &[bool], onsets: &[usize]) -> Vec<Piece> {
     let n = t.len();
     let mut pieces = vec![];
     let mut k = 0;
@@ -98,7 +140,7 @@ fn rung_pieces(t: &[f64], burst: &[bool], bad: &[bool], onsets: &[usize]) -> Vec
             let mut a = w[0];
             while a < w[1] {
                 let b = (a..w[1]).find(|&j| t[j] - t[a] >= PIECE_S).unwrap_or(w[1]);
-                let run: Vec<usize> = (a..b).filter(|&j| !bad[j]).collect();
+                let run: Vec<usize> = (a..b).filter(|&j| !struck[j]).collect();
                 if run.len() >= 10 {
                     pieces.push(Piece {
                         run,
@@ -166,14 +208,21 @@ fn peak_frequency(t: &[f64], pieces: &[Piece], resid: &dyn Fn(usize) -> [f64; 3]
 }
 
 /// Each sample of the piece `p` with the ring at `hz` taken off each
-/// axis, and the piece's power about the local fits' swing before (the
-/// readings less the quadratic) and after (less the ring as well).
-fn clean_run(log: &AccelLog, bad: &[bool], p: &Piece, hz: f64) -> (Vec<[f64; 3]>, f64, f64) {
+/// axis not masked there (`masks`: each axis's samples left out; `None`
+/// where it is, or too few samples about it), and the piece's power
+/// about the local fits' swing before (the readings less the quadratic)
+/// and after (less the ring as well).
+#[allow(clippy::type_complexity)]
+fn clean_run(log: &AccelLog, masks: &[Vec<bool>; 3], p: &Piece, hz: f64) -> (Vec<[Option<f64>; 3]>, f64, f64) {
     let t = &log.t;
     let axes = [&log.radial, &log.tangential, &log.axle];
     let w = TAU * hz;
     // Six of the ring's cycles each side, and at least ±0.15 s.
     let half = (6.0 / hz).max(0.15);
+    let basis = |x: f64| {
+        let (sn, cs) = (w * x).sin_cos();
+        [1.0, x, x * x, cs, x * cs, sn, x * sn]
+    };
     let (mut before, mut after) = (0.0, 0.0);
     let mut cleaned = Vec::with_capacity(p.run.len());
     for &k in &p.run {
@@ -182,27 +231,24 @@ fn clean_run(log: &AccelLog, bad: &[bool], p: &Piece, hz: f64) -> (Vec<[f64; 3]>
             t.partition_point(|&x| x < t[k] - half).max(p.span.0),
             t.partition_point(|&x| x <= t[k] + half).min(p.span.1),
         );
-        let pts: Vec<usize> = (lo..hi).filter(|&j| !bad[j]).collect();
-        let mut c = [0, 1, 2].map(|a| axes[a][k]);
-        // Seven terms: well over twice as many samples, some on each side.
-        let (left, right) = (
-            pts.iter().filter(|&&j| j < k).count(),
-            pts.iter().filter(|&&j| j > k).count(),
-        );
-        if pts.len() >= 16 && left >= 4 && right >= 4 {
-            let basis = |x: f64| {
-                let (cs, sn) = ((w * x).cos(), (w * x).sin());
-                [1.0, x, x * x, cs, x * cs, sn, x * sn]
-            };
-            for a in 0..3 {
-                let (swing, ring) = fit(t, axes[a], &pts, t[k], &basis);
-                let y = axes[a][k];
-                // The swing's quadratic alone, and with the ring.
-                if let (Some(q), Some(r)) = (swing, ring) {
-                    before += (y - q).powi(2);
-                    after += (y - r[0] - r[3]).powi(2);
-                    c[a] = y - r[3];
-                }
+        let mut c = [None; 3];
+        for a in 0..3 {
+            if masks[a][k] {
+                continue;
+            }
+            let pts: Vec<usize> = (lo..hi).filter(|&j| !masks[a][j]).collect();
+            // Seven terms: well over twice as many samples, some on each side.
+            let left = pts.iter().filter(|&&j| j < k).count();
+            if pts.len() < 16 || left < 4 || pts.len() - left - 1 < 4 {
+                continue;
+            }
+            let (swing, ring) = fit(t, axes[a], &pts, t[k], &basis);
+            let y = axes[a][k];
+            // The swing's quadratic alone, and with the ring.
+            if let (Some(q), Some(r)) = (swing, ring) {
+                before += (y - q).powi(2);
+                after += (y - r[0] - r[3]).powi(2);
+                c[a] = Some(y - r[3]);
             }
         }
         cleaned.push(c);
