@@ -87,6 +87,11 @@ pub struct LogSpec {
     /// lowering follows on from a ringing stroke that turned short of the
     /// balance.
     pub lower_from_stand: bool,
+    /// Swings the lowering takes, from the balance down (0: the ringer's
+    /// [`RingerConfig::swings`]). More is gentler: at 60 the first swing
+    /// off the balance loses some 10 deg, as an independent tester's logs
+    /// lowered off a stand do (at the ringer's 30, some 20).
+    pub lower_swings: usize,
 }
 
 impl LogSpec {
@@ -123,6 +128,7 @@ impl LogSpec {
             stay: 0.0,
             free_s: 0.0,
             lower_from_stand: false,
+            lower_swings: 0,
         }
     }
 }
@@ -465,6 +471,10 @@ fn session(spec: &LogSpec) -> Result<Session, SignalError> {
     ringing_piece(spec, &cfg, &mut p)?;
     let ringer = RingerConfig {
         stay: set,
+        swings: match spec.lower_swings {
+            0 => spec.ringer.swings,
+            n => n,
+        },
         ..spec.ringer
     };
     let down = run(spec, &cfg, &ringer, Run::Down, &mut ())?;

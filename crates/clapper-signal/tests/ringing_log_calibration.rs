@@ -204,12 +204,14 @@ fn a_log_shaped_like_data141_is_read_right() {
 /// samples, up to 21 deg off), odd-struckness within 3 ms on all 30 (28
 /// before; one, seed 306, counted its first lowering stroke as ringing
 /// until the end of the ringing was also read from the swings' times),
-/// the calibration's offsets within 0.04 m/s² and gains within 0.004. Not
-/// yet met under this ring (printed, not asserted): the ringing's bottoms
-/// within 5 ms of the greatest speed in 29 of 30 (seed 329, 83 ms: a
-/// lowering stroke read as ringing, its bottom taken in the ringing); and
-/// the raising's and lowering's swings, where the headstock still rings
-/// through the next bottom, 5-23 a log not found.
+/// the calibration's offsets within 0.04 m/s² and gains within 0.004, the
+/// ringing's bottoms within 5 ms of the greatest speed on all 30 (29
+/// before the headstock's ring was taken out of the readings, `unring.rs`:
+/// seed 329, 83 ms). Not yet met: the raising's and lowering's swings of
+/// 45 deg or more, where the headstock still rings through the next
+/// bottom, are not all found: 53 over the 30 logs (464 before the ring
+/// was taken out, 169 while a sample was left out when any axis clipped);
+/// asserted as a ceiling (60), not the acceptance.
 #[test]
 fn thirty_logs_with_offsets_gains_and_a_clipping_headstock() {
     let mut w = Worst::default();
@@ -230,13 +232,18 @@ fn thirty_logs_with_offsets_gains_and_a_clipping_headstock() {
     assert!(w.odd <= 3.0, "odd-struck off by {} ms", w.odd);
     assert!(w.offset <= 0.05, "offset off by {} m/s²", w.offset);
     assert!(w.gain <= 0.005, "gain off by {}", w.gain);
+    assert!(w.speed <= 5.0, "bottom {} ms from the greatest speed", w.speed);
+    assert!(w.missed <= 60, "{} swings of raising and lowering missed", w.missed);
 }
 
 /// Thirty logs as above under a milder ring (under the burst threshold for
 /// most of it): the acceptance, every swing found, the ringing's
 /// bottoms within a sample and within 5 ms of the greatest speed, stands
-/// within 2 deg, odd-struckness within 3 ms; and the raising's and
-/// lowering's bottoms of 45 deg or more within 1.1 samples.
+/// within 2 deg, odd-struckness within 3 ms; and every bottom of 45 deg
+/// or more, the raising's and lowering's too, within a sample (0.52 at
+/// worst, with the headstock's ring taken out of the readings or without:
+/// the 1.1 samples this test allowed, for a 1.07 once measured, no longer
+/// needed).
 #[test]
 fn thirty_logs_with_offsets_gains_and_a_ringing_headstock() {
     let mut w = Worst::default();
@@ -249,9 +256,7 @@ fn thirty_logs_with_offsets_gains_and_a_ringing_headstock() {
     eprintln!("{w:?}");
     assert_ringing_read(&w);
     assert_eq!(w.missed, 0);
-    // Of the rope-driven swings of raising and lowering the worst was 1.07
-    // samples (a 134 deg swing of lowering at 100 Hz).
-    assert!(w.bdc <= 1.1, "bottom off by {} samples", w.bdc);
+    assert!(w.bdc <= 1.0, "bottom off by {} samples", w.bdc);
 }
 
 /// Log `seed` of the thirty: offsets and gains spread over their ranges,

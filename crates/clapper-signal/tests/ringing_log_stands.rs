@@ -88,21 +88,30 @@ fn each_stroke_says_whether_it_stood_on_the_stay() {
     }
 }
 
+/// Swings the lowering takes: gentle, nearer the tester's.
+const LOWER_SWINGS: usize = 120;
+
 /// Lowering straight off the last stand of the ringing (no set between,
 /// as an independent tester's var20 seed 203: the first lowering stroke
 /// falls from the stay) is lowering from its first swing: no ringing
 /// stroke after the truth's ringing (that tester's log had its first
 /// lowering stroke counted as ringing, which moved its odd-struckness by 7
-/// ms), and the odd-struckness within 3 ms. (The generator's lowering
-/// drops 20 deg or more on its first swing, the tester's 8-13: the first
-/// lowering stroke here is told by its next swing's height alone, and the
-/// test passes with the end-of-ringing rule, `declines_after` in
-/// phases.rs, switched off.)
+/// ms), and the odd-struckness within 3 ms. The lowering is gentle
+/// ([`LOWER_SWINGS`]): off the stand at 184 deg it rises to 168, 164, 160
+/// deg (the ringer's default 30 swings: 157, 148, 141; the tester's 171,
+/// 168, 157). (Still, the test passes with the end-of-ringing rule,
+/// `declines_after` in phases.rs, switched off: the generator's ringing
+/// rises to 179-184 deg, the tester's to 172-177, so the first lowering
+/// stroke is below the full swings' height here anyway. Gentler still,
+/// from 140 swings (169, 165, 161 deg), the first lowering strokes are
+/// read as ringing under this clipping ring, rule or not: odd-struckness
+/// 15.6 ms off, or no lowering found at 160.)
 #[test]
 fn lowering_is_read_from_its_first_swing() {
     for seed in [4u64, 5, 6, 7] {
         let mut spec = spec(seed, 50.0, 1.2, 4.0);
         spec.lower_from_stand = true;
+        spec.lower_swings = LOWER_SWINGS;
         let (truth, got) = read(&spec);
         let last_ringing = truth
             .strokes
@@ -113,6 +122,14 @@ fn lowering_is_read_from_its_first_swing() {
         // The premise: the first lowering stroke falls from the stay.
         let first_lowering = truth.strokes.iter().find(|t| t.bdc > last_ringing).expect("lowering");
         assert!(first_lowering.amplitude > std::f64::consts::PI);
+        let drops: Vec<f64> = truth
+            .strokes
+            .iter()
+            .filter(|t| t.bdc > last_ringing)
+            .take(4)
+            .map(|t| t.amplitude.to_degrees())
+            .collect();
+        eprintln!("seed {seed}: lowering from {drops:.1?} deg");
         for g in got.strokes.iter().filter(|g| g.phase == PhaseKind::Ringing) {
             assert!(
                 g.bdc <= last_ringing + 0.1,

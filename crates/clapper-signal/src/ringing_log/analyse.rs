@@ -13,6 +13,7 @@ use super::reading::{angle, misfit, Angle};
 use super::rests::{calibrate_from_rests, rests};
 use super::tops;
 use super::types::{AccelLog, ClapperingStart, LogOptions, LogStroke, Phase, PhaseKind};
+use super::unring::unrung;
 use crate::{median, SignalError};
 use clapper_core::bell::G;
 use std::borrow::Cow;
@@ -165,14 +166,17 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
     } = calibrate_log(&oriented, &out, interval, &mut warnings);
     let falls = falls_of(calibration.as_ref(), &log, (&out, &still), interval);
     let bad = ringing_masked(&log, &burst, &onsets, opts.clip, opts.through_ringing);
-    let a = judged_angle(&log, (&bad, &rclip, &out), opts.sensor_along, falls.as_ref(), interval);
+    // The headstock's ring taken out where it rings in one mode: the
+    // angle and the bottoms read through it.
+    let (log, shaken, bad, lone) = ring_taken_out(raw, log, (&burst, &bad, &rclip), &onsets, opts);
+    let a = judged_angle(&log, (&bad, &lone, &out), opts.sensor_along, falls.as_ref(), interval);
     place_warning(&a, falls.as_ref(), &mut warnings);
     let (theta, smooth, rests) = bounded_and_rests(&log.t, (&a.theta, &a.smooth), &burst, interval);
     let mut strokes = read_strokes(
         &log,
         (&theta, &smooth),
         &a,
-        (&burst, &onsets),
+        (&burst, &shaken, &onsets),
         &rests,
         (falls.as_ref(), interval),
         &mut warnings,
@@ -219,6 +223,33 @@ pub fn analyse_log(log: &AccelLog, opts: &LogOptions) -> Result<LogAnalysis, Sig
         plausibility,
         warnings,
     })
+}
+
+/// The readings with the headstock's ring taken out (`unring`, when
+/// reading through the ringing): the log, which burst samples' tangential
+/// readings are still shaken, the samples the angle's fits leave out, and
+/// those read on the tangential axis alone. Each axis's clipping is read
+/// on the readings as logged (`raw`: the calibration's gains move the
+/// calibrated ones off the range).
+#[allow(clippy::type_complexity)]
+fn ring_taken_out<'a>(
+    raw: &AccelLog,
+    log: Cow<'a, AccelLog>,
+    (burst, bad, rclip): (&[bool], &[bool], &[bool]),
+    onsets: &[usize],
+    opts: &LogOptions,
+) -> (Cow<'a, AccelLog>, Vec<bool>, Vec<bool>, Vec<bool>) {
+    if !opts.through_ringing {
+        return (log, burst.to_vec(), bad.to_vec(), rclip.to_vec());
+    }
+    let clipped = [&raw.radial, &raw.tangential, &raw.axle]
+        .map(|a| a.iter().map(|v| v.abs() >= 0.99 * opts.clip).collect::<Vec<bool>>());
+    let u = unrung(&log, (burst, bad), &clipped, onsets);
+    // A cleaned sample is read on what it has: both axes, or the
+    // tangential alone where the radial clips.
+    let fit_bad = (0..bad.len()).map(|k| bad[k] && u.usable[k] == 0).collect();
+    let lone = (0..bad.len()).map(|k| rclip[k] || u.usable[k] == 1).collect();
+    (Cow::Owned(u.log), u.shaken, fit_bad, lone)
 }
 
 /// The angle and its smoothed form held within ±200 deg of the bottom (a
@@ -559,7 +590,7 @@ fn read_strokes(
     log: &AccelLog,
     (theta, smooth): (&[f64], &[f64]),
     a: &Angle,
-    (burst, onsets): (&[bool], &[usize]),
+    (burst, shaken, onsets): (&[bool], &[bool], &[usize]),
     rests: &[(f64, f64, f64)],
     (falls, interval): (Option<&Falls>, f64),
     warnings: &mut Vec<String>,
@@ -580,7 +611,7 @@ fn read_strokes(
         theta,
         smooth,
         (&a.rate, &a.joint_rate, &a.acc, a.h, a.d),
-        (burst, onsets, &a.cubic),
+        (burst, shaken, onsets, &a.cubic),
         rests,
         (min_gap, interval, falls.map_or(0.0, |f| f.kappa)),
     )

@@ -13,7 +13,7 @@ pub(super) fn strokes(
     theta: &[f64],
     smooth: &[f64],
     (d1, j1, d2, h, across): (&[f64], &[f64], &[f64], f64, f64),
-    (burst, onsets, cubic): (&[bool], &[usize], &[bool]),
+    (burst, shaken, onsets, cubic): (&[bool], &[bool], &[usize], &[bool]),
     rests: &[(f64, f64, f64)],
     (min_gap, interval, kappa): (f64, f64, f64),
 ) -> Vec<LogStroke> {
@@ -40,11 +40,11 @@ pub(super) fn strokes(
             }
             // The tangential reading's own zero, where clean (`f`).
             let near = (k.saturating_sub(4)..(k + 5).min(n - 1))
-                .filter(|&j| !burst[j] && !burst[j + 1] && f[j].signum() != f[j + 1].signum() && f[j] != 0.0)
+                .filter(|&j| !shaken[j] && !shaken[j + 1] && f[j].signum() != f[j + 1].signum() && f[j] != 0.0)
                 .min_by_key(|&j| j.abs_diff(k));
             if let Some(j) = near {
                 tc = t[j] + (t[j + 1] - t[j]) * f[j] / (f[j] - f[j + 1]);
-                tc = bottom_time(t, &f, (burst, cubic), (tc, interval), G * 0.5 * (d1[k] + d1[k + 1]));
+                tc = bottom_time(t, &f, (shaken, cubic), (tc, interval), G * 0.5 * (d1[k] + d1[k + 1]));
             }
             bdcs.push((tc, k));
         }
@@ -694,7 +694,7 @@ mod tests {
                 &theta,
                 &theta,
                 (&d1, &d1, &d2, 0.0, 0.0),
-                (&burst, &[], &cubic),
+                (&burst, &burst, &[], &cubic),
                 &[],
                 (min_gap, 0.01, 0.0),
             )

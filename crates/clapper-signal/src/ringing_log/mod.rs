@@ -57,6 +57,7 @@ mod reading;
 mod rests;
 mod tops;
 mod types;
+mod unring;
 
 pub use analyse::{analyse_log, LogAnalysis, MAX_ODD_SE};
 pub use bottoms::GAP;
