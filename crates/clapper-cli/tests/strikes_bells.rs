@@ -183,7 +183,7 @@ fn readmes_tower_recording_is_learned_in_text_and_json() {
     assert!(out.status.success());
     let text = String::from_utf8_lossy(&out.stdout);
     assert!(
-        text.contains("nominals learned from the recording: 1 1399.4 Hz"),
+        text.contains("nominals learned from the recording: 1 1399.9 Hz"),
         "{text}"
     );
 }
