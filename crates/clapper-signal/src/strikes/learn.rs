@@ -194,38 +194,16 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
         .filter_map(|(i, d)| peak_of(d).map(|k| (freq(k), i)))
         .collect();
     let groups = group_notes(notes, df);
-    let bells_heard = bells_of(&groups, &rises, k_lo, df, bells);
-    let pool: Vec<&Heard> = bells_heard.iter().collect();
-    // Each bell's octave chosen with the others' (a ring is a scale), the
-    // bells heard that fit no note left out; failing that, the bells heard
-    // most, each moved into the ring's span alone.
-    let filled: Vec<Heard>;
-    let (chosen, in_ring): (Vec<&Heard>, Vec<f64>) = match ring_octaves(&pool, &rises, k_lo, df, bells) {
-        Some(fit) => {
-            let (mut chosen, mut moved): (Vec<&Heard>, Vec<f64>) =
-                pool.iter().zip(fit.moved).filter_map(|(b, f)| Some((*b, f?))).unzip();
-            filled = fill_empty_notes(&fit.empty, &chosen, &rises, k_lo, df, bells);
-            chosen.extend(filled.iter());
-            moved.extend(filled.iter().map(|b| b.nominal_hz));
-            (chosen, moved)
-        }
-        None => {
-            let chosen: Vec<&Heard> = pool.iter().take(bells).copied().collect();
-            let heard_hz: Vec<f64> = chosen.iter().map(|b| b.nominal_hz).collect();
-            let moved = octaves_into_ring(&heard_hz, bells);
-            (chosen, moved)
-        }
-    };
+    let ring = on_the_scale(bells_of(&groups, &rises, k_lo, df, bells), &rises, k_lo, df, bells);
     // A bell's share against the typical learned bell's: every bell of a
     // ring strikes as often as the others (onsets of the room, the noise
     // and strikes heard at another partial are no bell's).
-    let typical = median(chosen.iter().map(|b| b.onsets.len() as f64).collect()).max(1.0);
-    let mut learned: Vec<LearnedBell> = chosen
+    let typical = median(ring.iter().map(|(b, _)| b.onsets.len() as f64).collect()).max(1.0);
+    let mut learned: Vec<LearnedBell> = ring
         .iter()
-        .zip(in_ring)
         .map(|(b, f)| LearnedBell {
             nominal_hz: {
-                let heard = refine_moved(&rises, &b.onsets, b.nominal_hz, f, k_lo, df);
+                let heard = refine_moved(&rises, &b.onsets, b.nominal_hz, *f, k_lo, df);
                 let starts: Vec<usize> = b.onsets.iter().map(|&i| onsets[i] * frames.hop).collect();
                 refine_late(&low, &starts, frames.win.len(), heard).unwrap_or(heard)
             },
@@ -241,6 +219,38 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
         onsets: onsets.len(),
         warnings,
     })
+}
+
+/// The ring's bells among those `heard`, each with its nominal moved by
+/// octaves: each bell's octave chosen with the others' (a ring is a
+/// scale, [`ring_octaves`]), the bells heard that fit no note left out
+/// and the empty notes filled ([`fill_empty_notes`]); failing that, the
+/// `bells` heard most, each moved into the ring's span alone.
+fn on_the_scale(heard: Vec<Heard>, rises: &[Vec<f64>], k_lo: usize, df: f64, bells: usize) -> Vec<(Heard, f64)> {
+    let pool: Vec<&Heard> = heard.iter().collect();
+    match ring_octaves(&pool, rises, k_lo, df, bells) {
+        Some(fit) => {
+            let mut ring: Vec<(Heard, f64)> = heard
+                .into_iter()
+                .zip(fit.moved)
+                .filter_map(|(b, f)| Some((b, f?)))
+                .collect();
+            let chosen: Vec<&Heard> = ring.iter().map(|b| &b.0).collect();
+            let filled = fill_empty_notes(&fit.empty, &chosen, rises, k_lo, df, bells);
+            ring.extend(filled.into_iter().map(|b| {
+                let f = b.nominal_hz;
+                (b, f)
+            }));
+            ring
+        }
+        None => {
+            let mut heard = heard;
+            heard.truncate(bells);
+            let hz: Vec<f64> = heard.iter().map(|b| b.nominal_hz).collect();
+            let moved = octaves_into_ring(&hz, bells);
+            heard.into_iter().zip(moved).collect()
+        }
+    }
 }
 
 /// The bells heard at most onsets, a few more than `bells` (at least [`LEAST`] of one
