@@ -9,6 +9,8 @@
 //! `--skip K` leaves out the K highest bells (a ring of the next N).
 //! `--mode nominals` times the strikes from the ring's own clean strikes
 //! (`--self-calibrate`); with `--raw`, as heard through a tuned bell's ratios.
+//! `--mode learned` learns the nominals from the ring (`--bells N`) and then
+//! does the same about them (`--raw`: as heard about them).
 //! No recordings ship with the project: docs/strikes.md names the ones
 //! measured.
 
@@ -101,6 +103,33 @@ fn peak_near(s: &Signal, f: f64) -> f64 {
         g += 0.1;
     }
     best.0
+}
+
+/// The nominals learned from the ring `sig` of `n` bells (`--bells N`),
+/// printed with their worst error (%) against those given.
+fn learn(sig: &Signal, n: usize, nominals: &[f64], name: &str, seed: u64) -> Vec<f64> {
+    let l = clapper_signal::strikes::learn_nominals(sig, n).unwrap();
+    let worst = (0..n)
+        .map(|k| {
+            l.bells
+                .get(k)
+                .map_or(f64::INFINITY, |b| 100.0 * (b.nominal_hz / nominals[k] - 1.0).abs())
+        })
+        .fold(0.0, f64::max);
+    println!(
+        "  {name} seed {seed}: learned {} (worst {worst:.2} %){}",
+        l.bells
+            .iter()
+            .map(|b| format!("{:.1} ({:.2})", b.nominal_hz, b.confidence))
+            .collect::<Vec<_>>()
+            .join(", "),
+        if l.warnings.is_empty() {
+            String::new()
+        } else {
+            format!("; {}", l.warnings.join("; "))
+        }
+    );
+    l.bells.iter().map(|b| b.nominal_hz).collect()
 }
 
 fn load(folder: &Path) -> Vec<(String, Signal)> {
@@ -207,10 +236,16 @@ fn main() {
                     ..TowerSpec::new(bells)
                 };
                 let (sig, truth) = sampled_ring(&spec, &strikes).unwrap();
+                // --mode learned: the nominals learned from the ring itself
+                // (`--bells N`), against those given (worst error, %).
+                let learned: Option<Vec<f64>> = (*mode == "learned").then(|| learn(&sig, n, &nominals, name, seed));
                 // --mode nominals: timed from the ring's own clean strikes
-                // (`--raw`: as heard through the tuned-bell voices).
-                let calibration = (*mode == "nominals" && !a.raw).then(|| {
-                    clapper_app::strikes::calibrate_from_recording(&sig, &nominals, &StrikeOptions::default()).unwrap()
+                // (`--raw`: as heard through the tuned-bell voices); --mode
+                // learned: the same about the nominals learned.
+                let calibrate_with = learned.as_ref().unwrap_or(&nominals);
+                let calibration = (*mode != "templates" && !a.raw && calibrate_with.len() == n).then(|| {
+                    clapper_app::strikes::calibrate_from_recording(&sig, calibrate_with, &StrikeOptions::default())
+                        .unwrap()
                 });
                 let timing = match (*mode, a.raw, &calibration) {
                     (_, true, _) => Timing::AsHeard,
@@ -218,32 +253,8 @@ fn main() {
                     (_, _, Some(c)) => Timing::Recording(c),
                     _ => Timing::AsHeard,
                 };
-                // --mode learned: the nominals learned from the ring itself
-                // (`--bells N`), against those given (worst error, %).
-                let voices = if *mode == "learned" {
-                    let l = clapper_signal::strikes::learn_nominals(&sig, n).unwrap();
-                    let mut worst = 0.0f64;
-                    for (k, &f) in nominals.iter().enumerate() {
-                        let e = l
-                            .bells
-                            .get(k)
-                            .map_or(f64::INFINITY, |b| 100.0 * (b.nominal_hz / f - 1.0));
-                        worst = worst.max(e.abs());
-                    }
-                    println!(
-                        "  {name} seed {seed}: learned {} (worst {worst:.2} %){}",
-                        l.bells
-                            .iter()
-                            .map(|b| format!("{:.1} ({:.2})", b.nominal_hz, b.confidence))
-                            .collect::<Vec<_>>()
-                            .join(", "),
-                        if l.warnings.is_empty() {
-                            String::new()
-                        } else {
-                            format!("; {}", l.warnings.join("; "))
-                        }
-                    );
-                    l.bells.iter().map(|b| BellVoice::from_nominal(b.nominal_hz)).collect()
+                let voices = if let (Some(l), None) = (&learned, &calibration) {
+                    l.iter().map(|&f| BellVoice::from_nominal(f)).collect()
                 } else if let Some(c) = &calibration {
                     if a.show {
                         for (b, v) in c.bells.iter().zip(&c.voices) {

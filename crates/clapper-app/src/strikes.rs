@@ -415,6 +415,13 @@ impl StrikesReport {
     /// recording: the nominals (`learned_nominals_hz`), and what made them
     /// unsure first among the warnings.
     pub fn note_learned(&mut self, learned: Learned) {
+        // No nominals were given: the ring-size warning says so.
+        let timed: Vec<Timed> = self.strikes.iter().map(|s| Timed { bell: s.bell, t: s.t_s }).collect();
+        if let Some(given) = doubt::ring_size_warning(&timed, self.bells) {
+            let worded = doubt::ring_size_warning_as(&timed, self.bells, true);
+            self.summary.warnings.retain(|w| *w != given);
+            self.summary.warnings.extend(worded);
+        }
         self.summary.warnings.splice(0..0, learned.warnings);
         self.learned_nominals_hz = Some(learned.nominals);
     }

@@ -48,12 +48,13 @@ pub struct StrikesArgs {
     /// A folder of recordings of each bell struck alone, named 1.wav, 2.wav, ...
     #[arg(long, value_name = "DIR")]
     pub templates: Option<PathBuf>,
-    /// With --nominals: learn each bell's partials and its strike's sound
-    /// from the recording's own clean strikes (its first 80 s), and time
-    /// every strike at the start of its sound against that (issue 43: real
-    /// bells do not follow a tuned bell's partial ratios, and their sound
-    /// builds up after the blow). Reported per bell under "timing".
-    #[arg(long, requires = "nominals")]
+    /// With --nominals or --bells N: learn each bell's partials and its
+    /// strike's sound from the recording's own clean strikes (its first
+    /// 80 s) about the nominals given or learned, and time every strike at
+    /// the start of its sound against that (issue 43: real bells do not
+    /// follow a tuned bell's partial ratios, and their sound builds up
+    /// after the blow). Reported per bell under "timing".
+    #[arg(long, conflicts_with = "templates")]
     pub self_calibrate: bool,
     /// Without nominals: the number of bells ringing (3 to 16); their
     /// nominals are learned from the recording itself and reported.
@@ -119,8 +120,8 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         &[("--csv", args.csv.as_deref()), ("--lowndes", args.lowndes.as_deref())],
         args.json,
     )?;
-    if args.self_calibrate && args.nominals.is_none() {
-        bail!("--self-calibrate learns each bell from the recording about the nominals given: give --nominals F1,F2,.. (Hz, treble first)");
+    if args.self_calibrate && args.nominals.is_none() && args.bells.is_none() {
+        bail!("--self-calibrate learns each bell from the recording about its nominals: give --nominals F1,F2,.. (Hz, treble first) or --bells N to learn them");
     }
     let mut learned = None;
     let (voices, recorded) = match (&args.nominals, &args.templates, args.bells) {
@@ -142,13 +143,7 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
     }
     let opts = strike_options(args.double_min_ratio)?;
     // --self-calibrate: partials and templates learned from the recording's first window.
-    let calibration = match (&args.nominals, args.self_calibrate) {
-        (Some(n), true) => {
-            let head = recording_head(&args.file, Windows::default().whole_s)?;
-            Some(calibrate_from_recording(&head, &n.0, &opts).with_context(|| args.file.display().to_string())?)
-        }
-        _ => None,
-    };
+    let calibration = calibration_of(&args, learned.as_ref(), &opts)?;
     let voices = calibration.as_ref().map_or(voices, |c| c.voices.clone());
     // With templates, each strike is timed against its bell's template.
     let timing = match &calibration {
@@ -189,6 +184,28 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         crate::files::write_atomically(path, |tmp| Ok(clapper_plot::striking_plot(tmp, &fig.plot())?))?;
     }
     print_report(&report, args.json, || report.text(&args.file.display().to_string()))
+}
+
+/// With `--self-calibrate`, each bell learned from the recording's first
+/// window about the nominals given, or with `--bells N` about those
+/// `learned`.
+fn calibration_of(
+    args: &StrikesArgs,
+    learned: Option<&clapper_app::strikes::Learned>,
+    opts: &clapper_signal::strikes::StrikeOptions,
+) -> Result<Option<clapper_signal::self_calibrate::SelfCalibration>> {
+    let about: Option<Vec<f64>> = match (&args.nominals, learned) {
+        (Some(n), _) => Some(n.0.clone()),
+        (None, Some(l)) => Some(l.nominals.iter().map(|b| b.nominal_hz).collect()),
+        _ => None,
+    };
+    Ok(match (about, args.self_calibrate) {
+        (Some(n), true) => {
+            let head = recording_head(&args.file, Windows::default().whole_s)?;
+            Some(calibrate_from_recording(&head, &n, opts).with_context(|| args.file.display().to_string())?)
+        }
+        _ => None,
+    })
 }
 
 /// The first `seconds` of the recording at `path` (all of a shorter one).

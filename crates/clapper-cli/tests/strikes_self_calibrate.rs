@@ -131,12 +131,54 @@ fn strikes_self_calibrated_in_rounds_times_each_bell_on_its_own_sound() {
 }
 
 #[test]
-fn self_calibrate_needs_nominals() {
+fn self_calibrate_needs_nominals_or_bells() {
     let out = clapper()
-        .args(["strikes", "ring.wav", "--bells", "6", "--self-calibrate"])
+        .args(["strikes", "ring.wav", "--self-calibrate"])
         .output()
         .unwrap();
     assert!(!out.status.success());
     let said = String::from_utf8_lossy(&out.stderr);
-    assert!(said.contains("--nominals"), "{said}");
+    assert!(said.contains("--nominals") && said.contains("--bells N"), "{said}");
+}
+
+/// `--bells N --self-calibrate`: the nominals learned from the recording
+/// (twice the bells' primes, the ratios being given to the prime), then
+/// every bell timed from the recording's own clean strikes about them, as
+/// with `--nominals .. --self-calibrate` (before, refused: the learned
+/// nominals were heard through a tuned bell's ratios, more than 3 ms late).
+#[test]
+fn strikes_with_bells_self_calibrated_times_a_bell_at_the_start_of_its_sound() {
+    let dir = tempfile::tempdir().unwrap();
+    let (ring, truth, given) = untuned_ring(dir.path(), Method::PlainHunt);
+    let primes: Vec<f64> = given.split(',').map(|f| f.parse().unwrap()).collect();
+    let run = |extra: &[&str]| {
+        let out = clapper()
+            .arg("strikes")
+            .arg(&ring)
+            .args(["--bells", "4", "--json"])
+            .args(extra)
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        serde_json::from_slice::<serde_json::Value>(&out.stdout).unwrap()
+    };
+    let as_heard = run(&[]);
+    let j = run(&["--self-calibrate"]);
+    let learned: Vec<f64> = j["learned_nominals_hz"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|b| b["nominal_hz"].as_f64().unwrap())
+        .collect();
+    assert_eq!(learned.len(), 4, "{learned:?}");
+    for (l, p) in learned.iter().zip(&primes) {
+        assert!(
+            (l / (2.0 * p) - 1.0).abs() < 0.01,
+            "learned {learned:?}, primes {primes:?}"
+        );
+    }
+    assert_eq!(j["timing"]["source"], "recording", "{}", j["timing"]);
+    let (before, after) = (median_error_ms(&as_heard, &truth, 1), median_error_ms(&j, &truth, 1));
+    assert!(before.abs() > 3.0, "as heard: {before:.2} ms");
+    assert!(after.abs() <= 3.0, "self-calibrated: {after:.2} ms");
 }

@@ -63,6 +63,13 @@ pub(super) fn no_full_row(strikes: usize, rows: usize, full_rows: usize, heard: 
 /// A warning that more bells ring than nominals were `given`, from the
 /// strikes' spacing ([`clapper_signal::striking::ring_room`]).
 pub(super) fn ring_size_warning(timed: &[Timed], given: usize) -> Option<String> {
+    ring_size_warning_as(timed, given, false)
+}
+
+/// [`ring_size_warning`], worded for `given` nominals learned from the
+/// recording (`--bells N`) when `learned`: none were given, and the
+/// spacing of strikes heard about nominals learned wrong says so too.
+pub(super) fn ring_size_warning_as(timed: &[Timed], given: usize, learned: bool) -> Option<String> {
     let k = given as f64;
     // With every bell given it read n - 1.1 to n + 2.6 on 120 synthetic
     // rings (4 to 16 bells, striking errors to ±40 ms, handstroke gaps 0.5
@@ -79,14 +86,20 @@ pub(super) fn ring_size_warning(timed: &[Timed], given: usize) -> Option<String>
         ));
     }
     (room.bells >= k + 2.0 + 0.1 * k).then(|| {
-        format!(
-            "{given} nominal(s) given, but the strikes leave room for about {:.0} bells (a bell strikes every {:.0} ms, \
-             bells {:.0} ms apart): if more bells ring, give every bell's nominal, treble first; \
-             the rows, places and odd-struckness are wrong without them",
-            room.bells.round(),
-            room.row_s * 1e3,
-            room.interval_s * 1e3
-        )
+        let (bells, row_ms, apart_ms) = (room.bells.round(), room.row_s * 1e3, room.interval_s * 1e3);
+        if learned {
+            format!(
+                "--bells {given}, but the strikes heard about the nominals learned leave room for about {bells:.0} \
+                 bells (a bell strikes every {row_ms:.0} ms, bells {apart_ms:.0} ms apart): if more bells ring, ask \
+                 for them all; else some nominals learned are wrong, and so are the rows, places and odd-struckness"
+            )
+        } else {
+            format!(
+                "{given} nominal(s) given, but the strikes leave room for about {bells:.0} bells (a bell strikes every \
+                 {row_ms:.0} ms, bells {apart_ms:.0} ms apart): if more bells ring, give every bell's nominal, treble \
+                 first; the rows, places and odd-struckness are wrong without them"
+            )
+        }
     })
 }
 

@@ -49,16 +49,30 @@ const SAME: f64 = 0.008;
 const SAME_BELL: f64 = 0.75;
 /// A peak of a bell's mean rise this strong against its strongest may be its nominal.
 const CANDIDATE: f64 = 0.25;
-/// A peak an octave below the one chosen this strong (against the
-/// strongest) that fits about as well is the nominal.
-const OCTAVE_BELOW: f64 = 0.3;
 /// What being the strongest peak counts for, in partials found.
 const STRONG: f64 = 4.0;
 /// A partial this strong against the strongest is present.
 const PRESENT: f64 = 0.1;
+/// A bell is heard at this share of the onsets one bell of the ring has, at least.
+const LEAST: f64 = 0.3;
+/// Onsets at one nominal this many times one bell's are two bells'.
+const ONE_BELL: f64 = 1.5;
 /// Learned nominals closer than this (fraction, about two-thirds of a
 /// semitone) are warned of: no ring is tuned so close.
 const CLOSE: f64 = 0.04;
+/// The segments after and before a strike its nominal is measured late in (s).
+const LATE_S: f64 = 0.3;
+/// A nominal measured late lies within this (fraction) of the one heard as its strikes rose.
+const LATE_WIDTH: f64 = 0.015;
+/// At most about this many of a bell's strikes are measured late (spread evenly).
+const LATE_MOST: usize = 40;
+/// A bell on an empty note rises there at least this share of its onset's highest rise.
+const EMPTY_RISE: f64 = 0.3;
+/// Bells heard beyond those asked for that the ring's scale may choose among.
+const SPARE: usize = 3;
+/// Learned nominals closer than this (fraction, a twelfth of a semitone)
+/// are one bell's.
+const ONE_NOMINAL: f64 = 0.005;
 
 /// The short-time spectra: magnitudes from `k_lo` to `k_hi` of frames `hop` apart.
 pub(super) struct Frames<'a> {
@@ -180,34 +194,83 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
         .filter_map(|(i, d)| peak_of(d).map(|k| (freq(k), i)))
         .collect();
     let groups = group_notes(notes, df);
-    let expected = onsets.len() as f64 / bells as f64;
-    let bells_heard = same_bells(&groups, &rises, k_lo, df, (0.3 * expected).max(3.0));
-    // A bell heard at fewer onsets than this is no bell of the ring.
-    let least = (0.3 * expected).max(3.0);
-    let mut chosen: Vec<&Heard> = bells_heard.iter().filter(|b| b.onsets.len() as f64 >= least).collect();
-    chosen.sort_by_key(|b| std::cmp::Reverse(b.onsets.len()));
-    chosen.truncate(bells);
+    let ring = on_the_scale(bells_of(&groups, &rises, k_lo, df, bells), &rises, k_lo, df, bells);
     // A bell's share against the typical learned bell's: every bell of a
     // ring strikes as often as the others (onsets of the room, the noise
     // and strikes heard at another partial are no bell's).
-    let typical = median(chosen.iter().map(|b| b.onsets.len() as f64).collect()).max(1.0);
-    let in_ring = octaves_into_ring(&chosen.iter().map(|b| b.nominal_hz).collect::<Vec<_>>(), bells);
-    let mut learned: Vec<LearnedBell> = chosen
+    let typical = median(ring.iter().map(|(b, _)| b.onsets.len() as f64).collect()).max(1.0);
+    let mut learned: Vec<LearnedBell> = ring
         .iter()
-        .zip(in_ring)
         .map(|(b, f)| LearnedBell {
-            nominal_hz: refine(&rises, &b.onsets, f, k_lo, df),
+            nominal_hz: {
+                let heard = refine_moved(&rises, &b.onsets, b.nominal_hz, *f, k_lo, df);
+                let starts: Vec<usize> = b.onsets.iter().map(|&i| onsets[i] * frames.hop).collect();
+                refine_late(&low, &starts, frames.win.len(), heard).unwrap_or(heard)
+            },
             confidence: (b.onsets.len() as f64 / typical).min(1.0),
             onsets: b.onsets.len(),
         })
         .collect();
     learned.sort_by(|a, b| b.nominal_hz.total_cmp(&a.nominal_hz));
+    let learned = one_per_nominal(learned);
     let warnings = warnings_of(&learned, bells);
     Ok(Learned {
         bells: learned,
         onsets: onsets.len(),
         warnings,
     })
+}
+
+/// The ring's bells among those `heard`, each with its nominal moved by
+/// octaves: each bell's octave chosen with the others' (a ring is a
+/// scale, [`ring_octaves`]), the bells heard that fit no note left out
+/// and the empty notes filled ([`fill_empty_notes`]); failing that, the
+/// `bells` heard most, each moved into the ring's span alone.
+fn on_the_scale(heard: Vec<Heard>, rises: &[Vec<f64>], k_lo: usize, df: f64, bells: usize) -> Vec<(Heard, f64)> {
+    let pool: Vec<&Heard> = heard.iter().collect();
+    match ring_octaves(&pool, rises, k_lo, df, bells) {
+        Some(fit) => {
+            let mut ring: Vec<(Heard, f64)> = heard
+                .into_iter()
+                .zip(fit.moved)
+                .filter_map(|(b, f)| Some((b, f?)))
+                .collect();
+            let chosen: Vec<&Heard> = ring.iter().map(|b| &b.0).collect();
+            let filled = fill_empty_notes(&fit.empty, &chosen, rises, k_lo, df, bells);
+            ring.extend(filled.into_iter().map(|b| {
+                let f = b.nominal_hz;
+                (b, f)
+            }));
+            ring
+        }
+        None => {
+            let mut heard = heard;
+            heard.truncate(bells);
+            let hz: Vec<f64> = heard.iter().map(|b| b.nominal_hz).collect();
+            let moved = octaves_into_ring(&hz, bells);
+            heard.into_iter().zip(moved).collect()
+        }
+    }
+}
+
+/// The bells heard at most onsets, a few more than `bells` (at least [`LEAST`] of one
+/// bell's share each), from the groups of notes ([`same_bells`]).
+fn bells_of(groups: &[Vec<(f64, usize)>], rises: &[Vec<f64>], k_lo: usize, df: f64, bells: usize) -> Vec<Heard> {
+    let expected = rises.len() as f64 / bells as f64;
+    // A bell heard at fewer onsets than this is no bell of the ring.
+    let least = (LEAST * expected).max(3.0);
+    let enough = |h: &Vec<Heard>| h.iter().filter(|b| b.onsets.len() as f64 >= least).count();
+    let mut heard = same_bells(groups, rises, k_lo, df, least, false);
+    if enough(&heard) < bells {
+        // Too few: a nominal heard far more often than one bell strikes
+        // may be two bells' (the tenor's octave on the treble's nominal).
+        heard = same_bells(groups, rises, k_lo, df, least, true);
+    }
+    heard.retain(|b| b.onsets.len() as f64 >= least);
+    heard.sort_by_key(|b| std::cmp::Reverse(b.onsets.len()));
+    // A few more than asked: the ring's scale chooses among them.
+    heard.truncate(bells + SPARE);
+    heard
 }
 
 /// Onset frames: peaks of the rise standing above its neighbours within
@@ -271,23 +334,108 @@ fn median(mut v: Vec<f64>) -> f64 {
     v[v.len() / 2]
 }
 
+/// A bell's nominal measured late: over [`LATE_S`] after each of its
+/// strikes (`starts`: the samples of `low` where the frames its strikes
+/// rose in begin, `win` long) less what sounded as long before, summed,
+/// the peak within [`LATE_WIDTH`] of `f` (Hz); `None` if at the edge. The
+/// rise of one 90 ms frame cannot part a nominal's doublet: a recorded
+/// tenor's (d6) sounds at 1228 Hz as struck and 1237 Hz after, and a
+/// tuner's nominal is the one that lasts.
+fn refine_late(low: &Signal, starts: &[usize], win: usize, f: f64) -> Option<f64> {
+    let n = (LATE_S * low.rate) as usize;
+    let nfft = (4 * n).next_power_of_two();
+    let df = low.rate / nfft as f64;
+    let lo = ((1.0 - LATE_WIDTH) * f / df).floor() as usize;
+    let hi = ((1.0 + LATE_WIDTH) * f / df).ceil() as usize;
+    if lo < 2 || hi + 2 >= nfft / 2 {
+        return None;
+    }
+    let hann = crate::spectrogram::hann(n);
+    let fft = realfft::RealFftPlanner::<f64>::new().plan_fft_forward(nfft);
+    let spectrum = |a: usize| -> Vec<f64> {
+        let mut buf = fft.make_input_vec();
+        for (i, w) in hann.iter().enumerate() {
+            buf[i] = low.samples[a + i] * w;
+        }
+        let mut out = fft.make_output_vec();
+        // The lengths are the plan's own: process cannot fail.
+        let _ = fft.process(&mut buf, &mut out);
+        out[lo - 1..=hi + 1].iter().map(|c| c.norm()).collect()
+    };
+    let mut sum = vec![0.0; hi - lo + 3];
+    let mut used = 0;
+    for &s in starts.iter().step_by((starts.len() / LATE_MOST).max(1)) {
+        if s < n || s + win + n > low.samples.len() {
+            continue;
+        }
+        let (after, before) = (spectrum(s + win), spectrum(s - n));
+        for ((m, a), b) in sum.iter_mut().zip(&after).zip(&before) {
+            *m += (a - b).max(0.0);
+        }
+        used += 1;
+    }
+    if used == 0 {
+        return None;
+    }
+    let k = (1..sum.len() - 1).max_by(|&a, &b| sum[a].total_cmp(&sum[b]))?;
+    if k == 1 || k == sum.len() - 2 || sum[k - 1] <= 0.0 || sum[k + 1] <= 0.0 {
+        return None;
+    }
+    let (a, b, c) = (sum[k - 1].ln(), sum[k].ln(), sum[k + 1].ln());
+    let den = a - 2.0 * b + c;
+    let off = if den != 0.0 { 0.5 * (a - c) / den } else { 0.0 };
+    Some((k as f64 + (lo - 1) as f64 + off.clamp(-0.5, 0.5)) * df)
+}
+
+/// A bell's nominal from the mean rise over its onsets, heard at `heard`
+/// (Hz) and moved by octaves to `moved`. Not moved: the peak about it.
+/// Moved: the centre of the rise within 2 % of `moved`, then within
+/// 1.2 % of that, three times (the nominal's own peak may be split in two
+/// by a partial of the bell struck before, its centre kept; twice the
+/// nominal is not its octave partial to better than about 1 %).
+fn refine_moved(rises: &[Vec<f64>], onsets: &[usize], heard: f64, moved: f64, k_lo: usize, df: f64) -> f64 {
+    if (moved / heard - 1.0).abs() < 0.1 {
+        return refine(rises, onsets, heard, 0.02, k_lo, df).unwrap_or(heard);
+    }
+    let mean = mean_rise(rises, onsets);
+    let mut centre = moved;
+    for width in [0.02, 0.012, 0.012, 0.012] {
+        let (lo, hi) = ((1.0 - width) * centre / df, (1.0 + width) * centre / df);
+        let (mut w, mut wf) = (0.0, 0.0);
+        for (i, m) in mean.iter().enumerate() {
+            let k = (i + k_lo) as f64;
+            if k >= lo && k <= hi {
+                w += m;
+                wf += m * k * df;
+            }
+        }
+        if w <= 0.0 {
+            break;
+        }
+        centre = wf / w;
+    }
+    centre
+}
+
 /// A group's frequency from the mean rise over its onsets: the peak within
-/// 2 % of `centre`, by a parabola through the log magnitudes.
-fn refine(rises: &[Vec<f64>], onsets: &[usize], centre: f64, k_lo: usize, df: f64) -> f64 {
+/// `width` (fraction) of `centre`, by a parabola through the log
+/// magnitudes; `None` if the greatest rise there is at its edge.
+fn refine(rises: &[Vec<f64>], onsets: &[usize], centre: f64, width: f64, k_lo: usize, df: f64) -> Option<f64> {
     let mean = mean_rise(rises, onsets);
     let len = mean.len();
     let bin = |f: f64| ((f / df).round() as usize).saturating_sub(k_lo).min(len - 1);
-    let (lo, hi) = (bin(0.98 * centre).max(1), bin(1.02 * centre).min(len - 2));
-    let Some(k) = (lo..=hi).max_by(|&a, &b| mean[a].total_cmp(&mean[b])) else {
-        return centre;
-    };
-    if !(mean[k - 1] > 0.0 && mean[k] > 0.0 && mean[k + 1] > 0.0) {
-        return centre;
+    let (lo, hi) = (
+        bin((1.0 - width) * centre).max(1),
+        bin((1.0 + width) * centre).min(len - 2),
+    );
+    let k = (lo..=hi).max_by(|&a, &b| mean[a].total_cmp(&mean[b]))?;
+    if !(mean[k - 1] > 0.0 && mean[k] > 0.0 && mean[k + 1] > 0.0) || mean[k - 1] > mean[k] || mean[k + 1] > mean[k] {
+        return None;
     }
     let (a, b, c) = (mean[k - 1].ln(), mean[k].ln(), mean[k + 1].ln());
     let den = a - 2.0 * b + c;
     let off = if den != 0.0 { 0.5 * (a - c) / den } else { 0.0 };
-    (k as f64 + k_lo as f64 + off.clamp(-0.5, 0.5)) * df
+    Some((k as f64 + k_lo as f64 + off.clamp(-0.5, 0.5)) * df)
 }
 
 /// The mean rise over `onsets`.
@@ -326,11 +474,20 @@ const PARTIAL_RANGES: [(f64, f64); 9] = [
 /// The groups of notes that are one bell's: its strikes' rise is the same
 /// across the spectrum whichever of its partials rose most. Largest
 /// first, a group whose mean rise is like a bell's first group's joins it;
-/// else one noted at `big` onsets or more is a new bell. Each bell's
+/// else one noted at `big` onsets or more is a new bell (and, with
+/// `split_crowded`, two found at one nominal are kept apart when they
+/// hold far more onsets than one bell). Each bell's
 /// nominal is then the peak of its mean rise with the most of a tuned
 /// bell's other partials at their ratios to it ([`PARTIAL_RANGES`]), the
 /// strongest among equals (handbells have only a twelfth).
-fn same_bells(groups: &[Vec<(f64, usize)>], rises: &[Vec<f64>], k_lo: usize, df: f64, big: f64) -> Vec<Heard> {
+fn same_bells(
+    groups: &[Vec<(f64, usize)>],
+    rises: &[Vec<f64>],
+    k_lo: usize,
+    df: f64,
+    big: f64,
+    split_crowded: bool,
+) -> Vec<Heard> {
     let means: Vec<Vec<f64>> = groups
         .iter()
         .map(|g| {
@@ -346,6 +503,7 @@ fn same_bells(groups: &[Vec<(f64, usize)>], rises: &[Vec<f64>], k_lo: usize, df:
     let mut order: Vec<usize> = (0..groups.len()).collect();
     order.sort_by_key(|&a| std::cmp::Reverse(groups[a].len()));
     let mut members: Vec<Vec<usize>> = vec![];
+    let mut left: Vec<usize> = vec![];
     for i in order {
         let like = members
             .iter()
@@ -357,7 +515,24 @@ fn same_bells(groups: &[Vec<(f64, usize)>], rises: &[Vec<f64>], k_lo: usize, df:
             // even if like another's (an octave's prime is its nominal).
             Some((m, c)) if c > SAME_BELL && (groups[i].len() as f64) < 2.0 * big => members[m].push(i),
             _ if groups[i].len() as f64 >= big => members.push(vec![i]),
-            _ => {}
+            _ => left.push(i),
+        }
+    }
+    // A bell whose strikes rose most at several partials in turn (in a
+    // room, at 15 dB) is noted as several small groups: alike, together
+    // they are a bell.
+    let mut used = vec![false; left.len()];
+    for a in 0..left.len() {
+        if used[a] {
+            continue;
+        }
+        let like: Vec<usize> = (a..left.len())
+            .filter(|&b| !used[b] && (b == a || cos(left[a], left[b]) > SAME_BELL))
+            .collect();
+        like.iter().for_each(|&b| used[b] = true);
+        let set: Vec<usize> = like.iter().map(|&b| left[b]).collect();
+        if set.iter().map(|&g| groups[g].len()).sum::<usize>() as f64 >= big {
+            members.push(set);
         }
     }
     let mut out: Vec<Heard> = vec![];
@@ -366,11 +541,14 @@ fn same_bells(groups: &[Vec<(f64, usize)>], rises: &[Vec<f64>], k_lo: usize, df:
         let Some(nominal_hz) = nominal_of(&mean_rise(rises, &onsets), k_lo, df) else {
             continue;
         };
-        // Two bells found at one nominal are one bell heard two ways.
-        match out
-            .iter_mut()
-            .find(|h| (h.nominal_hz - nominal_hz).abs() < 2.0 * SAME * nominal_hz)
-        {
+        // Two bells found at one nominal are one bell heard two ways,
+        // unless (`split_crowded`) together they struck far more often
+        // than a bell does (a tenor's octave nominal on the treble's
+        // nominal: two bells).
+        match out.iter_mut().find(|h| {
+            (h.nominal_hz - nominal_hz).abs() < 2.0 * SAME * nominal_hz
+                && !(split_crowded && ((h.onsets.len() + onsets.len()) as f64) >= ONE_BELL * big / LEAST)
+        }) {
             Some(h) => h.onsets.extend(onsets),
             None => out.push(Heard { nominal_hz, onsets }),
         }
@@ -380,7 +558,10 @@ fn same_bells(groups: &[Vec<(f64, usize)>], rises: &[Vec<f64>], k_lo: usize, df:
 
 /// The nominal in one bell's mean rise (bins from `k_lo`, `df` Hz apart):
 /// the peak with the most partials at a tuned bell's ratios to it, its
-/// strength counting for up to [`STRONG`] more.
+/// strength counting for up to [`STRONG`] more. Its octave is chosen
+/// later with the ring's ([`ring_octaves`]): taking a strong peak an
+/// octave below here (as once for recorded bells) put an eight's treble,
+/// heard at its prime, on its tenor's nominal, and the two were one bell.
 fn nominal_of(mean: &[f64], k_lo: usize, df: f64) -> Option<f64> {
     let top = mean.iter().copied().fold(0.0, f64::max);
     if top <= 0.0 {
@@ -403,14 +584,252 @@ fn nominal_of(mean: &[f64], k_lo: usize, df: f64) -> Option<f64> {
     // strong peak is taken over a weak one with one partial more.
     let value = |p: &(f64, usize, f64)| p.1 as f64 + STRONG * p.2 / top;
     let best = peaks.iter().max_by(|a, b| value(a).total_cmp(&value(b)))?;
-    // Recorded tower bells' upper partials (at 1.18, 1.56, 2.7, 3 and 4
-    // times the nominal) fit an octave nominal as well as the nominal: a
-    // strong peak an octave below that fits about as well is the nominal
-    // (a synthetic bell's prime, an octave below, fits far worse).
-    let below = peaks
+    Some(best.0)
+}
+
+/// Partials of a tuned bell, as ratios to its nominal: hum, prime,
+/// tierce, quint, nominal, superquint, octave nominal, the partial at
+/// 2.5 and the twelfth. The recorded tower bells are tuned bells too
+/// (docs/strikes.md: their nominal is the partial at twice the prime and
+/// four times the hum), so no other pattern is scored.
+const TUNED_PATTERN: [f64; 9] = [0.25, 0.5, 0.5946, 0.75, 1.0, 1.5, 2.0, 2.52, 3.0];
+/// A peak within this (fraction) of a pattern's partial is that partial.
+const ON_PATTERN: f64 = 0.015;
+/// Peaks this strong against a bell's strongest count in its fit to a pattern.
+const FIT_PEAK: f64 = 0.08;
+/// A nominal is itself heard at least this strong against its bell's
+/// strongest: a bell's nominal is among its strongest partials as its
+/// strikes rise (0.05 let wind below 300 Hz, moved up an octave onto a
+/// note, fit as a bell).
+const NOMINAL_HEARD: f64 = 0.2;
+/// A bell lies within this (semitones) of its note of the scale.
+const IN_TUNE: f64 = 0.45;
+/// A major scale's steps (semitones) from its key note: a ring is N
+/// consecutive notes of it, from any degree (major, minor and the rest).
+const DIATONIC: [f64; 7] = [2.0, 2.0, 1.0, 2.0, 2.0, 2.0, 1.0];
+/// Octaves a heard nominal may be moved by, down and up.
+const OCTAVES: i32 = 2;
+
+/// How well one bell's mean rise (bins from `k_lo`, `df` Hz apart) fits
+/// a nominal at `f` (Hz): the share of its peaks' strength that lies on
+/// the partials of a tuned bell; nothing if `f` itself is not heard.
+fn pattern_fit(mean: &[f64], f: f64, k_lo: usize, df: f64) -> f64 {
+    let top = mean.iter().copied().fold(0.0, f64::max);
+    if top <= 0.0 || mean.len() < 5 {
+        return 0.0;
+    }
+    let bin = |f: f64| (f / df).round() as isize - k_lo as isize;
+    let (a, b) = (bin(0.99 * f).max(0), bin(1.01 * f).min(mean.len() as isize - 1));
+    if a > b || (a..=b).all(|k| mean[k as usize] < NOMINAL_HEARD * top) {
+        return 0.0;
+    }
+    let peaks: Vec<(f64, f64)> = (2..mean.len() - 2)
+        .filter(|&k| mean[k] >= FIT_PEAK * top && (1..=2).all(|j| mean[k] >= mean[k - j] && mean[k] >= mean[k + j]))
+        .map(|k| ((k + k_lo) as f64 * df, mean[k]))
+        .collect();
+    let all: f64 = peaks.iter().map(|p| p.1).sum();
+    peaks
         .iter()
-        .find(|p| (p.0 / best.0 - 0.5).abs() < 0.01 && p.2 >= OCTAVE_BELOW * top && p.1 + 1 >= best.1);
-    Some(below.unwrap_or(best).0)
+        .filter(|(g, _)| TUNED_PATTERN.iter().any(|r| (g / (r * f) - 1.0).abs() < ON_PATTERN))
+        .map(|p| p.1)
+        .sum::<f64>()
+        / all
+}
+
+/// The nominals of the bells heard, each moved by whole octaves (up to
+/// [`OCTAVES`]) so that together they are `bells` consecutive notes of a
+/// diatonic scale (treble highest, a note or more left empty where fewer
+/// are heard) and fit their bells' partials best ([`pattern_fit`], summed):
+/// a bell's octave nominal or prime may be heard more strongly than its
+/// nominal, but the ring's octave is judged on every bell at once. A bell
+/// heard (of more than `bells`, or off every note) may be left out
+/// (`None`): another bell's partial heard again and again, or wind. `None`
+/// when no such scale holds any of them.
+fn ring_octaves(chosen: &[&Heard], rises: &[Vec<f64>], k_lo: usize, df: f64, bells: usize) -> Option<RingFit> {
+    let heard: Vec<f64> = chosen.iter().map(|b| b.nominal_hz).collect();
+    let fits: Vec<Vec<f64>> = chosen
+        .iter()
+        .map(|b| {
+            let mean = mean_rise(rises, &b.onsets);
+            (-OCTAVES..=OCTAVES)
+                .map(|o| pattern_fit(&mean, b.nominal_hz * 2f64.powi(o), k_lo, df))
+                .collect()
+        })
+        .collect();
+    let mut best: Option<(f64, Placing, Vec<f64>)> = None;
+    for &reference in &heard {
+        for o_ref in -OCTAVES..=OCTAVES {
+            let at = reference * 2f64.powi(o_ref);
+            for degree in 0..DIATONIC.len() {
+                let notes = scale_notes(degree, bells);
+                for &on in &notes {
+                    // The reference bell's nominal on note `on` of the scale.
+                    let pos: Vec<f64> = notes.iter().map(|n| n - on).collect();
+                    let (sum, placed) = best_octaves(&heard, &fits, at, &pos);
+                    if best.as_ref().is_none_or(|b| sum > b.0 + 1e-9) {
+                        let notes_hz = pos.iter().map(|p| at * 2f64.powf(p / 12.0)).collect();
+                        best = Some((sum, placed, notes_hz));
+                    }
+                }
+            }
+        }
+    }
+    let (_, placed, notes_hz) = best?;
+    if placed.iter().all(Option::is_none) {
+        return None;
+    }
+    let empty = (0..notes_hz.len())
+        .filter(|&k| !placed.iter().flatten().any(|p| p.0 == k))
+        .map(|k| notes_hz[k])
+        .collect();
+    Some(RingFit {
+        moved: heard
+            .iter()
+            .zip(placed)
+            .map(|(f, p)| p.map(|(_, o)| f * 2f64.powi(o)))
+            .collect(),
+        empty,
+    })
+}
+
+/// Each bell heard's note of the scale and octave moved by, or `None`
+/// if left out.
+type Placing = Vec<Option<(usize, i32)>>;
+
+/// The bells heard placed on the ring's scale ([`ring_octaves`]).
+struct RingFit {
+    /// Each bell heard, its nominal moved by octaves onto its note, or
+    /// `None` if left out.
+    moved: Vec<Option<f64>>,
+    /// The notes of the scale no bell heard took (Hz).
+    empty: Vec<f64>,
+}
+
+/// Bells on the notes of the ring's scale that no bell heard took
+/// (`empty`, Hz): a bell whose strikes rose most at another sound (wind,
+/// another bell's prime on its nominal) is heard there at the onsets no
+/// bell took, its rise peaking within [`IN_TUNE`] of the note and
+/// [`EMPTY_RISE`] as high as the onset's highest; at [`LEAST`] of a
+/// bell's share of them or more, a bell.
+fn fill_empty_notes(
+    empty: &[f64],
+    chosen: &[&Heard],
+    rises: &[Vec<f64>],
+    k_lo: usize,
+    df: f64,
+    bells: usize,
+) -> Vec<Heard> {
+    let least = (LEAST * rises.len() as f64 / bells as f64).max(3.0);
+    let mut taken = vec![false; rises.len()];
+    chosen.iter().flat_map(|b| &b.onsets).for_each(|&i| taken[i] = true);
+    let semitone = 2f64.powf(IN_TUNE / 12.0);
+    let mut out = vec![];
+    for &note in empty {
+        let (lo, hi) = ((note / semitone / df) as usize, (note * semitone / df).ceil() as usize);
+        if lo <= k_lo + 1 || hi + 1 >= k_lo + rises[0].len() {
+            continue;
+        }
+        let (lo, hi) = (lo - k_lo, hi - k_lo);
+        let onsets: Vec<usize> = (0..rises.len())
+            .filter(|&i| {
+                let r = &rises[i];
+                let top = r.iter().copied().fold(0.0, f64::max);
+                let k = (lo..=hi).max_by(|&a, &b| r[a].total_cmp(&r[b])).unwrap_or(lo);
+                !taken[i] && top > 0.0 && r[k] >= EMPTY_RISE * top && r[k] > r[k - 1] && r[k] > r[k + 1]
+            })
+            .collect();
+        if (onsets.len() as f64) < least {
+            continue;
+        }
+        let nominal_hz = refine(rises, &onsets, note, 1.0 - 1.0 / semitone, k_lo, df).unwrap_or(note);
+        onsets.iter().for_each(|&i| taken[i] = true);
+        out.push(Heard { nominal_hz, onsets });
+    }
+    out
+}
+
+/// Semitones of `bells` consecutive notes of the diatonic scale from its
+/// `degree`th (0: the major's key note), the lowest at 0.
+fn scale_notes(degree: usize, bells: usize) -> Vec<f64> {
+    let mut notes = vec![0.0];
+    for k in 0..bells.saturating_sub(1) {
+        notes.push(notes[k] + DIATONIC[(degree + k) % DIATONIC.len()]);
+    }
+    notes
+}
+
+/// Each bell put on a note of the scale `pos` (semitones from `at` Hz)
+/// by whole octaves, or left out, no two on one note, the octaves fitting
+/// best in all (`fits[bell][octave + OCTAVES]`): the sum of fits and each
+/// bell's note and octave (`None`: left out, as a bell on no note is).
+fn best_octaves(heard: &[f64], fits: &[Vec<f64>], at: f64, pos: &[f64]) -> (f64, Placing) {
+    // Per bell, the (note, octave) it may take: one a pitch class, so
+    // only bells of one pitch class (an octave apart) compete for notes.
+    let options: Vec<Vec<(usize, i32)>> = heard
+        .iter()
+        .map(|&f| {
+            let d = 12.0 * (f / at).log2();
+            (-OCTAVES..=OCTAVES)
+                .filter_map(|o| {
+                    let x = d + 12.0 * f64::from(o);
+                    pos.iter().position(|p| (x - p).abs() < IN_TUNE).map(|k| (k, o))
+                })
+                .collect()
+        })
+        .collect();
+    let mut octaves = vec![None; heard.len()];
+    let mut total = 0.0;
+    let mut done = vec![false; heard.len()];
+    for i in 0..heard.len() {
+        if done[i] || options[i].is_empty() {
+            continue;
+        }
+        // The bells sharing bell i's notes, each given one of them or left out.
+        let class: Vec<usize> = (i..heard.len())
+            .filter(|&j| !done[j] && options[j].iter().any(|(k, _)| options[i].iter().any(|(ki, _)| ki == k)))
+            .collect();
+        let mut pick: Option<(f64, Placing)> = None;
+        assign(&class, &options, fits, 0, &mut vec![], 0.0, &mut pick);
+        let Some((sum, octs)) = pick else { continue };
+        total += sum;
+        for (&j, o) in class.iter().zip(octs) {
+            octaves[j] = o;
+            done[j] = true;
+        }
+    }
+    (total, octaves)
+}
+
+/// The best assignment of `class`'s bells (from the `at`th) to distinct
+/// notes, each bell placed where it can be before it is left out.
+fn assign(
+    class: &[usize],
+    options: &[Vec<(usize, i32)>],
+    fits: &[Vec<f64>],
+    at: usize,
+    taken: &mut Placing,
+    sum: f64,
+    best: &mut Option<(f64, Placing)>,
+) {
+    if at == class.len() {
+        if best.as_ref().is_none_or(|b| sum > b.0) {
+            *best = Some((sum, taken.clone()));
+        }
+        return;
+    }
+    let bell = class[at];
+    for &(k, o) in &options[bell] {
+        if taken.iter().flatten().any(|t| t.0 == k) {
+            continue;
+        }
+        taken.push(Some((k, o)));
+        let fit = fits[bell][(o + OCTAVES) as usize];
+        assign(class, options, fits, at + 1, taken, sum + fit, best);
+        taken.pop();
+    }
+    taken.push(None);
+    assign(class, options, fits, at + 1, taken, sum, best);
+    taken.pop();
 }
 
 /// Semitones from the tenor to the treble of a ring of `bells` tuned to
@@ -454,6 +873,28 @@ fn octaves_into_ring(f: &[f64], bells: usize) -> Vec<f64> {
 }
 
 /// Warnings: fewer bells heard than asked, a bell heard seldom, two close.
+/// Bells learned (highest first) within [`ONE_NOMINAL`] of the one
+/// before are that bell heard twice (two partials moved by octaves onto
+/// one note, in a room): one bell, the one heard at more onsets, with
+/// both's onsets. No ring is tuned so close, and two voices there could
+/// not be told apart (`--nominals` refuses them).
+fn one_per_nominal(learned: Vec<LearnedBell>) -> Vec<LearnedBell> {
+    let mut out: Vec<LearnedBell> = vec![];
+    for b in learned {
+        match out.last_mut() {
+            Some(a) if a.nominal_hz - b.nominal_hz < ONE_NOMINAL * a.nominal_hz => {
+                if b.onsets > a.onsets {
+                    a.nominal_hz = b.nominal_hz;
+                }
+                a.onsets += b.onsets;
+                a.confidence = (a.confidence + b.confidence).min(1.0);
+            }
+            _ => out.push(b),
+        }
+    }
+    out
+}
+
 fn warnings_of(learned: &[LearnedBell], bells: usize) -> Vec<String> {
     let mut w = vec![];
     if learned.len() < bells {
@@ -546,6 +987,194 @@ mod tests {
         assert!(failed.is_empty(), "{failed:?}");
     }
 
+    /// A strike of a bell with a recorded tower bell's partials
+    /// ([`crate::sampled_ring::RECORDED_PARTIALS`], ratios to the prime,
+    /// half the nominal `nominal`), its nominal scaled by `upper` and its
+    /// tierce by the root of that (the recorded ring's two lowest bells
+    /// have them 1.3 to 3 times as strong as the prime).
+    fn untuned_strike(nominal: f64, upper: f64, rate: f64, seed: u64) -> Signal {
+        let prime = nominal / 2.0;
+        use crate::sampled_ring::RECORDED_PARTIALS;
+        let mut samples = vec![0.0; (0.02 * rate) as usize];
+        let mut noise = seed;
+        samples.extend((0..(1.6 * rate) as usize).map(|k| {
+            let t = k as f64 / rate;
+            let tone: f64 = RECORDED_PARTIALS
+                .iter()
+                .map(|&(r, a)| {
+                    let a = match r {
+                        _ if (r - 2.0).abs() < 0.1 => a * upper,
+                        _ if (r - 1.18).abs() < 0.05 => a * upper.sqrt(),
+                        _ => a,
+                    };
+                    a * (2.0 * std::f64::consts::PI * r * prime * t + r).sin()
+                })
+                .sum();
+            noise = noise
+                .wrapping_mul(6364136223846793005)
+                .wrapping_add(1442695040888963407);
+            let blow = ((noise >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.3 * (-t / 0.004).exp();
+            (tone * (0.1 + 0.9 * (1.0 - (-t / 0.02).exp())) + blow) * (-t / 0.9).exp()
+        }));
+        Signal { rate, samples }
+    }
+
+    /// Six bells with a recorded tower bell's partials (the two lowest
+    /// with their nominal far stronger than their prime, as the recorded
+    /// ring's), rung in rounds dry and in a room: every nominal (twice
+    /// the prime) within 1 %, not the prime.
+    #[test]
+    fn learns_untuned_bells_within_one_percent_dry_and_in_a_room() {
+        use crate::sampled_ring::sampled_ring;
+        let rate = 22050.0;
+        let bells = tuned_ring(6, 1040.0, Scale::Major).unwrap();
+        let strikes: Vec<Signal> = bells
+            .iter()
+            .enumerate()
+            .map(|(i, b)| untuned_strike(b.nominal_hz, if i >= 4 { 8.0 } else { 1.0 }, rate, 7 + i as u64))
+            .collect();
+        let mut failed = vec![];
+        for (room, snr) in [(None, 25.0), (Some(Room::chamber(1.0)), 20.0)] {
+            let spec = TowerSpec {
+                rate,
+                seed: 3,
+                rows: 24,
+                interval: 2.0 / 7.0,
+                jitter: 0.02,
+                room,
+                snr_db: Some(snr),
+                ..TowerSpec::new(bells.clone())
+            };
+            let (sig, _) = sampled_ring(&spec, &strikes).unwrap();
+            let l = learn_nominals(&sig, 6).unwrap();
+            let got: Vec<f64> = l.bells.iter().map(|b| b.nominal_hz).collect();
+            let worst = if got.len() == 6 {
+                bells
+                    .iter()
+                    .zip(&got)
+                    .map(|(t, g)| 100.0 * (g / t.nominal_hz - 1.0).abs())
+                    .fold(0.0, f64::max)
+            } else {
+                f64::INFINITY
+            };
+            eprintln!("room {room:?}: learned {got:.1?}, worst {worst:.2} %");
+            if worst >= 1.0 {
+                failed.push((room.map(|r| r.rt60_s), got, worst));
+            }
+        }
+        assert!(failed.is_empty(), "{failed:?}");
+    }
+
+    /// The Python layers test's ring (`clapper synth-ring --bells 8 --rows
+    /// 16 --plain-hunt --doublets 0.1:3 --swing-db 8 --rt60 0.8 --snr 20
+    /// --noise wind --double 3:6:70:0.8 --seed 5`): a major eight from a
+    /// 1400 Hz treble, every bell within 1 % (a learner once took three
+    /// partials for the top three bells here).
+    #[test]
+    fn learns_an_eight_with_the_swing_a_room_and_wind_within_one_percent() {
+        let spec = TowerSpec {
+            seed: 5,
+            rows: 16,
+            tail: 3.0,
+            method: crate::tower::Method::PlainHunt,
+            doublets: Some(Doublets {
+                split_hz: (0.1, 3.0),
+                share: (0.2, 0.8),
+            }),
+            swing: Some(crate::tower::Swing {
+                level_db: 8.0,
+                doppler: 0.0,
+            }),
+            room: Some(Room::chamber(0.8)),
+            snr_db: Some(20.0),
+            noise: crate::tower::Noise::Wind,
+            doubles: vec![crate::tower::DoubleStrikeSpec {
+                bell: 3,
+                row: 6,
+                delay_ms: 70.0,
+                amplitude_ratio: 0.8,
+            }],
+            ..TowerSpec::new(major_scale(8, 1400.0).unwrap())
+        };
+        let (worst, warnings) = worst_error(&spec);
+        assert!(worst < 1.0, "worst {worst:.2} %; {warnings:?}");
+    }
+
+    /// A strike whose nominal is a doublet as a recorded tenor's (d6: 1228
+    /// Hz as loud as struck and soon gone, 1237 Hz lasting): the lower
+    /// component 0.8 % below `nominal`, at first stronger, decaying in
+    /// 0.15 s; the upper at `nominal`, lasting; the other partials a tuned
+    /// bell's.
+    fn doublet_strike(nominal: f64, rate: f64) -> Signal {
+        let parts = [
+            (0.25, 0.35, 1.5),
+            (0.5, 0.45, 1.2),
+            (0.5946, 0.5, 1.0),
+            (0.992, 0.8, 0.15),
+            (1.0, 0.6, 1.5),
+            (1.5, 0.45, 0.8),
+            (2.0, 0.35, 0.6),
+        ];
+        let samples = (0..(2.0 * rate) as usize)
+            .map(|k| {
+                let t = k as f64 / rate;
+                let tone: f64 = parts
+                    .iter()
+                    .map(|&(r, a, tau)| a * (-t / tau).exp() * (2.0 * std::f64::consts::PI * r * nominal * t + r).sin())
+                    .sum();
+                tone * (1.0 - (-t / 0.002).exp())
+            })
+            .collect();
+        Signal { rate, samples }
+    }
+
+    /// Six bells whose nominals are doublets that change as they sound
+    /// ([`doublet_strike`]): each learned within 0.3 % of the lasting
+    /// component dry, within 1 % in a room (its tail keeps the early one
+    /// sounding: the treble and tenor are learned at it, 0.8 % low). From
+    /// the rise of the strikes alone: 1.02 % and 1.16 %.
+    #[test]
+    fn a_nominal_doublet_is_learned_at_the_component_that_lasts() {
+        use crate::sampled_ring::sampled_ring;
+        let rate = 22050.0;
+        let bells = tuned_ring(6, 1040.0, Scale::Major).unwrap();
+        let strikes: Vec<Signal> = bells.iter().map(|b| doublet_strike(b.nominal_hz, rate)).collect();
+        let mut failed = vec![];
+        for (room, snr, within) in [(None, 25.0, 0.3), (Some(Room::chamber(1.0)), 20.0, 1.0)] {
+            let spec = TowerSpec {
+                rate,
+                seed: 4,
+                rows: 24,
+                interval: 2.0 / 7.0,
+                jitter: 0.02,
+                room,
+                snr_db: Some(snr),
+                ..TowerSpec::new(bells.clone())
+            };
+            let (sig, _) = sampled_ring(&spec, &strikes).unwrap();
+            let got: Vec<f64> = learn_nominals(&sig, 6)
+                .unwrap()
+                .bells
+                .iter()
+                .map(|b| b.nominal_hz)
+                .collect();
+            let worst = if got.len() == 6 {
+                bells
+                    .iter()
+                    .zip(&got)
+                    .map(|(t, g)| 100.0 * (g / t.nominal_hz - 1.0).abs())
+                    .fold(0.0, f64::max)
+            } else {
+                f64::INFINITY
+            };
+            eprintln!("room {room:?}: learned {got:.1?}, worst {worst:.2} %");
+            if worst >= within {
+                failed.push((room.map(|r| r.rt60_s), got, worst));
+            }
+        }
+        assert!(failed.is_empty(), "{failed:?}");
+    }
+
     #[test]
     fn learns_handbells_within_one_percent() {
         let spec = TowerSpec {
@@ -556,6 +1185,28 @@ mod tests {
         };
         let (worst, warnings) = worst_error(&spec);
         assert!(worst < 1.0, "worst {worst:.2} %; {warnings:?}");
+    }
+
+    /// Two bells learned within half a percent (seen on rings in a room
+    /// whose partials were moved by octaves onto one note) are one bell,
+    /// the one heard more, with both's onsets; others are kept.
+    #[test]
+    fn two_bells_learned_at_one_nominal_are_one() {
+        let bell = |nominal_hz: f64, onsets: usize| LearnedBell {
+            nominal_hz,
+            confidence: onsets as f64 / 20.0,
+            onsets,
+        };
+        let got = one_per_nominal(vec![
+            bell(2654.8, 6),
+            bell(2649.9, 14),
+            bell(1750.0, 20),
+            bell(1645.0, 20),
+        ]);
+        assert_eq!(got.len(), 3, "{got:?}");
+        assert_eq!(got[0].nominal_hz, 2649.9);
+        assert_eq!(got[0].onsets, 20);
+        assert_eq!(got[1].nominal_hz, 1750.0);
     }
 
     #[test]
