@@ -254,39 +254,6 @@ fn bad_bells_silence_and_noise_are_refused_in_words() {
     }
 }
 
-/// A strike of a bell with a recorded tower bell's partial ratios
-/// (`sampled_ring::RECORDED_PARTIALS`, ratios to the prime, half the
-/// nominal `nominal`), its nominal `octave` times as strong as the table
-/// has it and its tierce the root of that (the recorded ring's lowest
-/// bells are heard most at their nominal, not their prime), after 20 ms
-/// of silence.
-fn octave_heavy_strike(nominal: f64, octave: f64, rate: f64, seed: u64) -> clapper_signal::Signal {
-    use clapper_signal::sampled_ring::RECORDED_PARTIALS;
-    let prime = nominal / 2.0;
-    let mut samples = vec![0.0; (0.02 * rate) as usize];
-    let mut noise = seed;
-    samples.extend((0..(1.6 * rate) as usize).map(|k| {
-        let t = k as f64 / rate;
-        let tone: f64 = RECORDED_PARTIALS
-            .iter()
-            .map(|&(r, a)| {
-                let a = match r {
-                    _ if (r - 2.0).abs() < 0.1 => a * octave,
-                    _ if (r - 1.18).abs() < 0.05 => a * octave.sqrt(),
-                    _ => a,
-                };
-                a * (2.0 * std::f64::consts::PI * r * prime * t + r).sin()
-            })
-            .sum();
-        noise = noise
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        let blow = ((noise >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.3 * (-t / 0.004).exp();
-        (tone * (0.1 + 0.9 * (1.0 - (-t / 0.02).exp())) + blow) * (-t / 0.9).exp()
-    }));
-    clapper_signal::Signal { rate, samples }
-}
-
 #[test]
 fn a_ring_of_recorded_like_bells_in_a_room_is_learned_at_its_nominals_not_their_primes() {
     use clapper_signal::sampled_ring::sampled_ring;
@@ -299,7 +266,9 @@ fn a_ring_of_recorded_like_bells_in_a_room_is_learned_at_its_nominals_not_their_
     let struck: Vec<clapper_signal::Signal> = truth
         .iter()
         .enumerate()
-        .map(|(i, &f)| octave_heavy_strike(f, if i >= 4 { 8.0 } else { 1.0 }, rate, 7 + i as u64))
+        .map(|(i, &f)| {
+            clapper_signal::sampled_ring::octave_heavy_strike(f, if i >= 4 { 8.0 } else { 1.0 }, rate, 7 + i as u64)
+        })
         .collect();
     let spec = TowerSpec {
         rate,

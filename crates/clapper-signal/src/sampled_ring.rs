@@ -110,6 +110,39 @@ impl UntunedStrike {
     }
 }
 
+/// A strike of a bell with a recorded tower bell's partial ratios
+/// ([`RECORDED_PARTIALS`], ratios to the prime, half the nominal
+/// `nominal_hz`, Hz), its nominal `octave` times as strong as the table has
+/// it and its tierce the root of that (the recorded ring's lowest bells are
+/// heard most at their nominal, not their prime), a noisy blow of 4 ms
+/// from the LCG seeded by `seed`, sampled at `rate` (Hz) after 20 ms of
+/// silence. Test material for the learner (`--bells N`).
+pub fn octave_heavy_strike(nominal_hz: f64, octave: f64, rate: f64, seed: u64) -> Signal {
+    let prime = nominal_hz / 2.0;
+    let mut samples = vec![0.0; (0.02 * rate) as usize];
+    let mut noise = seed;
+    samples.extend((0..(1.6 * rate) as usize).map(|k| {
+        let t = k as f64 / rate;
+        let tone: f64 = RECORDED_PARTIALS
+            .iter()
+            .map(|&(r, a)| {
+                let a = match r {
+                    _ if (r - 2.0).abs() < 0.1 => a * octave,
+                    _ if (r - 1.18).abs() < 0.05 => a * octave.sqrt(),
+                    _ => a,
+                };
+                a * (2.0 * std::f64::consts::PI * r * prime * t + r).sin()
+            })
+            .sum();
+        noise = noise
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        let blow = ((noise >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.3 * (-t / 0.004).exp();
+        (tone * (0.1 + 0.9 * (1.0 - (-t / 0.02).exp())) + blow) * (-t / 0.9).exp()
+    }));
+    Signal { rate, samples }
+}
+
 /// Where a recorded strike's sound starts (s from the recording's start).
 ///
 /// The noise before it is measured over the first 5 ms (or none, if the

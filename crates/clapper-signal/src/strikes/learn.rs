@@ -987,38 +987,6 @@ mod tests {
         assert!(failed.is_empty(), "{failed:?}");
     }
 
-    /// A strike of a bell with a recorded tower bell's partials
-    /// ([`crate::sampled_ring::RECORDED_PARTIALS`], ratios to the prime,
-    /// half the nominal `nominal`), its nominal scaled by `upper` and its
-    /// tierce by the root of that (the recorded ring's two lowest bells
-    /// have them 1.3 to 3 times as strong as the prime).
-    fn untuned_strike(nominal: f64, upper: f64, rate: f64, seed: u64) -> Signal {
-        let prime = nominal / 2.0;
-        use crate::sampled_ring::RECORDED_PARTIALS;
-        let mut samples = vec![0.0; (0.02 * rate) as usize];
-        let mut noise = seed;
-        samples.extend((0..(1.6 * rate) as usize).map(|k| {
-            let t = k as f64 / rate;
-            let tone: f64 = RECORDED_PARTIALS
-                .iter()
-                .map(|&(r, a)| {
-                    let a = match r {
-                        _ if (r - 2.0).abs() < 0.1 => a * upper,
-                        _ if (r - 1.18).abs() < 0.05 => a * upper.sqrt(),
-                        _ => a,
-                    };
-                    a * (2.0 * std::f64::consts::PI * r * prime * t + r).sin()
-                })
-                .sum();
-            noise = noise
-                .wrapping_mul(6364136223846793005)
-                .wrapping_add(1442695040888963407);
-            let blow = ((noise >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.3 * (-t / 0.004).exp();
-            (tone * (0.1 + 0.9 * (1.0 - (-t / 0.02).exp())) + blow) * (-t / 0.9).exp()
-        }));
-        Signal { rate, samples }
-    }
-
     /// Six bells with a recorded tower bell's partials (the two lowest
     /// with their nominal far stronger than their prime, as the recorded
     /// ring's), rung in rounds dry and in a room: every nominal (twice
@@ -1031,7 +999,14 @@ mod tests {
         let strikes: Vec<Signal> = bells
             .iter()
             .enumerate()
-            .map(|(i, b)| untuned_strike(b.nominal_hz, if i >= 4 { 8.0 } else { 1.0 }, rate, 7 + i as u64))
+            .map(|(i, b)| {
+                crate::sampled_ring::octave_heavy_strike(
+                    b.nominal_hz,
+                    if i >= 4 { 8.0 } else { 1.0 },
+                    rate,
+                    7 + i as u64,
+                )
+            })
             .collect();
         let mut failed = vec![];
         for (room, snr) in [(None, 25.0), (Some(Room::chamber(1.0)), 20.0)] {
