@@ -137,6 +137,25 @@ pub(super) fn bursts(log: &AccelLog, clip: f64) -> (Vec<bool>, Vec<usize>) {
 /// out of the angle's fits.
 pub const STRIKE_S: f64 = 0.06;
 
+/// Each run of `true` in `mask`, as the half-open range of its samples
+/// (start, end), in order.
+pub(super) fn runs_of(mask: &[bool]) -> Vec<(usize, usize)> {
+    let mut runs = vec![];
+    let mut k = 0;
+    while k < mask.len() {
+        if !mask[k] {
+            k += 1;
+            continue;
+        }
+        let start = k;
+        while k < mask.len() && mask[k] {
+            k += 1;
+        }
+        runs.push((start, k));
+    }
+    runs
+}
+
 /// A burst lasting longer than this (s) is the headstock ringing.
 pub const RINGING_S: f64 = 0.25;
 
@@ -152,18 +171,8 @@ pub(super) fn ringing_masked(log: &AccelLog, burst: &[bool], onsets: &[usize], c
     // Each burst run's length (s): only a long one (the headstock ringing,
     // not a strike's burst that dies in a few hundredths) is read through.
     let mut long = vec![false; n];
-    let mut k = 0;
-    while k < n {
-        if !burst[k] {
-            k += 1;
-            continue;
-        }
-        let start = k;
-        while k < n && burst[k] {
-            k += 1;
-        }
-        let lasting = log.t[k - 1] - log.t[start] > RINGING_S;
-        long[start..k].fill(lasting);
+    for (start, end) in runs_of(burst) {
+        long[start..end].fill(log.t[end - 1] - log.t[start] > RINGING_S);
     }
     let mut o = 0;
     (0..n)
@@ -177,4 +186,17 @@ pub(super) fn ringing_masked(log: &AccelLog, burst: &[bool], onsets: &[usize], c
             burst[k] && (!long[k] || struck || axes.iter().any(|a| a[k].abs() >= 0.99 * clip))
         })
         .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::runs_of;
+
+    #[test]
+    fn runs_of_gives_each_run_of_true_as_a_half_open_range() {
+        let m = [true, true, false, false, true, false, true, true, true];
+        assert_eq!(runs_of(&m), vec![(0, 2), (4, 5), (6, 9)]);
+        assert!(runs_of(&[false, false]).is_empty());
+        assert!(runs_of(&[]).is_empty());
+    }
 }

@@ -14,7 +14,7 @@
 //! trend-less readings' power cut by less than [`EXPLAINED`]) is left as
 //! it was.
 
-use super::bursts::RINGING_S;
+use super::bursts::{runs_of, RINGING_S};
 use super::fits::quadratic_fits;
 use super::types::AccelLog;
 use std::f64::consts::TAU;
@@ -116,16 +116,7 @@ struct Piece {
 fn rung_pieces(t: &[f64], burst: &[bool], struck: &[bool], onsets: &[usize]) -> Vec<Piece> {
     let n = t.len();
     let mut pieces = vec![];
-    let mut k = 0;
-    while k < n {
-        if !burst[k] {
-            k += 1;
-            continue;
-        }
-        let start = k;
-        while k < n && burst[k] {
-            k += 1;
-        }
+    for (start, k) in runs_of(burst) {
         if t[k - 1] - t[start] <= RINGING_S {
             continue;
         }
