@@ -6,7 +6,7 @@
 //! crates/clapper-py/tests/test_strikes_layers.py).
 
 mod common;
-use common::clapper;
+use common::{clapper, summary_warnings as warnings};
 
 const RATE: u32 = 22_050;
 const EIGHT: &str = "1400,1247.3,1111.2,1048.8,934.4,832.4,741.6,700";
@@ -122,15 +122,6 @@ fn heard(path: &std::path::Path, nominals: &str) -> (String, serde_json::Value) 
         String::from_utf8_lossy(&out.stdout).to_string()
     };
     (run(false), serde_json::from_str(&run(true)).unwrap())
-}
-
-fn warnings(j: &serde_json::Value) -> Vec<String> {
-    j["summary"]["warnings"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|w| w.as_str().unwrap().to_string())
-        .collect()
 }
 
 #[test]

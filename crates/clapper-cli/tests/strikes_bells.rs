@@ -70,12 +70,7 @@ fn recall(j: &serde_json::Value, truth_csv: &Path) -> f64 {
 
 /// The learned nominals of `j`, treble first, each within 1 % of `truth`.
 fn learned_within_one_percent(j: &serde_json::Value, truth: &[f64]) {
-    let learned: Vec<f64> = j["learned_nominals_hz"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|b| b["nominal_hz"].as_f64().unwrap())
-        .collect();
+    let learned = common::learned_nominals(j);
     assert_eq!(learned.len(), truth.len(), "learned {learned:?}, truth {truth:?}");
     for (l, t) in learned.iter().zip(truth) {
         assert!((l / t - 1.0).abs() < 0.01, "learned {learned:?}, truth {truth:?}");
@@ -297,14 +292,7 @@ fn the_ring_size_warning_with_bells_does_not_say_nominals_were_given() {
     let dir = tempfile::tempdir().unwrap();
     let truth = synth(dir.path(), &["--bells", "4", "--gap", "8"]);
     let wav = dir.path().join("r.wav");
-    let warnings = |j: &serde_json::Value| -> Vec<String> {
-        j["summary"]["warnings"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|w| w.as_str().unwrap().to_string())
-            .collect()
-    };
+    let warnings = common::summary_warnings;
     let learned = warnings(&strikes(&wav, &["--bells", "4"]));
     assert!(
         learned

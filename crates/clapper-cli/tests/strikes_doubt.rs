@@ -6,7 +6,7 @@
 //! Each is now said plainly.
 
 mod common;
-use common::clapper;
+use common::{clapper, summary_warnings as warnings};
 
 /// The tester's eight nominals (Hz), treble first.
 const N: &str = "1200.0,1132.6,1009.1,899.0,800.9,756.0,673.5,600.0";
@@ -89,15 +89,6 @@ fn heard(x: &[f64]) -> (String, serde_json::Value) {
         String::from_utf8_lossy(&out.stdout).to_string()
     };
     (run(false), serde_json::from_str(&run(true)).unwrap())
-}
-
-fn warnings(j: &serde_json::Value) -> Vec<String> {
-    j["summary"]["warnings"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|w| w.as_str().unwrap().to_string())
-        .collect()
 }
 
 #[test]

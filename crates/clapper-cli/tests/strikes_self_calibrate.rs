@@ -164,12 +164,7 @@ fn strikes_with_bells_self_calibrated_times_a_bell_at_the_start_of_its_sound() {
     };
     let as_heard = run(&[]);
     let j = run(&["--self-calibrate"]);
-    let learned: Vec<f64> = j["learned_nominals_hz"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|b| b["nominal_hz"].as_f64().unwrap())
-        .collect();
+    let learned = common::learned_nominals(&j);
     assert_eq!(learned.len(), 4, "{learned:?}");
     for (l, p) in learned.iter().zip(&primes) {
         assert!(
