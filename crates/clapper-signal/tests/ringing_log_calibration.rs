@@ -78,6 +78,8 @@ struct Worst {
     missed: usize,
     /// Of the ringing's swings.
     missed_ringing: usize,
+    /// Bottoms found (swings of 45 deg or more) more than a sample off.
+    off: usize,
 }
 
 impl Worst {
@@ -92,6 +94,7 @@ impl Worst {
         self.gain = self.gain.max(o.gain);
         self.missed += o.missed;
         self.missed_ringing += o.missed_ringing;
+        self.off += o.off;
     }
 }
 
@@ -124,6 +127,7 @@ fn check(spec: &LogSpec, log: &AccelLog, truth: &LogTruth, got: &LogAnalysis, w:
             );
         }
         w.bdc = w.bdc.max(e);
+        w.off += usize::from(e > 1.0);
         if t.phase == PhaseKind::Ringing {
             w.bdc_ringing = w.bdc_ringing.max(e);
         }
@@ -209,9 +213,12 @@ fn a_log_shaped_like_data141_is_read_right() {
 /// before the headstock's ring was taken out of the readings, `unring.rs`:
 /// seed 329, 83 ms). Not yet met: the raising's and lowering's swings of
 /// 45 deg or more, where the headstock still rings through the next
-/// bottom, are not all found: 53 over the 30 logs (464 before the ring
-/// was taken out, 169 while a sample was left out when any axis clipped);
-/// asserted as a ceiling (60), not the acceptance.
+/// bottom, are not all found, nor all within a sample: 25 of some 900
+/// missed over the 30 logs and 47 more than a sample off (464 missed
+/// before the ring was taken out, 169 while a sample was left out when
+/// any axis clipped; 53 missed and 206 off before the clipped readings
+/// were read through and the strikes hidden in the ringing found);
+/// asserted as ceilings, not the acceptance.
 #[test]
 fn thirty_logs_with_offsets_gains_and_a_clipping_headstock() {
     let mut w = Worst::default();
@@ -233,7 +240,12 @@ fn thirty_logs_with_offsets_gains_and_a_clipping_headstock() {
     assert!(w.offset <= 0.05, "offset off by {} m/s²", w.offset);
     assert!(w.gain <= 0.005, "gain off by {}", w.gain);
     assert!(w.speed <= 5.0, "bottom {} ms from the greatest speed", w.speed);
-    assert!(w.missed <= 60, "{} swings of raising and lowering missed", w.missed);
+    assert!(w.missed <= 25, "{} swings of raising and lowering missed", w.missed);
+    assert!(
+        w.off <= 47,
+        "{} bottoms of raising and lowering more than a sample off",
+        w.off
+    );
 }
 
 /// Thirty logs as above under a milder ring (under the burst threshold for

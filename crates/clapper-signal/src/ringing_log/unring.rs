@@ -24,6 +24,11 @@ use std::f64::consts::TAU;
 /// cleaned: a headstock ringing in one mode leaves noise alone.
 pub(super) const EXPLAINED: f64 = 0.8;
 
+/// A clipped reading is read through (its swing's value fitted from the
+/// samples about it) only where the fitted swing and ring together reach
+/// within this (m/s²) of the clipped value, on its side.
+const CLIP_SLACK: f64 = 2.0;
+
 /// The trend the spectrum is taken about: a local quadratic over ± this (s).
 const TREND_S: f64 = 0.1;
 
@@ -76,6 +81,18 @@ pub(super) fn unrung(
             shaken,
             usable,
         };
+    };
+    // A strike while the last still rings (no onset: the burst never
+    // ended) starts the ring afresh at a phase of its own: the pieces cut
+    // there too, so that no fit straddles it.
+    let hidden = hidden_strikes(log, &masks, &pieces, hz);
+    let pieces = if hidden.is_empty() {
+        pieces
+    } else {
+        let mut starts: Vec<usize> = onsets.iter().copied().chain(hidden).collect();
+        starts.sort_unstable();
+        starts.dedup();
+        rung_pieces(&log.t, burst, &struck, &starts)
     };
     for p in &pieces {
         let (cleaned, before, after) = clean_run(log, &masks, p, hz);
@@ -198,6 +215,81 @@ fn peak_frequency(t: &[f64], pieces: &[Piece], resid: &dyn Fn(usize) -> [f64; 3]
     peak(coarse - step, coarse + step, step / 20.0)
 }
 
+/// The strikes inside rung runs that no onset marks (the burst before
+/// still ringing, often clipped, when the clapper struck again: a
+/// raising's second blow, 0.3 s before the next bottom, restarted the ring
+/// at full strength there): at each sample of the `pieces`, the ring at
+/// `hz` fitted (as [`clean_run`]'s) on each axis over the ring's six
+/// cycles before it and, apart, over the six after, and the two fits'
+/// ring there compared. A ring running on is the same either side; a
+/// strike adds a ring of its own. The samples where the change in the
+/// ring (its power summed over the axes) passes the ring before it
+/// ([`CHANGE`] times) and [`CHANGE_MIN`], the most there within half the
+/// window either way.
+fn hidden_strikes(log: &AccelLog, masks: &[Vec<bool>; 3], pieces: &[Piece], hz: f64) -> Vec<usize> {
+    let t = &log.t;
+    let axes = [&log.radial, &log.tangential, &log.axle];
+    let w = TAU * hz;
+    let half = (6.0 / hz).max(0.15);
+    let basis = |x: f64| {
+        let (sn, cs) = (w * x).sin_cos();
+        [1.0, x, x * x, cs, x * cs, sn, x * sn]
+    };
+    let mut found = vec![];
+    for p in pieces {
+        let score: Vec<Option<f64>> = p
+            .run
+            .iter()
+            .map(|&k| {
+                let lo = t.partition_point(|&x| x < t[k] - half).max(p.span.0);
+                let hi = t.partition_point(|&x| x < t[k] + half).min(p.span.1);
+                let (mut change, mut before) = (0.0, 0.0);
+                let mut any = false;
+                for a in 0..3 {
+                    let left: Vec<usize> = (lo..k).filter(|&j| !masks[a][j]).collect();
+                    let right: Vec<usize> = (k..hi).filter(|&j| !masks[a][j]).collect();
+                    if left.len() < CHANGE_SAMPLES || right.len() < CHANGE_SAMPLES {
+                        continue;
+                    }
+                    let (Some(l), Some(r)) = (
+                        fit(t, axes[a], &left, t[k], &basis).1,
+                        fit(t, axes[a], &right, t[k], &basis).1,
+                    ) else {
+                        continue;
+                    };
+                    change += (r[3] - l[3]).powi(2) + (r[5] - l[5]).powi(2);
+                    before += l[3].powi(2) + l[5].powi(2);
+                    any = true;
+                }
+                (any && change > CHANGE * before && change > CHANGE_MIN * CHANGE_MIN)
+                    .then_some(change / before.max(1e-12))
+            })
+            .collect();
+        for (i, &k) in p.run.iter().enumerate() {
+            let Some(s) = score[i] else { continue };
+            let best = p
+                .run
+                .iter()
+                .zip(&score)
+                .all(|(&j, o)| (t[j] - t[k]).abs() > 0.5 * half || o.is_none_or(|x| x < s || (x == s && j >= k)));
+            if best {
+                found.push(k);
+            }
+        }
+    }
+    found
+}
+
+/// A strike inside a rung run changes the ring's power at least this many
+/// times the ring's before it ...
+const CHANGE: f64 = 1.0;
+
+/// ... and its amplitude by at least this (m/s²).
+const CHANGE_MIN: f64 = 2.0;
+
+/// The ring's fits either side of a sample need this many samples each.
+const CHANGE_SAMPLES: usize = 10;
+
 /// Each sample of the piece `p` with the ring at `hz` taken off each
 /// axis not masked there (`masks`: each axis's samples left out; `None`
 /// where it is, or too few samples about it), and the piece's power
@@ -224,17 +316,30 @@ fn clean_run(log: &AccelLog, masks: &[Vec<bool>; 3], p: &Piece, hz: f64) -> (Vec
         );
         let mut c = [None; 3];
         for a in 0..3 {
-            if masks[a][k] {
+            // A clipped in-plane reading is missing, not wrong: the swing
+            // is read through it from the samples about it (below).
+            let missing = masks[a][k];
+            if missing && a == 2 {
                 continue;
             }
             let pts: Vec<usize> = (lo..hi).filter(|&j| !masks[a][j]).collect();
             // Seven terms: well over twice as many samples, some on each side.
             let left = pts.iter().filter(|&&j| j < k).count();
-            if pts.len() < 16 || left < 4 || pts.len() - left - 1 < 4 {
+            let right = pts.iter().filter(|&&j| j > k).count();
+            if pts.len() < 16 || left < 4 || right < 4 {
                 continue;
             }
             let (swing, ring) = fit(t, axes[a], &pts, t[k], &basis);
             let y = axes[a][k];
+            if missing {
+                // The swing's value there, when the fit agrees that the
+                // reading clipped: swing and ring together past the
+                // range, on the side it clipped.
+                if let Some(r) = ring.filter(|r| (r[0] + r[3]) * y.signum() >= y.abs() - CLIP_SLACK) {
+                    c[a] = Some(r[0]);
+                }
+                continue;
+            }
             // The swing's quadratic alone, and with the ring.
             if let (Some(q), Some(r)) = (swing, ring) {
                 before += (y - q).powi(2);
