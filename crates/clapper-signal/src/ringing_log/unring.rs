@@ -12,7 +12,11 @@
 //! squares to each axis over a few of its cycles; the ring's share at the
 //! sample is taken off. A run whose ring the mode does not explain (its
 //! trend-less readings' power cut by less than [`EXPLAINED`]) is left as
-//! it was.
+//! it was. A clipped in-plane reading is missing data: the swing's
+//! fitted value stands in for it where the fit agrees it clipped. A
+//! strike while the ring before it still clips marks no onset: it is
+//! found where the ring fitted before a sample and the ring fitted after
+//! it differ ([`hidden_strikes`]), and no fit straddles it.
 
 use super::bursts::{runs_of, RINGING_S};
 use super::fits::quadratic_fits;
