@@ -179,7 +179,7 @@ pub fn calibrate_from_recording(
     nominals: &[f64],
     opts: &StrikeOptions,
 ) -> Result<SelfCalibration, AppError> {
-    voices_from_nominals(nominals)?;
+    voices_from_nominals(nominals, Voice::Tower)?;
     calibrate(sig, nominals, opts).map_err(signal_error)
 }
 
@@ -215,8 +215,10 @@ pub struct StrikesReport {
     pub summary: StrikesSummary,
 }
 
-/// Nominals (Hz) to voices, checked.
-pub fn voices_from_nominals(nominals: &[f64]) -> Result<Vec<BellVoice>, AppError> {
+/// Nominals (Hz) to voices, checked: each bell's other partials assumed
+/// from its nominal as a bell of the kind `kind` (a tuned tower bell's,
+/// or a handbell's: its strike note and twelfth).
+pub fn voices_from_nominals(nominals: &[f64], kind: Voice) -> Result<Vec<BellVoice>, AppError> {
     if nominals.is_empty() {
         return Err(AppError::Request("no nominals: give one per bell, treble first".into()));
     }
@@ -245,7 +247,7 @@ pub fn voices_from_nominals(nominals: &[f64]) -> Result<Vec<BellVoice>, AppError
             )));
         }
     }
-    Ok(nominals.iter().map(|&f| BellVoice::from_nominal(f)).collect())
+    Ok(nominals.iter().map(|&f| BellVoice::assumed(f, kind)).collect())
 }
 
 /// The nominals of `bells` bells (3 to 16) learned from the recording
@@ -275,14 +277,14 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<(Vec<LearnedNominal>
     Ok((learned, l.warnings))
 }
 
-/// The voices of `bells` bells whose nominals are learned from `sig`
-/// ([`learn_nominals`]), with what was learned, for
+/// The voices of `bells` bells of the kind `kind` whose nominals are
+/// learned from `sig` ([`learn_nominals`]), with what was learned, for
 /// [`StrikesReport::note_learned`]: what `clapper strikes --bells N`, the
 /// web server's `bells=N` and Python's `bells=N` share.
-pub fn learned_voices(sig: &Signal, bells: usize) -> Result<(Vec<BellVoice>, Learned), AppError> {
+pub fn learned_voices(sig: &Signal, bells: usize, kind: Voice) -> Result<(Vec<BellVoice>, Learned), AppError> {
     let (nominals, warnings) = learn_nominals(sig, bells)?;
     let hz: Vec<f64> = nominals.iter().map(|b| b.nominal_hz).collect();
-    Ok((voices_from_nominals(&hz)?, Learned { nominals, warnings }))
+    Ok((voices_from_nominals(&hz, kind)?, Learned { nominals, warnings }))
 }
 
 /// Nominals learned from a recording and what made them unsure.
@@ -295,6 +297,9 @@ pub struct Learned {
 }
 
 pub use clapper_signal::strikes::DEFAULT_DOUBLE_MIN_RATIO;
+/// A bell's kind, for the partials assumed from its nominal: a tuned tower
+/// bell's (`Voice::Tower`) or a handbell's (`Voice::Handbell`).
+pub use clapper_signal::tower::Voice;
 
 /// The strike finder's options with the double strike's least amplitude
 /// ratio `double_min_ratio` ([`DEFAULT_DOUBLE_MIN_RATIO`] unless asked:

@@ -110,7 +110,7 @@ fn hear(args: &DiagnoseArgs) -> Result<Option<(StrikesReport, String)>> {
     Ok(match &args.recording {
         Some(rec) => {
             let voices = match (&args.nominals, &args.templates) {
-                (Some(n), _) => voices_from_nominals(&n.0)?,
+                (Some(n), _) => voices_from_nominals(&n.0, clapper_app::strikes::Voice::Tower)?,
                 (None, Some(dir)) => crate::strikes::template_voices(dir)?,
                 (None, None) => bail!(
                     "--recording needs the bells' voices: --nominals F1,F2,.. (Hz, treble first) or --templates DIR"

@@ -60,6 +60,12 @@ pub struct StrikesArgs {
     /// nominals are learned from the recording itself and reported.
     #[arg(long, value_name = "N", conflicts_with_all = ["nominals", "templates"])]
     pub bells: Option<usize>,
+    /// Handbells: with --nominals (each bell's strike note) or --bells N,
+    /// listen for a handbell's partials (its strike note and twelfth)
+    /// rather than a tower bell's (hum, prime, tierce, ...), which a
+    /// handbell lacks and which may lie on other handbells' notes.
+    #[arg(long, conflicts_with = "templates")]
+    pub handbells: bool,
     /// A second strike at least this loud against the first (amplitude ratio) is a double strike.
     #[arg(long, default_value_t = clapper_app::strikes::DEFAULT_DOUBLE_MIN_RATIO, value_name = "RATIO")]
     pub double_min_ratio: f64,
@@ -123,14 +129,15 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
     if args.self_calibrate && args.nominals.is_none() && args.bells.is_none() {
         bail!("--self-calibrate learns each bell from the recording about its nominals: give --nominals F1,F2,.. (Hz, treble first) or --bells N to learn them");
     }
+    let kind = if args.handbells { Voice::Handbell } else { Voice::Tower };
     let mut learned = None;
     let (voices, recorded) = match (&args.nominals, &args.templates, args.bells) {
-        (Some(n), _, _) => (voices_from_nominals(&n.0)?, vec![]),
+        (Some(n), _, _) => (voices_from_nominals(&n.0, kind)?, vec![]),
         (None, Some(dir), _) => templates(dir)?,
         (None, None, Some(n)) => {
             // Learned from the whole recording, read at once.
             let sig = read_recording(&args.file)?;
-            let (voices, l) = learned_voices(&sig, n).with_context(|| args.file.display().to_string())?;
+            let (voices, l) = learned_voices(&sig, n, kind).with_context(|| args.file.display().to_string())?;
             learned = Some(l);
             (voices, vec![])
         }
@@ -408,13 +415,14 @@ pub fn synth_ring(args: SynthRingArgs) -> Result<()> {
     }
     let nominals: Vec<String> = bells.iter().map(|b| format!("{:.1}", b.nominal_hz)).collect();
     crate::say!(
-        "wrote {} ({:.1} s, {} strikes of {} bells; synthetic). Listen for them with:\n  clapper strikes {} --nominals {}",
+        "wrote {} ({:.1} s, {} strikes of {} bells; synthetic). Listen for them with:\n  clapper strikes {} --nominals {}{}",
         args.out.display(),
         sig.duration(),
         truth.len(),
         args.bells,
         args.out.display(),
-        nominals.join(",")
+        nominals.join(","),
+        if args.handbells { " --handbells" } else { "" }
     );
     Ok(())
 }

@@ -7,7 +7,7 @@ mod common;
 
 use std::path::Path;
 
-use common::clapper;
+use common::{clapper, recall_within};
 
 /// `clapper synth-ring ARGS --out WAV --truth CSV`: the true nominals
 /// (from the command it suggests), treble first.
@@ -41,31 +41,6 @@ fn strikes(wav: &Path, args: &[&str]) -> serde_json::Value {
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     serde_json::from_slice(&out.stdout).unwrap()
-}
-
-/// The share of the truth's strikes heard on their bell within 20 ms.
-fn recall(j: &serde_json::Value, truth_csv: &Path) -> f64 {
-    let text = std::fs::read_to_string(truth_csv).unwrap();
-    let mut lines = text.lines();
-    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
-    let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
-    let (b, t) = (col("bell"), col("t_s"));
-    let heard: Vec<(u64, f64)> = j["strikes"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .map(|s| (s["bell"].as_u64().unwrap(), s["t_s"].as_f64().unwrap()))
-        .collect();
-    let (mut found, mut all) = (0, 0);
-    for line in lines {
-        let f: Vec<&str> = line.split(',').collect();
-        let (bell, time): (u64, f64) = (f[b].parse().unwrap(), f[t].parse().unwrap());
-        all += 1;
-        if heard.iter().any(|h| h.0 == bell && (h.1 - time).abs() < 0.02) {
-            found += 1;
-        }
-    }
-    found as f64 / all as f64
 }
 
 /// The learned nominals of `j`, treble first, each within 1 % of `truth`.
@@ -113,8 +88,8 @@ fn an_eight_in_a_room_with_doublets_is_learned_and_heard_as_with_its_nominals() 
     let list: Vec<String> = truth.iter().map(|f| f.to_string()).collect();
     let given = strikes(&wav, &["--nominals", &list.join(",")]);
     let (r_learned, r_given) = (
-        recall(&learned, &dir.path().join("t.csv")),
-        recall(&given, &dir.path().join("t.csv")),
+        recall_within(&learned, &dir.path().join("t.csv"), 0.02),
+        recall_within(&given, &dir.path().join("t.csv"), 0.02),
     );
     assert!(
         r_learned > r_given - 0.03,

@@ -22,7 +22,7 @@ use clapper_app::diagnosis::{self, DiagnoseRequest};
 use clapper_app::liftoff::{BellLiftoffReport, FormulaReport};
 use clapper_app::measure::{ModesReport, RestitutionReport};
 use clapper_app::simulate::{self as sim_app, SimulateRequest};
-use clapper_app::strikes::{learned_voices, strike_options, voices_from_nominals, StrikesReport};
+use clapper_app::strikes::{learned_voices, strike_options, voices_from_nominals, StrikesReport, Voice};
 use clapper_app::AppError;
 use clapper_core::chart::{sweep, ChartCell};
 use clapper_core::Choice;
@@ -327,9 +327,11 @@ fn modes(py: Python<'_>, samples: &[u8], rate_hz: f64, range_db: f64, name: &str
 /// Every strike of every bell in a recording, `samples` (f64 bytes) at
 /// `rate_hz`, the bells given by their nominals (Hz, treble first) or, with
 /// no nominals, `bells` of them learned from the recording (as `clapper
-/// strikes --bells N`): returns (report JSON, text).
+/// strikes --bells N`), as handbells if `handbells` (as `--handbells`):
+/// returns (report JSON, text).
 #[pyfunction]
-#[pyo3(signature = (samples, rate_hz, nominals_hz, bells, double_min_ratio, name))]
+#[pyo3(signature = (samples, rate_hz, nominals_hz, bells, double_min_ratio, name, handbells=false))]
+#[allow(clippy::too_many_arguments)]
 fn strikes(
     py: Python<'_>,
     samples: &[u8],
@@ -338,7 +340,9 @@ fn strikes(
     bells: Option<usize>,
     double_min_ratio: f64,
     name: &str,
+    handbells: bool,
 ) -> PyResult<(String, String)> {
+    let kind = if handbells { Voice::Handbell } else { Voice::Tower };
     let sig = Signal {
         rate: rate_hz,
         samples: f64s(samples, "recording")?,
@@ -347,9 +351,9 @@ fn strikes(
     let r = py
         .detach(|| {
             match (nominals_hz, bells) {
-            (Some(n), None) => StrikesReport::new(&sig, &voices_from_nominals(&n)?, &opts),
+            (Some(n), None) => StrikesReport::new(&sig, &voices_from_nominals(&n, kind)?, &opts),
             (None, Some(b)) => {
-                let (voices, learned) = learned_voices(&sig, b)?;
+                let (voices, learned) = learned_voices(&sig, b, kind)?;
                 let mut r = StrikesReport::new(&sig, &voices, &opts)?;
                 r.note_learned(learned);
                 Ok(r)

@@ -86,8 +86,9 @@ class Server:
         self.p.kill()
         self.p.wait()
 
-    def strikes(self, wav, nominals=None, bells=None):
+    def strikes(self, wav, nominals=None, bells=None, handbells=False):
         query = "nominals=" + ",".join(nominals) if nominals else "bells=%d" % bells
+        query += "&handbells=true" if handbells else ""
         req = urllib.request.Request(
             self.base + "/api/strikes?" + query,
             data=Path(wav).read_bytes(),
@@ -98,22 +99,23 @@ class Server:
             return json.loads(r.read())["report"]
 
 
-def cli_report(wav, nominals=None, bells=None):
+def cli_report(wav, nominals=None, bells=None, handbells=False):
     bells_are = ["--nominals", ",".join(nominals)] if nominals else ["--bells", str(bells)]
+    bells_are += ["--handbells"] if handbells else []
     out = subprocess.run(
         [cli(), "strikes", str(wav), *bells_are, "--json"], capture_output=True, text=True, check=True
     )
     return json.loads(out.stdout)
 
 
-def python_report(wav, nominals=None, bells=None):
+def python_report(wav, nominals=None, bells=None, handbells=False):
     x, rate = clapper.read_wav(wav)
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always")
         if nominals:
-            rep = clapper.strikes(x, rate, [float(f) for f in nominals])
+            rep = clapper.strikes(x, rate, [float(f) for f in nominals], handbells=handbells)
         else:
-            rep = clapper.strikes(x, rate, bells=bells)
+            rep = clapper.strikes(x, rate, bells=bells, handbells=handbells)
     return rep.data, [str(w.message) for w in caught if issubclass(w.category, clapper.ClapperWarning)]
 
 
@@ -155,6 +157,21 @@ def test_cli_web_and_python_hear_the_same_strikes(tmp_path):
         assert len(by_cli["learned_nominals_hz"]) == 8 and len(by_cli["strikes"]) > 100
         assert web.strikes(wav, bells=8) == by_cli
         assert python_report(wav, bells=8)[0] == by_cli
+
+
+def test_handbells_are_heard_the_same_by_all_three(tmp_path):
+    # Handbells (a strike note and its twelfth): --handbells, handbells=true
+    # and handbells=True give one report, and every bell is heard (as tower
+    # bells, bell 2 of this eight has no band of its own and is not).
+    wav, nominals = ring(tmp_path, "--handbells", "--rows", "12", "--double", "3:6:70:0.8", "--seed", "3")
+    with Server() as web:
+        by_cli = cli_report(wav, nominals, handbells=True)
+        assert [b["strikes"] for b in by_cli["per_bell"]] == [12] * 8
+        assert by_cli["summary"]["double_strikes"] == 1
+        assert web.strikes(wav, nominals, handbells=True) == by_cli
+        assert python_report(wav, nominals, handbells=True)[0] == by_cli
+    with pytest.raises(clapper.ArgumentTypeError, match="handbells must be True or False"):
+        clapper.strikes(np.zeros(1000), 8000.0, [1000.0], handbells="yes")
 
 
 def test_strikes_take_nominals_or_bells_one_of_the_two():

@@ -205,7 +205,11 @@ fn main() {
             let sp = spec(seed, cond);
             let n = sp.bells.len();
             let (sig, truth) = tower_recording(&sp).unwrap();
-            let voices: Vec<BellVoice> = sp.bells.iter().map(|b| BellVoice::from_nominal(b.nominal_hz)).collect();
+            let voices: Vec<BellVoice> = sp
+                .bells
+                .iter()
+                .map(|b| BellVoice::assumed(b.nominal_hz, sp.voice))
+                .collect();
             let t = std::time::Instant::now();
             let heard = find_strikes(&sig, &voices, &StrikeOptions::default()).unwrap();
             let timed: Vec<Timed> = heard.strikes.iter().map(|s| Timed { bell: s.bell, t: s.t }).collect();

@@ -1022,6 +1022,7 @@ $("listen-recording").addEventListener("click", async () => {
     if (nominals.length > 0 && bells !== "") throw new Error("give the bells' nominals or how many bells ring, not both");
     const q = new URLSearchParams(nominals.length ? { nominals: nominals.join(",") } : { bells });
     q.set("double_min_ratio", num("double-min-ratio"));
+    if ($("strikes-handbells").checked) q.set("handbells", "true");
     showStatus(status, `Listening to ${file.name}…`);
     const res = await fetch("/api/strikes?" + q, { method: "POST", headers: { "Content-Type": "audio/wav" }, body: file });
     if (!res.ok) {

@@ -623,8 +623,9 @@ pub(crate) async fn listening_analyse(
     Ok(Json(json!({"analysis": rep, "plot_svg": svg})).into_response())
 }
 
-/// `POST /api/strikes?nominals=F1,F2,..[&double_min_ratio=R]` (or
-/// `bells=N` for the nominals learned from the recording, as `--bells N`):
+/// `POST /api/strikes?nominals=F1,F2,..[&double_min_ratio=R][&handbells=true]`
+/// (or `bells=N` for the nominals learned from the recording, as `--bells
+/// N`; `handbells=true` as `--handbells`):
 /// a recording of a ring (the body: a WAV file, mono or stereo, 8 to 192
 /// kHz) heard as `clapper strikes` hears it: `{"report": {...}, "csv":
 /// "...", "plot_svg": "<svg ..."}`, the report as `clapper strikes --json`,
@@ -644,6 +645,11 @@ pub(crate) async fn strikes(
         })
     })?;
     // The bells: their nominals given, or how many, to be learned (as the CLI).
+    let kind = if q.handbells.unwrap_or(false) {
+        clapper_app::strikes::Voice::Handbell
+    } else {
+        clapper_app::strikes::Voice::Tower
+    };
     let voices = match (&q.nominals, q.bells) {
         (Some(_), Some(_)) => {
             return Err(ApiError::BadRequest(
@@ -664,7 +670,7 @@ pub(crate) async fn strikes(
                         .map_err(|_| ApiError::BadRequest(format!("nominals: '{v}' is not a number (Hz)")))
                 })
                 .collect::<Result<_, _>>()?;
-            Some(clapper_app::strikes::voices_from_nominals(&nominals)?)
+            Some(clapper_app::strikes::voices_from_nominals(&nominals, kind)?)
         }
         (None, Some(_)) => None,
     };
@@ -685,7 +691,7 @@ pub(crate) async fn strikes(
             let (voices, learned) = match voices {
                 Some(v) => (v, None),
                 None => {
-                    let (v, l) = clapper_app::strikes::learned_voices(&sig, q.bells.unwrap_or_default())?;
+                    let (v, l) = clapper_app::strikes::learned_voices(&sig, q.bells.unwrap_or_default(), kind)?;
                     (v, Some(l))
                 }
             };
@@ -711,4 +717,6 @@ pub(crate) struct StrikesQuery {
     bells: Option<usize>,
     /// The double strike's least amplitude ratio (default 0.3).
     double_min_ratio: Option<f64>,
+    /// Handbells (a strike note and its twelfth), as `--handbells`.
+    handbells: Option<bool>,
 }

@@ -39,6 +39,32 @@ pub fn learned_nominals(j: &serde_json::Value) -> Vec<f64> {
         .collect()
 }
 
+/// The share of the truth's strikes (a `synth-ring --truth` CSV) that a
+/// `strikes --json` report heard on their bell within `tol_s` seconds.
+pub fn recall_within(j: &serde_json::Value, truth_csv: &std::path::Path, tol_s: f64) -> f64 {
+    let text = std::fs::read_to_string(truth_csv).unwrap();
+    let mut lines = text.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    let col = |name: &str| head.iter().position(|h| *h == name).unwrap();
+    let (b, t) = (col("bell"), col("t_s"));
+    let heard: Vec<(u64, f64)> = j["strikes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|s| (s["bell"].as_u64().unwrap(), s["t_s"].as_f64().unwrap()))
+        .collect();
+    let (mut found, mut all) = (0, 0);
+    for line in lines {
+        let f: Vec<&str> = line.split(',').collect();
+        let (bell, time): (u64, f64) = (f[b].parse().unwrap(), f[t].parse().unwrap());
+        all += 1;
+        if heard.iter().any(|h| h.0 == bell && (h.1 - time).abs() < tol_s) {
+            found += 1;
+        }
+    }
+    found as f64 / all as f64
+}
+
 /// The tenor's clapper by its parts (README's design-clapper example):
 /// shaft, ball and their place, as `design-clapper` options.
 pub const TENOR_CLAPPER_PARTS: [&str; 8] = [

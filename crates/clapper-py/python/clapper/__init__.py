@@ -720,6 +720,14 @@ def _number(fn: str, name: str, value: Any, what: str) -> float:
     return x
 
 
+def _flag(fn: str, name: str, value: Any) -> bool:
+    """A yes or no for ``fn``'s argument ``name``: ``True`` or ``False`` only
+    (a string such as ``"false"`` would read as yes)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise ArgumentTypeError(f"{fn}: {name} must be True or False, not {_shown(value)}")
+    return bool(value)
+
+
 def liftoff(
     bell: Optional[Bell] = None,
     *,
@@ -826,12 +834,14 @@ def strikes(
     bells: Optional[int] = None,
     double_min_ratio: float = DEFAULT_DOUBLE_MIN_RATIO,
     name: str = "recording",
+    handbells: bool = False,
 ) -> Report:
     """Every strike of every bell in a recording of ringing (a 1-D array at
     ``rate_hz``), the bells named by their nominals (Hz, treble first), or
     without them ``bells=N`` (3 to 16) whose nominals are learned from the
-    recording (``report["learned_nominals_hz"]``, as ``--bells N``), as
-    ``clapper strikes --json``: ``report["strikes"]``, ``report["per_bell"]``,
+    recording (``report["learned_nominals_hz"]``, as ``--bells N``),
+    ``handbells=True`` for handbells (each known by its strike note and
+    twelfth, as ``--handbells``), as ``clapper strikes --json``: ``report["strikes"]``, ``report["per_bell"]``,
     ``report["summary"]``. What the command line warns of (a silent
     recording, no strikes heard, one bell, a sound unlike bells) is in
     ``report["summary"]["warnings"]`` and issued as :class:`ClapperWarning`."""
@@ -847,6 +857,7 @@ def strikes(
         None if bells is None else max(0, int(bells)),
         _number("strikes", "double_min_ratio", double_min_ratio, "the least amplitude ratio of a double strike"),
         name,
+        _flag("strikes", "handbells", handbells),
     )
     report = Report(json.loads(data), text)
     for w in report["summary"]["warnings"]:
