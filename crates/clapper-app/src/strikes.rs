@@ -13,7 +13,7 @@ use clapper_signal::strikes::{
     Window, Windows, PLAUSIBLE_SHARE,
 };
 use clapper_signal::striking::{mean_sd, rhythm, Rhythm, Timed};
-use clapper_signal::template_timing::median_of;
+use clapper_signal::template_timing::{self, median_of};
 use clapper_signal::Signal;
 use serde::Serialize;
 
@@ -391,7 +391,14 @@ impl StrikesReport {
         warnings.extend(no_lateness);
         let timing_report = match timing {
             Timing::Recording(c) => Some(recording_timing(c, &matched, &mut warnings)),
-            _ => lateness.map(|l| correct_lateness(l, &matched, &mut heard, &mut warnings)),
+            Timing::Templates(t) => match lateness {
+                Some(l) => {
+                    let can = template_timing::matchable(rate, t).map_err(signal_error)?;
+                    Some(correct_lateness(l, &matched, &can, &mut heard, &mut warnings))
+                }
+                None => None,
+            },
+            Timing::AsHeard => None,
         };
         let plausibility = (rises.0 > 0).then(|| rises.1 as f64 / rises.0 as f64);
         if let Some(p) = plausibility.filter(|p| *p < PLAUSIBLE_SHARE) {
@@ -625,17 +632,22 @@ impl StrikesReport {
 
 /// The lateness `l` learned on a ring of the templates taken off the
 /// strikes of `heard` whose bell's template did not match (`matched`:
-/// per bell, how far its strikes moved when matched), its warnings added
-/// to `warnings`; the timing report.
+/// per bell, how far its strikes moved when matched; `can`: whether its
+/// template can match at all), its warnings added to `warnings`; the
+/// timing report. A bell none of whose strikes the band finder heard has
+/// them all found by its template, none moved: they are timed at the
+/// start of their sound, and taking its lateness off them too put them
+/// early by it (the recorded tenor d8, 35 ms; d2, 88 ms).
 fn correct_lateness(
     l: Lateness,
     matched: &[Option<f64>],
+    can: &[bool],
     heard: &mut Heard,
     warnings: &mut Vec<String>,
 ) -> TimingReport {
     let mut used = l.clone();
-    for (b, m) in used.bells.iter_mut().zip(matched) {
-        if m.is_some() {
+    for (k, b) in used.bells.iter_mut().enumerate() {
+        if matched.get(k).is_some_and(Option::is_some) || can.get(k).copied().unwrap_or(false) {
             b.lateness_s = 0.0;
         }
     }

@@ -81,6 +81,19 @@ pub fn retime(
     Ok(moved.into_iter().map(median_of).collect())
 }
 
+/// Whether each template (treble first) is long enough to be matched in a
+/// recording at `rate` (Hz): a bell whose template is not keeps its times
+/// as heard (less its lateness), and every strike of one that is, those
+/// the band finder missed and its templates found included, is timed at
+/// the start of its sound.
+pub fn matchable(rate: f64, templates: &[Signal]) -> Result<Vec<bool>, SignalError> {
+    Ok(Matcher::new(rate, templates)?
+        .bells
+        .iter()
+        .map(Option::is_some)
+        .collect())
+}
+
 /// The median of `v` (the upper of the middle two), if any.
 pub fn median_of(mut v: Vec<f64>) -> Option<f64> {
     v.sort_by(f64::total_cmp);
