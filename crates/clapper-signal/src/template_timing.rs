@@ -50,12 +50,6 @@ const WIDE_EARLY_S: f64 = 0.2;
 /// And after it (s).
 const WIDE_LATE_S: f64 = 0.1;
 
-/// A match under this share of its bell's typical one is searched again
-/// widely ([`late::search`]).
-const POOR: f64 = 0.5;
-/// A match within this (s) of the search's first lag may lie before it.
-const EDGE_S: f64 = 0.02;
-
 /// Time every strike of `heard` (as the band finder heard it) again
 /// against its bell's template (`templates[0]` the treble's), near its
 /// time less the bell's `lateness` (s, as learned on a ring of the
@@ -179,8 +173,8 @@ fn retime_judging(
     let mut matched = vec![];
     let mut order: Vec<usize> = (0..heard.strikes.len()).collect();
     order.sort_by(|&a, &b| heard.strikes[a].t.total_cmp(&heard.strikes[b].t));
-    // Each bell's typical match here, searched widely about its strikes.
-    let wide = late::wide(&m, &sig.samples, heard, &mut sc)?;
+    // How far before its time heard each bell's strikes are sought.
+    let reach = late::reach(m.bells.len(), heard);
     for i in order {
         let s = &mut heard.strikes[i];
         let Some(Some(tm)) = m.bells.get(s.bell - 1) else {
@@ -193,30 +187,14 @@ fn retime_judging(
             None => (s.t - WIDE_EARLY_S, s.t + WIDE_LATE_S),
         };
         let mut found = best_match(&m, &left, tm, from, to, &mut sc)?;
-        // A poor match there, or one at the search's first lag: the band
-        // finder heard this strike later than the search reached (in a
-        // room, the recorded tenor d8 at 25 ms at some strikes and
-        // 340-390 ms at others).
-        let at_edge = |f: (f64, f64)| f.0 - from - m.pre as f64 / m.rate < EDGE_S;
-        // The bell's typical match: its matches so far (in what the
-        // strikes before leave), else the wide search's.
-        let so_far: Vec<f64> = matched
-            .iter()
-            .filter(|x: &&(usize, f64, f64)| x.0 == s.bell)
-            .map(|x| x.2)
-            .collect();
-        let typical = |w: &late::Wide| {
-            if so_far.len() >= 3 {
-                crate::median(&so_far).max(w.typical)
-            } else {
-                w.typical
-            }
-        };
-        if let Some(w) = wide[s.bell - 1].filter(|w| found.is_none_or(|f| f.1 < POOR * typical(w) || at_edge(f))) {
-            if let Some(f) = late::search(&m, &left, tm, s.t, w.reach, &mut sc)? {
-                if found.is_none_or(|g| f.1 > g.1) {
-                    found = Some(f);
-                }
+        // And the stretch before that, to [`late::REACH_S`] before the
+        // time heard: the band finder can hear a strike later than the
+        // search reached (in a room, the recorded tenor d8 at 25 ms at
+        // some strikes and 340-390 ms at others, its lateness learned on
+        // the dry ring of the templates 35 ms). The better match is kept.
+        if let Some(f) = late::before(&m, &left, tm, s.t - reach[s.bell - 1], from, &mut sc)? {
+            if found.is_none_or(|g| f.1 > g.1) {
+                found = Some(f);
             }
         }
         let Some((t, q)) = found else {
