@@ -15,9 +15,11 @@
 //! time as the band finder heard it less the bell's lateness learned on a
 //! ring of its templates ([`crate::lateness::from_templates`]), or from
 //! 200 ms before to 100 ms after it where that lateness is not sure; the
-//! strike is the best match unless one at least 0.6 as good lies 30 ms
+//! strike is the best match unless one at least 0.85 as good lies 30 ms
 //! or more before it (a double strike's second blow, no louder, matches
-//! later: `lag`). Strikes the band finder missed are found by their
+//! later: `lag`). It is also sought in the stretch before that search, to
+//! 600 ms before the time heard (`late`: in a room the band finder can
+//! hear a bell far later than its lateness says), the better match kept. Strikes the band finder missed are found by their
 //! templates (`fill`), and double strikes judged by the match
 //! (`doubles`).
 
