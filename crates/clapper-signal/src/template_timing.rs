@@ -194,10 +194,9 @@ fn retime_judging(
         // search reached (in a room, the recorded tenor d8 at 25 ms at
         // some strikes and 340-390 ms at others, its lateness learned on
         // the dry ring of the templates 35 ms). The better match is kept.
-        if let Some(f) = late::before(&m, &left, tm, s.t - reach[s.bell - 1], from, &mut sc)? {
-            if found.is_none_or(|g| f.1 > g.1) {
-                found = Some(f);
-            }
+        let beat = found.map_or(0.0, |g| g.1);
+        if let Some(f) = late::before(&m, &left, tm, s.t - reach[s.bell - 1], from, beat, &mut sc)? {
+            found = Some(f);
         }
         let Some((t, q)) = found else {
             continue;

@@ -42,24 +42,31 @@ pub(super) fn reach(bells: usize, heard: &Heard) -> Vec<f64> {
 }
 
 /// The strike's time (s) and match where template `t` matches `x` best
-/// from `from` to `to` (s, nothing where `from` is not before `to`): the
-/// best match over the stretch, then [`best_match`] about it (its rule for
-/// a double strike's first blow).
+/// from `from` to `to` (s), if better than `beat` (a match elsewhere;
+/// nothing where `from` is not before `to`): the best match over the
+/// stretch, then [`best_match`] about it (its rule for a double strike's
+/// first blow; its match is at most the stretch's best, so that is
+/// timed only where it beats `beat`: the ten-minute ring's time).
+#[allow(clippy::too_many_arguments)]
 pub(super) fn before(
     m: &Matcher,
     x: &[f64],
     t: &Template,
     from: f64,
     to: f64,
+    beat: f64,
     sc: &mut Scratch,
 ) -> Result<Option<(f64, f64)>, SignalError> {
     if from >= to {
         return Ok(None);
     }
-    let Some((at, _)) = widest(m, x, t, from, to, sc)? else {
+    let Some((at, q)) = widest(m, x, t, from, to, sc)? else {
         return Ok(None);
     };
-    best_match(m, x, t, at - NEAR_S.0, at + NEAR_S.1, sc)
+    if q <= beat {
+        return Ok(None);
+    }
+    Ok(best_match(m, x, t, at - NEAR_S.0, at + NEAR_S.1, sc)?.filter(|f| f.1 > beat))
 }
 
 /// The time (s) where template `t` matches `x` best from `from` to `to`
