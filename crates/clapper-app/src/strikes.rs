@@ -13,7 +13,7 @@ use clapper_signal::strikes::{
     Window, Windows, PLAUSIBLE_SHARE,
 };
 use clapper_signal::striking::{mean_sd, rhythm, Rhythm, Timed};
-use clapper_signal::template_timing::{self, median_of};
+use clapper_signal::template_timing::median_of;
 use clapper_signal::Signal;
 use serde::Serialize;
 
@@ -24,7 +24,7 @@ mod input;
 pub use input::{NO_STRIKES, ONE_BELL};
 mod retime;
 
-use retime::{in_core, realign_window, retime_window};
+use retime::{in_core, lateness_used, realign_window, retime_window};
 
 /// The sample rates (Hz) of recordings listened to: a telephone's to a
 /// studio's (the finder decimates each band, so a high rate costs reading
@@ -391,13 +391,10 @@ impl StrikesReport {
         warnings.extend(no_lateness);
         let timing_report = match timing {
             Timing::Recording(c) => Some(recording_timing(c, &matched, &mut warnings)),
-            Timing::Templates(t) => match lateness {
-                Some(l) => {
-                    let can = template_timing::matchable(rate, t).map_err(signal_error)?;
-                    Some(correct_lateness(l, &matched, &can, &mut heard, &mut warnings))
-                }
-                None => None,
-            },
+            Timing::Templates(t) => lateness
+                .map(|l| correct_lateness(l, t, rate, &matched, &mut heard, &mut warnings))
+                .transpose()
+                .map_err(signal_error)?,
             Timing::AsHeard => None,
         };
         let plausibility = (rises.0 > 0).then(|| rises.1 as f64 / rises.0 as f64);
@@ -630,30 +627,22 @@ impl StrikesReport {
     }
 }
 
-/// The lateness `l` learned on a ring of the templates taken off the
-/// strikes of `heard` whose bell's template did not match (`matched`:
-/// per bell, how far its strikes moved when matched; `can`: whether its
-/// template can match at all), its warnings added to `warnings`; the
-/// timing report. A bell none of whose strikes the band finder heard has
-/// them all found by its template, none moved: they are timed at the
-/// start of their sound, and taking its lateness off them too put them
-/// early by it (the recorded tenor d8, 35 ms; d2, 88 ms).
+/// The lateness `l` learned on a ring of the `templates` (at `rate`, Hz)
+/// taken off the strikes of `heard` whose bell's template cannot match
+/// ([`lateness_used`]; `matched`: per bell, how far its strikes moved when
+/// matched), its warnings added to `warnings`; the timing report.
 fn correct_lateness(
     l: Lateness,
+    templates: &[Signal],
+    rate: f64,
     matched: &[Option<f64>],
-    can: &[bool],
     heard: &mut Heard,
     warnings: &mut Vec<String>,
-) -> TimingReport {
-    let mut used = l.clone();
-    for (k, b) in used.bells.iter_mut().enumerate() {
-        if matched.get(k).is_some_and(Option::is_some) || can.get(k).copied().unwrap_or(false) {
-            b.lateness_s = 0.0;
-        }
-    }
+) -> Result<TimingReport, clapper_signal::SignalError> {
+    let used = lateness_used(&l, matched, templates, rate)?;
     used.correct(heard);
     warnings.extend(used.warnings.iter().cloned());
-    TimingReport {
+    Ok(TimingReport {
         source: l.source,
         per_bell: l
             .bells
@@ -666,7 +655,7 @@ fn correct_lateness(
                 matched_ms: matched.get(b.bell - 1).copied().flatten().map(|m| m * 1e3),
             })
             .collect(),
-    }
+    })
 }
 
 /// Each strike of window `w` timed again as `timing` says, how far each
@@ -1005,52 +994,5 @@ impl RecordingBeside {
             let _ = writeln!(o, "warning: {w}");
         }
         o
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::correct_lateness;
-    use clapper_signal::lateness::{BellLateness, Lateness};
-    use clapper_signal::strikes::{Heard, HeardStrike};
-
-    /// A bell none of whose strikes the band finder heard has them all
-    /// found by its template, each at the start of its sound and none
-    /// "moved": they keep their times (on the recorded eight in dry rounds
-    /// its lateness, 35.2 ms, was taken off every one of them); a bell
-    /// whose template cannot match has its lateness taken off.
-    #[test]
-    fn strikes_found_only_by_their_template_are_not_moved_by_the_lateness() {
-        let bell = |bell: usize| BellLateness {
-            bell,
-            lateness_s: 0.0352,
-            spread_s: 0.001,
-            strikes: 15,
-            of: 16,
-        };
-        let lateness = Lateness {
-            source: "templates",
-            bells: vec![bell(1), bell(2)],
-            warnings: vec![],
-        };
-        let strike = |bell: usize, t: f64| HeardStrike {
-            bell,
-            t,
-            strength: 1.0,
-            double: None,
-        };
-        let mut heard = Heard {
-            strikes: vec![strike(1, 1.0), strike(2, 1.2)],
-            warnings: vec![],
-        };
-        // Bell 1's template matches (its strikes all from the fill, so
-        // none moved); bell 2's is too short to match.
-        correct_lateness(lateness, &[None, None], &[true, false], &mut heard, &mut vec![]);
-        assert_eq!(heard.strikes[0].t, 1.0, "bell 1 moved: {:?}", heard.strikes);
-        assert!(
-            (heard.strikes[1].t - (1.2 - 0.0352)).abs() < 1e-12,
-            "bell 2: {:?}",
-            heard.strikes
-        );
     }
 }

@@ -29,7 +29,6 @@ mod lag;
 mod late;
 mod matcher;
 
-use lag::best_match;
 use matcher::Matcher;
 
 use crate::strikes::{Heard, HeardStrike, Hearing, StrikeOptions};
@@ -188,16 +187,8 @@ fn retime_judging(
             Some(late) => (s.t - late.max(0.0) - EARLY_S, s.t - late.max(0.0) + LATE_S),
             None => (s.t - WIDE_EARLY_S, s.t + WIDE_LATE_S),
         };
-        let mut found = best_match(&m, &left, tm, from, to, &mut sc)?;
-        // And the stretch before that, to [`late::REACH_S`] before the
-        // time heard: the band finder can hear a strike later than the
-        // search reached (in a room, the recorded tenor d8 at 25 ms at
-        // some strikes and 340-390 ms at others, its lateness learned on
-        // the dry ring of the templates 35 ms). The better match is kept.
-        let beat = found.map_or(0.0, |g| g.1);
-        if let Some(f) = late::before(&m, &left, tm, s.t - reach[s.bell - 1], from, beat, &mut sc)? {
-            found = Some(f);
-        }
+        // And before that, to the bell's reach before the time heard.
+        let found = late::best_of(&m, &left, tm, (from, to), s.t - reach[s.bell - 1], &mut sc)?;
         let Some((t, q)) = found else {
             continue;
         };
