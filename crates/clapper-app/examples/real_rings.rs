@@ -341,6 +341,24 @@ fn main() {
                         }
                     }
                 }
+                if a.show {
+                    if let Some(t) = &report.timing {
+                        println!(
+                            "  lateness learned / matched (ms): {}",
+                            t.per_bell
+                                .iter()
+                                .map(|b| format!(
+                                    "{:.1} ({}) / {:.1}",
+                                    b.lateness_ms,
+                                    b.learned_from,
+                                    b.matched_ms.unwrap_or(f64::NAN)
+                                ))
+                                .collect::<Vec<_>>()
+                                .join(", ")
+                        );
+                    }
+                    show_missed(&sig, &voices, &heard, &truth);
+                }
                 wide_found += wide.found;
                 wide_false += wide.false_strikes;
                 let timed: Vec<Timed> = report
@@ -456,5 +474,52 @@ fn main() {
                 );
             }
         }
+    }
+}
+
+/// `--show`: each true strike with no strike of its bell within 100 ms
+/// (the nearest of its bell's strikes, and the band finder's alone,
+/// signed), and each strike heard with no true strike of its bell within
+/// 100 ms: where the misses come from.
+fn show_missed(sig: &Signal, voices: &[BellVoice], heard: &[HeardTimes], truth: &[TrueStrike]) {
+    let band = clapper_signal::strikes::find_strikes(sig, voices, &StrikeOptions::default()).unwrap();
+    let nearest = |b: usize, t: f64, times: &mut dyn Iterator<Item = (usize, f64)>| -> String {
+        times
+            .filter(|h| h.0 == b)
+            .map(|h| h.1 - t)
+            .min_by(|p, q| p.abs().total_cmp(&q.abs()))
+            .map_or("none".into(), |d| format!("{:+.1} ms", d * 1e3))
+    };
+    for x in truth {
+        if heard.iter().any(|h| h.0 == x.bell && (h.1 - x.t).abs() < 0.1) {
+            continue;
+        }
+        println!(
+            "    missed bell {} row {} place {}{}: nearest {}, band finder's {}",
+            x.bell,
+            x.row,
+            x.place,
+            if x.double.is_some() { " (a double)" } else { "" },
+            nearest(x.bell, x.t, &mut heard.iter().map(|h| (h.0, h.1))),
+            nearest(x.bell, x.t, &mut band.strikes.iter().map(|s| (s.bell, s.t)))
+        );
+    }
+    for h in heard {
+        if truth.iter().any(|x| x.bell == h.0 && (h.1 - x.t).abs() < 0.1) {
+            continue;
+        }
+        let other = truth
+            .iter()
+            .filter(|x| (h.1 - x.t).abs() < 0.1)
+            .min_by(|p, q| (p.t - h.1).abs().total_cmp(&(q.t - h.1).abs()))
+            .map_or("none".into(), |x| {
+                format!("bell {} {:+.1} ms", x.bell, (h.1 - x.t) * 1e3)
+            });
+        // Signed as heard less true.
+        let own = nearest(h.0, h.1, &mut truth.iter().map(|x| (x.bell, 2.0 * h.1 - x.t)));
+        println!(
+            "    extra bell {} at {:.3} s: its own bell's nearest {own}, nearest strike {other}",
+            h.0, h.1
+        );
     }
 }

@@ -24,7 +24,7 @@ mod input;
 pub use input::{NO_STRIKES, ONE_BELL};
 mod retime;
 
-use retime::{in_core, realign_window, retime_window};
+use retime::{in_core, lateness_used, realign_window, retime_window};
 
 /// The sample rates (Hz) of recordings listened to: a telephone's to a
 /// studio's (the finder decimates each band, so a high rate costs reading
@@ -396,7 +396,11 @@ impl StrikesReport {
         warnings.extend(no_lateness);
         let timing_report = match timing {
             Timing::Recording(c) => Some(recording_timing(c, &matched, &mut warnings)),
-            _ => lateness.map(|l| correct_lateness(l, &matched, &mut heard, &mut warnings)),
+            Timing::Templates(t) => lateness
+                .map(|l| correct_lateness(l, t, rate, &matched, &mut heard, &mut warnings))
+                .transpose()
+                .map_err(signal_error)?,
+            Timing::AsHeard => None,
         };
         let plausibility = (rises.0 > 0).then(|| rises.1 as f64 / rises.0 as f64);
         if let Some(p) = plausibility.filter(|p| *p < PLAUSIBLE_SHARE) {
@@ -628,25 +632,22 @@ impl StrikesReport {
     }
 }
 
-/// The lateness `l` learned on a ring of the templates taken off the
-/// strikes of `heard` whose bell's template did not match (`matched`:
-/// per bell, how far its strikes moved when matched), its warnings added
-/// to `warnings`; the timing report.
+/// The lateness `l` learned on a ring of the `templates` (at `rate`, Hz)
+/// taken off the strikes of `heard` whose bell's template cannot match
+/// ([`lateness_used`]; `matched`: per bell, how far its strikes moved when
+/// matched), its warnings added to `warnings`; the timing report.
 fn correct_lateness(
     l: Lateness,
+    templates: &[Signal],
+    rate: f64,
     matched: &[Option<f64>],
     heard: &mut Heard,
     warnings: &mut Vec<String>,
-) -> TimingReport {
-    let mut used = l.clone();
-    for (b, m) in used.bells.iter_mut().zip(matched) {
-        if m.is_some() {
-            b.lateness_s = 0.0;
-        }
-    }
+) -> Result<TimingReport, clapper_signal::SignalError> {
+    let used = lateness_used(&l, matched, templates, rate)?;
     used.correct(heard);
     warnings.extend(used.warnings.iter().cloned());
-    TimingReport {
+    Ok(TimingReport {
         source: l.source,
         per_bell: l
             .bells
@@ -659,7 +660,7 @@ fn correct_lateness(
                 matched_ms: matched.get(b.bell - 1).copied().flatten().map(|m| m * 1e3),
             })
             .collect(),
-    }
+    })
 }
 
 /// Each strike of window `w` timed again as `timing` says, how far each

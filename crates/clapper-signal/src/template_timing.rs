@@ -15,18 +15,20 @@
 //! time as the band finder heard it less the bell's lateness learned on a
 //! ring of its templates ([`crate::lateness::from_templates`]), or from
 //! 200 ms before to 100 ms after it where that lateness is not sure; the
-//! strike is the best match unless one at least 0.6 as good lies 30 ms
+//! strike is the best match unless one at least 0.85 as good lies 30 ms
 //! or more before it (a double strike's second blow, no louder, matches
-//! later: `lag`). Strikes the band finder missed are found by their
+//! later: `lag`). It is also sought in the stretch before that search, to
+//! 600 ms before the time heard (`late`: in a room the band finder can
+//! hear a bell far later than its lateness says), the better match kept. Strikes the band finder missed are found by their
 //! templates (`fill`), and double strikes judged by the match
 //! (`doubles`).
 
 mod doubles;
 mod fill;
 mod lag;
+mod late;
 mod matcher;
 
-use lag::best_match;
 use matcher::Matcher;
 
 use crate::strikes::{Heard, HeardStrike, Hearing, StrikeOptions};
@@ -72,6 +74,19 @@ pub fn retime(
         .strikes
         .sort_by(|a, b| a.t.total_cmp(&b.t).then(a.bell.cmp(&b.bell)));
     Ok(moved.into_iter().map(median_of).collect())
+}
+
+/// Whether each template (treble first) is long enough to be matched in a
+/// recording at `rate` (Hz): a bell whose template is not keeps its times
+/// as heard (less its lateness), and every strike of one that is, those
+/// the band finder missed and its templates found included, is timed at
+/// the start of its sound.
+pub fn matchable(rate: f64, templates: &[Signal]) -> Result<Vec<bool>, SignalError> {
+    Ok(Matcher::new(rate, templates)?
+        .bells
+        .iter()
+        .map(Option::is_some)
+        .collect())
 }
 
 /// The median of `v` (the upper of the middle two), if any.
@@ -159,6 +174,8 @@ fn retime_judging(
     let mut matched = vec![];
     let mut order: Vec<usize> = (0..heard.strikes.len()).collect();
     order.sort_by(|&a, &b| heard.strikes[a].t.total_cmp(&heard.strikes[b].t));
+    // How far before its time heard each bell's strikes are sought.
+    let reach = late::reach(m.bells.len(), heard);
     for i in order {
         let s = &mut heard.strikes[i];
         let Some(Some(tm)) = m.bells.get(s.bell - 1) else {
@@ -170,7 +187,9 @@ fn retime_judging(
             Some(late) => (s.t - late.max(0.0) - EARLY_S, s.t - late.max(0.0) + LATE_S),
             None => (s.t - WIDE_EARLY_S, s.t + WIDE_LATE_S),
         };
-        let Some((t, q)) = best_match(&m, &left, tm, from, to, &mut sc)? else {
+        // And before that, to the bell's reach before the time heard.
+        let found = late::best_of(&m, &left, tm, (from, to), s.t - reach[s.bell - 1], &mut sc)?;
+        let Some((t, q)) = found else {
             continue;
         };
         moves[i] = Some(t - s.t);

@@ -1,10 +1,11 @@
 //! Each window's strikes timed again (issue 43): against each bell's
 //! template, or lined up on its average strike learned from the recording.
 
+use clapper_signal::lateness::Lateness;
 use clapper_signal::self_calibrate::SelfCalibration;
 use clapper_signal::strikes::StrikeOptions;
 use clapper_signal::strikes::{Heard, Hearing, Window};
-use clapper_signal::template_timing::retime_each_deferred;
+use clapper_signal::template_timing::{matchable, retime_each_deferred};
 use clapper_signal::Signal;
 
 /// Each strike of window `w` timed again against its bell's template
@@ -56,4 +57,78 @@ pub(super) fn realign_window(w: &Window, heard: &mut Heard, c: &SelfCalibration,
 pub(super) fn in_core(w: &Window, t: f64) -> bool {
     let at = w.start as f64 + t * w.sig.rate;
     (w.start == 0 && w.core == (0, w.sig.samples.len())) || (at >= w.core.0 as f64 && at < w.core.1 as f64)
+}
+
+/// The lateness of `l` to take off each bell's strikes: none where its
+/// template (`templates`, treble first, in a recording at `rate` Hz) can
+/// match, its strikes then each timed at the start of their sound.
+pub(super) fn lateness_used(
+    l: &Lateness,
+    matched: &[Option<f64>],
+    templates: &[Signal],
+    rate: f64,
+) -> Result<Lateness, clapper_signal::SignalError> {
+    Ok(kept(l, matched, &matchable(rate, templates)?))
+}
+
+/// [`lateness_used`], whether each bell's template can match given
+/// (`can`): a bell none of whose strikes the band finder heard has them
+/// all found by its template, none moved (`matched` none), and taking its
+/// lateness off them too put them early by it (the recorded tenor d8 by
+/// 35.2 ms in dry rounds; d2 by 87.6 ms at RT60 1.2 s).
+fn kept(l: &Lateness, matched: &[Option<f64>], can: &[bool]) -> Lateness {
+    let mut used = l.clone();
+    for (k, b) in used.bells.iter_mut().enumerate() {
+        if matched.get(k).is_some_and(Option::is_some) || can.get(k).copied().unwrap_or(false) {
+            b.lateness_s = 0.0;
+        }
+    }
+    used
+}
+
+#[cfg(test)]
+mod tests {
+    use super::kept;
+    use clapper_signal::lateness::{BellLateness, Lateness};
+    use clapper_signal::strikes::{Heard, HeardStrike};
+
+    /// A bell none of whose strikes the band finder heard has them all
+    /// found by its template, each at the start of its sound and none
+    /// "moved": they keep their times (on the recorded eight in dry rounds
+    /// its lateness, 35.2 ms, was taken off every one of them); a bell
+    /// whose template cannot match has its lateness taken off.
+    #[test]
+    fn strikes_found_only_by_their_template_are_not_moved_by_the_lateness() {
+        let bell = |bell: usize| BellLateness {
+            bell,
+            lateness_s: 0.0352,
+            spread_s: 0.001,
+            strikes: 15,
+            of: 16,
+        };
+        let lateness = Lateness {
+            source: "templates",
+            bells: vec![bell(1), bell(2)],
+            warnings: vec![],
+        };
+        let strike = |bell: usize, t: f64| HeardStrike {
+            bell,
+            t,
+            strength: 1.0,
+            double: None,
+        };
+        let mut heard = Heard {
+            strikes: vec![strike(1, 1.0), strike(2, 1.2)],
+            warnings: vec![],
+        };
+        // Bell 1's template matches (its strikes all from the fill, so
+        // none moved); bell 2's is too short to match.
+        kept(&lateness, &[None, None], &[true, false]).correct(&mut heard);
+        assert_eq!(heard.strikes[0].t, 1.0, "bell 1 moved: {:?}", heard.strikes);
+        assert!(
+            (heard.strikes[1].t - (1.2 - 0.0352)).abs() < 1e-12,
+            "bell 2: {:?}",
+            heard.strikes
+        );
+    }
 }
