@@ -320,12 +320,25 @@ const EARLY_STEPS: usize = 8;
 /// The starts taken on to the end.
 const CARRIED: usize = 3;
 
-/// The starting κ = h/L: the sensor above the pivot (on the headstock) or
-/// below it (on the bell's waist or crown). Without the starts below, the
-/// calibration of a sensor 0.3-0.7 m below the pivot converged on a place
-/// 0.16-0.41 m above it on five of fifteen synthetic logs
-/// (tests/ringing_log_far.rs); with them, the place is read within 1.5 cm.
-const STARTS: [f64; 11] = [0.0, 0.15, 0.3, 0.45, 0.6, 0.8, 1.0, -0.15, -0.3, -0.45, -0.6];
+/// The starting κ = h/L for a sensor above the pivot (on the headstock).
+const STARTS: [f64; 7] = [0.0, 0.15, 0.3, 0.45, 0.6, 0.8, 1.0];
+
+/// The starting κ for a sensor below the pivot ([`below`]). Started from
+/// κ ≥ 0 only, the calibration of a sensor 0.3-0.7 m below the pivot
+/// converged on a place 0.16-0.41 m above it on five of fifteen synthetic
+/// logs (tests/ringing_log_far.rs); from these, within 1.5 cm. (From
+/// both, an independent tester's log with its sensor 0.54 m above the
+/// pivot, κ near 1/2, where the fit is poorly determined, read it 0.13 m
+/// below.)
+const STARTS_BELOW: [f64; 5] = [0.0, -0.15, -0.3, -0.45, -0.6];
+
+/// Whether the sensor is below the pivot: a free stretch's radial reading
+/// passes 1.25 g. Below, it reads g cos θ + |h| θ'², g (1 + 4|κ|) at the
+/// bottom of a fall from the balance; above, g (1 − 4κ) there, and at
+/// most g (and an offset, a gain) anywhere.
+fn below(obs: &[Obs]) -> bool {
+    obs.iter().filter(|o| o.free.is_some()).any(|o| o.r > 1.25 * G)
+}
 
 /// The damping tried in turn (each diagonal term of the normal equations
 /// times 1 + this) when a step will not lower the cost.
@@ -346,6 +359,7 @@ pub(crate) fn calibrate(log: &AccelLog, stretches: &[Stretch]) -> Option<Calibra
         // where it ended).
         let starts: Vec<f64> = match best_kappa {
             Some(k) => vec![k],
+            None if below(&obs) => STARTS_BELOW.to_vec(),
             None => STARTS.to_vec(),
         };
         // Each start a few steps, the best few of them on to the end (as
