@@ -85,15 +85,18 @@ fn read(spec: &LogSpec) -> Read {
 /// Thirty logs with the sensor 0.3-0.8 m from the pivot, above it on the
 /// even seeds, below on the odd: how many are read to the issue's
 /// acceptance (every ringing swing found, its bottom within a sample,
-/// stands within 2 deg, odd-struckness within 3 ms). Here 5 of the 30
-/// are (502, 510, 514, 522, 526: each above the pivot, its place read
-/// within 1 cm); with the angle never read from the tangential axis, 2
-/// (510 and 522, at κ = h/L under 0.45, which keep the old first pass
-/// either way). Not yet met, and printed: above the pivot at κ near 1/2
-/// and beyond 0.7 m, the calibration converges on a place below the pivot
-/// (8 logs); at κ 0.36-0.38 (508, 520) the first pass, kept there, reads
-/// some bottoms off; below the pivot, strokes are missed or the
-/// odd-struckness is 17-22 ms off.
+/// stands within 2 deg, odd-struckness within 3 ms). A floor, not the
+/// acceptance: 9 of the 30 are (500, 502, 510, 512, 514, 522, 523, 524,
+/// 526); 5 before the calibration judged a stretch not free against its
+/// own kind (500, 512, 524 added: their falls had all been dropped) and
+/// started below the pivot where the radial reading says so (523 added;
+/// docs/model.md §13.4). Not yet met, and printed: above the pivot at κ
+/// 0.42-0.53 (504, 506, 516, 518, 528) the calibration settles on a
+/// wrong place (at κ = 1/2 a free fall's radial reading is the same at
+/// every angle); at κ 0.36-0.38 (508, 520) the first pass, kept there,
+/// reads some bottoms 15-20 samples off; below the pivot, the place read
+/// within 2 cm, strokes are missed or the odd-struckness is 11-48 ms off
+/// (519 is not calibrated).
 #[test]
 fn logs_with_the_sensor_far_from_the_pivot() {
     let mut met = vec![];
@@ -104,5 +107,5 @@ fn logs_with_the_sensor_far_from_the_pivot() {
         }
     }
     eprintln!("read to the acceptance: {} of 30: {met:?}", met.len());
-    assert!(met.len() >= 5, "{met:?}");
+    assert!(met.len() >= 9, "{met:?}");
 }
