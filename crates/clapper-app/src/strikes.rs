@@ -19,8 +19,11 @@ use serde::Serialize;
 
 use crate::AppError;
 
+mod bells;
+pub use bells::{learn_nominals, learned_voices, voices_from_nominals, Learned, LearnedNominal};
 mod doubt;
 mod input;
+use input::signal_error;
 pub use input::{NO_STRIKES, ONE_BELL};
 mod retime;
 
@@ -183,18 +186,6 @@ pub fn calibrate_from_recording(
     calibrate(sig, nominals, opts).map_err(signal_error)
 }
 
-/// A bell's nominal learned from the recording (`--bells N`).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct LearnedNominal {
-    /// Bell, counting from 1 (the treble, the highest).
-    pub bell: usize,
-    /// Its nominal (Hz).
-    pub nominal_hz: f64,
-    /// How sure (0 to 1): the onsets its nominal rose most at, against the
-    /// typical learned bell's.
-    pub confidence: f64,
-}
-
 /// What `clapper strikes` reports.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct StrikesReport {
@@ -215,87 +206,6 @@ pub struct StrikesReport {
     pub summary: StrikesSummary,
 }
 
-/// Nominals (Hz) to voices, checked: each bell's other partials assumed
-/// from its nominal as a bell of the kind `kind` (a tuned tower bell's,
-/// or a handbell's: its strike note and twelfth).
-pub fn voices_from_nominals(nominals: &[f64], kind: Voice) -> Result<Vec<BellVoice>, AppError> {
-    if nominals.is_empty() {
-        return Err(AppError::Request("no nominals: give one per bell, treble first".into()));
-    }
-    if nominals.len() > 64 {
-        return Err(AppError::Request(format!("{} nominals: at most 64", nominals.len())));
-    }
-    if let Some((i, f)) = nominals
-        .iter()
-        .enumerate()
-        .find(|(_, f)| !(f.is_finite() && (50.0..=10_000.0).contains(*f)))
-    {
-        return Err(AppError::Request(format!(
-            "nominal of bell {}: {f} Hz; a nominal lies from 50 to 10000 Hz",
-            i + 1
-        )));
-    }
-    // Half a percent is a twelfth of a semitone: no two bells of a ring are
-    // tuned so close, and their partials could not be told apart.
-    for (i, a) in nominals.iter().enumerate() {
-        if let Some(j) = nominals[i + 1..].iter().position(|b| (a - b).abs() < 0.005 * a.max(*b)) {
-            return Err(AppError::Request(format!(
-                "bells {} and {} have nominals {a} and {} Hz, within half a percent: one bell given twice?",
-                i + 1,
-                i + j + 2,
-                nominals[i + j + 1]
-            )));
-        }
-    }
-    Ok(nominals.iter().map(|&f| BellVoice::assumed(f, kind)).collect())
-}
-
-/// The nominals of `bells` bells (3 to 16) learned from the recording
-/// `sig` alone ([`clapper_signal::strikes::learn_nominals`]), treble first,
-/// and what made it unsure, in words. Refused when no bell is heard.
-pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<(Vec<LearnedNominal>, Vec<String>), AppError> {
-    if !(3..=16).contains(&bells) {
-        return Err(AppError::Request(format!("--bells {bells}: from 3 to 16 bells")));
-    }
-    let l = clapper_signal::strikes::learn_nominals(sig, bells).map_err(signal_error)?;
-    if l.bells.is_empty() {
-        return Err(AppError::Request(format!(
-            "strikes: no bell's nominal heard again and again at {} onsets: is it a recording of bells ringing?",
-            l.onsets
-        )));
-    }
-    let learned = l
-        .bells
-        .iter()
-        .enumerate()
-        .map(|(i, b)| LearnedNominal {
-            bell: i + 1,
-            nominal_hz: b.nominal_hz,
-            confidence: b.confidence,
-        })
-        .collect();
-    Ok((learned, l.warnings))
-}
-
-/// The voices of `bells` bells of the kind `kind` whose nominals are
-/// learned from `sig` ([`learn_nominals`]), with what was learned, for
-/// [`StrikesReport::note_learned`]: what `clapper strikes --bells N`, the
-/// web server's `bells=N` and Python's `bells=N` share.
-pub fn learned_voices(sig: &Signal, bells: usize, kind: Voice) -> Result<(Vec<BellVoice>, Learned), AppError> {
-    let (nominals, warnings) = learn_nominals(sig, bells)?;
-    let hz: Vec<f64> = nominals.iter().map(|b| b.nominal_hz).collect();
-    Ok((voices_from_nominals(&hz, kind)?, Learned { nominals, warnings }))
-}
-
-/// Nominals learned from a recording and what made them unsure.
-#[derive(Clone, Debug)]
-pub struct Learned {
-    /// Each bell's nominal, treble first.
-    pub nominals: Vec<LearnedNominal>,
-    /// What made the learning unsure, in words.
-    pub warnings: Vec<String>,
-}
-
 pub use clapper_signal::strikes::DEFAULT_DOUBLE_MIN_RATIO;
 /// A bell's kind, for the partials assumed from its nominal: a tuned tower
 /// bell's (`Voice::Tower`) or a handbell's (`Voice::Handbell`).
@@ -314,10 +224,6 @@ pub fn strike_options(double_min_ratio: f64) -> Result<StrikeOptions, AppError> 
         double_min_ratio,
         ..StrikeOptions::default()
     })
-}
-
-fn signal_error(e: clapper_signal::SignalError) -> AppError {
-    AppError::Request(format!("strikes: {e}"))
 }
 
 impl StrikesReport {

@@ -6,6 +6,11 @@ use clapper_signal::strikes::BellVoice;
 
 use crate::AppError;
 
+/// A signal-processing error as a refused request, said as the strike finder's.
+pub(super) fn signal_error(e: clapper_signal::SignalError) -> AppError {
+    AppError::Request(format!("strikes: {e}"))
+}
+
 /// The warning, first, when a recording that is not silent holds no strike
 /// of the bells given (speech, music, another ring).
 pub const NO_STRIKES: &str = "no strikes heard: nothing here starts the given bells' partials as a bell's strike \
