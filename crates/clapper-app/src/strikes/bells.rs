@@ -87,7 +87,7 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<(Vec<LearnedNominal>
 
 /// The voices of `bells` bells of the kind `kind` whose nominals are
 /// learned from `sig` ([`learn_nominals`]), with what was learned, for
-/// [`StrikesReport::note_learned`]: what `clapper strikes --bells N`, the
+/// [`StrikesReport::note_learned`](super::StrikesReport::note_learned): what `clapper strikes --bells N`, the
 /// web server's `bells=N` and Python's `bells=N` share.
 pub fn learned_voices(sig: &Signal, bells: usize, kind: Voice) -> Result<(Vec<BellVoice>, Learned), AppError> {
     let (nominals, warnings) = learn_nominals(sig, bells)?;

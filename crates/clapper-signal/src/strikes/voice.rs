@@ -57,8 +57,9 @@ impl BellVoice {
 
     /// A bell of the kind `kind` known by its nominal (Hz; a handbell's
     /// strike note): its other partials assumed from that kind's ratios
-    /// (a tuned tower bell's, or [`ASSUMED_HANDBELL`]), each within a
-    /// quarter-tone (3 %), the nominal within 0.4 %.
+    /// (a tuned tower bell's; a handbell's twelfth at 2.95 and weak
+    /// partials at 4.4 and 6.05), each within a quarter-tone (3 %), the
+    /// nominal within 0.4 %.
     pub fn assumed(nominal_hz: f64, kind: Voice) -> Self {
         let ratios: &[(f64, f64)] = match kind {
             Voice::Tower => &ASSUMED,
