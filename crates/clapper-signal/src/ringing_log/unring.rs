@@ -233,12 +233,8 @@ fn peak_frequency(t: &[f64], pieces: &[Piece], resid: &dyn Fn(usize) -> [f64; 3]
 fn hidden_strikes(log: &AccelLog, masks: &[Vec<bool>; 3], pieces: &[Piece], hz: f64) -> Vec<usize> {
     let t = &log.t;
     let axes = [&log.radial, &log.tangential, &log.axle];
-    let w = TAU * hz;
     let half = (6.0 / hz).max(0.15);
-    let basis = |x: f64| {
-        let (sn, cs) = (w * x).sin_cos();
-        [1.0, x, x * x, cs, x * cs, sn, x * sn]
-    };
+    let basis = ring_basis(hz);
     let mut found = vec![];
     for p in pieces {
         let score: Vec<Option<f64>> = p
@@ -303,13 +299,9 @@ const CHANGE_SAMPLES: usize = 10;
 fn clean_run(log: &AccelLog, masks: &[Vec<bool>; 3], p: &Piece, hz: f64) -> (Vec<[Option<f64>; 3]>, f64, f64) {
     let t = &log.t;
     let axes = [&log.radial, &log.tangential, &log.axle];
-    let w = TAU * hz;
     // Six of the ring's cycles each side, and at least ±0.15 s.
     let half = (6.0 / hz).max(0.15);
-    let basis = |x: f64| {
-        let (sn, cs) = (w * x).sin_cos();
-        [1.0, x, x * x, cs, x * cs, sn, x * sn]
-    };
+    let basis = ring_basis(hz);
     let (mut before, mut after) = (0.0, 0.0);
     let mut cleaned = Vec::with_capacity(p.run.len());
     for &k in &p.run {
@@ -354,6 +346,16 @@ fn clean_run(log: &AccelLog, masks: &[Vec<bool>; 3], p: &Piece, hz: f64) -> (Vec
         cleaned.push(c);
     }
     (cleaned, before, after)
+}
+
+/// The local model's terms at `x` s from the sample: the swing (a
+/// quadratic) and the ring at `hz` Hz, its amplitude changing linearly.
+fn ring_basis(hz: f64) -> impl Fn(f64) -> [f64; 7] {
+    let w = TAU * hz;
+    move |x: f64| {
+        let (sn, cs) = (w * x).sin_cos();
+        [1.0, x, x * x, cs, x * cs, sn, x * sn]
+    }
 }
 
 /// Least squares at `pts` about `at`: a quadratic alone (its value at
