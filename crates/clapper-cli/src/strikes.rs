@@ -63,8 +63,10 @@ pub struct StrikesArgs {
     /// Handbells: with --nominals (each bell's strike note) or --bells N,
     /// listen for a handbell's partials (its strike note and twelfth)
     /// rather than a tower bell's (hum, prime, tierce, ...), which a
-    /// handbell lacks and which may lie on other handbells' notes.
-    #[arg(long, conflicts_with = "templates")]
+    /// handbell lacks and which may lie on other handbells' notes. Not
+    /// with --self-calibrate, which learns each bell's partials from the
+    /// recording as a tower bell's.
+    #[arg(long, conflicts_with_all = ["templates", "self_calibrate"])]
     pub handbells: bool,
     /// A second strike at least this loud against the first (amplitude ratio) is a double strike.
     #[arg(long, default_value_t = clapper_app::strikes::DEFAULT_DOUBLE_MIN_RATIO, value_name = "RATIO")]
