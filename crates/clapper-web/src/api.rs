@@ -708,8 +708,11 @@ pub(crate) async fn strikes(
     Ok(Json(out).into_response())
 }
 
-/// The query of `POST /api/strikes`.
+/// The query of `POST /api/strikes`. A name it does not know is refused:
+/// a misspelt `handbell=true` was ignored and the handbells heard as
+/// tower bells (an independent tester, issue 43).
 #[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
 pub(crate) struct StrikesQuery {
     /// Nominals (Hz), treble first, comma-separated.
     nominals: Option<String>,

@@ -563,6 +563,11 @@ async fn a_recording_is_heard_through_the_api() {
     let (status, body) = send_wav(&app, "/api/strikes?nominals=1400,abc", wav.clone()).await;
     assert_eq!(status, StatusCode::BAD_REQUEST);
     assert!(String::from_utf8_lossy(&body).contains("'abc'"));
+    // A misspelt option is refused, not ignored.
+    let (status, body) = send_wav(&app, &format!("{uri}&handbell=true"), wav.clone()).await;
+    assert_eq!(status, StatusCode::BAD_REQUEST);
+    let said = String::from_utf8_lossy(&body);
+    assert!(said.contains("handbell") && said.contains("unknown"), "{said}");
     let (status, body) = send_wav(&app, &uri, b"RIFF but not really".to_vec()).await;
     assert_eq!(status, StatusCode::BAD_REQUEST);
     assert!(
