@@ -190,15 +190,32 @@ pub fn find_modes(sig: &Signal, opts: &ModeOptions) -> Result<Vec<Partial>, Sign
     let nfft = (4 * x.len()).next_power_of_two().min(1 << 24).max(x.len());
     let db = spectrum_db(x, nfft)?;
     let df = sig.rate / nfft as f64;
+    // A peak within the main lobe of a stronger one is the same partial.
+    let lobe = 2.0 * sig.rate / x.len() as f64;
+    let chosen = strongest_peaks(&db, df, lobe, opts);
+    let mut out: Vec<Partial> = chosen
+        .iter()
+        .map(|&(f, level)| decay_of(x, sig.rate, f, level, n_win, opts))
+        .collect();
+    let loudest = out.iter().map(|p| p.level_db).fold(f64::NEG_INFINITY, f64::max);
+    for p in &mut out {
+        p.level_db -= loudest;
+    }
+    mark_doublets(&mut out, opts.doublet_fraction);
+    Ok(out)
+}
+
+/// The spectrum's strongest local maxima within `opts.range_db` of its top,
+/// at most `opts.max_modes`, none within `lobe` (Hz) of a stronger one:
+/// (frequency in Hz, parabolically interpolated; level in dB), lowest
+/// frequency first. `df` is the bin width (Hz).
+fn strongest_peaks(db: &[f64], df: f64, lobe: f64, opts: &ModeOptions) -> Vec<(f64, f64)> {
     let top = db.iter().skip(1).cloned().fold(f64::NEG_INFINITY, f64::max);
-    // Local maxima within range, strongest first.
     let mut peaks: Vec<(usize, f64)> = (2..db.len() - 1)
         .filter(|&i| db[i] > db[i - 1] && db[i] >= db[i + 1] && db[i] > top - opts.range_db)
         .map(|i| (i, db[i]))
         .collect();
     peaks.sort_by(|a, b| b.1.total_cmp(&a.1));
-    // A peak within the main lobe of a stronger one is the same partial.
-    let lobe = 2.0 * sig.rate / x.len() as f64;
     let mut chosen: Vec<(f64, f64)> = vec![];
     for (i, level) in peaks {
         let (a, b, c) = (db[i - 1], db[i], db[i + 1]);
@@ -214,55 +231,53 @@ pub fn find_modes(sig: &Signal, opts: &ModeOptions) -> Result<Vec<Partial>, Sign
         }
     }
     chosen.sort_by(|a, b| a.0.total_cmp(&b.0));
-    let mut out: Vec<Partial> = chosen
+    chosen
+}
+
+/// The partial at `f` (Hz) of the strike `x` (sampled at `rate`, Hz): its Q
+/// from the decay of its level in windows of `n_win` samples, and its level
+/// (dB) at the strike from that decay; the spectral peak's `level` (which
+/// favours long-ringing partials) only where no decay can be fitted.
+fn decay_of(x: &[f64], rate: f64, f: f64, level: f64, n_win: usize, opts: &ModeOptions) -> Partial {
+    let tr = track(x, rate, f, n_win);
+    let fitted = tr
         .iter()
-        .map(|&(f, level)| {
-            let tr = track(x, sig.rate, f, n_win);
-            let fitted = tr
+        .enumerate()
+        .max_by(|a, b| a.1 .1.total_cmp(&b.1 .1))
+        .and_then(|(k0, &(_, l0))| {
+            // Every point above the threshold up to the last one: a
+            // beating doublet dips below it and comes back.
+            let last = tr.iter().rposition(|p| p.1 > l0 - opts.decay_fit_db).unwrap_or(k0);
+            let fit: Vec<(f64, f64)> = tr[k0..=last.max(k0)]
                 .iter()
-                .enumerate()
-                .max_by(|a, b| a.1 .1.total_cmp(&b.1 .1))
-                .and_then(|(k0, &(_, l0))| {
-                    // Every point above the threshold up to the last one: a
-                    // beating doublet dips below it and comes back.
-                    let last = tr.iter().rposition(|p| p.1 > l0 - opts.decay_fit_db).unwrap_or(k0);
-                    let fit: Vec<(f64, f64)> = tr[k0..=last.max(k0)]
-                        .iter()
-                        .filter(|p| p.1 > l0 - opts.decay_fit_db)
-                        .copied()
-                        .collect();
-                    if fit.len() < 4 {
-                        return None;
-                    }
-                    // A decay with the beat of a possible doublet fitted out.
-                    let (alpha, at_strike) = beat_fit(&fit);
-                    (alpha > 0.0).then(|| (PI * f / alpha, at_strike))
-                });
-            // Level at the strike from the decay line; the spectral peak
-            // (which favours long-ringing partials) only if there is none.
-            (f, fitted.map(|x| x.0), fitted.map_or(level, |x| x.1))
-        })
-        .collect::<Vec<_>>()
-        .into_iter()
-        .map(|(f, q, level)| Partial {
-            freq_hz: f,
-            q,
-            level_db: level,
-            doublet_with: None,
-        })
-        .collect();
-    let loudest = out.iter().map(|p| p.level_db).fold(f64::NEG_INFINITY, f64::max);
-    for p in &mut out {
-        p.level_db -= loudest;
+                .filter(|p| p.1 > l0 - opts.decay_fit_db)
+                .copied()
+                .collect();
+            if fit.len() < 4 {
+                return None;
+            }
+            // A decay with the beat of a possible doublet fitted out.
+            let (alpha, at_strike) = beat_fit(&fit);
+            (alpha > 0.0).then(|| (PI * f / alpha, at_strike))
+        });
+    Partial {
+        freq_hz: f,
+        q: fitted.map(|x| x.0),
+        level_db: fitted.map_or(level, |x| x.1),
+        doublet_with: None,
     }
+}
+
+/// Each partial within `fraction` of its own frequency of another is marked
+/// as a doublet with it (the last such, as before).
+fn mark_doublets(out: &mut [Partial], fraction: f64) {
     for i in 0..out.len() {
         for j in 0..out.len() {
-            if i != j && (out[i].freq_hz - out[j].freq_hz).abs() < opts.doublet_fraction * out[i].freq_hz {
+            if i != j && (out[i].freq_hz - out[j].freq_hz).abs() < fraction * out[i].freq_hz {
                 out[i].doublet_with = Some(out[j].freq_hz);
             }
         }
     }
-    Ok(out)
 }
 
 #[cfg(test)]
