@@ -1,0 +1,242 @@
+//! Rows found as the best split of the strikes in time order into runs of
+//! about one strike per bell, alternately handstroke and backstroke
+//! (docs/strikes.md, "Rows in methods").
+//!
+//! A bell's own alternating intervals say its strokes only while it keeps
+//! to its places: a bell that dodges (places p, p+1, p, p+1, as Stedman's
+//! and Plain Bob's bells do for rows on end) has its hand-to-back interval
+//! the longer one, and reads the wrong way round. The ring as a whole does
+//! not: every backstroke row is followed by the handstroke gap. And a row
+//! split at each change of stroke lost one strike or gained one, every row
+//! after was numbered one more. So the rows are chosen together, by
+//! dynamic programming over where each row starts, costing what a real
+//! touch would not do: a row of more or fewer strikes than bells heard, a
+//! bell twice in a row, a row's lead not what its stroke makes it (the
+//! handstroke gap before a handstroke, a plain interval before a
+//! backstroke), and the bells' own stroke votes against the row's.
+
+/// What the split is given: strikes in time order.
+pub(super) struct Sequence<'a> {
+    /// Onsets (s), ascending.
+    pub t: &'a [f64],
+    /// Each strike's bell (from 1).
+    pub bell: &'a [usize],
+    /// Each strike's stroke as its own bell's intervals say (true: hand).
+    pub vote: &'a [Option<bool>],
+}
+
+/// What a touch costs, in units of a badly timed row lead.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Costs {
+    /// Strikes per row: the bells heard.
+    pub bells: usize,
+    /// Places per row: the bells listened for (a bell never heard leaves
+    /// its place empty in every row).
+    pub places: usize,
+    /// Interval between successive bells (s).
+    pub interval: f64,
+    /// The handstroke gap (intervals); 0 when none stands out.
+    pub gap: f64,
+}
+
+/// One row: strikes `start..end` of the sequence, and its stroke.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub(super) struct Row {
+    /// First strike (index into the sequence).
+    pub start: usize,
+    /// One past the last strike.
+    pub end: usize,
+    /// Handstroke (else backstroke).
+    pub hand: bool,
+}
+
+// A row one strike short or long costs less than a lead a gap off (the
+// gap is the surer sign); a bell twice more than a strike moved over a
+// back row's boundary costs in size (a row of one bell too many and one
+// too few, or a lead one interval long: a strike lost and a false one are
+// both kept where they are); a
+// bell's own vote, a little (dodging bells vote wrong for rows on end).
+const SIZE: f64 = 1.5;
+const TWICE: f64 = 6.0;
+const VOTE: f64 = 0.6;
+// The spread of a row's lead (intervals) in fair striking.
+const LEAD_SD: f64 = 0.35;
+// A lead costs at most this much: a strike missed before a row.
+const LEAD_CAP: f64 = 9.0;
+
+/// The best split of `seq` into rows under `c`. Every strike is in one row.
+pub(super) fn split(seq: &Sequence, c: &Costs) -> Vec<Row> {
+    let n = seq.t.len();
+    if n == 0 || c.bells == 0 {
+        return vec![];
+    }
+    let longest = c.bells + 2;
+    // best[i][s]: the least cost of rows covering strikes ..i, the next row
+    // of stroke s (0 back, 1 hand); from[i][s]: where the last row began.
+    let mut best = vec![[f64::INFINITY; 2]; n + 1];
+    let mut from = vec![[usize::MAX; 2]; n + 1];
+    best[0] = [0.0, 0.0];
+    for i in 0..n {
+        for s in 0..2 {
+            if !best[i][s].is_finite() {
+                continue;
+            }
+            for end in i + 1..=(i + longest).min(n) {
+                let cost = best[i][s] + row_cost(seq, c, i, end, s == 1);
+                let next = 1 - s;
+                if cost < best[end][next] {
+                    best[end][next] = cost;
+                    from[end][next] = i;
+                }
+            }
+        }
+    }
+    let mut s = if best[n][0] <= best[n][1] { 0 } else { 1 };
+    let mut end = n;
+    let mut rows = vec![];
+    // Each step moves back at least one strike: bounded by n.
+    while end > 0 {
+        let start = from[end][s];
+        rows.push(Row {
+            start,
+            end,
+            hand: s == 0,
+        });
+        end = start;
+        s = 1 - s;
+    }
+    rows.reverse();
+    rows
+}
+
+/// What the row of strikes `i..end` of stroke `hand` costs.
+fn row_cost(seq: &Sequence, c: &Costs, i: usize, end: usize, hand: bool) -> f64 {
+    // The places the row spans: its strikes, and a place for each of its
+    // intervals about twice the plain one (a strike lost inside it). A
+    // row of strikes spanning one place too many is a row with a strike of
+    // the next (which the count alone cannot tell from the truth where
+    // the lost strike was that bell's).
+    let holes: usize = if c.interval > 0.0 {
+        seq.t[i..end]
+            .windows(2)
+            .map(|w| (w[1] - w[0]) / c.interval)
+            .filter(|&x| x > 1.6)
+            .map(|x| (x.round() as usize).saturating_sub(1).min(c.bells))
+            .sum()
+    } else {
+        0
+    };
+    let spans = end - i + holes;
+    // A row cut by the recording's start or end costs as a row short of
+    // strikes does: it is one whatever the split, and a discount there let
+    // a false strike before the first row stand as a row of its own.
+    let (lo, hi) = (c.bells, c.places.max(c.bells));
+    let size = SIZE * (lo.saturating_sub(spans) + spans.saturating_sub(hi) + holes.saturating_sub(hi - lo)) as f64;
+    let mut seen = [0u64; 4];
+    let mut twice = 0;
+    for &b in &seq.bell[i..end] {
+        let (w, m) = (b / 64 % 4, 1u64 << (b % 64));
+        if seen[w] & m != 0 {
+            twice += 1;
+        }
+        seen[w] |= m;
+    }
+    let lead = if i > 0 && c.interval > 0.0 {
+        let x = (seq.t[i] - seq.t[i - 1]) / c.interval;
+        let expect = 1.0 + if hand { c.gap } else { 0.0 };
+        // One interval longer: a strike lost at the row's end or start.
+        let plain = ((x - expect) / LEAD_SD).powi(2);
+        let one_lost = ((x - expect - 1.0) / LEAD_SD).powi(2) + SIZE;
+        plain.min(one_lost).min(LEAD_CAP)
+    } else {
+        0.0
+    };
+    let against = seq.vote[i..end].iter().filter(|v| **v == Some(!hand)).count();
+    size + TWICE * twice as f64 + lead + VOTE * against as f64
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// Rows of `bells` in rounds, interval 0.2 s, gap 1 before handstrokes.
+    fn rounds(rows: usize, bells: usize) -> (Vec<f64>, Vec<usize>, Vec<bool>) {
+        let (mut t, mut b, mut h) = (vec![], vec![], vec![]);
+        let mut now = 0.0;
+        for r in 0..rows {
+            let hand = r % 2 == 0;
+            if hand && r > 0 {
+                now += 0.2;
+            }
+            for bell in 1..=bells {
+                now += 0.2;
+                t.push(now);
+                b.push(bell);
+                h.push(hand);
+            }
+        }
+        (t, b, h)
+    }
+
+    #[test]
+    fn a_strike_lost_and_one_gained_cost_their_rows_not_the_numbers_after() {
+        let (mut t, mut b, _) = rounds(20, 8);
+        // Row 6 loses bell 8; row 7 gains a false bell 8 at bell 3's blow.
+        let lost = 6 * 8 + 7;
+        let at = 7 * 8 + 2;
+        t.insert(at + 1, t[at] + 0.001);
+        b.insert(at + 1, 8);
+        t.remove(lost);
+        b.remove(lost);
+        // Every bell's vote the wrong way (a dodging bell's): the gap wins.
+        let vote = vec![None; t.len()];
+        let c = Costs {
+            bells: 8,
+            places: 8,
+            interval: 0.2,
+            gap: 1.0,
+        };
+        let rows = split(
+            &Sequence {
+                t: &t,
+                bell: &b,
+                vote: &vote,
+            },
+            &c,
+        );
+        assert_eq!(rows.len(), 20, "{rows:?}");
+        assert!(rows.iter().enumerate().all(|(r, row)| row.hand == (r % 2 == 0)));
+        assert_eq!(rows[6].end - rows[6].start, 7);
+        assert_eq!(rows[7].end - rows[7].start, 9);
+        assert_eq!(rows[19].end, t.len());
+    }
+
+    #[test]
+    fn a_bell_voting_the_wrong_stroke_for_rows_on_end_is_outvoted_by_the_gap() {
+        let (t, b, h) = rounds(16, 10);
+        let vote: Vec<Option<bool>> = b
+            .iter()
+            .zip(&h)
+            .map(|(&bell, &hand)| Some(hand != (bell == 6)))
+            .collect();
+        let c = Costs {
+            bells: 10,
+            places: 10,
+            interval: 0.2,
+            gap: 1.0,
+        };
+        let rows = split(
+            &Sequence {
+                t: &t,
+                bell: &b,
+                vote: &vote,
+            },
+            &c,
+        );
+        assert_eq!(rows.len(), 16);
+        for row in &rows {
+            assert_eq!(row.end - row.start, 10);
+            assert!(h[row.start..row.end].iter().all(|&x| x == row.hand));
+        }
+    }
+}
