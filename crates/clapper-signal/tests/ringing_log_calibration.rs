@@ -213,12 +213,14 @@ fn a_log_shaped_like_data141_is_read_right() {
 /// before the headstock's ring was taken out of the readings, `unring.rs`:
 /// seed 329, 83 ms). Not yet met: the raising's and lowering's swings of
 /// 45 deg or more, where the headstock still rings through the next
-/// bottom, are not all found, nor all within a sample: 25 of some 900
-/// missed over the 30 logs and 47 more than a sample off (464 missed
-/// before the ring was taken out, 169 while a sample was left out when
-/// any axis clipped; 53 missed and 206 off before the clipped readings
-/// were read through and the strikes hidden in the ringing found);
-/// asserted as ceilings, not the acceptance.
+/// bottom, are not all found, nor all within a sample: 12 of some 900
+/// missed over the 30 logs and 38 more than a sample off, the worst 16.9
+/// samples (464 missed before the ring was taken out, 169 while a sample
+/// was left out when any axis clipped; 53 missed and 206 off before the
+/// clipped readings were read through and the strikes hidden in the
+/// ringing found; 25 and 47, the worst 32.2 samples, before the ring was
+/// also fitted as one dying oscillation from each strike to the next,
+/// `dying.rs`); asserted as ceilings, not the acceptance.
 #[test]
 fn thirty_logs_with_offsets_gains_and_a_clipping_headstock() {
     let mut w = Worst::default();
@@ -240,9 +242,9 @@ fn thirty_logs_with_offsets_gains_and_a_clipping_headstock() {
     assert!(w.offset <= 0.05, "offset off by {} m/s²", w.offset);
     assert!(w.gain <= 0.005, "gain off by {}", w.gain);
     assert!(w.speed <= 5.0, "bottom {} ms from the greatest speed", w.speed);
-    assert!(w.missed <= 25, "{} swings of raising and lowering missed", w.missed);
+    assert!(w.missed <= 12, "{} swings of raising and lowering missed", w.missed);
     assert!(
-        w.off <= 47,
+        w.off <= 38,
         "{} bottoms of raising and lowering more than a sample off",
         w.off
     );

@@ -40,7 +40,9 @@
 //! (the sensor's place and calibration), `orient` (which way is down),
 //! `reading` (step 2), `bottoms` (step 3), `phases` (step 4), `checks`,
 //! `tops` (what each stroke rose to: a stand on the stay, or a turning
-//! point hidden by the headstock's ringing, timed), `plausible` (whether
+//! point hidden by the headstock's ringing, timed), `dying` and `unring`
+//! (the headstock's ring taken out of the readings: one dying oscillation
+//! from each strike to the next, and local fits), `plausible` (whether
 //! it is a bell's log at all) and `analyse` (the steps in order).
 
 mod analyse;
@@ -48,6 +50,7 @@ mod bottoms;
 mod bursts;
 mod calibrate;
 pub mod checks;
+mod dying;
 mod falls;
 mod fits;
 mod orient;

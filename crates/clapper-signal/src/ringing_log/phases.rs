@@ -225,6 +225,20 @@ fn ringing_within(
     }
     let first = (0..idx.len()).find(|&p| core(p)).unwrap_or(0);
     let mut last = (0..idx.len()).rev().find(|&p| core(p)).unwrap_or(idx.len() - 1);
+    // After a set, fewer core strokes than a lowering's dying swings, and
+    // swings after them that are not: the lowering's first swings, near
+    // the ringing's height within the amplitude's reading error (Data141's
+    // second swing after its last set read 165.5 or 166.8 deg, as the
+    // headstock's ring was taken out one way or the other, about the
+    // threshold, and the lowering's first two strokes became "ringing").
+    let cores = (0..idx.len()).filter(|&p| core(p)).count();
+    if from == Some(PhaseKind::Up) && cores < DECLINE_SWINGS && last + 1 < idx.len() {
+        for &i in idx {
+            strokes[i].phase = PhaseKind::Lowering;
+        }
+        push(out, PhaseKind::Lowering, a, b);
+        return;
+    }
     // Lowering from its first swing: the ringing ends before the first
     // stroke after which the swings die away steadily.
     let amps: Vec<f64> = idx.iter().map(|&i| amp(i)).collect();

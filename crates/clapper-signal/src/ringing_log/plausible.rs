@@ -14,10 +14,16 @@ use clapper_core::bell::G;
 /// with a sensor's gain error and the swing's accelerations on top.
 pub const GRAVITY_BAND: (f64, f64) = (0.5, 2.0);
 
-/// At most this fraction of steps between neighbouring quiet samples may
-/// turn the angle faster than a bell can: Data141, a real bell's log, has
-/// 2.7 % (a strike's shaking the burst test lets through), noise about 89 %.
+/// At most this fraction of steps between neighbouring quiet samples (both
+/// reading within [`JUMP_BAND`] of g) may turn the angle faster than a
+/// bell can: Data141, a real bell's log, has 0.3 % (2.7 % counted at every
+/// quiet sample: a strike's shaking the burst test lets through), noise
+/// about 89 %.
 pub const MAX_JUMPS: f64 = 0.25;
+
+/// The angle's jumps are counted between neighbouring samples both
+/// reading within this band (over g).
+const JUMP_BAND: (f64, f64) = (0.8, 1.2);
 
 /// The median time (s) from one bottom to the next over swings under 90
 /// deg must lie in this band: half a pendulum's period, from a bell
@@ -41,7 +47,8 @@ pub struct Plausibility {
     /// The readings' median magnitude over the quiet samples, over g
     /// (about 1 for a bell's log).
     pub gravity: f64,
-    /// The fraction of steps between neighbouring quiet samples in which the
+    /// The fraction of steps between neighbouring quiet samples (both
+    /// reading within 20 % of g) in which the
     /// plain angle atan2(tangential, radial) turns faster than 8 rad/s (and
     /// more than 20 deg): near 0 for a bell's log, most for noise.
     pub jumps: f64,
@@ -117,12 +124,20 @@ pub fn plausibility(log: &AccelLog, burst: &[bool], interval: f64) -> Plausibili
             .collect::<Vec<_>>(),
     );
     let angle = |k: usize| log.tangential[k].atan2(log.radial[k]);
+    // Only where the reading is gravity's in size: a headstock ringing
+    // harder than g shakes the plain angle about, and where the log rings
+    // for most of its length the burst test (its threshold set by the
+    // typical sample) lets that ring through as quiet.
+    let gravity_like = |k: usize| {
+        let m = log.radial[k].hypot(log.tangential[k]).hypot(log.axle[k]) / G;
+        (JUMP_BAND.0..=JUMP_BAND.1).contains(&m)
+    };
     let (mut steps, mut jumps) = (0usize, 0usize);
     for w in quiet.windows(2) {
         let (a, b) = (w[0], w[1]);
         let dt = log.t[b] - log.t[a];
         // Neighbours only: not across a burst or a gap.
-        if b != a + 1 || dt > 4.0 * interval {
+        if b != a + 1 || dt > 4.0 * interval || !gravity_like(a) || !gravity_like(b) {
             continue;
         }
         steps += 1;

@@ -19,6 +19,7 @@
 //! it differ ([`hidden_strikes`]), and no fit straddles it.
 
 use super::bursts::{runs_of, RINGING_S};
+use super::dying::{dying, quadratic_at, Dying, DECAYS};
 use super::fits::quadratic_fits;
 use super::types::AccelLog;
 use std::f64::consts::TAU;
@@ -98,22 +99,34 @@ pub(super) fn unrung(
         starts.dedup();
         rung_pieces(&log.t, burst, &struck, &starts)
     };
+    // The ring as one dying oscillation from each strike to the next
+    // (`dying.rs`), where that explains it: it reads the samples the local
+    // fits have too few about to read, and whole pieces they do not
+    // explain.
+    let told = dying_rings(log, &masks, &pieces, hz);
     for p in &pieces {
-        let (cleaned, before, after) = clean_run(log, &masks, p, hz);
-        if before > 0.0 && after <= (1.0 - EXPLAINED) * before {
-            for (&j, c) in p.run.iter().zip(&cleaned) {
-                let [r, tg, ax] = c.map(|x| x.unwrap_or(f64::NAN));
-                if c[1].is_some() {
-                    out.tangential[j] = tg;
-                    shaken[j] = false;
-                    usable[j] = if c[0].is_some() { 2 } else { 1 };
-                }
-                if c[0].is_some() {
-                    out.radial[j] = r;
-                }
-                if c[2].is_some() {
-                    out.axle[j] = ax;
-                }
+        let (mut cleaned, before, after) = clean_run(log, &masks, p, hz);
+        let local = before > 0.0 && after <= (1.0 - EXPLAINED) * before;
+        for (&j, c) in p.run.iter().zip(cleaned.iter_mut()) {
+            if !local {
+                *c = [None; 3];
+            }
+            for (a, x) in c.iter_mut().enumerate() {
+                *x = x.or(told[j][a]);
+            }
+        }
+        for (&j, c) in p.run.iter().zip(&cleaned) {
+            let [r, tg, ax] = c.map(|x| x.unwrap_or(f64::NAN));
+            if c[1].is_some() {
+                out.tangential[j] = tg;
+                shaken[j] = false;
+                usable[j] = if c[0].is_some() { 2 } else { 1 };
+            }
+            if c[0].is_some() {
+                out.radial[j] = r;
+            }
+            if c[2].is_some() {
+                out.axle[j] = ax;
             }
         }
     }
@@ -388,4 +401,97 @@ fn fit(
         [v[0], v[1], v[2]],
     );
     (q.map(|q| q[0]), clapper_core::linalg::solve(m, v))
+}
+
+/// The longest stretch (s) from a strike a dying ring is fitted over.
+const DYING_SPAN_S: f64 = 2.5;
+
+/// Each sample's readings (radial, tangential, axle) with the ring taken
+/// out as one dying oscillation per strike ([`dying`]), where told: over
+/// the samples of each span of `pieces` (strike to next, at most
+/// [`DYING_SPAN_S`]) that it explains to [`EXPLAINED`] on the axes
+/// together, the log's decay time the one of [`DECAYS`] that leaves least
+/// over all spans.
+fn dying_rings(log: &AccelLog, masks: &[Vec<bool>; 3], pieces: &[Piece], hz: f64) -> Vec<[Option<f64>; 3]> {
+    let t = &log.t;
+    let mut told = vec![[None; 3]; t.len()];
+    let axes = [&log.radial, &log.tangential, &log.axle];
+    let mut spans: Vec<(usize, usize)> = pieces
+        .iter()
+        .map(|p| {
+            let end = t.partition_point(|&x| x <= t[p.span.0] + DYING_SPAN_S);
+            (p.span.0, p.span.1.min(end))
+        })
+        .collect();
+    spans.sort_unstable();
+    spans.dedup();
+    let pts = |a: usize, (lo, hi): (usize, usize)| -> Vec<usize> { (lo..hi).filter(|&j| !masks[a][j]).collect() };
+    let fits = |decay: f64| -> Vec<[Option<Dying>; 3]> {
+        spans
+            .iter()
+            .map(|&sp| [0, 1, 2].map(|a| dying(t, axes[a], &pts(a, sp), sp, hz, decay)))
+            .collect()
+    };
+    let left = |f: &[[Option<Dying>; 3]]| -> f64 { f.iter().flatten().flatten().map(|d| d.after).sum() };
+    let Some(decay) = DECAYS
+        .iter()
+        .map(|&d| (d, left(&fits(d))))
+        .min_by(|x, y| x.1.total_cmp(&y.1))
+        .map(|x| x.0)
+    else {
+        return told;
+    };
+    let fitted = fits(decay);
+    for (&sp, f) in spans.iter().zip(&fitted) {
+        let (before, after) = f
+            .iter()
+            .flatten()
+            .fold((0.0, 0.0), |s, d| (s.0 + d.before, s.1 + d.after));
+        if before <= 0.0 || after > (1.0 - EXPLAINED) * before {
+            continue;
+        }
+        // Each axis's cleaned value at each sample of the span, where told.
+        let cleaned: [Vec<Option<f64>>; 3] = [0, 1, 2].map(|a| {
+            let mut v = vec![None; sp.1 - sp.0];
+            let Some(d) = &f[a] else { return v };
+            let p = pts(a, sp);
+            for (&j, q) in p.iter().zip(&d.swing) {
+                if q.is_some() {
+                    v[j - sp.0] = Some(axes[a][j] - d.ring[j - sp.0]);
+                }
+            }
+            if a == 2 {
+                return v;
+            }
+            read_through(t, (axes[a], &masks[a]), sp, &d.ring, &mut v);
+            v
+        });
+        for j in sp.0..sp.1 {
+            told[j] = [0, 1, 2].map(|a| cleaned[a][j - sp.0]);
+        }
+    }
+    told
+}
+
+/// A clipped reading (`mask`, of the readings `y`) is missing: the swing
+/// read through it from the cleaned samples `v` about it (2 each side
+/// within ±0.1 s, a quadratic), where that swing and the `ring` together
+/// reach the clipped value on its side; `v` and `ring` from the span
+/// `sp`'s first sample.
+fn read_through(t: &[f64], (y, mask): (&[f64], &[bool]), sp: (usize, usize), ring: &[f64], v: &mut [Option<f64>]) {
+    let known: Vec<usize> = (sp.0..sp.1).filter(|&j| v[j - sp.0].is_some()).collect();
+    let vals: Vec<f64> = known.iter().map(|&j| v[j - sp.0].unwrap_or(0.0)).collect();
+    for j in (sp.0..sp.1).filter(|&j| mask[j]) {
+        let lo = known.partition_point(|&k| t[k] < t[j] - 0.1);
+        let hi = known.partition_point(|&k| t[k] <= t[j] + 0.1);
+        let mid = known.partition_point(|&k| k < j);
+        if mid - lo < 2 || hi - mid < 2 {
+            continue;
+        }
+        if let Some(q) = quadratic_at(t, &known[lo..hi], &vals[lo..hi], t[j]) {
+            if (q + ring[j - sp.0]) * y[j].signum() >= y[j].abs() - CLIP_SLACK {
+                v[j - sp.0] = Some(q);
+            }
+        }
+    }
 }
