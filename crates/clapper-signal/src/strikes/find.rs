@@ -89,6 +89,7 @@ pub fn hear_strikes(sig: &Signal, voices: &[BellVoice], opts: &StrikeOptions) ->
     let plan = plan_bands(voices, low.rate, &spectrum);
     // 1. Each bell's bands and onset function, and its candidate strikes.
     let mut shared_bands: Vec<Vec<SharedBand>> = vec![];
+    let sharers: Vec<Vec<Vec<usize>>> = plan.iter().map(|p| p.sharers.clone()).collect();
     let heard: Vec<BellHearing> = plan
         .into_iter()
         .map(|p| {
@@ -108,7 +109,55 @@ pub fn hear_strikes(sig: &Signal, voices: &[BellVoice], opts: &StrikeOptions) ->
         })
         .collect();
     drop(low);
+    let heard = without_sharers(heard, &sharers, voices.len(), opts);
     Ok(strikes_of(heard, shared_bands, voices.len(), opts))
+}
+
+/// Each bell heard only in bands it shares (`sharers[b][i]`: the bells
+/// whose partials lie in its band `i`) heard again with the strikes of
+/// those bells, found in their own bands, taken out of those bands
+/// ([`BellHearing::without_others`]). A sharer heard in shared bands
+/// itself times nothing here.
+fn without_sharers(
+    heard: Vec<BellHearing>,
+    sharers: &[Vec<Vec<usize>>],
+    bells: usize,
+    opts: &StrikeOptions,
+) -> Vec<BellHearing> {
+    let leaning: Vec<bool> = sharers.iter().map(|s| s.iter().any(|x| !x.is_empty())).collect();
+    if !leaning.contains(&true) {
+        return heard;
+    }
+    let needed = |o: usize| !leaning[o] && sharers.iter().flatten().flatten().any(|&x| x == o);
+    let times: Vec<Vec<f64>> = heard
+        .iter()
+        .enumerate()
+        .map(|(o, h)| {
+            if needed(o) && !h.bands.is_empty() {
+                h.firsts(opts, bells).into_iter().map(|x| x.0).collect()
+            } else {
+                vec![]
+            }
+        })
+        .collect();
+    heard
+        .into_iter()
+        .zip(sharers)
+        .map(|(h, s)| {
+            if s.iter().all(|x| x.is_empty()) {
+                return h;
+            }
+            let others: Vec<Vec<f64>> = s
+                .iter()
+                .map(|with| {
+                    let mut t: Vec<f64> = with.iter().flat_map(|&o| times[o].iter().copied()).collect();
+                    t.sort_by(f64::total_cmp);
+                    t
+                })
+                .collect();
+            h.without_others(&others, opts)
+        })
+        .collect()
 }
 
 /// The recording, the bells and the options checked.
