@@ -85,6 +85,10 @@ fn probe() {
     for seed in seeds {
         let mut spec = match which.as_str() {
             "10" => bench_ring(10, 400.0, Scale::Major, seed),
+            "8" => TowerSpec {
+                bells: major_scale(8, 1400.0).unwrap(),
+                ..bench_ring(8, 400.0, Scale::Major, seed)
+            },
             "12" => bench_ring(12, 350.0, Scale::Major, seed),
             "heavy" => TowerSpec {
                 interval: 0.26,
