@@ -48,9 +48,7 @@ pub(super) fn box3_reaches(level: f64) -> f64 {
 /// times reported), and its weight (shorter boxes and clearer steps weigh
 /// more), if the strike is heard there. A shared band (`faint`)
 /// is used only where what rings there before the strike is small beside
-/// the strike's step. Where the band climbs from `level` to half-way more
-/// slowly than a strike does ([`MAX_CLIMB_BOXES`]), a shared band does not
-/// time the strike and a band of the bell's own times it half-way up.
+/// the strike's step.
 pub(super) fn band_onset(b: &Band, c: &[f64], m: usize, faint: bool, level: f64) -> Option<(f64, f64)> {
     let g = b.rise.div_ceil(2);
     let w = b.rise;
@@ -81,28 +79,17 @@ pub(super) fn band_onset(b: &Band, c: &[f64], m: usize, faint: bool, level: f64)
         if p >= level {
             let frac = if p > prev { (level - prev) / (p - prev) } else { 0.0 };
             let at = k as f64 - 1.0 + frac.clamp(0.0, 1.0);
-            // The climb from `level` to half-way must be a strike's:
-            // another bell's partial ringing in a shared band, turning
-            // against this one's, can carry the band to `level` before
-            // the rise; so can the bell's own last strike still ringing
-            // in a long band, beating (ten bells' tenor, its prime and hum
-            // in 50 ms boxes: timed 100-170 ms early in 5 of 30 strikes).
-            // A band of the bell's own is then timed half-way up, where
-            // what rang before tells least.
-            let weight = b.weight * (c[top] / b.scale).min(2.0) / b.box_s;
-            if level < 0.5 {
+            // In a shared band, the climb from `level` to half-way must be
+            // a strike's: another bell's partial ringing there, turning
+            // against this one's, can carry the band to `level` before the
+            // rise.
+            if faint && level < 0.5 {
                 let half = (k..b.z.len().min(top + g + w)).find(|&j| progress(j) >= 0.5);
                 if half.is_none_or(|j| (j as f64 - at) / b.rate > MAX_CLIMB_BOXES * b.box_s) {
-                    if faint {
-                        return None;
-                    }
-                    let j = half?;
-                    let (p, q) = (progress(j - 1), progress(j));
-                    let frac = if q > p { (0.5 - p) / (q - p) } else { 0.0 };
-                    return Some(((j as f64 - 1.0 + frac.clamp(0.0, 1.0)) / b.rate, weight));
+                    return None;
                 }
             }
-            return Some((at / b.rate + shift, weight));
+            return Some((at / b.rate + shift, b.weight * (c[top] / b.scale).min(2.0) / b.box_s));
         }
         prev = p;
     }
