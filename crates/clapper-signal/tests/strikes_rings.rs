@@ -68,35 +68,3 @@ fn on_ten_bells_the_bell_heard_only_in_shared_bands_is_heard() {
     assert!(each[8] >= 0.8, "bell 9 within 50 ms {}, per bell {each:?}", each[8]);
     assert!(all >= 0.97, "within 50 ms {all}, per bell {each:?}");
 }
-
-#[test]
-#[ignore]
-fn probe() {
-    let which = std::env::var("PROBE").unwrap_or("10".into());
-    let seeds: Vec<u64> = std::env::var("SEEDS")
-        .unwrap_or("1,2".into())
-        .split(',')
-        .map(|s| s.parse().unwrap())
-        .collect();
-    for seed in seeds {
-        let mut spec = match which.as_str() {
-            "10" => bench_ring(10, 400.0, Scale::Major, seed),
-            "8" => TowerSpec {
-                bells: major_scale(8, 1400.0).unwrap(),
-                ..bench_ring(8, 400.0, Scale::Major, seed)
-            },
-            "12" => bench_ring(12, 350.0, Scale::Major, seed),
-            "heavy" => TowerSpec {
-                interval: 0.26,
-                ..bench_ring(8, 250.0, Scale::Major, seed)
-            },
-            _ => panic!(),
-        };
-        spec.seed = seed;
-        for tol in [0.01, 0.05] {
-            let (each, all) = per_bell(&spec, tol);
-            let e: Vec<String> = each.iter().map(|v| format!("{v:.2}")).collect();
-            println!("{which} seed {seed} tol {tol}: {all:.3} [{}]", e.join(" "));
-        }
-    }
-}
