@@ -7,7 +7,7 @@ use clapper_signal::tower::*;
 
 /// `bench/strikes`'s base ring (as `clapper synth-ring` makes it): rounds,
 /// 30 rows at 220 ms, errors within ±15 ms, white noise at 25 dB, three
-/// doubles; `bells` bells of `tuning`'s scale up from `tenor_hz`.
+/// doubles; `bells` bells of `scale` up from `tenor_hz` (Hz).
 fn bench_ring(bells: usize, tenor_hz: f64, scale: Scale, seed: u64) -> TowerSpec {
     let d = |bell, row, delay_ms, amplitude_ratio| DoubleStrikeSpec {
         bell,
@@ -34,15 +34,6 @@ fn per_bell(spec: &TowerSpec, tol: f64) -> (Vec<f64>, f64) {
         .iter()
         .map(|b| BellVoice::from_nominal(b.nominal_hz))
         .collect();
-    if let Ok(b) = std::env::var("DBG_BELL") {
-        let b: usize = b.parse().unwrap();
-        let t: Vec<String> = truth
-            .iter()
-            .filter(|x| x.bell == b)
-            .map(|x| format!("{:.4}", x.t))
-            .collect();
-        eprintln!("TRUTH {}", t.join(" "));
-    }
     let heard = find_strikes(&sig, &voices, &StrikeOptions::default()).unwrap();
     let h = heard.times();
     let all = score(&h, &truth, tol).recall();
