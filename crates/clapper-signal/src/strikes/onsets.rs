@@ -19,12 +19,19 @@ pub(super) struct BellHearing {
     pub(super) floor: f64,
 }
 
-pub(super) fn hear_bell(mut bands: Vec<Band>, opts: &StrikeOptions) -> BellHearing {
+pub(super) fn hear_bell(bands: Vec<Band>, opts: &StrikeOptions) -> BellHearing {
     let n = bands.iter().map(|b| b.z.len()).min().unwrap_or(0);
+    // Each band's change across a step's rise.
+    let changes: Vec<Vec<f64>> = bands.iter().map(|b| change(b)[..n].to_vec()).collect();
+    heard_in(bands, changes, opts)
+}
+
+/// The bell heard in `bands` with their `changes`: each band's typical
+/// step, the onset function, its candidate strikes and its floor.
+fn heard_in(mut bands: Vec<Band>, changes: Vec<Vec<f64>>, opts: &StrikeOptions) -> BellHearing {
+    let n = changes.iter().map(|c| c.len()).min().unwrap_or(0);
     let rate = bands.first().map_or(BAND_RATE, |b| b.rate);
     let sep = (opts.min_separation_s * rate) as usize;
-    // Each band's change across a step's rise, and its typical size.
-    let changes: Vec<Vec<f64>> = bands.iter().map(|b| change(b)[..n].to_vec()).collect();
     for (b, c) in bands.iter_mut().zip(&changes) {
         b.scale = typical_peak(c, sep);
     }
@@ -54,6 +61,36 @@ pub(super) fn hear_bell(mut bands: Vec<Band>, opts: &StrikeOptions) -> BellHeari
 }
 
 impl BellHearing {
+    /// The bell heard again with what other bells' strikes put into the
+    /// bands it shares with them taken out: `others[i]` holds the times
+    /// (s) of the strikes of the bells whose partials lie in band `i`,
+    /// and about each the band's change is set to none for as far as a
+    /// step moves it (a rise and a half either side, and 20 ms for the
+    /// other strike's timing). A bell with fewer than two bands of its
+    /// own is heard in bands it shares ([`super::plan::plan_bands`]):
+    /// on a major ten the 9th's nominal is the 2nd's prime and its only
+    /// own band its hum, and the 2nd's strikes stood as high in its onset
+    /// function as its own, so that neither was told a strike.
+    pub(super) fn without_others(self, others: &[Vec<f64>], opts: &StrikeOptions) -> BellHearing {
+        let BellHearing {
+            bands,
+            mut changes,
+            rate,
+            ..
+        } = self;
+        for ((b, c), times) in bands.iter().zip(changes.iter_mut()).zip(others) {
+            let reach = (3 * b.rise).div_ceil(2) + (0.02 * rate).round() as usize;
+            for &t in times {
+                let m = (t * rate).round().max(0.0) as usize;
+                let (lo, hi) = (m.saturating_sub(reach), (m + reach + 1).min(c.len()));
+                if lo < hi {
+                    c[lo..hi].iter_mut().for_each(|v| *v = 0.0);
+                }
+            }
+        }
+        heard_in(bands, changes, opts)
+    }
+
     /// The strikes: (onset s, strength).
     pub(super) fn firsts(&self, opts: &StrikeOptions, bells: usize) -> Vec<(f64, f64)> {
         let heights: Vec<f64> = self.candidates.iter().map(|c| c.1).collect();

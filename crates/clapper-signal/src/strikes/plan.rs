@@ -45,6 +45,10 @@ pub(super) type BandSpec = (f64, f64, usize);
 pub(super) struct BandPlan {
     pub(super) bands: Vec<BandSpec>,
     pub(super) shared: Vec<(BandSpec, Vec<usize>)>,
+    /// Per band of `bands`, the other bells (from 0) whose partials lie
+    /// in it, where the bell has fewer than two bands of its own (else
+    /// none): their strikes step its bands too.
+    pub(super) sharers: Vec<Vec<usize>>,
 }
 
 pub(super) fn plan_bands(voices: &[BellVoice], rate: f64, spectrum: &(f64, Vec<f64>)) -> Vec<BandPlan> {
@@ -82,6 +86,7 @@ pub(super) fn plan_bands(voices: &[BellVoice], rate: f64, spectrum: &(f64, Vec<f
                 return BandPlan {
                     bands: vec![],
                     shared: vec![],
+                    sharers: vec![],
                 };
             }
             let bands: Vec<(f64, f64, f64, usize, Vec<usize>)> =
@@ -95,23 +100,24 @@ pub(super) fn plan_bands(voices: &[BellVoice], rate: f64, spectrum: &(f64, Vec<f
             // another bell's tierce): a double strike is often told
             // soonest there, between the sharing bells' strikes.
             let mut shared: Vec<(BandSpec, Vec<usize>)> = vec![];
-            let mut chosen: Vec<BandSpec> = if clean.len() >= 2 {
+            let mut chosen: Vec<(BandSpec, Vec<usize>)> = if clean.len() >= 2 {
                 shared = bands
                     .iter()
                     .filter(|b| b.2 < 0.9 && b.1 >= 0.3 && !b.4.is_empty())
                     .map(|b| ((b.0, b.1, b.3), b.4.clone()))
                     .collect();
-                clean.iter().map(|b| (b.0, b.1, b.3)).collect()
+                clean.iter().map(|b| ((b.0, b.1, b.3), vec![])).collect()
             } else {
                 bands
                     .iter()
-                    .map(|b| (b.0, b.1 * b.2 * b.2, b.3))
-                    .filter(|b| b.1 >= 0.02)
+                    .map(|b| ((b.0, b.1 * b.2 * b.2, b.3), b.4.clone()))
+                    .filter(|b| b.0 .1 >= 0.02)
                     .collect()
             };
-            chosen.sort_by(|a, b| b.1.total_cmp(&a.1));
+            chosen.sort_by(|a, b| b.0 .1.total_cmp(&a.0 .1));
             chosen.truncate(6);
-            BandPlan { bands: chosen, shared }
+            let (bands, sharers) = chosen.into_iter().unzip();
+            BandPlan { bands, shared, sharers }
         })
         .collect()
 }
