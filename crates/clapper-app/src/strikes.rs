@@ -9,8 +9,8 @@ use clapper_core::stroke::double_strike_index;
 use clapper_signal::lateness::{from_templates, Lateness};
 use clapper_signal::self_calibrate::{calibrate, SelfCalibration};
 use clapper_signal::strikes::{
-    find_strikes_streamed_deferred, rising, BellVoice, Heard, Hearing, InMemory, RecordingBlocks, StrikeOptions,
-    Window, Windows, PLAUSIBLE_SHARE,
+    below_nominal, find_strikes_streamed_deferred, rising, BellVoice, Heard, Hearing, InMemory, RecordingBlocks,
+    StrikeOptions, Window, Windows, PLAUSIBLE_SHARE,
 };
 use clapper_signal::striking::{mean_sd, rhythm, Rhythm, Timed};
 use clapper_signal::template_timing::median_of;
@@ -23,6 +23,7 @@ mod bells;
 pub use bells::{learn_nominals, learned_voices, voices_from_nominals, Learned, LearnedNominal};
 mod doubt;
 mod input;
+mod kind;
 use input::signal_error;
 pub use input::{NO_STRIKES, ONE_BELL};
 mod retime;
@@ -280,11 +281,22 @@ impl StrikesReport {
         let mut moved: Vec<Vec<f64>> = vec![];
         // Strikes judged, and of them those that rise ([`rising`]).
         let mut rises = (0usize, 0usize);
+        // Each strike's rise below its bell's nominal ([`below_nominal`]),
+        // with nominals only: a template's strongest partial may be its hum.
+        let mut below: Vec<f64> = vec![];
+        let as_heard = matches!(timing, Timing::AsHeard);
         let mut each = |w: &Window, heard: &mut Heard, hearing: Hearing| -> Result<(), clapper_signal::SignalError> {
             peak = w.sig.samples.iter().fold(peak, |p, v| p.max(v.abs()));
             for (s, r) in heard.strikes.iter().zip(rising(w.sig, &heard.strikes, voices)) {
                 if let (Some(r), true) = (r, in_core(w, s.t)) {
                     rises = (rises.0 + 1, rises.1 + usize::from(r));
+                }
+            }
+            if as_heard {
+                for (s, b) in heard.strikes.iter().zip(below_nominal(w.sig, &heard.strikes, voices)) {
+                    if let (Some(b), true) = (b, in_core(w, s.t)) {
+                        below.push(b);
+                    }
                 }
             }
             if let Some(strip) = strip.as_deref_mut().filter(|_| w.start == 0) {
@@ -321,7 +333,16 @@ impl StrikesReport {
             );
         }
         input::warn_of(&mut warnings, peak, heard.strikes.len(), voices.len());
+        if as_heard {
+            warnings.extend(kind::octave_warnings(voices));
+            let handbells = voices.iter().all(kind::is_handbell);
+            if handbells || !voices.iter().any(kind::is_handbell) {
+                warnings.extend(kind::kind_warning(&below, handbells));
+            }
+        }
         let mut report = Self::of(&heard, voices.len(), duration_s, warnings, timing_report);
+        let counts: Vec<usize> = report.per_bell.iter().map(|b| b.strikes).collect();
+        report.summary.warnings.extend(kind::few_strikes_warnings(&counts));
         report.summary.plausibility = plausibility;
         Ok(report)
     }

@@ -194,21 +194,42 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
         .filter_map(|(i, d)| peak_of(d).map(|k| (freq(k), i)))
         .collect();
     let groups = group_notes(notes, df);
-    let ring = on_the_scale(bells_of(&groups, &rises, k_lo, df, bells), &rises, k_lo, df, bells);
+    let ring = on_the_scale(
+        bells_of(&groups, &rises, k_lo, df, bells),
+        &onsets,
+        &rises,
+        k_lo,
+        df,
+        bells,
+    );
     // A bell's share against the typical learned bell's: every bell of a
     // ring strikes as often as the others (onsets of the room, the noise
     // and strikes heard at another partial are no bell's).
-    let typical = median(ring.iter().map(|(b, _)| b.onsets.len() as f64).collect()).max(1.0);
+    let typical = median(
+        ring.iter()
+            .filter(|(b, _)| !b.onsets.is_empty())
+            .map(|(b, _)| b.onsets.len() as f64)
+            .collect(),
+    )
+    .max(1.0);
     let mut learned: Vec<LearnedBell> = ring
         .iter()
-        .map(|(b, f)| LearnedBell {
-            nominal_hz: {
-                let heard = refine_moved(&rises, &b.onsets, b.nominal_hz, *f, k_lo, df);
-                let starts: Vec<usize> = b.onsets.iter().map(|&i| onsets[i] * frames.hop).collect();
-                refine_late(&low, &starts, frames.win.len(), heard).unwrap_or(heard)
+        .map(|(b, f)| match b.onsets.is_empty() {
+            // A note of the ring no bell was heard at: its nominal guessed from the scale.
+            true => LearnedBell {
+                nominal_hz: *f,
+                confidence: 0.0,
+                onsets: 0,
             },
-            confidence: (b.onsets.len() as f64 / typical).min(1.0),
-            onsets: b.onsets.len(),
+            false => LearnedBell {
+                nominal_hz: {
+                    let heard = refine_moved(&rises, &b.onsets, b.nominal_hz, *f, k_lo, df);
+                    let starts: Vec<usize> = b.onsets.iter().map(|&i| onsets[i] * frames.hop).collect();
+                    refine_late(&low, &starts, frames.win.len(), heard).unwrap_or(heard)
+                },
+                confidence: (b.onsets.len() as f64 / typical).min(1.0),
+                onsets: b.onsets.len(),
+            },
         })
         .collect();
     learned.sort_by(|a, b| b.nominal_hz.total_cmp(&a.nominal_hz));
@@ -226,19 +247,34 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
 /// scale, [`ring_octaves`]), the bells heard that fit no note left out
 /// and the empty notes filled ([`fill_empty_notes`]); failing that, the
 /// `bells` heard most, each moved into the ring's span alone.
-fn on_the_scale(heard: Vec<Heard>, rises: &[Vec<f64>], k_lo: usize, df: f64, bells: usize) -> Vec<(Heard, f64)> {
+fn on_the_scale(
+    heard: Vec<Heard>,
+    onsets: &[usize],
+    rises: &[Vec<f64>],
+    k_lo: usize,
+    df: f64,
+    bells: usize,
+) -> Vec<(Heard, f64)> {
     let pool: Vec<&Heard> = heard.iter().collect();
     match ring_octaves(&pool, rises, k_lo, df, bells) {
         Some(fit) => {
             let mut ring: Vec<(Heard, f64)> = heard
                 .into_iter()
-                .zip(fit.moved)
+                .zip(fit.moved.iter().copied())
                 .filter_map(|(b, f)| Some((b, f?)))
                 .collect();
             let chosen: Vec<&Heard> = ring.iter().map(|b| &b.0).collect();
             let filled = fill_empty_notes(&fit.empty, &chosen, rises, k_lo, df, bells);
             ring.extend(filled.into_iter().map(|b| {
                 let f = b.nominal_hz;
+                (b, f)
+            }));
+            let unheard = unheard_notes(&fit, &ring, ringing(&ring, onsets), rises, k_lo, df);
+            ring.extend(unheard.into_iter().map(|f| {
+                let b = Heard {
+                    nominal_hz: f,
+                    onsets: vec![],
+                };
                 (b, f)
             }));
             ring
@@ -656,7 +692,9 @@ fn ring_octaves(chosen: &[&Heard], rises: &[Vec<f64>], k_lo: usize, df: f64, bel
                 .collect()
         })
         .collect();
-    let mut best: Option<(f64, Placing, Vec<f64>)> = None;
+    // The fit, its placing, the scale's notes and those beyond its ends.
+    type Best = (f64, Placing, Vec<f64>, (Vec<f64>, Vec<f64>), usize);
+    let mut best: Option<Best> = None;
     for &reference in &heard {
         for o_ref in -OCTAVES..=OCTAVES {
             let at = reference * 2f64.powi(o_ref);
@@ -668,13 +706,16 @@ fn ring_octaves(chosen: &[&Heard], rises: &[Vec<f64>], k_lo: usize, df: f64, bel
                     let (sum, placed) = best_octaves(&heard, &fits, at, &pos);
                     if best.as_ref().is_none_or(|b| sum > b.0 + 1e-9) {
                         let notes_hz = pos.iter().map(|p| at * 2f64.powf(p / 12.0)).collect();
-                        best = Some((sum, placed, notes_hz));
+                        let hz = |p: f64| at * 2f64.powf(p / 12.0);
+                        let below = ring_beyond(degree, bells, pos[0], -1).map(hz).collect();
+                        let above = ring_beyond(degree, bells, pos[pos.len() - 1], 1).map(hz).collect();
+                        best = Some((sum, placed, notes_hz, (below, above), degree));
                     }
                 }
             }
         }
     }
-    let (_, placed, notes_hz) = best?;
+    let (_, placed, notes_hz, beyond, degree) = best?;
     if placed.iter().all(Option::is_none) {
         return None;
     }
@@ -683,6 +724,9 @@ fn ring_octaves(chosen: &[&Heard], rises: &[Vec<f64>], k_lo: usize, df: f64, bel
         .map(|k| notes_hz[k])
         .collect();
     Some(RingFit {
+        notes: notes_hz,
+        beyond,
+        degree,
         moved: heard
             .iter()
             .zip(placed)
@@ -703,6 +747,31 @@ struct RingFit {
     moved: Vec<Option<f64>>,
     /// The notes of the scale no bell heard took (Hz).
     empty: Vec<f64>,
+    /// The scale's notes (Hz), lowest first.
+    notes: Vec<f64>,
+    /// The degree of the major scale its lowest note is (0: the key note).
+    degree: usize,
+    /// The scale's next notes below its lowest and above its highest (Hz,
+    /// nearest first, as many as it has): where bells not heard at an end
+    /// of the ring may be instead.
+    beyond: (Vec<f64>, Vec<f64>),
+}
+
+/// The notes (semitones) of the diatonic scale beyond an end of a ring
+/// of `bells` consecutive notes from its `degree`th ([`scale_notes`]),
+/// the end at `from`: below it (`dir` -1) or above (+1), nearest first,
+/// as many as the ring has bells.
+fn ring_beyond(degree: usize, bells: usize, from: f64, dir: i32) -> impl Iterator<Item = f64> {
+    let n = DIATONIC.len();
+    (1..=bells).scan(from, move |p, j| {
+        let step = if dir < 0 {
+            DIATONIC[(degree + n * bells - j) % n]
+        } else {
+            DIATONIC[(degree + bells - 2 + j) % n]
+        };
+        *p += f64::from(dir) * step;
+        Some(*p)
+    })
 }
 
 /// Bells on the notes of the ring's scale that no bell heard took
@@ -746,6 +815,146 @@ fn fill_empty_notes(
         out.push(Heard { nominal_hz, onsets });
     }
     out
+}
+
+/// How many bells ring, from the rhythm of the onsets (`onsets`: their
+/// frames) of the bells heard (`ring`): a bell strikes once a row, every
+/// (bells + 1/2) intervals on average (the handstroke gap), and the
+/// onsets come an interval apart. `None` with fewer than two bells heard
+/// at four onsets or more. A bell too quiet to be heard leaves its
+/// interval empty in every row, so counts.
+fn ringing(ring: &[(Heard, f64)], onsets: &[usize]) -> Option<f64> {
+    // The mean of the steps within half of their median either side
+    // (frames are a quarter window apart: a single step is coarse).
+    let typical = |mut d: Vec<f64>| -> Option<f64> {
+        d.sort_by(f64::total_cmp);
+        let mid = *d.get(d.len() / 2)?;
+        let near: Vec<f64> = d.into_iter().filter(|&x| x > 0.5 * mid && x < 1.5 * mid).collect();
+        (!near.is_empty()).then(|| near.iter().sum::<f64>() / near.len() as f64)
+    };
+    let steps = |mut t: Vec<usize>| -> Vec<f64> {
+        t.sort_unstable();
+        t.windows(2).map(|w| (w[1] - w[0]) as f64).collect()
+    };
+    let interval = typical(steps(onsets.to_vec()))?;
+    let rows: Vec<f64> = ring
+        .iter()
+        .filter(|(b, _)| b.onsets.len() >= 4)
+        .filter_map(|(b, _)| typical(steps(b.onsets.iter().map(|&i| onsets[i]).collect())))
+        .collect();
+    if rows.len() < 2 {
+        return None;
+    }
+    Some(median(rows) / interval - 0.5)
+}
+
+/// The notes of the ring's scale (`fit`) that no bell of `ring` (each
+/// heard and its nominal as moved) took: a bell too quiet to be learned
+/// (issue 43: one quiet bell made `--bells 8` learn seven and renumber
+/// them all, so every strike was given to the wrong bell). It keeps its
+/// place at its note, guessed from the scale. Empty notes at the ends of
+/// the ring might as well be notes beyond the other end (the bells heard
+/// fit both): the scale is slid by whole notes, still holding every bell
+/// heard, to where its empty notes' frequencies rise most at the onsets
+/// no bell took (summed over `rises`, each against its highest). (On ten
+/// handbells 150 ms apart, five heard, the five guessed were the two
+/// notes above the treble until slid.)
+fn unheard_notes(
+    fit: &RingFit,
+    ring: &[(Heard, f64)],
+    ringing: Option<f64>,
+    rises: &[Vec<f64>],
+    k_lo: usize,
+    df: f64,
+) -> Vec<f64> {
+    let semitone = 2f64.powf(IN_TUNE / 12.0);
+    let near = |a: f64, b: f64| a / b < semitone && b / a < semitone;
+    let mut empty: Vec<f64> = fit
+        .empty
+        .iter()
+        .copied()
+        .filter(|&n| !ring.iter().any(|(_, f)| near(*f, n)))
+        .collect();
+    let mut taken = vec![false; rises.len()];
+    ring.iter().flat_map(|b| &b.0.onsets).for_each(|&i| taken[i] = true);
+    let evidence = |note: f64| -> f64 {
+        let (lo, hi) = ((note / semitone / df) as usize, (note * semitone / df).ceil() as usize);
+        if lo < k_lo || rises.is_empty() || hi >= k_lo + rises[0].len() {
+            return 0.0;
+        }
+        (0..rises.len())
+            .filter(|&i| !taken[i])
+            .map(|i| {
+                let r = &rises[i];
+                let top = r.iter().copied().fold(0.0, f64::max);
+                let here = r[lo - k_lo..=hi - k_lo].iter().copied().fold(0.0, f64::max);
+                if top > 0.0 {
+                    here / top
+                } else {
+                    0.0
+                }
+            })
+            .sum()
+    };
+    // The ring: as many notes as ring (the onsets' rhythm says, else as
+    // asked), holding every bell heard, slid by whole notes so that its
+    // tenor is a major or minor key note (a ring's tenor is), then to
+    // where its empty notes rise most at the onsets no bell took, a major
+    // key before a minor.
+    let n = fit.notes.len();
+    let ext: Vec<f64> = fit
+        .beyond
+        .0
+        .iter()
+        .rev()
+        .chain(&fit.notes)
+        .chain(&fit.beyond.1)
+        .copied()
+        .collect();
+    let base = fit.beyond.0.len();
+    let held: Vec<usize> = (0..n)
+        .filter(|&k| !empty.contains(&fit.notes[k]))
+        .map(|k| k + base)
+        .collect();
+    let (Some(&lo), Some(&hi)) = (held.first(), held.last()) else {
+        return empty;
+    };
+    // Fewer ringing than the bells heard and the notes between them span:
+    // the onsets missed many strikes (ten handbells 150 ms apart: 40
+    // onsets for 240 strikes), and the rhythm says nothing.
+    let span = hi - lo + 1;
+    let m = match ringing {
+        Some(r) if r >= span as f64 - 0.5 => (r.round() as usize).clamp(span, n),
+        _ => n,
+    };
+    let degree = |k: usize| (fit.degree as i64 + k as i64 - base as i64).rem_euclid(DIATONIC.len() as i64);
+    let score = |w: usize| -> (bool, f64, bool) {
+        let key = degree(w);
+        let e = (w..w + m).filter(|k| !held.contains(k)).map(|k| evidence(ext[k])).sum();
+        (key == 0 || key == 5, e, key == 0)
+    };
+    let better = |a: (bool, f64, bool), b: (bool, f64, bool)| {
+        if a.0 != b.0 {
+            a.0
+        } else if (a.1 - b.1).abs() > 1e-9 {
+            a.1 > b.1
+        } else {
+            a.2 && !b.2
+        }
+    };
+    let first = (hi + 1).saturating_sub(m);
+    let mut best = (first, score(first));
+    for w in first + 1..=lo.min(ext.len() - m) {
+        let sc = score(w);
+        if better(sc, best.1) {
+            best = (w, sc);
+        }
+    }
+    empty = (best.0..best.0 + m)
+        .filter(|k| !held.contains(k))
+        .map(|k| ext[k])
+        .collect();
+    empty
 }
 
 /// Semitones of `bells` consecutive notes of the diatonic scale from its
@@ -897,14 +1106,21 @@ fn one_per_nominal(learned: Vec<LearnedBell>) -> Vec<LearnedBell> {
 
 fn warnings_of(learned: &[LearnedBell], bells: usize) -> Vec<String> {
     let mut w = vec![];
-    if learned.len() < bells {
+    let heard = learned.iter().filter(|b| b.onsets > 0).count();
+    if heard < bells {
         w.push(format!(
-            "{bells} bells asked for, but only {} nominal(s) heard again and again: fewer bells ring, or some are too faint",
-            learned.len()
+            "{bells} bells asked for, but only {heard} nominal(s) heard again and again: fewer bells ring, or some are too faint",
         ));
     }
     for (i, b) in learned.iter().enumerate() {
-        if b.confidence < 0.5 {
+        if b.onsets == 0 {
+            w.push(format!(
+                "bell {} (about {:.1} Hz): not heard often enough to learn its nominal; it keeps its place, its \
+                 nominal guessed as its note of the ring's scale, so that the other bells keep their numbers",
+                i + 1,
+                b.nominal_hz
+            ));
+        } else if b.confidence < 0.5 {
             w.push(format!(
                 "bell {} ({:.1} Hz): its nominal rose most at only {} onsets, {:.0} % of a typical bell's: unsure",
                 i + 1,
