@@ -3,7 +3,9 @@
 //! (`--handbells` on tower bells), a nominal given an octave off, and a
 //! bell heard far less often than the others.
 
-use clapper_signal::strikes::{BellVoice, HANDBELL_BELOW, TOWER_BELOW};
+use clapper_signal::strikes::{below_nominal, BellVoice, HeardStrike, Window, HANDBELL_BELOW, TOWER_BELOW};
+
+use super::retime::in_core;
 
 /// A bell's strikes under this share of the typical bell's are warned of.
 const FEW: f64 = 0.5;
@@ -22,7 +24,7 @@ fn nominal(v: &BellVoice) -> Option<f64> {
 }
 
 /// Whether the voice is a handbell's: no partial below its strongest.
-pub(super) fn is_handbell(v: &BellVoice) -> bool {
+fn is_handbell(v: &BellVoice) -> bool {
     nominal(v).is_some_and(|f| v.partials.iter().all(|p| p.freq_hz > 0.9 * f))
 }
 
@@ -30,6 +32,41 @@ pub(super) fn is_handbell(v: &BellVoice) -> bool {
 fn median(mut v: Vec<f64>) -> Option<f64> {
     v.sort_by(f64::total_cmp);
     (!v.is_empty()).then(|| v[v.len() / 2])
+}
+
+/// Each of the `strikes` heard in window `w` (those in its core) adds
+/// its rise below its bell's nominal ([`below_nominal`]) to `below`:
+/// with nominals only (`nominals`: strikes timed as heard), as a
+/// template's strongest partial may be its hum.
+pub(super) fn below_in(
+    nominals: bool,
+    w: &Window,
+    strikes: &[HeardStrike],
+    voices: &[BellVoice],
+    below: &mut Vec<f64>,
+) {
+    if nominals {
+        for (s, b) in strikes.iter().zip(below_nominal(w.sig, strikes, voices)) {
+            if let (Some(b), true) = (b, in_core(w, s.t)) {
+                below.push(b);
+            }
+        }
+    }
+}
+
+/// Add to `warnings`, with nominals given or learned (`nominals`:
+/// strikes timed as heard), a nominal an octave off ([`octave_warnings`]) and bells that
+/// do not sound of the kind listened for ([`kind_warning`], from
+/// `below`; voices all of one kind).
+pub(super) fn warn_of(warnings: &mut Vec<String>, nominals: bool, voices: &[BellVoice], below: &[f64]) {
+    if !nominals {
+        return;
+    }
+    warnings.extend(octave_warnings(voices));
+    let handbells = voices.iter().all(is_handbell);
+    if handbells || !voices.iter().any(is_handbell) {
+        warnings.extend(kind_warning(below, handbells));
+    }
 }
 
 /// A warning when the bells listened for (`handbells`: as handbells, else
@@ -106,9 +143,10 @@ pub(super) fn octave_warnings(voices: &[BellVoice]) -> Vec<String> {
 }
 
 /// Warnings for bells heard far less often than the typical bell (under
-/// [`FEW`] of the median strikes over the bells, from `strikes`, treble
-/// first), heard at all: the others' strikes are heard, its are missed.
-/// (A bell not heard at all is warned of by the strike finder.)
+/// [`FEW`] of the median strikes over the bells), heard at all: the
+/// others' strikes are heard, its are missed (`strikes`: each bell's,
+/// treble first). (A bell not heard at all is warned of by the strike
+/// finder.)
 pub(super) fn few_strikes_warnings(strikes: &[usize]) -> Vec<String> {
     let Some(typical) = median(strikes.iter().map(|&n| n as f64).collect()) else {
         return vec![];
