@@ -24,6 +24,7 @@ mod find;
 mod fit;
 mod heard;
 mod learn;
+mod learn_gaps;
 mod learn_voices;
 mod onsets;
 mod plan;
