@@ -23,6 +23,7 @@ mod bells;
 pub use bells::{learn_nominals, learned_voices, voices_from_nominals, Learned, LearnedNominal};
 mod doubt;
 mod input;
+mod kind;
 use input::signal_error;
 pub use input::{NO_STRIKES, ONE_BELL};
 mod retime;
@@ -280,6 +281,8 @@ impl StrikesReport {
         let mut moved: Vec<Vec<f64>> = vec![];
         // Strikes judged, and of them those that rise ([`rising`]).
         let mut rises = (0usize, 0usize);
+        // Each strike's rise below its bell's nominal ([`kind::below_in`]).
+        let mut below: Vec<f64> = vec![];
         let mut each = |w: &Window, heard: &mut Heard, hearing: Hearing| -> Result<(), clapper_signal::SignalError> {
             peak = w.sig.samples.iter().fold(peak, |p, v| p.max(v.abs()));
             for (s, r) in heard.strikes.iter().zip(rising(w.sig, &heard.strikes, voices)) {
@@ -287,6 +290,7 @@ impl StrikesReport {
                     rises = (rises.0 + 1, rises.1 + usize::from(r));
                 }
             }
+            kind::below_in(matches!(timing, Timing::AsHeard), w, &heard.strikes, voices, &mut below);
             if let Some(strip) = strip.as_deref_mut().filter(|_| w.start == 0) {
                 let end = ((STRIP_S * rate) as usize).min(w.sig.samples.len());
                 *strip = Signal {
@@ -310,17 +314,10 @@ impl StrikesReport {
         };
         let plausibility = (rises.0 > 0).then(|| rises.1 as f64 / rises.0 as f64);
         if let Some(p) = plausibility.filter(|p| *p < PLAUSIBLE_SHARE) {
-            warnings.insert(
-                0,
-                format!(
-                    "this does not sound like a recording of bells: across only {:.0} % of the strikes heard does \
-                     their bell's strongest partial rise (a bell's strike starts it: noise or a steady tone, say); \
-                     the strikes, rows and double strikes below are not to be trusted",
-                    100.0 * p
-                ),
-            );
+            warnings.insert(0, input::not_bells(p));
         }
         input::warn_of(&mut warnings, peak, heard.strikes.len(), voices.len());
+        kind::warn_of(&mut warnings, matches!(timing, Timing::AsHeard), voices, &below);
         let mut report = Self::of(&heard, voices.len(), duration_s, warnings, timing_report);
         report.summary.plausibility = plausibility;
         Ok(report)
@@ -380,9 +377,12 @@ impl StrikesReport {
                 }),
             })
             .collect();
-        let per_bell = (1..=bells)
+        let per_bell: Vec<BellStriking> = (1..=bells)
             .map(|bell| bell_striking(bell, &strikes, &r, &timed))
             .collect();
+        warnings.extend(kind::few_strikes_warnings(
+            &per_bell.iter().map(|b| b.strikes).collect::<Vec<_>>(),
+        ));
         let errs: Vec<f64> = strikes.iter().filter_map(|s| s.error_ms).collect();
         let rms = (!errs.is_empty()).then(|| (errs.iter().map(|e| e * e).sum::<f64>() / errs.len() as f64).sqrt());
         let interval_ms = r.interval.map(|i| i * 1e3);

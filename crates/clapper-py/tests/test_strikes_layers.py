@@ -174,6 +174,23 @@ def test_handbells_are_heard_the_same_by_all_three(tmp_path):
         clapper.strikes(np.zeros(1000), 8000.0, [1000.0], handbells="yes")
 
 
+def test_the_wrong_kind_of_bell_is_warned_of_the_same_by_all_three(tmp_path):
+    # Tower bells heard as handbells (issue 43's tester: 26 false doubles,
+    # no warning), and a nominal given an octave off: the warnings are in
+    # the one report the CLI, the web API and Python give, and Python warns.
+    wav, nominals = ring(tmp_path, "--rows", "12", "--seed", "4")
+    nominals[2] = "%.2f" % (2 * float(nominals[2]))
+    with Server() as web:
+        by_cli = cli_report(wav, nominals, handbells=True)
+        said = by_cli["summary"]["warnings"]
+        assert any("but these sound like tower bells" in w for w in said), said
+        assert any(w.startswith("bell 3's nominal") and "an octave from" in w for w in said), said
+        assert web.strikes(wav, nominals, handbells=True) == by_cli
+        by_py, warned = python_report(wav, nominals, handbells=True)
+        assert by_py == by_cli
+        assert any("but these sound like tower bells" in w for w in warned), warned
+
+
 def test_strikes_take_nominals_or_bells_one_of_the_two():
     x = np.zeros(RATE * 3)
     for kw in ({}, dict(nominals_hz=[1400.0, 1247.3], bells=2)):

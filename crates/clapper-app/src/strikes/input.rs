@@ -42,6 +42,18 @@ pub(super) fn heard_at(rate_hz: f64, voices: &[BellVoice]) -> Result<(), AppErro
     Ok(())
 }
 
+/// The warning, first, when only the share `p` (under
+/// [`PLAUSIBLE_SHARE`](clapper_signal::strikes::PLAUSIBLE_SHARE)) of the
+/// strikes heard rise as a bell's strike does.
+pub(super) fn not_bells(p: f64) -> String {
+    format!(
+        "this does not sound like a recording of bells: across only {:.0} % of the strikes heard does their \
+         bell's strongest partial rise (a bell's strike starts it: noise or a steady tone, say); the strikes, rows \
+         and double strikes below are not to be trusted",
+        100.0 * p
+    )
+}
+
 /// Add to `warnings` what makes the report no ring's: silence (the
 /// recording's `peak` 0), no strike heard (first, in words, so that an
 /// empty table is not read as a quiet ring), one bell of `bells`.

@@ -12,6 +12,7 @@
 //! on the mean rise of its own onsets.
 
 use super::band::decimate;
+use super::learn_gaps::{ring_beyond, ringing, scale_notes, unheard_notes, Heard, RingFit, DIATONIC, IN_TUNE};
 use crate::{Signal, SignalError};
 
 /// One bell learned.
@@ -194,22 +195,26 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
         .filter_map(|(i, d)| peak_of(d).map(|k| (freq(k), i)))
         .collect();
     let groups = group_notes(notes, df);
-    let ring = on_the_scale(bells_of(&groups, &rises, k_lo, df, bells), &rises, k_lo, df, bells);
+    let ring = on_the_scale(
+        bells_of(&groups, &rises, k_lo, df, bells),
+        &onsets,
+        &rises,
+        k_lo,
+        df,
+        bells,
+    );
     // A bell's share against the typical learned bell's: every bell of a
     // ring strikes as often as the others (onsets of the room, the noise
     // and strikes heard at another partial are no bell's).
-    let typical = median(ring.iter().map(|(b, _)| b.onsets.len() as f64).collect()).max(1.0);
+    let heard: Vec<f64> = ring
+        .iter()
+        .filter(|(b, _)| !b.onsets.is_empty())
+        .map(|(b, _)| b.onsets.len() as f64)
+        .collect();
+    let typical = median(heard).max(1.0);
     let mut learned: Vec<LearnedBell> = ring
         .iter()
-        .map(|(b, f)| LearnedBell {
-            nominal_hz: {
-                let heard = refine_moved(&rises, &b.onsets, b.nominal_hz, *f, k_lo, df);
-                let starts: Vec<usize> = b.onsets.iter().map(|&i| onsets[i] * frames.hop).collect();
-                refine_late(&low, &starts, frames.win.len(), heard).unwrap_or(heard)
-            },
-            confidence: (b.onsets.len() as f64 / typical).min(1.0),
-            onsets: b.onsets.len(),
-        })
+        .map(|(b, f)| learned_bell(b, *f, typical, &rises, &onsets, &frames, &low))
         .collect();
     learned.sort_by(|a, b| b.nominal_hz.total_cmp(&a.nominal_hz));
     let learned = one_per_nominal(learned);
@@ -221,24 +226,69 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
     })
 }
 
+/// The bell `b` heard, its nominal moved to `f` (Hz), learned: its
+/// nominal refined where it rose (`rises` at `onsets`, frames of
+/// `frames` over `low`) and then as it lasts ([`refine_late`]), its
+/// confidence its onsets against `typical`'s. A note of the ring no bell
+/// was heard at (no onsets) keeps its nominal guessed from the scale.
+fn learned_bell(
+    b: &Heard,
+    f: f64,
+    typical: f64,
+    rises: &[Vec<f64>],
+    onsets: &[usize],
+    frames: &Frames,
+    low: &Signal,
+) -> LearnedBell {
+    if b.onsets.is_empty() {
+        return LearnedBell {
+            nominal_hz: f,
+            confidence: 0.0,
+            onsets: 0,
+        };
+    }
+    let heard = refine_moved(rises, &b.onsets, b.nominal_hz, f, frames.k_lo, frames.df);
+    let starts: Vec<usize> = b.onsets.iter().map(|&i| onsets[i] * frames.hop).collect();
+    LearnedBell {
+        nominal_hz: refine_late(low, &starts, frames.win.len(), heard).unwrap_or(heard),
+        confidence: (b.onsets.len() as f64 / typical).min(1.0),
+        onsets: b.onsets.len(),
+    }
+}
+
 /// The ring's bells among those `heard`, each with its nominal moved by
 /// octaves: each bell's octave chosen with the others' (a ring is a
 /// scale, [`ring_octaves`]), the bells heard that fit no note left out
 /// and the empty notes filled ([`fill_empty_notes`]); failing that, the
 /// `bells` heard most, each moved into the ring's span alone.
-fn on_the_scale(heard: Vec<Heard>, rises: &[Vec<f64>], k_lo: usize, df: f64, bells: usize) -> Vec<(Heard, f64)> {
+fn on_the_scale(
+    heard: Vec<Heard>,
+    onsets: &[usize],
+    rises: &[Vec<f64>],
+    k_lo: usize,
+    df: f64,
+    bells: usize,
+) -> Vec<(Heard, f64)> {
     let pool: Vec<&Heard> = heard.iter().collect();
     match ring_octaves(&pool, rises, k_lo, df, bells) {
         Some(fit) => {
             let mut ring: Vec<(Heard, f64)> = heard
                 .into_iter()
-                .zip(fit.moved)
+                .zip(fit.moved.iter().copied())
                 .filter_map(|(b, f)| Some((b, f?)))
                 .collect();
             let chosen: Vec<&Heard> = ring.iter().map(|b| &b.0).collect();
             let filled = fill_empty_notes(&fit.empty, &chosen, rises, k_lo, df, bells);
             ring.extend(filled.into_iter().map(|b| {
                 let f = b.nominal_hz;
+                (b, f)
+            }));
+            let unheard = unheard_notes(&fit, &ring, ringing(&ring, onsets), rises, k_lo, df);
+            ring.extend(unheard.into_iter().map(|f| {
+                let b = Heard {
+                    nominal_hz: f,
+                    onsets: vec![],
+                };
                 (b, f)
             }));
             ring
@@ -447,12 +497,6 @@ fn mean_rise(rises: &[Vec<f64>], onsets: &[usize]) -> Vec<f64> {
     mean
 }
 
-/// A bell heard: its nominal (Hz, as noted) and the onsets that were its strikes.
-struct Heard {
-    nominal_hz: f64,
-    onsets: Vec<usize>,
-}
-
 /// A tuned bell's partials as heard in recordings, as ranges of the
 /// ratio to the nominal: hum, prime, tierce, quint, superquint, octave
 /// nominal, the partial at 2.5-2.7, the twelfth and the double octave
@@ -602,11 +646,6 @@ const FIT_PEAK: f64 = 0.08;
 /// strikes rise (0.05 let wind below 300 Hz, moved up an octave onto a
 /// note, fit as a bell).
 const NOMINAL_HEARD: f64 = 0.2;
-/// A bell lies within this (semitones) of its note of the scale.
-const IN_TUNE: f64 = 0.45;
-/// A major scale's steps (semitones) from its key note: a ring is N
-/// consecutive notes of it, from any degree (major, minor and the rest).
-const DIATONIC: [f64; 7] = [2.0, 2.0, 1.0, 2.0, 2.0, 2.0, 1.0];
 /// Octaves a heard nominal may be moved by, down and up.
 const OCTAVES: i32 = 2;
 
@@ -656,7 +695,9 @@ fn ring_octaves(chosen: &[&Heard], rises: &[Vec<f64>], k_lo: usize, df: f64, bel
                 .collect()
         })
         .collect();
-    let mut best: Option<(f64, Placing, Vec<f64>)> = None;
+    // The fit, its placing, the scale's notes and those beyond its ends.
+    type Best = (f64, Placing, Vec<f64>, (Vec<f64>, Vec<f64>), usize);
+    let mut best: Option<Best> = None;
     for &reference in &heard {
         for o_ref in -OCTAVES..=OCTAVES {
             let at = reference * 2f64.powi(o_ref);
@@ -668,13 +709,16 @@ fn ring_octaves(chosen: &[&Heard], rises: &[Vec<f64>], k_lo: usize, df: f64, bel
                     let (sum, placed) = best_octaves(&heard, &fits, at, &pos);
                     if best.as_ref().is_none_or(|b| sum > b.0 + 1e-9) {
                         let notes_hz = pos.iter().map(|p| at * 2f64.powf(p / 12.0)).collect();
-                        best = Some((sum, placed, notes_hz));
+                        let hz = |p: f64| at * 2f64.powf(p / 12.0);
+                        let below = ring_beyond(degree, bells, pos[0], -1).map(hz).collect();
+                        let above = ring_beyond(degree, bells, pos[pos.len() - 1], 1).map(hz).collect();
+                        best = Some((sum, placed, notes_hz, (below, above), degree));
                     }
                 }
             }
         }
     }
-    let (_, placed, notes_hz) = best?;
+    let (_, placed, notes_hz, beyond, degree) = best?;
     if placed.iter().all(Option::is_none) {
         return None;
     }
@@ -683,6 +727,9 @@ fn ring_octaves(chosen: &[&Heard], rises: &[Vec<f64>], k_lo: usize, df: f64, bel
         .map(|k| notes_hz[k])
         .collect();
     Some(RingFit {
+        notes: notes_hz,
+        beyond,
+        degree,
         moved: heard
             .iter()
             .zip(placed)
@@ -695,15 +742,6 @@ fn ring_octaves(chosen: &[&Heard], rises: &[Vec<f64>], k_lo: usize, df: f64, bel
 /// Each bell heard's note of the scale and octave moved by, or `None`
 /// if left out.
 type Placing = Vec<Option<(usize, i32)>>;
-
-/// The bells heard placed on the ring's scale ([`ring_octaves`]).
-struct RingFit {
-    /// Each bell heard, its nominal moved by octaves onto its note, or
-    /// `None` if left out.
-    moved: Vec<Option<f64>>,
-    /// The notes of the scale no bell heard took (Hz).
-    empty: Vec<f64>,
-}
 
 /// Bells on the notes of the ring's scale that no bell heard took
 /// (`empty`, Hz): a bell whose strikes rose most at another sound (wind,
@@ -746,16 +784,6 @@ fn fill_empty_notes(
         out.push(Heard { nominal_hz, onsets });
     }
     out
-}
-
-/// Semitones of `bells` consecutive notes of the diatonic scale from its
-/// `degree`th (0: the major's key note), the lowest at 0.
-fn scale_notes(degree: usize, bells: usize) -> Vec<f64> {
-    let mut notes = vec![0.0];
-    for k in 0..bells.saturating_sub(1) {
-        notes.push(notes[k] + DIATONIC[(degree + k) % DIATONIC.len()]);
-    }
-    notes
 }
 
 /// Each bell put on a note of the scale `pos` (semitones from `at` Hz)
@@ -897,14 +925,21 @@ fn one_per_nominal(learned: Vec<LearnedBell>) -> Vec<LearnedBell> {
 
 fn warnings_of(learned: &[LearnedBell], bells: usize) -> Vec<String> {
     let mut w = vec![];
-    if learned.len() < bells {
+    let heard = learned.iter().filter(|b| b.onsets > 0).count();
+    if heard < bells {
         w.push(format!(
-            "{bells} bells asked for, but only {} nominal(s) heard again and again: fewer bells ring, or some are too faint",
-            learned.len()
+            "{bells} bells asked for, but only {heard} nominal(s) heard again and again: fewer bells ring, or some are too faint",
         ));
     }
     for (i, b) in learned.iter().enumerate() {
-        if b.confidence < 0.5 {
+        if b.onsets == 0 {
+            w.push(format!(
+                "bell {} (about {:.1} Hz): not heard often enough to learn its nominal; it keeps its place, its \
+                 nominal guessed as its note of the ring's scale, so that the other bells keep their numbers",
+                i + 1,
+                b.nominal_hz
+            ));
+        } else if b.confidence < 0.5 {
             w.push(format!(
                 "bell {} ({:.1} Hz): its nominal rose most at only {} onsets, {:.0} % of a typical bell's: unsure",
                 i + 1,

@@ -67,6 +67,52 @@ pub fn rising(sig: &Signal, strikes: &[HeardStrike], voices: &[BellVoice]) -> Ve
         .collect()
 }
 
+/// For each of `strikes` (as [`rising`]): how much its bell's sound
+/// rises an octave and two octaves below its strongest partial (where a
+/// tower bell's prime and hum are, and a handbell has nothing), against
+/// the rise at that partial, in power: the greater of the two rises over
+/// the partial's; `None` where the partial does not rise or the
+/// recording does not reach both sides. A tower bell's hum and prime rise
+/// with its nominal; a handbell's strike note rises alone (see
+/// [`TOWER_BELOW`]).
+pub fn below_nominal(sig: &Signal, strikes: &[HeardStrike], voices: &[BellVoice]) -> Vec<Option<f64>> {
+    let len = (STRETCH_S * sig.rate).round() as usize;
+    let window: Vec<f64> = (0..len)
+        .map(|i| 0.5 - 0.5 * (2.0 * PI * i as f64 / len as f64).cos())
+        .collect();
+    strikes
+        .iter()
+        .map(|s| {
+            let v = voices.get(s.bell.checked_sub(1)?)?;
+            let before = ((s.t - BEFORE_END_S - STRETCH_S) * sig.rate).round();
+            let after = ((s.t + AFTER_START_S) * sig.rate).round();
+            if before < 0.0 || after as usize + len > sig.samples.len() {
+                return None;
+            }
+            let x0 = &sig.samples[before as usize..before as usize + len];
+            let x1 = &sig.samples[after as usize..after as usize + len];
+            let top = v.partials.iter().max_by(|a, b| a.strength.total_cmp(&b.strength))?;
+            let rise = |f: f64| {
+                if f < 40.0 {
+                    return 0.0;
+                }
+                (near_power(x1, &window, f, sig.rate) - near_power(x0, &window, f, sig.rate)).max(0.0)
+            };
+            let at = rise(top.freq_hz);
+            (at > 0.0).then(|| rise(0.5 * top.freq_hz).max(rise(0.25 * top.freq_hz)) / at)
+        })
+        .collect()
+}
+
+/// The median rise below the strongest partial ([`below_nominal`]) over
+/// which what is heard is a tower bell's (its hum or prime rising with
+/// its nominal), not a handbell's, and under which ([`HANDBELL_BELOW`])
+/// a handbell's. Measured 2026-11-26 on the strikes heard (median over a
+/// recording): see docs/strikes.md, "Handbells heard as handbells".
+pub const TOWER_BELOW: f64 = 0.01;
+/// See [`TOWER_BELOW`].
+pub const HANDBELL_BELOW: f64 = 0.001;
+
 /// The largest power of `x` (windowed by `w`) within 1.5 % of `f` (Hz):
 /// a real bell's partial may lie a little off where it is assumed.
 fn near_power(x: &[f64], w: &[f64], f: f64, rate: f64) -> f64 {

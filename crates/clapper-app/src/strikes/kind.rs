@@ -1,0 +1,199 @@
+//! Doubts about the bells given (issue 43, an independent tester's
+//! findings): the kind of bell listened for against the kind heard
+//! (`--handbells` on tower bells), a nominal given an octave off, and a
+//! bell heard far less often than the others.
+
+use clapper_signal::strikes::{below_nominal, BellVoice, HeardStrike, Window, HANDBELL_BELOW, TOWER_BELOW};
+
+use super::retime::in_core;
+
+/// A bell's strikes under this share of the typical bell's are warned of.
+const FEW: f64 = 0.5;
+/// Consecutive bells of a ring lie within this ratio of each other (a
+/// major third: two bells a whole tone apart each, one missing between).
+const NEXT_MOST: f64 = 1.27;
+/// ... and at least this far apart (a third of a semitone).
+const NEXT_LEAST: f64 = 1.02;
+
+/// The bell's strongest partial (Hz): its nominal, as given.
+fn nominal(v: &BellVoice) -> Option<f64> {
+    v.partials
+        .iter()
+        .max_by(|a, b| a.strength.total_cmp(&b.strength))
+        .map(|p| p.freq_hz)
+}
+
+/// Whether the voice is a handbell's: no partial below its strongest.
+fn is_handbell(v: &BellVoice) -> bool {
+    nominal(v).is_some_and(|f| v.partials.iter().all(|p| p.freq_hz > 0.9 * f))
+}
+
+/// The median of `v`, if any.
+fn median(mut v: Vec<f64>) -> Option<f64> {
+    v.sort_by(f64::total_cmp);
+    (!v.is_empty()).then(|| v[v.len() / 2])
+}
+
+/// Each of the `strikes` heard in window `w` (those in its core) adds
+/// its rise below its bell's nominal ([`below_nominal`]) to `below`:
+/// with nominals only (`nominals`: strikes timed as heard), as a
+/// template's strongest partial may be its hum.
+pub(super) fn below_in(
+    nominals: bool,
+    w: &Window,
+    strikes: &[HeardStrike],
+    voices: &[BellVoice],
+    below: &mut Vec<f64>,
+) {
+    if nominals {
+        for (s, b) in strikes.iter().zip(below_nominal(w.sig, strikes, voices)) {
+            if let (Some(b), true) = (b, in_core(w, s.t)) {
+                below.push(b);
+            }
+        }
+    }
+}
+
+/// Add to `warnings`, with nominals given or learned (`nominals`:
+/// strikes timed as heard), a nominal an octave off ([`octave_warnings`]) and bells that
+/// do not sound of the kind listened for ([`kind_warning`], from
+/// `below`; voices all of one kind).
+pub(super) fn warn_of(warnings: &mut Vec<String>, nominals: bool, voices: &[BellVoice], below: &[f64]) {
+    if !nominals {
+        return;
+    }
+    warnings.extend(octave_warnings(voices));
+    let handbells = voices.iter().all(is_handbell);
+    if handbells || !voices.iter().any(is_handbell) {
+        warnings.extend(kind_warning(below, handbells));
+    }
+}
+
+/// A warning when the bells listened for (`handbells`: as handbells, else
+/// tower bells) do not sound so: `below` holds each strike's rise an
+/// octave and two below its bell's nominal against the nominal's
+/// ([`clapper_signal::strikes::below_nominal`]); its median over the
+/// recording tells a tower bell (hum and prime rising with the nominal)
+/// from a handbell (nothing below its strike note). Needs 8 strikes.
+pub(super) fn kind_warning(below: &[f64], handbells: bool) -> Option<String> {
+    if below.len() < 8 {
+        return None;
+    }
+    let m = median(below.to_vec())?;
+    if handbells && m > TOWER_BELOW {
+        Some(format!(
+            "heard as handbells (--handbells), but these sound like tower bells: across the strikes heard the sound \
+             an octave and two octaves below each bell's note (a tower bell's prime and hum; a handbell has nothing \
+             there) rises with it, {:.0} % of its power (the median); heard as handbells, a tower bell's partials \
+             are taken for strikes and double strikes: leave out --handbells",
+            100.0 * m
+        ))
+    } else if !handbells && m < HANDBELL_BELOW {
+        Some(format!(
+            "heard as tower bells, but these sound like handbells: across the strikes heard nothing rises an octave \
+             or two below each bell's nominal, where a tower bell's prime and hum are ({:.2} % of its power, the \
+             median); if they are handbells, give --handbells",
+            100.0 * m
+        ))
+    } else {
+        None
+    }
+}
+
+/// Warnings for nominals given (treble first) of which one lies an
+/// octave from where its neighbours put it: out of order or too far from
+/// them, while an octave up or down it sits between them as the next
+/// bell does. Such a bell is heard (a handbell's octave, a tower bell's
+/// prime or octave nominal rises at its strikes) but at the wrong note.
+pub(super) fn octave_warnings(voices: &[BellVoice]) -> Vec<String> {
+    let f: Vec<f64> = voices.iter().filter_map(nominal).collect();
+    if f.len() < 3 || f.len() != voices.len() {
+        return vec![];
+    }
+    let next = |hi: f64, lo: f64| (NEXT_LEAST..=NEXT_MOST).contains(&(hi / lo));
+    let fits = |i: usize, g: f64| (i == 0 || next(f[i - 1], g)) && (i + 1 == f.len() || next(g, f[i + 1]));
+    let mut out = vec![];
+    for i in 0..f.len() {
+        if fits(i, f[i]) {
+            continue;
+        }
+        let Some(g) = [2.0, 0.5].iter().map(|m| f[i] * m).find(|&g| fits(i, g)) else {
+            continue;
+        };
+        // An end bell has one neighbour: that one must sit among its own.
+        let sure = if i == 0 {
+            next(f[1], f[2])
+        } else if i + 1 == f.len() {
+            next(f[i - 2], f[i - 1])
+        } else {
+            true
+        };
+        if sure {
+            out.push(format!(
+                "bell {}'s nominal, {:.1} Hz, lies an octave from where its neighbours put it ({:.1} Hz would sit \
+                 between them as a ring's next bell does): is it the octave of its nominal? It is heard at the \
+                 nominal given, an octave off",
+                i + 1,
+                f[i],
+                g
+            ));
+        }
+    }
+    out
+}
+
+/// Warnings for bells heard far less often than the typical bell (under
+/// [`FEW`] of the median strikes over the bells), heard at all: the
+/// others' strikes are heard, its are missed (`strikes`: each bell's,
+/// treble first). (A bell not heard at all is warned of by the strike
+/// finder.)
+pub(super) fn few_strikes_warnings(strikes: &[usize]) -> Vec<String> {
+    let Some(typical) = median(strikes.iter().map(|&n| n as f64).collect()) else {
+        return vec![];
+    };
+    if strikes.len() < 2 || typical < 6.0 {
+        return vec![];
+    }
+    strikes
+        .iter()
+        .enumerate()
+        .filter(|(_, &n)| n > 0 && (n as f64) < FEW * typical)
+        .map(|(i, &n)| {
+            format!(
+                "bell {}: heard at only {n} strikes, where a typical bell is heard at {typical:.0}: it is quiet, or \
+                 its nominal is not right; its strikes missed are not in the report, and its striking is judged on \
+                 few",
+                i + 1
+            )
+        })
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clapper_signal::tower::Voice;
+
+    #[test]
+    fn a_nominal_an_octave_off_is_told() {
+        let ring = [1040.0, 981.6, 874.5, 779.1, 694.1, 655.2, 583.7, 520.0];
+        let voices =
+            |f: &[f64]| -> Vec<BellVoice> { f.iter().map(|&x| BellVoice::assumed(x, Voice::Handbell)).collect() };
+        assert!(octave_warnings(&voices(&ring)).is_empty());
+        for (bell, m) in [(3, 2.0), (1, 0.5), (8, 0.5), (5, 2.0)] {
+            let mut g = ring;
+            g[bell - 1] *= m;
+            let w = octave_warnings(&voices(&g));
+            assert_eq!(w.len(), 1, "{bell}: {w:?}");
+            assert!(w[0].starts_with(&format!("bell {bell}'s nominal")), "{w:?}");
+        }
+    }
+
+    #[test]
+    fn a_bell_heard_far_less_than_the_others_is_told() {
+        let w = few_strikes_warnings(&[24, 24, 5, 24, 23, 24]);
+        assert_eq!(w.len(), 1);
+        assert!(w[0].starts_with("bell 3: heard at only 5 strikes"), "{w:?}");
+        assert!(few_strikes_warnings(&[24, 24, 20, 24, 0, 24]).is_empty());
+    }
+}
