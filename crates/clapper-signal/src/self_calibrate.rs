@@ -12,7 +12,7 @@
 //!    strike and average away; but in rounds a bell always follows the same
 //!    bell at nearly the same interval, whose ringing would stay in its
 //!    average, under its start. So every bell's strike is first fitted
-//!    jointly ([`Joint`]: the recording as the sum of each bell's strike
+//!    jointly (`Joint`: the recording as the sum of each bell's strike
 //!    placed at its strikes, by least squares), and each bell's template
 //!    learned from the recording with the other bells' fitted strikes
 //!    taken out. The start of the bell's sound is where the

@@ -15,7 +15,7 @@ use clapper_core::bell::G;
 pub const GRAVITY_BAND: (f64, f64) = (0.5, 2.0);
 
 /// At most this fraction of steps between neighbouring quiet samples (both
-/// reading within [`JUMP_BAND`] of g) may turn the angle faster than a
+/// reading within 20 % of g) may turn the angle faster than a
 /// bell can: Data141, a real bell's log, has 0.3 % (2.7 % counted at every
 /// quiet sample: a strike's shaking the burst test lets through), noise
 /// about 89 %.
