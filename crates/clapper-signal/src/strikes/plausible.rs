@@ -41,30 +41,50 @@ pub const PLAUSIBLE_SHARE: f64 = 0.5;
 /// heard by assumed nominals as 42 %: partials assumed where the bells had
 /// none rise no more than noise.)
 pub fn rising(sig: &Signal, strikes: &[HeardStrike], voices: &[BellVoice]) -> Vec<Option<bool>> {
-    let len = (STRETCH_S * sig.rate).round() as usize;
-    let window: Vec<f64> = (0..len)
-        .map(|i| 0.5 - 0.5 * (2.0 * PI * i as f64 / len as f64).cos())
-        .collect();
+    let window = stretch_window(sig.rate);
     strikes
         .iter()
         .map(|s| {
-            let v = voices.get(s.bell.checked_sub(1)?)?;
-            let before = ((s.t - BEFORE_END_S - STRETCH_S) * sig.rate).round();
-            let after = ((s.t + AFTER_START_S) * sig.rate).round();
-            if before < 0.0 || after as usize + len > sig.samples.len() {
-                return None;
-            }
-            let x0 = &sig.samples[before as usize..before as usize + len];
-            let x1 = &sig.samples[after as usize..after as usize + len];
+            let (x0, x1, top) = either_side(sig, s, voices, window.len())?;
             // Silence in a partial's bin (a square wave has no even
             // harmonics) is lifted to a floor far below the stretch's level.
-            let floor = 1e-9 * x0.iter().chain(x1).map(|v| v * v).sum::<f64>() * len as f64 + 1e-300;
-            let top = v.partials.iter().max_by(|a, b| a.strength.total_cmp(&b.strength))?;
-            let p0 = near_power(x0, &window, top.freq_hz, sig.rate);
-            let p1 = near_power(x1, &window, top.freq_hz, sig.rate);
+            let floor = 1e-9 * x0.iter().chain(x1).map(|v| v * v).sum::<f64>() * window.len() as f64 + 1e-300;
+            let p0 = near_power(x0, &window, top, sig.rate);
+            let p1 = near_power(x1, &window, top, sig.rate);
             Some(p1 + floor >= RISE_POWER * (p0 + floor))
         })
         .collect()
+}
+
+/// The Hann window of a stretch before or after an onset.
+fn stretch_window(rate: f64) -> Vec<f64> {
+    let len = (STRETCH_S * rate).round() as usize;
+    (0..len)
+        .map(|i| 0.5 - 0.5 * (2.0 * PI * i as f64 / len as f64).cos())
+        .collect()
+}
+
+/// The stretches of `len` samples before and after strike `s`, and the
+/// frequency (Hz) of its bell's strongest partial; `None` where the
+/// recording does not reach both sides or the bell has no partial.
+fn either_side<'a>(
+    sig: &'a Signal,
+    s: &HeardStrike,
+    voices: &[BellVoice],
+    len: usize,
+) -> Option<(&'a [f64], &'a [f64], f64)> {
+    let v = voices.get(s.bell.checked_sub(1)?)?;
+    let before = ((s.t - BEFORE_END_S - STRETCH_S) * sig.rate).round();
+    let after = ((s.t + AFTER_START_S) * sig.rate).round();
+    if before < 0.0 || after as usize + len > sig.samples.len() {
+        return None;
+    }
+    let top = v.partials.iter().max_by(|a, b| a.strength.total_cmp(&b.strength))?;
+    Some((
+        &sig.samples[before as usize..before as usize + len],
+        &sig.samples[after as usize..after as usize + len],
+        top.freq_hz,
+    ))
 }
 
 /// For each of `strikes` (as [`rising`]): how much its bell's sound
@@ -76,30 +96,19 @@ pub fn rising(sig: &Signal, strikes: &[HeardStrike], voices: &[BellVoice]) -> Ve
 /// with its nominal; a handbell's strike note rises alone (see
 /// [`TOWER_BELOW`]).
 pub fn below_nominal(sig: &Signal, strikes: &[HeardStrike], voices: &[BellVoice]) -> Vec<Option<f64>> {
-    let len = (STRETCH_S * sig.rate).round() as usize;
-    let window: Vec<f64> = (0..len)
-        .map(|i| 0.5 - 0.5 * (2.0 * PI * i as f64 / len as f64).cos())
-        .collect();
+    let window = stretch_window(sig.rate);
     strikes
         .iter()
         .map(|s| {
-            let v = voices.get(s.bell.checked_sub(1)?)?;
-            let before = ((s.t - BEFORE_END_S - STRETCH_S) * sig.rate).round();
-            let after = ((s.t + AFTER_START_S) * sig.rate).round();
-            if before < 0.0 || after as usize + len > sig.samples.len() {
-                return None;
-            }
-            let x0 = &sig.samples[before as usize..before as usize + len];
-            let x1 = &sig.samples[after as usize..after as usize + len];
-            let top = v.partials.iter().max_by(|a, b| a.strength.total_cmp(&b.strength))?;
+            let (x0, x1, top) = either_side(sig, s, voices, window.len())?;
             let rise = |f: f64| {
                 if f < 40.0 {
                     return 0.0;
                 }
                 (near_power(x1, &window, f, sig.rate) - near_power(x0, &window, f, sig.rate)).max(0.0)
             };
-            let at = rise(top.freq_hz);
-            (at > 0.0).then(|| rise(0.5 * top.freq_hz).max(rise(0.25 * top.freq_hz)) / at)
+            let at = rise(top);
+            (at > 0.0).then(|| rise(0.5 * top).max(rise(0.25 * top)) / at)
         })
         .collect()
 }

@@ -178,6 +178,17 @@ mod tests {
         (t, b, h)
     }
 
+    /// `split` of every bell of `bells` heard, 0.2 s apart, gap 1.
+    fn split_every(t: &[f64], bell: &[usize], vote: &[Option<bool>], bells: usize) -> Vec<Row> {
+        let c = Costs {
+            bells,
+            places: bells,
+            interval: 0.2,
+            gap: 1.0,
+        };
+        split(&Sequence { t, bell, vote }, &c)
+    }
+
     #[test]
     fn a_strike_lost_and_one_gained_cost_their_rows_not_the_numbers_after() {
         let (mut t, mut b, _) = rounds(20, 8);
@@ -188,22 +199,8 @@ mod tests {
         b.insert(at + 1, 8);
         t.remove(lost);
         b.remove(lost);
-        // Every bell's vote the wrong way (a dodging bell's): the gap wins.
-        let vote = vec![None; t.len()];
-        let c = Costs {
-            bells: 8,
-            places: 8,
-            interval: 0.2,
-            gap: 1.0,
-        };
-        let rows = split(
-            &Sequence {
-                t: &t,
-                bell: &b,
-                vote: &vote,
-            },
-            &c,
-        );
+        // No votes: the rows come from the gap and the bells alone.
+        let rows = split_every(&t, &b, &vec![None; t.len()], 8);
         assert_eq!(rows.len(), 20, "{rows:?}");
         assert!(rows.iter().enumerate().all(|(r, row)| row.hand == (r % 2 == 0)));
         assert_eq!(rows[6].end - rows[6].start, 7);
@@ -219,20 +216,7 @@ mod tests {
             .zip(&h)
             .map(|(&bell, &hand)| Some(hand != (bell == 6)))
             .collect();
-        let c = Costs {
-            bells: 10,
-            places: 10,
-            interval: 0.2,
-            gap: 1.0,
-        };
-        let rows = split(
-            &Sequence {
-                t: &t,
-                bell: &b,
-                vote: &vote,
-            },
-            &c,
-        );
+        let rows = split_every(&t, &b, &vote, 10);
         assert_eq!(rows.len(), 16);
         for row in &rows {
             assert_eq!(row.end - row.start, 10);
