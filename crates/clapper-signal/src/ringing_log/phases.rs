@@ -399,3 +399,55 @@ pub(super) fn odd_struck(strokes: &[LogStroke]) -> Option<(f64, f64)> {
     let ((mh, vh), (mb, vb)) = (stats(&h)?, stats(&b)?);
     Some((mh - mb, (vh + vb).sqrt()))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A struck stroke falling from `deg` at `bdc` s.
+    fn stroke(bdc: f64, deg: f64, hand: bool) -> LogStroke {
+        LogStroke {
+            bdc,
+            hand,
+            strike: Some(bdc + 0.35),
+            strike_hidden: false,
+            strike_theta: None,
+            amplitude: deg.to_radians(),
+            from_side: if hand { 1.0 } else { -1.0 },
+            phase: PhaseKind::Down,
+            speed_peak: None,
+            bdc_se: None,
+            stand: None,
+            amplitude_timed: false,
+        }
+    }
+
+    /// After a set, a lowering whose first two swings read within the
+    /// amplitude's error of the ringing's height (Data141's read 166.8 and
+    /// 165.5 deg against a threshold of about 165.4) is lowering from its
+    /// first swing: its first stroke was called ringing, one stroke of it,
+    /// and counted in the ringing's odd-struckness.
+    #[test]
+    fn a_lowering_whose_first_swings_read_near_the_ringings_height_is_lowering() {
+        let amps = [168.0, 166.5, 160.0, 154.0, 148.0, 142.0, 136.0, 130.0, 120.0, 110.0];
+        let mut strokes: Vec<LogStroke> = amps
+            .iter()
+            .enumerate()
+            .map(|(k, &a)| stroke(101.0 + 2.0 * k as f64, a, k % 2 == 0))
+            .collect();
+        let t: Vec<f64> = (0..12_500).map(|i| 100.0 + 0.01 * f64::from(i)).collect();
+        let theta = vec![0.0; t.len()];
+        let mut out = vec![];
+        segment(
+            &t,
+            &theta,
+            &mut strokes,
+            (165f64.to_radians(), 167f64.to_radians(), None),
+            (100.0, 225.0),
+            (Some(PhaseKind::Up), Some(PhaseKind::Down)),
+            &mut out,
+        );
+        assert!(strokes.iter().all(|s| s.phase == PhaseKind::Lowering), "{:?}", out);
+        assert!(out.iter().all(|p| p.kind == PhaseKind::Lowering), "{out:?}");
+    }
+}
