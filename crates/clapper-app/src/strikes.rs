@@ -386,6 +386,7 @@ impl StrikesReport {
         let errs: Vec<f64> = strikes.iter().filter_map(|s| s.error_ms).collect();
         let rms = (!errs.is_empty()).then(|| (errs.iter().map(|e| e * e).sum::<f64>() / errs.len() as f64).sqrt());
         let interval_ms = r.interval.map(|i| i * 1e3);
+        warnings.extend(doubt::misfit_warning(rms, interval_ms, bells));
         let summary = StrikesSummary {
             duration_s,
             strikes: strikes.len(),

@@ -141,3 +141,36 @@ fn a_square_wave_told_eight_nominals_is_warned_of() {
         "{text}"
     );
 }
+
+/// Six nominals given of a ring of eight: the strikes' spacing leaves no
+/// room the ring-size warning trusts (about eight for six), and the
+/// report gave rows, places and odd-struckness with no word (an
+/// independent tester's six templates of an eight: 52 "full" rows at
+/// 307 ms for 250). The rows' misfit says so; every bell given, no word.
+#[test]
+fn rows_of_fewer_bells_than_ring_are_warned_of() {
+    let dir = tempfile::tempdir().unwrap();
+    let ring = dir.path().join("ring.wav");
+    clapper()
+        .args(["synth-ring", "--out"])
+        .arg(&ring)
+        .args(["--plain-hunt", "--rows", "30", "--snr", "30"])
+        .assert()
+        .success();
+    let all = "1400.0,1247.3,1111.2,1048.8,934.4,832.4,741.6,700.0";
+    let heard = |nominals: &str| {
+        let out = clapper()
+            .arg("strikes")
+            .arg(&ring)
+            .args(["--nominals", nominals, "--json"])
+            .output()
+            .unwrap();
+        assert!(out.status.success());
+        warnings(&serde_json::from_slice(&out.stdout).unwrap())
+    };
+    let misfit = |w: &[String]| w.iter().any(|w| w.contains("do not keep the rhythm of rows"));
+    let six = heard(&all[..all.match_indices(',').nth(5).unwrap().0]);
+    assert!(misfit(&six), "{six:?}");
+    let eight = heard(all);
+    assert!(!misfit(&eight), "{eight:?}");
+}
