@@ -1128,10 +1128,7 @@ mod tests {
         let (strikes, at) = strikes_under_ringing(rate);
         let n = strikes.len() as f64;
         let len = strikes[0].len();
-        let mut mean = vec![0.0; len];
-        for s in &strikes {
-            mean.iter_mut().zip(s).for_each(|(m, v)| *m += v / n);
-        }
+        let mean = average(&strikes);
         let heard = at + (0.05 * rate) as usize;
         let mean_hi = second_difference(&mean);
         let mut spread = vec![0.0; len];
@@ -1170,18 +1167,29 @@ mod tests {
         }
     }
 
-    /// The start found on these strikes' average, heard 50 ms after the
-    /// blow at sample `at`, is the blow within a millisecond.
-    fn assert_start_within_a_millisecond(strikes: &[Vec<f64>], at: usize, rate: f64) {
+    /// The average of `strikes`, sample by sample.
+    fn average(strikes: &[Vec<f64>]) -> Vec<f64> {
         let n = strikes.len() as f64;
         let mut mean = vec![0.0; strikes[0].len()];
         for s in strikes {
             mean.iter_mut().zip(s).for_each(|(m, v)| *m += v / n);
         }
-        let heard = at + (0.05 * rate) as usize;
+        mean
+    }
+
+    /// How far (ms) the start found on `strikes`' average (`start_of`,
+    /// `in_step` as there) lies from the blow at sample `at`, heard at
+    /// sample `heard`.
+    fn start_off_ms(strikes: &[Vec<f64>], at: usize, heard: usize, rate: f64, in_step: bool) -> f64 {
         let segs: Vec<&[f64]> = strikes.iter().map(|s| s.as_slice()).collect();
-        let start = start_of(&mean, &segs, heard, rate, true).unwrap();
-        let off_ms = (start as f64 - at as f64) / rate * 1e3;
+        let start = start_of(&average(strikes), &segs, heard, rate, in_step).unwrap();
+        (start as f64 - at as f64) / rate * 1e3
+    }
+
+    /// The start found on these strikes' average, heard 50 ms after the
+    /// blow at sample `at`, is the blow within a millisecond.
+    fn assert_start_within_a_millisecond(strikes: &[Vec<f64>], at: usize, rate: f64) {
+        let off_ms = start_off_ms(strikes, at, at + (0.05 * rate) as usize, rate, true);
         assert!(off_ms.abs() <= 1.0, "start {off_ms:.2} ms off");
     }
 
@@ -1307,14 +1315,7 @@ mod tests {
                     .collect()
             })
             .collect();
-        let n = strikes.len() as f64;
-        let mut mean = vec![0.0; len];
-        for s in &strikes {
-            mean.iter_mut().zip(s).for_each(|(m, v)| *m += v / n);
-        }
-        let segs: Vec<&[f64]> = strikes.iter().map(|s| s.as_slice()).collect();
-        let start = start_of(&mean, &segs, heard, rate, false).unwrap();
-        let off_ms = (start as f64 - at as f64) / rate * 1e3;
+        let off_ms = start_off_ms(&strikes, at, heard, rate, false);
         assert!(off_ms.abs() <= 2.0, "start {off_ms:.2} ms off");
     }
 
