@@ -46,13 +46,7 @@ pub(super) fn errors(t: &[f64], bell: &[usize], rows: &[FullRow], bells: usize) 
     sparsest(&mut mean, bell, rows);
     let mut out = vec![None; t.len()];
     for row in rows {
-        let s = stroke(row.hand);
-        let pts: Vec<(f64, f64)> = row
-            .members
-            .iter()
-            .zip(&row.slots)
-            .map(|(&i, &p)| (p as f64, t[i] - mean[s][bell[i]]))
-            .collect();
+        let pts = corrected(t, bell, row, &mean[stroke(row.hand)]);
         for (k, (&i, &p)) in row.members.iter().zip(&row.slots).enumerate() {
             let others: Vec<(f64, f64)> = pts
                 .iter()
@@ -66,6 +60,15 @@ pub(super) fn errors(t: &[f64], bell: &[usize], rows: &[FullRow], bells: usize) 
         }
     }
     out
+}
+
+/// A row's (place, time less its bell's mean at the row's stroke) (s).
+fn corrected(t: &[f64], bell: &[usize], row: &FullRow, mean: &[f64]) -> Vec<(f64, f64)> {
+    row.members
+        .iter()
+        .zip(&row.slots)
+        .map(|(&i, &p)| (p as f64, t[i] - mean[bell[i]]))
+        .collect()
 }
 
 /// The group of a stroke: 0 hand, 1 back, 2 not known.
@@ -91,12 +94,7 @@ fn steady_means(t: &[f64], bell: &[usize], rows: &[FullRow], bells: usize) -> [V
         ];
         for row in rows {
             let s = stroke(row.hand);
-            let pts: Vec<(f64, f64)> = row
-                .members
-                .iter()
-                .zip(&row.slots)
-                .map(|(&i, &p)| (p as f64, t[i] - mean[s][bell[i]]))
-                .collect();
+            let pts = corrected(t, bell, row, &mean[s]);
             let Some((a, b)) = super::line(&pts) else {
                 continue;
             };
