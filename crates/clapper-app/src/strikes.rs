@@ -12,7 +12,7 @@ use clapper_signal::strikes::{
     find_strikes_streamed_deferred, rising, BellVoice, Heard, Hearing, InMemory, RecordingBlocks, StrikeOptions,
     Window, Windows, PLAUSIBLE_SHARE,
 };
-use clapper_signal::striking::{mean_sd, rhythm, Rhythm, Timed};
+use clapper_signal::striking::{mean_sd, rhythm, steady, Rhythm, Timed};
 use clapper_signal::template_timing::median_of;
 use clapper_signal::Signal;
 use serde::Serialize;
@@ -87,8 +87,10 @@ pub struct BellStriking {
     pub hand: StrokeStats,
     /// Backstrokes.
     pub back: StrokeStats,
-    /// Odd-struckness: mean handstroke error less mean backstroke error
-    /// (ms), against the even rhythm of the rest of the ring.
+    /// Odd-struckness: steady handstroke error less steady backstroke error
+    /// (ms), against the even rhythm of the rest of the ring; each the mean
+    /// of the stroke's errors less any strike heard far off
+    /// (`clapper_signal::striking::steady`).
     pub odd_struck_ms: Option<f64>,
     /// Standard error of the odd-struckness (ms).
     pub odd_struck_se_ms: Option<f64>,
@@ -96,7 +98,8 @@ pub struct BellStriking {
     pub double_strikes: usize,
     /// Double strikes over strikes.
     pub double_rate: f64,
-    /// Mean D of its double strikes.
+    /// Mean double strike index D (eq. 33, dimensionless) of its double
+    /// strikes.
     pub mean_d: Option<f64>,
 }
 
@@ -430,8 +433,8 @@ impl StrikesReport {
         );
         let _ = writeln!(
             o,
-            "  {:>4} {:>7} {:>18} {:>18} {:>14} {:>9} {:>6}",
-            "bell", "strikes", "hand mean±sd (ms)", "back mean±sd (ms)", "odd-struck ms", "doubles", "mean D"
+            "  {:>4} {:>7} {:>18} {:>18} {:>18} {:>9} {:>6}",
+            "bell", "strikes", "hand mean±sd (ms)", "back mean±sd (ms)", "odd-struck±se (ms)", "doubles", "mean D"
         );
         for b in &self.per_bell {
             let ms = |st: &StrokeStats| match (st.mean_error_ms, st.spread_ms) {
@@ -445,7 +448,7 @@ impl StrikesReport {
             };
             let _ = writeln!(
                 o,
-                "  {:>4} {:>7} {:>18} {:>18} {:>14} {:>9} {:>6}",
+                "  {:>4} {:>7} {:>18} {:>18} {:>18} {:>9} {:>6}",
                 b.bell,
                 b.strikes,
                 ms(&b.hand),
@@ -636,13 +639,19 @@ fn bell_striking(bell: usize, strikes: &[StrikeReport], r: &Rhythm, timed: &[Tim
     };
     let (h, b) = (errors(true), errors(false));
     let (hs, bs) = (stats(&h), stats(&b));
-    let odd = match (hs.mean_error_ms, bs.mean_error_ms) {
-        (Some(a), Some(c)) => Some(a - c),
+    // Odd-struckness from the steady errors: a strike mistimed in hearing
+    // left out (clapper_signal::striking::steady, in s).
+    let (sh, sb) = (
+        steady(&r.stroke_errors(timed, bell, true)),
+        steady(&r.stroke_errors(timed, bell, false)),
+    );
+    let odd = match (sh, sb) {
+        (Some(a), Some(c)) => Some((a.mean - c.mean) * 1e3),
         _ => None,
     };
-    let se = match (hs.spread_ms, bs.spread_ms) {
-        (Some(a), Some(c)) if h.len() > 1 && b.len() > 1 => {
-            Some((a * a / h.len() as f64 + c * c / b.len() as f64).sqrt())
+    let se = match (sh, sb) {
+        (Some(a), Some(c)) if a.kept > 1 && c.kept > 1 => {
+            Some((a.sd * a.sd / a.kept as f64 + c.sd * c.sd / c.kept as f64).sqrt() * 1e3)
         }
         _ => None,
     };

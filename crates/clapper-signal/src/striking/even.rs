@@ -80,17 +80,16 @@ fn stroke(hand: Option<bool>) -> usize {
     }
 }
 
-/// Each bell's mean error (s) at each stroke, `[stroke][bell]`: the means
-/// that, taken from the bells' times, leave each row's line through them
-/// with residuals of mean zero per bell and stroke.
+/// Each bell's steady error (s) at each stroke, `[stroke][bell]`: the
+/// means that, taken from the bells' times, leave each row's line through
+/// them with residuals of steady mean zero per bell and stroke.
 fn steady_means(t: &[f64], bell: &[usize], rows: &[FullRow], bells: usize) -> [Vec<f64>; 3] {
     let mut mean = [vec![0.0; bells + 1], vec![0.0; bells + 1], vec![0.0; bells + 1]];
     for _ in 0..MAX_ROUNDS {
-        let mut sum = [vec![0.0; bells + 1], vec![0.0; bells + 1], vec![0.0; bells + 1]];
-        let mut count = [
-            vec![0usize; bells + 1],
-            vec![0usize; bells + 1],
-            vec![0usize; bells + 1],
+        let mut left: [Vec<Vec<f64>>; 3] = [
+            vec![vec![]; bells + 1],
+            vec![vec![]; bells + 1],
+            vec![vec![]; bells + 1],
         ];
         for row in rows {
             let s = stroke(row.hand);
@@ -99,17 +98,16 @@ fn steady_means(t: &[f64], bell: &[usize], rows: &[FullRow], bells: usize) -> [V
                 continue;
             };
             for (&i, (x, y)) in row.members.iter().zip(&pts) {
-                sum[s][bell[i]] += y - (a + b * x);
-                count[s][bell[i]] += 1;
+                left[s][bell[i]].push(y - (a + b * x));
             }
         }
         let mut moved = 0.0f64;
         for s in 0..3 {
             for b in 0..=bells {
-                if count[s][b] > 0 {
-                    let step = sum[s][b] / count[s][b] as f64;
-                    mean[s][b] += step;
-                    moved = moved.max(step.abs());
+                // A strike heard far off moves no bell's mean (`steady`).
+                if let Some(step) = super::steady(&left[s][b]) {
+                    mean[s][b] += step.mean;
+                    moved = moved.max(step.mean.abs());
                 }
             }
         }
