@@ -12,11 +12,15 @@ impl BellHearing {
     /// room, is learned from all its strikes: a second strike is a second
     /// copy of it. A band it shares with other bells (`shared`, with
     /// those bells) is used where none of them strikes (`times`, every
-    /// bell's onsets) within its window, and learned from those strikes.
+    /// bell's onsets) within its window, and learned from those strikes;
+    /// so is each of its own bands that other bells share (`with`, per
+    /// band: those bells, from 0; none but where the bell has fewer than
+    /// two bands of its own).
     pub(super) fn doubles(
         &self,
         firsts: &[(f64, f64)],
         shared: &[SharedBand],
+        with: &[Vec<usize>],
         times: &[Vec<f64>],
         opts: &StrikeOptions,
     ) -> Vec<Option<HeardDouble>> {
@@ -60,9 +64,22 @@ impl BellHearing {
             let step = (top.0 - base.0).hypot(top.1 - base.1);
             base.0.hypot(base.1) < SHARED_BAND_QUIET * step
         };
+        // A bell heard in bands it shares (`with`, per band: the bells
+        // whose partials lie there) is judged in each only where it is
+        // judged as a shared band: no sharer strikes in its window and
+        // what rings before the strike is small beside its step. In all
+        // of them, the sharers' partials ringing on and beating were
+        // fitted as second strikes (the 9th of bench/strikes' ten, seeds
+        // 1-4: 16 of the ring's 34 false doubles).
+        let fit_with = sharers_of(&self.bands, &fits, with);
         own.iter()
             .map(|&t| {
-                let mut use_: Vec<&Fitted> = fits.iter().collect();
+                let mut use_: Vec<&Fitted> = fits
+                    .iter()
+                    .zip(&fit_with)
+                    .filter(|(f, w)| w.is_empty() || (quiet(f.band, w, t) && faint(f.band, t)))
+                    .map(|(f, _)| f)
+                    .collect();
                 use_.extend(
                     shared_fits
                         .iter()
@@ -73,6 +90,20 @@ impl BellHearing {
             })
             .collect()
     }
+}
+
+/// The bells sharing each band of `fits` (`with`, per band of `bands`;
+/// none where not given).
+fn sharers_of<'a>(bands: &[Band], fits: &[Fitted], with: &'a [Vec<usize>]) -> Vec<&'a [usize]> {
+    fits.iter()
+        .map(|f| {
+            bands
+                .iter()
+                .position(|b| std::ptr::eq(b, f.band))
+                .and_then(|i| with.get(i))
+                .map_or(&[][..], |w| w.as_slice())
+        })
+        .collect()
 }
 
 /// A band's response to one strike of its bell, learned from all its

@@ -24,6 +24,9 @@ pub fn find_strikes(sig: &Signal, voices: &[BellVoice], opts: &StrikeOptions) ->
 pub struct Hearing {
     heard: Vec<BellHearing>,
     shared: Vec<Vec<SharedBand>>,
+    /// Per bell, per band it is heard in, the other bells (from 0) whose
+    /// partials lie in that band (none but for a bell heard in shared bands).
+    sharers: Vec<Vec<Vec<usize>>>,
     /// Every bell's strikes as first found (onset s), before timing.
     times: Vec<Vec<f64>>,
     /// Every bell's strikes timed: (onset s, strength).
@@ -59,8 +62,15 @@ impl Hearing {
     /// [`find_strikes`] judges it).
     pub fn double(&self, i: usize) -> Option<HeardDouble> {
         let &(b, k) = self.order.get(i)?;
-        let all = self.doubles[b]
-            .get_or_init(|| self.heard[b].doubles(&self.timed[b], &self.shared[b], &self.times, &self.opts));
+        let all = self.doubles[b].get_or_init(|| {
+            self.heard[b].doubles(
+                &self.timed[b],
+                &self.shared[b],
+                &self.sharers[b],
+                &self.times,
+                &self.opts,
+            )
+        });
         all[k]
     }
 
@@ -110,7 +120,7 @@ pub fn hear_strikes(sig: &Signal, voices: &[BellVoice], opts: &StrikeOptions) ->
         .collect();
     drop(low);
     let heard = without_sharers(heard, &sharers, voices.len(), opts);
-    Ok(strikes_of(heard, shared_bands, voices.len(), opts))
+    Ok(strikes_of(heard, shared_bands, sharers, voices.len(), opts))
 }
 
 /// Each bell heard only in bands it shares (`sharers[b][i]`: the bells
@@ -150,8 +160,11 @@ fn without_sharers(
             }
             // Heard as it is in at least half as many strikes as its
             // sharers (a treble of an eight, its nominal on the tenor's
-            // octave): left so (masked, the fast and all-together rows
-            // of bench/strikes lost 1-3 strikes in 480).
+            // octave): left so. On bench/strikes' seeds 1-4 any share
+            // from 0.3 to 1, or every such bell heard again, reads the
+            // same to a strike (none heard again: the ten 0.924 -> 0.891
+            // within 10 ms); on the held-out 11-12, every one heard again
+            // cost the fast and all-together rows 1-3 strikes in 480.
             let mut counts: Vec<usize> = s.iter().flatten().map(|&o| times[o].len()).filter(|&n| n > 0).collect();
             counts.sort_unstable();
             if counts
@@ -213,6 +226,7 @@ fn check_inputs(sig: &Signal, voices: &[BellVoice], opts: &StrikeOptions) -> Res
 fn strikes_of(
     mut heard: Vec<BellHearing>,
     mut shared_bands: Vec<Vec<SharedBand>>,
+    sharers: Vec<Vec<Vec<usize>>>,
     bells: usize,
     opts: &StrikeOptions,
 ) -> Hearing {
@@ -271,6 +285,7 @@ fn strikes_of(
         doubles: heard.iter().map(|_| OnceCell::new()).collect(),
         heard,
         shared: shared_bands,
+        sharers,
         times,
         timed,
         order,
