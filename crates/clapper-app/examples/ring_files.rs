@@ -7,10 +7,13 @@
 //! `OUT/nominals.txt` (each bell's nominal, Hz, comma separated, for
 //! `--nominals`). Used by `bench/strikes`.
 //!
-//! cargo run --release -p clapper-app --example ring_files -- FOLDER OUT [--bells N] [--order pitch|name] [--nominals F1,F2,..] [--method rounds|plain-hunt] [--rows R] [--rt60 S] [--snr DB] [--seed S]
+//! cargo run --release -p clapper-app --example ring_files -- FOLDER OUT [--bells N] [--order pitch|name] [--nominals F1,F2,..] [--method rounds|plain-hunt] [--rows R] [--rt60 S] [--reflections MS:GAIN,..] [--snr DB] [--seed S]
 //!
 //! The ring is `real_rings`'s: a 2 s row, striking errors within ±20 ms,
 //! bell 3 25 ms odd-struck, six doubles of 45-90 ms and ratio 0.5-1.0.
+//! `--reflections 7:0.5,13:0.35,21:0.3` adds discrete early reflections
+//! (delay ms, gain against the direct sound; at most four) to the room,
+//! with or without its diffuse tail (`--rt60 0`).
 //! No recordings ship with the project: docs/strikes.md names the ones
 //! measured.
 
@@ -35,6 +38,18 @@ fn main() {
     let seed = num("--seed", 1.0) as u64;
     let rt60 = num("--rt60", 0.0);
     let snr = num("--snr", 25.0);
+    let reflections: Vec<(f64, f64)> = get("--reflections").map_or(vec![], |s| {
+        s.split(',')
+            .map(|r| {
+                let (d, g) = r.split_once(':').expect("a reflection as MS:GAIN");
+                (d.parse().expect("a delay (ms)"), g.parse().expect("a gain"))
+            })
+            .collect()
+    });
+    assert!(
+        reflections.len() <= MAX_REFLECTIONS,
+        "at most {MAX_REFLECTIONS} reflections"
+    );
 
     let mut keyed: Vec<(f64, String, Signal)> = load(&folder)
         .into_iter()
@@ -76,7 +91,7 @@ fn main() {
             })
             .collect(),
         method,
-        room: (rt60 > 0.0).then(|| Room::chamber(rt60)),
+        room: (rt60 > 0.0 || !reflections.is_empty()).then(|| Room::chamber(rt60).with_reflections(&reflections)),
         snr_db: Some(snr),
         ..TowerSpec::new(bells)
     };

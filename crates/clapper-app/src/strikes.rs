@@ -556,7 +556,16 @@ fn correct_lateness(
 ) -> Result<TimingReport, clapper_signal::SignalError> {
     let used = lateness_used(&l, matched, templates, rate)?;
     used.correct(heard);
-    warnings.extend(used.warnings.iter().cloned());
+    // The ring of the templates' warnings, kept only where the search on
+    // the templates leaves the bell's strikes in doubt.
+    let can = clapper_signal::template_timing::matchable(rate, templates)?;
+    let mut found = vec![0usize; l.bells.len()];
+    for s in &heard.strikes {
+        if let Some(n) = found.get_mut(s.bell - 1) {
+            *n += 1;
+        }
+    }
+    warnings.extend(l.warnings_after_matching(&can, &found));
     Ok(TimingReport {
         source: l.source,
         per_bell: l

@@ -197,8 +197,12 @@ fn retime_judging(
         let Some(c) = pairs.correlations(&left, s.bell, (t * m.rate).round() as i64)? else {
             continue;
         };
+        let i1 = (t * m.rate).round() as i64;
+        let Some(a) = pairs.aligned(&left, s.bell, i1)? else {
+            continue;
+        };
         m.subtract(&mut left, tm, t, pairs.gain(s.bell, &c));
-        judged.push((i, (s.bell, c)));
+        judged.push((i, (s.bell, a)));
         matched.push((s.bell, s.t, q));
     }
     // Its hearing (its bands, as large as the fill's match) let go here.
@@ -213,8 +217,11 @@ fn retime_judging(
         ) else {
             continue;
         };
+        let Some(a) = pairs.aligned(&left, bell, (t * m.rate).round() as i64)? else {
+            continue;
+        };
         m.subtract(&mut left, tm, t, pairs.gain(bell, &c));
-        judged.push((heard.strikes.len(), (bell, c)));
+        judged.push((heard.strikes.len(), (bell, a)));
         heard.strikes.push(HeardStrike {
             bell,
             t,

@@ -257,7 +257,14 @@ pub struct Room {
     pub direct_to_reverb_db: f64,
     /// Delay of the first reflection after the direct sound (ms).
     pub predelay_ms: f64,
+    /// Discrete early reflections (delay ms after the direct sound, gain
+    /// against it), on top of the diffuse tail: walls 1-4 m away give
+    /// 7-25 ms. A gain of 0 is none; [`Room::chamber`] has none.
+    pub reflections: [(f64, f64); MAX_REFLECTIONS],
 }
+
+/// The most discrete early reflections a [`Room`] holds.
+pub const MAX_REFLECTIONS: usize = 4;
 
 impl Room {
     /// A ringing chamber of reverberation time `rt60_s` (s), heard a few
@@ -268,7 +275,24 @@ impl Room {
             rt60_s,
             direct_to_reverb_db: 3.0,
             predelay_ms: 15.0,
+            reflections: [(0.0, 0.0); MAX_REFLECTIONS],
         }
+    }
+
+    /// The room with discrete early reflections `refl` (delay ms, gain)
+    /// added (the first [`MAX_REFLECTIONS`]; the rest are refused by the
+    /// spec's check). An `rt60_s` of 0 is then a room with no diffuse tail:
+    /// only the reflections.
+    pub fn with_reflections(mut self, refl: &[(f64, f64)]) -> Self {
+        for (slot, r) in self.reflections.iter_mut().zip(refl) {
+            *slot = *r;
+        }
+        self
+    }
+
+    /// Whether the room has a discrete reflection (a gain not 0).
+    pub fn reflects(&self) -> bool {
+        self.reflections.iter().any(|r| r.1 != 0.0)
     }
 }
 
@@ -357,8 +381,25 @@ fn check(spec: &TowerSpec) -> Result<(), SignalError> {
         ));
     }
     if let Some(r) = spec.room {
+        // A room of reflections alone may have no tail (RT60 0).
+        let tail_ok = r.rt60_s > 0.0 || (r.rt60_s == 0.0 && r.reflects());
+        let refl_ok = r
+            .reflections
+            .iter()
+            .all(|&(d, g)| d.is_finite() && (0.0..=200.0).contains(&d) && g.is_finite() && g.abs() <= 2.0);
+        if !refl_ok {
+            return bad(format!(
+                "early reflections {}: each delay 0 to 200 ms, each gain within ±2",
+                r.reflections
+                    .iter()
+                    .filter(|x| x.1 != 0.0)
+                    .map(|(d, g)| format!("{d} ms at {g}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        }
         let ok = r.rt60_s.is_finite()
-            && r.rt60_s > 0.0
+            && tail_ok
             && r.rt60_s <= 10.0
             && r.direct_to_reverb_db.is_finite()
             && r.predelay_ms.is_finite()
@@ -603,8 +644,26 @@ pub fn tower_recording(spec: &TowerSpec) -> Result<(Signal, Vec<TrueStrike>), Si
 
 /// The room's impulse response: 1 at time 0, then from the pre-delay
 /// Gaussian noise under an envelope falling 60 dB in RT60, scaled so that
-/// its energy is the direct sound's less the direct-to-reverberant ratio.
+/// its energy is the direct sound's less the direct-to-reverberant ratio,
+/// and each discrete reflection's gain at its delay (on top of the tail).
 pub(crate) fn room_response(room: Room, rate: f64, rng: &mut Pcg64) -> Vec<f64> {
+    let mut ir = diffuse_response(room, rate, rng);
+    for &(d, g) in room.reflections.iter().filter(|r| r.1 != 0.0) {
+        let k = (d * 1e-3 * rate).round() as usize;
+        if k >= ir.len() {
+            ir.resize(k + 1, 0.0);
+        }
+        ir[k] += g;
+    }
+    ir
+}
+
+/// [`room_response`] without the discrete reflections (the direct sound
+/// alone where RT60 is 0).
+fn diffuse_response(room: Room, rate: f64, rng: &mut Pcg64) -> Vec<f64> {
+    if room.rt60_s <= 0.0 {
+        return vec![1.0];
+    }
     let start = (room.predelay_ms * 1e-3 * rate).round().max(1.0) as usize;
     let len = start + (room.rt60_s * rate).ceil() as usize;
     let mut ir = vec![0.0; len];
@@ -786,6 +845,7 @@ mod tests {
             rt60_s: 20.0,
             direct_to_reverb_db: 0.0,
             predelay_ms: 10.0,
+            reflections: [(0.0, 0.0); MAX_REFLECTIONS],
         });
         let e = check(&spec).unwrap_err().to_string();
         assert!(e.contains("RT60 20 s") && !e.contains('{'), "{e}");
@@ -1255,12 +1315,45 @@ mod tests {
         }
     }
 
+    /// Discrete early reflections sit at their delays with their gains,
+    /// on the diffuse tail or alone (RT60 0); a room of neither is refused.
+    #[test]
+    fn early_reflections_are_at_their_delays() {
+        let refl = [(7.0, 0.5), (13.0, 0.35), (21.0, 0.3)];
+        let dry = Room::chamber(0.0).with_reflections(&refl);
+        let ir = room_response(dry, 8000.0, &mut Pcg64::seed_from_u64(3));
+        assert_eq!(ir.len(), 169);
+        for (k, v) in ir.iter().enumerate() {
+            let want = match k {
+                0 => 1.0,
+                56 => 0.5,
+                104 => 0.35,
+                168 => 0.3,
+                _ => 0.0,
+            };
+            assert_eq!(*v, want, "sample {k}");
+        }
+        let mut spec = ring(3);
+        spec.room = Some(dry);
+        assert!(check(&spec).is_ok());
+        spec.room = Some(Room::chamber(0.0));
+        assert!(check(&spec).is_err());
+        spec.room = Some(Room::chamber(0.5).with_reflections(&[(300.0, 0.5)]));
+        assert!(check(&spec).is_err());
+        // On the tail: the same tail, the reflections added.
+        let wet = Room::chamber(0.5);
+        let a = room_response(wet, 8000.0, &mut Pcg64::seed_from_u64(3));
+        let b = room_response(wet.with_reflections(&refl), 8000.0, &mut Pcg64::seed_from_u64(3));
+        assert!((b[104] - a[104] - 0.35).abs() < 1e-12 && b[105] == a[105]);
+    }
+
     #[test]
     fn room_and_noise_are_as_asked() {
         let room = Room {
             rt60_s: 1.0,
             direct_to_reverb_db: 3.0,
             predelay_ms: 10.0,
+            reflections: [(0.0, 0.0); MAX_REFLECTIONS],
         };
         let ir = room_response(room, 8000.0, &mut Pcg64::seed_from_u64(3));
         let tail: f64 = ir[1..].iter().map(|v| v * v).sum();
