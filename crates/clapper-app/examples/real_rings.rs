@@ -259,7 +259,7 @@ fn main() {
                     if a.show {
                         for (b, v) in c.bells.iter().zip(&c.voices) {
                             println!(
-                                "  bell {}: partials {} ({}), lateness {:?} ms from {} clean strikes{}",
+                                "  bell {}: partials {} ({}), lateness {:?} ms from {} clean strikes",
                                 b.bell,
                                 if b.partials_learned { "learned" } else { "assumed" },
                                 v.partials
@@ -268,12 +268,7 @@ fn main() {
                                     .collect::<Vec<_>>()
                                     .join(", "),
                                 b.lateness_s.map(|l| (l * 1e4).round() / 10.0),
-                                b.strikes,
-                                if b.tuned {
-                                    ", tuned as assumed: kept as heard"
-                                } else {
-                                    ""
-                                }
+                                b.strikes
                             );
                         }
                     }

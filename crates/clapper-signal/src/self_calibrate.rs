@@ -32,16 +32,8 @@
 //!    start is the average's ([`SelfCalibration::retime_each`]); the
 //!    bell's lateness is how long after that start the band finder heard
 //!    the clean strikes (their median).
-//! 4. A bell whose partials learned are a tuned bell's and hear its
-//!    strikes where a tuned bell's partials hear them (`tuned.rs`) keeps
-//!    its times heard, as plain `--nominals` does: on synthetic tuned
-//!    bells, heard at their start, the start learned was up to 35 ms early.
 
 use realfft::RealFftPlanner;
-
-mod tuned;
-use tuned::{as_assumed, heard_alike};
-pub use tuned::{AS_ASSUMED, SAME_S, TUNED_SHARE};
 
 use crate::strikes::{find_strikes, learn_voices, BellVoice, Heard, HeardStrike, StrikeOptions};
 use crate::{Signal, SignalError};
@@ -120,6 +112,7 @@ const QUIET_S: f64 = 0.004;
 const LEAD_S: f64 = 0.04;
 /// Fewest clean strikes a template is learned from.
 const FEWEST: usize = 4;
+
 /// One bell's calibration.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BellCalibration {
@@ -135,14 +128,6 @@ pub struct BellCalibration {
     pub spread_s: f64,
     /// Clean strikes its template was learned from (0: none learned).
     pub strikes: usize,
-    /// Whether it sounds as a tuned bell is assumed to: its partials
-    /// learned are [`TUNED_SHARE`] or more a tuned bell's (within
-    /// [`AS_ASSUMED`]), and they hear its clean strikes within [`SAME_S`]
-    /// of where a tuned bell's partials hear them. Its strikes then keep
-    /// their times heard, as plain `--nominals` does: on `bench/strikes`'
-    /// synthetic bells, heard at their start, the start learned was up to
-    /// 35 ms early and lining up scattered them (up to 28 of 30 lost).
-    pub tuned: bool,
 }
 
 /// The ring's calibration from the recording itself.
@@ -222,10 +207,6 @@ impl SelfCalibration {
             .strikes
             .iter_mut()
             .map(|s| {
-                if self.bells.get(s.bell - 1).is_some_and(|b| b.tuned) {
-                    // Heard at its start already (a bell tuned as assumed).
-                    return Some(0.0);
-                }
                 let a = self.averages.get(s.bell - 1)?.as_ref()?;
                 let (avg, start) = (&a.samples, a.start);
                 let at = (s.t * rate).round() as usize;
@@ -259,10 +240,6 @@ pub fn calibrate(sig: &Signal, nominals_hz: &[f64], opts: &StrikeOptions) -> Res
     let learned = learn_voices(sig, nominals_hz)?;
     let voices: Vec<BellVoice> = learned.bells.iter().map(|b| b.voice.clone()).collect();
     let heard = find_strikes(sig, &voices, opts)?;
-    // As a tuned bell's partials hear the strikes: a bell learned to start
-    // where they hear it is tuned as assumed.
-    let assumed: Vec<BellVoice> = nominals_hz.iter().map(|&f| BellVoice::from_nominal(f)).collect();
-    let plain = find_strikes(sig, &assumed, opts)?;
     let mut warnings = learned.warnings;
     let mut templates = vec![];
     let mut bells = vec![];
@@ -290,7 +267,6 @@ pub fn calibrate(sig: &Signal, nominals_hz: &[f64], opts: &StrikeOptions) -> Res
                     lateness_s: Some(t.lateness_s),
                     spread_s: t.spread_s,
                     strikes: clean.len(),
-                    tuned: as_assumed(&lv.voice, nominals_hz[k]) >= TUNED_SHARE && heard_alike(&plain, bell, clean),
                 });
                 templates.push(t.template);
                 averages.push(Some(t.average));
@@ -306,7 +282,6 @@ pub fn calibrate(sig: &Signal, nominals_hz: &[f64], opts: &StrikeOptions) -> Res
                     lateness_s: None,
                     spread_s: 0.0,
                     strikes: 0,
-                    tuned: false,
                 });
                 templates.push(no_template(sig.rate));
                 averages.push(None);
