@@ -149,6 +149,16 @@ pub fn retime_each_deferred(
     retime_judging(sig, heard, templates, lateness, opts, Some(hearing))
 }
 
+/// Where a strike heard at `t` (s) is sought against its template (s, s):
+/// near the time less the bell's `late`ness where that is sure, else widely
+/// about the time heard.
+fn sought(t: f64, late: Option<f64>) -> (f64, f64) {
+    match late {
+        Some(late) => (t - late.max(0.0) - EARLY_S, t - late.max(0.0) + LATE_S),
+        None => (t - WIDE_EARLY_S, t + WIDE_LATE_S),
+    }
+}
+
 /// [`retime_each_with`]; with a `hearing`, the strikes their templates do
 /// not judge take its doubles ([`retime_each_deferred`]).
 fn retime_judging(
@@ -181,12 +191,7 @@ fn retime_judging(
         let Some(Some(tm)) = m.bells.get(s.bell - 1) else {
             continue;
         };
-        // Near the time less the bell's lateness where that is sure, else
-        // widely about the time heard.
-        let (from, to) = match lateness.get(s.bell - 1).copied().flatten() {
-            Some(late) => (s.t - late.max(0.0) - EARLY_S, s.t - late.max(0.0) + LATE_S),
-            None => (s.t - WIDE_EARLY_S, s.t + WIDE_LATE_S),
-        };
+        let (from, to) = sought(s.t, lateness.get(s.bell - 1).copied().flatten());
         // And before that, to the bell's reach before the time heard.
         let found = late::best_of(&m, &left, tm, (from, to), s.t - reach[s.bell - 1], &mut sc)?;
         let Some((t, q)) = found else {
@@ -197,8 +202,7 @@ fn retime_judging(
         let Some(c) = pairs.correlations(&left, s.bell, (t * m.rate).round() as i64)? else {
             continue;
         };
-        let i1 = (t * m.rate).round() as i64;
-        let Some(a) = pairs.aligned(&left, s.bell, i1)? else {
+        let Some(a) = pairs.aligned(&left, s.bell, (t * m.rate).round() as i64)? else {
             continue;
         };
         m.subtract(&mut left, tm, t, pairs.gain(s.bell, &c));

@@ -267,6 +267,44 @@ pub struct Room {
 pub const MAX_REFLECTIONS: usize = 4;
 
 impl Room {
+    /// Refuses a room that cannot be built: RT60 over 0 and up to 10 s
+    /// (0 with early reflections alone), pre-delay 0 to 200 ms, a finite
+    /// direct-to-reverberant ratio, each reflection's delay 0 to 200 ms and
+    /// gain within ±2.
+    pub fn check(&self) -> Result<(), SignalError> {
+        let bad = |what: String| Err(SignalError::Option(what));
+        // A room of reflections alone may have no tail (RT60 0).
+        let tail_ok = self.rt60_s > 0.0 || (self.rt60_s == 0.0 && self.reflects());
+        let refl_ok = self
+            .reflections
+            .iter()
+            .all(|&(d, g)| d.is_finite() && (0.0..=200.0).contains(&d) && g.is_finite() && g.abs() <= 2.0);
+        if !refl_ok {
+            return bad(format!(
+                "early reflections {}: each delay 0 to 200 ms, each gain within ±2",
+                self.reflections
+                    .iter()
+                    .filter(|x| x.1 != 0.0)
+                    .map(|(d, g)| format!("{d} ms at {g}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        }
+        let ok = self.rt60_s.is_finite()
+            && tail_ok
+            && self.rt60_s <= 10.0
+            && self.direct_to_reverb_db.is_finite()
+            && self.predelay_ms.is_finite()
+            && (0.0..=200.0).contains(&self.predelay_ms);
+        if !ok {
+            return bad(format!(
+                "a room of RT60 {} s, pre-delay {} ms, direct-to-reverberant {} dB: RT60 over 0 and up to 10 s, pre-delay 0 to 200 ms, a finite direct-to-reverberant ratio",
+                self.rt60_s, self.predelay_ms, self.direct_to_reverb_db
+            ));
+        }
+        Ok(())
+    }
+
     /// A ringing chamber of reverberation time `rt60_s` (s), heard a few
     /// metres from the bells: the direct sound 3 dB over the reverberant,
     /// the first reflection 15 ms after it (walls about 2.5 m away).
@@ -381,35 +419,7 @@ fn check(spec: &TowerSpec) -> Result<(), SignalError> {
         ));
     }
     if let Some(r) = spec.room {
-        // A room of reflections alone may have no tail (RT60 0).
-        let tail_ok = r.rt60_s > 0.0 || (r.rt60_s == 0.0 && r.reflects());
-        let refl_ok = r
-            .reflections
-            .iter()
-            .all(|&(d, g)| d.is_finite() && (0.0..=200.0).contains(&d) && g.is_finite() && g.abs() <= 2.0);
-        if !refl_ok {
-            return bad(format!(
-                "early reflections {}: each delay 0 to 200 ms, each gain within ±2",
-                r.reflections
-                    .iter()
-                    .filter(|x| x.1 != 0.0)
-                    .map(|(d, g)| format!("{d} ms at {g}"))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            ));
-        }
-        let ok = r.rt60_s.is_finite()
-            && tail_ok
-            && r.rt60_s <= 10.0
-            && r.direct_to_reverb_db.is_finite()
-            && r.predelay_ms.is_finite()
-            && (0.0..=200.0).contains(&r.predelay_ms);
-        if !ok {
-            return bad(format!(
-                "a room of RT60 {} s, pre-delay {} ms, direct-to-reverberant {} dB: RT60 over 0 and up to 10 s, pre-delay 0 to 200 ms, a finite direct-to-reverberant ratio",
-                r.rt60_s, r.predelay_ms, r.direct_to_reverb_db
-            ));
-        }
+        r.check()?;
     }
     if let Some(snr) = spec.snr_db {
         if !(snr.is_finite() && snr > -20.0) {
