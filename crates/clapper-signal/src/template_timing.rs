@@ -199,13 +199,10 @@ fn retime_judging(
         };
         moves[i] = Some(t - s.t);
         s.t = t;
-        let Some(c) = pairs.correlations(&left, s.bell, (t * m.rate).round() as i64)? else {
+        let Some((a, gain)) = pairs.aligned(&left, s.bell, (t * m.rate).round() as i64)? else {
             continue;
         };
-        let Some(a) = pairs.aligned(&left, s.bell, (t * m.rate).round() as i64)? else {
-            continue;
-        };
-        m.subtract(&mut left, tm, t, pairs.gain(s.bell, &c));
+        m.subtract(&mut left, tm, t, gain);
         judged.push((i, (s.bell, a)));
         matched.push((s.bell, s.t, q));
     }
@@ -215,16 +212,13 @@ fn retime_judging(
     }
     // Strikes the band finder missed, where the rhythm leaves room.
     for (bell, t, q) in missing(&m, &left, &matched, &mut sc)? {
-        let (Some(c), Some(Some(tm))) = (
-            pairs.correlations(&left, bell, (t * m.rate).round() as i64)?,
+        let (Some((a, gain)), Some(Some(tm))) = (
+            pairs.aligned(&left, bell, (t * m.rate).round() as i64)?,
             m.bells.get(bell - 1),
         ) else {
             continue;
         };
-        let Some(a) = pairs.aligned(&left, bell, (t * m.rate).round() as i64)? else {
-            continue;
-        };
-        m.subtract(&mut left, tm, t, pairs.gain(bell, &c));
+        m.subtract(&mut left, tm, t, gain);
         judged.push((heard.strikes.len(), (bell, a)));
         heard.strikes.push(HeardStrike {
             bell,

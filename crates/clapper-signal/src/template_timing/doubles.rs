@@ -158,10 +158,13 @@ impl Pairs {
     /// strike timed a few ms off its sound (the match on the template's
     /// first 150 ms can prefer a lag 3.5 ms early where the room reflects)
     /// fits its first copy weakly, and every second copy then stands out.
-    pub fn aligned(&mut self, x: &[f64], bell: usize, i1: i64) -> Result<Option<Vec<f64>>, SignalError> {
+    /// With it, the first copy's gain at `i1` itself ([`Self::gain`]),
+    /// from the same transform: one per strike, as before the line-up.
+    pub fn aligned(&mut self, x: &[f64], bell: usize, i1: i64) -> Result<Option<(Vec<f64>, f64)>, SignalError> {
         let Some(c) = self.correlations(x, bell, i1 - self.align as i64)? else {
             return Ok(None);
         };
+        let gain = self.gain(bell, &c[self.align..]);
         let best = (0..=2 * self.align)
             .max_by(|&a, &b| c[a].total_cmp(&c[b]))
             .unwrap_or(self.align);
@@ -171,7 +174,7 @@ impl Pairs {
         } else {
             self.align
         };
-        Ok(Some(c[k0..=k0 + self.judged].to_vec()))
+        Ok(Some((c[k0..=k0 + self.judged].to_vec(), gain)))
     }
 
     /// The first copy's gain alone, from the correlations `c` of bell
@@ -337,7 +340,7 @@ mod tests {
             .map(|s| {
                 let off = if s % 3 == 1 { ms(3.5) } else { 0 };
                 let i1 = (gap * (s + 1) - off) as i64;
-                (1, pairs.aligned(&x, 1, i1).unwrap().unwrap())
+                (1, pairs.aligned(&x, 1, i1).unwrap().unwrap().0)
             })
             .collect();
         let judged = pairs.judge(&strikes, (0.01, 0.15), 0.3);
