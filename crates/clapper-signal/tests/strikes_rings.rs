@@ -25,17 +25,22 @@ fn bench_ring(bells: usize, tenor_hz: f64, scale: Scale, seed: u64) -> TowerSpec
     }
 }
 
-/// Each bell's share of its strikes heard within `tol` (s), and the
-/// whole ring's.
-fn per_bell(spec: &TowerSpec, tol: f64) -> (Vec<f64>, f64) {
+/// `spec`'s recording heard with each bell's nominal, and its truth.
+fn heard(spec: &TowerSpec) -> (Vec<HeardTimes>, Vec<TrueStrike>) {
     let (sig, truth) = tower_recording(spec).unwrap();
     let voices: Vec<BellVoice> = spec
         .bells
         .iter()
         .map(|b| BellVoice::from_nominal(b.nominal_hz))
         .collect();
-    let heard = find_strikes(&sig, &voices, &StrikeOptions::default()).unwrap();
-    let h = heard.times();
+    let h = find_strikes(&sig, &voices, &StrikeOptions::default()).unwrap().times();
+    (h, truth)
+}
+
+/// Each bell's share of its strikes heard within `tol` (s), and the
+/// whole ring's.
+fn per_bell(spec: &TowerSpec, tol: f64) -> (Vec<f64>, f64) {
+    let (h, truth) = heard(spec);
     let all = score(&h, &truth, tol).recall();
     let each = (1..=spec.bells.len())
         .map(|b| {
@@ -63,13 +68,7 @@ fn on_ten_bells_the_bell_heard_only_in_shared_bands_is_heard() {
 /// The ring's false doubles (strikes heard double where one was struck)
 /// and its doubles found, each bell's false doubles apart.
 fn false_doubles(spec: &TowerSpec) -> (Vec<usize>, usize) {
-    let (sig, truth) = tower_recording(spec).unwrap();
-    let voices: Vec<BellVoice> = spec
-        .bells
-        .iter()
-        .map(|b| BellVoice::from_nominal(b.nominal_hz))
-        .collect();
-    let h = find_strikes(&sig, &voices, &StrikeOptions::default()).unwrap().times();
+    let (h, truth) = heard(spec);
     let each = (1..=spec.bells.len())
         .map(|b| {
             let hb: Vec<_> = h.iter().copied().filter(|x| x.0 == b).collect();
