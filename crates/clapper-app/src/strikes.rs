@@ -322,6 +322,13 @@ impl StrikesReport {
         input::warn_of(&mut warnings, peak, heard.strikes.len(), voices.len());
         kind::warn_of(&mut warnings, matches!(timing, Timing::AsHeard), voices, &below);
         let mut report = Self::of(&heard, voices.len(), duration_s, warnings, timing_report);
+        let by = match timing {
+            Timing::AsHeard => doubt::TimedBy::AsHeard,
+            Timing::Templates(_) => doubt::TimedBy::Templates,
+            Timing::Recording(_) => doubt::TimedBy::Recording,
+        };
+        let loose = doubt::loose_warning(report.summary.rms_error_ms, report.summary.interval_ms, by);
+        report.summary.warnings.extend(loose);
         report.summary.plausibility = plausibility;
         Ok(report)
     }
@@ -478,12 +485,12 @@ impl StrikesReport {
             let _ = if t.source == "recording" {
                 writeln!(
                     o,
-                    "timing from the recording's own clean strikes: heard late (ms) {late}; each strike lined up on its bell's average strike moved (median ms) {moved}"
+                    "timing from the recording's own clean strikes: the band finder hears each bell late by (ms) {late}, against the start of its average strike's sound; each strike, lined up on that average, moved by (median ms) {moved}"
                 )
             } else {
                 writeln!(
                     o,
-                    "timing from the {}: heard late on a ring of them (ms) {late}; each strike matched to its template moved (median ms) {moved}",
+                    "timing from the {}: the band finder hears each bell late by (ms) {late}, against the start of its template's sound (measured on a ring of the templates); each strike, matched to its template, moved by (median ms) {moved}",
                     t.source
                 )
             };
