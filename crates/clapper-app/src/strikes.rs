@@ -709,15 +709,19 @@ pub struct StrikingFigure {
 impl StrikingFigure {
     /// The figure of `report` heard in `sig` (the recording `name`) for the
     /// bells `voices`; the strip is drawn up to 1.6 times the highest bell's
-    /// strongest partial (its nominal), which shows every bell's strongest
-    /// partials.
+    /// strongest partial (a tuned bell's nominal), and over every partial
+    /// at least 0.3 of its bell's strongest: a recorded bell's strongest
+    /// partial is often its prime, an octave under its nominal, and a strip
+    /// up to 1.6 times that left the trebles' nominals out.
     pub fn new(report: &StrikesReport, sig: &Signal, name: &str, voices: &[BellVoice]) -> Result<Self, AppError> {
-        let fmax_hz = 1.6
-            * voices
-                .iter()
-                .filter_map(|v| v.partials.iter().max_by(|a, b| a.strength.total_cmp(&b.strength)))
-                .map(|p| p.freq_hz)
-                .fold(0.0, f64::max);
+        let fmax_hz = voices
+            .iter()
+            .filter_map(|v| {
+                let top = v.partials.iter().max_by(|a, b| a.strength.total_cmp(&b.strength))?;
+                let strong = v.partials.iter().filter(|p| p.strength >= 0.3 * top.strength);
+                Some(strong.map(|p| 1.1 * p.freq_hz).fold(1.6 * top.freq_hz, f64::max))
+            })
+            .fold(0.0, f64::max);
         let end = ((STRIP_S * sig.rate) as usize).min(sig.samples.len());
         let opening = Signal {
             rate: sig.rate,
