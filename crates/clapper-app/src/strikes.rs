@@ -103,6 +103,18 @@ pub struct BellStriking {
     pub mean_d: Option<f64>,
 }
 
+/// What the rows heard were (`clapper_signal::methods::recognise`).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct MethodReport {
+    /// "rounds", "plain hunt", "Plain Bob", "Grandsire" or "Stedman".
+    pub name: String,
+    /// The changes heard (two whole rows one after the other) it makes.
+    pub changes_fitting: usize,
+    /// The changes heard it was judged on (for a method, those not rounds
+    /// to rounds).
+    pub changes_judged: usize,
+}
+
 /// The recording as a whole.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct StrikesSummary {
@@ -126,6 +138,9 @@ pub struct StrikesSummary {
     pub double_strikes: usize,
     /// Strokes told from the rhythm (the handstroke gap stood out).
     pub strokes_known: bool,
+    /// What the rows heard whole were: rounds or a method's plain course
+    /// (`clapper_signal::methods::recognise`); none if not one of those.
+    pub method: Option<MethodReport>,
     /// How much the recording sounds like bells struck: the share of the
     /// strikes heard (those not at its very ends) across whose onset their
     /// bell's strongest partial rises 6 dB or more. Under 0.5 it does not
@@ -176,6 +191,44 @@ pub enum Timing<'a> {
     /// Each bell's template and lateness learned from the recording's own
     /// clean strikes ([`calibrate_from_recording`]; listen with its voices).
     Recording(&'a SelfCalibration),
+}
+
+/// What the rows of `rows` rows the `strikes` were placed in were
+/// (`clapper_signal::methods::recognise`), from the rows heard whole: each
+/// of the `bells` bells once, in places 1 to `bells`.
+fn method_of(strikes: &[StrikeReport], rows: usize, bells: usize) -> Option<MethodReport> {
+    let mut heard: Vec<Vec<Option<usize>>> = vec![vec![None; bells]; rows];
+    let mut spoilt = vec![false; rows];
+    for s in strikes {
+        if let (Some(row), Some(place)) = (s.row, s.place) {
+            match heard.get_mut(row).and_then(|r| r.get_mut(place.wrapping_sub(1))) {
+                Some(slot @ None) => *slot = Some(s.bell - 1),
+                _ => {
+                    if let Some(bad) = spoilt.get_mut(row) {
+                        *bad = true;
+                    }
+                }
+            }
+        }
+    }
+    let whole: Vec<Option<Vec<usize>>> = heard
+        .into_iter()
+        .zip(spoilt)
+        .map(|(r, bad)| {
+            let r: Option<Vec<usize>> = r.into_iter().collect();
+            r.filter(|r| {
+                !bad && {
+                    let mut seen = vec![false; bells];
+                    r.iter().all(|&b| b < bells && !std::mem::replace(&mut seen[b], true))
+                }
+            })
+        })
+        .collect();
+    clapper_signal::methods::recognise(&whole, bells).map(|m| MethodReport {
+        name: m.name.to_string(),
+        changes_fitting: m.fitting,
+        changes_judged: m.judged,
+    })
 }
 
 /// Each bell's partials and template learned from the recording `sig`
@@ -408,6 +461,7 @@ impl StrikesReport {
             rms_error_ms: rms,
             double_strikes: strikes.iter().filter(|s| s.double.is_some()).count(),
             strokes_known: r.strokes_known,
+            method: method_of(&strikes, r.rows, bells),
             plausibility: None,
             warnings,
         };
@@ -438,6 +492,17 @@ impl StrikesReport {
             opt(s.rms_error_ms, 1),
             s.double_strikes
         );
+        if let Some(m) = &s.method {
+            let _ = writeln!(
+                o,
+                "rows: {} ({}{} of {} changes heard in whole rows{})",
+                m.name,
+                if m.name == "rounds" { "" } else { "its plain course: " },
+                m.changes_fitting,
+                m.changes_judged,
+                if m.name == "rounds" { "" } else { ", rounds left out" }
+            );
+        }
         let _ = writeln!(
             o,
             "  {:>4} {:>7} {:>18} {:>18} {:>18} {:>9} {:>6}",
