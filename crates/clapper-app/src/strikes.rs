@@ -103,6 +103,18 @@ pub struct BellStriking {
     pub mean_d: Option<f64>,
 }
 
+/// What the rows heard were (`clapper_signal::methods::recognise`).
+#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
+pub struct MethodReport {
+    /// "rounds", "plain hunt", "Plain Bob", "Grandsire" or "Stedman".
+    pub name: String,
+    /// The changes heard (two whole rows one after the other) it makes.
+    pub changes_fitting: usize,
+    /// The changes heard it was judged on (for a method, those not rounds
+    /// to rounds).
+    pub changes_judged: usize,
+}
+
 /// The recording as a whole.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct StrikesSummary {
@@ -126,6 +138,9 @@ pub struct StrikesSummary {
     pub double_strikes: usize,
     /// Strokes told from the rhythm (the handstroke gap stood out).
     pub strokes_known: bool,
+    /// What the rows heard whole were: rounds or a method's plain course
+    /// (`clapper_signal::methods::recognise`); none if not one of those.
+    pub method: Option<MethodReport>,
     /// How much the recording sounds like bells struck: the share of the
     /// strikes heard (those not at its very ends) across whose onset their
     /// bell's strongest partial rises 6 dB or more. Under 0.5 it does not
@@ -176,6 +191,44 @@ pub enum Timing<'a> {
     /// Each bell's template and lateness learned from the recording's own
     /// clean strikes ([`calibrate_from_recording`]; listen with its voices).
     Recording(&'a SelfCalibration),
+}
+
+/// What the rows of `rows` rows the `strikes` were placed in were
+/// (`clapper_signal::methods::recognise`), from the rows heard whole: each
+/// of the `bells` bells once, in places 1 to `bells`.
+fn method_of(strikes: &[StrikeReport], rows: usize, bells: usize) -> Option<MethodReport> {
+    let mut heard: Vec<Vec<Option<usize>>> = vec![vec![None; bells]; rows];
+    let mut spoilt = vec![false; rows];
+    for s in strikes {
+        if let (Some(row), Some(place)) = (s.row, s.place) {
+            match heard.get_mut(row).and_then(|r| r.get_mut(place.wrapping_sub(1))) {
+                Some(slot @ None) => *slot = Some(s.bell - 1),
+                _ => {
+                    if let Some(bad) = spoilt.get_mut(row) {
+                        *bad = true;
+                    }
+                }
+            }
+        }
+    }
+    let whole: Vec<Option<Vec<usize>>> = heard
+        .into_iter()
+        .zip(spoilt)
+        .map(|(r, bad)| {
+            let r: Option<Vec<usize>> = r.into_iter().collect();
+            r.filter(|r| {
+                !bad && {
+                    let mut seen = vec![false; bells];
+                    r.iter().all(|&b| b < bells && !std::mem::replace(&mut seen[b], true))
+                }
+            })
+        })
+        .collect();
+    clapper_signal::methods::recognise(&whole, bells).map(|m| MethodReport {
+        name: m.name.to_string(),
+        changes_fitting: m.fitting,
+        changes_judged: m.judged,
+    })
 }
 
 /// Each bell's partials and template learned from the recording `sig`
@@ -322,6 +375,13 @@ impl StrikesReport {
         input::warn_of(&mut warnings, peak, heard.strikes.len(), voices.len());
         kind::warn_of(&mut warnings, matches!(timing, Timing::AsHeard), voices, &below);
         let mut report = Self::of(&heard, voices.len(), duration_s, warnings, timing_report);
+        let by = match timing {
+            Timing::AsHeard => doubt::TimedBy::AsHeard,
+            Timing::Templates(_) => doubt::TimedBy::Templates,
+            Timing::Recording(_) => doubt::TimedBy::Recording,
+        };
+        let loose = doubt::loose_warning(report.summary.rms_error_ms, report.summary.interval_ms, by);
+        report.summary.warnings.extend(loose);
         report.summary.plausibility = plausibility;
         Ok(report)
     }
@@ -401,6 +461,7 @@ impl StrikesReport {
             rms_error_ms: rms,
             double_strikes: strikes.iter().filter(|s| s.double.is_some()).count(),
             strokes_known: r.strokes_known,
+            method: method_of(&strikes, r.rows, bells),
             plausibility: None,
             warnings,
         };
@@ -431,6 +492,17 @@ impl StrikesReport {
             opt(s.rms_error_ms, 1),
             s.double_strikes
         );
+        if let Some(m) = &s.method {
+            let _ = writeln!(
+                o,
+                "rows: {} ({}{} of {} changes heard in whole rows{})",
+                m.name,
+                if m.name == "rounds" { "" } else { "its plain course: " },
+                m.changes_fitting,
+                m.changes_judged,
+                if m.name == "rounds" { "" } else { ", rounds left out" }
+            );
+        }
         let _ = writeln!(
             o,
             "  {:>4} {:>7} {:>18} {:>18} {:>18} {:>9} {:>6}",
@@ -478,12 +550,12 @@ impl StrikesReport {
             let _ = if t.source == "recording" {
                 writeln!(
                     o,
-                    "timing from the recording's own clean strikes: heard late (ms) {late}; each strike lined up on its bell's average strike moved (median ms) {moved}"
+                    "timing from the recording's own clean strikes: the band finder hears each bell late by (ms) {late}, against the start of its average strike's sound; each strike, lined up on that average, moved by (median ms) {moved}"
                 )
             } else {
                 writeln!(
                     o,
-                    "timing from the {}: heard late on a ring of them (ms) {late}; each strike matched to its template moved (median ms) {moved}",
+                    "timing from the {}: the band finder hears each bell late by (ms) {late}, against the start of its template's sound (measured on a ring of the templates); each strike, matched to its template, moved by (median ms) {moved}",
                     t.source
                 )
             };
@@ -702,15 +774,19 @@ pub struct StrikingFigure {
 impl StrikingFigure {
     /// The figure of `report` heard in `sig` (the recording `name`) for the
     /// bells `voices`; the strip is drawn up to 1.6 times the highest bell's
-    /// strongest partial (its nominal), which shows every bell's strongest
-    /// partials.
+    /// strongest partial (a tuned bell's nominal), and over every partial
+    /// at least 0.3 of its bell's strongest: a recorded bell's strongest
+    /// partial is often its prime, an octave under its nominal, and a strip
+    /// up to 1.6 times that left the trebles' nominals out.
     pub fn new(report: &StrikesReport, sig: &Signal, name: &str, voices: &[BellVoice]) -> Result<Self, AppError> {
-        let fmax_hz = 1.6
-            * voices
-                .iter()
-                .filter_map(|v| v.partials.iter().max_by(|a, b| a.strength.total_cmp(&b.strength)))
-                .map(|p| p.freq_hz)
-                .fold(0.0, f64::max);
+        let fmax_hz = voices
+            .iter()
+            .filter_map(|v| {
+                let top = v.partials.iter().max_by(|a, b| a.strength.total_cmp(&b.strength))?;
+                let strong = v.partials.iter().filter(|p| p.strength >= 0.3 * top.strength);
+                Some(strong.map(|p| 1.1 * p.freq_hz).fold(1.6 * top.freq_hz, f64::max))
+            })
+            .fold(0.0, f64::max);
         let end = ((STRIP_S * sig.rate) as usize).min(sig.samples.len());
         let opening = Signal {
             rate: sig.rate,

@@ -43,7 +43,7 @@ pub struct StrikesArgs {
     /// A recording of the ring (.wav: mono or stereo, 8 to 192 kHz).
     pub file: PathBuf,
     /// The bells' nominal frequencies (Hz), treble first: bell 1 is the first given.
-    #[arg(long, value_name = "F1,F2,..", value_parser = parse_list, conflicts_with = "templates")]
+    #[arg(long, value_name = "F1,F2,..", value_parser = parse_list, conflicts_with = "templates", allow_hyphen_values = true)]
     pub nominals: Option<Nominals>,
     /// A folder of recordings of each bell struck alone, named 1.wav, 2.wav, ...
     #[arg(long, value_name = "DIR")]

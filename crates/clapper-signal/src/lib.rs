@@ -11,6 +11,7 @@
 
 pub mod accel;
 pub mod contacts;
+mod fft;
 pub mod lateness;
 pub mod methods;
 pub mod modes;

@@ -1,6 +1,7 @@
 //! The rows of the methods a synthetic ring rings (issue 43): Plain Bob,
 //! Grandsire and Stedman from their place notation (through the
-//! `bellframe` crate), on 4 or 5 to 12 bells. Grandsire and Stedman are
+//! `bellframe` crate), on 4 or 5 to 12 bells, and plain hunt; and which of
+//! them, or rounds, the rows heard in a recording are ([`recognise`]). Grandsire and Stedman are
 //! rung on an odd number of working bells: on an even number of bells the
 //! tenor covers (rings last in every row).
 
@@ -79,6 +80,102 @@ impl PlainCourse {
     }
 }
 
+/// The plain hunt on `bells` bells (2 to 16): its rows from rounds to the
+/// row before rounds comes round again (2 × `bells` rows), each the bells
+/// (from 0) in the order they strike. Every bell hunts from lead to
+/// behind and back: the changes swap the pairs from the lead and then the
+/// pairs from second's place, in turn.
+pub fn plain_hunt(bells: usize) -> Vec<Vec<usize>> {
+    let mut row: Vec<usize> = (0..bells).collect();
+    let mut rows = vec![row.clone()];
+    for k in 1..2 * bells.max(1) {
+        let mut p = (k + 1) % 2;
+        while p + 1 < bells {
+            row.swap(p, p + 1);
+            p += 2;
+        }
+        rows.push(row.clone());
+    }
+    rows
+}
+
+/// What a ring's rows were found to be ([`recognise`]).
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Recognised {
+    /// "rounds", "plain hunt", "Plain Bob", "Grandsire" or "Stedman".
+    pub name: &'static str,
+    /// The changes heard (two whole rows one after the other) that it
+    /// makes.
+    pub fitting: usize,
+    /// The changes heard it was judged on: every one, for rounds; else
+    /// those not from rounds to rounds (the rounds rung before and after).
+    pub judged: usize,
+}
+
+/// The share of the changes judged a candidate must make to be named.
+const RECOGNISED_SHARE: f64 = 0.8;
+
+/// The fewest changes heard on which to name anything.
+const FEWEST_CHANGES: usize = 4;
+
+/// What the rows `rows` heard on `bells` bells were (in order; None where
+/// a row was not heard whole; each whole row the bells from 0 in the
+/// order they struck): rounds, if nearly every change heard is rounds to
+/// rounds; else the first of plain hunt, Plain Bob, Grandsire and Stedman
+/// (their plain courses, the tenor covering for the odd methods on an
+/// even number) that makes the most of the other changes heard, if it
+/// makes [`RECOGNISED_SHARE`] of them. None if none does, or fewer than
+/// [`FEWEST_CHANGES`] were heard: a touch with calls, a method not
+/// listed, or rows heard wrong.
+pub fn recognise(rows: &[Option<Vec<usize>>], bells: usize) -> Option<Recognised> {
+    let rounds: Vec<usize> = (0..bells).collect();
+    let changes: Vec<(&Vec<usize>, &Vec<usize>)> = rows
+        .windows(2)
+        .filter_map(|w| Some((w[0].as_ref()?, w[1].as_ref()?)))
+        .collect();
+    if changes.len() < FEWEST_CHANGES {
+        return None;
+    }
+    let in_rounds = changes.iter().filter(|(a, b)| **a == rounds && **b == rounds).count();
+    if in_rounds as f64 >= RECOGNISED_SHARE * changes.len() as f64 {
+        return Some(Recognised {
+            name: "rounds",
+            fitting: in_rounds,
+            judged: changes.len(),
+        });
+    }
+    let judged: Vec<_> = changes
+        .iter()
+        .filter(|(a, b)| !(**a == rounds && **b == rounds))
+        .collect();
+    let mut courses: Vec<(&'static str, Vec<Vec<usize>>)> = vec![("plain hunt", plain_hunt(bells))];
+    for m in [PlainCourse::PlainBob, PlainCourse::Grandsire, PlainCourse::Stedman] {
+        if let Ok(c) = m.course(bells) {
+            courses.push((m.name(), c));
+        }
+    }
+    let mut best: Option<Recognised> = None;
+    for (name, course) in courses {
+        let at: std::collections::HashMap<&[usize], usize> =
+            course.iter().enumerate().map(|(i, r)| (r.as_slice(), i)).collect();
+        let fitting = judged
+            .iter()
+            .filter(|(a, b)| {
+                at.get(a.as_slice())
+                    .is_some_and(|&i| course[(i + 1) % course.len()] == **b)
+            })
+            .count();
+        if best.as_ref().is_none_or(|b| fitting > b.fitting) {
+            best = Some(Recognised {
+                name,
+                fitting,
+                judged: judged.len(),
+            });
+        }
+    }
+    best.filter(|b| b.fitting as f64 >= RECOGNISED_SHARE * b.judged as f64)
+}
+
 /// A place's character in place notation: 1-9, 0 (10), E (11), T (12).
 fn place_char(place: usize) -> char {
     match place {
@@ -92,6 +189,60 @@ fn place_char(place: usize) -> char {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Rows as heard: each course rung `times` over from rounds, with
+    /// `rounds` rows of rounds before and after.
+    fn rung(course: &[Vec<usize>], times: usize, rounds: usize) -> Vec<Option<Vec<usize>>> {
+        let r: Vec<usize> = (0..course[0].len()).collect();
+        let mut rows = vec![Some(r.clone()); rounds];
+        for _ in 0..times {
+            rows.extend(course.iter().cloned().map(Some));
+        }
+        rows.extend(vec![Some(r); rounds + 1]);
+        rows
+    }
+
+    #[test]
+    fn each_method_is_recognised_from_its_rows_and_no_other() {
+        assert_eq!(plain_hunt(5)[1], vec![1, 0, 3, 2, 4], "5ths made first on five");
+        assert_eq!(plain_hunt(6).len(), 12);
+        for n in 5..=12 {
+            let ph = recognise(&rung(&plain_hunt(n), 2, 2), n).unwrap();
+            assert_eq!(ph.name, "plain hunt", "{n} bells");
+            assert_eq!(ph.fitting, ph.judged);
+            for m in [PlainCourse::PlainBob, PlainCourse::Grandsire, PlainCourse::Stedman] {
+                let c = m.course(n).unwrap();
+                let got = recognise(&rung(&c, 1, 3), n).map(|r| r.name);
+                assert_eq!(got, Some(m.name()), "{} on {n}", m.name());
+            }
+        }
+        let rounds = rung(&plain_hunt(8)[..1], 30, 0);
+        assert_eq!(recognise(&rounds, 8).unwrap().name, "rounds");
+    }
+
+    #[test]
+    fn rows_heard_in_part_or_wrong_are_judged_on_what_is_whole() {
+        // A row in four not heard whole: still plain hunt.
+        let mut rows = rung(&plain_hunt(6), 3, 0);
+        for r in rows.iter_mut().step_by(4) {
+            *r = None;
+        }
+        assert_eq!(recognise(&rows, 6).unwrap().name, "plain hunt");
+        // Rows whose bells are shuffled at random make no method.
+        let mut x = 12345u64;
+        let mut shuffled = vec![];
+        for _ in 0..30 {
+            let mut r: Vec<usize> = (0..6).collect();
+            for i in (1..6).rev() {
+                x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+                r.swap(i, (x >> 33) as usize % (i + 1));
+            }
+            shuffled.push(Some(r));
+        }
+        assert_eq!(recognise(&shuffled, 6), None);
+        // Too few changes to name anything.
+        assert_eq!(recognise(&rung(&plain_hunt(6)[..2], 1, 0), 6), None);
+    }
 
     #[test]
     fn plain_courses_have_their_known_lengths_and_rows() {

@@ -33,8 +33,6 @@
 //!    bell's lateness is how long after that start the band finder heard
 //!    the clean strikes (their median).
 
-use realfft::RealFftPlanner;
-
 use crate::strikes::{find_strikes, learn_voices, BellVoice, Heard, HeardStrike, StrikeOptions};
 use crate::{Signal, SignalError};
 
@@ -736,9 +734,7 @@ fn best_lag(x: &[f64], reference: &[f64], shift: usize, at: usize, rate: f64, re
     let from = at.saturating_sub((CORE_S * rate) as usize);
     let core = &reference[from..];
     let n = (x.len() + core.len()).next_power_of_two();
-    let mut planner = RealFftPlanner::<f64>::new();
-    let fwd = planner.plan_fft_forward(n);
-    let inv = planner.plan_fft_inverse(n);
+    let (fwd, inv) = crate::fft::plans(n);
     let mut a = fwd.make_input_vec();
     a[..x.len()].copy_from_slice(x);
     let mut b = fwd.make_input_vec();
@@ -820,9 +816,7 @@ fn sound_start(mean: &[f64], spread: &[f64], n: f64, rate: f64, heard: usize) ->
 /// stands out of what is left.
 fn whiten(x: &[f64], segs: &[&[f64]], rate: f64) -> Vec<f64> {
     let n = (2 * x.len()).next_power_of_two();
-    let mut planner = RealFftPlanner::<f64>::new();
-    let fwd = planner.plan_fft_forward(n);
-    let inv = planner.plan_fft_inverse(n);
+    let (fwd, inv) = crate::fft::plans(n);
     let mut buf = fwd.make_input_vec();
     let mut spec = fwd.make_output_vec();
     let mut power = vec![0.0; spec.len()];

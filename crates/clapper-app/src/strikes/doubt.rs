@@ -84,6 +84,51 @@ pub(super) fn misfit_warning(rms_ms: Option<f64>, interval_ms: Option<f64>, give
     })
 }
 
+/// The RMS striking error over the interval above which the strikes are
+/// looser than rows of the right bells read (0.05-0.11, above: striking
+/// errors sd 3-20 ms) but under [`MISFIT_OF_INTERVAL`]. Real bells heard
+/// as heard through a tuned bell's partials read 0.24-0.38 on an
+/// independent tester's rings of recorded strikes (each bell 20-100 ms
+/// late by its own amount), some just under the misfit warning.
+const LOOSE_OF_INTERVAL: f64 = 0.15;
+
+/// How the strikes were timed, for [`loose_warning`]'s advice.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum TimedBy {
+    /// As heard through the partials of the voices given.
+    AsHeard,
+    /// From each bell's own recorded strike.
+    Templates,
+    /// From the recording's own clean strikes.
+    Recording,
+}
+
+/// A warning that the strikes are looser than a band rings (RMS striking
+/// error `rms_ms` over [`LOOSE_OF_INTERVAL`] of the interval, under the
+/// misfit warning's), with what to try given how they were `timed`.
+pub(super) fn loose_warning(rms_ms: Option<f64>, interval_ms: Option<f64>, timed: TimedBy) -> Option<String> {
+    let (rms, interval) = (rms_ms?, interval_ms?);
+    let loose = interval > 0.0 && rms > LOOSE_OF_INTERVAL * interval && rms <= MISFIT_OF_INTERVAL * interval;
+    loose.then(|| {
+        let advice = match timed {
+            TimedBy::AsHeard => {
+                "they were timed as heard through a tuned bell's partials: bells whose partials are not a tuned \
+                 bell's (most old bells) are heard late, each by its own amount; --self-calibrate learns each bell's \
+                 partials and timing from the recording, and --templates times each from its own recorded strike"
+            }
+            TimedBy::Recording => {
+                "some bell's timing learned from the recording may be wrong, or its strikes given to another: \
+                 --templates (each bell's own recorded strike) times them best"
+            }
+            TimedBy::Templates => "some strikes may be matched to their templates at a wrong time",
+        };
+        format!(
+            "the RMS striking error is {rms:.0} ms in {interval:.0} ms intervals, looser than most bands ring (under \
+             a sixth of the interval): if this band rings better than that, the strikes are mistimed: {advice}"
+        )
+    })
+}
+
 /// A warning that more bells ring than nominals were `given`, from the
 /// strikes' spacing ([`clapper_signal::striking::ring_room`]).
 pub(super) fn ring_size_warning(timed: &[Timed], given: usize) -> Option<String> {
@@ -130,6 +175,23 @@ pub(super) fn ring_size_warning_as(timed: &[Timed], given: usize, learned: bool)
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn strikes_looser_than_a_band_say_what_to_try() {
+        // An independent tester's six recorded bells in plain hunt, heard
+        // as heard: 53.5 ms in 220.8 ms intervals, under the misfit warning.
+        let w = loose_warning(Some(53.5), Some(220.8), TimedBy::AsHeard).expect("warned");
+        assert!(w.contains("--self-calibrate") && w.contains("54 ms"), "{w}");
+        assert!(loose_warning(Some(53.5), Some(220.8), TimedBy::Recording)
+            .unwrap()
+            .contains("--templates"));
+        // A band's own striking (a tenth of the interval) is not warned of,
+        // nor what the misfit warning already says.
+        assert_eq!(loose_warning(Some(22.0), Some(220.0), TimedBy::AsHeard), None);
+        assert_eq!(loose_warning(Some(60.0), Some(220.0), TimedBy::AsHeard), None);
+        assert!(misfit_warning(Some(60.0), Some(220.0), 6).is_some());
+        assert_eq!(loose_warning(None, Some(220.0), TimedBy::AsHeard), None);
+    }
 
     #[test]
     fn a_bell_heard_as_four_at_once_is_told() {
