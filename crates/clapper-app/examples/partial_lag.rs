@@ -1,0 +1,66 @@
+//! Diagnostic (voice-1): how late the band finder hears one recorded bell
+//! through each single partial. cargo run --release -p clapper-app --example partial_lag -- FILE F1,F2,..
+use clapper_signal::sampled_ring::sample_onset;
+use clapper_signal::strikes::{find_strikes, BellVoice, StrikeOptions, VoicePartial};
+use clapper_signal::Signal;
+
+fn main() {
+    let v: Vec<String> = std::env::args().skip(1).collect();
+    let s = clapper_io::signal_file::read_recording(std::path::Path::new(&v[0])).unwrap();
+    let fs: Vec<f64> = v[1].split(',').map(|x| x.parse().unwrap()).collect();
+    let on = sample_onset(&s).unwrap();
+    let gap = (2.0 * s.rate) as usize;
+    let mut out = vec![0.0; gap * 9];
+    let mut truth = vec![];
+    for k in 0..8 {
+        let at = gap / 2 + k * gap;
+        truth.push(at as f64 / s.rate + on);
+        for (i, x) in s.samples.iter().enumerate() {
+            if at + i < out.len() {
+                out[at + i] += x;
+            }
+        }
+    }
+    let mut seed = 1u64;
+    for x in out.iter_mut() {
+        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        *x += 1e-4 * (((seed >> 33) as f64 / (1u64 << 31) as f64) - 0.5);
+    }
+    let sig = Signal {
+        samples: out,
+        ..s.clone()
+    };
+    let one = |ps: Vec<f64>| {
+        let voice = BellVoice {
+            partials: ps
+                .iter()
+                .map(|&f| VoicePartial {
+                    freq_hz: f,
+                    strength: 1.0,
+                    uncertainty: 0.005,
+                })
+                .collect(),
+        };
+        let h = find_strikes(&sig, &[voice], &StrikeOptions::default()).unwrap();
+        let mut e: Vec<f64> = truth
+            .iter()
+            .filter_map(|t| {
+                h.strikes
+                    .iter()
+                    .map(|x| (x.t - t) * 1e3)
+                    .filter(|d| d.abs() < 300.0)
+                    .min_by(|a, b| a.abs().total_cmp(&b.abs()))
+            })
+            .collect();
+        e.sort_by(f64::total_cmp);
+        format!(
+            "{:?} heard {}",
+            e.get(e.len() / 2).map(|x| (x * 10.0).round() / 10.0),
+            e.len()
+        )
+    };
+    for &f in &fs {
+        println!("{f:.1}: {}", one(vec![f]));
+    }
+    println!("all: {}", one(fs.clone()));
+}
