@@ -7,6 +7,7 @@ use super::band::{bands, decimate, Band, SharedBand};
 use super::heard::{check_options, Heard, HeardDouble, HeardStrike, StrikeOptions};
 use super::onsets::{hear_bell, BellHearing};
 use super::plan::{mean_spectrum, plan_bands};
+use super::stats::median;
 use super::voice::BellVoice;
 use crate::{Signal, SignalError};
 
@@ -253,13 +254,15 @@ fn strikes_of(
                 ));
                 return vec![];
             }
-            let found = h.firsts(opts, bells);
-            if found.is_empty() {
-                warnings.push(format!("bell {}: no strikes heard", b + 1));
-            }
-            found
+            h.firsts(opts, bells)
         })
         .collect();
+    let firsts = in_the_rings_rhythm(&heard, firsts, bells, opts);
+    for (b, (h, f)) in heard.iter().zip(&firsts).enumerate() {
+        if f.is_empty() && !h.bands.is_empty() {
+            warnings.push(format!("bell {}: no strikes heard", b + 1));
+        }
+    }
     let times: Vec<Vec<f64>> = firsts.iter().map(|f| f.iter().map(|x| x.0).collect()).collect();
     // Doubles are fitted about the start times, each strike free to
     // slide a little first (`second_strike`): about the half-way times
@@ -298,6 +301,56 @@ fn strikes_of(
         warnings,
         opts: *opts,
     }
+}
+
+/// Each bell listened for and not heard (its bands there, no strike
+/// standing clear of the rest) heard again by the ring's rhythm
+/// ([`BellHearing::firsts_in_rhythm`]): the typical interval between a
+/// bell's strikes, the median over the bells heard in six strikes or
+/// more. A chain found so that lies on the other bells' strikes is not
+/// taken. On bench/strikes' seeds 1-4 (where this was chosen), within
+/// 10 ms: the swing row 0.814 -> 0.908, doublets 0.898 -> 0.992, fast
+/// 0.966 -> 0.997, heavy 0.748 -> 0.780 (its precision 0.823 -> 0.777),
+/// twelve bells 0.835 -> 0.852; without that test all together's
+/// precision fell 0.497 -> 0.486 (bell 7 of seed 1 heard 0.65 s after
+/// each strike, a false peak's chain).
+fn in_the_rings_rhythm(
+    heard: &[BellHearing],
+    mut firsts: Vec<Vec<(f64, f64)>>,
+    bells: usize,
+    opts: &StrikeOptions,
+) -> Vec<Vec<(f64, f64)>> {
+    let mut gaps: Vec<f64> = firsts
+        .iter()
+        .filter(|f| f.len() >= 6)
+        .filter_map(|f| median(f.windows(2).map(|w| w[1].0 - w[0].0).collect()))
+        .collect();
+    gaps.sort_by(f64::total_cmp);
+    let Some(&period) = gaps.get(gaps.len() / 2) else {
+        return firsts;
+    };
+    let mut others: Vec<f64> = firsts.iter().flatten().map(|x| x.0).collect();
+    others.sort_by(f64::total_cmp);
+    let place = period / (bells as f64 + 0.5);
+    for (h, f) in heard.iter().zip(firsts.iter_mut()) {
+        if f.is_empty() && !h.bands.is_empty() {
+            let found = h.firsts_in_rhythm(opts, bells, period);
+            // A chain on other bells' strikes (within a quarter of a
+            // place, in most of its strikes) is theirs heard in this
+            // bell's bands, or a false peak a whole number of places
+            // after each of its own strikes: not taken.
+            let near = |t: f64| {
+                let k = others.partition_point(|&u| u < t);
+                let d = |j: usize| others.get(j).map_or(f64::INFINITY, |&u| (u - t).abs());
+                d(k).min(if k > 0 { d(k - 1) } else { f64::INFINITY })
+            };
+            let on_others = median(found.iter().map(|x| near(x.0)).collect()).is_some_and(|d| d < 0.25 * place);
+            if !on_others {
+                *f = found;
+            }
+        }
+    }
+    firsts
 }
 
 /// Step 2: a strike that steps a band two bells share is heard in both; it
