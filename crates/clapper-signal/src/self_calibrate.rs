@@ -33,6 +33,8 @@
 //!    bell's lateness is how long after that start the band finder heard
 //!    the clean strikes (their median).
 
+mod sharp;
+
 use crate::strikes::{find_strikes, learn_voices, BellVoice, Heard, HeardStrike, StrikeOptions};
 use crate::{Signal, SignalError};
 
@@ -167,6 +169,9 @@ struct Average {
     samples: Vec<f64>,
     start: usize,
     reach: usize,
+    /// Whether its start is a sharp blow ([`sharp::sharp_start`]): its
+    /// strikes are then lined up within [`sharp::SHARP_REACH_S`].
+    sharp: bool,
 }
 
 impl SelfCalibration {
@@ -222,7 +227,12 @@ impl SelfCalibration {
                         *v -= model[i] - own;
                     }
                 }
-                let lag = best_lag(&x, avg, shift, before, rate, a.reach);
+                let reach = if a.sharp {
+                    a.reach.min(sharp::reach(rate))
+                } else {
+                    a.reach
+                };
+                let lag = best_lag(&x, avg, shift, before, rate, reach);
                 let t = (from + lag + start) as f64 / rate;
                 let moved = t - s.t;
                 s.t = t;
@@ -488,8 +498,21 @@ fn template_of(sig: &Signal, times: &[f64]) -> Option<Learned> {
         let in_step = mad(lags) <= RELINE_SPREAD_S * rate;
         start_of(reference, &segs, heard_in(lags, before, shift), rate, in_step)
     };
-    let mut start = start_in(&reference, &lags);
     let mut reach = shift;
+    // A sharp blow is the start, whatever else the average shows.
+    let sharp = sharp::sharp_start(sig, &starts, &reference, &lags, before, after);
+    let is_sharp = sharp.is_some();
+    let mut start = match sharp {
+        Some(sharp::Sharp { start, relined: None }) => Some(start),
+        Some(sharp::Sharp {
+            start,
+            relined: Some((r, l)),
+        }) => {
+            (reference, lags, reach) = (r, l, ((RELINE_S * rate) as usize).min(shift));
+            Some(start)
+        }
+        None => start_in(&reference, &lags),
+    };
     // Lined up in scattered steps (in rounds, on the bell before's sound),
     // with no start shown: lined up again near their times heard, where
     // the band finder heard them (within 0.3-2 ms of one another).
@@ -519,6 +542,7 @@ fn template_of(sig: &Signal, times: &[f64]) -> Option<Learned> {
             samples: reference,
             start,
             reach,
+            sharp: is_sharp,
         },
         lateness_s,
         spread_s: dev[dev.len() / 2],
