@@ -29,7 +29,7 @@ mod lag;
 mod late;
 mod matcher;
 
-use matcher::Matcher;
+use matcher::{Matcher, PRE_S};
 
 use crate::strikes::{Heard, HeardStrike, Hearing, StrikeOptions};
 use crate::{Signal, SignalError};
@@ -159,6 +159,50 @@ fn sought(t: f64, late: Option<f64>) -> (f64, f64) {
     }
 }
 
+/// A strike settled: its time (s), match, the correlations from its first
+/// copy ([`doubles::Pairs::aligned`]) and the first copy's gain.
+type Settled = (f64, f64, Vec<f64>, f64);
+
+/// A strike of bell `bell` matched at `found` (time s, match) in `left`,
+/// settled: where a second copy after it is far louder than the first
+/// ([`doubles::LOUDER`]: no double strike's second blow is), the first was
+/// something faint before the strike, and it is matched again about that
+/// second (twice at most). Its time (s), match, correlations from the first copy
+/// and gain; none where its bell has no whole template.
+#[allow(clippy::too_many_arguments)]
+fn settle(
+    m: &Matcher,
+    pairs: &mut doubles::Pairs,
+    left: &[f64],
+    bell: usize,
+    (mut t, mut q): (f64, f64),
+    window: (f64, f64),
+    sc: &mut matcher::Scratch,
+) -> Result<Option<Settled>, SignalError> {
+    let Some(Some(tm)) = m.bells.get(bell - 1) else {
+        return Ok(None);
+    };
+    for round in 0..3 {
+        let Some((a, gain)) = pairs.aligned(left, bell, (t * m.rate).round() as i64)? else {
+            return Ok(None);
+        };
+        let later = if round < 2 {
+            pairs.louder_later(bell, &a, window)
+        } else {
+            None
+        };
+        let Some(d) = later else {
+            return Ok(Some((t, q, a, gain)));
+        };
+        // Matched again about the louder second copy.
+        match lag::best_match(m, left, tm, t + d - 0.01 - PRE_S, t + d + 0.01 - PRE_S, sc)? {
+            Some(f) => (t, q) = f,
+            None => return Ok(Some((t, q, a, gain))),
+        }
+    }
+    Ok(None)
+}
+
 /// [`retime_each_with`]; with a `hearing`, the strikes their templates do
 /// not judge take its doubles ([`retime_each_deferred`]).
 fn retime_judging(
@@ -194,14 +238,16 @@ fn retime_judging(
         let (from, to) = sought(s.t, lateness.get(s.bell - 1).copied().flatten());
         // And before that, to the bell's reach before the time heard.
         let found = late::best_of(&m, &left, tm, (from, to), s.t - reach[s.bell - 1], &mut sc)?;
-        let Some((t, q)) = found else {
+        let Some(found) = found else {
+            continue;
+        };
+        let Some((t, q, a, gain)) = settle(&m, &mut pairs, &left, s.bell, found, window, &mut sc)? else {
+            moves[i] = Some(found.0 - s.t);
+            s.t = found.0;
             continue;
         };
         moves[i] = Some(t - s.t);
         s.t = t;
-        let Some((a, gain)) = pairs.aligned(&left, s.bell, (t * m.rate).round() as i64)? else {
-            continue;
-        };
         m.subtract(&mut left, tm, t, gain);
         judged.push((i, (s.bell, a)));
         matched.push((s.bell, s.t, q));
@@ -276,8 +322,11 @@ fn missing(
         let Some(tm) = tm else { continue };
         let have = times(b + 1);
         let q: Vec<f64> = matched.iter().filter(|s| s.0 == b + 1).map(|s| s.2).collect();
+        // The bell's own interval, but never more than the bells' (a bell
+        // heard at every other strike has twice the interval it rings at).
         let (q, gap) = if have.len() >= 3 {
-            (crate::median(&q), crate::median(&gaps(&have)))
+            let own = crate::median(&gaps(&have));
+            (crate::median(&q), own.min(typical_gap))
         } else {
             (typical_q, typical_gap)
         };
