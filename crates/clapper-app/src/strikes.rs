@@ -24,8 +24,10 @@ pub use bells::{learn_nominals, learned_voices, voices_from_nominals, Learned, L
 mod doubt;
 mod input;
 mod kind;
+mod method;
 use input::signal_error;
 pub use input::{NO_STRIKES, ONE_BELL};
+pub use method::MethodReport;
 mod retime;
 
 use retime::{in_core, lateness_used, realign_window, retime_window};
@@ -101,18 +103,6 @@ pub struct BellStriking {
     /// Mean double strike index D (eq. 33, dimensionless) of its double
     /// strikes.
     pub mean_d: Option<f64>,
-}
-
-/// What the rows heard were (`clapper_signal::methods::recognise`).
-#[derive(Clone, Debug, PartialEq, Eq, Serialize)]
-pub struct MethodReport {
-    /// "rounds", "plain hunt", "Plain Bob", "Grandsire" or "Stedman".
-    pub name: String,
-    /// The changes heard (two whole rows one after the other) it makes.
-    pub changes_fitting: usize,
-    /// The changes heard it was judged on (for a method, those not rounds
-    /// to rounds).
-    pub changes_judged: usize,
 }
 
 /// The recording as a whole.
@@ -191,44 +181,6 @@ pub enum Timing<'a> {
     /// Each bell's template and lateness learned from the recording's own
     /// clean strikes ([`calibrate_from_recording`]; listen with its voices).
     Recording(&'a SelfCalibration),
-}
-
-/// What the rows of `rows` rows the `strikes` were placed in were
-/// (`clapper_signal::methods::recognise`), from the rows heard whole: each
-/// of the `bells` bells once, in places 1 to `bells`.
-fn method_of(strikes: &[StrikeReport], rows: usize, bells: usize) -> Option<MethodReport> {
-    let mut heard: Vec<Vec<Option<usize>>> = vec![vec![None; bells]; rows];
-    let mut spoilt = vec![false; rows];
-    for s in strikes {
-        if let (Some(row), Some(place)) = (s.row, s.place) {
-            match heard.get_mut(row).and_then(|r| r.get_mut(place.wrapping_sub(1))) {
-                Some(slot @ None) => *slot = Some(s.bell - 1),
-                _ => {
-                    if let Some(bad) = spoilt.get_mut(row) {
-                        *bad = true;
-                    }
-                }
-            }
-        }
-    }
-    let whole: Vec<Option<Vec<usize>>> = heard
-        .into_iter()
-        .zip(spoilt)
-        .map(|(r, bad)| {
-            let r: Option<Vec<usize>> = r.into_iter().collect();
-            r.filter(|r| {
-                !bad && {
-                    let mut seen = vec![false; bells];
-                    r.iter().all(|&b| b < bells && !std::mem::replace(&mut seen[b], true))
-                }
-            })
-        })
-        .collect();
-    clapper_signal::methods::recognise(&whole, bells).map(|m| MethodReport {
-        name: m.name.to_string(),
-        changes_fitting: m.fitting,
-        changes_judged: m.judged,
-    })
 }
 
 /// Each bell's partials and template learned from the recording `sig`
@@ -375,12 +327,8 @@ impl StrikesReport {
         input::warn_of(&mut warnings, peak, heard.strikes.len(), voices.len());
         kind::warn_of(&mut warnings, matches!(timing, Timing::AsHeard), voices, &below);
         let mut report = Self::of(&heard, voices.len(), duration_s, warnings, timing_report);
-        let by = match timing {
-            Timing::AsHeard => doubt::TimedBy::AsHeard,
-            Timing::Templates(_) => doubt::TimedBy::Templates,
-            Timing::Recording(_) => doubt::TimedBy::Recording,
-        };
-        let loose = doubt::loose_warning(report.summary.rms_error_ms, report.summary.interval_ms, by);
+        let s = &report.summary;
+        let loose = doubt::loose_warning(s.rms_error_ms, s.interval_ms, (&timing).into());
         report.summary.warnings.extend(loose);
         report.summary.plausibility = plausibility;
         Ok(report)
@@ -461,7 +409,7 @@ impl StrikesReport {
             rms_error_ms: rms,
             double_strikes: strikes.iter().filter(|s| s.double.is_some()).count(),
             strokes_known: r.strokes_known,
-            method: method_of(&strikes, r.rows, bells),
+            method: method::method_of(&strikes, r.rows, bells),
             plausibility: None,
             warnings,
         };
@@ -492,17 +440,7 @@ impl StrikesReport {
             opt(s.rms_error_ms, 1),
             s.double_strikes
         );
-        if let Some(m) = &s.method {
-            let _ = writeln!(
-                o,
-                "rows: {} ({}{} of {} changes heard in whole rows{})",
-                m.name,
-                if m.name == "rounds" { "" } else { "its plain course: " },
-                m.changes_fitting,
-                m.changes_judged,
-                if m.name == "rounds" { "" } else { ", rounds left out" }
-            );
-        }
+        o.push_str(&s.method.as_ref().map_or(String::new(), |m| m.line() + "\n"));
         let _ = writeln!(
             o,
             "  {:>4} {:>7} {:>18} {:>18} {:>18} {:>9} {:>6}",

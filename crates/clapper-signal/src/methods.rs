@@ -113,10 +113,10 @@ pub struct Recognised {
 }
 
 /// The share of the changes judged a candidate must make to be named.
-const RECOGNISED_SHARE: f64 = 0.8;
+pub const RECOGNISED_SHARE: f64 = 0.8;
 
 /// The fewest changes heard on which to name anything.
-const FEWEST_CHANGES: usize = 4;
+pub const FEWEST_CHANGES: usize = 4;
 
 /// What the rows `rows` heard on `bells` bells were (in order; None where
 /// a row was not heard whole; each whole row the bells from 0 in the

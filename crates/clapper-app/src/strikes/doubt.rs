@@ -103,6 +103,16 @@ pub(super) enum TimedBy {
     Recording,
 }
 
+impl From<&super::Timing<'_>> for TimedBy {
+    fn from(t: &super::Timing<'_>) -> Self {
+        match t {
+            super::Timing::AsHeard => TimedBy::AsHeard,
+            super::Timing::Templates(_) => TimedBy::Templates,
+            super::Timing::Recording(_) => TimedBy::Recording,
+        }
+    }
+}
+
 /// A warning that the strikes are looser than a band rings (RMS striking
 /// error `rms_ms` over [`LOOSE_OF_INTERVAL`] of the interval, under the
 /// misfit warning's), with what to try given how they were `timed`.
