@@ -9,8 +9,8 @@ use clapper_core::stroke::double_strike_index;
 use clapper_signal::lateness::{from_templates, Lateness};
 use clapper_signal::self_calibrate::{calibrate, SelfCalibration};
 use clapper_signal::strikes::{
-    find_strikes_streamed_deferred, rising, BellVoice, Heard, Hearing, InMemory, RecordingBlocks, StrikeOptions,
-    Window, Windows, PLAUSIBLE_SHARE,
+    find_strikes_streamed_deferred, rising_at, BellVoice, Heard, Hearing, InMemory, RecordingBlocks, RisePartial,
+    StrikeOptions, Window, Windows, PLAUSIBLE_SHARE,
 };
 use clapper_signal::striking::{mean_sd, rhythm, steady, Rhythm, Timed};
 use clapper_signal::template_timing::median_of;
@@ -133,7 +133,8 @@ pub struct StrikesSummary {
     pub method: Option<MethodReport>,
     /// How much the recording sounds like bells struck: the share of the
     /// strikes heard (those not at its very ends) across whose onset their
-    /// bell's strongest partial rises 6 dB or more. Under 0.5 it does not
+    /// bell's strongest partial rises 6 dB or more (with templates, its
+    /// highest partial at least 0.3 of its strongest: `RisePartial`). Under 0.5 it does not
     /// (noise, a steady tone: a warning says so); none without strikes.
     pub plausibility: Option<f64>,
     /// What could not be heard or placed, in words.
@@ -181,6 +182,30 @@ pub enum Timing<'a> {
     /// Each bell's template and lateness learned from the recording's own
     /// clean strikes ([`calibrate_from_recording`]; listen with its voices).
     Recording(&'a SelfCalibration),
+}
+
+/// Refuses a recording whose sample rate `rate` (Hz) is outside
+/// [`RECORDING_RATES_HZ`].
+fn check_rate(rate: f64) -> Result<(), AppError> {
+    if RECORDING_RATES_HZ.contains(&rate) {
+        return Ok(());
+    }
+    Err(AppError::Request(format!(
+        "sample rate {rate} Hz: recordings from {} to {} kHz",
+        RECORDING_RATES_HZ.start() / 1000.0,
+        RECORDING_RATES_HZ.end() / 1000.0
+    )))
+}
+
+/// Which partial a strike's rise is heard at, as the bells are `timing`
+/// timed: with templates the voices' partials are the bells' own,
+/// measured, and their highest strong partial starts afresh at each
+/// strike; assumed partials keep the strongest.
+fn rise_partial(timing: &Timing) -> RisePartial {
+    match timing {
+        Timing::Templates(_) => RisePartial::HighestStrong,
+        _ => RisePartial::Strongest,
+    }
 }
 
 /// Each bell's partials and template learned from the recording `sig`
@@ -263,13 +288,7 @@ impl StrikesReport {
         mut strip: Option<&mut Signal>,
     ) -> Result<Self, AppError> {
         let rate = src.rate();
-        if !RECORDING_RATES_HZ.contains(&rate) {
-            return Err(AppError::Request(format!(
-                "sample rate {rate} Hz: recordings from {} to {} kHz",
-                RECORDING_RATES_HZ.start() / 1000.0,
-                RECORDING_RATES_HZ.end() / 1000.0
-            )));
-        }
+        check_rate(rate)?;
         input::heard_at(rate, voices)?;
         let duration_s = src.total() as f64 / rate;
         // The lateness on a ring of the templates needs them at one rate;
@@ -287,13 +306,17 @@ impl StrikesReport {
             .unwrap_or_default();
         let mut peak = 0.0f64;
         let mut moved: Vec<Vec<f64>> = vec![];
-        // Strikes judged, and of them those that rise ([`rising`]).
-        let mut rises = (0usize, 0usize);
+        // Strikes judged, and of them those that rise ([`rising_at`]).
+        let (mut rises, listen_rise) = ((0usize, 0usize), rise_partial(&timing));
         // Each strike's rise below its bell's nominal ([`kind::below_in`]).
         let mut below: Vec<f64> = vec![];
         let mut each = |w: &Window, heard: &mut Heard, hearing: Hearing| -> Result<(), clapper_signal::SignalError> {
             peak = w.sig.samples.iter().fold(peak, |p, v| p.max(v.abs()));
-            for (s, r) in heard.strikes.iter().zip(rising(w.sig, &heard.strikes, voices)) {
+            for (s, r) in heard
+                .strikes
+                .iter()
+                .zip(rising_at(w.sig, &heard.strikes, voices, listen_rise))
+            {
                 if let (Some(r), true) = (r, in_core(w, s.t)) {
                     rises = (rises.0 + 1, rises.1 + usize::from(r));
                 }

@@ -38,6 +38,8 @@ pub use find::{find_strikes, hear_strikes, Hearing};
 pub use heard::{Heard, HeardDouble, HeardStrike, StrikeOptions, DEFAULT_DOUBLE_MIN_RATIO};
 pub use learn::{learn_nominals, Learned, LearnedBell};
 pub use learn_voices::{learn_voices, LearnedVoice, LearnedVoices};
-pub use plausible::{below_nominal, rising, HANDBELL_BELOW, PLAUSIBLE_SHARE, RISE_POWER, TOWER_BELOW};
+pub use plausible::{
+    below_nominal, rising, rising_at, RisePartial, HANDBELL_BELOW, PLAUSIBLE_SHARE, RISE_POWER, RISE_SHARE, TOWER_BELOW,
+};
 pub use stream::{find_strikes_streamed, find_strikes_streamed_deferred, InMemory, RecordingBlocks, Window, Windows};
 pub use voice::{BellVoice, VoicePartial};
