@@ -48,8 +48,9 @@ pub(super) fn heard_at(rate_hz: f64, voices: &[BellVoice]) -> Result<(), AppErro
 pub(super) fn not_bells(p: f64) -> String {
     format!(
         "this does not sound like a recording of bells: across only {:.0} % of the strikes heard does their \
-         bell's strongest partial rise (a bell's strike starts it: noise or a steady tone, say); the strikes, rows \
-         and double strikes below are not to be trusted",
+         bell's partial listened to rise (its strongest, or with templates its highest strong one: a bell's \
+         strike starts it, noise or a steady tone does not); the strikes, rows and double strikes below are not \
+         to be trusted",
         100.0 * p
     )
 }
