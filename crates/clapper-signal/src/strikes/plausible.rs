@@ -1,6 +1,7 @@
 //! Whether what was heard sounds like bells struck (issue 46): a bell's
 //! strike starts its partials, so across a strike's onset its bell's
-//! strongest partial rises, many times over, and then decays. A steady
+//! strongest partial (with a measured voice, its highest strong one:
+//! [`RisePartial`]) rises, many times over, and then decays. A steady
 //! tone (a square wave on a bell's nominal) or noise gives "strikes" where
 //! the level only wanders: the partial is as loud before as after.
 
@@ -35,7 +36,8 @@ pub const PLAUSIBLE_SHARE: f64 = 0.5;
 
 /// For each of `strikes` (times from the start of `sig`; bell `b` is
 /// `voices[b - 1]`): whether its bell's strongest partial rises across
-/// its onset by [`RISE_POWER`] or more, or None where the recording does
+/// its onset by [`RISE_POWER`] or more ([`rising_at`] with
+/// [`RisePartial::Strongest`]), or None where the recording does
 /// not reach both sides (the first or last tenths of a second). (The
 /// geometric mean over all its partials read a ring of recorded bells
 /// heard by assumed nominals as 42 %: partials assumed where the bells had
