@@ -107,6 +107,52 @@ fn speech(seconds: f64, seed: u64) -> Vec<f64> {
     out.iter().map(|v| 0.8 * v / peak).collect()
 }
 
+/// Chanted syllables, `seconds` long: a steady glottal pulse train at
+/// `f0` (Hz) through one vowel's formants, each syllable starting at
+/// once (10 ms) and stopping 0.15 s on, one every 0.25 s in phrases of
+/// eight with a pause: the harmonics start at each syllable as a bell's
+/// partials do at its strike, in a ring's rhythm, but stop at once.
+/// (An independent tester's speech-like sound, made this way, was heard
+/// as a ring by every listener until 2026-11-27.)
+fn chant(seconds: f64, f0: f64, seed: u64) -> Vec<f64> {
+    let rate = f64::from(RATE);
+    let mut s = seed;
+    let n = (seconds * rate) as usize;
+    let mut out = vec![0.0; n];
+    // The pulse train, each pulse a decaying click, through the formants of "ah".
+    let mut src = vec![0.0; n];
+    let period = rate / f0;
+    let mut k = 0.0;
+    while (k as usize) < n {
+        for (j, v) in src[k as usize..n.min(k as usize + 40)].iter_mut().enumerate() {
+            *v += (-(j as f64) / 8.0).exp();
+        }
+        k += period;
+    }
+    let mut voiced = vec![0.0; n];
+    for (f, bw) in [(730.0, 80.0), (1090.0, 100.0), (2440.0, 120.0)] {
+        let r = (-std::f64::consts::PI * bw / rate).exp();
+        let c = 2.0 * r * (2.0 * std::f64::consts::PI * f / rate).cos();
+        let (mut z1, mut z2) = (0.0, 0.0);
+        for (x, y) in src.iter().zip(voiced.iter_mut()) {
+            let v = x + c * z1 - r * r * z2;
+            z2 = z1;
+            z1 = v;
+            *y += v;
+        }
+    }
+    let peak = voiced.iter().fold(1e-9f64, |m, v| m.max(v.abs()));
+    for (i, v) in out.iter_mut().enumerate() {
+        let t = i as f64 / rate;
+        let (phrase, into) = ((t / 2.5) as usize, t % 2.5);
+        let syllable = into % 0.25;
+        let on = phrase % 2 == 0 && into < 2.0 && syllable < 0.15;
+        let gain = if on { (syllable / 0.01).min(1.0) } else { 0.0 };
+        *v = gain * voiced[i] / peak + 0.003 * (2.0 * uniform(&mut s) - 1.0);
+    }
+    out.iter().map(|v| 0.8 * v).collect()
+}
+
 /// (text, JSON) of `clapper strikes FILE --nominals N`, both succeeding
 /// without a panic.
 fn heard(path: &std::path::Path, nominals: &str) -> (String, serde_json::Value) {
@@ -149,6 +195,27 @@ fn speech_is_heard_as_no_strikes_and_said_so_first() {
             let no_strikes = j["summary"]["strikes"] == 0 && said[0].starts_with("no strikes heard");
             let unlike = said[0].starts_with("this does not sound like a recording of bells");
             assert!(no_strikes || unlike, "seed {seed}, {nominals}: {said:?}");
+            assert!(text.contains(&format!("warning: {}", said[0])), "{text}");
+        }
+    }
+}
+
+/// Chanting on a ring's rhythm starts harmonics on the bells' nominals
+/// at each syllable, as strikes would, and was heard as strikes that
+/// rise; they do not ring on, and it is said not to sound like bells.
+#[test]
+fn chanting_in_a_rings_rhythm_is_said_not_to_sound_like_bells() {
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("chant.wav");
+    for (seed, f0) in [(3, 120.0), (4, 150.0)] {
+        write(&p, &chant(12.0, f0, seed), RATE);
+        // Nominals on the pulse train's harmonics (every tenth of 120 Hz and 150 Hz apart).
+        for nominals in ["1920,1800,1680,1560,1440,1320", "1950,1800,1650,1500,1350,1200"] {
+            let (text, j) = heard(&p, nominals);
+            let said = warnings(&j);
+            let no_strikes = j["summary"]["strikes"] == 0 && said[0].starts_with("no strikes heard");
+            let unlike = said[0].starts_with("this does not sound like a recording of bells");
+            assert!(no_strikes || unlike, "f0 {f0}, {nominals}: {said:?}");
             assert!(text.contains(&format!("warning: {}", said[0])), "{text}");
         }
     }

@@ -44,13 +44,14 @@ pub(super) fn heard_at(rate_hz: f64, voices: &[BellVoice]) -> Result<(), AppErro
 
 /// The warning, first, when only the share `p` (under
 /// [`PLAUSIBLE_SHARE`](clapper_signal::strikes::PLAUSIBLE_SHARE)) of the
-/// strikes heard rise as a bell's strike does.
+/// strikes heard rise and ring on as a bell's strike does.
 pub(super) fn not_bells(p: f64) -> String {
     format!(
         "this does not sound like a recording of bells: across only {:.0} % of the strikes heard does their \
-         bell's partial listened to rise (its strongest, or with templates its highest strong one: a bell's \
-         strike starts it, noise or a steady tone does not); the strikes, rows and double strikes below are not \
-         to be trusted",
+         bell's partial listened to rise and ring on (its strongest, or with templates its highest strong one: a \
+         bell's strike starts it and it rings for seconds; noise or a steady tone does not rise, a syllable of \
+         speech stops within a fifth of a second); the strikes, rows and double strikes below are not to be \
+         trusted",
         100.0 * p
     )
 }

@@ -3,7 +3,9 @@
 //! strongest partial (with a measured voice, its highest strong one:
 //! [`RisePartial`]) rises, many times over, and then decays. A steady
 //! tone (a square wave on a bell's nominal) or noise gives "strikes" where
-//! the level only wanders: the partial is as loud before as after.
+//! the level only wanders: the partial is as loud before as after. And a
+//! bell's partial rings on for seconds after its strike, where a syllable
+//! of speech stops within a fifth of a second ([`RING_ON_FALL`]).
 
 use std::f64::consts::PI;
 
@@ -34,9 +36,34 @@ pub const RISE_POWER: f64 = 2.0;
 /// (the ratio of two exponentially distributed powers over 2).
 pub const PLAUSIBLE_SHARE: f64 = 0.5;
 
+/// A struck bell's partial, after the stretch a strike's rise is heard
+/// in, stays above this share of that stretch's power (40 dB under it)
+/// in every stretch from [`RING_ON_FROM_S`] to [`RING_ON_TO_S`] after the
+/// strike: a tower bell's nominal falls 60 dB in seconds, a handbell's
+/// strike note in about five (12 dB/s), while a syllable of speech stops
+/// and its partial falls into the gap before the next. Chosen 2026-11-27
+/// on the benchmark's seeds 1-4 and an independent tester's rings of
+/// recorded tower bells and its speech-like sound: at 30 dB a beating
+/// doublet's dip or a room's noise cut 1-4 % of a ring's strikes; at 40
+/// dB at most 1 % of any ring's (docs/strikes.md, "Speech is not a
+/// ring"), and none of the speech-like sound's strikes rang on.
+pub const RING_ON_FALL: f64 = 1e-4;
+/// The first stretch (s after the strike) [`RING_ON_FALL`] is judged in:
+/// past the rise, so that the stretch ends a quarter second on, beyond
+/// the shortest syllable.
+pub const RING_ON_FROM_S: f64 = 0.15;
+/// The last stretch's start (s after the strike): a gap between
+/// syllables falls before it, and a fast ring's next strike of the same
+/// bell (two intervals of 0.15 s at least a row apart) does not.
+pub const RING_ON_TO_S: f64 = 0.45;
+/// The step between stretches (s): half a stretch, so that a gap of a
+/// tenth of a second fills most of one.
+const RING_ON_STEP_S: f64 = 0.05;
+
 /// For each of `strikes` (times from the start of `sig`; bell `b` is
 /// `voices[b - 1]`): whether its bell's strongest partial rises across
-/// its onset by [`RISE_POWER`] or more ([`rising_at`] with
+/// its onset by [`RISE_POWER`] or more and rings on after it
+/// ([`RING_ON_FALL`], always heard at the strongest) ([`rising_at`] with
 /// [`RisePartial::Strongest`]), or None where the recording does
 /// not reach both sides (the first or last tenths of a second). (The
 /// geometric mean over all its partials read a ring of recorded bells
@@ -85,10 +112,51 @@ pub fn rising_at(sig: &Signal, strikes: &[HeardStrike], voices: &[BellVoice], wh
             // harmonics) is lifted to a floor far below the stretch's level.
             let floor = 1e-9 * x0.iter().chain(x1).map(|v| v * v).sum::<f64>() * window.len() as f64 + 1e-300;
             let p0 = near_power(x0, &window, top, sig.rate);
-            let p1 = near_power(x1, &window, top, sig.rate);
-            Some(p1 + floor >= RISE_POWER * (p0 + floor))
+            let (p1, f) = near_peak(x1, &window, top, sig.rate);
+            let rises = p1 + floor >= RISE_POWER * (p0 + floor);
+            // It rings on at its strongest partial, the longest to ring: a
+            // recorded bell's highest strong one may fall 30 dB in half a second.
+            let (p, f) = if top == strongest {
+                (p1, f)
+            } else {
+                near_peak(x1, &window, strongest, sig.rate)
+            };
+            // Where the recording ends before the last stretch, the rise alone judges.
+            Some(rises && rings_on(sig, s.t, f, RING_ON_FALL * (p + floor) - floor, &window).unwrap_or(true))
         })
         .collect()
+}
+
+/// Whether the power at `f` (Hz) stays at or above `least` in every
+/// stretch (windowed by `window`) from [`RING_ON_FROM_S`] to
+/// [`RING_ON_TO_S`] after the strike at `t` (s); `None` where the
+/// recording ends first.
+fn rings_on(sig: &Signal, t: f64, f: f64, least: f64, window: &[f64]) -> Option<bool> {
+    let steps = ((RING_ON_TO_S - RING_ON_FROM_S) / RING_ON_STEP_S).round() as usize;
+    let turn = phasor(f, sig.rate);
+    let start = |k: usize| ((t + RING_ON_FROM_S + k as f64 * RING_ON_STEP_S) * sig.rate).round() as usize;
+    if start(steps) + window.len() > sig.samples.len() {
+        return None;
+    }
+    Some((0..=steps).all(|k| power_at(&sig.samples[start(k)..start(k) + window.len()], window, turn) >= least))
+}
+
+/// The phasor one sample turns at `f` (Hz) at `rate` (Hz).
+fn phasor(f: f64, rate: f64) -> (f64, f64) {
+    let om = 2.0 * PI * f / rate;
+    (om.cos(), -om.sin())
+}
+
+/// The power of `x` windowed by `w` at the frequency one sample turns by
+/// `turn` ([`phasor`]).
+fn power_at(x: &[f64], w: &[f64], (c, si): (f64, f64)) -> f64 {
+    let (mut p, mut sum) = ((1.0f64, 0.0f64), (0.0f64, 0.0f64));
+    for (v, wi) in x.iter().zip(w) {
+        let a = v * wi;
+        sum = (sum.0 + a * p.0, sum.1 + a * p.1);
+        p = (p.0 * c - p.1 * si, p.0 * si + p.1 * c);
+    }
+    sum.0 * sum.0 + sum.1 * sum.1
 }
 
 /// The highest partial of `v` at least [`RISE_SHARE`] of its strongest,
@@ -171,10 +239,16 @@ pub const HANDBELL_BELOW: f64 = 0.001;
 /// The largest power of `x` (windowed by `w`) within 1.5 % of `f` (Hz):
 /// a real bell's partial may lie a little off where it is assumed.
 fn near_power(x: &[f64], w: &[f64], f: f64, rate: f64) -> f64 {
+    near_peak(x, w, f, rate).0
+}
+
+/// [`near_power`], and the frequency (Hz) it is at.
+fn near_peak(x: &[f64], w: &[f64], f: f64, rate: f64) -> (f64, f64) {
     // Each frequency's phasor turned a step at a time (a tenth of a
     // second: no rounding to speak of), the seven side by side so that no
     // one's chain of products waits on another's (each as alone, bit for bit).
     let mut turn = [(0.0f64, 0.0f64); 7];
+    let at = |k: i32| f * (1.0 + 0.005 * f64::from(k));
     for (t, k) in turn.iter_mut().zip(-3..=3) {
         let om = 2.0 * PI * f * (1.0 + 0.005 * f64::from(k)) / rate;
         *t = (om.cos(), -om.sin());
@@ -188,7 +262,15 @@ fn near_power(x: &[f64], w: &[f64], f: f64, rate: f64) -> f64 {
             *p = (p.0 * c - p.1 * si, p.0 * si + p.1 * c);
         }
     }
-    sum.iter().map(|s| s.0 * s.0 + s.1 * s.1).fold(0.0, f64::max)
+    // The first of equal powers, as a fold of max kept the value.
+    let mut best = (0.0, f);
+    for (s, k) in sum.iter().zip(-3..=3) {
+        let p = s.0 * s.0 + s.1 * s.1;
+        if p > best.0 {
+            best = (p, at(k));
+        }
+    }
+    best
 }
 
 #[cfg(test)]
@@ -236,6 +318,42 @@ mod tests {
             vec![Some(true), None]
         );
         assert_eq!(rising(&steady, &[strike(1.0)], &voices), vec![Some(false)]);
+    }
+
+    /// Syllables of speech on a bell's partial: each starts the partial
+    /// (it rises) and stops 0.15 s on, the next 0.25 s after the last;
+    /// a bell's strike rings on, a handbell's too (falling 12 dB/s).
+    #[test]
+    fn a_syllable_rises_but_does_not_ring_on_as_a_bell_does() {
+        let rate = 8000.0;
+        let voices = [BellVoice::from_nominal(1000.0)];
+        let tone = |t: f64| (2.0 * PI * 1000.0 * t).sin();
+        let of = |level: &dyn Fn(f64) -> f64| Signal {
+            rate,
+            samples: (0..24_000)
+                .map(|i| {
+                    let t = i as f64 / rate;
+                    1e-4 * tone(t) + level(t) * tone(t)
+                })
+                .collect(),
+        };
+        let syllables = of(&|t| {
+            let into = (t - 1.0).rem_euclid(0.25);
+            if t >= 1.0 && into < 0.15 {
+                1.0
+            } else {
+                0.0
+            }
+        });
+        let bell = of(&|t| if t >= 1.0 { (-(t - 1.0) / 0.5).exp() } else { 0.0 });
+        // 12 dB/s in amplitude: 10^(-12/20) a second.
+        let handbell = of(&|t| if t >= 1.0 { 10f64.powf(-0.6 * (t - 1.0)) } else { 0.0 });
+        assert_eq!(rising(&syllables, &[strike(1.0)], &voices), vec![Some(false)]);
+        assert_eq!(rising(&bell, &[strike(1.0)], &voices), vec![Some(true)]);
+        assert_eq!(rising(&handbell, &[strike(1.0)], &voices), vec![Some(true)]);
+        // Too near the end to hear it ring on: the rise alone judges.
+        let last = of(&|t| if (2.6..2.75).contains(&t) { 1.0 } else { 0.0 });
+        assert_eq!(rising(&last, &[strike(2.6)], &voices), vec![Some(true)]);
     }
 
     /// A recorded bell's voice measured on its template: its strongest
