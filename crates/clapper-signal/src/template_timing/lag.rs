@@ -21,6 +21,57 @@ const GAP_S: f64 = 0.03;
 /// The dip (a share of the earlier match) that parts two blows.
 const DIP: f64 = 0.7;
 
+/// How many of each bell's strikes, spread over the recording, vote on
+/// the sign it matches with.
+const VOTES: usize = 16;
+/// The share of a bell's votes that turn its sign.
+const TURNED: f64 = 0.75;
+
+/// The sign each bell's strikes match the recording `x` with (treble
+/// first, +1 or -1): the sign of the best match by magnitude where each of
+/// up to [`VOTES`] of its strikes `sought` (bell from 1, and where its
+/// template is sought, s, s) is sought; -1 where [`TURNED`] of them or
+/// more are turned, else +1. A bell of nearly one or two partials matches
+/// half a period off, turned, nearly as well as at its strike, and the
+/// magnitude then takes one lag or the other strike by strike; a room
+/// shifts a bell's phase the same at every strike, and where it turns the
+/// match at the strike it does so at nearly all. Needs `m`'s polarities
+/// not yet known (the match by magnitude).
+pub(super) fn polarities(
+    m: &Matcher,
+    x: &[f64],
+    sought: &[(usize, (f64, f64))],
+    sc: &mut Scratch,
+) -> Result<Vec<f64>, SignalError> {
+    let mut signs = vec![];
+    for (b, t) in m.bells.iter().enumerate() {
+        let Some(t) = t else {
+            signs.push(1.0);
+            continue;
+        };
+        let mine: Vec<(f64, f64)> = sought.iter().filter(|s| s.0 == b + 1).map(|s| s.1).collect();
+        let step = mine.len().div_ceil(VOTES).max(1);
+        let (mut turned, mut n) = (0usize, 0usize);
+        for &(from, to) in mine.iter().step_by(step) {
+            let start = (from * m.rate).round() as i64;
+            let lags = (((to - from) * m.rate).round() as usize).min(m.span());
+            m.normalised(x, t, start, lags, sc)?;
+            let out = &sc.out[..=lags];
+            let k = (0..=lags)
+                .max_by(|&a, &b| out[a].abs().total_cmp(&out[b].abs()))
+                .unwrap_or(0);
+            n += 1;
+            turned += usize::from(out[k] < 0.0);
+        }
+        signs.push(if n > 0 && turned as f64 >= TURNED * n as f64 {
+            -1.0
+        } else {
+            1.0
+        });
+    }
+    Ok(signs)
+}
+
 /// The strike's time (s) where template `t` matches the recording `x`
 /// best from `from` to `to` (s), and how well (the normalised match, 0 to
 /// 1), or None where the recording is silent there.

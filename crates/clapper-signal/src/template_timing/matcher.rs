@@ -46,6 +46,10 @@ pub(super) struct Template {
     pub energy: f64,
     /// The template's whole sound, from its onset.
     pub sound: Vec<f64>,
+    /// The sign its strikes match the recording with (+1 or -1), where
+    /// known: a match of the other sign is then no match (0). 0 while not
+    /// known: the match by magnitude ([`Matcher::normalised`]).
+    pub polarity: f64,
 }
 
 /// The templates and the transforms, at the recording's rate.
@@ -121,6 +125,7 @@ impl Matcher {
             spec: spec.into_iter().map(|c| c.conj()).collect(),
             energy,
             sound: sound.to_vec(),
+            polarity: 0.0,
         })
     }
 
@@ -187,7 +192,11 @@ impl Matcher {
     /// [`Self::correlate`] over the recording's level in each lag's
     /// window, for `lags + 1` lags (a normalised match: unnormalised, a
     /// lag where the bell has grown louder matches better than the lag
-    /// where its sound starts). Silence matches 0.
+    /// where its sound starts). Silence matches 0; with its template's
+    /// [`Template::polarity`] known, so does a match of the other sign: a bell whose sound is
+    /// nearly one or two partials matches half a period off, the sign
+    /// turned, nearly as well as at its strike (the recorded d4, 730 and
+    /// 858 Hz, 15.9 ms late at 13 of 24 strikes in a room).
     pub fn normalised(
         &self,
         x: &[f64],
@@ -201,7 +210,12 @@ impl Matcher {
         let mut e: f64 = (0..len).map(|k| at(x, start + k as i64).powi(2)).sum();
         let norm = t.energy.sqrt();
         for k in 0..=lags.min(self.span()) {
-            sc.out[k] = if e > 1e-300 { sc.out[k] / (e.sqrt() * norm) } else { 0.0 };
+            let v = if e > 1e-300 { sc.out[k] / (e.sqrt() * norm) } else { 0.0 };
+            sc.out[k] = if t.polarity == 0.0 {
+                v
+            } else {
+                (t.polarity * v).max(0.0)
+            };
             let (gone, come) = (at(x, start + k as i64), at(x, start + (k + len) as i64));
             e = (e - gone * gone + come * come).max(0.0);
         }
