@@ -196,7 +196,7 @@ fn strikes_with_bells_self_calibrated_times_a_bell_at_the_start_of_its_sound() {
 /// 15-54 ms), the timing from the recording is chosen, and the strikes are those of `--timing
 /// recording` (`--self-calibrate`) to the last digit; the report says so
 /// with both timings' figures. Before, `--nominals` alone timed them as
-/// heard, the treble more than 3 ms late.
+/// heard (no `timing.choice`), the worst bell further off.
 #[test]
 fn strikes_with_nominals_alone_choose_the_recording_timing_for_late_bells() {
     let dir = tempfile::tempdir().unwrap();
@@ -225,8 +225,11 @@ fn strikes_with_nominals_alone_choose_the_recording_timing_for_late_bells() {
     ] {
         assert!(choice[key].is_number(), "{key}: {choice}");
     }
-    let after = median_error_ms(&auto, &truth, 1);
-    assert!(after.abs() <= 3.0, "auto: {after:.2} ms");
+    // Each bell nearer the start of its sound than heard plain (the worst
+    // bell's median error).
+    let worst = |j: &serde_json::Value| (1..=5).map(|b| median_error_ms(j, &truth, b).abs()).fold(0.0, f64::max);
+    let (plain, chosen) = (worst(&run(&["--timing", "plain"])), worst(&auto));
+    assert!(chosen < plain, "worst bell: auto {chosen:.2} ms, plain {plain:.2} ms");
     let asked = run(&["--timing", "recording"]);
     assert_eq!(auto["strikes"], asked["strikes"]);
     assert_eq!(run(&["--self-calibrate"])["strikes"], asked["strikes"]);
