@@ -20,7 +20,9 @@ use serde::Serialize;
 use crate::AppError;
 
 mod bells;
+mod choose;
 pub use bells::{learn_nominals, learned_voices, voices_from_nominals, Learned, LearnedNominal};
+pub use choose::{choose_timing, opening, Chosen, TimingAsked, TimingChoice, AUTO_LEAST_FOUND, AUTO_MARGIN};
 mod doubt;
 mod input;
 mod kind;
@@ -165,10 +167,15 @@ pub struct BellTiming {
 pub struct TimingReport {
     /// Where each bell's lateness was learned: "templates" (its recording
     /// struck alone) or "recording" (the recording's own clean strikes,
-    /// with nominals: `learned_from` counts them).
+    /// with nominals: `learned_from` counts them); "plain" where none was
+    /// (the strikes timed as heard, `per_bell` empty).
     pub source: &'static str,
     /// Treble first.
     pub per_bell: Vec<BellTiming>,
+    /// With nominals: the timing asked, the one used and why
+    /// ([`choose_timing`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub choice: Option<TimingChoice>,
 }
 
 /// How strike times are put on one footing for every bell.
@@ -229,7 +236,8 @@ pub struct StrikesReport {
     /// `--bells N` only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub learned_nominals_hz: Option<Vec<LearnedNominal>>,
-    /// Each bell's timing against its template (with templates only).
+    /// Each bell's timing against its template or the recording, and with
+    /// nominals how the timing was chosen.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub timing: Option<TimingReport>,
     /// Every strike, in time order.
@@ -508,7 +516,12 @@ impl StrikesReport {
             };
             let late = list(&|b| (b.learned_from > 0).then_some(b.lateness_ms));
             let moved = list(&|b| b.matched_ms);
-            let _ = if t.source == "recording" {
+            if let Some(c) = &t.choice {
+                let _ = writeln!(o, "{}", c.line());
+            }
+            let _ = if t.source == "plain" {
+                Ok(())
+            } else if t.source == "recording" {
                 writeln!(
                     o,
                     "timing from the recording's own clean strikes: the band finder hears each bell late by (ms) {late}, against the start of its average strike's sound; each strike, lined up on that average, moved by (median ms) {moved}"
@@ -612,6 +625,7 @@ fn correct_lateness(
                 matched_ms: matched.get(b.bell - 1).copied().flatten().map(|m| m * 1e3),
             })
             .collect(),
+        choice: None,
     })
 }
 
@@ -663,6 +677,7 @@ fn recording_timing(c: &SelfCalibration, matched: &[Option<f64>], warnings: &mut
                 matched_ms: matched.get(b.bell - 1).copied().flatten().map(|m| m * 1e3),
             })
             .collect(),
+        choice: None,
     }
 }
 

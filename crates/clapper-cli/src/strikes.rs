@@ -7,8 +7,7 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use clapper_app::strikes::{
-    calibrate_from_recording, learned_voices, strike_options, voices_from_nominals, StrikesReport, StrikingFigure,
-    Timing,
+    choose_timing, learned_voices, strike_options, StrikesReport, StrikingFigure, Timing, TimingAsked,
 };
 use clapper_io::signal_file::{read_recording, write_wav};
 use clapper_io::strike_file::{csv_text, lowndes};
@@ -38,6 +37,17 @@ pub(crate) fn parse_list(s: &str) -> std::result::Result<Nominals, String> {
         .map(Nominals)
 }
 
+/// How strikes are timed, for --timing.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, clap::ValueEnum)]
+pub enum TimingArg {
+    /// Both tried on the first 80 s, the more even kept.
+    Auto,
+    /// As heard at the bells' assumed partials.
+    Plain,
+    /// Each bell learned from the recording's own clean strikes.
+    Recording,
+}
+
 #[derive(Args, Debug)]
 pub struct StrikesArgs {
     /// A recording of the ring (.wav: mono or stereo, 8 to 192 kHz).
@@ -48,13 +58,19 @@ pub struct StrikesArgs {
     /// A folder of recordings of each bell struck alone, named 1.wav, 2.wav, ...
     #[arg(long, value_name = "DIR")]
     pub templates: Option<PathBuf>,
-    /// With --nominals or --bells N: learn each bell's partials and its
-    /// strike's sound from the recording's own clean strikes (its first
-    /// 80 s) about the nominals given or learned, and time every strike at
-    /// the start of its sound against that (issue 43: real bells do not
-    /// follow a tuned bell's partial ratios, and their sound builds up
-    /// after the blow). Reported per bell under "timing".
-    #[arg(long, conflicts_with = "templates")]
+    /// With --nominals or --bells N, how each strike is timed: `plain` as
+    /// heard at the bells' assumed partials (a tuned bell's); `recording`
+    /// each bell's partials and strike's sound learned from the
+    /// recording's own clean strikes (its first 80 s) and every strike
+    /// timed at the start of its sound (issue 43: real bells do not follow
+    /// a tuned bell's partial ratios, and their sound builds up after the
+    /// blow); `auto` both tried on the first 80 s and the one whose strikes
+    /// come more evenly kept. Handbells are timed plain. Reported under
+    /// "timing", with both timings' figures.
+    #[arg(long, value_enum, value_name = "HOW", conflicts_with = "templates")]
+    pub timing: Option<TimingArg>,
+    /// The same as --timing recording (kept so that old commands work).
+    #[arg(long, conflicts_with_all = ["templates", "timing"])]
     pub self_calibrate: bool,
     /// Without nominals: the number of bells ringing (3 to 16); their
     /// nominals are learned from the recording itself and reported.
@@ -64,8 +80,9 @@ pub struct StrikesArgs {
     /// listen for a handbell's partials (its strike note and twelfth)
     /// rather than a tower bell's (hum, prime, tierce, ...), which a
     /// handbell lacks and which may lie on other handbells' notes. Not
-    /// with --self-calibrate, which learns each bell's partials from the
-    /// recording as a tower bell's.
+    /// with --self-calibrate (--timing recording), which learns each bell's
+    /// partials from the recording as a tower bell's: --timing auto times
+    /// handbells plain.
     #[arg(long, conflicts_with_all = ["templates", "self_calibrate"])]
     pub handbells: bool,
     /// A second strike at least this loud against the first (amplitude ratio) is a double strike.
@@ -128,13 +145,18 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         &[("--csv", args.csv.as_deref()), ("--lowndes", args.lowndes.as_deref())],
         args.json,
     )?;
-    if args.self_calibrate && args.nominals.is_none() && args.bells.is_none() {
-        bail!("--self-calibrate learns each bell from the recording about its nominals: give --nominals F1,F2,.. (Hz, treble first) or --bells N to learn them");
+    if (args.self_calibrate || args.timing.is_some()) && args.nominals.is_none() && args.bells.is_none() {
+        bail!("--self-calibrate and --timing time the bells heard about their nominals: give --nominals F1,F2,.. (Hz, treble first) or --bells N to learn them");
+    }
+    if args.handbells && (args.self_calibrate || args.timing == Some(TimingArg::Recording)) {
+        bail!(
+            "--timing recording (--self-calibrate) learns each bell's partials as a tower bell's: not with --handbells"
+        );
     }
     let kind = if args.handbells { Voice::Handbell } else { Voice::Tower };
     let mut learned = None;
     let (voices, recorded) = match (&args.nominals, &args.templates, args.bells) {
-        (Some(n), _, _) => (voices_from_nominals(&n.0, kind)?, vec![]),
+        (Some(_), _, _) => (vec![], vec![]),
         (None, Some(dir), _) => templates(dir)?,
         (None, None, Some(n)) => {
             // Learned from the whole recording, read at once.
@@ -151,13 +173,13 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         clapper_plot::format_of(path)?;
     }
     let opts = strike_options(args.double_min_ratio)?;
-    // --self-calibrate: partials and templates learned from the recording's first window.
-    let calibration = calibration_of(&args, learned.as_ref(), &opts)?;
-    let voices = calibration.as_ref().map_or(voices, |c| c.voices.clone());
+    // About nominals: timed as --timing asks (auto by default), tried on
+    // the recording's first window.
+    let chosen = chosen_timing(&args, learned.as_ref(), kind, &opts)?;
+    let voices = chosen.as_ref().map_or(voices, |c| c.voices.clone());
     // With templates, each strike is timed against its bell's template.
-    let timing = match &calibration {
-        Some(c) => Timing::Recording(c),
-        None if recorded.is_empty() => Timing::AsHeard,
+    let timing = match &chosen {
+        Some(c) => c.timing(),
         None => Timing::Templates(&recorded),
     };
     // The recording is read in blocks and heard in windows (issue 46):
@@ -180,6 +202,9 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
     if let Some(l) = learned {
         report.note_learned(l);
     }
+    if let Some(c) = chosen {
+        report.note_choice(c.choice);
+    }
     let name = crate::files::title_name(&args.file);
     if let Some(path) = &args.csv {
         write_bytes(path, csv_text(&report.csv_rows()).map_err(anyhow::Error::msg)?)?;
@@ -195,26 +220,36 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
     print_report(&report, args.json, || report.text(&args.file.display().to_string()))
 }
 
-/// With `--self-calibrate`, each bell learned from the recording's first
-/// window about the nominals given, or with `--bells N` about those
-/// `learned`.
-fn calibration_of(
+/// About the nominals given, or with `--bells N` those `learned`, the
+/// bells' voices and timing as `--timing` asks (`--self-calibrate`: the
+/// recording's), tried on the recording's first window; none with templates.
+fn chosen_timing(
     args: &StrikesArgs,
     learned: Option<&clapper_app::strikes::Learned>,
+    kind: Voice,
     opts: &clapper_signal::strikes::StrikeOptions,
-) -> Result<Option<clapper_signal::self_calibrate::SelfCalibration>> {
-    let about: Option<Vec<f64>> = match (&args.nominals, learned) {
-        (Some(n), _) => Some(n.0.clone()),
-        (None, Some(l)) => Some(l.nominals.iter().map(|b| b.nominal_hz).collect()),
-        _ => None,
+) -> Result<Option<clapper_app::strikes::Chosen>> {
+    let about: Vec<f64> = match (&args.nominals, learned) {
+        (Some(n), _) => n.0.clone(),
+        (None, Some(l)) => l.nominals.iter().map(|b| b.nominal_hz).collect(),
+        _ => return Ok(None),
     };
-    Ok(match (about, args.self_calibrate) {
-        (Some(n), true) => {
-            let head = recording_head(&args.file, Windows::default().whole_s)?;
-            Some(calibrate_from_recording(&head, &n, opts).with_context(|| args.file.display().to_string())?)
+    let asked = match (args.self_calibrate, args.timing) {
+        (true, _) | (false, Some(TimingArg::Recording)) => TimingAsked::Recording,
+        (false, Some(TimingArg::Plain)) => TimingAsked::Plain,
+        (false, Some(TimingArg::Auto) | None) => TimingAsked::Auto,
+    };
+    // Plain timing and handbells read nothing of the recording here.
+    let head = if asked == TimingAsked::Plain || kind == Voice::Handbell {
+        Signal {
+            rate: 1.0,
+            samples: vec![],
         }
-        _ => None,
-    })
+    } else {
+        recording_head(&args.file, Windows::default().whole_s)?
+    };
+    let chosen = choose_timing(&head, &about, kind, asked, opts).with_context(|| args.file.display().to_string())?;
+    Ok(Some(chosen))
 }
 
 /// The first `seconds` of the recording at `path` (all of a shorter one).

@@ -76,9 +76,13 @@ fn handbells_are_heard_as_handbells() {
 /// silently ignored there, two bells timed 76-93 ms early) it is refused.
 #[test]
 fn handbells_with_templates_or_self_calibration_is_refused() {
-    let cases: [(&[&str], &str); 2] = [
+    let cases: [(&[&str], &str); 3] = [
         (&["--templates", "."], "--templates"),
         (&["--nominals", "1000,900", "--self-calibrate"], "--self-calibrate"),
+        (
+            &["--nominals", "1000,900", "--timing", "recording"],
+            "--timing recording",
+        ),
     ];
     for (other, flag) in cases {
         let out = clapper()

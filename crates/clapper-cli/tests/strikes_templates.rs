@@ -90,14 +90,17 @@ fn strikes_with_templates_times_each_bell_at_the_start_of_its_sound() {
         let (late, moved) = (b["lateness_ms"].as_f64().unwrap(), b["matched_ms"].as_f64().unwrap());
         assert!((late + moved).abs() < 2.0, "{b}");
     }
-    // Without templates (nominals) there is no timing block.
+    // Without templates (nominals timed plain) no bell's lateness is
+    // learned: the timing block says only how they were timed.
     let out = clapper()
         .arg("strikes")
         .arg(&ring)
-        .args(["--nominals", "1000,891,794,749", "--json"])
+        .args(["--nominals", "1000,891,794,749", "--timing", "plain", "--json"])
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    assert!(j.get("timing").is_none());
+    assert_eq!(j["timing"]["source"], "plain");
+    assert!(j["timing"]["per_bell"].as_array().unwrap().is_empty());
+    assert_eq!(j["timing"]["choice"]["used"], "plain");
 }

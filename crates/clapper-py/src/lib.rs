@@ -22,7 +22,7 @@ use clapper_app::diagnosis::{self, DiagnoseRequest};
 use clapper_app::liftoff::{BellLiftoffReport, FormulaReport};
 use clapper_app::measure::{ModesReport, RestitutionReport};
 use clapper_app::simulate::{self as sim_app, SimulateRequest};
-use clapper_app::strikes::{learned_voices, strike_options, voices_from_nominals, StrikesReport, Voice};
+use clapper_app::strikes::{choose_timing, learned_voices, opening, strike_options, StrikesReport, TimingAsked, Voice};
 use clapper_app::AppError;
 use clapper_core::chart::{sweep, ChartCell};
 use clapper_core::Choice;
@@ -327,10 +327,11 @@ fn modes(py: Python<'_>, samples: &[u8], rate_hz: f64, range_db: f64, name: &str
 /// Every strike of every bell in a recording, `samples` (f64 bytes) at
 /// `rate_hz`, the bells given by their nominals (Hz, treble first) or, with
 /// no nominals, `bells` of them learned from the recording (as `clapper
-/// strikes --bells N`), as handbells if `handbells` (as `--handbells`):
+/// strikes --bells N`), as handbells if `handbells` (as `--handbells`),
+/// timed as `timing` says ("auto", "plain" or "recording", as `--timing`):
 /// returns (report JSON, text).
 #[pyfunction]
-#[pyo3(signature = (samples, rate_hz, nominals_hz, bells, double_min_ratio, name, handbells=false))]
+#[pyo3(signature = (samples, rate_hz, nominals_hz, bells, double_min_ratio, name, handbells=false, timing="auto"))]
 #[allow(clippy::too_many_arguments)]
 fn strikes(
     py: Python<'_>,
@@ -341,8 +342,10 @@ fn strikes(
     double_min_ratio: f64,
     name: &str,
     handbells: bool,
+    timing: &str,
 ) -> PyResult<(String, String)> {
     let kind = if handbells { Voice::Handbell } else { Voice::Tower };
+    let asked: TimingAsked = timing.parse().map_err(py_err)?;
     let sig = Signal {
         rate: rate_hz,
         samples: f64s(samples, "recording")?,
@@ -350,19 +353,27 @@ fn strikes(
     let opts = strike_options(double_min_ratio).map_err(py_err)?;
     let r = py
         .detach(|| {
-            match (nominals_hz, bells) {
-            (Some(n), None) => StrikesReport::new(&sig, &voices_from_nominals(&n, kind)?, &opts),
-            (None, Some(b)) => {
-                let (voices, learned) = learned_voices(&sig, b, kind)?;
-                let mut r = StrikesReport::new(&sig, &voices, &opts)?;
-                r.note_learned(learned);
-                Ok(r)
+            let (nominals, learned) = match (nominals_hz, bells) {
+                (Some(n), None) => (n, None),
+                (None, Some(b)) => {
+                    let (_, l) = learned_voices(&sig, b, kind)?;
+                    (l.nominals.iter().map(|x| x.nominal_hz).collect(), Some(l))
+                }
+                _ => {
+                    return Err(clapper_app::AppError::Request(
+                        "strikes: give the bells' nominals_hz or bells= (how many ring, their nominals learned), one of the two"
+                            .into(),
+                    ))
+                }
+            };
+            // Timed as the CLI and the web server time them.
+            let chosen = choose_timing(&opening(&sig), &nominals, kind, asked, &opts)?;
+            let mut r = StrikesReport::timed(&sig, &chosen.voices, &opts, chosen.timing())?;
+            if let Some(l) = learned {
+                r.note_learned(l);
             }
-            _ => Err(clapper_app::AppError::Request(
-                "strikes: give the bells' nominals_hz or bells= (how many ring, their nominals learned), one of the two"
-                    .into(),
-            )),
-        }
+            r.note_choice(chosen.choice);
+            Ok(r)
         })
         .map_err(py_err)?;
     Ok((to_json(&r)?, r.text(name)))

@@ -159,6 +159,38 @@ def test_cli_web_and_python_hear_the_same_strikes(tmp_path):
         assert python_report(wav, bells=8)[0] == by_cli
 
 
+def test_cli_web_and_python_choose_the_same_timing(tmp_path):
+    # Six untuned bells (a recorded tower bell's partial ratios, sound
+    # building up after the blow: the examples untuned_strikes and
+    # ring_files), given only their nominals: each face chooses the timing
+    # from the recording (timing auto, the default) by the one function,
+    # takes the recording's, and hears the same strikes.
+    examples = ROOT / "target/release/examples"
+    if not (examples / "ring_files").is_file() or not (examples / "untuned_strikes").is_file():
+        pytest.skip("no examples built (cargo build --release -p clapper-app --examples)")
+    subprocess.run([str(examples / "untuned_strikes"), str(tmp_path / "strikes"), "--bells", "6", "--rate", "22050"],
+                   check=True, capture_output=True)
+    subprocess.run([str(examples / "ring_files"), str(tmp_path / "strikes"), str(tmp_path / "ring"), "--bells", "6",
+                    "--order", "name", "--method", "plain-hunt", "--rows", "24", "--rt60", "0.6", "--snr", "25",
+                    "--seed", "3"], check=True, capture_output=True)
+    wav = tmp_path / "ring" / "ring.wav"
+    nominals = (tmp_path / "ring" / "nominals.txt").read_text().strip().split(",")
+    with Server() as web:
+        by_cli = cli_report(wav, nominals)
+        choice = by_cli["timing"]["choice"]
+        assert (choice["asked"], choice["used"]) == ("auto", "recording"), choice
+        assert choice["recording_unevenness_ms"] < 0.7 * choice["plain_unevenness_ms"], choice
+        assert web.strikes(wav, nominals) == by_cli
+        assert python_report(wav, nominals)[0] == by_cli
+        # Asked plain, each face times them plain.
+        x, rate = clapper.read_wav(wav)
+        plain = clapper.strikes(x, rate, [float(f) for f in nominals], timing="plain").data
+        assert plain["timing"]["choice"]["used"] == "plain"
+        assert plain["strikes"] != by_cli["strikes"]
+    with pytest.raises(ValueError, match="auto, plain or recording"):
+        clapper.strikes(x, rate, [float(f) for f in nominals], timing="sometimes")
+
+
 def test_handbells_are_heard_the_same_by_all_three(tmp_path):
     # Handbells (a strike note and its twelfth): --handbells, handbells=true
     # and handbells=True give one report, and every bell is heard (as tower

@@ -1023,6 +1023,7 @@ $("listen-recording").addEventListener("click", async () => {
     const q = new URLSearchParams(nominals.length ? { nominals: nominals.join(",") } : { bells });
     q.set("double_min_ratio", num("double-min-ratio"));
     if ($("strikes-handbells").checked) q.set("handbells", "true");
+    q.set("timing", $("strikes-timing").value);
     showStatus(status, `Listening to ${file.name}…`);
     const res = await fetch("/api/strikes?" + q, { method: "POST", headers: { "Content-Type": "audio/wav" }, body: file });
     if (!res.ok) {

@@ -623,9 +623,10 @@ pub(crate) async fn listening_analyse(
     Ok(Json(json!({"analysis": rep, "plot_svg": svg})).into_response())
 }
 
-/// `POST /api/strikes?nominals=F1,F2,..[&double_min_ratio=R][&handbells=true]`
+/// `POST /api/strikes?nominals=F1,F2,..[&double_min_ratio=R][&handbells=true][&timing=auto|plain|recording]`
 /// (or `bells=N` for the nominals learned from the recording, as `--bells
-/// N`; `handbells=true` as `--handbells`):
+/// N`; `handbells=true` as `--handbells`; `timing` as `--timing`, auto
+/// unless asked):
 /// a recording of a ring (the body: a WAV file, mono or stereo, 8 to 192
 /// kHz) heard as `clapper strikes` hears it: `{"report": {...}, "csv":
 /// "...", "plot_svg": "<svg ..."}`, the report as `clapper strikes --json`,
@@ -650,7 +651,8 @@ pub(crate) async fn strikes(
     } else {
         clapper_app::strikes::Voice::Tower
     };
-    let voices = match (&q.nominals, q.bells) {
+    let asked: clapper_app::strikes::TimingAsked = q.timing.as_deref().unwrap_or("auto").parse()?;
+    let nominals = match (&q.nominals, q.bells) {
         (Some(_), Some(_)) => {
             return Err(ApiError::BadRequest(
                 "give the bells' nominals or how many bells ring (bells=N), not both".into(),
@@ -670,7 +672,9 @@ pub(crate) async fn strikes(
                         .map_err(|_| ApiError::BadRequest(format!("nominals: '{v}' is not a number (Hz)")))
                 })
                 .collect::<Result<_, _>>()?;
-            Some(clapper_app::strikes::voices_from_nominals(&nominals, kind)?)
+            // Refused here, before the recording is read.
+            clapper_app::strikes::voices_from_nominals(&nominals, kind)?;
+            Some(nominals)
         }
         (None, Some(_)) => None,
     };
@@ -688,19 +692,24 @@ pub(crate) async fn strikes(
         .run(move || {
             let sig = clapper_io::signal_file::recording_from_bytes(&wav, "the recording")
                 .map_err(|e| clapper_app::AppError::Request(e.to_string()))?;
-            let (voices, learned) = match voices {
-                Some(v) => (v, None),
+            let (nominals, learned) = match nominals {
+                Some(n) => (n, None),
                 None => {
-                    let (v, l) = clapper_app::strikes::learned_voices(&sig, q.bells.unwrap_or_default(), kind)?;
-                    (v, Some(l))
+                    let (_, l) = clapper_app::strikes::learned_voices(&sig, q.bells.unwrap_or_default(), kind)?;
+                    (l.nominals.iter().map(|b| b.nominal_hz).collect(), Some(l))
                 }
             };
-            let mut report = clapper_app::strikes::StrikesReport::new(&sig, &voices, &opts)?;
+            // Timed as the CLI times them, chosen on the same opening window.
+            let head = clapper_app::strikes::opening(&sig);
+            let chosen = clapper_app::strikes::choose_timing(&head, &nominals, kind, asked, &opts)?;
+            let voices = &chosen.voices;
+            let mut report = clapper_app::strikes::StrikesReport::timed(&sig, voices, &opts, chosen.timing())?;
             if let Some(l) = learned {
                 report.note_learned(l);
             }
+            report.note_choice(chosen.choice.clone());
             let csv = clapper_io::strike_file::csv_text(&report.csv_rows()).map_err(clapper_app::AppError::Request)?;
-            let fig = clapper_app::strikes::StrikingFigure::new(&report, &sig, "the recording", &voices)?;
+            let fig = clapper_app::strikes::StrikingFigure::new(&report, &sig, "the recording", voices)?;
             let svg = clapper_plot::striking_plot_svg(&fig.plot()).map_err(clapper_app::AppError::from)?;
             Ok(json!({ "report": report, "csv": csv, "plot_svg": svg }))
         })
@@ -722,4 +731,6 @@ pub(crate) struct StrikesQuery {
     double_min_ratio: Option<f64>,
     /// Handbells (a strike note and its twelfth), as `--handbells`.
     handbells: Option<bool>,
+    /// How strikes are timed: auto (the default), plain or recording, as `--timing`.
+    timing: Option<String>,
 }

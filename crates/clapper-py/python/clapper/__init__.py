@@ -835,13 +835,17 @@ def strikes(
     double_min_ratio: float = DEFAULT_DOUBLE_MIN_RATIO,
     name: str = "recording",
     handbells: bool = False,
+    timing: str = "auto",
 ) -> Report:
     """Every strike of every bell in a recording of ringing (a 1-D array at
     ``rate_hz``), the bells named by their nominals (Hz, treble first), or
     without them ``bells=N`` (3 to 16) whose nominals are learned from the
     recording (``report["learned_nominals_hz"]``, as ``--bells N``),
     ``handbells=True`` for handbells (each known by its strike note and
-    twelfth, as ``--handbells``), as ``clapper strikes --json``: ``report["strikes"]``, ``report["per_bell"]``,
+    twelfth, as ``--handbells``), each strike timed as ``timing`` says
+    (``"auto"``, ``"plain"`` or ``"recording"``, as ``--timing``: auto tries
+    both on the first 80 s and keeps the one whose strikes come more evenly;
+    ``report["timing"]["choice"]`` says which and why), as ``clapper strikes --json``: ``report["strikes"]``, ``report["per_bell"]``,
     ``report["summary"]``. What the command line warns of (a silent
     recording, no strikes heard, one bell, a sound unlike bells) is in
     ``report["summary"]["warnings"]`` and issued as :class:`ClapperWarning`."""
@@ -850,6 +854,8 @@ def strikes(
                          "one of the two")
     if bells is not None and (isinstance(bells, bool) or not isinstance(bells, (int, np.integer))):
         raise ArgumentTypeError(f"strikes: bells must be a whole number (3 to 16), not {_shown(bells)}")
+    if not isinstance(timing, str):
+        raise ArgumentTypeError(f"strikes: timing must be 'auto', 'plain' or 'recording', not {_shown(timing)}")
     data, text = _clapper.strikes(
         _as_f64_bytes(recording, "strikes: recording"),
         _number("strikes", "rate_hz", rate_hz, "the sample rate in Hz"),
@@ -858,6 +864,7 @@ def strikes(
         _number("strikes", "double_min_ratio", double_min_ratio, "the least amplitude ratio of a double strike"),
         name,
         _flag("strikes", "handbells", handbells),
+        timing,
     )
     report = Report(json.loads(data), text)
     for w in report["summary"]["warnings"]:

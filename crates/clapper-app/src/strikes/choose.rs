@@ -1,0 +1,291 @@
+//! How strikes heard about given nominals are timed (issue 43): as heard
+//! at the bells' assumed partials ("plain"), or each bell learned from the
+//! recording's own clean strikes and timed at the start of its sound
+//! ("recording", [`calibrate_from_recording`]). Neither suits every ring:
+//! real bells do not follow a tuned bell's partial ratios and their sound
+//! builds up after the blow (plain is tens of ms off, bell by bell), while
+//! on a tuned ring plain is the sharper. So by default ("auto") both are
+//! tried on the recording's opening window and the one whose strikes come
+//! more evenly is kept. One function for the command line, the web server
+//! and Python, so the three hear the same strikes.
+
+use clapper_signal::self_calibrate::SelfCalibration;
+use clapper_signal::strikes::{BellVoice, StrikeOptions, Windows};
+use clapper_signal::template_timing::median_of;
+use clapper_signal::Signal;
+use serde::Serialize;
+
+use super::{calibrate_from_recording, voices_from_nominals, StrikesReport, Timing, TimingReport, Voice};
+use crate::AppError;
+
+/// The timing asked for (`--timing`).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum TimingAsked {
+    /// Both tried on the opening window, the more even kept ([`choose_timing`]).
+    #[default]
+    Auto,
+    /// As heard at the bells' assumed partials.
+    Plain,
+    /// Learned from the recording's own clean strikes (`--self-calibrate`).
+    Recording,
+}
+
+impl std::str::FromStr for TimingAsked {
+    type Err = AppError;
+    fn from_str(s: &str) -> Result<Self, AppError> {
+        match s {
+            "auto" => Ok(Self::Auto),
+            "plain" => Ok(Self::Plain),
+            "recording" => Ok(Self::Recording),
+            _ => Err(AppError::Request(format!("timing '{s}': auto, plain or recording"))),
+        }
+    }
+}
+
+impl TimingAsked {
+    /// Its name, as `--timing` takes it.
+    pub fn name(self) -> &'static str {
+        match self {
+            Self::Auto => "auto",
+            Self::Plain => "plain",
+            Self::Recording => "recording",
+        }
+    }
+}
+
+/// The recording timing is kept only where its strikes' unevenness is under
+/// this share of plain's: on the tuned synthetic rings (seeds 1-4) the two
+/// come within 10-25 % of each other and plain is the sharper there, while
+/// on rings of recorded bells plain's is 3 to 7 times the recording's.
+pub const AUTO_MARGIN: f64 = 0.7;
+
+/// The recording timing is kept only if it finds at least this share of the
+/// strikes plain finds in the opening window: a timing that lost strikes
+/// could look even on the rest.
+pub const AUTO_LEAST_FOUND: f64 = 0.8;
+
+/// Why the timing used was used: both timings' figures on the opening window.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TimingChoice {
+    /// What was asked: "auto", "plain" or "recording".
+    pub asked: &'static str,
+    /// What was used: "plain" or "recording".
+    pub used: &'static str,
+    /// The opening window both were tried on (s; with "auto" only).
+    pub window_s: Option<f64>,
+    /// Strikes plain timing found in the window.
+    pub plain_strikes: Option<usize>,
+    /// Strikes the recording timing found in the window.
+    pub recording_strikes: Option<usize>,
+    /// The unevenness of plain's strikes (ms): the median absolute
+    /// difference of the intervals between successive strikes from their
+    /// median. A bell timed off by a constant makes the intervals either
+    /// side of each of its strikes uneven by that constant.
+    pub plain_unevenness_ms: Option<f64>,
+    /// The same for the recording timing's strikes (ms).
+    pub recording_unevenness_ms: Option<f64>,
+    /// Plain's RMS striking error in the window's rows (ms).
+    pub plain_rms_ms: Option<f64>,
+    /// The recording timing's RMS striking error in the window's rows (ms).
+    pub recording_rms_ms: Option<f64>,
+    /// Why, in words.
+    pub reason: String,
+}
+
+/// The bells' voices and timing chosen: with a calibration, time the
+/// strikes [`Timing::Recording`] with its voices, else as heard with these.
+#[derive(Clone, Debug)]
+pub struct Chosen {
+    /// The voices to listen with.
+    pub voices: Vec<BellVoice>,
+    /// The calibration, when the recording timing is used.
+    pub calibration: Option<SelfCalibration>,
+    /// What was chosen and why (for the report's "timing").
+    pub choice: TimingChoice,
+}
+
+impl Chosen {
+    /// The timing to hear the whole recording with.
+    pub fn timing(&self) -> Timing<'_> {
+        self.calibration.as_ref().map_or(Timing::AsHeard, Timing::Recording)
+    }
+}
+
+/// The opening of `sig` that the calibration and the choice read: its
+/// first window ([`Windows::whole_s`], all of a shorter recording).
+pub fn opening(sig: &Signal) -> Signal {
+    let n = ((Windows::default().whole_s * sig.rate) as usize).min(sig.samples.len());
+    Signal {
+        rate: sig.rate,
+        samples: sig.samples[..n].to_vec(),
+    }
+}
+
+/// The unevenness of `report`'s strikes (ms): the median absolute
+/// difference of successive intervals from their median. Robust: a lost
+/// strike, a handstroke gap or a row the rhythm misplaces moves few
+/// intervals and not the median, where the rows' RMS error was misled by
+/// misplaced rows (177 ms on a ring whose strikes were within 10 ms).
+fn unevenness_ms(report: &StrikesReport) -> Option<f64> {
+    let gaps: Vec<f64> = report.strikes.windows(2).map(|w| w[1].t_s - w[0].t_s).collect();
+    if gaps.len() < 4 {
+        return None;
+    }
+    let m = median_of(gaps.clone())?;
+    median_of(gaps.iter().map(|g| (g - m).abs()).collect()).map(|d| d * 1e3)
+}
+
+/// The bells of `nominals` (treble first, of `kind`), timed as `asked`, on
+/// the recording whose opening window is `head` ([`opening`]). Handbells
+/// are timed plain: the calibration learns a tower bell's partials.
+pub fn choose_timing(
+    head: &Signal,
+    nominals: &[f64],
+    kind: Voice,
+    asked: TimingAsked,
+    opts: &StrikeOptions,
+) -> Result<Chosen, AppError> {
+    let plain = voices_from_nominals(nominals, kind)?;
+    let simple = |used: &'static str, reason: String| TimingChoice {
+        asked: asked.name(),
+        used,
+        window_s: None,
+        plain_strikes: None,
+        recording_strikes: None,
+        plain_unevenness_ms: None,
+        recording_unevenness_ms: None,
+        plain_rms_ms: None,
+        recording_rms_ms: None,
+        reason,
+    };
+    match (asked, kind) {
+        (TimingAsked::Recording, Voice::Handbell) => Err(AppError::Request(
+            "the recording timing learns each bell's partials as a tower bell's: not with handbells".into(),
+        )),
+        (TimingAsked::Plain, _) => Ok(Chosen {
+            voices: plain,
+            calibration: None,
+            choice: simple("plain", "asked".into()),
+        }),
+        (TimingAsked::Recording, _) => {
+            let c = calibrate_from_recording(head, nominals, opts)?;
+            Ok(Chosen {
+                voices: c.voices.clone(),
+                calibration: Some(c),
+                choice: simple("recording", "asked".into()),
+            })
+        }
+        (TimingAsked::Auto, Voice::Handbell) => Ok(Chosen {
+            voices: plain,
+            calibration: None,
+            choice: simple(
+                "plain",
+                "handbells: the recording timing learns tower bells' partials".into(),
+            ),
+        }),
+        (TimingAsked::Auto, _) => auto(head, nominals, plain, opts),
+    }
+}
+
+/// Both timings tried on `head`, the more even kept ([`AUTO_MARGIN`],
+/// [`AUTO_LEAST_FOUND`]); plain where the calibration fails.
+fn auto(head: &Signal, nominals: &[f64], plain: Vec<BellVoice>, opts: &StrikeOptions) -> Result<Chosen, AppError> {
+    let p = StrikesReport::timed(head, &plain, opts, Timing::AsHeard)?;
+    let mut choice = TimingChoice {
+        asked: "auto",
+        used: "plain",
+        window_s: Some(head.duration()),
+        plain_strikes: Some(p.strikes.len()),
+        recording_strikes: None,
+        plain_unevenness_ms: unevenness_ms(&p),
+        recording_unevenness_ms: None,
+        plain_rms_ms: p.summary.rms_error_ms,
+        recording_rms_ms: None,
+        reason: String::new(),
+    };
+    let c = match calibrate_from_recording(head, nominals, opts) {
+        Ok(c) => c,
+        Err(e) => {
+            choice.reason = format!("plain: nothing learned from the recording ({e})");
+            return Ok(Chosen {
+                voices: plain,
+                calibration: None,
+                choice,
+            });
+        }
+    };
+    let r = StrikesReport::timed(head, &c.voices, opts, Timing::Recording(&c))?;
+    choice.recording_strikes = Some(r.strikes.len());
+    choice.recording_unevenness_ms = unevenness_ms(&r);
+    choice.recording_rms_ms = r.summary.rms_error_ms;
+    let found_enough = r.strikes.len() as f64 >= AUTO_LEAST_FOUND * p.strikes.len() as f64;
+    let more_even = match (choice.plain_unevenness_ms, choice.recording_unevenness_ms) {
+        (Some(pu), Some(ru)) => ru < AUTO_MARGIN * pu,
+        _ => false,
+    };
+    let fmt = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.1}"));
+    let (pu, ru) = (fmt(choice.plain_unevenness_ms), fmt(choice.recording_unevenness_ms));
+    let (np, nr) = (p.strikes.len(), r.strikes.len());
+    choice.reason = if !found_enough {
+        format!("plain: the recording timing found {nr} strikes where plain found {np}")
+    } else if more_even {
+        format!("recording: its strikes came evener ({ru} ms against plain's {pu} ms)")
+    } else {
+        format!(
+            "plain: the recording timing's strikes were not evenly enough ({ru} ms against plain's {pu} ms; kept under {AUTO_MARGIN} of plain's)"
+        )
+    };
+    Ok(if found_enough && more_even {
+        choice.used = "recording";
+        Chosen {
+            voices: c.voices.clone(),
+            calibration: Some(c),
+            choice,
+        }
+    } else {
+        Chosen {
+            voices: plain,
+            calibration: None,
+            choice,
+        }
+    })
+}
+
+impl StrikesReport {
+    /// Say in the report's "timing" how its strikes were timed and why
+    /// (`choice`, from [`choose_timing`]).
+    pub fn note_choice(&mut self, choice: TimingChoice) {
+        match &mut self.timing {
+            Some(t) => t.choice = Some(choice),
+            None => {
+                self.timing = Some(TimingReport {
+                    source: "plain",
+                    per_bell: vec![],
+                    choice: Some(choice),
+                })
+            }
+        }
+    }
+}
+
+impl TimingChoice {
+    /// The choice in one line of the text report.
+    pub fn line(&self) -> String {
+        let fmt = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.1}"));
+        match self.window_s {
+            Some(w) => format!(
+                "timing {} (asked {}), tried on the first {w:.0} s: plain {} strikes, unevenness {} ms, rows' RMS {} ms; recording {} strikes, unevenness {} ms, rows' RMS {} ms; {}",
+                self.used,
+                self.asked,
+                self.plain_strikes.map_or("-".into(), |n| n.to_string()),
+                fmt(self.plain_unevenness_ms),
+                fmt(self.plain_rms_ms),
+                self.recording_strikes.map_or("-".into(), |n| n.to_string()),
+                fmt(self.recording_unevenness_ms),
+                fmt(self.recording_rms_ms),
+                self.reason
+            ),
+            None => format!("timing {} (asked {}): {}", self.used, self.asked, self.reason),
+        }
+    }
+}
