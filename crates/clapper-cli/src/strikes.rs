@@ -52,10 +52,13 @@ pub enum TimingArg {
 pub struct StrikesArgs {
     /// A recording of the ring (.wav: mono or stereo, 8 to 192 kHz).
     pub file: PathBuf,
-    /// The bells' nominal frequencies (Hz), treble first: bell 1 is the first given.
+    /// The bells' nominal frequencies (Hz), treble first: bell 1 is the
+    /// first given. Not with --templates, which gives the bells' own sound.
     #[arg(long, value_name = "F1,F2,..", value_parser = parse_list, conflicts_with = "templates", allow_hyphen_values = true)]
     pub nominals: Option<Nominals>,
-    /// A folder of recordings of each bell struck alone, named 1.wav, 2.wav, ...
+    /// A folder of recordings of each bell struck alone, named 1.wav,
+    /// 2.wav, ... (treble first): each strike is timed against its bell's
+    /// own sound. Instead of --nominals, --bells and --timing.
     #[arg(long, value_name = "DIR")]
     pub templates: Option<PathBuf>,
     /// With --nominals or --bells N, how each strike is timed: `plain` as
@@ -112,6 +115,12 @@ pub(crate) fn template_voices(dir: &std::path::Path) -> Result<Vec<BellVoice>> {
 /// The bells' voices from a folder of recordings of each struck alone, and
 /// the recordings (to learn each bell's lateness from).
 pub(crate) fn templates(dir: &std::path::Path) -> Result<(Vec<BellVoice>, Vec<clapper_signal::Signal>)> {
+    if !dir.is_dir() {
+        bail!(
+            "{}: no such folder (--templates names a folder of 1.wav, 2.wav, ..., each bell struck alone)",
+            dir.display()
+        );
+    }
     let mut voices = vec![];
     let mut sigs = vec![];
     for bell in 1.. {

@@ -104,3 +104,30 @@ fn strikes_with_templates_times_each_bell_at_the_start_of_its_sound() {
     assert!(j["timing"]["per_bell"].as_array().unwrap().is_empty());
     assert_eq!(j["timing"]["choice"]["used"], "plain");
 }
+
+/// A templates folder that is not there is named as missing, not as a
+/// folder without its 1.wav.
+#[test]
+fn a_missing_templates_folder_is_said_to_be_missing() {
+    let dir = tempfile::tempdir().unwrap();
+    let wav = dir.path().join("ring.wav");
+    write_wav(
+        &wav,
+        &Signal {
+            rate: 44_100.0,
+            samples: (0..44_100).map(|i| (f64::from(i) * 0.05).sin()).collect(),
+        },
+        0.5,
+    )
+    .unwrap();
+    let out = clapper()
+        .arg("strikes")
+        .arg(&wav)
+        .arg("--templates")
+        .arg(dir.path().join("nowhere"))
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(!out.status.success(), "{err}");
+    assert!(err.contains("nowhere: no such folder"), "{err}");
+}

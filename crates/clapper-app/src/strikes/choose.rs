@@ -226,13 +226,16 @@ fn auto(head: &Signal, nominals: &[f64], plain: Vec<BellVoice>, opts: &StrikeOpt
     let fmt = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.1}"));
     let (pu, ru) = (fmt(choice.plain_unevenness_ms), fmt(choice.recording_unevenness_ms));
     let (np, nr) = (p.strikes.len(), r.strikes.len());
+    let compared = choice.plain_unevenness_ms.is_some() && choice.recording_unevenness_ms.is_some();
     choice.reason = if !found_enough {
         format!("plain: the recording timing found {nr} strikes where plain found {np}")
+    } else if !compared {
+        "plain: too few strikes to compare the two timings' evenness".to_string()
     } else if more_even {
         format!("recording: its strikes came evener ({ru} ms against plain's {pu} ms)")
     } else {
         format!(
-            "plain: the recording timing's strikes were not evenly enough ({ru} ms against plain's {pu} ms; kept under {AUTO_MARGIN} of plain's)"
+            "plain: the recording timing's strikes were not even enough ({ru} ms against plain's {pu} ms; it must be under {AUTO_MARGIN} of plain's)"
         )
     };
     Ok(if found_enough && more_even {
@@ -274,7 +277,7 @@ impl TimingChoice {
         let fmt = |v: Option<f64>| v.map_or("-".to_string(), |x| format!("{x:.1}"));
         match self.window_s {
             Some(w) => format!(
-                "timing {} (asked {}), tried on the first {w:.0} s: plain {} strikes, unevenness {} ms, rows' RMS {} ms; recording {} strikes, unevenness {} ms, rows' RMS {} ms; {}",
+                "timing {} (asked {}), tried on the first {w:.0} s (unevenness: the median departure of the gaps between successive strikes from their median gap): plain {} strikes, unevenness {} ms, rows' RMS {} ms; recording {} strikes, unevenness {} ms, rows' RMS {} ms; {}",
                 self.used,
                 self.asked,
                 self.plain_strikes.map_or("-".into(), |n| n.to_string()),
