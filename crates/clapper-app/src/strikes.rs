@@ -506,38 +506,45 @@ impl StrikesReport {
                 .collect();
             let _ = writeln!(o, "nominals learned from the recording: {}", list.join(", "));
         }
-        if let Some(t) = &self.timing {
-            let list = |f: &dyn Fn(&BellTiming) -> Option<f64>| {
-                t.per_bell
-                    .iter()
-                    .map(|b| f(b).map_or(format!("{} -", b.bell), |v| format!("{} {v:+.1}", b.bell)))
-                    .collect::<Vec<_>>()
-                    .join(", ")
-            };
-            let late = list(&|b| (b.learned_from > 0).then_some(b.lateness_ms));
-            let moved = list(&|b| b.matched_ms);
-            if let Some(c) = &t.choice {
-                let _ = writeln!(o, "{}", c.line());
-            }
-            let _ = if t.source == "plain" {
-                Ok(())
-            } else if t.source == "recording" {
-                writeln!(
-                    o,
-                    "timing from the recording's own clean strikes: the band finder hears each bell late by (ms) {late}, against the start of its average strike's sound; each strike, lined up on that average, moved by (median ms) {moved}"
-                )
-            } else {
-                writeln!(
-                    o,
-                    "timing from the {}: the band finder hears each bell late by (ms) {late}, against the start of its template's sound (measured on a ring of the templates); each strike, matched to its template, moved by (median ms) {moved}",
-                    t.source
-                )
-            };
-        }
+        self.timing_text(&mut o);
         for w in &s.warnings {
             let _ = writeln!(o, "warning: {w}");
         }
         o
+    }
+
+    /// The report's "timing" in words, appended to `o`: the choice made,
+    /// and each bell's lateness and the strikes' moves.
+    fn timing_text(&self, o: &mut String) {
+        let Some(t) = &self.timing else {
+            return;
+        };
+        let list = |f: &dyn Fn(&BellTiming) -> Option<f64>| {
+            t.per_bell
+                .iter()
+                .map(|b| f(b).map_or(format!("{} -", b.bell), |v| format!("{} {v:+.1}", b.bell)))
+                .collect::<Vec<_>>()
+                .join(", ")
+        };
+        let late = list(&|b| (b.learned_from > 0).then_some(b.lateness_ms));
+        let moved = list(&|b| b.matched_ms);
+        if let Some(c) = &t.choice {
+            let _ = writeln!(o, "{}", c.line());
+        }
+        let _ = if t.source == "plain" {
+            Ok(())
+        } else if t.source == "recording" {
+            writeln!(
+                o,
+                "timing from the recording's own clean strikes: the band finder hears each bell late by (ms) {late}, against the start of its average strike's sound; each strike, lined up on that average, moved by (median ms) {moved}"
+            )
+        } else {
+            writeln!(
+                o,
+                "timing from the {}: the band finder hears each bell late by (ms) {late}, against the start of its template's sound (measured on a ring of the templates); each strike, matched to its template, moved by (median ms) {moved}",
+                t.source
+            )
+        };
     }
 
     /// The strikes as CSV rows (bell, t_s, stroke, row, place, error_ms,

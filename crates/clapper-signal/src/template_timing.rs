@@ -29,7 +29,7 @@ mod lag;
 mod late;
 mod matcher;
 
-use matcher::{Matcher, PRE_S};
+use matcher::{Matcher, Scratch, PRE_S};
 
 use crate::strikes::{Heard, HeardStrike, Hearing, StrikeOptions};
 use crate::{Signal, SignalError};
@@ -216,24 +216,7 @@ fn retime_judging(
     sig.validate()?;
     let mut m = Matcher::new(sig.rate, templates)?;
     let mut sc = m.scratch();
-    // The sign each bell matches with, voted by its strikes where they
-    // are sought, before any is matched: a match of the other sign is none.
-    let windows: Vec<(usize, (f64, f64))> = heard
-        .strikes
-        .iter()
-        .map(|s| {
-            (
-                s.bell,
-                sought(s.t, lateness.get(s.bell.wrapping_sub(1)).copied().flatten()),
-            )
-        })
-        .collect();
-    let signs = lag::polarities(&m, &sig.samples, &windows, &mut sc)?;
-    for (t, s) in m.bells.iter_mut().zip(signs) {
-        if let Some(t) = t {
-            t.polarity = s;
-        }
-    }
+    set_polarities(&mut m, sig, heard, lateness, &mut sc)?;
     let sounds: Vec<Option<&[f64]>> = m.bells.iter().map(|b| b.as_ref().map(|t| &t.sound[..])).collect();
     let mut pairs = doubles::Pairs::new(m.rate, &sounds, opts.double_window_ms.1 * 1e-3)?;
     let window = (opts.double_window_ms.0 * 1e-3, opts.double_window_ms.1 * 1e-3);
@@ -297,6 +280,35 @@ fn retime_judging(
         heard.strikes[i].double = fit;
     }
     Ok(moves)
+}
+
+/// The sign each bell of `m` matches with, voted by its strikes of
+/// `heard` where they are sought (its `lateness`, s), before any is
+/// matched: a match of the other sign is none (tmpl-5).
+fn set_polarities(
+    m: &mut Matcher,
+    sig: &Signal,
+    heard: &Heard,
+    lateness: &[Option<f64>],
+    sc: &mut Scratch,
+) -> Result<(), SignalError> {
+    let windows: Vec<(usize, (f64, f64))> = heard
+        .strikes
+        .iter()
+        .map(|s| {
+            (
+                s.bell,
+                sought(s.t, lateness.get(s.bell.wrapping_sub(1)).copied().flatten()),
+            )
+        })
+        .collect();
+    let signs = lag::polarities(m, &sig.samples, &windows, sc)?;
+    for (t, s) in m.bells.iter_mut().zip(signs) {
+        if let Some(t) = t {
+            t.polarity = s;
+        }
+    }
+    Ok(())
 }
 
 /// The strikes of `heard` no template judged (those not in `judged`, by

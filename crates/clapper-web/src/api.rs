@@ -652,32 +652,7 @@ pub(crate) async fn strikes(
         clapper_app::strikes::Voice::Tower
     };
     let asked: clapper_app::strikes::TimingAsked = q.timing.as_deref().unwrap_or("auto").parse()?;
-    let nominals = match (&q.nominals, q.bells) {
-        (Some(_), Some(_)) => {
-            return Err(ApiError::BadRequest(
-                "give the bells' nominals or how many bells ring (bells=N), not both".into(),
-            ))
-        }
-        (None, None) => {
-            return Err(ApiError::BadRequest(
-                "say which bells to listen for: nominals=F1,F2,.. (Hz, treble first) or bells=N".into(),
-            ))
-        }
-        (Some(n), None) => {
-            let nominals: Vec<f64> = n
-                .split(',')
-                .map(|v| {
-                    v.trim()
-                        .parse::<f64>()
-                        .map_err(|_| ApiError::BadRequest(format!("nominals: '{v}' is not a number (Hz)")))
-                })
-                .collect::<Result<_, _>>()?;
-            // Refused here, before the recording is read.
-            clapper_app::strikes::voices_from_nominals(&nominals, kind)?;
-            Some(nominals)
-        }
-        (None, Some(_)) => None,
-    };
+    let nominals = asked_nominals(&q, kind)?;
     if wav.is_empty() {
         return Err(ApiError::BadRequest(
             "no recording: send the WAV file as the request's body".into(),
@@ -715,6 +690,37 @@ pub(crate) async fn strikes(
         })
         .await?;
     Ok(Json(out).into_response())
+}
+
+/// The nominals (Hz, treble first) a strikes query `q` gives, checked as
+/// `kind`'s bells; `None` where it asks for them to be learned (`bells=N`).
+fn asked_nominals(q: &StrikesQuery, kind: clapper_app::strikes::Voice) -> Result<Option<Vec<f64>>, ApiError> {
+    Ok(match (&q.nominals, q.bells) {
+        (Some(_), Some(_)) => {
+            return Err(ApiError::BadRequest(
+                "give the bells' nominals or how many bells ring (bells=N), not both".into(),
+            ))
+        }
+        (None, None) => {
+            return Err(ApiError::BadRequest(
+                "say which bells to listen for: nominals=F1,F2,.. (Hz, treble first) or bells=N".into(),
+            ))
+        }
+        (Some(n), None) => {
+            let nominals: Vec<f64> = n
+                .split(',')
+                .map(|v| {
+                    v.trim()
+                        .parse::<f64>()
+                        .map_err(|_| ApiError::BadRequest(format!("nominals: '{v}' is not a number (Hz)")))
+                })
+                .collect::<Result<_, _>>()?;
+            // Refused here, before the recording is read.
+            clapper_app::strikes::voices_from_nominals(&nominals, kind)?;
+            Some(nominals)
+        }
+        (None, Some(_)) => None,
+    })
 }
 
 /// The query of `POST /api/strikes`. A name it does not know is refused:

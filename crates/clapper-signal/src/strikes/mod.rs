@@ -39,7 +39,8 @@ pub use heard::{Heard, HeardDouble, HeardStrike, StrikeOptions, DEFAULT_DOUBLE_M
 pub use learn::{learn_nominals, Learned, LearnedBell};
 pub use learn_voices::{learn_voices, LearnedVoice, LearnedVoices};
 pub use plausible::{
-    below_nominal, rising, rising_at, RisePartial, HANDBELL_BELOW, PLAUSIBLE_SHARE, RISE_POWER, RISE_SHARE, TOWER_BELOW,
+    below_nominal, rising, rising_at, RisePartial, HANDBELL_BELOW, PLAUSIBLE_SHARE, RING_ON_FALL, RING_ON_FROM_S,
+    RING_ON_TO_S, RISE_POWER, RISE_SHARE, TOWER_BELOW,
 };
 pub use stream::{find_strikes_streamed, find_strikes_streamed_deferred, InMemory, RecordingBlocks, Window, Windows};
 pub use voice::{BellVoice, VoicePartial};
