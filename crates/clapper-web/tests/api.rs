@@ -10,6 +10,9 @@ use http_body_util::BodyExt;
 use serde_json::Value;
 use tower::ServiceExt;
 
+mod common;
+use common::send_wav;
+
 async fn send(app: &axum::Router, method: &str, uri: &str, body: Option<&str>) -> (StatusCode, Vec<u8>) {
     let mut req = Request::builder().method(method).uri(uri);
     if body.is_some() {
@@ -505,18 +508,6 @@ async fn a_clapper_by_its_parts_is_designed_and_diagnosed() {
         .as_str()
         .unwrap()
         .starts_with("[clapper]"));
-}
-
-async fn send_wav(app: &axum::Router, uri: &str, wav: Vec<u8>) -> (StatusCode, Vec<u8>) {
-    let req = Request::builder()
-        .method("POST")
-        .uri(uri)
-        .header("content-type", "audio/wav")
-        .body(Body::from(wav))
-        .unwrap();
-    let res = app.clone().oneshot(req).await.unwrap();
-    let status = res.status();
-    (status, res.into_body().collect().await.unwrap().to_bytes().to_vec())
 }
 
 #[tokio::test]

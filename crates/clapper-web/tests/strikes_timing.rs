@@ -2,27 +2,15 @@
 //! 43): `timing=auto` by default, chosen from the recording by the one
 //! function the CLI and Python call, so the three give the same strikes.
 
-use axum::body::Body;
-use axum::http::{Request, StatusCode};
+use axum::http::StatusCode;
 use clapper_app::strikes::{choose_timing, opening, strike_options, StrikesReport, TimingAsked, Voice};
 use clapper_signal::sampled_ring::{sampled_ring, UntunedStrike};
 use clapper_signal::tower::{major_scale, Method, TowerSpec};
 use clapper_web::{router, Limits};
-use http_body_util::BodyExt;
 use serde_json::Value;
-use tower::ServiceExt;
 
-async fn send_wav(app: &axum::Router, uri: &str, wav: Vec<u8>) -> (StatusCode, Vec<u8>) {
-    let req = Request::builder()
-        .method("POST")
-        .uri(uri)
-        .header("content-type", "audio/wav")
-        .body(Body::from(wav))
-        .unwrap();
-    let res = app.clone().oneshot(req).await.unwrap();
-    let status = res.status();
-    (status, res.into_body().collect().await.unwrap().to_bytes().to_vec())
-}
+mod common;
+use common::send_wav;
 
 #[tokio::test]
 async fn the_api_chooses_the_timing_as_the_cli_does() {

@@ -23,3 +23,19 @@ pub fn post(addr: std::net::SocketAddr, path: &str, body: &str) -> String {
         body.len()
     )
 }
+
+/// A WAV file `wav` POSTed to `uri` on the router `app` (no socket): the
+/// answer's status and body.
+pub async fn send_wav(app: &axum::Router, uri: &str, wav: Vec<u8>) -> (axum::http::StatusCode, Vec<u8>) {
+    use http_body_util::BodyExt;
+    use tower::ServiceExt;
+    let req = axum::http::Request::builder()
+        .method("POST")
+        .uri(uri)
+        .header("content-type", "audio/wav")
+        .body(axum::body::Body::from(wav))
+        .unwrap();
+    let res = app.clone().oneshot(req).await.unwrap();
+    let status = res.status();
+    (status, res.into_body().collect().await.unwrap().to_bytes().to_vec())
+}
