@@ -414,7 +414,9 @@ try {
     "the recording goes to the Strikes tab at a click");
 
   // Three nominals for a recording of eight bells (README's tower.wav):
-  // the page warns that the strikes leave room for more bells.
+  // the page warns that the strikes leave room for more bells, or (timed
+  // by auto's choice, which may take the recording's timing and move
+  // strikes into the gaps) that their rows misfit: give every bell.
   const tower = resolve(root, "examples/data/tower.wav");
   const eight = JSON.parse(readFileSync(resolve(root, "examples/data/tower-nominals.json"), "utf8"));
   await page.setInputFiles("#recording", tower);
@@ -425,7 +427,8 @@ try {
   check((await strikesUrl).includes("double_min_ratio=0.3"), "an emptied double-strike ratio is sent as its default, 0.3");
   await page.waitForSelector("#strikes-warnings", { timeout: 60000 });
   const warned = await page.textContent("#strikes-warnings");
-  check(/3 nominal\(s\) given, but the strikes leave room for about [6-9] bells/.test(warned),
+  check(/3 nominal\(s\) given, but the strikes leave room for about [6-9] bells/.test(warned)
+    || /rhythm of rows of 3 bells.*give every bell that rings/.test(warned),
     "three nominals for eight bells are warned of: " + warned);
   await page.locator("#strikes-warnings").scrollIntoViewIfNeeded();
   await page.screenshot({ path: `${out}/07c-too-few-nominals.png`, fullPage: false });
