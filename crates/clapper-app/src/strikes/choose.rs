@@ -64,8 +64,9 @@ pub const AUTO_MARGIN: f64 = 0.7;
 /// could look even on the rest.
 pub const AUTO_LEAST_FOUND: f64 = 0.8;
 
-/// Why the timing used was used: both timings' figures on the opening window.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+/// Why the timing used was used: both timings' figures on the opening window
+/// (`None` where not measured).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct TimingChoice {
     /// What was asked: "auto", "plain" or "recording".
     pub asked: &'static str,
@@ -149,14 +150,8 @@ pub fn choose_timing(
     let simple = |used: &'static str, reason: String| TimingChoice {
         asked: asked.name(),
         used,
-        window_s: None,
-        plain_strikes: None,
-        recording_strikes: None,
-        plain_unevenness_ms: None,
-        recording_unevenness_ms: None,
-        plain_rms_ms: None,
-        recording_rms_ms: None,
         reason,
+        ..TimingChoice::default()
     };
     match (asked, kind) {
         (TimingAsked::Recording, Voice::Handbell) => Err(AppError::Request(
@@ -196,12 +191,9 @@ fn auto(head: &Signal, nominals: &[f64], plain: Vec<BellVoice>, opts: &StrikeOpt
         used: "plain",
         window_s: Some(head.duration()),
         plain_strikes: Some(p.strikes.len()),
-        recording_strikes: None,
         plain_unevenness_ms: unevenness_ms(&p),
-        recording_unevenness_ms: None,
         plain_rms_ms: p.summary.rms_error_ms,
-        recording_rms_ms: None,
-        reason: String::new(),
+        ..TimingChoice::default()
     };
     let c = match calibrate_from_recording(head, nominals, opts) {
         Ok(c) => c,
