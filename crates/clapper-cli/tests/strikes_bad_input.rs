@@ -1,7 +1,8 @@
 //! `clapper strikes` on what is not a ring (issue 43's acceptance): silence,
 //! one bell and a recording of speech each get a clear warning, first, in
 //! text and JSON, never a panic nor a confident report; a nominal the
-//! recording cannot hold is refused with the reason. The web server and the
+//! recording cannot hold is refused with the reason; nominals given tenor
+//! first are warned of. The web server and the
 //! Python package say the same (crates/clapper-web/tests/strikes_bad_input.rs,
 //! crates/clapper-py/tests/test_strikes_layers.py).
 
@@ -219,6 +220,29 @@ fn chanting_in_a_rings_rhythm_is_said_not_to_sound_like_bells() {
             assert!(text.contains(&format!("warning: {}", said[0])), "{text}");
         }
     }
+}
+
+/// Nominals given tenor first were taken silently (an independent
+/// tester's finding), the bells numbered from the tenor.
+#[test]
+fn nominals_given_tenor_first_are_warned_of() {
+    let dir = tempfile::tempdir().unwrap();
+    let wav = dir.path().join("eight.wav");
+    clapper()
+        .args(["synth-ring", "--bells", "8", "--rows", "8", "--snr", "30", "--out"])
+        .arg(&wav)
+        .assert()
+        .success();
+    let rising = |j: &serde_json::Value| warnings(j).iter().any(|w| w.starts_with("the nominals given rise"));
+    let (_, j) = heard(&wav, EIGHT);
+    assert!(!rising(&j), "{:?}", warnings(&j));
+    let backwards: Vec<&str> = EIGHT.split(',').rev().collect();
+    let (text, j) = heard(&wav, &backwards.join(","));
+    assert!(rising(&j), "{:?}", warnings(&j));
+    assert!(
+        text.contains("warning: the nominals given rise from the first (700.0 Hz)"),
+        "{text}"
+    );
 }
 
 #[test]

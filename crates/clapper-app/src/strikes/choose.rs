@@ -91,6 +91,11 @@ pub struct TimingChoice {
     pub recording_rms_ms: Option<f64>,
     /// Why, in words.
     pub reason: String,
+    /// Doubts about the nominals the choice was made for (e.g. given
+    /// tenor first): [`StrikesReport::note_choice`] adds them to the
+    /// report's warnings.
+    #[serde(skip)]
+    pub warnings: Vec<String>,
 }
 
 /// The bells' voices and timing chosen: with a calibration, time the
@@ -140,6 +145,19 @@ fn unevenness_ms(report: &StrikesReport) -> Option<f64> {
 /// the recording whose opening window is `head` ([`opening`]). Handbells
 /// are timed plain: the calibration learns a tower bell's partials.
 pub fn choose_timing(
+    head: &Signal,
+    nominals: &[f64],
+    kind: Voice,
+    asked: TimingAsked,
+    opts: &StrikeOptions,
+) -> Result<Chosen, AppError> {
+    let mut chosen = choose(head, nominals, kind, asked, opts)?;
+    chosen.choice.warnings.extend(super::kind::order_warning(nominals));
+    Ok(chosen)
+}
+
+/// [`choose_timing`] but for the doubts about the nominals.
+fn choose(
     head: &Signal,
     nominals: &[f64],
     kind: Voice,
@@ -249,7 +267,8 @@ fn auto(head: &Signal, nominals: &[f64], plain: Vec<BellVoice>, opts: &StrikeOpt
 impl StrikesReport {
     /// Say in the report's "timing" how its strikes were timed and why
     /// (`choice`, from [`choose_timing`]).
-    pub fn note_choice(&mut self, choice: TimingChoice) {
+    pub fn note_choice(&mut self, mut choice: TimingChoice) {
+        self.summary.warnings.append(&mut choice.warnings);
         match &mut self.timing {
             Some(t) => t.choice = Some(choice),
             None => {

@@ -1,7 +1,7 @@
 //! Doubts about the bells given (issue 43, an independent tester's
 //! findings): the kind of bell listened for against the kind heard
-//! (`--handbells` on tower bells), a nominal given an octave off, and a
-//! bell heard far less often than the others.
+//! (`--handbells` on tower bells), nominals given tenor first, a nominal
+//! given an octave off, and a bell heard far less often than the others.
 
 use clapper_signal::strikes::{below_nominal, BellVoice, HeardStrike, Window, HANDBELL_BELOW, TOWER_BELOW};
 
@@ -100,6 +100,28 @@ pub(super) fn kind_warning(below: &[f64], handbells: bool) -> Option<String> {
     }
 }
 
+/// A warning when the nominals given rise more often than they fall
+/// from one bell to the next: given tenor first. Bells are numbered in
+/// the order given, so the ring's lowest bell would be reported as bell 1
+/// and rounds as backrounds (an independent tester's finding: taken
+/// silently). `f`: the nominals given (Hz), in the order given.
+pub(super) fn order_warning(f: &[f64]) -> Option<String> {
+    if f.len() < 2 {
+        return None;
+    }
+    let rising = f.windows(2).filter(|p| p[1] > p[0]).count();
+    let falling = f.windows(2).filter(|p| p[1] < p[0]).count();
+    (rising > falling).then(|| {
+        format!(
+            "the nominals given rise from the first ({:.1} Hz) to the last ({:.1} Hz): bells are numbered in the \
+             order given, treble (the highest) first, so here bell 1 is the lowest and rounds read as backrounds; \
+             give the nominals treble first",
+            f[0],
+            f[f.len() - 1]
+        )
+    })
+}
+
 /// Warnings for nominals given (treble first) of which one lies an
 /// octave from where its neighbours put it: out of order or too far from
 /// them, while an octave up or down it sits between them as the next
@@ -187,6 +209,21 @@ mod tests {
             assert_eq!(w.len(), 1, "{bell}: {w:?}");
             assert!(w[0].starts_with(&format!("bell {bell}'s nominal")), "{w:?}");
         }
+    }
+
+    #[test]
+    fn nominals_given_tenor_first_are_told() {
+        let ring = [1966.8, 1749.8, 1645.9, 1458.2, 1308.9, 1237.2];
+        assert_eq!(order_warning(&ring), None);
+        let mut up = ring;
+        up.reverse();
+        let w = order_warning(&up).expect("tenor first is told");
+        assert!(w.contains("first (1237.2 Hz)") && w.contains("treble first"), "{w}");
+        // One bell out of place among falling nominals is the octave
+        // warning's business, not this one's.
+        let mut one = ring;
+        one.swap(2, 3);
+        assert_eq!(order_warning(&one), None);
     }
 
     #[test]
