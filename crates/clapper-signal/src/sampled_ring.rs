@@ -145,8 +145,11 @@ pub fn octave_heavy_strike(nominal_hz: f64, octave: f64, rate: f64, seed: u64) -
 
 /// Where a recorded strike's sound starts (s from the recording's start).
 ///
-/// The noise before it is measured over the first 5 ms (or none, if the
-/// recording starts loud); the sound starts at the first 1 ms block whose
+/// The noise before it is measured over the first 5 ms after any digital
+/// silence the file starts with (a recording padded with zeros before its
+/// own noise: an independent tester's templates were, and their strikes
+/// came out early by the length of that noise), or none, if the recording
+/// starts loud; the sound starts at the first 1 ms block whose
 /// peak stands above both 4 times that noise's peak and 1/300 (−50 dB) of
 /// the recording's peak, moved back to the last sample before it at or
 /// under that level. A bell's strike rises to its peak within a few ms, so
@@ -159,11 +162,13 @@ pub fn sample_onset(sig: &Signal) -> Result<f64, SignalError> {
         return Err(SignalError::Invalid("the recorded strike is silent".into()));
     }
     let ms = ((sig.rate * 1e-3).round() as usize).max(1);
-    let head = (5 * ms).min(x.len());
-    let noise = x[..head].iter().fold(0.0f64, |p, v| p.max(v.abs()));
+    // Padding is a millisecond or more of zeros (a waveform crosses zero too).
+    let pad = x.iter().position(|v| *v != 0.0).filter(|&p| p >= ms).unwrap_or(0);
+    let head = (pad + 5 * ms).min(x.len());
+    let noise = x[pad..head].iter().fold(0.0f64, |p, v| p.max(v.abs()));
     if noise > 0.1 * peak {
-        // Loud from its first sample: the recording starts at the strike.
-        return Ok(0.0);
+        // Loud from its first sample after the zeros: it starts at the strike.
+        return Ok(pad as f64 / sig.rate);
     }
     let level = (4.0 * noise).max(peak / 300.0);
     let first = x
@@ -269,6 +274,23 @@ mod tests {
             samples: vec![0.0; 100]
         })
         .is_err());
+    }
+
+    /// Zeros, then the room's noise, then the strike: the sound starts at
+    /// the strike, not where the noise does.
+    #[test]
+    fn a_strike_padded_with_zeros_before_its_noise_starts_at_its_sound() {
+        let rate = 8000.0;
+        let mut s = strike(rate, 800, 700.0);
+        let mut seed = 7u64;
+        for v in &mut s.samples[400..] {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            *v += 2e-2 * (((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5);
+        }
+        let t = sample_onset(&s).unwrap();
+        assert!((t - 0.1).abs() < 0.5e-3, "{t}");
     }
 
     #[test]

@@ -20,7 +20,8 @@ pub const NO_STRIKES: &str = "no strikes heard: nothing here starts the given be
 /// between bells.
 pub const ONE_BELL: &str = "one bell: its strikes are listed, but rows, places, striking errors, the handstroke \
                             gap and odd-struckness are judged between bells ringing together: give every \
-                            ringing bell's nominal";
+                            ringing bell (its nominal with --nominals; with --templates its strike alone, 1.wav, \
+                            2.wav, .. treble first, in the folder), or --bells N";
 
 /// Refused: a bell whose strongest partial lies at or above half the
 /// recording's rate `rate_hz` (Hz), where the recording holds nothing (it
