@@ -89,10 +89,12 @@ pub(super) fn dots4(a: [&[C]; 4], z: &[C]) -> [C; 4] {
     if a.iter().any(|x| x.len().min(z.len()) != n) {
         return a.map(|x| dot(x, z));
     }
+    // Slices of one length: the loop reads them without bounds checks.
+    let (a0, a1, a2, a3, z) = (&a[0][..n], &a[1][..n], &a[2][..n], &a[3][..n], &z[..n]);
     let mut s = [(0.0, 0.0); 4];
-    for (k, y) in z[..n].iter().enumerate() {
-        for (s, x) in s.iter_mut().zip(&a) {
-            let x = x[k];
+    for k in 0..n {
+        let y = z[k];
+        for (s, x) in s.iter_mut().zip([a0[k], a1[k], a2[k], a3[k]]) {
             *s = (s.0 + x.0 * y.0 + x.1 * y.1, s.1 + x.0 * y.1 - x.1 * y.0);
         }
     }
