@@ -293,7 +293,20 @@ impl StrikesReport {
         opts: &StrikeOptions,
         timing: Timing,
         windows: &Windows,
+        strip: Option<&mut Signal>,
+    ) -> Result<Self, AppError> {
+        Self::listened(src, voices, opts, timing, windows, strip, true)
+    }
+
+    /// [`Self::streamed`], the finder's doubles judged only if `doubles`.
+    fn listened(
+        src: &mut dyn RecordingBlocks,
+        voices: &[BellVoice],
+        opts: &StrikeOptions,
+        timing: Timing,
+        windows: &Windows,
         mut strip: Option<&mut Signal>,
+        doubles: bool,
     ) -> Result<Self, AppError> {
         let rate = src.rate();
         check_rate(rate)?;
@@ -336,6 +349,9 @@ impl StrikesReport {
                     rate,
                     samples: w.sig.samples[..end].to_vec(),
                 };
+            }
+            if doubles && !matches!(timing, Timing::Templates(_)) {
+                (heard.strikes.iter_mut().enumerate()).for_each(|(i, s)| s.double = hearing.double(i));
             }
             timed_again(timing, w, heard, hearing, &late, opts, &mut moved)
         };
@@ -640,8 +656,8 @@ fn correct_lateness(
 /// moved kept per bell in `moved`. With templates, each strike is timed
 /// against its bell's template; the lateness learned on a ring of the
 /// templates (`late`) then serves only a bell whose template is too short
-/// to match. The strikes come not yet judged double: the templates judge
-/// them, else the band finder (`hearing`).
+/// to match. Only with templates do the strikes come not yet judged
+/// double: the templates judge them, else the band finder (`hearing`).
 fn timed_again(
     timing: Timing,
     w: &Window,
@@ -653,9 +669,6 @@ fn timed_again(
 ) -> Result<(), clapper_signal::SignalError> {
     if let Timing::Templates(t) = timing {
         return retime_window(w, heard, hearing, t, late, opts, moved);
-    }
-    for (i, s) in heard.strikes.iter_mut().enumerate() {
-        s.double = hearing.double(i);
     }
     drop(hearing);
     match timing {

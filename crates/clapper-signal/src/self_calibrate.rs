@@ -758,28 +758,12 @@ fn best_lag(x: &[f64], reference: &[f64], shift: usize, at: usize, rate: f64, re
     let from = at.saturating_sub((CORE_S * rate) as usize);
     let core = &reference[from..];
     let n = (x.len() + core.len()).next_power_of_two();
-    let (fwd, inv) = crate::fft::plans(n);
-    let mut a = fwd.make_input_vec();
-    a[..x.len()].copy_from_slice(x);
-    let mut b = fwd.make_input_vec();
-    b[..core.len()].copy_from_slice(core);
-    let (mut sa, mut sb) = (fwd.make_output_vec(), fwd.make_output_vec());
-    // The lengths are the plan's own: the transforms cannot fail.
-    let _ = fwd.process(&mut a, &mut sa);
-    let _ = fwd.process(&mut b, &mut sb);
-    for (p, q) in sa.iter_mut().zip(&sb) {
-        *p *= q.conj();
-    }
-    sa[0].im = 0.0;
-    if let Some(l) = sa.last_mut() {
-        l.im = 0.0;
-    }
-    let mut out = inv.make_output_vec();
-    let _ = inv.process(&mut sa, &mut out);
     // out[d]: the core against x from d; the core starts `from` into the reference.
-    (shift - reach..=shift + reach)
-        .max_by(|&p, &q| out[p + from].total_cmp(&out[q + from]))
-        .unwrap_or(shift)
+    crate::fft::correlate(x, core, n, |out| {
+        (shift - reach..=shift + reach)
+            .max_by(|&p, &q| out[p + from].total_cmp(&out[q + from]))
+            .unwrap_or(shift)
+    })
 }
 
 /// Where the bell's sound starts in the average `mean` of `n` strikes

@@ -10,7 +10,7 @@
 //! and Python, so the three hear the same strikes.
 
 use clapper_signal::self_calibrate::SelfCalibration;
-use clapper_signal::strikes::{BellVoice, StrikeOptions, Windows};
+use clapper_signal::strikes::{BellVoice, InMemory, StrikeOptions, Windows};
 use clapper_signal::template_timing::median_of;
 use clapper_signal::Signal;
 use serde::Serialize;
@@ -203,7 +203,8 @@ fn choose(
 /// Both timings tried on `head`, the more even kept ([`AUTO_MARGIN`],
 /// [`AUTO_LEAST_FOUND`]); plain where the calibration fails.
 fn auto(head: &Signal, nominals: &[f64], plain: Vec<BellVoice>, opts: &StrikeOptions) -> Result<Chosen, AppError> {
-    let p = StrikesReport::timed(head, &plain, opts, Timing::AsHeard)?;
+    // The trials read the strikes' times only: no strike judged double.
+    let p = StrikesReport::timed_singles(head, &plain, opts, Timing::AsHeard)?;
     let mut choice = TimingChoice {
         asked: "auto",
         used: "plain",
@@ -224,7 +225,7 @@ fn auto(head: &Signal, nominals: &[f64], plain: Vec<BellVoice>, opts: &StrikeOpt
             });
         }
     };
-    let r = StrikesReport::timed(head, &c.voices, opts, Timing::Recording(&c))?;
+    let r = StrikesReport::timed_singles(head, &c.voices, opts, Timing::Recording(&c))?;
     choice.recording_strikes = Some(r.strikes.len());
     choice.recording_unevenness_ms = unevenness_ms(&r);
     choice.recording_rms_ms = r.summary.rms_error_ms;
@@ -265,6 +266,19 @@ fn auto(head: &Signal, nominals: &[f64], plain: Vec<BellVoice>, opts: &StrikeOpt
 }
 
 impl StrikesReport {
+    /// [`Self::timed`] with no strike judged double (not for templates):
+    /// for what reads the strikes' times only (the choice's trials), the
+    /// finder's double-strike fits (a quarter of its time) are not made.
+    fn timed_singles(
+        sig: &Signal,
+        voices: &[BellVoice],
+        opts: &StrikeOptions,
+        timing: Timing,
+    ) -> Result<Self, AppError> {
+        let (whole, src) = (Windows::default(), &mut InMemory::new(sig));
+        Self::listened(src, voices, opts, timing, &whole, None, false)
+    }
+
     /// Say in the report's "timing" how its strikes were timed and why
     /// (`choice`, from [`choose_timing`]).
     pub fn note_choice(&mut self, mut choice: TimingChoice) {

@@ -2,7 +2,7 @@
 //! the bell's strikes, and a second copy of it fitted beside the first.
 
 use super::band::{Band, SharedBand, C, SHARED_BAND_QUIET};
-use super::fit::{conj, dot, fit_alone, fit_gram};
+use super::fit::{conj, dot, dots, fit_alone, fit_gram3};
 use super::heard::{HeardDouble, StrikeOptions};
 use super::onsets::BellHearing;
 
@@ -202,7 +202,7 @@ pub(super) fn learn_response(b: &Band, times: &[f64], opts: &StrikeOptions) -> O
 
 /// One strike's window in a band, with its Gram terms for the basis
 /// [1, R]: (window, g, r, Σ|z|²).
-pub(super) type Single = (Vec<C>, Vec<Vec<C>>, Vec<C>, f64);
+pub(super) type Single = (Vec<C>, [[C; 2]; 2], [C; 2], f64);
 
 /// The response a delay later, on the window's samples, with its Gram
 /// terms against the constant, the response and itself: the same for
@@ -244,27 +244,28 @@ pub(super) fn shift_response(r: &[C], shift: f64) -> Vec<C> {
 impl Fitted<'_> {
     /// The Gram terms of window `z` (the band from `lead` before a
     /// strike) with a constant and the response: (g, r, Σ|z|²).
-    pub(super) fn gram_of(&self, z: &[C]) -> (Vec<Vec<C>>, Vec<C>, f64) {
+    pub(super) fn gram_of(&self, z: &[C]) -> ([[C; 2]; 2], [C; 2], f64) {
         let r1 = &self.resp.r;
         let sum_r1: C = r1.iter().fold((0.0, 0.0), |s, v| (s.0 + v.0, s.1 + v.1));
-        let g = vec![vec![(z.len() as f64, 0.0), sum_r1], vec![conj(sum_r1), dot(r1, r1)]];
+        let g = [[(z.len() as f64, 0.0), sum_r1], [conj(sum_r1), dot(r1, r1)]];
         let sum_z: C = z.iter().fold((0.0, 0.0), |s, v| (s.0 + v.0, s.1 + v.1));
-        let r = vec![sum_z, dot(r1, z)];
+        let r = [sum_z, dot(r1, z)];
         let zz = z.iter().map(|v| v.0 * v.0 + v.1 * v.1).sum();
         (g, r, zz)
     }
 
     /// The strike fitted with a second copy later: (error with both,
-    /// first's size, second's size).
-    pub(super) fn pair(&self, sh: &Shifted, single: &Single) -> (f64, f64, f64) {
-        let (z, g, r, zz) = single;
-        let g3 = vec![
-            vec![g[0][0], g[0][1], sh.sum],
-            vec![g[1][0], g[1][1], sh.r1_r2],
-            vec![conj(sh.sum), conj(sh.r1_r2), sh.r2_r2],
+    /// first's size, second's size); `r2_z` is Σ conj(r2)·z of the
+    /// shifted response and the single's window.
+    pub(super) fn pair(sh: &Shifted, single: &Single, r2_z: C) -> (f64, f64, f64) {
+        let (_, g, r, zz) = single;
+        let g3 = [
+            [g[0][0], g[0][1], sh.sum],
+            [g[1][0], g[1][1], sh.r1_r2],
+            [conj(sh.sum), conj(sh.r1_r2), sh.r2_r2],
         ];
-        let r3 = vec![r[0], r[1], dot(&sh.r2, z)];
-        let (e2, c) = fit_gram(&g3, &r3, *zz);
+        let r3 = [r[0], r[1], r2_z];
+        let (e2, c) = fit_gram3(&g3, &r3, *zz);
         (e2, c[1].0.hypot(c[1].1), c[2].0.hypot(c[2].1))
     }
 }
@@ -430,20 +431,36 @@ fn best_second(
     let all = delays(opts, rate).count();
     // (delay, gain, ratio, quorum ratio).
     let mut best: Option<(f64, f64, f64, f64)> = None;
+    let mut ratios = vec![];
     for (t0, singles) in starts {
+        // Per band, each delay's Σ conj(r2)·z, four delays side by side.
+        let r2_z: Vec<Vec<C>> = fits
+            .iter()
+            .zip(singles)
+            .zip(e1_best)
+            .map(|((f, single), e1b)| match (single, e1b) {
+                (Some((z, ..)), Some(_)) => {
+                    let r2: Vec<&[C]> = f.shifted.iter().map(|sh| sh.r2.as_slice()).collect();
+                    dots(&r2, z)
+                }
+                _ => vec![],
+            })
+            .collect();
         for (j, d) in delays(opts, rate).enumerate() {
-            let (mut e1, mut e2, mut ratios) = (0.0, 0.0, vec![]);
-            for ((f, single), e1b) in fits.iter().zip(singles).zip(e1_best) {
+            let (mut e1, mut e2) = (0.0, 0.0);
+            ratios.clear();
+            for (((f, single), e1b), r2_z) in fits.iter().zip(singles).zip(e1_best).zip(&r2_z) {
                 let (Some(single), Some(e1b)) = (single, e1b) else {
                     continue;
                 };
                 // The band's delays are the window's from its first it can tell.
                 let skipped = all - f.shifted.len();
-                let Some(sh) = j.checked_sub(skipped).and_then(|k| f.shifted.get(k)) else {
+                let Some(k) = j.checked_sub(skipped).filter(|&k| k < f.shifted.len()) else {
                     continue;
                 };
+                let sh = &f.shifted[k];
                 debug_assert!((sh.d - d).abs() < 1e-9);
-                let (b, s1, s2) = f.pair(sh, single);
+                let (b, s1, s2) = Fitted::pair(sh, single, r2_z[k]);
                 if s1 <= 0.0 {
                     continue;
                 }

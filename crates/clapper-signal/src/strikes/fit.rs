@@ -13,27 +13,28 @@ pub(super) fn conj(a: C) -> C {
     (a.0, -a.1)
 }
 
-/// Least squares of data `z` on complex shapes with complex coefficients,
-/// from the normal equations: the Gram matrix `g` (g[i][j] = Σ conj(b_i)
-/// b_j), `r` (r[i] = Σ conj(b_i) z) and Σ|z|². Returns (squared error,
-/// coefficients).
-pub(super) fn fit_gram(g: &[Vec<C>], r: &[C], zz: f64) -> (f64, Vec<C>) {
-    let k = r.len();
+/// Least squares of data `z` on a constant and two complex shapes with
+/// complex coefficients, from the normal equations: the Gram matrix `g`
+/// (g[i][j] = Σ conj(b_i) b_j), `r` (r[i] = Σ conj(b_i) z) and Σ|z|².
+/// Returns (squared error, coefficients). On arrays, allocating nothing:
+/// the double-strike fit solves one per band, delay and strike.
+pub(super) fn fit_gram3(g: &[[C; 3]; 3], r: &[C; 3], zz: f64) -> (f64, [C; 3]) {
+    const K: usize = 3;
     // As a real system of twice the size: [Re G, −Im G; Im G, Re G].
-    let mut m = vec![vec![0.0; 2 * k]; 2 * k];
-    let mut rhs = vec![(0.0, 0.0); 2 * k];
-    for i in 0..k {
-        for j in 0..k {
+    let mut m = [[0.0; 2 * K]; 2 * K];
+    let mut rhs = [0.0; 2 * K];
+    for i in 0..K {
+        for j in 0..K {
             m[i][j] = g[i][j].0;
-            m[i][k + j] = -g[i][j].1;
-            m[k + i][j] = g[i][j].1;
-            m[k + i][k + j] = g[i][j].0;
+            m[i][K + j] = -g[i][j].1;
+            m[K + i][j] = g[i][j].1;
+            m[K + i][K + j] = g[i][j].0;
         }
-        rhs[i] = (r[i].0, 0.0);
-        rhs[k + i] = (r[i].1, 0.0);
+        rhs[i] = r[i].0;
+        rhs[K + i] = r[i].1;
     }
-    let sol = solve(m, rhs);
-    let c: Vec<C> = (0..k).map(|i| (sol[i].0, sol[k + i].0)).collect();
+    let sol = solve_real(m, rhs);
+    let c: [C; K] = std::array::from_fn(|i| (sol[i], sol[K + i]));
     // |z − Bc|² = Σ|z|² − Re Σ conj(c_i) r_i at the solution.
     let explained: f64 = c.iter().zip(r).map(|(c, r)| c.0 * r.0 + c.1 * r.1).sum();
     ((zz - explained).max(0.0), c)
@@ -49,9 +50,7 @@ pub(super) fn fit_alone(z: &[C], r: &[C], s: C, rr: f64) -> Option<(f64, C)> {
     if det <= 1e-12 * n * rr {
         return None;
     }
-    let sz: C = z.iter().fold((0.0, 0.0), |a, v| (a.0 + v.0, a.1 + v.1));
-    let rz = dot(r, z);
-    let zz: f64 = z.iter().map(|v| v.0 * v.0 + v.1 * v.1).sum();
+    let (sz, rz, zz) = window_sums(z, r);
     // c0 = (rr sz − s rz)/det, c1 = (n rz − conj(s) sz)/det.
     let c0 = (
         (rr * sz.0 - (s.0 * rz.0 - s.1 * rz.1)) / det,
@@ -65,13 +64,61 @@ pub(super) fn fit_alone(z: &[C], r: &[C], s: C, rr: f64) -> Option<(f64, C)> {
     Some(((zz - explained).max(0.0), c1))
 }
 
+/// (Σ z, Σ conj(r)·z, Σ|z|²) in one pass, each sum in the order summed
+/// alone: five chains of additions side by side, where three passes left
+/// the processor waiting on each addition in turn.
+pub(super) fn window_sums(z: &[C], r: &[C]) -> (C, C, f64) {
+    let (mut sz, mut rz, mut zz) = ((0.0, 0.0), (0.0, 0.0), 0.0);
+    let both = z.len().min(r.len());
+    for (v, x) in z[..both].iter().zip(&r[..both]) {
+        sz = (sz.0 + v.0, sz.1 + v.1);
+        rz = (rz.0 + x.0 * v.0 + x.1 * v.1, rz.1 + x.0 * v.1 - x.1 * v.0);
+        zz += v.0 * v.0 + v.1 * v.1;
+    }
+    for v in &z[both..] {
+        sz = (sz.0 + v.0, sz.1 + v.1);
+        zz += v.0 * v.0 + v.1 * v.1;
+    }
+    (sz, rz, zz)
+}
+
+/// Σ conj(a_i)·z for four shapes `a` at once, each summed in [`dot`]'s
+/// order: four chains of additions side by side.
+pub(super) fn dots4(a: [&[C]; 4], z: &[C]) -> [C; 4] {
+    let n = a.iter().map(|x| x.len()).min().unwrap_or(0).min(z.len());
+    if a.iter().any(|x| x.len().min(z.len()) != n) {
+        return a.map(|x| dot(x, z));
+    }
+    // Slices of one length: the loop reads them without bounds checks.
+    let (a0, a1, a2, a3, z) = (&a[0][..n], &a[1][..n], &a[2][..n], &a[3][..n], &z[..n]);
+    let mut s = [(0.0, 0.0); 4];
+    for k in 0..n {
+        let y = z[k];
+        for (s, x) in s.iter_mut().zip([a0[k], a1[k], a2[k], a3[k]]) {
+            *s = (s.0 + x.0 * y.0 + x.1 * y.1, s.1 + x.0 * y.1 - x.1 * y.0);
+        }
+    }
+    s
+}
+
+/// Σ conj(a_i)·z for each shape of `a`, four at a time ([`dots4`]).
+pub(super) fn dots(a: &[&[C]], z: &[C]) -> Vec<C> {
+    let mut out = Vec::with_capacity(a.len());
+    let mut four = a.chunks_exact(4);
+    for q in four.by_ref() {
+        out.extend(dots4([q[0], q[1], q[2], q[3]], z));
+    }
+    out.extend(four.remainder().iter().map(|x| dot(x, z)));
+    out
+}
+
 /// Solve G c = r (G symmetric, small) by Gaussian elimination with
-/// pivoting; a singular direction gets 0.
-pub(super) fn solve(mut g: Vec<Vec<f64>>, mut r: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
-    let k = r.len();
-    let scale = (0..k).map(|i| g[i][i].abs()).fold(0.0, f64::max).max(1e-300);
-    for col in 0..k {
-        let p = (col..k)
+/// pivoting; a singular direction gets 0. On arrays: the same steps as
+/// the general solver, which carried an unused second part of `r`.
+fn solve_real<const K: usize>(mut g: [[f64; K]; K], mut r: [f64; K]) -> [f64; K] {
+    let scale = (0..K).map(|i| g[i][i].abs()).fold(0.0, f64::max).max(1e-300);
+    for col in 0..K {
+        let p = (col..K)
             .max_by(|&a, &b| g[a][col].abs().total_cmp(&g[b][col].abs()))
             .unwrap_or(col);
         g.swap(col, p);
@@ -79,25 +126,25 @@ pub(super) fn solve(mut g: Vec<Vec<f64>>, mut r: Vec<(f64, f64)>) -> Vec<(f64, f
         if g[col][col].abs() < 1e-12 * scale {
             continue;
         }
-        for row in col + 1..k {
+        for row in col + 1..K {
             let f = g[row][col] / g[col][col];
-            let pivot = g[col].clone();
+            let pivot = g[col];
             for (gc, pc) in g[row].iter_mut().zip(&pivot).skip(col) {
                 *gc -= f * pc;
             }
-            r[row] = (r[row].0 - f * r[col].0, r[row].1 - f * r[col].1);
+            r[row] -= f * r[col];
         }
     }
-    let mut c = vec![(0.0, 0.0); k];
-    for i in (0..k).rev() {
+    let mut c = [0.0; K];
+    for i in (0..K).rev() {
         if g[i][i].abs() < 1e-12 * scale {
             continue;
         }
         let mut v = r[i];
-        for j in i + 1..k {
-            v = (v.0 - g[i][j] * c[j].0, v.1 - g[i][j] * c[j].1);
+        for j in i + 1..K {
+            v -= g[i][j] * c[j];
         }
-        c[i] = (v.0 / g[i][i], v.1 / g[i][i]);
+        c[i] = v / g[i][i];
     }
     c
 }
@@ -105,6 +152,136 @@ pub(super) fn solve(mut g: Vec<Vec<f64>>, mut r: Vec<(f64, f64)>) -> Vec<(f64, f
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The general least squares the double-strike fit used before
+    /// [`fit_gram3`] (vectors of vectors, a complex right-hand side): the
+    /// reference its numbers are checked against, bit for bit.
+    fn fit_gram(g: &[Vec<C>], r: &[C], zz: f64) -> (f64, Vec<C>) {
+        let k = r.len();
+        let mut m = vec![vec![0.0; 2 * k]; 2 * k];
+        let mut rhs = vec![(0.0, 0.0); 2 * k];
+        for i in 0..k {
+            for j in 0..k {
+                m[i][j] = g[i][j].0;
+                m[i][k + j] = -g[i][j].1;
+                m[k + i][j] = g[i][j].1;
+                m[k + i][k + j] = g[i][j].0;
+            }
+            rhs[i] = (r[i].0, 0.0);
+            rhs[k + i] = (r[i].1, 0.0);
+        }
+        let sol = solve(m, rhs);
+        let c: Vec<C> = (0..k).map(|i| (sol[i].0, sol[k + i].0)).collect();
+        let explained: f64 = c.iter().zip(r).map(|(c, r)| c.0 * r.0 + c.1 * r.1).sum();
+        ((zz - explained).max(0.0), c)
+    }
+
+    /// The general solver before [`solve_real`].
+    fn solve(mut g: Vec<Vec<f64>>, mut r: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+        let k = r.len();
+        let scale = (0..k).map(|i| g[i][i].abs()).fold(0.0, f64::max).max(1e-300);
+        for col in 0..k {
+            let p = (col..k)
+                .max_by(|&a, &b| g[a][col].abs().total_cmp(&g[b][col].abs()))
+                .unwrap_or(col);
+            g.swap(col, p);
+            r.swap(col, p);
+            if g[col][col].abs() < 1e-12 * scale {
+                continue;
+            }
+            for row in col + 1..k {
+                let f = g[row][col] / g[col][col];
+                let pivot = g[col].clone();
+                for (gc, pc) in g[row].iter_mut().zip(&pivot).skip(col) {
+                    *gc -= f * pc;
+                }
+                r[row] = (r[row].0 - f * r[col].0, r[row].1 - f * r[col].1);
+            }
+        }
+        let mut c = vec![(0.0, 0.0); k];
+        for i in (0..k).rev() {
+            if g[i][i].abs() < 1e-12 * scale {
+                continue;
+            }
+            let mut v = r[i];
+            for j in i + 1..k {
+                v = (v.0 - g[i][j] * c[j].0, v.1 - g[i][j] * c[j].1);
+            }
+            c[i] = (v.0 / g[i][i], v.1 / g[i][i]);
+        }
+        c
+    }
+
+    /// A reproducible pseudo-random series in [−1, 1).
+    fn series(seed: u64, n: usize) -> Vec<C> {
+        let mut x = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+        let mut next = || {
+            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            (x >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+        };
+        (0..n).map(|_| (next(), next())).collect()
+    }
+
+    #[test]
+    fn the_gram_fit_on_arrays_is_the_general_fit_to_the_bit() {
+        for seed in 0..300u64 {
+            let n = 20 + (seed as usize % 50);
+            let (a, mut b, z) = (series(seed, n), series(seed + 1000, n), series(seed + 2000, n));
+            // Some shapes the constant and the first cannot be told from:
+            // the solver's singular directions.
+            if seed % 7 == 0 {
+                b = vec![(1.0, 0.0); n];
+            }
+            if seed % 11 == 0 {
+                b = a.clone();
+            }
+            let one = vec![(1.0, 0.0); n];
+            let basis = [&one, &a, &b];
+            let g: Vec<Vec<C>> = basis
+                .iter()
+                .map(|x| basis.iter().map(|y| dot(x, y)).collect())
+                .collect();
+            let r: Vec<C> = basis.iter().map(|x| dot(x, &z)).collect();
+            let zz: f64 = z.iter().map(|v| v.0 * v.0 + v.1 * v.1).sum();
+            let g3: [[C; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| g[i][j]));
+            let (e, c) = fit_gram3(&g3, &[r[0], r[1], r[2]], zz);
+            let (e_ref, c_ref) = fit_gram(&g, &r, zz);
+            assert_eq!(e.to_bits(), e_ref.to_bits(), "seed {seed}");
+            for (x, y) in c.iter().zip(&c_ref) {
+                assert_eq!(
+                    (x.0.to_bits(), x.1.to_bits()),
+                    (y.0.to_bits(), y.1.to_bits()),
+                    "seed {seed}"
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn the_sums_in_one_pass_are_each_sum_alone_to_the_bit() {
+        for seed in 0..100u64 {
+            let (nz, nr) = (10 + seed as usize % 40, 10 + (seed as usize * 7) % 40);
+            let (z, r) = (series(seed, nz), series(seed + 500, nr));
+            let (sz, rz, zz) = window_sums(&z, &r);
+            let sz_ref = z.iter().fold((0.0, 0.0), |a, v| (a.0 + v.0, a.1 + v.1));
+            let zz_ref: f64 = z.iter().map(|v| v.0 * v.0 + v.1 * v.1).sum();
+            let bits = |c: C| (c.0.to_bits(), c.1.to_bits());
+            assert_eq!(bits(sz), bits(sz_ref));
+            assert_eq!(bits(rz), bits(dot(&r, &z)));
+            assert_eq!(zz.to_bits(), zz_ref.to_bits());
+            // Four shapes at once, and any number.
+            let shapes: Vec<Vec<C>> = (0..7).map(|k| series(seed * 10 + k, nr)).collect();
+            let refs: Vec<&[C]> = shapes.iter().map(|v| v.as_slice()).collect();
+            let each: Vec<_> = refs.iter().map(|a| bits(dot(a, &z))).collect();
+            assert_eq!(dots(&refs, &z).into_iter().map(bits).collect::<Vec<_>>(), each);
+            let uneven = [refs[0], &refs[1][1..], refs[2], refs[3]];
+            let four = dots4(uneven, &z).map(bits);
+            assert_eq!(
+                four.to_vec(),
+                uneven.iter().map(|a| bits(dot(a, &z))).collect::<Vec<_>>()
+            );
+        }
+    }
 
     #[test]
     fn a_strike_alone_is_fitted_in_closed_form_as_by_the_normal_equations() {
@@ -174,7 +351,8 @@ mod tests {
             .collect();
         let r: Vec<C> = basis.iter().map(|x| dot(x, &z)).collect();
         let zz: f64 = z.iter().map(|v| v.0 * v.0 + v.1 * v.1).sum();
-        let (e, c) = fit_gram(&g, &r, zz);
+        let g3: [[C; 3]; 3] = std::array::from_fn(|i| std::array::from_fn(|j| g[i][j]));
+        let (e, c) = fit_gram3(&g3, &[r[0], r[1], r[2]], zz);
         let direct: f64 = (0..n)
             .map(|k| {
                 let (mut re, mut im) = z[k];

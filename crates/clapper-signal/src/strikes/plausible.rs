@@ -138,7 +138,35 @@ fn rings_on(sig: &Signal, t: f64, f: f64, least: f64, window: &[f64]) -> Option<
     if start(steps) + window.len() > sig.samples.len() {
         return None;
     }
+    if steps + 1 == RING_ON_STRETCHES {
+        // All the stretches side by side, each's power as alone.
+        let xs: [&[f64]; RING_ON_STRETCHES] = std::array::from_fn(|k| &sig.samples[start(k)..start(k) + window.len()]);
+        return Some(powers_at(xs, window, turn).iter().all(|&p| p >= least));
+    }
     Some((0..=steps).all(|k| power_at(&sig.samples[start(k)..start(k) + window.len()], window, turn) >= least))
+}
+
+/// The stretches [`rings_on`] weighs: from [`RING_ON_FROM_S`] to
+/// [`RING_ON_TO_S`] every [`RING_ON_STEP_S`].
+const RING_ON_STRETCHES: usize = 7;
+
+/// [`power_at`] of each of `xs` (each as long as `w`), side by side: each
+/// one's chain of products and sums waits on itself only (its numbers
+/// those of [`power_at`] alone, bit for bit).
+fn powers_at<const K: usize>(xs: [&[f64]; K], w: &[f64], (c, si): (f64, f64)) -> [f64; K] {
+    let n = w.len();
+    if xs.iter().any(|x| x.len() != n) {
+        return xs.map(|x| power_at(x, w, (c, si)));
+    }
+    let (mut p, mut sum) = ([(1.0f64, 0.0f64); K], [(0.0f64, 0.0f64); K]);
+    for (i, wi) in w.iter().enumerate() {
+        for ((s, p), x) in sum.iter_mut().zip(p.iter_mut()).zip(&xs) {
+            let a = x[i] * wi;
+            *s = (s.0 + a * p.0, s.1 + a * p.1);
+            *p = (p.0 * c - p.1 * si, p.0 * si + p.1 * c);
+        }
+    }
+    sum.map(|s| s.0 * s.0 + s.1 * s.1)
 }
 
 /// The phasor one sample turns at `f` (Hz) at `rate` (Hz).
@@ -277,6 +305,23 @@ fn near_peak(x: &[f64], w: &[f64], f: f64, rate: f64) -> (f64, f64) {
 mod tests {
     use super::*;
     use crate::strikes::VoicePartial;
+
+    #[test]
+    fn stretches_weighed_side_by_side_are_each_weighed_alone() {
+        let rate = 44_100.0;
+        let x: Vec<f64> = (0..40_000)
+            .map(|i| ((i * 7919) % 2003) as f64 / 1001.5 - 1.0 + (0.07 * i as f64).sin())
+            .collect();
+        let w = stretch_window(rate);
+        let turn = phasor(1234.5, rate);
+        let xs: [&[f64]; RING_ON_STRETCHES] = std::array::from_fn(|k| &x[k * 2205..k * 2205 + w.len()]);
+        let each = xs.map(|x| power_at(x, &w, turn).to_bits());
+        assert_eq!(powers_at(xs, &w, turn).map(f64::to_bits), each);
+        assert_eq!(
+            ((RING_ON_TO_S - RING_ON_FROM_S) / RING_ON_STEP_S).round() as usize + 1,
+            RING_ON_STRETCHES
+        );
+    }
 
     fn strike(t: f64) -> HeardStrike {
         HeardStrike {
