@@ -7,7 +7,7 @@
 //! `OUT/nominals.txt` (each bell's nominal, Hz, comma separated, for
 //! `--nominals`). Used by `bench/strikes`.
 //!
-//! cargo run --release -p clapper-app --example ring_files -- FOLDER OUT [--bells N] [--order pitch|name] [--nominals F1,F2,..] [--method rounds|plain-hunt] [--rows R] [--rt60 S] [--reflections MS:GAIN,..] [--snr DB] [--seed S]
+//! cargo run --release -p clapper-app --example ring_files -- FOLDER OUT [--bells N] [--order pitch|name] [--nominals F1,F2,..] [--method rounds|plain-hunt] [--rows R] [--rt60 S] [--dark-tail D] [--drr DB] [--reflections MS:GAIN,..] [--snr DB] [--seed S]
 //!
 //! The ring is `real_rings`'s: a 2 s row, striking errors within ±20 ms,
 //! bell 3 25 ms odd-struck, six doubles of 45-90 ms and ratio 0.5-1.0.
@@ -38,6 +38,10 @@ fn main() {
     let seed = num("--seed", 1.0) as u64;
     let rt60 = num("--rt60", 0.0);
     let snr = num("--snr", 25.0);
+    // A darker tail (`Room::tail_darkening`) and its direct-to-reverberant
+    // ratio (dB; the chamber's 3 dB unless given).
+    let dark = num("--dark-tail", 0.0);
+    let drr = num("--drr", Room::chamber(0.0).direct_to_reverb_db);
     let reflections: Vec<(f64, f64)> = get("--reflections").map_or(vec![], |s| {
         s.split(',')
             .map(|r| {
@@ -91,7 +95,11 @@ fn main() {
             })
             .collect(),
         method,
-        room: (rt60 > 0.0 || !reflections.is_empty()).then(|| Room::chamber(rt60).with_reflections(&reflections)),
+        room: (rt60 > 0.0 || !reflections.is_empty()).then(|| {
+            Room::chamber(rt60)
+                .with_dark_tail(dark, drr)
+                .with_reflections(&reflections)
+        }),
         snr_db: Some(snr),
         ..TowerSpec::new(bells)
     };
