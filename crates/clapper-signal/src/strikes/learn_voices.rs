@@ -62,11 +62,6 @@ const SWAP: f64 = 0.2;
 /// Groups of alike onsets looked for beyond one a bell (the noise, double
 /// strikes, a bell heard two ways).
 const EXTRA_GROUPS: usize = 4;
-/// A peak of a bell's pattern is another bell's if at that bell's onsets
-/// it jumps (over what sounded there before) more than this many times as
-/// far as at this bell's: a partial of the bell struck just before, still
-/// sounding or blooming, barely moves at this bell's strikes.
-const FOREIGN_JUMP: f64 = 3.0;
 /// Partials kept a bell.
 const MOST_PARTIALS: usize = 8;
 
@@ -103,9 +98,8 @@ pub fn learn_voices(sig: &Signal, nominals_hz: &[f64]) -> Result<LearnedVoices, 
     let mut counts: Vec<usize> = (0..n)
         .map(|k| owner.iter().filter(|x| **x == Some(k)).count())
         .collect();
-    let mut jumps: Vec<Vec<f64>> = (0..n).map(|k| o.median_jumps(&owner, k)).collect();
-    o.swap_octaves(&mut patterns, &mut counts, &mut jumps);
-    let (bells, warnings) = o.voices(&patterns, &counts, &jumps);
+    o.swap_octaves(&mut patterns, &mut counts);
+    let (bells, warnings) = o.voices(&patterns, &counts);
     Ok(LearnedVoices {
         bells,
         onsets: onsets.len(),
@@ -133,11 +127,6 @@ struct OnsetRises<'a> {
     /// before (a struck bell's nominal comes back far above its last
     /// strike's decay; the other bells' do not move, whatever their strength).
     jumped: Vec<Vec<f64>>,
-    /// Per onset, per bin: its rise over what sounded there before, as
-    /// `jumped` is for the nominals (a partial of the bell struck comes
-    /// back from near silence; one of the bell struck just before, still
-    /// sounding or blooming, barely moves).
-    bin_jumps: Vec<Vec<f32>>,
     nominals_hz: &'a [f64],
     k_lo: usize,
     df: f64,
@@ -149,7 +138,6 @@ impl<'a> OnsetRises<'a> {
         let bin = |f: f64| (f / df).round() as isize - k_lo as isize;
         let mut rises: Vec<Vec<f64>> = vec![];
         let mut jumped: Vec<Vec<f64>> = vec![];
-        let mut bin_jumps: Vec<Vec<f32>> = vec![];
         for &t in onsets {
             let (a, b) = (frames.magnitudes(t), frames.magnitudes(t - lag));
             let r: Vec<f64> = a.iter().zip(&b).map(|(x, y)| (x - y).max(0.0)).collect();
@@ -165,7 +153,6 @@ impl<'a> OnsetRises<'a> {
                     })
                     .collect(),
             );
-            bin_jumps.push(r.iter().zip(&b).map(|(x, y)| (x / (y + floor)) as f32).collect());
             let norm = r.iter().map(|v| v * v).sum::<f64>().sqrt();
             rises.push(if norm > 0.0 {
                 r.into_iter().map(|v| v / norm).collect()
@@ -176,32 +163,10 @@ impl<'a> OnsetRises<'a> {
         OnsetRises {
             rises,
             jumped,
-            bin_jumps,
             nominals_hz,
             k_lo,
             df,
         }
-    }
-
-    /// Per bin, the median of [`OnsetRises::bin_jumps`] over the onsets
-    /// given to bell `k` (empty if none).
-    fn median_jumps(&self, owner: &[Option<usize>], k: usize) -> Vec<f64> {
-        let mine: Vec<&Vec<f32>> = self
-            .bin_jumps
-            .iter()
-            .zip(owner)
-            .filter(|(_, o)| **o == Some(k))
-            .map(|(j, _)| j)
-            .collect();
-        let bins = mine.first().map_or(0, |j| j.len());
-        let mut col: Vec<f64> = Vec::with_capacity(mine.len());
-        (0..bins)
-            .map(|i| {
-                col.clear();
-                col.extend(mine.iter().map(|j| f64::from(j[i])));
-                crate::median(&col)
-            })
-            .collect()
     }
 
     fn fit(&self, pattern: &[f64], k: usize) -> f64 {
@@ -279,7 +244,7 @@ impl<'a> OnsetRises<'a> {
     /// Bells an octave apart share two partials (the treble's prime is the
     /// tenor's nominal, the tenor's octave nominal the treble's): each
     /// pattern goes to the nominal its other partials fit best.
-    fn swap_octaves(&self, patterns: &mut [Vec<f64>], counts: &mut [usize], jumps: &mut [Vec<f64>]) {
+    fn swap_octaves(&self, patterns: &mut [Vec<f64>], counts: &mut [usize]) {
         let n = patterns.len();
         loop {
             let best = (0..n)
@@ -295,7 +260,6 @@ impl<'a> OnsetRises<'a> {
                 Some((i, j, gain)) if gain >= SWAP => {
                     patterns.swap(i, j);
                     counts.swap(i, j);
-                    jumps.swap(i, j);
                 }
                 _ => break,
             }
@@ -305,7 +269,7 @@ impl<'a> OnsetRises<'a> {
     /// Each bell's voice from its pattern (of `counts` onsets), and the
     /// warnings: a bell heard at too few onsets (assumed from its
     /// nominal), two bells whose patterns are alike.
-    fn voices(&self, patterns: &[Vec<f64>], counts: &[usize], jumps: &[Vec<f64>]) -> (Vec<LearnedVoice>, Vec<String>) {
+    fn voices(&self, patterns: &[Vec<f64>], counts: &[usize]) -> (Vec<LearnedVoice>, Vec<String>) {
         let n = patterns.len();
         let typical = crate::median(&counts.iter().map(|&c| c as f64).collect::<Vec<_>>());
         let mut warnings = vec![];
@@ -321,18 +285,11 @@ impl<'a> OnsetRises<'a> {
                 ));
                 continue;
             }
-            let others: Vec<Heard> = (0..n)
+            let others: Vec<&[f64]> = (0..n)
                 .filter(|&j| j != k && counts[j] > 0)
-                .map(|j| Heard {
-                    pattern: &patterns[j],
-                    jumps: &jumps[j],
-                })
+                .map(|j| patterns[j].as_slice())
                 .collect();
-            let heard = Heard {
-                pattern: &patterns[k],
-                jumps: &jumps[k],
-            };
-            if let Some(v) = voice_of(heard, &others, self.nominals_hz[k], self.k_lo, self.df) {
+            if let Some(v) = voice_of(&patterns[k], &others, self.nominals_hz[k], self.k_lo, self.df) {
                 bells[k].voice = v;
                 bells[k].learned = true;
             }
@@ -470,44 +427,11 @@ fn cosine(a: &[f64], b: &[f64]) -> f64 {
     }
 }
 
-/// What a bell's onsets show: its pattern (the mean rise) and, per bin,
-/// the median jump over what sounded there before
-/// ([`OnsetRises::median_jumps`]; empty: not known).
-#[derive(Clone, Copy)]
-struct Heard<'a> {
-    pattern: &'a [f64],
-    jumps: &'a [f64],
-}
-
-impl Heard<'_> {
-    /// The greatest median jump at bin `k` and its neighbours (0 where
-    /// not known).
-    fn jump(&self, k: usize) -> f64 {
-        let hi = (k + 2).min(self.jumps.len());
-        self.jumps
-            .get(k.saturating_sub(1)..hi)
-            .map_or(0.0, |j| j.iter().copied().fold(0.0, f64::max))
-    }
-
-    /// Whether this bell's pattern peaks within `w` bins of bin `k` (at
-    /// least [`PARTIAL`] of its strongest) where its partial comes back
-    /// more than [`FOREIGN_JUMP`] times as far as `jump`.
-    fn sounds_afresh(&self, k: usize, w: usize, jump: f64) -> bool {
-        let top = self.pattern.iter().copied().fold(0.0, f64::max);
-        let hi = (k + w + 1).min(self.pattern.len()).min(self.jumps.len());
-        top > 0.0
-            && (k.saturating_sub(w)..hi)
-                .any(|i| self.pattern[i] >= PARTIAL * top && self.jumps[i] > FOREIGN_JUMP * jump)
-    }
-}
-
-/// A bell's voice from what its onsets show (bins from `k_lo`, `df` Hz
-/// apart): the nominal where the pattern peaks within 0.6 % of the nominal
-/// given (or the nominal given), and the pattern's strongest other peaks,
-/// at least [`PARTIAL`] of the strongest and 2 % apart, [`MOST_PARTIALS`]
-/// in all; none that is another bell's (`others`).
-fn voice_of(heard: Heard, others: &[Heard], nominal: f64, k_lo: usize, df: f64) -> Option<BellVoice> {
-    let pattern = heard.pattern;
+/// A bell's voice from its pattern (bins from `k_lo`, `df` Hz apart): the
+/// nominal where the pattern peaks within 0.6 % of the nominal given (or
+/// the nominal given), and the pattern's strongest other peaks, at least
+/// [`PARTIAL`] of the strongest and 2 % apart, [`MOST_PARTIALS`] in all.
+fn voice_of(pattern: &[f64], others: &[&[f64]], nominal: f64, k_lo: usize, df: f64) -> Option<BellVoice> {
     let top = pattern.iter().copied().fold(0.0, f64::max);
     if top <= 0.0 || pattern.len() < 5 {
         return None;
@@ -517,23 +441,12 @@ fn voice_of(heard: Heard, others: &[Heard], nominal: f64, k_lo: usize, df: f64) 
     // was struck just before (in rounds, always the same bell).
     let theirs = |k: usize| {
         others.iter().any(|o| {
-            let otop = o.pattern.iter().copied().fold(0.0, f64::max);
+            let otop = o.iter().copied().fold(0.0, f64::max);
             otop > 0.0
-                && o.pattern[k.saturating_sub(1)..(k + 2).min(o.pattern.len())]
+                && o[k.saturating_sub(1)..(k + 2).min(o.len())]
                     .iter()
                     .any(|v| v / otop > pattern[k] / top)
         })
-    };
-    // That misses the bell struck before's partial that blooms late: it
-    // is still rising at this bell's onsets, and may be the strongest rise
-    // there (on a recorded ring, bell 6 given d5's 2651 and 779 Hz). A
-    // peak is another bell's where that bell's strikes bring it back from
-    // far lower than this bell's do (within 0.6 %: a partial's peak moves
-    // a little with what rings with it).
-    let foreign = |k: usize| {
-        let w = ((0.006 * (k + k_lo) as f64).round() as usize).max(1);
-        let mine = heard.jump(k);
-        !heard.jumps.is_empty() && others.iter().any(|o| o.sounds_afresh(k, w, mine))
     };
     let at = |k: usize| -> f64 {
         let (a, b, c) = (pattern[k - 1], pattern[k], pattern[k + 1]);
@@ -545,14 +458,12 @@ fn voice_of(heard: Heard, others: &[Heard], nominal: f64, k_lo: usize, df: f64) 
         };
         (k as f64 + k_lo as f64 + off) * df
     };
-    // (frequency, strength, own): the nominal is kept whether or not it
-    // is another bell's too (a partial of another may lie on it).
-    let mut peaks: Vec<(f64, f64, bool)> = (2..pattern.len() - 2)
+    let mut peaks: Vec<(f64, f64)> = (2..pattern.len() - 2)
         .filter(|&k| {
             let v = pattern[k];
             v >= PARTIAL * top && (1..=2).all(|j| v >= pattern[k - j] && v >= pattern[k + j]) && !theirs(k)
         })
-        .map(|k| (at(k), pattern[k] / top, !foreign(k)))
+        .map(|k| (at(k), pattern[k] / top))
         .collect();
     peaks.sort_by(|a, b| b.1.total_cmp(&a.1));
     // The nominal: the peak within 0.6 % (at least a bin) of the one given.
@@ -560,11 +471,11 @@ fn voice_of(heard: Heard, others: &[Heard], nominal: f64, k_lo: usize, df: f64) 
     let nom = peaks
         .iter()
         .filter(|p| (p.0 - nominal).abs() <= near)
-        .map(|p| (p.0, p.1))
+        .copied()
         .max_by(|a, b| a.1.total_cmp(&b.1))
         .unwrap_or((nominal, 0.3));
     let mut kept: Vec<(f64, f64)> = vec![nom];
-    for p in peaks.into_iter().filter(|p| p.2).map(|p| (p.0, p.1)) {
+    for p in peaks {
         if kept.len() == MOST_PARTIALS {
             break;
         }
@@ -583,51 +494,4 @@ fn voice_of(heard: Heard, others: &[Heard], nominal: f64, k_lo: usize, df: f64) 
             })
             .collect(),
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A pattern and its jumps, 4 Hz a bin from 0 Hz: each (Hz, strength, jump).
-    fn heard_of(peaks: &[(f64, f64, f64)]) -> (Vec<f64>, Vec<f64>) {
-        let (mut pattern, mut jumps) = (vec![0.0; 1000], vec![0.0; 1000]);
-        for &(f, s, j) in peaks {
-            let k = (f / 4.0).round() as usize;
-            pattern[k] = s;
-            jumps[k] = j;
-        }
-        (pattern, jumps)
-    }
-
-    #[test]
-    fn the_bell_struck_befores_blooming_partial_is_not_this_bells() {
-        // Bell 5 (1308 Hz) blooms late at 2652 Hz: weak in its own rise
-        // but come back from silence; at bell 6's onsets, just after, it
-        // is still rising and is bell 6's strongest rise, barely jumping.
-        let (p5, j5) = heard_of(&[(1308.0, 1.0, 10.0), (1940.0, 0.6, 8.0), (2652.0, 0.3, 5.0)]);
-        let (p6, j6) = heard_of(&[
-            (620.0, 0.4, 1.5),
-            (1240.0, 0.5, 5.0),
-            (1856.0, 0.8, 10.0),
-            (2652.0, 1.0, 1.0),
-        ]);
-        let five = Heard {
-            pattern: &p5,
-            jumps: &j5,
-        };
-        let six = Heard {
-            pattern: &p6,
-            jumps: &j6,
-        };
-        let v = voice_of(six, &[five], 1240.0, 0, 4.0).unwrap();
-        let has = |f: f64| v.partials.iter().any(|p| (p.freq_hz - f).abs() < 0.01 * f);
-        assert!(!has(2652.0), "bell 5's partial given to bell 6: {v:?}");
-        assert!(
-            has(1240.0) && has(1856.0),
-            "bell 6's own nominal and partial kept: {v:?}"
-        );
-        // Its own partial that rises less (a slow hum) is kept: no other bell sounds it afresh.
-        assert!(has(620.0), "{v:?}");
-    }
 }
