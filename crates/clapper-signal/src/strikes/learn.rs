@@ -13,6 +13,7 @@
 
 use super::band::decimate;
 use super::learn_gaps::{ring_beyond, ringing, scale_notes, unheard_notes, Heard, RingFit, DIATONIC, IN_TUNE};
+use super::learn_pick::{apart, mean_rise};
 use crate::{Signal, SignalError};
 
 /// One bell learned.
@@ -48,12 +49,6 @@ const SAME: f64 = 0.008;
 /// Groups of notes whose mean rises are alike past this (the cosine of
 /// their spectra) are one bell's.
 const SAME_BELL: f64 = 0.75;
-/// A peak of a bell's mean rise this strong against its strongest may be its nominal.
-const CANDIDATE: f64 = 0.25;
-/// What being the strongest peak counts for, in partials found.
-const STRONG: f64 = 4.0;
-/// A partial this strong against the strongest is present.
-const PRESENT: f64 = 0.1;
 /// A bell is heard at this share of the onsets one bell of the ring has, at least.
 const LEAST: f64 = 0.3;
 /// Onsets at one nominal this many times one bell's are two bells'.
@@ -488,33 +483,6 @@ fn refine(rises: &[Vec<f64>], onsets: &[usize], centre: f64, width: f64, k_lo: u
     Some((k as f64 + k_lo as f64 + off.clamp(-0.5, 0.5)) * df)
 }
 
-/// The mean rise over `onsets`.
-fn mean_rise(rises: &[Vec<f64>], onsets: &[usize]) -> Vec<f64> {
-    let mut mean = vec![0.0; rises[0].len()];
-    for &i in onsets {
-        mean.iter_mut().zip(&rises[i]).for_each(|(m, r)| *m += r);
-    }
-    mean
-}
-
-/// A tuned bell's partials as heard in recordings, as ranges of the
-/// ratio to the nominal: hum, prime, tierce, quint, superquint, octave
-/// nominal, the partial at 2.5-2.7, the twelfth and the double octave
-/// (docs/strikes.md, "What real bells sound like": the recorded tower
-/// bells' upper partials at 2.0, 2.4-2.7, 3.0 and 4.05-4.15 times their
-/// nominal, often stronger than it).
-const PARTIAL_RANGES: [(f64, f64); 9] = [
-    (0.24, 0.26),
-    (0.485, 0.515),
-    (0.58, 0.61),
-    (0.73, 0.77),
-    (1.45, 1.58),
-    (1.97, 2.03),
-    (2.4, 2.75),
-    (2.9, 3.1),
-    (3.95, 4.2),
-];
-
 /// The groups of notes that are one bell's: its strikes' rise is the same
 /// across the spectrum whichever of its partials rose most. Largest
 /// first, a group whose mean rise is like a bell's first group's joins it;
@@ -522,7 +490,7 @@ const PARTIAL_RANGES: [(f64, f64); 9] = [
 /// `split_crowded`, two found at one nominal are kept apart when they
 /// hold far more onsets than one bell). Each bell's
 /// nominal is then the peak of its mean rise with the most of a tuned
-/// bell's other partials at their ratios to it ([`PARTIAL_RANGES`]), the
+/// bell's other partials at their ratios to it (`learn_pick::nominal_of`), the
 /// strongest among equals (handbells have only a twelfth).
 fn same_bells(
     groups: &[Vec<(f64, usize)>],
@@ -579,56 +547,15 @@ fn same_bells(
             members.push(set);
         }
     }
-    let mut out: Vec<Heard> = vec![];
-    for m in members {
-        let onsets: Vec<usize> = m.iter().flat_map(|&i| groups[i].iter().map(|x| x.1)).collect();
-        let Some(nominal_hz) = nominal_of(&mean_rise(rises, &onsets), k_lo, df) else {
-            continue;
-        };
-        // Two bells found at one nominal are one bell heard two ways,
-        // unless (`split_crowded`) together they struck far more often
-        // than a bell does (a tenor's octave nominal on the treble's
-        // nominal: two bells).
-        match out.iter_mut().find(|h| {
-            (h.nominal_hz - nominal_hz).abs() < 2.0 * SAME * nominal_hz
-                && !(split_crowded && ((h.onsets.len() + onsets.len()) as f64) >= ONE_BELL * big / LEAST)
-        }) {
-            Some(h) => h.onsets.extend(onsets),
-            None => out.push(Heard { nominal_hz, onsets }),
-        }
-    }
-    out
-}
-
-/// The nominal in one bell's mean rise (bins from `k_lo`, `df` Hz apart):
-/// the peak with the most partials at a tuned bell's ratios to it, its
-/// strength counting for up to [`STRONG`] more. Its octave is chosen
-/// later with the ring's ([`ring_octaves`]): taking a strong peak an
-/// octave below here (as once for recorded bells) put an eight's treble,
-/// heard at its prime, on its tenor's nominal, and the two were one bell.
-fn nominal_of(mean: &[f64], k_lo: usize, df: f64) -> Option<f64> {
-    let top = mean.iter().copied().fold(0.0, f64::max);
-    if top <= 0.0 {
-        return None;
-    }
-    let bin = |f: f64| (f / df).round() as isize - k_lo as isize;
-    let present = |lo: f64, hi: f64| {
-        let (a, b) = (bin(lo).max(0), bin(hi).min(mean.len() as isize - 1));
-        a <= b && (a..=b).any(|k| mean[k as usize] >= PRESENT * top)
-    };
-    let score = |f: f64| PARTIAL_RANGES.iter().filter(|(lo, hi)| present(lo * f, hi * f)).count();
-    let peaks: Vec<(f64, usize, f64)> = (1..mean.len() - 1)
-        .filter(|&k| mean[k] >= CANDIDATE * top && mean[k] >= mean[k - 1] && mean[k] > mean[k + 1])
-        .map(|k| {
-            let f = (k + k_lo) as f64 * df;
-            (f, score(f), mean[k])
-        })
+    let sets: Vec<Vec<usize>> = members
+        .iter()
+        .map(|m| m.iter().flat_map(|&i| groups[i].iter().map(|x| x.1)).collect())
         .collect();
-    // Another bell's partials rising nearby fill a range now and then: a
-    // strong peak is taken over a weak one with one partial more.
-    let value = |p: &(f64, usize, f64)| p.1 as f64 + STRONG * p.2 / top;
-    let best = peaks.iter().max_by(|a, b| value(a).total_cmp(&value(b)))?;
-    Some(best.0)
+    // Two bells found at one nominal are one bell heard two ways, unless
+    // (`split_crowded`) together they struck far more often than a bell
+    // does (a tenor's octave nominal on the treble's nominal: two bells).
+    let crowded = |a: usize, b: usize| split_crowded && ((a + b) as f64) >= ONE_BELL * big / LEAST;
+    apart(sets, rises, k_lo, df, SAME, crowded)
 }
 
 /// Partials of a tuned bell, as ratios to its nominal: hum, prime,
@@ -641,25 +568,38 @@ const TUNED_PATTERN: [f64; 9] = [0.25, 0.5, 0.5946, 0.75, 1.0, 1.5, 2.0, 2.52, 3
 const ON_PATTERN: f64 = 0.015;
 /// Peaks this strong against a bell's strongest count in its fit to a pattern.
 const FIT_PEAK: f64 = 0.08;
-/// A nominal is itself heard at least this strong against its bell's
-/// strongest: a bell's nominal is among its strongest partials as its
-/// strikes rise (0.05 let wind below 300 Hz, moved up an octave onto a
-/// note, fit as a bell).
+/// A nominal moved by octaves from where it was picked is itself heard
+/// at least this strong against its bell's strongest: a bell's nominal is
+/// among its strongest partials as its strikes rise (0.05 let wind below
+/// 300 Hz, moved up an octave onto a note, fit as a bell; 0.12 let an
+/// eight's treble, its prime rising at 0.12-0.2 in the swing, fit an
+/// octave down on the tenor's note, and the ring slid two notes low).
 const NOMINAL_HEARD: f64 = 0.2;
+/// A nominal where it was picked (octave 0) is heard at least this strong
+/// against its bell's strongest: `learn_pick`'s candidate cut (recorded
+/// bells' nominals rise at 0.15-0.2 of their superquint; at 0.2 such a
+/// bell fitted at no octave).
+const NOMINAL_PICKED: f64 = 0.12;
+/// A bell placed on a note counts this much beyond its fit: of two
+/// placings that fit alike the one placing more bells (a treble heard at
+/// its prime may fit nothing at its nominal, and was left out for a note
+/// beyond the tenor).
+const PLACED: f64 = 1e-3;
 /// Octaves a heard nominal may be moved by, down and up.
 const OCTAVES: i32 = 2;
 
 /// How well one bell's mean rise (bins from `k_lo`, `df` Hz apart) fits
 /// a nominal at `f` (Hz): the share of its peaks' strength that lies on
-/// the partials of a tuned bell; nothing if `f` itself is not heard.
-fn pattern_fit(mean: &[f64], f: f64, k_lo: usize, df: f64) -> f64 {
+/// the partials of a tuned bell; nothing if `f` itself does not rise to
+/// `heard_at` (fraction) of the strongest.
+fn pattern_fit(mean: &[f64], f: f64, heard_at: f64, k_lo: usize, df: f64) -> f64 {
     let top = mean.iter().copied().fold(0.0, f64::max);
     if top <= 0.0 || mean.len() < 5 {
         return 0.0;
     }
     let bin = |f: f64| (f / df).round() as isize - k_lo as isize;
     let (a, b) = (bin(0.99 * f).max(0), bin(1.01 * f).min(mean.len() as isize - 1));
-    if a > b || (a..=b).all(|k| mean[k as usize] < NOMINAL_HEARD * top) {
+    if a > b || (a..=b).all(|k| mean[k as usize] < heard_at * top) {
         return 0.0;
     }
     let peaks: Vec<(f64, f64)> = (2..mean.len() - 2)
@@ -688,12 +628,7 @@ fn ring_octaves(chosen: &[&Heard], rises: &[Vec<f64>], k_lo: usize, df: f64, bel
     let heard: Vec<f64> = chosen.iter().map(|b| b.nominal_hz).collect();
     let fits: Vec<Vec<f64>> = chosen
         .iter()
-        .map(|b| {
-            let mean = mean_rise(rises, &b.onsets);
-            (-OCTAVES..=OCTAVES)
-                .map(|o| pattern_fit(&mean, b.nominal_hz * 2f64.powi(o), k_lo, df))
-                .collect()
-        })
+        .map(|b| octave_fits(&mean_rise(rises, &b.onsets), b.nominal_hz, k_lo, df))
         .collect();
     // The fit, its placing, the scale's notes and those beyond its ends.
     type Best = (f64, Placing, Vec<f64>, (Vec<f64>, Vec<f64>), usize);
@@ -737,6 +672,18 @@ fn ring_octaves(chosen: &[&Heard], rises: &[Vec<f64>], k_lo: usize, df: f64, bel
             .collect(),
         empty,
     })
+}
+
+/// A bell's fit ([`pattern_fit`]) to its nominal heard at `f` (Hz) moved
+/// by each octave from -[`OCTAVES`] to [`OCTAVES`], its mean rise `mean`.
+fn octave_fits(mean: &[f64], f: f64, k_lo: usize, df: f64) -> Vec<f64> {
+    (-OCTAVES..=OCTAVES)
+        .map(|o| {
+            // Where picked, the nominal passed `learn_pick`'s cut already.
+            let heard_at = if o == 0 { NOMINAL_PICKED } else { NOMINAL_HEARD };
+            pattern_fit(mean, f * 2f64.powi(o), heard_at, k_lo, df)
+        })
+        .collect()
 }
 
 /// Each bell heard's note of the scale and octave moved by, or `None`
@@ -852,7 +799,7 @@ fn assign(
         }
         taken.push(Some((k, o)));
         let fit = fits[bell][(o + OCTAVES) as usize];
-        assign(class, options, fits, at + 1, taken, sum + fit, best);
+        assign(class, options, fits, at + 1, taken, sum + fit + PLACED, best);
         taken.pop();
     }
     taken.push(None);
@@ -1192,6 +1139,41 @@ mod tests {
     /// Two bells learned within half a percent (seen on rings in a room
     /// whose partials were moved by octaves onto one note) are one bell,
     /// the one heard more, with both's onsets; others are kept.
+    /// A mean rise (bins 5 Hz apart from 150 Hz) with peaks (Hz, height), each three bins wide.
+    fn rise_of(peaks: &[(f64, f64)]) -> Vec<f64> {
+        let mut s = vec![0.0; 1200];
+        for &(f, a) in peaks {
+            let k = (f / 5.0).round() as usize - 30;
+            s[k] += a;
+            s[k - 1] += 0.5 * a;
+            s[k + 1] += 0.5 * a;
+        }
+        s
+    }
+
+    /// The swing test's treble (clapper-cli `strikes_bells`, seed 4): its
+    /// prime rises at 0.15 of its strongest, and with a nominal's cut of
+    /// 0.12 at every octave (bells-2-wip) it fitted an octave down, on the
+    /// tenor's note, and the ring slid two notes low. A recorded treble
+    /// whose nominal rises at 0.15 of its superquint still fits where
+    /// picked.
+    #[test]
+    fn a_nominal_moved_by_octaves_must_rise_as_a_nominal_does() {
+        let treble = rise_of(&[(700.0, 0.15), (832.0, 0.3), (1400.0, 1.0), (2100.0, 0.4), (2800.0, 0.3)]);
+        let fits = octave_fits(&treble, 1400.0, 30, 5.0);
+        assert!(fits[OCTAVES as usize] > 0.3, "{fits:?}");
+        assert_eq!(fits[OCTAVES as usize - 1], 0.0, "{fits:?}");
+        let recorded = rise_of(&[
+            (650.0, 0.2),
+            (775.0, 0.45),
+            (1300.0, 0.15),
+            (1925.0, 1.0),
+            (2620.0, 0.2),
+        ]);
+        let fits = octave_fits(&recorded, 1300.0, 30, 5.0);
+        assert!(fits[OCTAVES as usize] > 0.0, "{fits:?}");
+    }
+
     #[test]
     fn two_bells_learned_at_one_nominal_are_one() {
         let bell = |nominal_hz: f64, onsets: usize| LearnedBell {

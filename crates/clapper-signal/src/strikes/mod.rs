@@ -25,6 +25,7 @@ mod fit;
 mod heard;
 mod learn;
 mod learn_gaps;
+mod learn_pick;
 mod learn_voices;
 mod onsets;
 mod plan;
@@ -44,3 +45,5 @@ pub use plausible::{
 };
 pub use stream::{find_strikes_streamed, find_strikes_streamed_deferred, InMemory, RecordingBlocks, Window, Windows};
 pub use voice::{BellVoice, VoicePartial};
+#[cfg(test)]
+mod learn_real_tests;
