@@ -6,7 +6,7 @@
 use std::fmt::Write as _;
 
 use clapper_core::stroke::double_strike_index;
-use clapper_signal::lateness::{from_templates, Lateness};
+use clapper_signal::lateness::Lateness;
 use clapper_signal::self_calibrate::{calibrate, SelfCalibration};
 use clapper_signal::strikes::{
     find_strikes_streamed_deferred, rising_at, BellVoice, Heard, Hearing, InMemory, RecordingBlocks, RisePartial,
@@ -32,7 +32,7 @@ pub use input::{NO_STRIKES, ONE_BELL};
 pub use method::MethodReport;
 mod retime;
 
-use retime::{in_core, lateness_used, realign_window, retime_window};
+use retime::{in_core, lateness_of, lateness_used, timed_again};
 
 /// The sample rates (Hz) of recordings listened to: a telephone's to a
 /// studio's (the finder decimates each band, so a high rate costs reading
@@ -312,15 +312,7 @@ impl StrikesReport {
         check_rate(rate)?;
         input::heard_at(rate, voices)?;
         let duration_s = src.total() as f64 / rate;
-        // The lateness on a ring of the templates needs them at one rate;
-        // matching each strike does not (it resamples them).
-        let (lateness, no_lateness) = match timing {
-            Timing::AsHeard | Timing::Recording(_) => (None, None),
-            Timing::Templates(t) => match from_templates(t, voices, opts) {
-                Ok(l) => (Some(l), None),
-                Err(e) => (None, Some(format!("no lateness learned from the templates: {e}"))),
-            },
-        };
+        let (lateness, no_lateness) = lateness_of(&timing, voices, opts);
         let late: Vec<Option<f64>> = lateness
             .as_ref()
             .map(|l| l.bells.iter().map(|b| b.sure().then_some(b.lateness_s)).collect())
@@ -650,32 +642,6 @@ fn correct_lateness(
             .collect(),
         choice: None,
     })
-}
-
-/// Each strike of window `w` timed again as `timing` says, how far each
-/// moved kept per bell in `moved`. With templates, each strike is timed
-/// against its bell's template; the lateness learned on a ring of the
-/// templates (`late`) then serves only a bell whose template is too short
-/// to match. Only with templates do the strikes come not yet judged
-/// double: the templates judge them, else the band finder (`hearing`).
-fn timed_again(
-    timing: Timing,
-    w: &Window,
-    heard: &mut Heard,
-    hearing: Hearing,
-    late: &[Option<f64>],
-    opts: &StrikeOptions,
-    moved: &mut Vec<Vec<f64>>,
-) -> Result<(), clapper_signal::SignalError> {
-    if let Timing::Templates(t) = timing {
-        return retime_window(w, heard, hearing, t, late, opts, moved);
-    }
-    drop(hearing);
-    match timing {
-        Timing::Recording(c) => realign_window(w, heard, c, moved),
-        Timing::AsHeard | Timing::Templates(_) => {}
-    }
-    Ok(())
 }
 
 /// The timing report of a calibration from the recording itself: each

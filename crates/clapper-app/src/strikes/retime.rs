@@ -1,12 +1,59 @@
 //! Each window's strikes timed again (issue 43): against each bell's
 //! template, or lined up on its average strike learned from the recording.
 
-use clapper_signal::lateness::Lateness;
+use clapper_signal::lateness::{from_templates, Lateness};
 use clapper_signal::self_calibrate::SelfCalibration;
+use clapper_signal::strikes::BellVoice;
 use clapper_signal::strikes::StrikeOptions;
 use clapper_signal::strikes::{Heard, Hearing, Window};
 use clapper_signal::template_timing::{matchable, retime_each_deferred};
 use clapper_signal::Signal;
+
+use super::Timing;
+
+/// Each strike of window `w` timed again as `timing` says, how far each
+/// moved kept per bell in `moved`. With templates, each strike is timed
+/// against its bell's template; the lateness learned on a ring of the
+/// templates (`late`) then serves only a bell whose template is too short
+/// to match. Only with templates do the strikes come not yet judged
+/// double: the templates judge them, else the band finder (`hearing`).
+pub(super) fn timed_again(
+    timing: Timing,
+    w: &Window,
+    heard: &mut Heard,
+    hearing: Hearing,
+    late: &[Option<f64>],
+    opts: &StrikeOptions,
+    moved: &mut Vec<Vec<f64>>,
+) -> Result<(), clapper_signal::SignalError> {
+    if let Timing::Templates(t) = timing {
+        return retime_window(w, heard, hearing, t, late, opts, moved);
+    }
+    drop(hearing);
+    match timing {
+        Timing::Recording(c) => realign_window(w, heard, c, moved),
+        Timing::AsHeard | Timing::Templates(_) => {}
+    }
+    Ok(())
+}
+
+/// The lateness learned on a ring of the `templates` with `timing` by
+/// templates, else none; a warning in words where it could not be learned.
+/// The ring of the templates needs them at one rate; matching each strike
+/// does not (it resamples them).
+pub(super) fn lateness_of(
+    timing: &Timing,
+    voices: &[BellVoice],
+    opts: &StrikeOptions,
+) -> (Option<Lateness>, Option<String>) {
+    match timing {
+        Timing::AsHeard | Timing::Recording(_) => (None, None),
+        Timing::Templates(t) => match from_templates(t, voices, opts) {
+            Ok(l) => (Some(l), None),
+            Err(e) => (None, Some(format!("no lateness learned from the templates: {e}"))),
+        },
+    }
+}
 
 /// Each strike of window `w` timed again against its bell's template
 /// ([`retime_each_deferred`]: the doubles judged by the templates, else by
