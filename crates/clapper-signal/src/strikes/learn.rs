@@ -1136,20 +1136,7 @@ mod tests {
         assert!(worst < 1.0, "worst {worst:.2} %; {warnings:?}");
     }
 
-    /// Two bells learned within half a percent (seen on rings in a room
-    /// whose partials were moved by octaves onto one note) are one bell,
-    /// the one heard more, with both's onsets; others are kept.
-    /// A mean rise (bins 5 Hz apart from 150 Hz) with peaks (Hz, height), each three bins wide.
-    fn rise_of(peaks: &[(f64, f64)]) -> Vec<f64> {
-        let mut s = vec![0.0; 1200];
-        for &(f, a) in peaks {
-            let k = (f / 5.0).round() as usize - 30;
-            s[k] += a;
-            s[k - 1] += 0.5 * a;
-            s[k + 1] += 0.5 * a;
-        }
-        s
-    }
+    use super::super::learn_pick::tests::spectrum as rise_of;
 
     /// The swing test's treble (clapper-cli `strikes_bells`, seed 4): its
     /// prime rises at 0.15 of its strongest, and with a nominal's cut of
@@ -1174,6 +1161,9 @@ mod tests {
         assert!(fits[OCTAVES as usize] > 0.0, "{fits:?}");
     }
 
+    /// Two bells learned within half a percent (seen on rings in a room
+    /// whose partials were moved by octaves onto one note) are one bell,
+    /// the one heard more, with both's onsets; others are kept.
     #[test]
     fn two_bells_learned_at_one_nominal_are_one() {
         let bell = |nominal_hz: f64, onsets: usize| LearnedBell {

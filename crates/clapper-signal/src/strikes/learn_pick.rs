@@ -163,11 +163,11 @@ pub(super) fn apart(
 }
 
 #[cfg(test)]
-mod tests {
+pub(super) mod tests {
     use super::*;
 
     /// Bins (5 Hz apart, from 150 Hz) of a rise with peaks (Hz, height), each three bins wide.
-    fn spectrum(peaks: &[(f64, f64)]) -> Vec<f64> {
+    pub(in crate::strikes) fn spectrum(peaks: &[(f64, f64)]) -> Vec<f64> {
         let mut s = vec![0.0; 1200];
         for &(f, a) in peaks {
             let k = (f / 5.0).round() as usize - 30;
