@@ -262,7 +262,7 @@ pub struct Room {
     /// 7-25 ms. A gain of 0 is none; [`Room::chamber`] has none.
     pub reflections: [(f64, f64); MAX_REFLECTIONS],
     /// How much darker the diffuse tail is than the direct sound: its
-    /// noise filtered y[n] = x[n] + d y[n-1] (d from 0, white, to under 1)
+    /// noise filtered `y[n] = x[n] + d y[n-1]` (d from 0, white, to under 1)
     /// before the ratio is set, so that its low frequencies carry more of
     /// its energy (a real room's high frequencies die first). 0 in
     /// [`Room::chamber`]; 0.6 puts the tail about 5 dB over the direct
