@@ -1378,6 +1378,30 @@ mod tests {
         assert!((b[104] - a[104] - 0.35).abs() < 1e-12 && b[105] == a[105]);
     }
 
+    /// The darkened tail is a one-pole (AR(1)) noise under its envelope:
+    /// its lag-one autocorrelation is the pole `d` (the envelope moves by
+    /// 1e-3 of itself a sample at RT60 1 s, 8 kHz), 0 for white noise; and
+    /// it holds the direct-to-reverberant ratio asked whatever `d`.
+    #[test]
+    fn a_darkened_tail_is_one_pole_noise_at_the_ratio_asked() {
+        let lag_one = |d: f64| {
+            let room = Room::chamber(1.0).with_dark_tail(d, 0.0);
+            let ir = room_response(room, 8000.0, &mut Pcg64::seed_from_u64(5));
+            let start = ir.iter().skip(1).position(|v| *v != 0.0).unwrap() + 1;
+            let t = &ir[start..];
+            let r1: f64 = t.windows(2).map(|w| w[0] * w[1]).sum();
+            let tail: f64 = t.iter().map(|v| v * v).sum();
+            assert!((10.0 * (1.0 / tail).log10()).abs() < 1e-9, "d {d}: ratio");
+            r1 / tail
+        };
+        for d in [0.0, 0.3, 0.6, 0.9] {
+            let r = lag_one(d);
+            assert!((r - d).abs() < 0.04, "d {d}: lag-one autocorrelation {r:.3}");
+        }
+        assert!(Room::chamber(1.0).with_dark_tail(0.99, 0.0).check().is_err());
+        assert!(Room::chamber(1.0).with_dark_tail(-0.1, 0.0).check().is_err());
+    }
+
     #[test]
     fn room_and_noise_are_as_asked() {
         let room = Room {
