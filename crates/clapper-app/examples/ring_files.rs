@@ -36,24 +36,8 @@ fn main() {
         _ => Method::Rounds,
     };
     let seed = num("--seed", 1.0) as u64;
-    let rt60 = num("--rt60", 0.0);
+    let room = room_of(&get, &num);
     let snr = num("--snr", 25.0);
-    // A darker tail (`Room::tail_darkening`) and its direct-to-reverberant
-    // ratio (dB; the chamber's 3 dB unless given).
-    let dark = num("--dark-tail", 0.0);
-    let drr = num("--drr", Room::chamber(0.0).direct_to_reverb_db);
-    let reflections: Vec<(f64, f64)> = get("--reflections").map_or(vec![], |s| {
-        s.split(',')
-            .map(|r| {
-                let (d, g) = r.split_once(':').expect("a reflection as MS:GAIN");
-                (d.parse().expect("a delay (ms)"), g.parse().expect("a gain"))
-            })
-            .collect()
-    });
-    assert!(
-        reflections.len() <= MAX_REFLECTIONS,
-        "at most {MAX_REFLECTIONS} reflections"
-    );
 
     let mut keyed: Vec<(f64, String, Signal)> = load(&folder)
         .into_iter()
@@ -95,16 +79,52 @@ fn main() {
             })
             .collect(),
         method,
-        room: (rt60 > 0.0 || !reflections.is_empty()).then(|| {
-            Room::chamber(rt60)
-                .with_dark_tail(dark, drr)
-                .with_reflections(&reflections)
-        }),
+        room,
         snr_db: Some(snr),
         ..TowerSpec::new(bells)
     };
     let (sig, truth) = sampled_ring(&spec, &strikes).expect("a ring");
 
+    write_ring(&out, &sig, &strikes, &truth, &nominals);
+    println!(
+        "wrote {} ({:.1} s, {} strikes of {n} bells: {})",
+        out.display(),
+        sig.duration(),
+        truth.len(),
+        keyed.iter().map(|k| k.1.as_str()).collect::<Vec<_>>().join(" ")
+    );
+}
+
+/// The room asked (`--rt60 S`, `--dark-tail D`, `--drr DB`,
+/// `--reflections MS:GAIN,..`), none if dry and without reflections.
+fn room_of(get: &dyn Fn(&str) -> Option<String>, num: &dyn Fn(&str, f64) -> f64) -> Option<Room> {
+    let rt60 = num("--rt60", 0.0);
+    // A darker tail (`Room::tail_darkening`) and its direct-to-reverberant
+    // ratio (dB; the chamber's 3 dB unless given).
+    let dark = num("--dark-tail", 0.0);
+    let drr = num("--drr", Room::chamber(0.0).direct_to_reverb_db);
+    let reflections: Vec<(f64, f64)> = get("--reflections").map_or(vec![], |s| {
+        s.split(',')
+            .map(|r| {
+                let (d, g) = r.split_once(':').expect("a reflection as MS:GAIN");
+                (d.parse().expect("a delay (ms)"), g.parse().expect("a gain"))
+            })
+            .collect()
+    });
+    assert!(
+        reflections.len() <= MAX_REFLECTIONS,
+        "at most {MAX_REFLECTIONS} reflections"
+    );
+    (rt60 > 0.0 || !reflections.is_empty()).then(|| {
+        Room::chamber(rt60)
+            .with_dark_tail(dark, drr)
+            .with_reflections(&reflections)
+    })
+}
+
+/// OUT/ring.wav, templates/N.wav (each bell's strike), truth.csv and
+/// nominals.txt.
+fn write_ring(out: &Path, sig: &Signal, strikes: &[Signal], truth: &[TrueStrike], nominals: &[f64]) {
     std::fs::create_dir_all(out.join("templates")).expect("a folder to write to");
     clapper_io::signal_file::write_wav(&out.join("ring.wav"), &sig, 0.9).expect("ring.wav written");
     for (i, s) in strikes.iter().enumerate() {
@@ -112,7 +132,7 @@ fn main() {
             .expect("a template written");
     }
     let mut csv = String::from("bell,row,place,stroke,t_s,ideal_t_s,double_delay_ms,double_amplitude_ratio\n");
-    for s in &truth {
+    for s in truth {
         csv += &format!(
             "{},{},{},{},{:.6},{:.6},{},{}\n",
             s.bell,
@@ -128,13 +148,6 @@ fn main() {
     std::fs::write(out.join("truth.csv"), csv).expect("truth.csv written");
     let noms: Vec<String> = nominals.iter().map(|f| format!("{f:.1}")).collect();
     std::fs::write(out.join("nominals.txt"), noms.join(",") + "\n").expect("nominals.txt written");
-    println!(
-        "wrote {} ({:.1} s, {} strikes of {n} bells: {})",
-        out.display(),
-        sig.duration(),
-        truth.len(),
-        keyed.iter().map(|k| k.1.as_str()).collect::<Vec<_>>().join(" ")
-    );
 }
 
 /// The first run of digits in a name (d1, 15-d#1), 0 if none.
