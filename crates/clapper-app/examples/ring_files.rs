@@ -126,7 +126,7 @@ fn room_of(get: &dyn Fn(&str) -> Option<String>, num: &dyn Fn(&str, f64) -> f64)
 /// nominals.txt.
 fn write_ring(out: &Path, sig: &Signal, strikes: &[Signal], truth: &[TrueStrike], nominals: &[f64]) {
     std::fs::create_dir_all(out.join("templates")).expect("a folder to write to");
-    clapper_io::signal_file::write_wav(&out.join("ring.wav"), &sig, 0.9).expect("ring.wav written");
+    clapper_io::signal_file::write_wav(&out.join("ring.wav"), sig, 0.9).expect("ring.wav written");
     for (i, s) in strikes.iter().enumerate() {
         clapper_io::signal_file::write_wav(&out.join(format!("templates/{}.wav", i + 1)), s, 0.9)
             .expect("a template written");
