@@ -97,12 +97,7 @@ impl UntunedStrike {
                 .sum::<f64>()
                 * env;
             match self.blow {
-                Some(b) => {
-                    // A small linear congruential generator: the blow's noise.
-                    seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-                    let noise = (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5;
-                    tone + b.amplitude * noise * (-t / b.decay_s).exp()
-                }
+                Some(b) => tone + b.amplitude * blow_noise(&mut seed) * (-t / b.decay_s).exp(),
                 None => tone,
             }
         }));
@@ -134,13 +129,20 @@ pub fn octave_heavy_strike(nominal_hz: f64, octave: f64, rate: f64, seed: u64) -
                 a * (2.0 * std::f64::consts::PI * r * prime * t + r).sin()
             })
             .sum();
-        noise = noise
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        let blow = ((noise >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.3 * (-t / 0.004).exp();
+        let blow = blow_noise(&mut noise) * 0.3 * (-t / 0.004).exp();
         (tone * (0.1 + 0.9 * (1.0 - (-t / 0.02).exp())) + blow) * (-t / 0.9).exp()
     }));
     Signal { rate, samples }
+}
+
+/// The next sample of a clapper's blow's noise, uniform in [-0.5, 0.5),
+/// from a small linear congruential generator whose state is `state`
+/// (the synthetic strikes' noise, the same from the same seed).
+pub(crate) fn blow_noise(state: &mut u64) -> f64 {
+    *state = state
+        .wrapping_mul(6364136223846793005)
+        .wrapping_add(1442695040888963407);
+    (*state >> 11) as f64 / (1u64 << 53) as f64 - 0.5
 }
 
 /// Where a recorded strike's sound starts (s from the recording's start).

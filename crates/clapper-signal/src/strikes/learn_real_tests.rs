@@ -31,10 +31,7 @@ fn superquint_strike(nominal_hz: f64, rate: f64, seed: u64) -> Signal {
             .iter()
             .map(|&(r, a, d)| a * (-t / d).exp() * (2.0 * std::f64::consts::PI * r * nominal_hz * t + r).sin())
             .sum();
-        noise = noise
-            .wrapping_mul(6364136223846793005)
-            .wrapping_add(1442695040888963407);
-        let blow = ((noise >> 11) as f64 / (1u64 << 53) as f64 - 0.5) * 0.3 * (-t / 0.004).exp();
+        let blow = crate::sampled_ring::blow_noise(&mut noise) * 0.3 * (-t / 0.004).exp();
         tone * (1.0 - (-t / 0.003).exp()) + blow
     }));
     Signal { rate, samples }
