@@ -60,7 +60,7 @@ pub(super) fn lateness_of(
 /// the band finder's `hearing`; with the user's options: the double's window
 /// and ratio), how far each moved kept per bell in `moved` (those of
 /// the window's core only, so a strike two windows hear counts once).
-pub(super) fn retime_window(
+fn retime_window(
     w: &Window,
     heard: &mut Heard,
     hearing: Hearing,
@@ -86,7 +86,7 @@ pub(super) fn retime_window(
 /// from the recording ([`SelfCalibration::retime_each`]: on the synthetic
 /// rings of the tests this timed better than matching its template), how
 /// far each moved kept per bell in `moved` (those of the window's core).
-pub(super) fn realign_window(w: &Window, heard: &mut Heard, c: &SelfCalibration, moved: &mut Vec<Vec<f64>>) {
+fn realign_window(w: &Window, heard: &mut Heard, c: &SelfCalibration, moved: &mut Vec<Vec<f64>>) {
     moved.resize(c.bells.len(), vec![]);
     let moves = c.retime_each(w.sig, heard);
     for (s, m) in heard.strikes.iter().zip(moves) {
