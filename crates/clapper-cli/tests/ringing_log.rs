@@ -114,15 +114,11 @@ fn a_synthetic_log_is_read_back_against_its_truth() {
     );
 }
 
-/// Standard normal numbers from `state`: a small xorshift generator and
-/// Box-Muller, the same noise every run.
-fn gaussian(mut state: u64) -> impl FnMut() -> f64 {
-    let mut uniform = move || {
-        state ^= state << 13;
-        state ^= state >> 7;
-        state ^= state << 17;
-        ((state >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-    };
+/// Standard normal numbers from `seed`: a seeded PCG and Box-Muller, the
+/// same noise every run.
+fn gaussian(seed: u64) -> impl FnMut() -> f64 {
+    let mut rng = <rand_pcg::Pcg64 as rand::SeedableRng>::seed_from_u64(seed);
+    let mut uniform = move || 1.0 - rand::Rng::random::<f64>(&mut rng);
     move || (-2.0 * uniform().ln()).sqrt() * (std::f64::consts::TAU * uniform()).cos()
 }
 

@@ -115,11 +115,8 @@ fn listening_stimuli_have_the_ratio_and_delay_they_claim() {
 fn listening_analysis_recovers_a_known_hyperbola() {
     let dir = tempfile::tempdir().unwrap();
     let (a, b, c, w) = (0.25, 18.0, 3.0, 1.2);
-    let mut seed = 42u64;
-    let mut rnd = || {
-        seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        (seed >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = <rand_pcg::Pcg64 as rand::SeedableRng>::seed_from_u64(42);
+    let mut rnd = || rand::Rng::random::<f64>(&mut rng);
     let mut csv = String::from("listener,trial,stimulus,amplitude_ratio,delay_ms,answer\n");
     for l in 0..40 {
         for i in 1..=10 {

@@ -8,6 +8,8 @@
 
 mod common;
 use common::{clapper, summary_warnings as warnings};
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64;
 
 const RATE: u32 = 22_050;
 const EIGHT: &str = "1400,1247.3,1111.2,1048.8,934.4,832.4,741.6,700";
@@ -26,12 +28,9 @@ fn write(path: &std::path::Path, x: &[f64], rate: u32) {
     w.finalize().unwrap();
 }
 
-/// A uniform number in [0, 1) from a 64-bit LCG.
-fn uniform(s: &mut u64) -> f64 {
-    *s = s
-        .wrapping_mul(6_364_136_223_846_793_005)
-        .wrapping_add(1_442_695_040_888_963_407);
-    (*s >> 11) as f64 / (1u64 << 53) as f64
+/// A uniform number in [0, 1) (PCG: the same on every machine).
+fn uniform(s: &mut Pcg64) -> f64 {
+    s.random()
 }
 
 /// Speech-like sound, `seconds` long: a glottal pulse train at 100-200 Hz,
@@ -46,7 +45,7 @@ fn speech(seconds: f64, seed: u64) -> Vec<f64> {
         [570.0, 840.0, 2410.0],
     ];
     let rate = f64::from(RATE);
-    let mut s = seed;
+    let mut s = Pcg64::seed_from_u64(seed);
     let n = (seconds * rate) as usize;
     let mut out = vec![0.0; n];
     let mut t = 0.3;
@@ -117,7 +116,7 @@ fn speech(seconds: f64, seed: u64) -> Vec<f64> {
 /// as a ring by every listener until 2026-11-27.)
 fn chant(seconds: f64, f0: f64, seed: u64) -> Vec<f64> {
     let rate = f64::from(RATE);
-    let mut s = seed;
+    let mut s = Pcg64::seed_from_u64(seed);
     let n = (seconds * rate) as usize;
     let mut out = vec![0.0; n];
     // The pulse train, each pulse a decaying click, through the formants of "ah".

@@ -192,14 +192,13 @@ fn bad_bells_silence_and_noise_are_refused_in_words() {
         bits_per_sample: 16,
         sample_format: hound::SampleFormat::Int,
     };
-    let mut seed = 12345u64;
+    let mut rng = <rand_pcg::Pcg64 as rand::SeedableRng>::seed_from_u64(12345);
     for (name, noisy) in [("silence.wav", false), ("noise.wav", true)] {
         let p = dir.path().join(name);
         let mut w = hound::WavWriter::create(&p, spec).unwrap();
         for _ in 0..20 * 22_050 {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
             let v = if noisy {
-                ((seed >> 33) as f64 / (1u64 << 31) as f64 - 1.0) * 8000.0
+                rand::Rng::random_range(&mut rng, -1.0..1.0) * 8000.0
             } else {
                 0.0
             };

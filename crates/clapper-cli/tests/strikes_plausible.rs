@@ -11,7 +11,7 @@ const EIGHT: &str = "1400.0,1247.3,1111.2,1048.8,934.4,832.4,741.6,700.0";
 const WARNING: &str = "this does not sound like a recording of bells";
 
 /// A 16-bit mono WAV at 22.05 kHz of 30 s of `f(sample)`.
-fn wav(path: &std::path::Path, f: impl Fn(usize) -> f64) {
+fn wav(path: &std::path::Path, mut f: impl FnMut(usize) -> f64) {
     let spec = hound::WavSpec {
         channels: 1,
         sample_rate: 22_050,
@@ -75,15 +75,11 @@ fn a_square_wave_is_said_not_to_sound_like_bells() {
 fn noise_gives_no_confident_strikes() {
     let dir = tempfile::tempdir().unwrap();
     let p = dir.path().join("noise.wav");
-    // Gaussian noise (Box-Muller on a fixed linear congruential sequence).
-    let uniform = |k: u64| {
-        let x = k
-            .wrapping_mul(6_364_136_223_846_793_005)
-            .wrapping_add(1_442_695_040_888_963_407);
-        ((x >> 11) as f64 + 0.5) / (1u64 << 53) as f64
-    };
-    wav(&p, |i| {
-        let (u, v) = (uniform(2 * i as u64), uniform(2 * i as u64 + 1));
+    // Gaussian noise (Box-Muller on a seeded PCG: the same every run).
+    let mut rng = <rand_pcg::Pcg64 as rand::SeedableRng>::seed_from_u64(1);
+    let mut uniform = move || 1.0 - rand::Rng::random::<f64>(&mut rng);
+    wav(&p, |_| {
+        let (u, v) = (uniform(), uniform());
         (-2.0 * u.ln()).sqrt() * (std::f64::consts::TAU * v).cos() / 3.0
     });
     for nominals in ["1400", "700,1400", EIGHT] {

@@ -136,12 +136,11 @@ mod tests {
             v = after;
         }
         let n = ((t + 0.05) * rate) as usize;
-        let mut seed = 11u64;
+        let mut rng = <rand_pcg::Pcg64 as rand::SeedableRng>::seed_from_u64(11);
         let samples = (0..n)
             .map(|i| {
                 let tt = i as f64 / rate;
-                seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-                let nz = noise * (((seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0);
+                let nz = noise * rand::Rng::random_range(&mut rng, -1.0..1.0);
                 let mut a = 0.3 + 0.2 * tt + nz; // offset and drift
                 for &(ti, dv) in &impacts {
                     if tt >= ti && tt < ti + pulse {

@@ -176,9 +176,11 @@ mod tests {
 
     use super::*;
 
-    fn lcg(seed: &mut u64) -> f64 {
-        *seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        ((*seed >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
+    use rand::{Rng, SeedableRng};
+    use rand_pcg::Pcg64;
+
+    fn uniform(rng: &mut Pcg64) -> f64 {
+        rng.random_range(-1.0..1.0)
     }
 
     /// A bounce sequence with known transitions, noise, and a fuzzy lift-off.
@@ -187,14 +189,14 @@ mod tests {
         let rate = 20000.0;
         let n = 30000;
         let truth: Vec<(usize, usize)> = vec![(2000, 2008), (4000, 4006), (5200, 5205), (5800, 5804), (6100, 24000)];
-        let mut seed = 3;
+        let mut seed = Pcg64::seed_from_u64(3);
         let samples: Vec<f64> = (0..n)
             .map(|i| {
                 let inside = truth.iter().any(|&(a, b)| i >= a && i < b);
                 // Fuzzy lift-off: brief spikes out of contact just before 24000.
                 let fuzz = (23900..24000).contains(&i) && i % 17 == 0;
                 let level = if inside && !fuzz { 0.0 } else { 5.0 };
-                level + 0.3 * lcg(&mut seed)
+                level + 0.3 * uniform(&mut seed)
             })
             .collect();
         let c = detect(&Signal { rate, samples }, &ContactOptions::default()).unwrap();

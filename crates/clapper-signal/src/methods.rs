@@ -229,14 +229,11 @@ mod tests {
         }
         assert_eq!(recognise(&rows, 6).unwrap().name, "plain hunt");
         // Rows whose bells are shuffled at random make no method.
-        let mut x = 12345u64;
+        let mut rng = <rand_pcg::Pcg64 as rand::SeedableRng>::seed_from_u64(12345);
         let mut shuffled = vec![];
         for _ in 0..30 {
             let mut r: Vec<usize> = (0..6).collect();
-            for i in (1..6).rev() {
-                x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-                r.swap(i, (x >> 33) as usize % (i + 1));
-            }
+            rand::seq::SliceRandom::shuffle(&mut r[..], &mut rng);
             shuffled.push(Some(r));
         }
         assert_eq!(recognise(&shuffled, 6), None);

@@ -284,15 +284,11 @@ fn mark_doublets(out: &mut [Partial], fraction: f64) {
 mod tests {
     use super::*;
 
-    /// Deterministic noise (a linear congruential generator; no dependency).
+    /// Deterministic uniform noise in [-amp, amp) (PCG from `seed`).
     fn noise(n: usize, amp: f64, seed: u64) -> Vec<f64> {
-        let mut s = seed;
-        (0..n)
-            .map(|_| {
-                s = s.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-                amp * (((s >> 11) as f64 / (1u64 << 53) as f64) * 2.0 - 1.0)
-            })
-            .collect()
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(seed);
+        (0..n).map(|_| amp * rng.random_range(-1.0..1.0)).collect()
     }
 
     fn strike(rate: f64, secs: f64, partials: &[(f64, f64, f64)], noise_amp: f64) -> Signal {

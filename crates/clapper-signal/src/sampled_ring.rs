@@ -284,12 +284,9 @@ mod tests {
     fn a_strike_padded_with_zeros_before_its_noise_starts_at_its_sound() {
         let rate = 8000.0;
         let mut s = strike(rate, 800, 700.0);
-        let mut seed = 7u64;
+        let mut rng = <rand_pcg::Pcg64 as rand::SeedableRng>::seed_from_u64(7);
         for v in &mut s.samples[400..] {
-            seed = seed
-                .wrapping_mul(6_364_136_223_846_793_005)
-                .wrapping_add(1_442_695_040_888_963_407);
-            *v += 2e-2 * (((seed >> 11) as f64 / (1u64 << 53) as f64) - 0.5);
+            *v += 2e-2 * rand::Rng::random_range(&mut rng, -0.5..0.5);
         }
         let t = sample_onset(&s).unwrap();
         assert!((t - 0.1).abs() < 0.5e-3, "{t}");

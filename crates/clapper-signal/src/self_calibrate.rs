@@ -942,6 +942,7 @@ mod tests {
     use super::*;
     use crate::sampled_ring::{sampled_ring, UntunedStrike};
     use crate::tower::{major_scale, score, Method, Room, TowerSpec, TrueStrike};
+    use rand::{Rng, SeedableRng};
 
     /// A bell with a recorded bell's partial ratios (docs/strikes.md), its
     /// blow broadband noise dying away over 30 ms, its partials building up
@@ -1087,6 +1088,10 @@ mod tests {
     /// The same, the blow's level `blow_level` against the partial's.
     fn strikes_under_ringing_at(rate: f64, blow_level: f64) -> (Vec<Vec<f64>>, usize) {
         let (len, at) = ((0.5 * rate) as usize, (0.3 * rate) as usize);
+        // The tests on these strikes pass with this sequence, not with
+        // most others: the start is found 1.5-4 ms early on 11 of 12 PCG
+        // seeds (docs/strikes.md, "Tests that pass on one noise"); kept so
+        // that the weakness stays in view rather than hidden by a new seed.
         let mut seed = 12345u64;
         let mut rnd = move || {
             seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
@@ -1235,11 +1240,10 @@ mod tests {
     fn blow_in_a_room_energies() -> (Vec<f64>, usize, usize) {
         let per_ms = (1e-3 / BLOCK_S).round() as usize;
         let (at, step) = (120 * per_ms, 127 * per_ms);
-        let mut seed = 4242u64;
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(4242);
         let energy = (0..200 * per_ms)
             .map(|k| {
-                seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-                let jitter_db = 3.0 * ((seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5);
+                let jitter_db = 3.0 * rng.random_range(-0.5..0.5);
                 let db = match k {
                     _ if k >= step => 46.0,
                     _ if k >= at => 41.5,
@@ -1282,11 +1286,8 @@ mod tests {
         let rate = 16_000.0;
         let (len, at) = ((0.5 * rate) as usize, (0.3 * rate) as usize);
         let (heard, agreed) = (at + (0.05 * rate) as usize, at + (0.047 * rate) as usize);
-        let mut seed = 99u64;
-        let mut rnd = move || {
-            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (seed >> 11) as f64 / (1u64 << 53) as f64 - 0.5
-        };
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(99);
+        let mut rnd = move || rng.random_range(-0.5..0.5);
         let blow: Vec<f64> = (0..len).map(|_| rnd()).collect();
         let tau = 2.0 * std::f64::consts::PI;
         let strikes: Vec<Vec<f64>> = (0..20)

@@ -11,6 +11,8 @@ use std::time::Duration;
 
 use clapper_signal::tower::*;
 use clapper_signal::Signal;
+use rand::{Rng, SeedableRng};
+use rand_pcg::Pcg64;
 use serde_json::Value;
 use tokio::io::{AsyncReadExt, AsyncWriteExt};
 use tokio::net::TcpStream;
@@ -50,12 +52,9 @@ fn warnings(v: &Value) -> Vec<String> {
         .collect()
 }
 
-/// A uniform number in [0, 1) from a 64-bit LCG.
-fn uniform(s: &mut u64) -> f64 {
-    *s = s
-        .wrapping_mul(6_364_136_223_846_793_005)
-        .wrapping_add(1_442_695_040_888_963_407);
-    (*s >> 11) as f64 / (1u64 << 53) as f64
+/// A uniform number in [0, 1) (PCG: the same on every machine).
+fn uniform(s: &mut Pcg64) -> f64 {
+    s.random()
 }
 
 /// Speech-like sound: a glottal pulse train at 100-200 Hz, its pitch
@@ -69,7 +68,7 @@ fn speech(seconds: f64, seed: u64) -> Signal {
         [530.0, 1840.0, 2480.0],
         [570.0, 840.0, 2410.0],
     ];
-    let mut s = seed;
+    let mut s = Pcg64::seed_from_u64(seed);
     let mut out = vec![0.0; (seconds * RATE) as usize];
     let mut t = 0.3;
     while t < seconds - 0.6 {

@@ -214,11 +214,9 @@ mod tests {
 
     /// A reproducible pseudo-random series in [−1, 1).
     fn series(seed: u64, n: usize) -> Vec<C> {
-        let mut x = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-        let mut next = || {
-            x = x.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
-            (x >> 11) as f64 / (1u64 << 52) as f64 - 1.0
-        };
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(seed);
+        let mut next = || rng.random_range(-1.0..1.0);
         (0..n).map(|_| (next(), next())).collect()
     }
 
