@@ -82,6 +82,23 @@ pub(super) struct Frames<'a> {
     pub(super) df: f64,
 }
 
+/// A frame of about 90 ms at `rate` (Hz): the next power of two of
+/// samples, halved where that would last over 130 ms, so 64-130 ms at any
+/// rate. Unhalved it lasted 171 ms at 48 kHz (decimated to 12 kHz, 1080
+/// samples -> 2048), where bells 150-200 ms apart rose in one frame and
+/// their partials were learned mixed: a ring's recall within 10 ms fell
+/// from 0.84 at 44.1 kHz to 0.10 at 48 kHz. (The nearest power of two
+/// would also halve 16 kHz's 128 ms, costing the nominals' precision
+/// there: a test's superquint bells learned 1.01 % off.)
+pub(super) fn frame_len(rate: f64) -> usize {
+    let up = ((0.09 * rate) as usize).max(1).next_power_of_two();
+    if up as f64 > 0.13 * rate && up > 1 {
+        up / 2
+    } else {
+        up
+    }
+}
+
 impl<'a> Frames<'a> {
     /// About 90 ms windows, zero-padded twice, from [`F_MIN`] to [`F_MAX`]:
     /// long enough to part bells a semitone apart, short enough that bells
@@ -93,7 +110,7 @@ impl<'a> Frames<'a> {
     /// As [`Frames::of`], up to `f_max` (Hz) rather than [`F_MAX`].
     pub(super) fn up_to(low: &'a Signal, f_max: f64) -> Self {
         let rate = low.rate;
-        let n_win = ((0.09 * rate) as usize).next_power_of_two();
+        let n_win = frame_len(rate);
         let nfft = 2 * n_win;
         let df = rate / nfft as f64;
         let mut planner = realfft::RealFftPlanner::<f64>::new();
@@ -910,6 +927,24 @@ fn warnings_of(learned: &[LearnedBell], bells: usize) -> Vec<String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A frame lasts about 90 ms at whatever rate a recording is decimated
+    /// to (44.1 kHz to 11.025 kHz, 48 kHz to 12 kHz, 32 and 96 kHz to
+    /// 10.67 kHz): at 12 kHz it lasted 171 ms.
+    #[test]
+    fn a_frame_lasts_about_ninety_ms_at_any_rate() {
+        for rate in [
+            8000.0, 10_666.7, 11_025.0, 12_000.0, 16_000.0, 24_000.0, 48_000.0, 96_000.0,
+        ] {
+            let ms = frame_len(rate) as f64 / rate * 1e3;
+            assert!((63.0..=130.0).contains(&ms), "{rate} Hz: {ms:.0} ms");
+        }
+        // The rates the recorded rings and the tests were tuned at keep
+        // their frames.
+        assert_eq!(frame_len(11_025.0), 1024);
+        assert_eq!(frame_len(10_666.7), 1024);
+        assert_eq!(frame_len(16_000.0), 2048);
+    }
     use crate::tower::{major_scale, tower_recording, tuned_ring, Doublets, Room, Scale, TowerSpec, Voice};
 
     /// The worst error (%) of the nominals learned from `spec`'s ring
