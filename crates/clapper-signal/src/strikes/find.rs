@@ -326,7 +326,7 @@ fn in_the_rings_rhythm(
         .filter_map(|f| median(f.windows(2).map(|w| w[1].0 - w[0].0).collect()))
         .collect();
     gaps.sort_by(f64::total_cmp);
-    let Some(&period) = gaps.get(gaps.len() / 2) else {
+    let Some(period) = gaps.get(gaps.len() / 2).copied().or_else(|| candidates_period(heard)) else {
         return firsts;
     };
     let mut others: Vec<f64> = firsts.iter().flatten().map(|x| x.0).collect();
@@ -351,6 +351,32 @@ fn in_the_rings_rhythm(
         }
     }
     firsts
+}
+
+/// The ring's typical interval between a bell's strikes (s) where no
+/// bell's strikes stood clear of the rest to give it: the median over the
+/// bells of the median interval between a bell's candidates (those
+/// [`BellHearing::firsts_in_rhythm`] weighs), from bells with six or more.
+/// In fast rings (six bells 150 ms apart, rows under a second) every
+/// bell's onset function stands high between its strikes (the others'
+/// strikes heard in its bands), so no bell's strikes stand clear: a
+/// minute of Plain Bob Minor gave no strike at all. Only where there is
+/// no other period: each chain found by it must still keep time
+/// ([`BellHearing::firsts_in_rhythm`]).
+fn candidates_period(heard: &[BellHearing]) -> Option<f64> {
+    let mut gaps: Vec<f64> = heard
+        .iter()
+        .filter(|h| !h.bands.is_empty())
+        .filter_map(|h| {
+            let c: Vec<usize> = h.candidates.iter().filter(|c| c.1 >= 0.3).map(|c| c.0).collect();
+            if c.len() < 6 {
+                return None;
+            }
+            median(c.windows(2).map(|w| (w[1] - w[0]) as f64 / h.rate).collect())
+        })
+        .collect();
+    gaps.sort_by(f64::total_cmp);
+    gaps.get(gaps.len() / 2).copied()
 }
 
 /// Step 2: a strike that steps a band two bells share is heard in both; it
@@ -422,5 +448,54 @@ fn explain_shared(heard: &mut [BellHearing], sharers: &[Vec<Vec<usize>>], again:
     }
     for (b, k) in explained {
         heard[b].candidates[k].1 = 0.0;
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A bell heard at `candidates` (band sample at 1 kHz, height), with
+    /// one band or none.
+    fn hearing(candidates: Vec<(usize, f64)>, with_band: bool) -> BellHearing {
+        let band = Band {
+            rate: 1000.0,
+            weight: 1.0,
+            box_s: 0.05,
+            z: vec![],
+            rise: 150,
+            scale: 1.0,
+        };
+        BellHearing {
+            bands: if with_band { vec![band] } else { vec![] },
+            changes: vec![],
+            rate: 1000.0,
+            candidates,
+            onset: vec![],
+            floor: 0.4,
+        }
+    }
+
+    /// Where no bell's strikes stood clear to give the ring's period, it is
+    /// the median over the bells of their candidates' median interval:
+    /// weak candidates (under 0.3), bells with fewer than six and bells
+    /// with no band left out.
+    #[test]
+    fn a_fast_rings_period_comes_from_its_bells_candidates() {
+        let every =
+            |period: usize, from: usize| -> Vec<(usize, f64)> { (0..20).map(|k| (from + k * period, 0.8)).collect() };
+        let mut with_weak = every(975, 30);
+        with_weak.extend((0..19).map(|k| (500 + k * 975, 0.2)));
+        with_weak.sort_by_key(|c| c.0);
+        let heard = vec![
+            hearing(with_weak.clone(), true),
+            hearing(with_weak, true),
+            hearing(every(1000, 10), true),
+            hearing(every(300, 0)[..5].to_vec(), true),
+            hearing(every(100, 0), false),
+        ];
+        let p = candidates_period(&heard).unwrap();
+        assert!((p - 0.975).abs() < 1e-9, "{p}");
+        assert_eq!(candidates_period(&heard[3..]), None);
     }
 }
