@@ -17,7 +17,7 @@ use realfft::num_complex::Complex;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 use std::sync::Arc;
 
-use super::matcher::at;
+use super::matcher::sloped;
 use crate::strikes::HeardDouble;
 use crate::SignalError;
 
@@ -120,8 +120,11 @@ impl Pairs {
 
     fn long(&mut self, sound: &[f64]) -> Result<Long, SignalError> {
         self.buf.fill(0.0);
-        self.buf[..sound.len()].copy_from_slice(sound);
-        let energy = sound.iter().map(|v| v * v).sum();
+        // Judged as the recording is ([`sloped`]).
+        for (j, b) in self.buf[..sound.len()].iter_mut().enumerate() {
+            *b = sloped(sound, j as i64);
+        }
+        let energy = self.buf.iter().map(|v| v * v).sum();
         self.fwd
             .process(&mut self.buf, &mut self.spec)
             .map_err(|e| SignalError::Invalid(e.to_string()))?;
@@ -142,7 +145,7 @@ impl Pairs {
             return Ok(None);
         };
         for (k, b) in self.buf.iter_mut().enumerate() {
-            *b = at(x, i1 + k as i64);
+            *b = sloped(x, i1 + k as i64);
         }
         self.fwd
             .process(&mut self.buf, &mut self.spec)

@@ -11,7 +11,7 @@
 use super::lag::best_match;
 use realfft::num_complex::Complex;
 
-use super::matcher::{at, Matcher, Scratch, Template};
+use super::matcher::{heard, Matcher, Scratch, Template};
 use crate::SignalError;
 
 /// A match this share of the bell's typical one is a strike.
@@ -135,11 +135,11 @@ impl Chunks {
         while root.len() < x.len() {
             m.spectrum(x, start, sc)?;
             spectra.push(sc.spec.clone());
-            let mut e: f64 = (0..m.len).map(|k| at(x, start + k as i64).powi(2)).sum();
+            let mut e: f64 = (0..m.len).map(|k| heard(x, start + k as i64).powi(2)).sum();
             for k in 0..span {
                 root.push(if e > 1e-300 { e.sqrt() } else { 0.0 });
                 let j = start + k as i64;
-                let (gone, come) = (at(x, j), at(x, j + m.len as i64));
+                let (gone, come) = (heard(x, j), heard(x, j + m.len as i64));
                 e = (e - gone * gone + come * come).max(0.0);
             }
             start += span as i64;
