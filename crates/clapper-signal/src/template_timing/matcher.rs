@@ -40,16 +40,33 @@ fn resample(s: &Signal, rate: f64) -> Signal {
 /// One bell's template, ready to match.
 pub(super) struct Template {
     /// The conjugated spectrum of `pre` samples of silence and the first
-    /// `len - pre` of the template's sound.
-    pub spec: Vec<Complex<f64>>,
-    /// The energy of the part matched.
-    pub energy: f64,
+    /// `len - pre` of the template's sound, as recorded (`[0]`) and
+    /// weighted toward its upper partials (`[1]`: times the second
+    /// difference's power, [`heard`]), against the recording as recorded.
+    pub specs: [Vec<Complex<f64>>; 2],
+    /// The energy of the part matched, as recorded and as weighted.
+    pub energies: [f64; 2],
+    /// Whether it is matched weighted ([`super::weight`]); as recorded
+    /// until chosen.
+    pub weighted: bool,
     /// The template's whole sound, from its onset.
     pub sound: Vec<f64>,
     /// The sign its strikes match the recording with (+1 or -1), where
     /// known: a match of the other sign is then no match (0). 0 while not
     /// known: the match by magnitude ([`Matcher::normalised`]).
     pub polarity: f64,
+}
+
+impl Template {
+    /// The spectrum matched ([`Self::specs`], as [`Self::weighted`] says).
+    pub fn spec(&self) -> &[Complex<f64>] {
+        &self.specs[usize::from(self.weighted)]
+    }
+
+    /// The energy matched.
+    pub fn energy(&self) -> f64 {
+        self.energies[usize::from(self.weighted)]
+    }
 }
 
 /// The templates and the transforms, at the recording's rate.
@@ -116,19 +133,25 @@ impl Matcher {
         // where the bell already sounds there matches worse).
         let mut buf = self.fwd.make_input_vec();
         buf[pre..len].copy_from_slice(&sound[..len - pre]);
-        // Matched as the recording is heard ([`heard`]): a second difference.
-        let raw = buf.clone();
-        for (j, b) in buf.iter_mut().enumerate() {
-            *b = heard(&raw, j as i64);
-        }
         let energy = buf.iter().map(|v| v * v).sum();
+        // Weighted: the second difference's energy, and its power on the
+        // spectrum (the recording's own spectrum is taken as recorded).
+        let weighted_energy = (0..buf.len() as i64).map(|j| heard(&buf, j).powi(2)).sum();
         let mut spec = self.fwd.make_output_vec();
         self.fwd
             .process(&mut buf, &mut spec)
             .map_err(|e| SignalError::Invalid(e.to_string()))?;
+        let plain: Vec<Complex<f64>> = spec.into_iter().map(|c| c.conj()).collect();
+        let step = std::f64::consts::TAU / self.n as f64;
+        let weighted = plain
+            .iter()
+            .enumerate()
+            .map(|(k, c)| c * (2.0 - 2.0 * (step * k as f64).cos()).powi(2))
+            .collect();
         Ok(Template {
-            spec: spec.into_iter().map(|c| c.conj()).collect(),
-            energy,
+            specs: [plain, weighted],
+            energies: [energy, weighted_energy],
+            weighted: false,
             sound: sound.to_vec(),
             polarity: 0.0,
         })
@@ -160,7 +183,7 @@ impl Matcher {
     /// as [`Self::correlate`] takes it.
     pub fn spectrum(&self, x: &[f64], start: i64, sc: &mut Scratch) -> Result<(), SignalError> {
         for (k, b) in sc.buf.iter_mut().enumerate() {
-            *b = heard(x, start + k as i64);
+            *b = at(x, start + k as i64);
         }
         self.fwd
             .process(&mut sc.buf, &mut sc.spec)
@@ -177,7 +200,7 @@ impl Matcher {
     /// `sc.out` from the recording's spectrum in `sc.spec`: times the
     /// template's, back to lags.
     fn times_template(&self, t: &Template, sc: &mut Scratch) -> Result<(), SignalError> {
-        for (a, b) in sc.spec.iter_mut().zip(&t.spec) {
+        for (a, b) in sc.spec.iter_mut().zip(t.spec()) {
             *a *= b;
         }
         sc.spec[0].im = 0.0;
@@ -212,8 +235,9 @@ impl Matcher {
     ) -> Result<(), SignalError> {
         self.correlate(x, t, start, sc)?;
         let len = self.len;
-        let mut e: f64 = (0..len).map(|k| heard(x, start + k as i64).powi(2)).sum();
-        let norm = t.energy.sqrt();
+        let level = if t.weighted { heard } else { at };
+        let mut e: f64 = (0..len).map(|k| level(x, start + k as i64).powi(2)).sum();
+        let norm = t.energy().sqrt();
         for k in 0..=lags.min(self.span()) {
             let v = if e > 1e-300 { sc.out[k] / (e.sqrt() * norm) } else { 0.0 };
             sc.out[k] = if t.polarity == 0.0 {
@@ -221,7 +245,7 @@ impl Matcher {
             } else {
                 (t.polarity * v).max(0.0)
             };
-            let (gone, come) = (heard(x, start + k as i64), heard(x, start + (k + len) as i64));
+            let (gone, come) = (level(x, start + k as i64), level(x, start + (k + len) as i64));
             e = (e - gone * gone + come * come).max(0.0);
         }
         Ok(())
