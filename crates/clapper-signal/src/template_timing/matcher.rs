@@ -285,7 +285,8 @@ pub(super) fn heard(x: &[f64], j: i64) -> f64 {
     at(x, j) - 2.0 * at(x, j - 1) + at(x, j - 2)
 }
 
-/// The recording `x` at sample `j` as a double strike is judged: its first
+/// The recording `x` at sample `j` as a double strike of a bell matched
+/// weighted is judged ([`super::weight`]): its first
 /// difference (0 outside `x`). The match's second difference there read a
 /// second copy of the template out of the templates' own rooms (the
 /// tester's templates re-recorded in another room: 4 -> 18 false doubles

@@ -9,8 +9,9 @@
 //! not darken, the weighted match is the worse (it rests on fewer, fainter
 //! partials and the blow's click: synthetic bells at 16 kHz turned half a
 //! period or near-harmonic matched a few tens of ms off). So a bell is
-//! matched weighted only where its weighted match lies clearly before its
-//! match as recorded at most of its strikes.
+//! matched weighted only where, at most of its strikes, its two matches
+//! part by the same amount and the weighted match rejects the plain one's
+//! time.
 
 use super::lag::best_match;
 use super::matcher::{Matcher, Scratch, PRE_S};
@@ -18,10 +19,10 @@ use crate::SignalError;
 
 /// How many of each bell's strikes, spread over the recording, vote.
 const VOTES: usize = 16;
-/// How far before the match as recorded (s) the weighted match must lie
-/// at a strike to vote for it: the dark tail put the match as recorded
-/// 16-52 ms late, while where both match the same sound they agree to a
-/// few ms.
+/// How far from the match as recorded (s) the weighted match must lie at
+/// a strike to vote for it: the dark tail put the match as recorded
+/// 16-52 ms late (or, by the rule for a double's first blow, as early),
+/// while where both match the same sound they agree to a few ms.
 const APART_S: f64 = 0.008;
 /// How near the plain match's time (s) the weighted match is read there.
 const NEAR_S: f64 = 0.001;
@@ -35,10 +36,12 @@ const SAME_S: f64 = 0.005;
 const SHARE: f64 = 0.5;
 
 /// Each bell's choice (treble first): whether its strikes `sought` (bell
-/// from 1, and where its template is sought, s, s) match the recording
-/// `x` weighted earlier than as recorded by [`EARLIER_S`] at over
-/// [`SHARE`] of up to [`VOTES`] of them. Matched by magnitude (before the
-/// polarities are known); leaves every template matched as recorded.
+/// from 1, and where its template is sought, s, s) in the recording `x`
+/// match weighted over [`APART_S`] from as recorded, the weighted match
+/// at the plain one's time under [`KEEP`] of its best, and moved within
+/// [`SAME_S`] of their median move, at over [`SHARE`] of up to [`VOTES`]
+/// of them. Matched by magnitude (before the polarities are known);
+/// leaves every template matched as recorded.
 pub(super) fn choose(
     m: &mut Matcher,
     x: &[f64],
