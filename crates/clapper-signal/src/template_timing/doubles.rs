@@ -17,7 +17,7 @@ use realfft::num_complex::Complex;
 use realfft::{ComplexToReal, RealFftPlanner, RealToComplex};
 use std::sync::Arc;
 
-use super::matcher::at;
+use super::matcher::{at, sloped};
 use crate::strikes::HeardDouble;
 use crate::SignalError;
 
@@ -88,8 +88,10 @@ pub(super) struct Pairs {
 
 impl Pairs {
     /// For the templates' sounds `sounds` (each from its onset, at
-    /// `rate`), second blows up to `reach_s` (s) after the first.
-    pub fn new(rate: f64, sounds: &[Option<&[f64]>], reach_s: f64) -> Result<Self, SignalError> {
+    /// `rate`), second blows up to `reach_s` (s) after the first; a bell
+    /// `weighted` (by its index; none past the end) judged on the first
+    /// difference of its sound and the recording's ([`sloped`]).
+    pub fn new(rate: f64, sounds: &[Option<&[f64]>], weighted: &[bool], reach_s: f64) -> Result<Self, SignalError> {
         let longest = (LONGEST_S * rate) as usize;
         let most = sounds.iter().flatten().map(|s| s.len().min(longest)).max().unwrap_or(1);
         let judged = (reach_s * rate).round() as usize;
@@ -111,22 +113,43 @@ impl Pairs {
             inv,
             bells: vec![],
         };
-        for s in sounds {
-            let b = s.map(|s| p.long(&s[..s.len().min(longest)])).transpose()?;
+        for (i, s) in sounds.iter().enumerate() {
+            let w = weighted.get(i).copied().unwrap_or(false);
+            let b = s.map(|s| p.long(&s[..s.len().min(longest)], w)).transpose()?;
             p.bells.push(b);
         }
         Ok(p)
     }
 
-    fn long(&mut self, sound: &[f64]) -> Result<Long, SignalError> {
+    fn long(&mut self, sound: &[f64], weighted: bool) -> Result<Long, SignalError> {
         self.buf.fill(0.0);
-        self.buf[..sound.len()].copy_from_slice(sound);
-        let energy = sound.iter().map(|v| v * v).sum();
+        let level = if weighted { sloped } else { at };
+        for (j, b) in self.buf[..sound.len()].iter_mut().enumerate() {
+            *b = level(sound, j as i64);
+        }
+        let energy = self.buf.iter().map(|v| v * v).sum();
         self.fwd
             .process(&mut self.buf, &mut self.spec)
             .map_err(|e| SignalError::Invalid(e.to_string()))?;
-        let spec: Vec<Complex<f64>> = self.spec.iter().map(|c| c.conj()).collect();
-        let mut pow: Vec<Complex<f64>> = spec.iter().map(|c| Complex::new(c.norm_sqr(), 0.0)).collect();
+        let mut pow: Vec<Complex<f64>> = self.spec.iter().map(|c| Complex::new(c.norm_sqr(), 0.0)).collect();
+        // Against the recording as recorded: the first difference's
+        // response once more (`(1 - b e^-iw)`), the recording's the same
+        // as the template's.
+        let step = std::f64::consts::TAU / self.n as f64;
+        let spec: Vec<Complex<f64>> = self
+            .spec
+            .iter()
+            .enumerate()
+            .map(|(k, c)| {
+                let w = step * k as f64;
+                let h = Complex::new(1.0 - w.cos(), w.sin());
+                if weighted {
+                    c.conj() * h
+                } else {
+                    c.conj()
+                }
+            })
+            .collect();
         self.inv
             .process(&mut pow, &mut self.out)
             .map_err(|e| SignalError::Invalid(e.to_string()))?;
@@ -364,7 +387,7 @@ mod tests {
                 }
             }
         }
-        let mut pairs = Pairs::new(rate, &[Some(&t)], 0.15).unwrap();
+        let mut pairs = Pairs::new(rate, &[Some(&t)], &[], 0.15).unwrap();
         let strikes: Vec<(usize, Vec<f64>)> = (0..n)
             .map(|s| {
                 let off = if s % 3 == 1 { ms(3.5) } else { 0 };
@@ -409,7 +432,7 @@ mod tests {
                 put(gap * (s + 1) - early, 0.02);
             }
         }
-        let mut pairs = Pairs::new(rate, &[Some(&t)], 0.15).unwrap();
+        let mut pairs = Pairs::new(rate, &[Some(&t)], &[], 0.15).unwrap();
         let strikes: Vec<(usize, Vec<f64>)> = (0..n)
             .map(|s| {
                 let i1 = (gap * (s + 1) - if s == 5 { early } else { 0 }) as i64;

@@ -11,7 +11,7 @@
 use super::lag::best_match;
 use realfft::num_complex::Complex;
 
-use super::matcher::{at, Matcher, Scratch, Template};
+use super::matcher::{at, heard, Matcher, Scratch, Template};
 use crate::SignalError;
 
 /// A match this share of the bell's typical one is a strike.
@@ -124,29 +124,47 @@ fn rises(proj: &[f64], k: usize, rate: f64) -> bool {
 /// holds about 1.4 times the recording's samples.
 pub(super) struct Chunks {
     spectra: Vec<Vec<Complex<f64>>>,
-    root: Vec<f64>,
+    /// As recorded, and weighted as a template matched weighted is
+    /// ([`super::matcher::heard`]; empty where no bell is).
+    roots: [Vec<f64>; 2],
 }
 
 impl Chunks {
     pub(super) fn new(m: &Matcher, x: &[f64], sc: &mut Scratch) -> Result<Self, SignalError> {
         let span = m.span();
-        let (mut spectra, mut root) = (vec![], Vec::with_capacity(x.len() + span));
+        let mut spectra = vec![];
         let mut start = -(m.pre as i64);
-        while root.len() < x.len() {
+        while (spectra.len() * span) < x.len() {
             m.spectrum(x, start, sc)?;
             spectra.push(sc.spec.clone());
-            let mut e: f64 = (0..m.len).map(|k| at(x, start + k as i64).powi(2)).sum();
-            for k in 0..span {
-                root.push(if e > 1e-300 { e.sqrt() } else { 0.0 });
-                let j = start + k as i64;
-                let (gone, come) = (at(x, j), at(x, j + m.len as i64));
-                e = (e - gone * gone + come * come).max(0.0);
-            }
             start += span as i64;
         }
-        root.truncate(x.len());
-        Ok(Chunks { spectra, root })
+        let any_weighted = m.bells.iter().flatten().any(|t| t.weighted);
+        let roots = [roots(m, x, at), if any_weighted { roots(m, x, heard) } else { vec![] }];
+        Ok(Chunks { spectra, roots })
     }
+}
+
+/// The root of the energy of `x` as `level` gives it in the matched
+/// length from each sample less the silence before the template (0 where
+/// silent), one per sample of `x`; summed afresh at each transform's
+/// stretch (no rounding carried over the recording).
+fn roots(m: &Matcher, x: &[f64], level: fn(&[f64], i64) -> f64) -> Vec<f64> {
+    let span = m.span();
+    let mut root = Vec::with_capacity(x.len() + span);
+    let mut start = -(m.pre as i64);
+    while root.len() < x.len() {
+        let mut e: f64 = (0..m.len).map(|k| level(x, start + k as i64).powi(2)).sum();
+        for k in 0..span {
+            root.push(if e > 1e-300 { e.sqrt() } else { 0.0 });
+            let j = start + k as i64;
+            let (gone, come) = (level(x, j), level(x, j + m.len as i64));
+            e = (e - gone * gone + come * come).max(0.0);
+        }
+        start += span as i64;
+    }
+    root.truncate(x.len());
+    root
 }
 
 /// The match of template `t` with its sound starting at each sample of
@@ -164,10 +182,11 @@ fn whole(
     let span = m.span();
     proj.clear();
     ncc.clear();
-    proj.reserve(chunks.root.len());
-    ncc.reserve(chunks.root.len());
-    let norm = t.energy.sqrt();
-    for (spec, roots) in chunks.spectra.iter().zip(chunks.root.chunks(span)) {
+    let root = &chunks.roots[usize::from(t.weighted)];
+    proj.reserve(root.len());
+    ncc.reserve(root.len());
+    let norm = t.energy().sqrt();
+    for (spec, roots) in chunks.spectra.iter().zip(root.chunks(span)) {
         m.correlate_spectrum(spec, t, sc)?;
         for (v, r) in sc.out.iter().zip(roots) {
             let p = if norm > 0.0 { v.abs() / norm } else { 0.0 };
