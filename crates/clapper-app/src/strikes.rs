@@ -21,7 +21,7 @@ use crate::AppError;
 
 mod bells;
 mod choose;
-pub use bells::{learn_nominals, learned_voices, voices_from_nominals, Learned, LearnedNominal};
+pub use bells::{learn_nominals, learned_voices, voices_from_nominals, Learned, LearnedNominal, LearnedSet};
 pub use choose::{choose_timing, opening, Chosen, TimingAsked, TimingChoice, AUTO_LEAST_FOUND, AUTO_MARGIN};
 mod doubt;
 mod input;
@@ -236,6 +236,9 @@ pub struct StrikesReport {
     /// `--bells N` only).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub learned_nominals_hz: Option<Vec<LearnedNominal>>,
+    /// How sure the set of nominals learned is (with `--bells N` only).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub learned_set: Option<LearnedSet>,
     /// Each bell's timing against its template or the recording, and with
     /// nominals how the timing was chosen.
     #[serde(skip_serializing_if = "Option::is_none")]
@@ -386,6 +389,7 @@ impl StrikesReport {
         }
         self.summary.warnings.splice(0..0, learned.warnings);
         self.learned_nominals_hz = Some(learned.nominals);
+        self.learned_set = Some(learned.set);
     }
 
     /// The report of the strikes `heard` of `bells` bells in a recording
@@ -455,6 +459,7 @@ impl StrikesReport {
         StrikesReport {
             bells,
             learned_nominals_hz: None,
+            learned_set: None,
             timing,
             strikes,
             per_bell,
@@ -513,6 +518,17 @@ impl StrikesReport {
                 .map(|b| format!("{} {:.1} Hz ({:.0} % sure)", b.bell, b.nominal_hz, 100.0 * b.confidence))
                 .collect();
             let _ = writeln!(o, "nominals learned from the recording: {}", list.join(", "));
+        }
+        if let Some(set) = &self.learned_set {
+            let rhythm = set
+                .ringing
+                .map_or(String::new(), |r| format!(", the rhythm says about {r:.1} ring"));
+            let _ = writeln!(
+                o,
+                "the set learned: {:.0} % sure ({} bell(s) heard{rhythm})",
+                100.0 * set.confidence,
+                set.heard
+            );
         }
         self.timing_text(&mut o);
         for w in &s.warnings {

@@ -18,9 +18,31 @@ pub struct LearnedNominal {
     pub bell: usize,
     /// Its nominal (Hz).
     pub nominal_hz: f64,
-    /// How sure (0 to 1): the onsets its nominal rose most at, against the
-    /// typical learned bell's.
+    /// How sure (0 to 1): its `support`; 0 for a note of the ring
+    /// guessed, no bell heard there.
     pub confidence: f64,
+    /// The onsets (strikes heard rising) its nominal rose most at.
+    pub onsets: usize,
+    /// Its onsets against the typical learned bell's (0 to 1): every bell
+    /// of a ring strikes as often as the others.
+    pub support: f64,
+    /// How well its strikes' partials fit a tuned bell's with this nominal,
+    /// against the best octave of it (0 to 1; 1: it fits best here).
+    /// Reported, not counted in `confidence` (docs/strikes.md).
+    pub partials_fit: f64,
+}
+
+/// How sure the set of nominals learned is (`--bells N`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct LearnedSet {
+    /// How sure (0 to 1): its bells heard's mean confidence times their
+    /// share, at most 0.4 with a note guessed, less where the onsets'
+    /// rhythm says another number of bells ring; below 0.5 warned of.
+    pub confidence: f64,
+    /// Bells heard (learned from their strikes, not guessed).
+    pub heard: usize,
+    /// How many bells ring by the onsets' rhythm (`None` if it says nothing).
+    pub ringing: Option<f64>,
 }
 
 /// Nominals (Hz) to voices, checked: each bell's other partials assumed
@@ -60,8 +82,9 @@ pub fn voices_from_nominals(nominals: &[f64], kind: Voice) -> Result<Vec<BellVoi
 
 /// The nominals of `bells` bells (3 to 16) learned from the recording
 /// `sig` alone ([`clapper_signal::strikes::learn_nominals`]), treble first,
-/// and what made it unsure, in words. Refused when no bell is heard.
-pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<(Vec<LearnedNominal>, Vec<String>), AppError> {
+/// how sure the set is and what made it unsure, in words. Refused when no
+/// bell is heard.
+pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, AppError> {
     if !(3..=16).contains(&bells) {
         return Err(AppError::Request(format!("--bells {bells}: from 3 to 16 bells")));
     }
@@ -80,9 +103,21 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<(Vec<LearnedNominal>
             bell: i + 1,
             nominal_hz: b.nominal_hz,
             confidence: b.confidence,
+            onsets: b.onsets,
+            support: b.support,
+            partials_fit: b.partials_fit,
         })
         .collect();
-    Ok((learned, l.warnings))
+    let set = LearnedSet {
+        confidence: l.confidence,
+        heard: l.bells.iter().filter(|b| b.onsets > 0).count(),
+        ringing: l.ringing,
+    };
+    Ok(Learned {
+        nominals: learned,
+        set,
+        warnings: l.warnings,
+    })
 }
 
 /// The voices of `bells` bells of the kind `kind` whose nominals are
@@ -90,9 +125,9 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<(Vec<LearnedNominal>
 /// [`StrikesReport::note_learned`](super::StrikesReport::note_learned): what `clapper strikes --bells N`, the
 /// web server's `bells=N` and Python's `bells=N` share.
 pub fn learned_voices(sig: &Signal, bells: usize, kind: Voice) -> Result<(Vec<BellVoice>, Learned), AppError> {
-    let (nominals, warnings) = learn_nominals(sig, bells)?;
-    let hz: Vec<f64> = nominals.iter().map(|b| b.nominal_hz).collect();
-    Ok((voices_from_nominals(&hz, kind)?, Learned { nominals, warnings }))
+    let learned = learn_nominals(sig, bells)?;
+    let hz: Vec<f64> = learned.nominals.iter().map(|b| b.nominal_hz).collect();
+    Ok((voices_from_nominals(&hz, kind)?, learned))
 }
 
 /// Nominals learned from a recording and what made them unsure.
@@ -100,6 +135,8 @@ pub fn learned_voices(sig: &Signal, bells: usize, kind: Voice) -> Result<(Vec<Be
 pub struct Learned {
     /// Each bell's nominal, treble first.
     pub nominals: Vec<LearnedNominal>,
+    /// How sure the set is.
+    pub set: LearnedSet,
     /// What made the learning unsure, in words.
     pub warnings: Vec<String>,
 }

@@ -14,6 +14,7 @@
 use super::band::decimate;
 use super::learn_gaps::{ring_beyond, ringing, scale_notes, unheard_notes, Heard, RingFit, DIATONIC, IN_TUNE};
 use super::learn_pick::{apart, mean_rise};
+use super::learn_sure::{bell_sure, doubt_of_set, octave_share, set_sure, sounds, warnings_of, CLOSE, DOUBTFUL};
 use crate::{Signal, SignalError};
 
 /// One bell learned.
@@ -21,12 +22,17 @@ use crate::{Signal, SignalError};
 pub struct LearnedBell {
     /// Its nominal (Hz).
     pub nominal_hz: f64,
-    /// How sure (0 to 1): the onsets its nominal rose most at, against the
-    /// typical (median) learned bell's, at most 1: every bell of a ring
-    /// strikes as often as the others.
+    /// How sure (0 to 1): its `support` (`learn_sure`); 0 for a note of
+    /// the ring guessed, no bell heard there.
     pub confidence: f64,
     /// The onsets its nominal rose most at.
     pub onsets: usize,
+    /// Its onsets against the typical (median) learned bell's, at most 1:
+    /// every bell of a ring strikes as often as the others.
+    pub support: f64,
+    /// How well its strikes' partials fit a tuned bell's with this
+    /// nominal, against the best octave of it (0 to 1; 1: it fits best here).
+    pub partials_fit: f64,
 }
 
 /// The bells learned from a recording.
@@ -36,6 +42,12 @@ pub struct Learned {
     pub bells: Vec<LearnedBell>,
     /// Onsets heard in the recording.
     pub onsets: usize,
+    /// How sure the set is (0 to 1): its bells heard's mean confidence
+    /// times their share, doubtful with a note guessed, less where the
+    /// onsets' rhythm says another number of bells ring.
+    pub confidence: f64,
+    /// How many bells ring, from the onsets' rhythm (`None` if it says nothing).
+    pub ringing: Option<f64>,
     /// What made it unsure, in words.
     pub warnings: Vec<String>,
 }
@@ -53,9 +65,6 @@ const SAME_BELL: f64 = 0.75;
 const LEAST: f64 = 0.3;
 /// Onsets at one nominal this many times one bell's are two bells'.
 const ONE_BELL: f64 = 1.5;
-/// Learned nominals closer than this (fraction, about two-thirds of a
-/// semitone) are warned of: no ring is tuned so close.
-const CLOSE: f64 = 0.04;
 /// The segments after and before a strike its nominal is measured late in (s).
 const LATE_S: f64 = 0.3;
 /// A nominal measured late lies within this (fraction) of the one heard as its strikes rose.
@@ -64,6 +73,9 @@ const LATE_WIDTH: f64 = 0.015;
 const LATE_MOST: usize = 40;
 /// A bell on an empty note rises there at least this share of its onset's highest rise.
 const EMPTY_RISE: f64 = 0.3;
+/// Bells heard (before they are gathered into sounds) this many times
+/// or fewer than asked for are all that ring: no note is guessed.
+const FEW: usize = 3;
 /// Bells heard beyond those asked for that the ring's scale may choose among.
 const SPARE: usize = 3;
 /// Learned nominals closer than this (fraction, a twelfth of a semitone)
@@ -207,14 +219,9 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
         .filter_map(|(i, d)| peak_of(d).map(|k| (freq(k), i)))
         .collect();
     let groups = group_notes(notes, df);
-    let ring = on_the_scale(
-        bells_of(&groups, &rises, k_lo, df, bells),
-        &onsets,
-        &rises,
-        k_lo,
-        df,
-        bells,
-    );
+    let heard = bells_of(&groups, &rises, k_lo, df, bells);
+    let (ring, few) = ring_of(heard, &onsets, &rises, k_lo, df, bells);
+    let rhythm = ringing(&ring, &onsets);
     // A bell's share against the typical learned bell's: every bell of a
     // ring strikes as often as the others (onsets of the room, the noise
     // and strikes heard at another partial are no bell's).
@@ -230,12 +237,56 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
         .collect();
     learned.sort_by(|a, b| b.nominal_hz.total_cmp(&a.nominal_hz));
     let learned = one_per_nominal(learned);
-    let warnings = warnings_of(&learned, bells);
+    let sure: Vec<f64> = learned.iter().map(|b| b.confidence).collect();
+    let confidence = set_sure(&sure, learned.len(), rhythm);
+    let mut warnings = warnings_of(&learned, bells, few);
+    if confidence < DOUBTFUL && !learned.is_empty() {
+        warnings.push(doubt_of_set(&learned, confidence, rhythm));
+    }
     Ok(Learned {
         bells: learned,
         onsets: onsets.len(),
+        confidence,
+        ringing: rhythm,
         warnings,
     })
+}
+
+/// The ring's bells among those `heard`, each with its nominal (Hz) as
+/// placed, and whether far fewer were heard than the `bells` asked for
+/// (then each sound heard is a bell and no note is guessed; else
+/// [`on_the_scale`]).
+fn ring_of(
+    heard: Vec<Heard>,
+    onsets: &[usize],
+    rises: &[Vec<f64>],
+    k_lo: usize,
+    df: f64,
+    bells: usize,
+) -> (Vec<(Heard, f64)>, bool) {
+    // A recording of far fewer bells than asked (one bell struck again and
+    // again): each sound heard is a bell, and no note is guessed for the
+    // rest. A third or fewer heard, not a half: ten handbells 150 ms apart
+    // are heard as five, and their notes' guesses are right.
+    let few = FEW * heard.len() <= bells;
+    let heard_sounds = if few { sounds(&heard, rises, k_lo, df) } else { vec![] };
+    let ring = if few {
+        // Each at [`LEAST`] of the most heard one's onsets at least (as a
+        // ring's bells against one bell's share): a partial of it noted
+        // at a few onsets is no bell.
+        let most = heard_sounds.iter().map(|b| b.onsets.len()).max().unwrap_or(0) as f64;
+        heard_sounds
+            .into_iter()
+            .filter(|b| b.onsets.len() as f64 >= LEAST * most)
+            .map(|b| {
+                let f = b.nominal_hz;
+                (b, f)
+            })
+            .collect()
+    } else {
+        on_the_scale(heard, onsets, rises, k_lo, df, bells)
+    };
+    (ring, few)
 }
 
 /// The bell `b` heard, its nominal moved to `f` (Hz), learned: its
@@ -257,14 +308,21 @@ fn learned_bell(
             nominal_hz: f,
             confidence: 0.0,
             onsets: 0,
+            support: 0.0,
+            partials_fit: 0.0,
         };
     }
     let heard = refine_moved(rises, &b.onsets, b.nominal_hz, f, frames.k_lo, frames.df);
     let starts: Vec<usize> = b.onsets.iter().map(|&i| onsets[i] * frames.hop).collect();
+    let support = (b.onsets.len() as f64 / typical).min(1.0);
+    let fits = octave_fits(&mean_rise(rises, &b.onsets), f, frames.k_lo, frames.df);
+    let partials_fit = octave_share(&fits, OCTAVES as usize);
     LearnedBell {
         nominal_hz: refine_late(low, &starts, frames.win.len(), heard).unwrap_or(heard),
-        confidence: (b.onsets.len() as f64 / typical).min(1.0),
+        confidence: bell_sure(support),
         onsets: b.onsets.len(),
+        support,
+        partials_fit,
     }
 }
 
@@ -864,7 +922,6 @@ fn octaves_into_ring(f: &[f64], bells: usize) -> Vec<f64> {
         .collect()
 }
 
-/// Warnings: fewer bells heard than asked, a bell heard seldom, two close.
 /// Bells learned (highest first) within [`ONE_NOMINAL`] of the one
 /// before are that bell heard twice (two partials moved by octaves onto
 /// one note, in a room): one bell, the one heard at more onsets, with
@@ -879,49 +936,14 @@ fn one_per_nominal(learned: Vec<LearnedBell>) -> Vec<LearnedBell> {
                     a.nominal_hz = b.nominal_hz;
                 }
                 a.onsets += b.onsets;
-                a.confidence = (a.confidence + b.confidence).min(1.0);
+                a.support = (a.support + b.support).min(1.0);
+                a.partials_fit = a.partials_fit.max(b.partials_fit);
+                a.confidence = bell_sure(a.support);
             }
             _ => out.push(b),
         }
     }
     out
-}
-
-fn warnings_of(learned: &[LearnedBell], bells: usize) -> Vec<String> {
-    let mut w = vec![];
-    let heard = learned.iter().filter(|b| b.onsets > 0).count();
-    if heard < bells {
-        w.push(format!(
-            "{bells} bells asked for, but only {heard} nominal(s) heard again and again: fewer bells ring, or some are too faint",
-        ));
-    }
-    for (i, b) in learned.iter().enumerate() {
-        if b.onsets == 0 {
-            w.push(format!(
-                "bell {} (about {:.1} Hz): not heard often enough to learn its nominal; it keeps its place, its \
-                 nominal guessed as its note of the ring's scale, so that the other bells keep their numbers",
-                i + 1,
-                b.nominal_hz
-            ));
-        } else if b.confidence < 0.5 {
-            w.push(format!(
-                "bell {} ({:.1} Hz): its nominal rose most at only {} onsets, {:.0} % of a typical bell's: unsure",
-                i + 1,
-                b.nominal_hz,
-                b.onsets,
-                100.0 * b.confidence
-            ));
-        }
-    }
-    for p in learned.windows(2) {
-        if p[0].nominal_hz - p[1].nominal_hz < CLOSE * p[0].nominal_hz {
-            w.push(format!(
-                "two nominals learned close together ({:.1} and {:.1} Hz): one may be another bell's partial",
-                p[0].nominal_hz, p[1].nominal_hz
-            ));
-        }
-    }
-    w
 }
 
 #[cfg(test)]
@@ -1205,6 +1227,8 @@ mod tests {
             nominal_hz,
             confidence: onsets as f64 / 20.0,
             onsets,
+            support: onsets as f64 / 20.0,
+            partials_fit: 1.0,
         };
         let got = one_per_nominal(vec![
             bell(2654.8, 6),
