@@ -333,7 +333,7 @@ fn last_in_rhythm(
         // In band samples, as off_rhythm reads intervals.
         let d = |t: f64| ((t - prev.0) * h.rate).round().max(0.0) as usize;
         let per = period * h.rate;
-        if !(per > 0.0) || off_rhythm(d(last.0), bells, per) == 0.0 {
+        if !per.is_finite() || per <= 0.0 || off_rhythm(d(last.0), bells, per) == 0.0 {
             continue;
         }
         let least = (opts.min_separation_s).max(0.5 * period);

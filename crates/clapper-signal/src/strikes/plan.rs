@@ -196,7 +196,7 @@ fn leaking(
         mag.get(lo..=hi).map_or(0.0, |m| m.iter().copied().fold(0.0, f64::max))
     };
     let mine = level(f);
-    if !(mine > 0.0) || p.uncertainty > 0.005 {
+    if !mine.is_finite() || mine <= 0.0 || p.uncertainty > 0.005 {
         return (0.0, vec![]);
     }
     let mut leak = 0.0;
