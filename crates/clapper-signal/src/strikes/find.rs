@@ -5,10 +5,9 @@ use std::cell::OnceCell;
 
 use super::band::{bands, decimate, Band, SharedBand};
 use super::heard::{check_options, Heard, HeardDouble, HeardStrike, StrikeOptions};
-use super::onsets::{hear_bell, off_rhythm, BellHearing};
+use super::onsets::{hear_bell, BellHearing};
 use super::plan::{mean_spectrum, plan_bands};
 use super::stats::median;
-use super::timing::onset_time;
 use super::voice::BellVoice;
 use crate::{Signal, SignalError};
 
@@ -258,8 +257,6 @@ fn strikes_of(
             h.firsts(opts, bells)
         })
         .collect();
-    let firsts = last_in_rhythm(&heard, firsts, bells, opts);
-    let firsts = in_shared_bands(&heard, &shared_bands, firsts, bells, opts);
     let firsts = in_the_rings_rhythm(&heard, firsts, bells, opts);
     for (b, (h, f)) in heard.iter().zip(&firsts).enumerate() {
         if f.is_empty() && !h.bands.is_empty() {
@@ -304,134 +301,6 @@ fn strikes_of(
         warnings,
         opts: *opts,
     }
-}
-
-/// Each bell's last strike, where the ring's rhythm does not support it
-/// (off a whole number of rows after the strike before, beyond
-/// [`off_rhythm`]'s tolerance) and a candidate it outweighed
-/// ([`super::onsets::once_a_row`]) lies on the rhythm, at least half as
-/// high: that candidate. Inside the ring the bell's next strike keeps
-/// the rhythm; after the ring has stopped only tails sound, and a bump
-/// a strike leaves can outweigh the last strike (the swing row, seed 1:
-/// the tenor's last strike 0.62 of typical, a bump 0.6 s after it 0.66,
-/// reported 0.66 s after the ring had ended).
-fn last_in_rhythm(
-    heard: &[BellHearing],
-    mut firsts: Vec<Vec<(f64, f64)>>,
-    bells: usize,
-    opts: &StrikeOptions,
-) -> Vec<Vec<(f64, f64)>> {
-    for (h, f) in heard.iter().zip(firsts.iter_mut()) {
-        let n = f.len();
-        if n < 7 {
-            continue;
-        }
-        let Some(period) = median(f.windows(2).map(|w| w[1].0 - w[0].0).collect()) else {
-            continue;
-        };
-        let (prev, last) = (f[n - 2], f[n - 1]);
-        // In band samples, as off_rhythm reads intervals.
-        let d = |t: f64| ((t - prev.0) * h.rate).round().max(0.0) as usize;
-        let per = period * h.rate;
-        if !per.is_finite() || per <= 0.0 || off_rhythm(d(last.0), bells, per) == 0.0 {
-            continue;
-        }
-        let least = (opts.min_separation_s).max(0.5 * period);
-        let better = h
-            .candidates
-            .iter()
-            .filter(|c| c.1 >= 0.5 * last.1)
-            // Peaks come after their onsets by less than a rise (0.15 s).
-            .filter(|c| (prev.0 + least..last.0 + 0.2).contains(&(c.0 as f64 / h.rate)))
-            .filter_map(|c| {
-                let m = h.first_of_double(c.0, opts);
-                let t = onset_time(&h.bands, &h.changes, m)?;
-                (t - prev.0 >= least && t < last.0 - 0.05 && off_rhythm(d(t), bells, per) == 0.0).then_some((t, c.1))
-            })
-            .max_by(|a, b| a.1.total_cmp(&b.1));
-        if let Some(b) = better {
-            f[n - 1] = b;
-        }
-    }
-    firsts
-}
-
-/// Each bell listened for and not heard in its own bands (no strike
-/// standing clear of the rest) heard again with the strong partials it
-/// shares added (`shared`), each sharer's strikes (as found in its own
-/// bands) taken out of them ([`BellHearing::without_others`]): a rise
-/// in a shared band at another bell's known strike is not this bell's.
-/// Where a sharer was not heard, or the bell is still not heard in two
-/// thirds as many strikes as the bells heard, left to the ring's rhythm ([`in_the_rings_rhythm`]). The swing row's bell
-/// 6 (nominal 832.4 Hz on bell 3's quint and the treble's tierce) was
-/// heard in its tierce and hum alone, no strike standing clear.
-fn in_shared_bands(
-    heard: &[BellHearing],
-    shared: &[Vec<SharedBand>],
-    mut firsts: Vec<Vec<(f64, f64)>>,
-    bells: usize,
-    opts: &StrikeOptions,
-) -> Vec<Vec<(f64, f64)>> {
-    let copy = |b: &Band| Band {
-        rate: b.rate,
-        weight: b.weight,
-        box_s: b.box_s,
-        z: b.z.clone(),
-        rise: b.rise,
-        scale: b.scale,
-    };
-    for b in 0..heard.len().min(shared.len()) {
-        let h = &heard[b];
-        // Only bands whose sharers were all heard: their strikes can be taken out.
-        let usable: Vec<&SharedBand> = shared[b]
-            .iter()
-            .filter(|sb| sb.with.iter().all(|&o| firsts.get(o).is_some_and(|f| !f.is_empty())))
-            .collect();
-        if !firsts[b].is_empty() || h.bands.is_empty() || usable.is_empty() {
-            continue;
-        }
-        let n = h
-            .changes
-            .iter()
-            .chain(usable.iter().map(|sb| &sb.change))
-            .map(Vec::len)
-            .min()
-            .unwrap_or(0);
-        let mut others: Vec<Vec<f64>> = vec![vec![]; h.bands.len()];
-        for sb in &usable {
-            let mut t: Vec<f64> = sb.with.iter().flat_map(|&o| firsts[o].iter().map(|x| x.0)).collect();
-            t.sort_by(f64::total_cmp);
-            others.push(t);
-        }
-        let again = BellHearing {
-            bands: h
-                .bands
-                .iter()
-                .chain(usable.iter().map(|sb| &sb.band))
-                .map(copy)
-                .collect(),
-            changes: h
-                .changes
-                .iter()
-                .chain(usable.iter().map(|sb| &sb.change))
-                .map(|c| c[..n].to_vec())
-                .collect(),
-            rate: h.rate,
-            candidates: vec![],
-            onset: vec![],
-            floor: 0.0,
-        }
-        .without_others(&others, opts);
-        let found = again.firsts(opts, bells);
-        // As many strikes as the bells heard (two thirds of their median
-        // count), else the ring's rhythm chooses.
-        let mut counts: Vec<usize> = firsts.iter().map(Vec::len).filter(|&c| c > 0).collect();
-        counts.sort_unstable();
-        if counts.get(counts.len() / 2).is_some_and(|&c| 3 * found.len() >= 2 * c) {
-            firsts[b] = found;
-        }
-    }
-    firsts
 }
 
 /// Each bell listened for and not heard (its bands there, no strike

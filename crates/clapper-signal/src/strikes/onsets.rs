@@ -333,7 +333,7 @@ pub(super) fn once_a_row(strikes: Vec<(usize, f64)>, bells: usize) -> Vec<(usize
 /// rows (`period`, 1 to 3: a strike or two lost between) beyond what a
 /// bell's moving a place a row and the handstroke gap allow (1.5 places
 /// of a row of `bells` + ½), in rows; 1 past three rows.
-pub(super) fn off_rhythm(d: usize, bells: usize, period: f64) -> f64 {
+fn off_rhythm(d: usize, bells: usize, period: f64) -> f64 {
     let x = d as f64 / period;
     let k = x.round();
     if !(1.0..=3.0).contains(&k) {

@@ -89,10 +89,8 @@ pub(super) fn plan_bands(voices: &[BellVoice], rate: f64, spectrum: &(f64, Vec<f
                     sharers: vec![],
                 };
             }
-            let bands: Vec<(f64, f64, f64, usize, Vec<usize>)> = v
-                .iter()
-                .map(|p| partial_band(p, b, smax, &placed, rate, spectrum))
-                .collect();
+            let bands: Vec<(f64, f64, f64, usize, Vec<usize>)> =
+                v.iter().map(|p| partial_band(p, b, smax, &placed, rate)).collect();
             // A band another bell shares beats with it while both ring and
             // steps when the other strikes: with two bands or more of its
             // own (90 %), a bell is heard in those alone; else in its best
@@ -127,15 +125,13 @@ pub(super) fn plan_bands(voices: &[BellVoice], rate: f64, spectrum: &(f64, Vec<f
 /// One partial `p` of bell `b` (its strongest partial `smax` strong),
 /// among every bell's partials `placed`, as a band: (frequency Hz,
 /// strength over the strongest, the share of the band that is its own,
-/// box length in samples, the bells whose partials may lie in it or pass
-/// its boxes loud beside it ([`leaking`], on the mean `spectrum`)).
+/// box length in samples, the bells whose partials may lie in it).
 fn partial_band(
     p: &VoicePartial,
     b: usize,
     smax: f64,
     placed: &[Vec<VoicePartial>],
     rate: f64,
-    spectrum: &(f64, Vec<f64>),
 ) -> (f64, f64, f64, usize, Vec<usize>) {
     let f = p.freq_hz;
     // Other bells' partials that may lie in this band, and the nearest that cannot.
@@ -159,71 +155,12 @@ fn partial_band(
         }
     }
     let s = p.strength / smax;
+    let own = s * s / (s * s + shared);
     // A null of the smoothing on the nearest other partial; 3 to 50 ms.
     let secs = (1.0 / nearest.max(0.03 * f)).clamp(0.003, 0.05);
     let len = ((secs * rate).round() as usize) | 1;
-    let (leak, with) = leaking(p, b, placed, len as f64 / rate, spectrum);
-    shared += s * s * leak;
-    sharers.extend(with);
-    sharers.sort_unstable();
-    let own = s * s / (s * s + shared);
     sharers.dedup();
     (f, s, own, len, sharers)
-}
-
-/// What other bells' partials near partial `p` of bell `b` (placed on the
-/// recording's peaks, beyond the band's own tolerance but nearer than a
-/// box of `secs` can null) put into its band, as power over the
-/// partial's own in the mean `spectrum`, and those bells (from 0). A
-/// carillon's tierce is its strongest partial: Westerkerk bell 2's (914
-/// Hz, 20 dB over the peak at 903 Hz in tester 12's wk8a) passes bell
-/// 7's nominal band (a 37 ms box, 1.3 % away) at 0.39 of its level, and
-/// bell 7 was timed by it 150-235 ms early at every strike; a tuned
-/// ring's partials fall within the tolerance of one another's or well
-/// outside the box, and add nothing here. Counted only where it passes
-/// at half the partial's level or more.
-fn leaking(
-    p: &VoicePartial,
-    b: usize,
-    placed: &[Vec<VoicePartial>],
-    secs: f64,
-    (df, mag): &(f64, Vec<f64>),
-) -> (f64, Vec<usize>) {
-    let f = p.freq_hz;
-    let level = |g: f64| -> f64 {
-        let lo = ((g * 0.998 / df).floor() as usize).max(1);
-        let hi = ((g * 1.002 / df).ceil() as usize).min(mag.len().saturating_sub(1));
-        mag.get(lo..=hi).map_or(0.0, |m| m.iter().copied().fold(0.0, f64::max))
-    };
-    let mine = level(f);
-    if !mine.is_finite() || mine <= 0.0 || p.uncertainty > 0.005 {
-        return (0.0, vec![]);
-    }
-    let mut leak = 0.0;
-    let mut with = vec![];
-    for (ob, ov) in placed.iter().enumerate().filter(|(ob, _)| *ob != b) {
-        // Only partials placed on a peak (else their tolerance covers the band).
-        for op in ov.iter().filter(|op| op.uncertainty <= 0.005) {
-            let d = (op.freq_hz - f).abs();
-            let tol = (p.uncertainty + op.uncertainty).max(0.01) * f;
-            let x = d * secs;
-            if d < tol || x >= 1.0 {
-                continue;
-            }
-            // Three boxes pass a partial d Hz off at sinc(d·secs)³.
-            let pass = ((std::f64::consts::PI * x).sin() / (std::f64::consts::PI * x)).powi(3);
-            let part = (pass * level(op.freq_hz) / mine).powi(2);
-            // Counted where it passes at half the partial's own level or
-            // more: a fainter neighbour only ripples the band (and a
-            // tuned ring's recorded bells, partials straying a percent,
-            // keep their bands as they were).
-            if part >= 0.25 {
-                leak += part;
-                with.push(ob);
-            }
-        }
-    }
-    (leak, with)
 }
 
 /// The peak of the mean spectrum within `f` ± uncertainty, if it stands
@@ -254,67 +191,4 @@ pub(super) fn find_peak(f: f64, uncertainty: f64, df: f64, mag: &[f64]) -> Optio
     let den = a - 2.0 * b + c;
     let off = if den != 0.0 { 0.5 * (a - c) / den } else { 0.0 };
     Some((k as f64 + off.clamp(-0.5, 0.5)) * df)
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A mean spectrum (0.5 Hz steps to 4 kHz, level 1) with peaks
-    /// (Hz, level).
-    fn spectrum(peaks: &[(f64, f64)]) -> (f64, Vec<f64>) {
-        let df = 0.5;
-        let mut mag = vec![1.0; 8000];
-        for &(f, a) in peaks {
-            mag[(f / df).round() as usize] = a;
-        }
-        (df, mag)
-    }
-
-    /// Tester 12's wk8a, its bells 7 and 2 alone: bell 7's nominal (902.8
-    /// Hz) 1.3 % under bell 2's tierce (914.3 Hz, a carillon's strongest
-    /// partial, 20 dB over it in the recording), beyond the sharing
-    /// tolerance but passed by the 37 ms boxes at 0.39 of its level. The
-    /// band is bell 2's more than bell 7's: not one bell 7 is heard in
-    /// alone (its hum and prime are), and bell 2 is known to share it.
-    #[test]
-    fn a_band_another_bells_loud_partial_passes_is_not_the_bells_own() {
-        let seven = BellVoice::from_nominal(902.8);
-        let two = bell_two();
-        let mut peaks: Vec<(f64, f64)> = seven.partials.iter().map(|p| (p.freq_hz, 100.0)).collect();
-        peaks.push((914.3, 1000.0));
-        peaks.push((1524.4, 100.0));
-        let plan = plan_bands(&[seven, two], 11_025.0, &spectrum(&peaks));
-        let near = |f: f64| (f - 902.8).abs() < 2.0;
-        assert!(!plan[0].bands.iter().any(|b| near(b.0)), "{:?}", plan[0].bands);
-        assert!(plan[0].bands.len() >= 2, "{:?}", plan[0].bands);
-        let shared = plan[0].shared.iter().find(|s| near(s.0 .0));
-        assert_eq!(shared.map(|s| s.1.clone()), Some(vec![1]), "{:?}", plan[0].shared);
-        // With bell 2's tierce as quiet as bell 7's nominal, it is bell 7's own.
-        let mut quiet = peaks.clone();
-        quiet.retain(|p| p.0 != 914.3);
-        quiet.push((914.3, 100.0));
-        let seven = BellVoice::from_nominal(902.8);
-        let two = bell_two();
-        let plan = plan_bands(&[seven, two], 11_025.0, &spectrum(&quiet));
-        assert!(plan[0].bands.iter().any(|b| near(b.0)), "{:?}", plan[0].bands);
-    }
-
-    /// Bell 2 as far as it matters here: its tierce and nominal.
-    fn bell_two() -> BellVoice {
-        BellVoice {
-            partials: vec![
-                VoicePartial {
-                    freq_hz: 914.3,
-                    strength: 1.0,
-                    uncertainty: 0.005,
-                },
-                VoicePartial {
-                    freq_hz: 1524.4,
-                    strength: 0.2,
-                    uncertainty: 0.004,
-                },
-            ],
-        }
-    }
 }
