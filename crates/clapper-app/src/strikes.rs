@@ -185,7 +185,7 @@ enum Pass {
     /// No strike judged double (a trial of the opening window: it reads
     /// the strikes' times only), the window heard as the [`Hearing`] says
     /// if one is given (the calibration's of the same window and voices).
-    Singles(Option<Hearing>),
+    Singles(Option<Box<Hearing>>),
 }
 
 /// How strike times are put on one footing for every bell.
@@ -320,7 +320,7 @@ impl StrikesReport {
     ) -> Result<Self, AppError> {
         let (doubles, ready) = match pass {
             Pass::Judged => (true, None),
-            Pass::Singles(ready) => (false, ready),
+            Pass::Singles(ready) => (false, ready.map(|h| *h)),
         };
         let rate = src.rate();
         check_rate(rate)?;

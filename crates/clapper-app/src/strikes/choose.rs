@@ -286,7 +286,15 @@ impl StrikesReport {
         ready: Option<Hearing>,
     ) -> Result<Self, AppError> {
         let (whole, src) = (Windows::default(), &mut InMemory::new(sig));
-        Self::listened(src, voices, opts, timing, &whole, None, Pass::Singles(ready))
+        Self::listened(
+            src,
+            voices,
+            opts,
+            timing,
+            &whole,
+            None,
+            Pass::Singles(ready.map(Box::new)),
+        )
     }
 
     /// Say in the report's "timing" how its strikes were timed and why
