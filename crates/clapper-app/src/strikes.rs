@@ -9,7 +9,7 @@ use clapper_core::stroke::double_strike_index;
 use clapper_signal::lateness::Lateness;
 use clapper_signal::self_calibrate::{calibrate, SelfCalibration};
 use clapper_signal::strikes::{
-    find_strikes_streamed_deferred, rising_at, BellVoice, Heard, Hearing, InMemory, RecordingBlocks, RisePartial,
+    find_strikes_streamed_heard, rising_at, BellVoice, Heard, Hearing, InMemory, RecordingBlocks, RisePartial,
     StrikeOptions, Window, Windows, PLAUSIBLE_SHARE,
 };
 use clapper_signal::striking::{mean_sd, rhythm, steady, Rhythm, Timed};
@@ -178,6 +178,16 @@ pub struct TimingReport {
     pub choice: Option<TimingChoice>,
 }
 
+/// How [`StrikesReport::listened`] hears a recording.
+enum Pass {
+    /// Every strike judged double (the recording heard for its report).
+    Judged,
+    /// No strike judged double (a trial of the opening window: it reads
+    /// the strikes' times only), the window heard as the [`Hearing`] says
+    /// if one is given (the calibration's of the same window and voices).
+    Singles(Option<Box<Hearing>>),
+}
+
 /// How strike times are put on one footing for every bell.
 #[derive(Clone, Copy, Debug)]
 pub enum Timing<'a> {
@@ -298,10 +308,10 @@ impl StrikesReport {
         windows: &Windows,
         strip: Option<&mut Signal>,
     ) -> Result<Self, AppError> {
-        Self::listened(src, voices, opts, timing, windows, strip, true)
+        Self::listened(src, voices, opts, timing, windows, strip, Pass::Judged)
     }
 
-    /// [`Self::streamed`], the finder's doubles judged only if `doubles`.
+    /// [`Self::streamed`], heard as `pass` says.
     fn listened(
         src: &mut dyn RecordingBlocks,
         voices: &[BellVoice],
@@ -309,8 +319,12 @@ impl StrikesReport {
         timing: Timing,
         windows: &Windows,
         mut strip: Option<&mut Signal>,
-        doubles: bool,
+        pass: Pass,
     ) -> Result<Self, AppError> {
+        let (doubles, ready) = match pass {
+            Pass::Judged => (true, None),
+            Pass::Singles(ready) => (false, ready.map(|h| *h)),
+        };
         let rate = src.rate();
         check_rate(rate)?;
         input::heard_at(rate, voices)?;
@@ -350,7 +364,8 @@ impl StrikesReport {
             }
             timed_again(timing, w, heard, hearing, &late, opts, &mut moved)
         };
-        let mut heard = find_strikes_streamed_deferred(src, voices, opts, windows, &mut each).map_err(signal_error)?;
+        let mut heard =
+            find_strikes_streamed_heard(src, voices, opts, windows, ready, &mut each).map_err(signal_error)?;
         let matched: Vec<Option<f64>> = moved.into_iter().map(median_of).collect();
         let mut warnings = std::mem::take(&mut heard.warnings);
         warnings.extend(no_lateness);

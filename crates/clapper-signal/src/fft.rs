@@ -47,8 +47,9 @@ thread_local! {
 }
 
 /// The cross-correlation of `x` against `reference`, zero-padded to
-/// `n` samples (a power of two at least their lengths' sum): `f(out)`
-/// sees out[d] = Σ_k reference[k]·x[k + d] (circular, at length `n`).
+/// `n` samples: `f(out)`
+/// sees out[d] = Σ_k reference[k]·x[k + d] (circular, at length `n`: exact,
+/// x taken as zero past its end, for d up to `n` less the reference's length).
 /// The reference's spectrum is kept for the next call with the same
 /// reference and length; the numbers are those of transforming it afresh.
 pub(crate) fn correlate<R>(x: &[f64], reference: &[f64], n: usize, f: impl FnOnce(&[f64]) -> R) -> R {

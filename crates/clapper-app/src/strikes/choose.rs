@@ -15,8 +15,12 @@ use clapper_signal::template_timing::median_of;
 use clapper_signal::Signal;
 use serde::Serialize;
 
-use super::{calibrate_from_recording, voices_from_nominals, StrikesReport, Timing, TimingReport, Voice};
+use super::{
+    calibrate_from_recording, signal_error, voices_from_nominals, Pass, StrikesReport, Timing, TimingReport, Voice,
+};
 use crate::AppError;
+use clapper_signal::self_calibrate::calibrate_heard;
+use clapper_signal::strikes::Hearing;
 
 /// The timing asked for (`--timing`).
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -204,7 +208,7 @@ fn choose(
 /// [`AUTO_LEAST_FOUND`]); plain where the calibration fails.
 fn auto(head: &Signal, nominals: &[f64], plain: Vec<BellVoice>, opts: &StrikeOptions) -> Result<Chosen, AppError> {
     // The trials read the strikes' times only: no strike judged double.
-    let p = StrikesReport::timed_singles(head, &plain, opts, Timing::AsHeard)?;
+    let p = StrikesReport::timed_singles(head, &plain, opts, Timing::AsHeard, None)?;
     let mut choice = TimingChoice {
         asked: "auto",
         used: "plain",
@@ -214,7 +218,10 @@ fn auto(head: &Signal, nominals: &[f64], plain: Vec<BellVoice>, opts: &StrikeOpt
         plain_rms_ms: p.summary.rms_error_ms,
         ..TimingChoice::default()
     };
-    let c = match calibrate_from_recording(head, nominals, opts) {
+    // The calibration's hearing of the window is the recording trial's.
+    let learned = voices_from_nominals(nominals, Voice::Tower)
+        .and_then(|_| calibrate_heard(head, nominals, opts).map_err(signal_error));
+    let (c, hearing) = match learned {
         Ok(c) => c,
         Err(e) => {
             choice.reason = format!("plain: nothing learned from the recording ({e})");
@@ -225,7 +232,7 @@ fn auto(head: &Signal, nominals: &[f64], plain: Vec<BellVoice>, opts: &StrikeOpt
             });
         }
     };
-    let r = StrikesReport::timed_singles(head, &c.voices, opts, Timing::Recording(&c))?;
+    let r = StrikesReport::timed_singles(head, &c.voices, opts, Timing::Recording(&c), Some(hearing))?;
     choice.recording_strikes = Some(r.strikes.len());
     choice.recording_unevenness_ms = unevenness_ms(&r);
     choice.recording_rms_ms = r.summary.rms_error_ms;
@@ -269,14 +276,25 @@ impl StrikesReport {
     /// [`Self::timed`] with no strike judged double (not for templates):
     /// for what reads the strikes' times only (the choice's trials), the
     /// finder's double-strike fits (a quarter of its time) are not made.
+    /// `ready`, if given, is the finder's hearing of `sig` through `voices`
+    /// (the calibration's, made on the same window): not heard again.
     fn timed_singles(
         sig: &Signal,
         voices: &[BellVoice],
         opts: &StrikeOptions,
         timing: Timing,
+        ready: Option<Hearing>,
     ) -> Result<Self, AppError> {
         let (whole, src) = (Windows::default(), &mut InMemory::new(sig));
-        Self::listened(src, voices, opts, timing, &whole, None, false)
+        Self::listened(
+            src,
+            voices,
+            opts,
+            timing,
+            &whole,
+            None,
+            Pass::Singles(ready.map(Box::new)),
+        )
     }
 
     /// Say in the report's "timing" how its strikes were timed and why

@@ -44,7 +44,10 @@ pub use plausible::{
     below_nominal, rising, rising_at, RisePartial, HANDBELL_BELOW, PLAUSIBLE_SHARE, RING_ON_FALL, RING_ON_FROM_S,
     RING_ON_TO_S, RISE_POWER, RISE_SHARE, TOWER_BELOW,
 };
-pub use stream::{find_strikes_streamed, find_strikes_streamed_deferred, InMemory, RecordingBlocks, Window, Windows};
+pub use stream::{
+    find_strikes_streamed, find_strikes_streamed_deferred, find_strikes_streamed_heard, InMemory, RecordingBlocks,
+    Window, Windows,
+};
 pub use voice::{BellVoice, VoicePartial};
 #[cfg(test)]
 mod learn_real_tests;

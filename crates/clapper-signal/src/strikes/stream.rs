@@ -170,6 +170,22 @@ pub fn find_strikes_streamed_deferred(
     windows: &Windows,
     each: &mut dyn FnMut(&Window, &mut Heard, Hearing) -> Result<(), SignalError>,
 ) -> Result<Heard, SignalError> {
+    find_strikes_streamed_heard(src, voices, opts, windows, None, each)
+}
+
+/// [`find_strikes_streamed_deferred`], a recording heard as one window
+/// ([`Windows::whole_s`] or shorter) heard as `ready` says if given: the
+/// caller's [`hear_strikes`] of the same recording, voices and options
+/// (the recording timing's trial hears the opening window the
+/// calibration has just heard). A longer recording ignores it.
+pub fn find_strikes_streamed_heard(
+    src: &mut dyn RecordingBlocks,
+    voices: &[BellVoice],
+    opts: &StrikeOptions,
+    windows: &Windows,
+    mut ready: Option<Hearing>,
+    each: &mut dyn FnMut(&Window, &mut Heard, Hearing) -> Result<(), SignalError>,
+) -> Result<Heard, SignalError> {
     let rate = src.rate();
     let plan = windows.plan(src.total(), rate)?;
     let mut audio: Vec<f64> = vec![];
@@ -196,7 +212,10 @@ pub fn find_strikes_streamed_deferred(
             rate,
             samples: std::mem::take(&mut audio),
         };
-        let hearing = hear_strikes(&sig, voices, opts)?;
+        let hearing = match ready.take().filter(|_| plan.len() == 1) {
+            Some(h) => h,
+            None => hear_strikes(&sig, voices, opts)?,
+        };
         let mut heard = hearing.singles();
         let window = Window {
             sig: &sig,
@@ -367,5 +386,60 @@ mod tests {
         // 32 s (13 strikes a bell): most strikes move well under a millisecond.
         assert!(d[d.len() / 2] < 0.5, "median {} ms", d[d.len() / 2]);
         assert!(whole.strikes.iter().any(|s| s.double.is_some()));
+    }
+
+    /// A recording heard as one window with the caller's hearing of it
+    /// handed in is heard as without (the same strikes, doubles and
+    /// warnings), and the hearing handed in is the one used (another
+    /// recording's gives that one's strikes); a recording of several
+    /// windows ignores it.
+    #[test]
+    fn a_hearing_handed_in_is_used_for_one_window_only() {
+        use crate::tower::{major_scale, tower_recording, TowerSpec};
+        let bells = major_scale(5, 1000.0).unwrap();
+        let ring = |rows: usize, seed: u64| {
+            let spec = TowerSpec {
+                rate: 8000.0,
+                rows,
+                snr_db: Some(30.0),
+                seed,
+                ..TowerSpec::new(bells.clone())
+            };
+            tower_recording(&spec).unwrap().0
+        };
+        let voices: Vec<BellVoice> = bells.iter().map(|b| BellVoice::from_nominal(b.nominal_hz)).collect();
+        let opts = StrikeOptions::default();
+        let judged = |_: &Window, heard: &mut Heard, hearing: Hearing| {
+            for (i, s) in heard.strikes.iter_mut().enumerate() {
+                s.double = hearing.double(i);
+            }
+            Ok(())
+        };
+        let heard = |sig: &Signal, ready: Option<Hearing>, windows: &Windows| {
+            let mut each = judged;
+            find_strikes_streamed_heard(&mut InMemory::new(sig), &voices, &opts, windows, ready, &mut each).unwrap()
+        };
+        let (a, b) = (ring(12, 1), ring(16, 2));
+        let whole = Windows::default();
+        let alone = heard(&a, None, &whole);
+        assert!(alone.strikes.len() >= 50);
+        assert_eq!(
+            heard(&a, Some(hear_strikes(&a, &voices, &opts).unwrap()), &whole),
+            alone
+        );
+        let other = heard(&b, None, &whole);
+        assert_ne!(other.strikes.len(), alone.strikes.len());
+        assert_eq!(
+            heard(&a, Some(hear_strikes(&b, &voices, &opts).unwrap()), &whole),
+            other
+        );
+        let short = Windows {
+            whole_s: 8.0,
+            core_s: 8.0,
+            overlap_s: 3.0,
+            block: 1000,
+        };
+        let cut = heard(&a, None, &short);
+        assert_eq!(heard(&a, Some(hear_strikes(&b, &voices, &opts).unwrap()), &short), cut);
     }
 }
