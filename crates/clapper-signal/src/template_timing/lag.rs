@@ -22,10 +22,19 @@ const GAP_S: f64 = 0.03;
 const DIP: f64 = 0.7;
 
 /// How many of each bell's strikes, spread over the recording, vote on
-/// the sign it matches with.
-const VOTES: usize = 16;
+/// the sign it matches with (and on its weighting, `weight.rs`).
+pub(super) const VOTES: usize = 16;
 /// The share of a bell's votes that turn its sign.
 const TURNED: f64 = 0.75;
+
+/// Up to [`VOTES`] of bell `bell`'s (from 1) strikes `sought` (where its
+/// template is sought, s, s), spread over the recording: those that vote
+/// on how its template matches.
+pub(super) fn voters(sought: &[(usize, (f64, f64))], bell: usize) -> Vec<(f64, f64)> {
+    let mine: Vec<(f64, f64)> = sought.iter().filter(|s| s.0 == bell).map(|s| s.1).collect();
+    let step = mine.len().div_ceil(VOTES).max(1);
+    mine.into_iter().step_by(step).collect()
+}
 
 /// The sign each bell's strikes match the recording `x` with (treble
 /// first, +1 or -1): the sign of the best match by magnitude where each of
@@ -49,10 +58,8 @@ pub(super) fn polarities(
             signs.push(1.0);
             continue;
         };
-        let mine: Vec<(f64, f64)> = sought.iter().filter(|s| s.0 == b + 1).map(|s| s.1).collect();
-        let step = mine.len().div_ceil(VOTES).max(1);
         let (mut turned, mut n) = (0usize, 0usize);
-        for &(from, to) in mine.iter().step_by(step) {
+        for (from, to) in voters(sought, b + 1) {
             let start = (from * m.rate).round() as i64;
             let lags = (((to - from) * m.rate).round() as usize).min(m.span());
             m.normalised(x, t, start, lags, sc)?;

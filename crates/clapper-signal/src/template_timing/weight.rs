@@ -13,12 +13,10 @@
 //! part by the same amount and the weighted match rejects the plain one's
 //! time.
 
-use super::lag::best_match;
+use super::lag::{best_match, voters};
 use super::matcher::{Matcher, Scratch, PRE_S};
 use crate::SignalError;
 
-/// How many of each bell's strikes, spread over the recording, vote.
-const VOTES: usize = 16;
 /// How far from the match as recorded (s) the weighted match must lie at
 /// a strike to vote for it: the dark tail put the match as recorded
 /// 16-52 ms late (or, by the rule for a double's first blow, as early),
@@ -39,7 +37,7 @@ const SHARE: f64 = 0.5;
 /// from 1, and where its template is sought, s, s) in the recording `x`
 /// match weighted over [`APART_S`] from as recorded, the weighted match
 /// at the plain one's time under [`KEEP`] of its best, and moved within
-/// [`SAME_S`] of their median move, at over [`SHARE`] of up to [`VOTES`]
+/// [`SAME_S`] of their median move, at over [`SHARE`] of up to [`VOTES`](super::lag::VOTES)
 /// of them. Matched by magnitude (before the polarities are known);
 /// leaves every template matched as recorded.
 pub(super) fn choose(
@@ -50,10 +48,8 @@ pub(super) fn choose(
 ) -> Result<Vec<bool>, SignalError> {
     let mut chosen = vec![];
     for b in 0..m.bells.len() {
-        let mine: Vec<(f64, f64)> = sought.iter().filter(|s| s.0 == b + 1).map(|s| s.1).collect();
-        let step = mine.len().div_ceil(VOTES).max(1);
         let (mut apart, mut n) = (vec![], 0usize);
-        for &(from, to) in mine.iter().step_by(step) {
+        for (from, to) in voters(sought, b + 1) {
             set(m, b, false);
             let plain = best(m, x, b, from, to, sc)?;
             set(m, b, true);
