@@ -970,6 +970,7 @@ mod tests {
         assert_eq!(frame_len(16_000.0), 2048);
         assert_eq!(frame_len(14_700.0), 2048);
     }
+    use crate::strikes::learn_real_tests::{learned_from_strikes, worst_percent};
     use crate::tower::{major_scale, tower_recording, tuned_ring, Doublets, Room, Scale, TowerSpec, Voice};
 
     /// The worst error (%) of the nominals learned from `spec`'s ring
@@ -989,19 +990,6 @@ mod tests {
         }
         let learned: Vec<f64> = l.bells.iter().map(|b| b.nominal_hz).collect();
         (worst_percent(&spec.bells, &learned), l.warnings)
-    }
-
-    /// The worst error (%) of the nominals `got` against the bells
-    /// `truth`, in order; infinite where a bell is missing.
-    fn worst_percent(truth: &[crate::tower::RingBell], got: &[f64]) -> f64 {
-        if got.len() != truth.len() {
-            return f64::INFINITY;
-        }
-        truth
-            .iter()
-            .zip(got)
-            .map(|(t, g)| 100.0 * (g / t.nominal_hz - 1.0).abs())
-            .fold(0.0, f64::max)
     }
 
     // Seeds 1-2 (tenor 500 Hz) were used while choosing the parameters;
@@ -1043,7 +1031,6 @@ mod tests {
     /// the prime) within 1 %, not the prime.
     #[test]
     fn learns_untuned_bells_within_one_percent_dry_and_in_a_room() {
-        use crate::sampled_ring::sampled_ring;
         let rate = 22050.0;
         let bells = tuned_ring(6, 1040.0, Scale::Major).unwrap();
         let strikes: Vec<Signal> = bells
@@ -1070,10 +1057,7 @@ mod tests {
                 snr_db: Some(snr),
                 ..TowerSpec::new(bells.clone())
             };
-            let (sig, _) = sampled_ring(&spec, &strikes).unwrap();
-            let l = learn_nominals(&sig, 6).unwrap();
-            let got: Vec<f64> = l.bells.iter().map(|b| b.nominal_hz).collect();
-            let worst = worst_percent(&bells, &got);
+            let (got, worst) = learned_from_strikes(&spec, &strikes);
             eprintln!("room {room:?}: learned {got:.1?}, worst {worst:.2} %");
             if worst >= 1.0 {
                 failed.push((room.map(|r| r.rt60_s), got, worst));
@@ -1152,7 +1136,6 @@ mod tests {
     /// the rise of the strikes alone: 1.02 % and 1.16 %.
     #[test]
     fn a_nominal_doublet_is_learned_at_the_component_that_lasts() {
-        use crate::sampled_ring::sampled_ring;
         let rate = 22050.0;
         let bells = tuned_ring(6, 1040.0, Scale::Major).unwrap();
         let strikes: Vec<Signal> = bells.iter().map(|b| doublet_strike(b.nominal_hz, rate)).collect();
@@ -1168,14 +1151,7 @@ mod tests {
                 snr_db: Some(snr),
                 ..TowerSpec::new(bells.clone())
             };
-            let (sig, _) = sampled_ring(&spec, &strikes).unwrap();
-            let got: Vec<f64> = learn_nominals(&sig, 6)
-                .unwrap()
-                .bells
-                .iter()
-                .map(|b| b.nominal_hz)
-                .collect();
-            let worst = worst_percent(&bells, &got);
+            let (got, worst) = learned_from_strikes(&spec, &strikes);
             eprintln!("room {room:?}: learned {got:.1?}, worst {worst:.2} %");
             if worst >= within {
                 failed.push((room.map(|r| r.rt60_s), got, worst));

@@ -6,8 +6,36 @@
 
 use super::learn::learn_nominals;
 use crate::sampled_ring::sampled_ring;
-use crate::tower::{tuned_ring, Room, Scale, TowerSpec};
+use crate::tower::{tuned_ring, RingBell, Room, Scale, TowerSpec};
 use crate::Signal;
+
+/// The worst error (%) of the nominals `got` against the bells
+/// `truth`, in order; infinite where a bell is missing or one too many.
+pub(super) fn worst_percent(truth: &[RingBell], got: &[f64]) -> f64 {
+    if got.len() != truth.len() {
+        return f64::INFINITY;
+    }
+    truth
+        .iter()
+        .zip(got)
+        .map(|(t, g)| 100.0 * (g / t.nominal_hz - 1.0).abs())
+        .fold(0.0, f64::max)
+}
+
+/// The nominals learned (Hz, treble first) from a ring of `strikes` (one
+/// a bell) rung as `spec` says, and their worst error against `spec`'s
+/// bells ([`worst_percent`]).
+pub(super) fn learned_from_strikes(spec: &TowerSpec, strikes: &[Signal]) -> (Vec<f64>, f64) {
+    let (sig, _) = sampled_ring(spec, strikes).unwrap();
+    let got: Vec<f64> = learn_nominals(&sig, spec.bells.len())
+        .unwrap()
+        .bells
+        .iter()
+        .map(|b| b.nominal_hz)
+        .collect();
+    let worst = worst_percent(&spec.bells, &got);
+    (got, worst)
+}
 
 /// A strike as the recorded trebles' (d1-d3): partials (ratio to the
 /// nominal, peak, decay s), superquint strongest and short, the nominal
@@ -73,14 +101,7 @@ fn learns_superquint_bells_within_one_percent() {
                 snr_db: Some(snr),
                 ..TowerSpec::new(bells.clone())
             };
-            let (sig, _) = sampled_ring(&spec, &strikes).unwrap();
-            let l = learn_nominals(&sig, 6).unwrap();
-            let got: Vec<f64> = l.bells.iter().map(|b| b.nominal_hz).collect();
-            let worst = bells
-                .iter()
-                .zip(&got)
-                .map(|(t, g)| 100.0 * (g / t.nominal_hz - 1.0).abs())
-                .fold(if got.len() == 6 { 0.0 } else { f64::INFINITY }, f64::max);
+            let (got, worst) = learned_from_strikes(&spec, &strikes);
             eprintln!(
                 "room {:?} seed {seed}: learned {got:.1?}, worst {worst:.2} %",
                 room.map(|r| r.rt60_s)
