@@ -12,9 +12,10 @@
 //! on the mean rise of its own onsets.
 
 use super::band::decimate;
-use super::learn_gaps::{ring_beyond, ringing, scale_notes, unheard_notes, Heard, RingFit, DIATONIC, IN_TUNE};
+use super::learn_gaps::{ringing, unheard_notes, Heard, IN_TUNE};
 use super::learn_pick::{apart, mean_rise};
-use super::learn_sure::{bell_sure, doubt_of_set, octave_share, set_sure, sounds, warnings_of, CLOSE, DOUBTFUL};
+use super::learn_scale::{octave_fits, octaves_into_ring, ring_octaves, OCTAVES};
+use super::learn_sure::{bell_sure, doubt_of_set, octave_share, set_sure, sounds, warnings_of, DOUBTFUL};
 use crate::{Signal, SignalError};
 
 /// One bell learned.
@@ -635,138 +636,6 @@ fn same_bells(
     apart(sets, rises, k_lo, df, SAME, crowded)
 }
 
-/// Partials of a tuned bell, as ratios to its nominal: hum, prime,
-/// tierce, quint, nominal, superquint, octave nominal, the partial at
-/// 2.5 and the twelfth. The recorded tower bells are tuned bells too
-/// (docs/strikes.md: their nominal is the partial at twice the prime and
-/// four times the hum), so no other pattern is scored.
-const TUNED_PATTERN: [f64; 9] = [0.25, 0.5, 0.5946, 0.75, 1.0, 1.5, 2.0, 2.52, 3.0];
-/// A peak within this (fraction) of a pattern's partial is that partial.
-const ON_PATTERN: f64 = 0.015;
-/// Peaks this strong against a bell's strongest count in its fit to a pattern.
-const FIT_PEAK: f64 = 0.08;
-/// A nominal moved by octaves from where it was picked is itself heard
-/// at least this strong against its bell's strongest: a bell's nominal is
-/// among its strongest partials as its strikes rise (0.05 let wind below
-/// 300 Hz, moved up an octave onto a note, fit as a bell; 0.12 let an
-/// eight's treble, its prime rising at 0.12-0.2 in the swing, fit an
-/// octave down on the tenor's note, and the ring slid two notes low).
-const NOMINAL_HEARD: f64 = 0.2;
-/// A nominal where it was picked (octave 0) is heard at least this strong
-/// against its bell's strongest: `learn_pick`'s candidate cut (recorded
-/// bells' nominals rise at 0.15-0.2 of their superquint; at 0.2 such a
-/// bell fitted at no octave).
-const NOMINAL_PICKED: f64 = 0.12;
-/// A bell placed on a note counts this much beyond its fit: of two
-/// placings that fit alike the one placing more bells (a treble heard at
-/// its prime may fit nothing at its nominal, and was left out for a note
-/// beyond the tenor).
-const PLACED: f64 = 1e-3;
-/// Octaves a heard nominal may be moved by, down and up.
-const OCTAVES: i32 = 2;
-
-/// How well one bell's mean rise (bins from `k_lo`, `df` Hz apart) fits
-/// a nominal at `f` (Hz): the share of its peaks' strength that lies on
-/// the partials of a tuned bell; nothing if `f` itself does not rise to
-/// `heard_at` (fraction) of the strongest.
-fn pattern_fit(mean: &[f64], f: f64, heard_at: f64, k_lo: usize, df: f64) -> f64 {
-    let top = mean.iter().copied().fold(0.0, f64::max);
-    if top <= 0.0 || mean.len() < 5 {
-        return 0.0;
-    }
-    let bin = |f: f64| (f / df).round() as isize - k_lo as isize;
-    let (a, b) = (bin(0.99 * f).max(0), bin(1.01 * f).min(mean.len() as isize - 1));
-    if a > b || (a..=b).all(|k| mean[k as usize] < heard_at * top) {
-        return 0.0;
-    }
-    let peaks: Vec<(f64, f64)> = (2..mean.len() - 2)
-        .filter(|&k| mean[k] >= FIT_PEAK * top && (1..=2).all(|j| mean[k] >= mean[k - j] && mean[k] >= mean[k + j]))
-        .map(|k| ((k + k_lo) as f64 * df, mean[k]))
-        .collect();
-    let all: f64 = peaks.iter().map(|p| p.1).sum();
-    peaks
-        .iter()
-        .filter(|(g, _)| TUNED_PATTERN.iter().any(|r| (g / (r * f) - 1.0).abs() < ON_PATTERN))
-        .map(|p| p.1)
-        .sum::<f64>()
-        / all
-}
-
-/// The nominals of the bells heard, each moved by whole octaves (up to
-/// [`OCTAVES`]) so that together they are `bells` consecutive notes of a
-/// diatonic scale (treble highest, a note or more left empty where fewer
-/// are heard) and fit their bells' partials best ([`pattern_fit`], summed):
-/// a bell's octave nominal or prime may be heard more strongly than its
-/// nominal, but the ring's octave is judged on every bell at once. A bell
-/// heard (of more than `bells`, or off every note) may be left out
-/// (`None`): another bell's partial heard again and again, or wind. `None`
-/// when no such scale holds any of them.
-fn ring_octaves(chosen: &[&Heard], rises: &[Vec<f64>], k_lo: usize, df: f64, bells: usize) -> Option<RingFit> {
-    let heard: Vec<f64> = chosen.iter().map(|b| b.nominal_hz).collect();
-    let fits: Vec<Vec<f64>> = chosen
-        .iter()
-        .map(|b| octave_fits(&mean_rise(rises, &b.onsets), b.nominal_hz, k_lo, df))
-        .collect();
-    // The fit, its placing, the scale's notes and those beyond its ends.
-    type Best = (f64, Placing, Vec<f64>, (Vec<f64>, Vec<f64>), usize);
-    let mut best: Option<Best> = None;
-    for &reference in &heard {
-        for o_ref in -OCTAVES..=OCTAVES {
-            let at = reference * 2f64.powi(o_ref);
-            for degree in 0..DIATONIC.len() {
-                let notes = scale_notes(degree, bells);
-                for &on in &notes {
-                    // The reference bell's nominal on note `on` of the scale.
-                    let pos: Vec<f64> = notes.iter().map(|n| n - on).collect();
-                    let (sum, placed) = best_octaves(&heard, &fits, at, &pos);
-                    if best.as_ref().is_none_or(|b| sum > b.0 + 1e-9) {
-                        let notes_hz = pos.iter().map(|p| at * 2f64.powf(p / 12.0)).collect();
-                        let hz = |p: f64| at * 2f64.powf(p / 12.0);
-                        let below = ring_beyond(degree, bells, pos[0], -1).map(hz).collect();
-                        let above = ring_beyond(degree, bells, pos[pos.len() - 1], 1).map(hz).collect();
-                        best = Some((sum, placed, notes_hz, (below, above), degree));
-                    }
-                }
-            }
-        }
-    }
-    let (_, placed, notes_hz, beyond, degree) = best?;
-    if placed.iter().all(Option::is_none) {
-        return None;
-    }
-    let empty = (0..notes_hz.len())
-        .filter(|&k| !placed.iter().flatten().any(|p| p.0 == k))
-        .map(|k| notes_hz[k])
-        .collect();
-    Some(RingFit {
-        notes: notes_hz,
-        beyond,
-        degree,
-        moved: heard
-            .iter()
-            .zip(placed)
-            .map(|(f, p)| p.map(|(_, o)| f * 2f64.powi(o)))
-            .collect(),
-        empty,
-    })
-}
-
-/// A bell's fit ([`pattern_fit`]) to its nominal heard at `f` (Hz) moved
-/// by each octave from -[`OCTAVES`] to [`OCTAVES`], its mean rise `mean`.
-fn octave_fits(mean: &[f64], f: f64, k_lo: usize, df: f64) -> Vec<f64> {
-    (-OCTAVES..=OCTAVES)
-        .map(|o| {
-            // Where picked, the nominal passed `learn_pick`'s cut already.
-            let heard_at = if o == 0 { NOMINAL_PICKED } else { NOMINAL_HEARD };
-            pattern_fit(mean, f * 2f64.powi(o), heard_at, k_lo, df)
-        })
-        .collect()
-}
-
-/// Each bell heard's note of the scale and octave moved by, or `None`
-/// if left out.
-type Placing = Vec<Option<(usize, i32)>>;
-
 /// Bells on the notes of the ring's scale that no bell heard took
 /// (`empty`, Hz): a bell whose strikes rose most at another sound (wind,
 /// another bell's prime on its nominal) is heard there at the onsets no
@@ -808,120 +677,6 @@ fn fill_empty_notes(
         out.push(Heard { nominal_hz, onsets });
     }
     out
-}
-
-/// Each bell put on a note of the scale `pos` (semitones from `at` Hz)
-/// by whole octaves, or left out, no two on one note, the octaves fitting
-/// best in all (`fits[bell][octave + OCTAVES]`): the sum of fits and each
-/// bell's note and octave (`None`: left out, as a bell on no note is).
-fn best_octaves(heard: &[f64], fits: &[Vec<f64>], at: f64, pos: &[f64]) -> (f64, Placing) {
-    // Per bell, the (note, octave) it may take: one a pitch class, so
-    // only bells of one pitch class (an octave apart) compete for notes.
-    let options: Vec<Vec<(usize, i32)>> = heard
-        .iter()
-        .map(|&f| {
-            let d = 12.0 * (f / at).log2();
-            (-OCTAVES..=OCTAVES)
-                .filter_map(|o| {
-                    let x = d + 12.0 * f64::from(o);
-                    pos.iter().position(|p| (x - p).abs() < IN_TUNE).map(|k| (k, o))
-                })
-                .collect()
-        })
-        .collect();
-    let mut octaves = vec![None; heard.len()];
-    let mut total = 0.0;
-    let mut done = vec![false; heard.len()];
-    for i in 0..heard.len() {
-        if done[i] || options[i].is_empty() {
-            continue;
-        }
-        // The bells sharing bell i's notes, each given one of them or left out.
-        let class: Vec<usize> = (i..heard.len())
-            .filter(|&j| !done[j] && options[j].iter().any(|(k, _)| options[i].iter().any(|(ki, _)| ki == k)))
-            .collect();
-        let mut pick: Option<(f64, Placing)> = None;
-        assign(&class, &options, fits, 0, &mut vec![], 0.0, &mut pick);
-        let Some((sum, octs)) = pick else { continue };
-        total += sum;
-        for (&j, o) in class.iter().zip(octs) {
-            octaves[j] = o;
-            done[j] = true;
-        }
-    }
-    (total, octaves)
-}
-
-/// The best assignment of `class`'s bells (from the `at`th) to distinct
-/// notes, each bell placed where it can be before it is left out.
-fn assign(
-    class: &[usize],
-    options: &[Vec<(usize, i32)>],
-    fits: &[Vec<f64>],
-    at: usize,
-    taken: &mut Placing,
-    sum: f64,
-    best: &mut Option<(f64, Placing)>,
-) {
-    if at == class.len() {
-        if best.as_ref().is_none_or(|b| sum > b.0) {
-            *best = Some((sum, taken.clone()));
-        }
-        return;
-    }
-    let bell = class[at];
-    for &(k, o) in &options[bell] {
-        if taken.iter().flatten().any(|t| t.0 == k) {
-            continue;
-        }
-        taken.push(Some((k, o)));
-        let fit = fits[bell][(o + OCTAVES) as usize];
-        assign(class, options, fits, at + 1, taken, sum + fit + PLACED, best);
-        taken.pop();
-    }
-    taken.push(None);
-    assign(class, options, fits, at + 1, taken, sum, best);
-    taken.pop();
-}
-
-/// Semitones from the tenor to the treble of a ring of `bells` tuned to
-/// a major scale (the widest diatonic ring), a tone more for the sharp
-/// trebles of real rings.
-fn ring_span(bells: usize) -> f64 {
-    const MAJOR: [f64; 16] = [0., 2., 4., 5., 7., 9., 11., 12., 14., 16., 17., 19., 21., 23., 24., 26.];
-    MAJOR[bells.clamp(1, 16) - 1] + 2.0
-}
-
-/// The nominals `f` moved by octaves into the ring: the bells of a ring
-/// span at most [`ring_span`] semitones, so a nominal an octave or two
-/// outside the span that holds the most of the others was a prime or hum
-/// (or an octave nominal) taken for it, and is moved by whole octaves
-/// into the span where that lands on no other.
-fn octaves_into_ring(f: &[f64], bells: usize) -> Vec<f64> {
-    let ratio = 2f64.powf(ring_span(bells) / 12.0);
-    let Some(low) = f
-        .iter()
-        .copied()
-        .max_by_key(|&lo| f.iter().filter(|&&g| g >= lo * 0.99 && g <= lo * ratio * 1.01).count())
-    else {
-        return vec![];
-    };
-    let inside = |g: f64| g >= low * 0.99 && g <= low * ratio * 1.01;
-    let kept: Vec<f64> = f.iter().copied().filter(|&g| inside(g)).collect();
-    let (lo, hi) = kept.iter().fold((f64::MAX, 0.0f64), |(a, b), &g| (a.min(g), b.max(g)));
-    f.iter()
-        .map(|&g| {
-            if inside(g) {
-                return g;
-            }
-            // The fewest octaves that bring it within the span of the others.
-            [2.0, 0.5, 4.0, 0.25]
-                .iter()
-                .map(|m| g * m)
-                .find(|&h| h.max(hi) <= h.min(lo) * ratio * 1.01 && f.iter().all(|&o| (o - h).abs() > CLOSE * h))
-                .unwrap_or(g)
-        })
-        .collect()
 }
 
 /// Bells learned (highest first) within [`ONE_NOMINAL`] of the one
@@ -1170,31 +925,6 @@ mod tests {
         };
         let (worst, warnings) = worst_error(&spec);
         assert!(worst < 1.0, "worst {worst:.2} %; {warnings:?}");
-    }
-
-    use super::super::learn_pick::tests::spectrum as rise_of;
-
-    /// The swing test's treble (clapper-cli `strikes_bells`, seed 4): its
-    /// prime rises at 0.15 of its strongest, and with a nominal's cut of
-    /// 0.12 at every octave (bells-2-wip) it fitted an octave down, on the
-    /// tenor's note, and the ring slid two notes low. A recorded treble
-    /// whose nominal rises at 0.15 of its superquint still fits where
-    /// picked.
-    #[test]
-    fn a_nominal_moved_by_octaves_must_rise_as_a_nominal_does() {
-        let treble = rise_of(&[(700.0, 0.15), (832.0, 0.3), (1400.0, 1.0), (2100.0, 0.4), (2800.0, 0.3)]);
-        let fits = octave_fits(&treble, 1400.0, 30, 5.0);
-        assert!(fits[OCTAVES as usize] > 0.3, "{fits:?}");
-        assert_eq!(fits[OCTAVES as usize - 1], 0.0, "{fits:?}");
-        let recorded = rise_of(&[
-            (650.0, 0.2),
-            (775.0, 0.45),
-            (1300.0, 0.15),
-            (1925.0, 1.0),
-            (2620.0, 0.2),
-        ]);
-        let fits = octave_fits(&recorded, 1300.0, 30, 5.0);
-        assert!(fits[OCTAVES as usize] > 0.0, "{fits:?}");
     }
 
     /// Two bells learned within half a percent (seen on rings in a room

@@ -26,6 +26,7 @@ mod heard;
 mod learn;
 mod learn_gaps;
 mod learn_pick;
+mod learn_scale;
 mod learn_sure;
 mod learn_voices;
 mod onsets;
