@@ -47,17 +47,38 @@ pub(super) fn struck_together(timed: &[Timed]) -> Option<String> {
     })
 }
 
-/// A warning when `strikes` strikes of only `heard` bells, half or fewer
-/// of the `bells` given, make `rows` rows, none with every bell: no ring
-/// rung in rows. (A bell or two not heard in a ring is warned of alone.)
+/// A warning when `strikes` strikes make `rows` rows, none with every
+/// bell: of only `heard` bells, half or fewer of the `bells` given, no
+/// ring rung in rows; of every bell, no bell's striking can be judged
+/// (each bell's figures come from full rows: a tester's phone recording
+/// of six in wind and traffic read "0 full rows" and "-" for every bell,
+/// with no word why). A bell or two not heard is warned of alone.
 pub(super) fn no_full_row(strikes: usize, rows: usize, full_rows: usize, heard: usize, bells: usize) -> Option<String> {
-    (bells >= 2 && 2 * heard <= bells && full_rows == 0 && strikes >= 4 * bells.max(3)).then(|| {
+    if bells < 2 || full_rows > 0 || strikes < 4 * bells.max(3) {
+        return None;
+    }
+    if 2 * heard > bells && heard < bells {
+        return None;
+    }
+    Some(if 2 * heard <= bells {
         format!(
             "{strikes} strikes of only {heard} of the {bells} bells given, in {rows} row(s) none of which holds \
              every bell: not a ring rung in rows (not these bells, or not bells at all); the rows and places \
              below mean nothing"
         )
+    } else {
+        format!(
+            "{strikes} strikes of {heard} of the {bells} bells given, in {rows} row(s) none of which holds every \
+             bell: no bell's striking can be judged (each bell's figures come from full rows); some bell is heard \
+             too seldom or at the wrong times"
+        )
     })
+}
+
+/// Each warning once, where it first stands (two layers may say one thing).
+pub(super) fn once_each(warnings: &mut Vec<String>) {
+    let mut seen = std::collections::HashSet::new();
+    warnings.retain(|w| seen.insert(w.clone()));
 }
 
 /// The RMS striking error over the interval above which the strikes are
@@ -235,5 +256,19 @@ mod tests {
         // A bell or two not heard in a ring of eight: warned of alone.
         assert_eq!(no_full_row(168, 36, 0, 7, 8), None);
         assert_eq!(no_full_row(48, 16, 3, 2, 8), None);
+    }
+
+    #[test]
+    fn every_bell_heard_in_no_full_row_is_told() {
+        let w = no_full_row(140, 40, 0, 6, 6).expect("warned");
+        assert!(w.contains("no bell's striking can be judged"), "{w}");
+        assert_eq!(no_full_row(140, 40, 2, 6, 6), None);
+    }
+
+    #[test]
+    fn a_warning_said_twice_is_said_once_where_it_first_stands() {
+        let mut w: Vec<String> = ["a", "b", "a", "c", "b"].map(String::from).to_vec();
+        once_each(&mut w);
+        assert_eq!(w, ["a", "b", "c"]);
     }
 }
