@@ -383,6 +383,7 @@ impl StrikesReport {
         if let Some(p) = plausibility.filter(|p| *p < PLAUSIBLE_SHARE) {
             warnings.insert(0, input::not_bells(p));
         }
+        input::drop_before_start(&mut heard, &mut warnings);
         input::warn_of(&mut warnings, peak, heard.strikes.len(), voices.len());
         kind::warn_of(&mut warnings, matches!(timing, Timing::AsHeard), voices, &below);
         let mut report = Self::of(&heard, voices.len(), duration_s, warnings, timing_report);

@@ -2,7 +2,7 @@
 //! is refused; a recording with no strike of the bells given, and one bell
 //! alone, are warned of. The CLI, the web server and Python share these.
 
-use clapper_signal::strikes::BellVoice;
+use clapper_signal::strikes::{BellVoice, Heard};
 
 use crate::AppError;
 
@@ -68,5 +68,49 @@ pub(super) fn warn_of(warnings: &mut Vec<String>, peak: f64, strikes: usize, bel
     }
     if bells == 1 && strikes > 0 {
         warnings.push(ONE_BELL.into());
+    }
+}
+
+/// Strikes timed before the recording starts (a bell's lateness taken off
+/// a sound heard in its first moments: a tester's chatter before the ring
+/// gave a strike at -0.124 s) dropped from `heard`, with a warning in
+/// `warnings`: no strike's sound starts before the recording does.
+pub(super) fn drop_before_start(heard: &mut Heard, warnings: &mut Vec<String>) {
+    let first = heard.strikes.iter().map(|s| s.t).fold(0.0, f64::min);
+    let before = heard.strikes.iter().filter(|s| s.t < 0.0).count();
+    if before > 0 {
+        heard.strikes.retain(|s| s.t >= 0.0);
+        warnings.push(format!(
+            "{before} strike(s) timed before the recording starts (the first at {first:.3} s): left out; a sound \
+             heard as the recording starts is a strike cut short, or not a bell's"
+        ));
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clapper_signal::strikes::HeardStrike;
+
+    #[test]
+    fn a_strike_timed_before_the_recording_starts_is_left_out_and_said() {
+        let strike = |t: f64| HeardStrike {
+            bell: 1,
+            t,
+            strength: 1.0,
+            double: None,
+        };
+        let mut heard = Heard {
+            strikes: vec![strike(-0.124), strike(0.5), strike(0.9)],
+            warnings: vec![],
+        };
+        let mut w = vec![];
+        drop_before_start(&mut heard, &mut w);
+        assert_eq!(heard.strikes.len(), 2);
+        assert!(heard.strikes.iter().all(|s| s.t >= 0.0));
+        assert!(w.len() == 1 && w[0].contains("-0.124 s"), "{w:?}");
+        let mut again = vec![];
+        drop_before_start(&mut heard, &mut again);
+        assert!(again.is_empty());
     }
 }
