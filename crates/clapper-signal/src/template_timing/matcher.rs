@@ -95,6 +95,42 @@ pub(super) struct Scratch {
     /// ([`super::fill`]): not allocated (and its pages not zeroed) anew
     /// for each.
     pub whole: (Vec<f64>, Vec<f64>),
+    /// The last recording's spectrum, while [`Matcher::keeping`] asks for
+    /// it: which recording (where its samples lie, and how many) and from
+    /// which sample, and the spectrum.
+    kept: Option<Kept>,
+}
+
+impl Scratch {
+    /// `f` run with each transform of the recording `x` kept
+    /// ([`Matcher::spectrum`]): a match of another template, or of one
+    /// weighted otherwise, from the same sample takes its spectrum again
+    /// rather than transforming it anew (the same numbers). `x` is held
+    /// borrowed throughout, so it cannot change under the spectrum kept;
+    /// nothing is kept once `f` returns (nor where it fails).
+    pub fn keeping<T>(
+        &mut self,
+        x: &[f64],
+        f: impl FnOnce(&mut Scratch) -> Result<T, SignalError>,
+    ) -> Result<T, SignalError> {
+        self.kept = Some(Kept {
+            x: (x.as_ptr() as usize, x.len()),
+            start: i64::MIN,
+            spec: vec![],
+        });
+        let r = f(self);
+        self.kept = None;
+        r
+    }
+}
+
+/// A spectrum kept ([`Scratch::kept`]).
+struct Kept {
+    /// The recording's samples' address and count: the same recording,
+    /// not changed, while kept ([`Matcher::keeping`] holds it borrowed).
+    x: (usize, usize),
+    start: i64,
+    spec: Vec<Complex<f64>>,
 }
 
 impl Matcher {
@@ -163,6 +199,7 @@ impl Matcher {
             spec: self.fwd.make_output_vec(),
             out: self.inv.make_output_vec(),
             whole: (vec![], vec![]),
+            kept: None,
         }
     }
 
@@ -182,12 +219,22 @@ impl Matcher {
     /// `sc.spec`: the spectrum of the recording `x` from sample `start`,
     /// as [`Self::correlate`] takes it.
     pub fn spectrum(&self, x: &[f64], start: i64, sc: &mut Scratch) -> Result<(), SignalError> {
+        let key = (x.as_ptr() as usize, x.len());
+        if let Some(k) = sc.kept.as_ref().filter(|k| k.x == key && k.start == start) {
+            sc.spec.copy_from_slice(&k.spec);
+            return Ok(());
+        }
         for (k, b) in sc.buf.iter_mut().enumerate() {
             *b = at(x, start + k as i64);
         }
         self.fwd
             .process(&mut sc.buf, &mut sc.spec)
-            .map_err(|e| SignalError::Invalid(e.to_string()))
+            .map_err(|e| SignalError::Invalid(e.to_string()))?;
+        if let Some(k) = sc.kept.as_mut().filter(|k| k.x == key) {
+            k.start = start;
+            k.spec.clone_from(&sc.spec);
+        }
+        Ok(())
     }
 
     /// [`Self::correlate`] from the recording's spectrum `spec` there
