@@ -190,8 +190,21 @@ impl Pairs {
         self.sum.fill(Complex::new(0.0, 0.0));
         for (b, tspec) in t.blocks.iter().enumerate() {
             let from = i1 + (b * self.block) as i64;
-            for (k, v) in self.buf.iter_mut().enumerate() {
-                *v = level(x, from + k as i64);
+            let n = self.buf.len();
+            if from >= 1 && from + n as i64 <= x.len() as i64 {
+                // Inside the recording: indexed directly (the same numbers).
+                let s = from as usize;
+                if t.weighted {
+                    for (v, w) in self.buf.iter_mut().zip(x[s - 1..s + n].windows(2)) {
+                        *v = w[1] - w[0];
+                    }
+                } else {
+                    self.buf.copy_from_slice(&x[s..s + n]);
+                }
+            } else {
+                for (k, v) in self.buf.iter_mut().enumerate() {
+                    *v = level(x, from + k as i64);
+                }
             }
             self.fwd
                 .process(&mut self.buf, &mut self.spec)
