@@ -309,13 +309,13 @@ fn set_polarities(
             )
         })
         .collect();
-    let chosen = weight::choose(m, &sig.samples, &windows, sc)?;
+    // The signs (`lag::polarities`) read from the choice's own matches.
+    let (chosen, signs) = weight::choose(m, &sig.samples, &windows, sc)?;
     for (t, w) in m.bells.iter_mut().zip(chosen) {
         if let Some(t) = t {
             t.weighted = w;
         }
     }
-    let signs = lag::polarities(m, &sig.samples, &windows, sc)?;
     for (t, s) in m.bells.iter_mut().zip(signs) {
         if let Some(t) = t {
             t.polarity = s;
@@ -541,7 +541,7 @@ mod tests {
                     .iter()
                     .map(|&s| (1, (s - 0.15 - PRE_S, s + 0.15 - PRE_S)))
                     .collect();
-                let w = weight::choose(&mut m, &y, &windows, &mut sc).unwrap();
+                let w = weight::choose(&mut m, &y, &windows, &mut sc).unwrap().0;
                 m.bells[0].as_mut().unwrap().weighted = w[0];
                 let t = m.bells[0].as_ref().unwrap();
                 let n = times

@@ -80,7 +80,8 @@ fn missed_in(
             let k = (k0..(k0 + half).min(ncc.len())).max_by(|&a, &b| ncc[a].total_cmp(&ncc[b]))?;
             let lo = k.saturating_sub(half);
             let hi = (k + half).min(ncc.len() - 1);
-            (ncc[lo..=hi].iter().all(|v| *v <= ncc[k]) && ncc[k] >= SHARE * typical).then_some((k, ncc[k]))
+            // The threshold first: most stretches fall short of it.
+            (ncc[k] >= SHARE * typical && ncc[lo..=hi].iter().all(|v| *v <= ncc[k])).then_some((k, ncc[k]))
         })
         .collect();
     peaks.sort_by(|a, b| b.1.total_cmp(&a.1));
@@ -149,7 +150,7 @@ impl Chunks {
 /// length from each sample less the silence before the template (0 where
 /// silent), one per sample of `x`; summed afresh at each transform's
 /// stretch (no rounding carried over the recording).
-fn roots(m: &Matcher, x: &[f64], level: fn(&[f64], i64) -> f64) -> Vec<f64> {
+fn roots(m: &Matcher, x: &[f64], level: impl Fn(&[f64], i64) -> f64) -> Vec<f64> {
     let span = m.span();
     let mut root = Vec::with_capacity(x.len() + span);
     let mut start = -(m.pre as i64);
@@ -188,10 +189,15 @@ fn whole(
     let norm = t.energy().sqrt();
     for (spec, roots) in chunks.spectra.iter().zip(root.chunks(span)) {
         m.correlate_spectrum(spec, t, sc)?;
-        for (v, r) in sc.out.iter().zip(roots) {
-            let p = if norm > 0.0 { v.abs() / norm } else { 0.0 };
-            proj.push(p);
-            ncc.push(if *r > 0.0 { p / r } else { 0.0 });
+        // Filled in place, a stretch at a time (so the divisions run
+        // side by side).
+        let from = proj.len();
+        proj.resize(from + roots.len(), 0.0);
+        ncc.resize(from + roots.len(), 0.0);
+        let outs = proj[from..].iter_mut().zip(&mut ncc[from..]);
+        for ((p, c), (v, r)) in outs.zip(sc.out.iter().zip(roots)) {
+            *p = if norm > 0.0 { v.abs() / norm } else { 0.0 };
+            *c = if *r > 0.0 { *p / r } else { 0.0 };
         }
     }
     Ok(())

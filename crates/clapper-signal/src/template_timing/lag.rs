@@ -25,7 +25,7 @@ const DIP: f64 = 0.7;
 /// the sign it matches with (and on its weighting, `weight.rs`).
 pub(super) const VOTES: usize = 16;
 /// The share of a bell's votes that turn its sign.
-const TURNED: f64 = 0.75;
+pub(super) const TURNED: f64 = 0.75;
 
 /// Up to [`VOTES`] of bell `bell`'s (from 1) strikes `sought` (where its
 /// template is sought, s, s), spread over the recording: those that vote
@@ -45,7 +45,9 @@ pub(super) fn voters(sought: &[(usize, (f64, f64))], bell: usize) -> Vec<(f64, f
 /// magnitude then takes one lag or the other strike by strike; a room
 /// shifts a bell's phase the same at every strike, and where it turns the
 /// match at the strike it does so at nearly all. Needs `m`'s polarities
-/// not yet known (the match by magnitude).
+/// not yet known (the match by magnitude). (`weight::choose` gives the
+/// same signs from its own matches.)
+#[cfg(test)]
 pub(super) fn polarities(
     m: &Matcher,
     x: &[f64],

@@ -95,6 +95,44 @@ pub(super) struct Scratch {
     /// ([`super::fill`]): not allocated (and its pages not zeroed) anew
     /// for each.
     pub whole: (Vec<f64>, Vec<f64>),
+    /// The last recording's spectrum, while [`Matcher::keeping`] asks for
+    /// it: which recording (where its samples lie, and how many) and from
+    /// which sample, and the spectrum.
+    kept: Option<Kept>,
+    /// The recording's level at a stretch of samples ([`levels`]).
+    levels: Vec<f64>,
+}
+
+impl Scratch {
+    /// `f` run with each transform of the recording `x` kept
+    /// ([`Matcher::spectrum`]): a match of another template, or of one
+    /// weighted otherwise, from the same sample takes its spectrum again
+    /// rather than transforming it anew (the same numbers). `x` is held
+    /// borrowed throughout, so it cannot change under the spectrum kept;
+    /// nothing is kept once `f` returns (nor where it fails).
+    pub fn keeping<T>(
+        &mut self,
+        x: &[f64],
+        f: impl FnOnce(&mut Scratch) -> Result<T, SignalError>,
+    ) -> Result<T, SignalError> {
+        self.kept = Some(Kept {
+            x: (x.as_ptr() as usize, x.len()),
+            start: i64::MIN,
+            spec: vec![],
+        });
+        let r = f(self);
+        self.kept = None;
+        r
+    }
+}
+
+/// A spectrum kept ([`Scratch::kept`]).
+struct Kept {
+    /// The recording's samples' address and count: the same recording,
+    /// not changed, while kept ([`Matcher::keeping`] holds it borrowed).
+    x: (usize, usize),
+    start: i64,
+    spec: Vec<Complex<f64>>,
 }
 
 impl Matcher {
@@ -163,6 +201,8 @@ impl Matcher {
             spec: self.fwd.make_output_vec(),
             out: self.inv.make_output_vec(),
             whole: (vec![], vec![]),
+            kept: None,
+            levels: vec![],
         }
     }
 
@@ -182,19 +222,30 @@ impl Matcher {
     /// `sc.spec`: the spectrum of the recording `x` from sample `start`,
     /// as [`Self::correlate`] takes it.
     pub fn spectrum(&self, x: &[f64], start: i64, sc: &mut Scratch) -> Result<(), SignalError> {
-        for (k, b) in sc.buf.iter_mut().enumerate() {
-            *b = at(x, start + k as i64);
+        let key = (x.as_ptr() as usize, x.len());
+        if let Some(k) = sc.kept.as_ref().filter(|k| k.x == key && k.start == start) {
+            sc.spec.copy_from_slice(&k.spec);
+            return Ok(());
         }
+        levels(x, start, sc.buf.len(), false, &mut sc.levels);
+        sc.buf.copy_from_slice(&sc.levels);
         self.fwd
             .process(&mut sc.buf, &mut sc.spec)
-            .map_err(|e| SignalError::Invalid(e.to_string()))
+            .map_err(|e| SignalError::Invalid(e.to_string()))?;
+        if let Some(k) = sc.kept.as_mut().filter(|k| k.x == key) {
+            k.start = start;
+            k.spec.clone_from(&sc.spec);
+        }
+        Ok(())
     }
 
     /// [`Self::correlate`] from the recording's spectrum `spec` there
     /// ([`Self::spectrum`]), found once for every bell.
     pub fn correlate_spectrum(&self, spec: &[Complex<f64>], t: &Template, sc: &mut Scratch) -> Result<(), SignalError> {
-        sc.spec.copy_from_slice(spec);
-        self.times_template(t, sc)
+        for ((d, a), b) in sc.spec.iter_mut().zip(spec).zip(t.spec()) {
+            *d = a * b;
+        }
+        self.back(sc)
     }
 
     /// `sc.out` from the recording's spectrum in `sc.spec`: times the
@@ -203,6 +254,11 @@ impl Matcher {
         for (a, b) in sc.spec.iter_mut().zip(t.spec()) {
             *a *= b;
         }
+        self.back(sc)
+    }
+
+    /// `sc.out` from the product of spectra in `sc.spec`, back to lags.
+    fn back(&self, sc: &mut Scratch) -> Result<(), SignalError> {
         sc.spec[0].im = 0.0;
         if let Some(l) = sc.spec.last_mut() {
             l.im = 0.0;
@@ -235,17 +291,21 @@ impl Matcher {
     ) -> Result<(), SignalError> {
         self.correlate(x, t, start, sc)?;
         let len = self.len;
-        let level = if t.weighted { heard } else { at };
-        let mut e: f64 = (0..len).map(|k| level(x, start + k as i64).powi(2)).sum();
+        let lags = lags.min(self.span());
+        // The recording's level at each sample the lags reach, found once
+        // (each was found twice, through a check of its bounds).
+        levels(x, start, lags + len + 1, t.weighted, &mut sc.levels);
+        let lv = &sc.levels;
+        let mut e: f64 = lv[..len].iter().map(|v| v.powi(2)).sum();
         let norm = t.energy().sqrt();
-        for k in 0..=lags.min(self.span()) {
+        for k in 0..=lags {
             let v = if e > 1e-300 { sc.out[k] / (e.sqrt() * norm) } else { 0.0 };
             sc.out[k] = if t.polarity == 0.0 {
                 v
             } else {
                 (t.polarity * v).max(0.0)
             };
-            let (gone, come) = (level(x, start + k as i64), level(x, start + (k + len) as i64));
+            let (gone, come) = (lv[k], lv[k + len]);
             e = (e - gone * gone + come * come).max(0.0);
         }
         Ok(())
@@ -258,6 +318,18 @@ impl Matcher {
         let i0 = start.floor();
         let frac = start - i0;
         let n = x.len() as i64;
+        let (s, len) = (&t.sound, t.sound.len() as i64);
+        if i0 as i64 >= 0 && (i0 as i64).saturating_add(len) < n && len > 0 {
+            // Inside `x`: each sample takes its two shares in the same
+            // order as below (the earlier sample's first), side by side.
+            let (a, b, base) = (1.0 - frac, frac, i0 as usize);
+            x[base] -= gain * a * s[0];
+            for (k, xi) in x[base + 1..base + s.len()].iter_mut().enumerate() {
+                *xi = *xi - gain * b * s[k] - gain * a * s[k + 1];
+            }
+            x[base + s.len()] -= gain * b * s[s.len() - 1];
+            return;
+        }
         for (k, v) in t.sound.iter().enumerate() {
             let j = i0 as i64 + k as i64;
             for (jj, w) in [(j, 1.0 - frac), (j + 1, frac)] {
@@ -297,11 +369,95 @@ pub(super) fn sloped(x: &[f64], j: i64) -> f64 {
     at(x, j) - at(x, j - 1)
 }
 
+/// Into `out`, the recording `x` at `count` samples from `start` as
+/// [`heard`] gives it where `weighted`, else as [`at`] does (the same
+/// numbers: indexed directly where the stretch lies inside `x`).
+pub(super) fn levels(x: &[f64], start: i64, count: usize, weighted: bool, out: &mut Vec<f64>) {
+    out.clear();
+    let inside = start >= 2 && start.saturating_add(count as i64) <= x.len() as i64;
+    match (inside, weighted) {
+        (true, false) => out.extend_from_slice(&x[start as usize..start as usize + count]),
+        (true, true) => {
+            let s = start as usize;
+            out.extend((s..s + count).map(|i| x[i] - 2.0 * x[i - 1] + x[i - 2]));
+        }
+        (false, w) => {
+            let level = if w { heard } else { at };
+            out.extend((0..count).map(|j| level(x, start + j as i64)));
+        }
+    }
+}
+
 /// `x[j]`, 0 outside it.
 pub(super) fn at(x: &[f64], j: i64) -> f64 {
     if j >= 0 && (j as usize) < x.len() {
         x[j as usize]
     } else {
         0.0
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{at, heard, levels, Matcher};
+    use crate::template_timing::tests::slow_bell;
+
+    /// A strike's sound taken out side by side is taken out as sample by
+    /// sample (the old loop), to the bit, inside the recording and over
+    /// its edges.
+    #[test]
+    fn a_sound_taken_out_side_by_side_is_taken_out_sample_by_sample() {
+        let rate = 8000.0;
+        let m = Matcher::new(rate, &[slow_bell(rate, 900.0, 0.03)]).unwrap();
+        let t = m.bells[0].as_ref().unwrap();
+        let x0: Vec<f64> = (0..30_000).map(|k| ((k * 7919) % 263) as f64 / 263.0 - 0.5).collect();
+        for onset in [-0.3, 0.0, 0.41237, 1.0, 2.2345, 3.6] {
+            let mut x = x0.clone();
+            m.subtract(&mut x, t, onset, 0.731);
+            let mut y = x0.clone();
+            let start = onset * rate;
+            let (i0, n) = (start.floor(), y.len() as i64);
+            let frac = start - i0;
+            for (k, v) in t.sound.iter().enumerate() {
+                let j = i0 as i64 + k as i64;
+                for (jj, w) in [(j, 1.0 - frac), (j + 1, frac)] {
+                    if jj >= 0 && jj < n {
+                        y[jj as usize] -= 0.731 * w * v;
+                    }
+                }
+            }
+            assert!(
+                x.iter().zip(&y).all(|(a, b)| a.to_bits() == b.to_bits()),
+                "onset {onset}"
+            );
+            assert_ne!(x, x0);
+        }
+    }
+
+    /// The levels found a stretch at a time are those found sample by
+    /// sample, to the bit, inside the recording and across its edges.
+    #[test]
+    fn levels_a_stretch_at_a_time_are_levels_sample_by_sample() {
+        let x: Vec<f64> = (0..300).map(|k| ((k * 7919) % 263) as f64 / 263.0 - 0.5).collect();
+        let mut out = vec![];
+        for weighted in [false, true] {
+            let level = if weighted { heard } else { at };
+            for (start, count) in [
+                (-5i64, 40usize),
+                (0, 10),
+                (1, 10),
+                (2, 100),
+                (150, 150),
+                (250, 80),
+                (299, 3),
+            ] {
+                levels(&x, start, count, weighted, &mut out);
+                let direct: Vec<f64> = (0..count).map(|j| level(&x, start + j as i64)).collect();
+                assert_eq!(out.len(), count);
+                for (a, b) in out.iter().zip(&direct) {
+                    assert_eq!(a.to_bits(), b.to_bits(), "weighted {weighted}, from {start}");
+                }
+            }
+        }
     }
 }

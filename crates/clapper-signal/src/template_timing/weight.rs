@@ -13,7 +13,7 @@
 //! part by the same amount and the weighted match rejects the plain one's
 //! time.
 
-use super::lag::{best_match, voters};
+use super::lag::{best_match, voters, TURNED};
 use super::matcher::{Matcher, Scratch, PRE_S};
 use crate::SignalError;
 
@@ -39,40 +39,102 @@ const SHARE: f64 = 0.5;
 /// at the plain one's time under [`KEEP`] of its best, and moved within
 /// [`SAME_S`] of their median move, at over [`SHARE`] of up to [`VOTES`](super::lag::VOTES)
 /// of them. Matched by magnitude (before the polarities are known);
-/// leaves every template matched as recorded.
+/// leaves every template matched as recorded. With it, the sign each bell
+/// matches with as chosen, from the same matches: what
+/// [`super::lag::polarities`] gives once the choice is made (its
+/// matches are these), without matching the voters a fourth time.
 pub(super) fn choose(
     m: &mut Matcher,
     x: &[f64],
     sought: &[(usize, (f64, f64))],
     sc: &mut Scratch,
-) -> Result<Vec<bool>, SignalError> {
-    let mut chosen = vec![];
-    for b in 0..m.bells.len() {
-        let (mut apart, mut n) = (vec![], 0usize);
-        for (from, to) in voters(sought, b + 1) {
-            set(m, b, false);
-            let plain = best(m, x, b, from, to, sc)?;
-            set(m, b, true);
-            let weighted = best(m, x, b, from, to, sc)?;
-            let (Some(p), Some(w)) = (plain, weighted) else {
-                continue;
-            };
-            // The weighted match at the plain match's time.
-            let at_p = best(m, x, b, p.0 - PRE_S - NEAR_S, p.0 - PRE_S + NEAR_S, sc)?.map_or(0.0, |f| f.1);
-            n += 1;
-            // The plain match's time, not the weighted's strike, and far
-            // from it.
-            if (w.0 - p.0).abs() > APART_S && at_p < KEEP * w.1 {
-                apart.push(w.0 - p.0);
-            }
+) -> Result<(Vec<bool>, Vec<f64>), SignalError> {
+    // The plain and weighted matches from one sample share the
+    // recording's transform.
+    sc.keeping(x, |sc| {
+        let (mut chosen, mut signs) = (vec![], vec![]);
+        for b in 0..m.bells.len() {
+            let (w, turned, n) = choose_one(m, x, b, sought, sc)?;
+            chosen.push(w);
+            let turned = turned[usize::from(w)];
+            let has = m.bells.get(b).is_some_and(Option::is_some);
+            signs.push(if has && n > 0 && turned as f64 >= TURNED * n as f64 {
+                -1.0
+            } else {
+                1.0
+            });
         }
+        Ok((chosen, signs))
+    })
+}
+
+/// [`choose`] for bell `b` (from 0): whether it is matched weighted, and
+/// of its voters (how many: the third), how many match turned as recorded
+/// and weighted (by magnitude, the sign at the best).
+fn choose_one(
+    m: &mut Matcher,
+    x: &[f64],
+    b: usize,
+    sought: &[(usize, (f64, f64))],
+    sc: &mut Scratch,
+) -> Result<(bool, [usize; 2], usize), SignalError> {
+    let (mut apart, mut n) = (vec![], 0usize);
+    let (mut turned, mut voted) = ([0usize; 2], 0usize);
+    for (from, to) in voters(sought, b + 1) {
+        voted += 1;
         set(m, b, false);
-        // A room moves a bell's match the same at every strike.
-        let mid = if apart.is_empty() { 0.0 } else { crate::median(&apart) };
-        let votes = apart.iter().filter(|d| (*d - mid).abs() <= SAME_S).count();
-        chosen.push(n > 0 && votes as f64 > SHARE * n as f64);
+        let plain = best(m, x, b, from, to, sc)?;
+        turned[0] += usize::from(is_turned(m, from, to, sc));
+        set(m, b, true);
+        let weighted = best(m, x, b, from, to, sc)?;
+        turned[1] += usize::from(is_turned(m, from, to, sc));
+        let (Some(p), Some(w)) = (plain, weighted) else {
+            continue;
+        };
+        // The weighted match at the plain match's time: read from the
+        // weighted match just made where it lies inside it.
+        let near = (p.0 - PRE_S - NEAR_S, p.0 - PRE_S + NEAR_S);
+        let at_p = match read_within(m, (from, to), near, &sc.out) {
+            Some(v) => v,
+            None => best(m, x, b, near.0, near.1, sc)?.map_or(0.0, |f| f.1),
+        };
+        n += 1;
+        // The plain match's time, not the weighted's strike, and far
+        // from it.
+        if (w.0 - p.0).abs() > APART_S && at_p < KEEP * w.1 {
+            apart.push(w.0 - p.0);
+        }
     }
-    Ok(chosen)
+    set(m, b, false);
+    // A room moves a bell's match the same at every strike.
+    let mid = if apart.is_empty() { 0.0 } else { crate::median(&apart) };
+    let votes = apart.iter().filter(|d| (*d - mid).abs() <= SAME_S).count();
+    Ok((n > 0 && votes as f64 > SHARE * n as f64, turned, voted))
+}
+
+/// The best match (by magnitude) from `near.0` to `near.1` (s), read from
+/// the normalised match `out` just made from `made.0` to `made.1` (s),
+/// where its lags lie inside that: what [`best`] there gives (from
+/// another transform, so to a rounding: speed-4), without it. None
+/// outside.
+fn read_within(m: &Matcher, made: (f64, f64), near: (f64, f64), out: &[f64]) -> Option<f64> {
+    let rate = m.rate;
+    let lags = |(from, to): (f64, f64)| (((to - from) * rate).round() as usize).min(m.span());
+    let (start, start_near) = ((made.0 * rate).round() as i64, (near.0 * rate).round() as i64);
+    let j = usize::try_from(start_near - start).ok()?;
+    (j + lags(near) <= lags(made)).then(|| out[j..=j + lags(near)].iter().fold(0.0f64, |a, v| a.max(v.abs())))
+}
+
+/// Whether the match just made from `from` to `to` (s; by magnitude, its
+/// normalised match left in `sc.out`) is of the turned sign at its best,
+/// as [`super::lag::polarities`] reads it.
+fn is_turned(m: &Matcher, from: f64, to: f64, sc: &Scratch) -> bool {
+    let lags = (((to - from) * m.rate).round() as usize).min(m.span());
+    let out = &sc.out[..=lags];
+    let k = (0..=lags)
+        .max_by(|&a, &b| out[a].abs().total_cmp(&out[b].abs()))
+        .unwrap_or(0);
+    out[k] < 0.0
 }
 
 /// Bell `b` (from 0) matched `weighted` or not.
@@ -97,4 +159,105 @@ fn best(
         return Ok(None);
     };
     best_match(m, x, t, from, to, sc)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::super::lag::polarities;
+    use super::super::matcher::Matcher;
+    use super::{best, choose, read_within, set, NEAR_S, PRE_S};
+    use crate::template_timing::tests::slow_bell;
+
+    /// The signs read from the choice's own matches are those
+    /// `lag::polarities` gives once the choice is made (speed-4): three
+    /// bells, one turned at every strike, one at half, in a room whose
+    /// tail is darker than the direct sound (so some are matched weighted).
+    #[test]
+    fn the_signs_read_in_the_choice_are_the_polarities_voted_after_it() {
+        use crate::tower::{convolve, room_response, Room};
+        use rand::SeedableRng;
+        let rate = 16_000.0;
+        let bells: Vec<_> = [700.0, 1000.0, 1400.0]
+            .iter()
+            .map(|&f| slow_bell(rate, f, 0.03))
+            .collect();
+        let mut x = vec![0.0; (40.0 * rate) as usize];
+        let mut sought = vec![];
+        for k in 0..36 {
+            let b = k % 3;
+            let t = 0.5 + k as f64;
+            let turned = b == 0 || (b == 1 && k % 2 == 0);
+            let g = if turned { -1.0 } else { 1.0 };
+            let o = (crate::sampled_ring::sample_onset(&bells[b]).unwrap() * rate).round() as usize;
+            let i0 = (t * rate).round() as usize;
+            for (j, v) in bells[b].samples[o..].iter().enumerate() {
+                x[i0 + j] += g * v;
+            }
+            sought.push((b + 1, (t - 0.15, t + 0.1)));
+        }
+        let room = Room::chamber(1.0).with_dark_tail(0.6, 0.0);
+        let ir = room_response(room, rate, &mut rand_pcg::Pcg64::seed_from_u64(2));
+        let y = convolve(&x, &ir);
+        let mut seen = vec![];
+        for sig in [&x, &y] {
+            let mut m = Matcher::new(rate, &bells).unwrap();
+            let mut sc = m.scratch();
+            let (chosen, signs) = choose(&mut m, sig, &sought, &mut sc).unwrap();
+            for (t, w) in m.bells.iter_mut().zip(&chosen) {
+                t.as_mut().unwrap().weighted = *w;
+            }
+            assert_eq!(
+                signs,
+                polarities(&m, sig, &sought, &mut sc).unwrap(),
+                "chosen {chosen:?}"
+            );
+            seen.extend(signs);
+        }
+        assert!(seen.contains(&-1.0) && seen.contains(&1.0), "{seen:?}");
+    }
+
+    /// The weighted match at the plain match's time read from the
+    /// weighted match over the strike's search (speed-4) is the one
+    /// matched there alone, to 1e-12, at every strike of three bells in a
+    /// dark room.
+    #[test]
+    fn the_weighted_match_read_at_the_plain_time_is_the_one_matched_there() {
+        use crate::tower::{convolve, room_response, Room};
+        use rand::SeedableRng;
+        let rate = 16_000.0;
+        let bells: Vec<_> = [700.0, 1000.0, 1400.0]
+            .iter()
+            .map(|&f| slow_bell(rate, f, 0.03))
+            .collect();
+        let mut x = vec![0.0; (20.0 * rate) as usize];
+        let mut sought = vec![];
+        for k in 0..18 {
+            let (b, t) = (k % 3, 0.5 + k as f64);
+            let o = (crate::sampled_ring::sample_onset(&bells[b]).unwrap() * rate).round() as usize;
+            let i0 = (t * rate).round() as usize;
+            for (j, v) in bells[b].samples[o..].iter().enumerate() {
+                x[i0 + j] += v;
+            }
+            sought.push((b, (t - 0.15, t + 0.1)));
+        }
+        let room = Room::chamber(1.0).with_dark_tail(0.6, 0.0);
+        let y = convolve(&x, &room_response(room, rate, &mut rand_pcg::Pcg64::seed_from_u64(1)));
+        let mut m = Matcher::new(rate, &bells).unwrap();
+        let mut sc = m.scratch();
+        let mut read = 0;
+        for (b, (from, to)) in sought {
+            set(&mut m, b, false);
+            let p = best(&m, &y, b, from, to, &mut sc).unwrap().unwrap();
+            set(&mut m, b, true);
+            best(&m, &y, b, from, to, &mut sc).unwrap().unwrap();
+            let near = (p.0 - PRE_S - NEAR_S, p.0 - PRE_S + NEAR_S);
+            let Some(v) = read_within(&m, (from, to), near, &sc.out) else {
+                continue;
+            };
+            let alone = best(&m, &y, b, near.0, near.1, &mut sc).unwrap().unwrap().1;
+            assert!((v - alone).abs() <= 1e-12 * alone, "{v} against {alone}");
+            read += 1;
+        }
+        assert!(read >= 15, "{read} of 18 read");
+    }
 }
