@@ -146,17 +146,40 @@ pub(crate) fn blow_noise(state: &mut u64) -> f64 {
 }
 
 /// Where a recorded strike's sound starts (s from the recording's start).
-///
-/// The noise before it is measured over the first 5 ms after any digital
-/// silence the file starts with (a recording padded with zeros before its
-/// own noise: an independent tester's templates were, and their strikes
-/// came out early by the length of that noise), or none, if the recording
-/// starts loud; the sound starts at the first 1 ms block whose
-/// peak stands above both 4 times that noise's peak and 1/300 (−50 dB) of
-/// the recording's peak, moved back to the last sample before it at or
-/// under that level. A bell's strike rises to its peak within a few ms, so
-/// this is within a millisecond of where the clapper met the bell.
+/// [`sample_onset_checked`]'s time.
 pub fn sample_onset(sig: &Signal) -> Result<f64, SignalError> {
+    Ok(sample_onset_checked(sig)?.t_s)
+}
+
+/// A recorded strike's start ([`sample_onset_checked`]).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SampleOnset {
+    /// Where its sound starts (s from the recording's start).
+    pub t_s: f64,
+    /// Whether a whole millisecond quieter than the sound lies before it:
+    /// without one the recording starts at its sound, or was cut into it
+    /// (then its strikes are timed late by as much as was cut).
+    pub quiet_before: bool,
+}
+
+/// Where a recorded strike's sound starts, found the same whatever the
+/// lead-in before it (4 ms of a recording's own noise or 100 ms: within
+/// 0.4 ms on the recorded tower bells, where the noise measured over the
+/// first 5 ms moved d1's start 17 ms and d9's 4.7 ms).
+///
+/// After any digital silence the file starts with (a millisecond or more
+/// of zeros: a recording padded before its own noise), the strike is the
+/// first sample at a tenth of the recording's peak; the noise is the
+/// median of the peaks of the whole 1 ms blocks before it, 2 ms before it
+/// left out (the sound's rise), none where there are none; the sound starts
+/// after the last whole millisecond before the strike at or under both 4
+/// times that noise and 1/300 (−50 dB) of the peak, moved back (2 ms at
+/// most) to the last sample at or under twice the noise. Where no such
+/// millisecond lies before the strike, at the file's start (after its
+/// zeros), and not [`SampleOnset::quiet_before`]. A bell's strike rises to
+/// its peak within a few ms, so this is within a millisecond of where the
+/// clapper met the bell.
+pub fn sample_onset_checked(sig: &Signal) -> Result<SampleOnset, SignalError> {
     sig.validate()?;
     let x = &sig.samples;
     let peak = x.iter().fold(0.0f64, |p, v| p.max(v.abs()));
@@ -166,24 +189,50 @@ pub fn sample_onset(sig: &Signal) -> Result<f64, SignalError> {
     let ms = ((sig.rate * 1e-3).round() as usize).max(1);
     // Padding is a millisecond or more of zeros (a waveform crosses zero too).
     let pad = x.iter().position(|v| *v != 0.0).filter(|&p| p >= ms).unwrap_or(0);
-    let head = (pad + 5 * ms).min(x.len());
-    let noise = x[pad..head].iter().fold(0.0f64, |p, v| p.max(v.abs()));
-    if noise > 0.1 * peak {
-        // Loud from its first sample after the zeros: it starts at the strike.
-        return Ok(pad as f64 / sig.rate);
-    }
+    let strike = pad
+        + x[pad..]
+            .iter()
+            .position(|v| v.abs() >= 0.1 * peak)
+            .ok_or_else(|| SignalError::Invalid("no strike in the recording".into()))?;
+    // The median block, not the loudest: a recording faded in over its
+    // first ms, or a lead-in shorter than the old 5 ms that took in the
+    // sound's start, moved the level by the lead-in's length.
+    let mut blocks: Vec<f64> = x[pad..strike.saturating_sub(2 * ms).max(pad)]
+        .chunks_exact(ms)
+        .map(|b| b.iter().fold(0.0f64, |p, v| p.max(v.abs())))
+        .collect();
+    blocks.sort_by(f64::total_cmp);
+    let noise = blocks.get(blocks.len().saturating_sub(1) / 2).copied().unwrap_or(0.0);
     let level = (4.0 * noise).max(peak / 300.0);
-    let first = x
-        .iter()
-        .position(|v| v.abs() > level)
-        .ok_or_else(|| SignalError::Invalid("no strike in the recording".into()))?;
+    // Back from the strike to the last whole millisecond at or under the level.
+    let (mut run, mut first, mut quiet_before) = (0, strike, false);
+    for i in (pad..strike).rev() {
+        if x[i].abs() > level {
+            (run, first) = (0, i);
+        } else {
+            run += 1;
+            if run >= ms {
+                quiet_before = true;
+                break;
+            }
+        }
+    }
+    if !quiet_before {
+        return Ok(SampleOnset {
+            t_s: pad as f64 / sig.rate,
+            quiet_before,
+        });
+    }
     // Back to where the waveform last sat at the noise before the loud sample.
     let quiet = (2.0 * noise).max(peak / 3000.0);
     let mut i = first;
-    while i > 0 && first - i < 2 * ms && x[i - 1].abs() > quiet {
+    while i > pad && first - i < 2 * ms && x[i - 1].abs() > quiet {
         i -= 1;
     }
-    Ok(i as f64 / sig.rate)
+    Ok(SampleOnset {
+        t_s: i as f64 / sig.rate,
+        quiet_before,
+    })
 }
 
 /// The recording of `spec`'s ring (its strike times, method, doubles,

@@ -2,6 +2,7 @@
 //! template, or lined up on its average strike learned from the recording.
 
 use clapper_signal::lateness::{from_templates, Lateness};
+use clapper_signal::sampled_ring::sample_onset_checked;
 use clapper_signal::self_calibrate::SelfCalibration;
 use clapper_signal::strikes::BellVoice;
 use clapper_signal::strikes::StrikeOptions;
@@ -38,21 +39,52 @@ pub(super) fn timed_again(
 }
 
 /// The lateness learned on a ring of the `templates` with `timing` by
-/// templates, else none; a warning in words where it could not be learned.
+/// templates, else none; warnings in words where it could not be learned,
+/// and where a template has no quiet before its sound ([`cut_templates`]).
 /// The ring of the templates needs them at one rate; matching each strike
 /// does not (it resamples them).
 pub(super) fn lateness_of(
     timing: &Timing,
     voices: &[BellVoice],
     opts: &StrikeOptions,
-) -> (Option<Lateness>, Option<String>) {
+) -> (Option<Lateness>, Vec<String>) {
     match timing {
-        Timing::AsHeard | Timing::Recording(_) => (None, None),
-        Timing::Templates(t) => match from_templates(t, voices, opts) {
-            Ok(l) => (Some(l), None),
-            Err(e) => (None, Some(format!("no lateness learned from the templates: {e}"))),
-        },
+        Timing::AsHeard | Timing::Recording(_) => (None, vec![]),
+        Timing::Templates(t) => {
+            let cut = cut_templates(t);
+            match from_templates(t, voices, opts) {
+                Ok(l) => (Some(l), cut.into_iter().collect()),
+                Err(e) => (
+                    None,
+                    std::iter::once(format!("no lateness learned from the templates: {e}"))
+                        .chain(cut)
+                        .collect(),
+                ),
+            }
+        }
     }
+}
+
+/// A warning naming the templates (treble first) with no whole
+/// millisecond quieter than their sound before it
+/// ([`sample_onset_checked`]): each is taken to start at its first
+/// sample, and if it was cut into its sound, its strikes are timed late by
+/// as much as was cut.
+fn cut_templates(templates: &[Signal]) -> Option<String> {
+    let cut: Vec<String> = templates
+        .iter()
+        .enumerate()
+        .filter(|(_, t)| sample_onset_checked(t).is_ok_and(|o| !o.quiet_before))
+        .map(|(i, _)| format!("{}.wav", i + 1))
+        .collect();
+    (!cut.is_empty()).then(|| {
+        format!(
+            "template {} starts at its sound, with no quiet before it: timed from its first sample \
+             (if it was cut into the sound, that bell's strikes are timed late by as much); \
+             keep a few ms of the recording before each strike",
+            cut.join(", ")
+        )
+    })
 }
 
 /// Each strike of window `w` timed again against its bell's template

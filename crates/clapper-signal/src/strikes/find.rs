@@ -326,6 +326,9 @@ fn in_the_rings_rhythm(
         .filter_map(|f| median(f.windows(2).map(|w| w[1].0 - w[0].0).collect()))
         .collect();
     gaps.sort_by(f64::total_cmp);
+    // No bell stood clear: the period from the candidates, and each
+    // chain let keep time more loosely (the fast eight's middle minute).
+    let unclear = gaps.is_empty();
     let Some(period) = gaps.get(gaps.len() / 2).copied().or_else(|| candidates_period(heard)) else {
         return firsts;
     };
@@ -334,7 +337,7 @@ fn in_the_rings_rhythm(
     let place = period / (bells as f64 + 0.5);
     for (h, f) in heard.iter().zip(firsts.iter_mut()) {
         if f.is_empty() && !h.bands.is_empty() {
-            let found = h.firsts_in_rhythm(opts, bells, period);
+            let found = h.firsts_in_rhythm(opts, bells, period, unclear);
             // A chain on other bells' strikes (within a quarter of a
             // place, in most of its strikes) is theirs heard in this
             // bell's bands, or a false peak a whole number of places
