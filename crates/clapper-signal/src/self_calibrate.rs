@@ -3,7 +3,8 @@
 //! timed from the recording's own strikes").
 //!
 //! 1. Each bell's partials are learned from the recording
-//!    ([`learn_voices`]), and the strikes heard with them.
+//!    ([`learn_voices`]), and the strikes heard with them; a bell they
+//!    never hear is heard at its nominal alone (`heard_bells`).
 //! 2. Each bell's template is learned from its clean strikes (no other
 //!    bell's strike heard within [`CLEAR_S`], no double strike): the
 //!    recording about each, lined up on the first by cross-correlation,
@@ -33,6 +34,7 @@
 //!    bell's lateness is how long after that start the band finder heard
 //!    the clean strikes (their median).
 
+mod heard_bells;
 mod sharp;
 
 use crate::strikes::{hear_strikes, learn_voices, BellVoice, Heard, HeardStrike, Hearing, StrikeOptions};
@@ -260,8 +262,21 @@ pub fn calibrate_heard(
     let learned = learn_voices(sig, nominals_hz)?;
     let voices: Vec<BellVoice> = learned.bells.iter().map(|b| b.voice.clone()).collect();
     let hearing = hear_strikes(sig, &voices, opts)?;
+    // A bell its learned voice never hears is heard at its nominal alone.
+    let assumed: Vec<BellVoice> = nominals_hz.iter().map(|&f| heard_bells::nominal_alone(f)).collect();
+    let (voices, hearing, kept) = heard_bells::hear_every_bell(sig, &voices, &assumed, hearing, opts)?;
     let heard = hearing.with_doubles();
     let mut warnings = learned.warnings;
+    for (k, _) in kept
+        .iter()
+        .enumerate()
+        .filter(|(k, &u)| !u && learned.bells[*k].learned)
+    {
+        warnings.push(format!(
+            "bell {}: never heard through the partials learned for it: heard at its nominal alone",
+            k + 1
+        ));
+    }
     let mut templates = vec![];
     let mut bells = vec![];
     let mut averages = vec![];
@@ -284,7 +299,7 @@ pub fn calibrate_heard(
             Some(t) => {
                 bells.push(BellCalibration {
                     bell,
-                    partials_learned: lv.learned,
+                    partials_learned: lv.learned && kept[k],
                     lateness_s: Some(t.lateness_s),
                     spread_s: t.spread_s,
                     strikes: clean.len(),
@@ -299,7 +314,7 @@ pub fn calibrate_heard(
                 ));
                 bells.push(BellCalibration {
                     bell,
-                    partials_learned: lv.learned,
+                    partials_learned: lv.learned && kept[k],
                     lateness_s: None,
                     spread_s: 0.0,
                     strikes: 0,
