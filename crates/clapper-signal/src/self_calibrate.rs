@@ -37,7 +37,7 @@
 mod heard_bells;
 mod sharp;
 
-use crate::strikes::{hear_strikes, learn_voices, BellVoice, Heard, HeardStrike, Hearing, StrikeOptions};
+use crate::strikes::{learn_voices, BellVoice, Heard, HeardStrike, Hearing, StrikeOptions};
 use crate::{Signal, SignalError};
 
 /// A strike is clean if no other bell's strike is heard this near it (s).
@@ -252,7 +252,7 @@ pub fn calibrate(sig: &Signal, nominals_hz: &[f64], opts: &StrikeOptions) -> Res
 
 /// [`calibrate`], with what the band finder heard in `sig` through the
 /// calibration's voices (its doubles judged): what
-/// [`hear_strikes`]`(sig, &calibration.voices, opts)` hears, handed on so
+/// [`hear_strikes`](crate::strikes::hear_strikes)`(sig, &calibration.voices, opts)` hears, handed on so
 /// that a caller hearing `sig` so again need not.
 pub fn calibrate_heard(
     sig: &Signal,
@@ -260,23 +260,11 @@ pub fn calibrate_heard(
     opts: &StrikeOptions,
 ) -> Result<(SelfCalibration, Hearing), SignalError> {
     let learned = learn_voices(sig, nominals_hz)?;
-    let voices: Vec<BellVoice> = learned.bells.iter().map(|b| b.voice.clone()).collect();
-    let hearing = hear_strikes(sig, &voices, opts)?;
     // A bell its learned voice never hears is heard at its nominal alone.
-    let assumed: Vec<BellVoice> = nominals_hz.iter().map(|&f| heard_bells::nominal_alone(f)).collect();
-    let (voices, hearing, kept) = heard_bells::hear_every_bell(sig, &voices, &assumed, hearing, opts)?;
+    let through = heard_bells::hear_through(sig, nominals_hz, &learned, opts)?;
+    let (voices, hearing, kept) = (through.voices, through.hearing, through.kept);
     let heard = hearing.with_doubles();
-    let mut warnings = learned.warnings;
-    for (k, _) in kept
-        .iter()
-        .enumerate()
-        .filter(|(k, &u)| !u && learned.bells[*k].learned)
-    {
-        warnings.push(format!(
-            "bell {}: never heard through the partials learned for it: heard at its nominal alone",
-            k + 1
-        ));
-    }
+    let mut warnings = [learned.warnings, through.warnings].concat();
     let mut templates = vec![];
     let mut bells = vec![];
     let mut averages = vec![];

@@ -15,7 +15,7 @@
 //! it hears more bells.
 
 use super::Hearing;
-use crate::strikes::{hear_strikes, BellVoice, StrikeOptions};
+use crate::strikes::{hear_strikes, BellVoice, LearnedVoices, StrikeOptions};
 use crate::{Signal, SignalError};
 
 /// A bell heard at under this share of the typical bell's strikes is
@@ -23,6 +23,48 @@ use crate::{Signal, SignalError};
 const HEARD_SHARE: f64 = 0.5;
 /// Rounds of swapping (each hears the window once more).
 const ROUNDS: usize = 2;
+
+/// What the calibration heard its recording through ([`hear_through`]).
+pub(super) struct HeardThrough {
+    /// Each bell's voice, treble first.
+    pub(super) voices: Vec<BellVoice>,
+    /// The recording heard through them.
+    pub(super) hearing: Hearing,
+    /// Per bell, whether its learned voice is kept.
+    pub(super) kept: Vec<bool>,
+    /// A warning for each learned voice left, in words.
+    pub(super) warnings: Vec<String>,
+}
+
+/// `sig` heard through the voices `learned` from it (the nominals
+/// `nominals_hz`, treble first), a bell they never hear at its nominal
+/// alone ([`hear_every_bell`]).
+pub(super) fn hear_through(
+    sig: &Signal,
+    nominals_hz: &[f64],
+    learned: &LearnedVoices,
+    opts: &StrikeOptions,
+) -> Result<HeardThrough, SignalError> {
+    let voices: Vec<BellVoice> = learned.bells.iter().map(|b| b.voice.clone()).collect();
+    let hearing = hear_strikes(sig, &voices, opts)?;
+    let assumed: Vec<BellVoice> = nominals_hz.iter().map(|&f| nominal_alone(f)).collect();
+    let (voices, hearing, kept) = hear_every_bell(sig, &voices, &assumed, hearing, opts)?;
+    let warnings = (0..kept.len())
+        .filter(|&k| !kept[k] && learned.bells.get(k).is_some_and(|b| b.learned))
+        .map(|k| {
+            format!(
+                "bell {}: never heard through the partials learned for it: heard at its nominal alone",
+                k + 1
+            )
+        })
+        .collect();
+    Ok(HeardThrough {
+        voices,
+        hearing,
+        kept,
+        warnings,
+    })
+}
 
 /// The voices heard through, and the hearing, after swapping the voices
 /// of bells unheard through `learned` (treble first) for `assumed` (each
