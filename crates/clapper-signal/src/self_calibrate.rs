@@ -3,7 +3,8 @@
 //! timed from the recording's own strikes").
 //!
 //! 1. Each bell's partials are learned from the recording
-//!    ([`learn_voices`]), and the strikes heard with them.
+//!    ([`learn_voices`]), and the strikes heard with them; a bell they
+//!    never hear is heard at its nominal alone (`heard_bells`).
 //! 2. Each bell's template is learned from its clean strikes (no other
 //!    bell's strike heard within [`CLEAR_S`], no double strike): the
 //!    recording about each, lined up on the first by cross-correlation,
@@ -33,9 +34,10 @@
 //!    bell's lateness is how long after that start the band finder heard
 //!    the clean strikes (their median).
 
+mod heard_bells;
 mod sharp;
 
-use crate::strikes::{hear_strikes, learn_voices, BellVoice, Heard, HeardStrike, Hearing, StrikeOptions};
+use crate::strikes::{learn_voices, BellVoice, Heard, HeardStrike, Hearing, StrikeOptions};
 use crate::{Signal, SignalError};
 
 /// A strike is clean if no other bell's strike is heard this near it (s).
@@ -250,7 +252,7 @@ pub fn calibrate(sig: &Signal, nominals_hz: &[f64], opts: &StrikeOptions) -> Res
 
 /// [`calibrate`], with what the band finder heard in `sig` through the
 /// calibration's voices (its doubles judged): what
-/// [`hear_strikes`]`(sig, &calibration.voices, opts)` hears, handed on so
+/// [`hear_strikes`](crate::strikes::hear_strikes)`(sig, &calibration.voices, opts)` hears, handed on so
 /// that a caller hearing `sig` so again need not.
 pub fn calibrate_heard(
     sig: &Signal,
@@ -258,10 +260,11 @@ pub fn calibrate_heard(
     opts: &StrikeOptions,
 ) -> Result<(SelfCalibration, Hearing), SignalError> {
     let learned = learn_voices(sig, nominals_hz)?;
-    let voices: Vec<BellVoice> = learned.bells.iter().map(|b| b.voice.clone()).collect();
-    let hearing = hear_strikes(sig, &voices, opts)?;
+    // A bell its learned voice never hears is heard at its nominal alone.
+    let through = heard_bells::hear_through(sig, nominals_hz, &learned, opts)?;
+    let (voices, hearing, kept) = (through.voices, through.hearing, through.kept);
     let heard = hearing.with_doubles();
-    let mut warnings = learned.warnings;
+    let mut warnings = [learned.warnings, through.warnings].concat();
     let mut templates = vec![];
     let mut bells = vec![];
     let mut averages = vec![];
@@ -284,7 +287,7 @@ pub fn calibrate_heard(
             Some(t) => {
                 bells.push(BellCalibration {
                     bell,
-                    partials_learned: lv.learned,
+                    partials_learned: lv.learned && kept[k],
                     lateness_s: Some(t.lateness_s),
                     spread_s: t.spread_s,
                     strikes: clean.len(),
@@ -299,7 +302,7 @@ pub fn calibrate_heard(
                 ));
                 bells.push(BellCalibration {
                     bell,
-                    partials_learned: lv.learned,
+                    partials_learned: lv.learned && kept[k],
                     lateness_s: None,
                     spread_s: 0.0,
                     strikes: 0,
