@@ -613,18 +613,23 @@ mod tests {
         );
     }
 
-    #[test]
-    fn a_slowly_rising_bell_is_timed_at_the_start_of_its_sound() {
-        let rate = 16_000.0;
-        let bells = major_scale(4, 1000.0).unwrap();
-        let templates: Vec<Signal> = bells.iter().map(|b| slow_bell(rate, b.nominal_hz, 0.03)).collect();
-        let spec = TowerSpec {
+    /// Twelve rows of plain hunt on `bells` at `rate` (Hz), 30 dB over the noise.
+    fn plain_hunt_at(rate: f64, bells: Vec<crate::tower::RingBell>) -> TowerSpec {
+        TowerSpec {
             rate,
             rows: 12,
             method: Method::PlainHunt,
             snr_db: Some(30.0),
             ..TowerSpec::new(bells)
-        };
+        }
+    }
+
+    #[test]
+    fn a_slowly_rising_bell_is_timed_at_the_start_of_its_sound() {
+        let rate = 16_000.0;
+        let bells = major_scale(4, 1000.0).unwrap();
+        let templates: Vec<Signal> = bells.iter().map(|b| slow_bell(rate, b.nominal_hz, 0.03)).collect();
+        let spec = plain_hunt_at(rate, bells);
         let (sig, truth) = sampled_ring(&spec, &templates).unwrap();
         let voices: Vec<BellVoice> = templates.iter().map(|t| BellVoice::from_template(t).unwrap()).collect();
         let mut heard = find_strikes(&sig, &voices, &StrikeOptions::default()).unwrap();
@@ -743,13 +748,7 @@ mod tests {
                 .collect()
         };
         let long = templates(0.1);
-        let spec = TowerSpec {
-            rate,
-            rows: 12,
-            method: Method::PlainHunt,
-            snr_db: Some(30.0),
-            ..TowerSpec::new(bells)
-        };
+        let spec = plain_hunt_at(rate, bells);
         let (sig, truth) = sampled_ring(&spec, &long).unwrap();
         let voices: Vec<BellVoice> = long.iter().map(|t| BellVoice::from_template(t).unwrap()).collect();
         let heard = find_strikes(&sig, &voices, &StrikeOptions::default()).unwrap();
