@@ -281,8 +281,10 @@ impl Pairs {
     /// bell's strikes against one another: a second copy's gain over the
     /// first's at each delay, less the median of that over the bell's
     /// strikes (the room's own echo of the bell, which every strike has),
-    /// must reach `min_ratio` somewhere in `window` (s). The second blows,
-    /// one a strike.
+    /// must reach `min_ratio` somewhere in `window` (s), and [`SPREAD_K`]
+    /// times that ratio's spread over the bell's strikes there (tmpl-9:
+    /// a phone's processing makes a second copy that comes and goes from
+    /// strike to strike). The second blows, one a strike.
     pub fn judge(&self, strikes: &[(usize, Vec<f64>)], window: (f64, f64), min_ratio: f64) -> Vec<Option<HeardDouble>> {
         let lo = ((window.0 * self.rate).round() as usize).max(1);
         let hi = ((window.1 * self.rate).round() as usize).min(self.judged);
@@ -293,7 +295,7 @@ impl Pairs {
                 _ => vec![],
             })
             .collect();
-        let mut room: Vec<Vec<f64>> = vec![vec![]; self.bells.len()];
+        let mut room: Vec<Vec<(f64, f64)>> = vec![vec![]; self.bells.len()];
         for (b, r) in room.iter_mut().enumerate() {
             let mine: Vec<&Vec<(f64, f64)>> = strikes
                 .iter()
@@ -303,7 +305,7 @@ impl Pairs {
                 .collect();
             if mine.len() >= MIN_STRIKES {
                 *r = (0..=hi - lo)
-                    .map(|k| crate::median(&mine.iter().map(|c| c[k].1).collect::<Vec<_>>()))
+                    .map(|k| median_and_spread(&mine.iter().map(|c| c[k].1).collect::<Vec<_>>()))
                     .collect();
             }
         }
@@ -313,7 +315,7 @@ impl Pairs {
         let from: Vec<usize> = room
             .iter()
             .map(|r| {
-                let reflects = r.iter().take(near).any(|v| *v >= REFLECTION_ECHO);
+                let reflects = r.iter().take(near).any(|v| v.0 >= REFLECTION_ECHO);
                 if reflects {
                     near.min(r.len())
                 } else {
@@ -332,11 +334,23 @@ impl Pairs {
     /// over the first's at each delay from `lo` samples) and its bell's
     /// room's (the median curve; empty where not learned), judged from the
     /// curve's `from`th delay on (past the room's reflections).
-    fn one(&self, curve: &[(f64, f64)], room: &[f64], lo: usize, from: usize, min_ratio: f64) -> Option<HeardDouble> {
-        let excess = |k: usize| curve[k].1 - room.get(k).copied().unwrap_or(0.0);
-        let k = (from..curve.len()).max_by(|&a, &b| excess(a).total_cmp(&excess(b)))?;
+    fn one(
+        &self,
+        curve: &[(f64, f64)],
+        room: &[(f64, f64)],
+        lo: usize,
+        from: usize,
+        min_ratio: f64,
+    ) -> Option<HeardDouble> {
+        // Past the least ratio asked, and past the bell's single strikes'
+        // own spread at that delay.
+        let over = |k: usize| {
+            let (median, spread) = room.get(k).copied().unwrap_or((0.0, 0.0));
+            curve[k].1 - median - min_ratio.max(SPREAD_K * spread)
+        };
+        let k = (from..curve.len()).max_by(|&a, &b| over(a).total_cmp(&over(b)))?;
         let second = curve[k].1;
-        (second > 0.0 && second <= LOUDER && excess(k) >= min_ratio).then(|| HeardDouble {
+        (second > 0.0 && second <= LOUDER && over(k) >= 0.0).then(|| HeardDouble {
             delay_s: (k + lo) as f64 / self.rate,
             amplitude_ratio: curve[k].1,
         })
@@ -345,6 +359,19 @@ impl Pairs {
 
 /// A bell's room echo is learned from this many of its strikes or more.
 const MIN_STRIKES: usize = 5;
+
+/// How many times its bell's single strikes' spread at a delay (their
+/// ratios' median absolute deviation, scaled to a standard deviation) a
+/// second copy must stand above their median there.
+const SPREAD_K: f64 = 6.0;
+
+/// The median of `v` and its spread: the median absolute deviation from
+/// it, times 1.4826 (a normal spread's standard deviation).
+fn median_and_spread(v: &[f64]) -> (f64, f64) {
+    let m = crate::median(v);
+    let dev: Vec<f64> = v.iter().map(|x| (x - m).abs()).collect();
+    (m, 1.4826 * crate::median(&dev))
+}
 
 /// At each delay from `lo` to `hi` samples, the two copies' least squares
 /// gains from the correlations `c` (the recording with the template at
@@ -485,6 +512,52 @@ mod tests {
         assert_eq!(called.len(), 1, "{called:?}");
         assert_eq!(called[0].0, 5);
         assert!((called[0].1 - 60.0).abs() < 4.0, "{called:?}");
+    }
+
+    /// A bell whose single strikes each have a second copy 35 ms on at a
+    /// gain that changes from strike to strike (0 to 0.6: a phone's
+    /// processing, a template at another rate than the recording, a
+    /// compressor's pumping) is not called double at the strikes where it
+    /// is largest: its spread over the bell's strikes is judged, not only
+    /// its median (without the spread, one of the 0.6s was). The
+    /// double struck 60 ms apart at 0.7, where no other strike has a
+    /// second copy, is found.
+    #[test]
+    fn a_second_copy_that_spreads_over_a_bells_single_strikes_is_not_a_double() {
+        let rate = 8000.0;
+        let t = sound(rate);
+        let (gap, n) = ((0.6 * rate) as usize, 12);
+        let mut x = vec![0.0; gap * (n + 2)];
+        let mut put = |at: usize, g: f64| {
+            for (k, v) in t.iter().enumerate() {
+                if let Some(y) = x.get_mut(at + k) {
+                    *y += g * v;
+                }
+            }
+        };
+        let ms = |m: f64| (m * 1e-3 * rate).round() as usize;
+        let spread = [0.0, 0.6, 0.1, 0.5, 0.2, 0.4, 0.0, 0.6, 0.3, 0.05, 0.55, 0.15];
+        for (s, g) in spread.iter().enumerate() {
+            let at = gap * (s + 1);
+            put(at, 1.0);
+            put(at + ms(35.0), *g);
+            if s == 5 {
+                put(at + ms(60.0), 0.7);
+            }
+        }
+        let mut pairs = Pairs::new(rate, &[Some(&t)], &[], 0.15).unwrap();
+        let strikes: Vec<(usize, Vec<f64>)> = (0..n)
+            .map(|s| (1, pairs.aligned(&x, 1, (gap * (s + 1)) as i64).unwrap().unwrap().0))
+            .collect();
+        let judged = pairs.judge(&strikes, (0.01, 0.15), 0.3);
+        let called: Vec<(usize, f64)> = judged
+            .iter()
+            .enumerate()
+            .filter_map(|(s, d)| d.map(|d| (s, d.delay_s * 1e3)))
+            .collect();
+        assert_eq!(called.len(), 1, "{called:?}");
+        assert_eq!(called[0].0, 5);
+        assert!((called[0].1 - 60.0).abs() < 2.0, "{called:?}");
     }
 
     /// A strike matched at something faint 100 ms before its sound (an
