@@ -246,6 +246,16 @@ mod tests {
         }
         // Some cases are first blows, not the top.
         assert!(firsts > 10, "{firsts} first blows");
+        // A first blow just past the top less the gap, reached only by the
+        // envelope's half-width before it: found.
+        let rate = 16_000.0;
+        let (gap, half) = ((GAP_S * rate).round() as usize, (0.0015 * rate).round() as usize);
+        let mut out = vec![0.01; 2000];
+        out[1500] = 1.0;
+        out[1500 - gap + half - 1] = 0.9;
+        let got = first_blow(&out, 1999, 1.0, rate);
+        assert_eq!(got, 1500 - gap + half - 1);
+        assert_eq!(got, first_blow_everywhere(&out, 1999, 1.0, rate));
     }
 
     /// The envelope in one pass is the largest |v| over each window,
