@@ -166,8 +166,16 @@ fn first_blow(out: &[f64], lags: usize, top: f64, rate: f64) -> usize {
         .unwrap_or(0);
     let gap = (GAP_S * rate).round() as usize;
     let half = (0.0015 * rate).round() as usize;
-    // The largest |out| within `half` of each lag, found once.
-    let env = envelope(&out[..=lags], half);
+    // A first blow's envelope reaches FIRST_SHARE of the top somewhere
+    // before `top_k - gap`: where no lag that near does, there is none
+    // (most strikes), and the envelope is not made.
+    let near = (top_k.saturating_sub(gap) + half).min(lags + 1);
+    if top_k <= gap || !out[..near].iter().any(|v| v.abs() >= FIRST_SHARE * top) {
+        return top_k;
+    }
+    // The largest |out| within `half` of each lag before the top, found
+    // once (the dip is sought only before it).
+    let env = envelope(&out[..=(top_k + half).min(lags)], half);
     let first = (0..top_k.saturating_sub(gap)).find(|&k| {
         let e = env[k];
         e >= FIRST_SHARE * top && (k..top_k).step_by(half.max(1)).any(|j| env[j] < DIP * e)
@@ -211,7 +219,7 @@ fn envelope(v: &[f64], half: usize) -> Vec<f64> {
 #[cfg(test)]
 mod tests {
     use super::super::matcher::{Matcher, PRE_S};
-    use super::{best_match, envelope};
+    use super::{best_match, envelope, first_blow, DIP, FIRST_SHARE, GAP_S};
     use crate::template_timing::tests::slow_bell;
 
     /// A search longer than one transform's span (at 16 kHz 0.32 s) is
@@ -241,6 +249,79 @@ mod tests {
             found.is_some_and(|f| (f.0 - onset).abs() < 0.001),
             "{found:?} for {onset}"
         );
+    }
+
+    /// [`first_blow`] as it was, the envelope made over every lag.
+    fn first_blow_everywhere(out: &[f64], lags: usize, top: f64, rate: f64) -> usize {
+        let top_k = (0..=lags)
+            .max_by(|&a, &b| out[a].abs().total_cmp(&out[b].abs()))
+            .unwrap_or(0);
+        let gap = (GAP_S * rate).round() as usize;
+        let half = (0.0015 * rate).round() as usize;
+        let env = envelope(&out[..=lags], half);
+        let first = (0..top_k.saturating_sub(gap)).find(|&k| {
+            let e = env[k];
+            e >= FIRST_SHARE * top && (k..top_k).step_by(half.max(1)).any(|j| env[j] < DIP * e)
+        });
+        match first {
+            Some(first) => {
+                let reach = (first + (0.01 * rate).round() as usize).min(lags);
+                (first..=reach)
+                    .max_by(|&a, &b| out[a].abs().total_cmp(&out[b].abs()))
+                    .unwrap_or(first)
+            }
+            None => top_k,
+        }
+    }
+
+    /// The first blow found with the envelope made only where it can
+    /// count is the one found with it made over every lag: matches with
+    /// one peak, with a first blow before it (a dip between or none),
+    /// peaks at either end, at two rates and for every count of lags.
+    #[test]
+    fn a_first_blow_sought_only_where_it_can_be_is_the_one_sought_everywhere() {
+        let mut firsts = 0;
+        for rate in [16_000.0, 44_100.0] {
+            for case in 0..240usize {
+                let n = 200 + (case * 7919) % 3000;
+                let peak = |at: f64, h: f64, w: f64, k: usize| h * (-((k as f64 - at) / w).powi(2)).exp();
+                let (a, b) = ((case * 31) % n, (case * 131 + 17) % n);
+                let ha = 0.5 + 0.5 * ((case % 11) as f64 / 10.0);
+                let w = 5.0 + (case % 13) as f64 * 40.0;
+                let out: Vec<f64> = (0..n)
+                    .map(|k| {
+                        let ripple = 0.05 * ((k * 7919 + case) % 101) as f64 / 101.0;
+                        let s = if k % 3 == 0 { -1.0 } else { 1.0 };
+                        s * (peak(a as f64, ha, w, k) + peak(b as f64, 1.0, w, k) + ripple)
+                    })
+                    .collect();
+                for lags in [n - 1, n / 2, (case % 5) * 40] {
+                    let top = (0..=lags).map(|k| out[k].abs()).fold(0.0, f64::max);
+                    let got = first_blow(&out, lags, top, rate);
+                    let top_k = (0..=lags)
+                        .max_by(|&x, &y| out[x].abs().total_cmp(&out[y].abs()))
+                        .unwrap();
+                    firsts += usize::from(got != top_k);
+                    assert_eq!(
+                        got,
+                        first_blow_everywhere(&out, lags, top, rate),
+                        "case {case}, lags {lags}"
+                    );
+                }
+            }
+        }
+        // Some cases are first blows, not the top.
+        assert!(firsts > 10, "{firsts} first blows");
+        // A first blow just past the top less the gap, reached only by the
+        // envelope's half-width before it: found.
+        let rate = 16_000.0;
+        let (gap, half) = ((GAP_S * rate).round() as usize, (0.0015 * rate).round() as usize);
+        let mut out = vec![0.01; 2000];
+        out[1500] = 1.0;
+        out[1500 - gap + half - 1] = 0.9;
+        let got = first_blow(&out, 1999, 1.0, rate);
+        assert_eq!(got, 1500 - gap + half - 1);
+        assert_eq!(got, first_blow_everywhere(&out, 1999, 1.0, rate));
     }
 
     /// The envelope in one pass is the largest |v| over each window,
