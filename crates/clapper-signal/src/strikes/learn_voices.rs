@@ -85,7 +85,7 @@ pub fn learn_voices(sig: &Signal, nominals_hz: &[f64]) -> Result<LearnedVoices, 
             warnings: vec![],
         });
     }
-    let onsets = pick_onsets(&frames.flux(lag));
+    let onsets = pick_onsets(&frames.flux(lag), 2.0);
     let o = OnsetRises::of(&frames, &onsets, lag, nominals_hz);
     let n = nominals_hz.len();
     let mut owner = o.first_owners();
