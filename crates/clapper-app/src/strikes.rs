@@ -227,6 +227,16 @@ fn rise_partial(timing: &Timing) -> RisePartial {
     }
 }
 
+/// The band finder's options `opts` for `timing`: with templates, a bell
+/// heard at one stroke only has its quieter strokes looked for (issue 43;
+/// [`StrikeOptions::quiet_strokes`]).
+fn heard_with(timing: &Timing, opts: &StrikeOptions) -> StrikeOptions {
+    StrikeOptions {
+        quiet_strokes: matches!(timing, Timing::Templates(_)),
+        ..*opts
+    }
+}
+
 /// Each bell's partials and template learned from the recording `sig`
 /// itself, its nominals given (treble first): for [`Timing::Recording`],
 /// heard through the calibration's voices.
@@ -330,6 +340,7 @@ impl StrikesReport {
         let rate = src.rate();
         check_rate(rate)?;
         input::heard_at(rate, voices)?;
+        let opts = &heard_with(&timing, opts);
         let duration_s = src.total() as f64 / rate;
         let (lateness, no_lateness) = lateness_of(&timing, voices, opts);
         let late: Vec<Option<f64>> = lateness
