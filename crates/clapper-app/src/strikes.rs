@@ -338,8 +338,7 @@ impl StrikesReport {
             Pass::Singles(ready) => (false, ready.map(|h| *h)),
         };
         let rate = src.rate();
-        check_rate(rate)?;
-        input::heard_at(rate, voices)?;
+        check_rate(rate).and_then(|()| input::heard_at(rate, voices))?;
         let opts = &heard_with(&timing, opts);
         let duration_s = src.total() as f64 / rate;
         let (lateness, no_lateness) = lateness_of(&timing, voices, opts);
