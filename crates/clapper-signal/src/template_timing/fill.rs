@@ -10,6 +10,7 @@
 
 use super::lag::best_match;
 use realfft::num_complex::Complex;
+use std::cell::OnceCell;
 
 use super::matcher::{at, heard, Matcher, Scratch, Template};
 use crate::SignalError;
@@ -51,14 +52,19 @@ pub(super) fn missed(
     sc: &mut Scratch,
 ) -> Result<Vec<(f64, f64)>, SignalError> {
     let (mut proj, mut ncc) = std::mem::take(&mut sc.whole);
-    whole(m, chunks, t, sc, &mut proj, &mut ncc)?;
-    let found = missed_in(m, x, t, have, typical, interval, sc, &proj, &ncc);
+    let room = Room {
+        have,
+        reach: ROOM * interval,
+    };
+    let made = whole(m, chunks, t, &room, sc, &mut proj, &mut ncc)?;
+    let found = missed_in(m, x, t, have, typical, interval, sc, (&proj, &ncc), &made);
     sc.whole = (proj, ncc);
     found
 }
 
 /// [`missed`], the match over the whole recording given: the projection
-/// `proj` and the normalised match `ncc` ([`whole`]).
+/// `proj` and the normalised match `ncc` ([`whole`]), made in the
+/// transforms' stretches `made` (peaks are sought only there).
 #[allow(clippy::too_many_arguments)]
 fn missed_in(
     m: &Matcher,
@@ -68,14 +74,17 @@ fn missed_in(
     typical: f64,
     interval: f64,
     sc: &mut Scratch,
-    proj: &[f64],
-    ncc: &[f64],
+    (proj, ncc): (&[f64], &[f64]),
+    made: &[bool],
 ) -> Result<Vec<(f64, f64)>, SignalError> {
     let rate = m.rate;
     let half = ((PEAK_S * rate) as usize).max(1);
+    let span = m.span();
+    let read = |k: usize| made.get(k / span).copied().unwrap_or(false);
     // Local peaks over ±PEAK_S, best first.
     let mut peaks: Vec<(usize, f64)> = (0..ncc.len())
         .step_by(half)
+        .filter(|&k0| read(k0) || read((k0 + half - 1).min(ncc.len() - 1)))
         .filter_map(|k0| {
             let k = (k0..(k0 + half).min(ncc.len())).max_by(|&a, &b| ncc[a].total_cmp(&ncc[b]))?;
             let lo = k.saturating_sub(half);
@@ -117,90 +126,165 @@ fn rises(proj: &[f64], k: usize, rate: f64) -> bool {
     now >= RISE * before
 }
 
-/// What every bell's match over the whole recording `x` shares, found
-/// once: the recording's spectrum in each stretch one transform covers
-/// ([`Matcher::span`] lags; the transforms of the recording were half the
-/// fill's time, and as many again as the bells'), and its level (the root
-/// of its energy in the matched length, 0 where silent) at each lag. It
-/// holds about 1.4 times the recording's samples.
-pub(super) struct Chunks {
-    spectra: Vec<Vec<Complex<f64>>>,
-    /// As recorded, and weighted as a template matched weighted is
-    /// ([`super::matcher::heard`]; empty where no bell is).
-    roots: [Vec<f64>; 2],
+/// Where a bell's strikes `have` (s, in time order) leave room for a
+/// strike found: [`missed_in`] takes none nearer than `reach` (s) to one
+/// of them (its `ROOM` of the interval). On a ring struck whole nearly
+/// all of the recording is so, and there the match over the whole
+/// recording need not be made (speed-6).
+pub(super) struct Room<'a> {
+    pub(super) have: &'a [f64],
+    pub(super) reach: f64,
 }
 
-impl Chunks {
-    pub(super) fn new(m: &Matcher, x: &[f64], sc: &mut Scratch) -> Result<Self, SignalError> {
-        let span = m.span();
-        let mut spectra = vec![];
-        let mut start = -(m.pre as i64);
-        while (spectra.len() * span) < x.len() {
-            m.spectrum(x, start, sc)?;
-            spectra.push(sc.spec.clone());
-            start += span as i64;
+/// A margin (s) kept on what is taken as no room: far more than the
+/// rounding of a time in seconds, so a sample taken so is surely one
+/// [`missed_in`] passes by.
+const ROOM_EPS_S: f64 = 1e-6;
+
+impl Room<'_> {
+    /// Whether a strike may be found from `from` to `to` (s): false only
+    /// where every time there lies nearer than the reach (less
+    /// [`ROOM_EPS_S`]) to a strike of `have`.
+    fn free_between(&self, from: f64, to: f64) -> bool {
+        let mut covered = from - ROOM_EPS_S;
+        // Bounded: one pass over the strikes, in time order.
+        for &h in self.have {
+            if covered > to + ROOM_EPS_S {
+                break;
+            }
+            // A gap at `covered`: no later strike starts its reach earlier.
+            if h - self.reach + ROOM_EPS_S > covered {
+                return true;
+            }
+            covered = covered.max(h + self.reach - ROOM_EPS_S);
         }
-        let any_weighted = m.bells.iter().flatten().any(|t| t.weighted);
-        let roots = [roots(m, x, at), if any_weighted { roots(m, x, heard) } else { vec![] }];
-        Ok(Chunks { spectra, roots })
+        covered <= to + ROOM_EPS_S
+    }
+
+    /// Whether [`missed_in`] reads the match at samples `lo..hi` (of the
+    /// recording at `rate`): where a strike may be found within its
+    /// reach there, `span` samples before and after ([`missed_in`] reads
+    /// the match over [`PEAK_S`] either side of a peak, and [`rises`] from
+    /// [`BEFORE_S`] before it).
+    fn read(&self, lo: usize, hi: usize, rate: f64) -> bool {
+        let half = ((PEAK_S * rate) as usize).max(1);
+        let ms = (0.001 * rate) as usize;
+        let after = 2 * half + ms + 2;
+        let before = (BEFORE_S.0 * rate) as usize + 2 * half + ms + 2;
+        let from = lo.saturating_sub(after) as f64 / rate;
+        self.free_between(from, (hi + before) as f64 / rate)
+    }
+}
+
+/// What every bell's match over the whole recording `x` shares: the
+/// recording's spectrum in each stretch one transform covers
+/// ([`Matcher::span`] lags; the transforms of the recording were half the
+/// fill's time, and as many again as the bells'), and its level (the root
+/// of its energy in the matched length, 0 where silent) at each lag. Each
+/// stretch's is made once, when a bell's match first reads it ([`Room`]:
+/// on a ring struck whole, few are).
+pub(super) struct Chunks<'a> {
+    x: &'a [f64],
+    spectra: Vec<OnceCell<Vec<Complex<f64>>>>,
+    /// As recorded, and weighted as a template matched weighted is
+    /// ([`super::matcher::heard`]).
+    roots: [Vec<OnceCell<Vec<f64>>>; 2],
+}
+
+impl<'a> Chunks<'a> {
+    /// The stretches of the recording `x` (none made yet).
+    pub(super) fn new(m: &Matcher, x: &'a [f64], _sc: &mut Scratch) -> Result<Self, SignalError> {
+        let count = x.len().div_ceil(m.span());
+        Ok(Chunks {
+            x,
+            spectra: (0..count).map(|_| OnceCell::new()).collect(),
+            roots: [(); 2].map(|_| (0..count).map(|_| OnceCell::new()).collect()),
+        })
+    }
+
+    /// The recording's samples.
+    fn len(&self) -> usize {
+        self.x.len()
+    }
+
+    /// Stretch `c`'s spectrum (from `pre` before its first lag).
+    fn spectrum(&self, m: &Matcher, c: usize, sc: &mut Scratch) -> Result<&[Complex<f64>], SignalError> {
+        let cell = &self.spectra[c];
+        if cell.get().is_none() {
+            m.spectrum(self.x, (c * m.span()) as i64 - m.pre as i64, sc)?;
+            let _ = cell.set(sc.spec.clone());
+        }
+        Ok(cell.get().map_or(&[], |v| &v[..]))
+    }
+
+    /// Stretch `c`'s levels, as recorded or `weighted`.
+    fn roots(&self, m: &Matcher, c: usize, weighted: bool) -> &[f64] {
+        let level = if weighted { heard } else { at };
+        self.roots[usize::from(weighted)][c].get_or_init(|| roots(m, self.x, c, level))
     }
 }
 
 /// The root of the energy of `x` as `level` gives it in the matched
 /// length from each sample less the silence before the template (0 where
-/// silent), one per sample of `x`; summed afresh at each transform's
-/// stretch (no rounding carried over the recording).
-fn roots(m: &Matcher, x: &[f64], level: impl Fn(&[f64], i64) -> f64) -> Vec<f64> {
+/// silent), one per sample of `x` in stretch `c` (of [`Matcher::span`]
+/// samples); summed afresh at each stretch (no rounding carried over the
+/// recording).
+fn roots(m: &Matcher, x: &[f64], c: usize, level: impl Fn(&[f64], i64) -> f64) -> Vec<f64> {
     let span = m.span();
-    let mut root = Vec::with_capacity(x.len() + span);
-    let mut start = -(m.pre as i64);
-    while root.len() < x.len() {
-        let mut e: f64 = (0..m.len).map(|k| level(x, start + k as i64).powi(2)).sum();
-        for k in 0..span {
-            root.push(if e > 1e-300 { e.sqrt() } else { 0.0 });
-            let j = start + k as i64;
-            let (gone, come) = (level(x, j), level(x, j + m.len as i64));
-            e = (e - gone * gone + come * come).max(0.0);
-        }
-        start += span as i64;
+    let count = span.min(x.len().saturating_sub(c * span));
+    let mut root = Vec::with_capacity(count);
+    let start = (c * span) as i64 - m.pre as i64;
+    let mut e: f64 = (0..m.len).map(|k| level(x, start + k as i64).powi(2)).sum();
+    for k in 0..count {
+        root.push(if e > 1e-300 { e.sqrt() } else { 0.0 });
+        let j = start + k as i64;
+        let (gone, come) = (level(x, j), level(x, j + m.len as i64));
+        e = (e - gone * gone + come * come).max(0.0);
     }
-    root.truncate(x.len());
     root
 }
 
 /// The match of template `t` with its sound starting at each sample of
 /// the recording (`chunks`): the recording's projection on the template
 /// (its level, as the template's) into `proj` and that over the
-/// recording's level there (normalised) into `ncc`.
+/// recording's level there (normalised) into `ncc`, only in the
+/// transforms' stretches that [`missed_in`] reads (`room`; which, the
+/// answer): elsewhere left as they were (neither made nor zeroed), the
+/// strikes it finds those it finds with every stretch made (test
+/// `the_fill_matched_only_where_there_is_room_finds_what_it_finds_everywhere`).
 fn whole(
     m: &Matcher,
     chunks: &Chunks,
     t: &Template,
+    room: &Room,
     sc: &mut Scratch,
     proj: &mut Vec<f64>,
     ncc: &mut Vec<f64>,
-) -> Result<(), SignalError> {
+) -> Result<Vec<bool>, SignalError> {
     let span = m.span();
-    proj.clear();
-    ncc.clear();
-    let root = &chunks.roots[usize::from(t.weighted)];
-    proj.reserve(root.len());
-    ncc.reserve(root.len());
+    proj.resize(chunks.len(), 0.0);
+    ncc.resize(chunks.len(), 0.0);
     let norm = t.energy().sqrt();
-    for (spec, roots) in chunks.spectra.iter().zip(root.chunks(span)) {
+    let mut made = vec![false; chunks.spectra.len()];
+    for (c, made) in made.iter_mut().enumerate() {
+        let from = c * span;
+        let to = (from + span).min(chunks.len());
+        if !room.read(from, to, m.rate) {
+            continue;
+        }
+        *made = true;
+        let spec = chunks.spectrum(m, c, sc)?;
         m.correlate_spectrum(spec, t, sc)?;
+        let roots = chunks.roots(m, c, t.weighted);
         // Filled in place, a stretch at a time (so the divisions run
         // side by side).
-        let from = proj.len();
-        proj.resize(from + roots.len(), 0.0);
-        ncc.resize(from + roots.len(), 0.0);
-        let outs = proj[from..].iter_mut().zip(&mut ncc[from..]);
-        for ((p, c), (v, r)) in outs.zip(sc.out.iter().zip(roots)) {
+        let outs = proj[from..to].iter_mut().zip(&mut ncc[from..to]);
+        for ((p, q), (v, r)) in outs.zip(sc.out.iter().zip(roots)) {
             *p = if norm > 0.0 { v.abs() / norm } else { 0.0 };
-            *c = if *r > 0.0 { *p / r } else { 0.0 };
+            *q = if *r > 0.0 { *p / r } else { 0.0 };
         }
     }
-    Ok(())
+    Ok(made)
 }
 
 #[cfg(test)]
@@ -258,5 +342,60 @@ mod tests {
             );
         }
         assert_eq!(heard.strikes.len(), all, "strikes added that were not missed");
+    }
+
+    /// The match over the whole recording made only in the stretches
+    /// where a strike may be found (speed-6) finds the strikes it finds
+    /// made everywhere, to the bit, for every bell of a ring missing three
+    /// strikes (and skips most stretches there).
+    #[test]
+    fn the_fill_matched_only_where_there_is_room_finds_what_it_finds_everywhere() {
+        use super::super::matcher::Matcher;
+        use super::{missed_in, whole, Chunks, Room, ROOM};
+        let rate = 16_000.0;
+        let bells = major_scale(4, 1000.0).unwrap();
+        let templates: Vec<Signal> = bells.iter().map(|b| slow_bell(rate, b.nominal_hz, 0.03)).collect();
+        let spec = TowerSpec {
+            rate,
+            rows: 24,
+            snr_db: Some(30.0),
+            ..TowerSpec::new(bells)
+        };
+        let (sig, truth) = sampled_ring(&spec, &templates).unwrap();
+        let m = Matcher::new(rate, &templates).unwrap();
+        let mut sc = m.scratch();
+        let x = &sig.samples;
+        let chunks = Chunks::new(&m, x, &mut sc).unwrap();
+        let gone = [(5, 2), (8, 3), (11, 4), (17, 1)];
+        let (mut found, mut skipped) = (0, 0);
+        let (mut p1, mut n1) = (vec![], vec![]);
+        for (b, t) in m.bells.iter().enumerate() {
+            let t = t.as_ref().unwrap();
+            let have: Vec<f64> = truth
+                .iter()
+                .filter(|s| s.bell == b + 1 && !gone.contains(&(s.row, s.bell)))
+                .map(|s| s.t)
+                .collect();
+            let gaps: Vec<f64> = have.windows(2).map(|w| w[1] - w[0]).collect();
+            let interval = crate::median(&gaps);
+            let (mut p0, mut n0) = (vec![], vec![]);
+            let everywhere = Room { have: &[], reach: 0.0 };
+            let all_made = whole(&m, &chunks, t, &everywhere, &mut sc, &mut p0, &mut n0).unwrap();
+            let room = Room {
+                have: &have,
+                reach: ROOM * interval,
+            };
+            // Into the last bell's match, left where not made.
+            let made = whole(&m, &chunks, t, &room, &mut sc, &mut p1, &mut n1).unwrap();
+            skipped += made.iter().filter(|m| !**m).count();
+            let at_strikes: Vec<f64> = have.iter().map(|h| n0[(h * rate) as usize]).collect();
+            let typical = crate::median(&at_strikes);
+            let all = missed_in(&m, x, t, &have, typical, interval, &mut sc, (&p0, &n0), &all_made).unwrap();
+            let some = missed_in(&m, x, t, &have, typical, interval, &mut sc, (&p1, &n1), &made).unwrap();
+            assert_eq!(all, some, "bell {}", b + 1);
+            found += all.len();
+        }
+        assert!(found >= 3, "{found} strikes found");
+        assert!(skipped >= 10, "{skipped} stretches skipped");
     }
 }

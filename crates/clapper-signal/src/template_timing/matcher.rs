@@ -101,6 +101,10 @@ pub(super) struct Scratch {
     kept: Option<Kept>,
     /// The recording's level at a stretch of samples ([`levels`]).
     levels: Vec<f64>,
+    /// The transforms' own working space, kept from one to the next
+    /// (each `process` made and zeroed its own: speed-6; the same
+    /// numbers, the space being only written before it is read).
+    fft: Vec<Complex<f64>>,
 }
 
 impl Scratch {
@@ -203,6 +207,7 @@ impl Matcher {
             whole: (vec![], vec![]),
             kept: None,
             levels: vec![],
+            fft: vec![Complex::new(0.0, 0.0); self.fwd.get_scratch_len().max(self.inv.get_scratch_len())],
         }
     }
 
@@ -230,7 +235,7 @@ impl Matcher {
         levels(x, start, sc.buf.len(), false, &mut sc.levels);
         sc.buf.copy_from_slice(&sc.levels);
         self.fwd
-            .process(&mut sc.buf, &mut sc.spec)
+            .process_with_scratch(&mut sc.buf, &mut sc.spec, &mut sc.fft)
             .map_err(|e| SignalError::Invalid(e.to_string()))?;
         if let Some(k) = sc.kept.as_mut().filter(|k| k.x == key) {
             k.start = start;
@@ -264,7 +269,7 @@ impl Matcher {
             l.im = 0.0;
         }
         self.inv
-            .process(&mut sc.spec, &mut sc.out)
+            .process_with_scratch(&mut sc.spec, &mut sc.out, &mut sc.fft)
             .map_err(|e| SignalError::Invalid(e.to_string()))?;
         let scale = 1.0 / self.n as f64;
         for o in &mut sc.out {
