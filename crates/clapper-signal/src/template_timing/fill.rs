@@ -351,7 +351,7 @@ mod tests {
     #[test]
     fn the_fill_matched_only_where_there_is_room_finds_what_it_finds_everywhere() {
         use super::super::matcher::Matcher;
-        use super::{missed_in, whole, Chunks, Room, ROOM};
+        use super::{missed_in, whole, Chunks, Room, BEFORE_S, PEAK_S, ROOM};
         let rate = 16_000.0;
         let bells = major_scale(4, 1000.0).unwrap();
         let templates: Vec<Signal> = bells.iter().map(|b| slow_bell(rate, b.nominal_hz, 0.03)).collect();
@@ -393,6 +393,22 @@ mod tests {
             let all = missed_in(&m, x, t, &have, typical, interval, &mut sc, (&p0, &n0), &all_made).unwrap();
             let some = missed_in(&m, x, t, &have, typical, interval, &mut sc, (&p1, &n1), &made).unwrap();
             assert_eq!(all, some, "bell {}", b + 1);
+            // And what it reads about any time a strike may be found at
+            // (every 16th) is the match made everywhere.
+            let half = ((PEAK_S * rate) as usize).max(1);
+            let (ms, back) = ((0.001 * rate) as usize, (BEFORE_S.0 * rate) as usize);
+            for k in (0..x.len()).step_by(16) {
+                let at = k as f64 / rate;
+                if have.iter().any(|h| (h - at).abs() < room.reach) {
+                    continue;
+                }
+                let (lo, hi) = (
+                    k.saturating_sub(back + 2 * half + ms),
+                    (k + 2 * half + ms + 1).min(x.len()),
+                );
+                assert!(n1[lo..hi] == n0[lo..hi], "bell {} at {at:.3} s", b + 1);
+                assert!(p1[lo..hi] == p0[lo..hi], "bell {} at {at:.3} s", b + 1);
+            }
             found += all.len();
         }
         assert!(found >= 3, "{found} strikes found");
