@@ -15,7 +15,7 @@ use super::band::decimate;
 use super::learn_gaps::{ringing, unheard_notes, Heard, IN_TUNE};
 use super::learn_pick::{apart, mean_rise};
 use super::learn_scale::{octave_fits, octaves_into_ring, ring_octaves, OCTAVES};
-use super::learn_sure::{bell_sure, doubt_of_set, octave_share, set_sure, sounds, warnings_of, DOUBTFUL};
+use super::learn_sure::{bell_sure, doubt_of_set, learned_set_sure, octave_share, sounds, warnings_of, DOUBTFUL};
 use crate::{Signal, SignalError};
 
 /// One bell learned.
@@ -257,8 +257,7 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
         .collect();
     learned.sort_by(|a, b| b.nominal_hz.total_cmp(&a.nominal_hz));
     let learned = one_per_nominal(learned);
-    let sure: Vec<f64> = learned.iter().map(|b| b.confidence).collect();
-    let confidence = set_sure(&sure, learned.len(), rhythm);
+    let confidence = learned_set_sure(&learned, rhythm);
     let mut warnings = warnings_of(&learned, bells, few);
     if confidence < DOUBTFUL && !learned.is_empty() {
         warnings.push(doubt_of_set(&learned, confidence, rhythm));
