@@ -29,6 +29,7 @@ mod doubt;
 mod input;
 mod kind;
 mod method;
+mod one_stroke;
 use input::signal_error;
 pub use input::{NO_STRIKES, ONE_BELL};
 pub use method::MethodReport;
@@ -443,6 +444,7 @@ impl StrikesReport {
         }
         warnings.extend(together);
         warnings.extend(doubt::ring_size_warning(&timed, bells));
+        warnings.extend(one_stroke::one_stroke_warnings(&timed, bells));
         let strikes: Vec<StrikeReport> = heard
             .strikes
             .iter()

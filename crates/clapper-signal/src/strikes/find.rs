@@ -329,7 +329,7 @@ fn in_the_rings_rhythm(
     // No bell stood clear: the period from the candidates, and each
     // chain let keep time more loosely (the fast eight's middle minute).
     let unclear = gaps.is_empty();
-    let Some(period) = gaps.get(gaps.len() / 2).copied().or_else(|| candidates_period(heard)) else {
+    let Some(period) = ring_period(heard, &gaps) else {
         return firsts;
     };
     let mut others: Vec<f64> = firsts.iter().flatten().map(|x| x.0).collect();
@@ -354,6 +354,37 @@ fn in_the_rings_rhythm(
         }
     }
     firsts
+}
+
+/// How many times the ring's period a bell heard at one stroke only
+/// keeps between its strikes (two rows, a handstroke gap in one of them:
+/// 2 `bells` + 1 places over `bells` or `bells` + 1), at most and at
+/// least, for rings of three to sixteen.
+const ONE_STROKE_RATIO: (f64, f64) = (1.7, 2.4);
+
+/// The ring's typical interval between a bell's strikes (s): the median
+/// of `gaps` (each clear bell's median interval, sorted), else
+/// [`candidates_period`]. Where the clear bells are fewer than half of
+/// those heard and their period is about twice the candidates' (within
+/// [`ONE_STROKE_RATIO`]), the candidates': a bell heard at one stroke
+/// only (issue 43: the other far quieter, or absent) strikes every two
+/// rows, and where it alone stood clear, every other bell was heard by
+/// its rhythm once every two rows (the tester's six with bell 5 silent at
+/// backstroke: in each 55 s window only bell 5 stood clear, and the
+/// others lost half their strikes, recall 0.62).
+fn ring_period(heard: &[BellHearing], gaps: &[f64]) -> Option<f64> {
+    let Some(&p) = gaps.get(gaps.len() / 2) else {
+        return candidates_period(heard);
+    };
+    let listened = heard.iter().filter(|h| !h.bands.is_empty()).count();
+    if 2 * gaps.len() >= listened {
+        return Some(p);
+    }
+    let half = candidates_period(heard).filter(|&c| {
+        let r = p / c;
+        r >= ONE_STROKE_RATIO.0 && r <= ONE_STROKE_RATIO.1
+    });
+    Some(half.unwrap_or(p))
 }
 
 /// The ring's typical interval between a bell's strikes (s) where no
@@ -500,5 +531,28 @@ mod tests {
         let p = candidates_period(&heard).unwrap();
         assert!((p - 0.975).abs() < 1e-9, "{p}");
         assert_eq!(candidates_period(&heard[3..]), None);
+    }
+
+    /// A bell heard at one stroke only (the other absent) strikes every
+    /// two rows; where it alone stood clear, the ring's period is the
+    /// candidates' (a row), not its two rows: the others, heard by the
+    /// ring's rhythm, lost every other strike (the tester's A6_quiet60,
+    /// recall within 10 ms 0.62). Where most bells stood clear, or the
+    /// candidates do not say half, their period stands.
+    #[test]
+    fn a_bell_heard_at_one_stroke_alone_does_not_set_the_rings_period_to_two_rows() {
+        // Rows of six at 240 ms with a handstroke gap: 1.44 and 1.68 s.
+        let rows: Vec<(usize, f64)> = (0..20)
+            .map(|k| (30 + 1560 * k - if k % 2 == 1 { 120 } else { 0 }, 0.8))
+            .collect();
+        let heard: Vec<BellHearing> = (0..5).map(|_| hearing(rows.clone(), true)).collect();
+        let p = ring_period(&heard, &[3.12]).unwrap();
+        assert!((p - 1.44).abs() < 1e-9, "{p}");
+        // Three clear bells of five: the clear bells' period.
+        assert_eq!(ring_period(&heard, &[1.56, 3.12, 3.12]), Some(3.12));
+        // One clear bell, its period not twice the candidates': its own.
+        assert_eq!(ring_period(&heard, &[1.5]), Some(1.5));
+        // No clear bell: the candidates'.
+        assert_eq!(ring_period(&heard, &[]), candidates_period(&heard));
     }
 }
