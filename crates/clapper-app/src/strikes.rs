@@ -409,6 +409,13 @@ impl StrikesReport {
         Ok(report)
     }
 
+    /// Say in the report what reading the recording found (`warnings`, in
+    /// words: clapper-io's, e.g. its channels disagreeing in time), first.
+    pub fn note_recording(&mut self, warnings: &[String]) {
+        self.summary.warnings.splice(0..0, warnings.iter().cloned());
+        doubt::once_each(&mut self.summary.warnings);
+    }
+
     /// Say in the report that its bells' nominals were `learned` from the
     /// recording: the nominals (`learned_nominals_hz`), and what made them
     /// unsure first among the warnings.

@@ -103,7 +103,7 @@ pub(super) fn missing_warnings(
             } else if one(hand, back) {
                 format!("{hand} handstrokes, {back} backstrokes: quieter or muffled at handstroke?")
             } else {
-                "weak or muffled strikes, or a clapper that jams?".to_string()
+                "weak or muffled strikes, a clapper that jams, or strikes not heard apart from the others?".to_string()
             };
             out.push(format!(
                 "bell {b}: {n} strikes in {rows} rows: {} missing ({why})",
