@@ -9,7 +9,7 @@ use clap::Args;
 use clapper_app::strikes::{
     choose_timing, learned_voices, strike_options, StrikesReport, StrikingFigure, Timing, TimingAsked,
 };
-use clapper_io::signal_file::{read_recording, write_wav};
+use clapper_io::signal_file::{read_recording, read_recording_told, write_wav};
 use clapper_io::strike_file::{csv_text, lowndes};
 use clapper_io::wav_stream::WavStream;
 use clapper_signal::strikes::{BellVoice, InMemory, Windows};
@@ -199,15 +199,19 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
     };
     let keep_strip = args.plot.is_some().then_some(&mut strip);
     let windows = Windows::default();
-    let report = match WavStream::open(&args.file)? {
-        Some(mut s) => StrikesReport::streamed(&mut s, &voices, &opts, timing, &windows, keep_strip),
-        None => {
-            let sig = read_recording(&args.file)?;
-            StrikesReport::streamed(&mut InMemory::new(&sig), &voices, &opts, timing, &windows, keep_strip)
+    let (report, told) = match WavStream::open(&args.file)? {
+        Some(mut s) => {
+            let r = StrikesReport::streamed(&mut s, &voices, &opts, timing, &windows, keep_strip);
+            (r, s.warnings().to_vec())
         }
-    }
-    .with_context(|| args.file.display().to_string())?;
-    let mut report = report;
+        None => {
+            let (sig, told) = read_recording_told(&args.file)?;
+            let r = StrikesReport::streamed(&mut InMemory::new(&sig), &voices, &opts, timing, &windows, keep_strip);
+            (r, told)
+        }
+    };
+    let mut report = report.with_context(|| args.file.display().to_string())?;
+    report.note_recording(&told);
     if let Some(l) = learned {
         report.note_learned(l);
     }

@@ -59,6 +59,18 @@ pub fn read_signal(path: &Path, channel: usize) -> Result<Signal, SignalFileErro
 /// to one by their mean, or the loudest if their mean cancels; 8- to
 /// 32-bit integer or 32- or 64-bit float samples).
 pub fn read_recording(path: &Path) -> Result<Signal, SignalFileError> {
+    read_recording_told(path).map(|(sig, _)| sig)
+}
+
+/// A recording of a ring from the bytes of a WAV file (an upload, say),
+/// as [`read_recording`]; `name` is how errors name it.
+pub fn recording_from_bytes(bytes: &[u8], name: &str) -> Result<Signal, SignalFileError> {
+    recording_from_bytes_told(bytes, name).map(|(sig, _)| sig)
+}
+
+/// [`read_recording`], with what the report should be told of the file
+/// in words: its channels disagreeing in time (the mix blurs each strike).
+pub fn read_recording_told(path: &Path) -> Result<(Signal, Vec<String>), SignalFileError> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     if ext.as_deref() != Some("wav") {
         return Err(content(path, "a recording must be a .wav file"));
@@ -67,21 +79,25 @@ pub fn read_recording(path: &Path) -> Result<Signal, SignalFileError> {
         path: path.display().to_string(),
         message: e.to_string(),
     })?;
-    recording_from_bytes(&bytes, &path.display().to_string())
+    recording_from_bytes_told(&bytes, &path.display().to_string())
 }
 
-/// A recording of a ring from the bytes of a WAV file (an upload, say),
-/// as [`read_recording`]; `name` is how errors name it.
-pub fn recording_from_bytes(bytes: &[u8], name: &str) -> Result<Signal, SignalFileError> {
+/// [`recording_from_bytes`], with what the report should be told of the
+/// file in words ([`read_recording_told`]).
+pub fn recording_from_bytes_told(bytes: &[u8], name: &str) -> Result<(Signal, Vec<String>), SignalFileError> {
     let here = Path::new(name);
     let (rate, nch, all) = decode_wav(bytes).map_err(|m| content(here, m))?;
     let samples = mix_to_one(&all, nch);
     if samples.is_empty() {
         return Err(content(here, "no samples"));
     }
+    let mut told = crate::channels::ChannelTimes::new(nch, rate);
+    if nch > 1 {
+        all.chunks_exact(nch).for_each(|f| told.push(f));
+    }
     let sig = Signal { rate, samples };
     sig.validate().map_err(|e| content(here, e.to_string()))?;
-    Ok(sig)
+    Ok((sig, told.warning().into_iter().collect()))
 }
 
 /// Interleaved channels mixed to one: their mean, unless that cancels

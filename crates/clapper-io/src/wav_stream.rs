@@ -77,6 +77,9 @@ pub struct WavStream {
     done: usize,
     mix: Mix,
     bytes: Vec<u8>,
+    /// What the report should be told of the file, in words
+    /// ([`WavStream::warnings`]).
+    warnings: Vec<String>,
 }
 
 /// Frames read from the disk at a time.
@@ -193,6 +196,7 @@ impl WavStream {
             done: 0,
             mix: Mix::Mean,
             bytes: vec![],
+            warnings: vec![],
         };
         if channels > 1 {
             s.mix = s.choose_mix()?;
@@ -201,6 +205,13 @@ impl WavStream {
             .seek(SeekFrom::Start(data_start))
             .map_err(|e| read_error(path, e))?;
         Ok(Some(s))
+    }
+
+    /// What the report should be told of the file in words, as
+    /// [`read_recording_told`](crate::signal_file::read_recording_told)
+    /// says it: its channels disagreeing in time.
+    pub fn warnings(&self) -> &[String] {
+        &self.warnings
     }
 
     /// Sample rate (Hz).
@@ -216,6 +227,7 @@ impl WavStream {
         let mut powers = vec![0.0f64; nch];
         let mut mean_power = 0.0f64;
         let mut frame = vec![0.0; nch];
+        let mut told = crate::channels::ChannelTimes::new(nch, self.rate);
         while let Some(n) = self.next_frames()? {
             let w = nch * self.kind.bytes();
             for k in 0..n {
@@ -225,9 +237,11 @@ impl WavStream {
                 }
                 let m = frame.iter().sum::<f64>() / nch as f64;
                 mean_power += m * m;
+                told.push(&frame);
             }
         }
         self.done = 0;
+        self.warnings.extend(told.warning());
         let channel_power = powers.iter().sum::<f64>() / nch as f64;
         if mean_power >= 0.25 * channel_power {
             return Ok(Mix::Mean);

@@ -665,7 +665,7 @@ pub(crate) async fn strikes(
     let out = s
         .jobs
         .run(move || {
-            let sig = clapper_io::signal_file::recording_from_bytes(&wav, "the recording")
+            let (sig, told) = clapper_io::signal_file::recording_from_bytes_told(&wav, "the recording")
                 .map_err(|e| clapper_app::AppError::Request(e.to_string()))?;
             let (nominals, learned) = match nominals {
                 Some(n) => (n, None),
@@ -683,6 +683,7 @@ pub(crate) async fn strikes(
                 report.note_learned(l);
             }
             report.note_choice(chosen.choice.clone());
+            report.note_recording(&told);
             let csv = clapper_io::strike_file::csv_text(&report.csv_rows()).map_err(clapper_app::AppError::Request)?;
             let fig = clapper_app::strikes::StrikingFigure::new(&report, &sig, "the recording", voices)?;
             let svg = clapper_plot::striking_plot_svg(&fig.plot()).map_err(clapper_app::AppError::from)?;

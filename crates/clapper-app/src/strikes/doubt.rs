@@ -160,16 +160,27 @@ pub(super) fn loose_warning(rms_ms: Option<f64>, interval_ms: Option<f64>, timed
     })
 }
 
-/// A warning that more bells ring than nominals were `given`, from the
-/// strikes' spacing ([`clapper_signal::striking::ring_room`]).
-pub(super) fn ring_size_warning(timed: &[Timed], given: usize) -> Option<String> {
-    ring_size_warning_as(timed, given, false)
+/// What the bells listened for were given as: their nominals or their
+/// templates (the ring-size warning names it, and what to give).
+pub(super) fn given_as(templates: bool) -> &'static str {
+    if templates {
+        "template"
+    } else {
+        "nominal"
+    }
+}
+
+/// A warning that more bells ring than `given` were, each by its `noun`
+/// ([`given_as`]), from the strikes' spacing
+/// ([`clapper_signal::striking::ring_room`]).
+pub(super) fn ring_size_warning(timed: &[Timed], given: usize, noun: &str) -> Option<String> {
+    ring_size_warning_as(timed, given, false, noun)
 }
 
 /// [`ring_size_warning`], worded for `given` nominals learned from the
 /// recording (`--bells N`) when `learned`: none were given, and the
 /// spacing of strikes heard about nominals learned wrong says so too.
-pub(super) fn ring_size_warning_as(timed: &[Timed], given: usize, learned: bool) -> Option<String> {
+pub(super) fn ring_size_warning_as(timed: &[Timed], given: usize, learned: bool, noun: &str) -> Option<String> {
     let k = given as f64;
     // With every bell given it read n - 1.1 to n + 2.6 on 120 synthetic
     // rings (4 to 16 bells, striking errors to ±40 ms, handstroke gaps 0.5
@@ -195,8 +206,8 @@ pub(super) fn ring_size_warning_as(timed: &[Timed], given: usize, learned: bool)
             )
         } else {
             format!(
-                "{given} nominal(s) given, but the strikes leave room for about {bells:.0} bells (a bell strikes every \
-                 {row_ms:.0} ms, bells {apart_ms:.0} ms apart): if more bells ring, give every bell's nominal, treble \
+                "{given} {noun}(s) given, but the strikes leave room for about {bells:.0} bells (a bell strikes every \
+                 {row_ms:.0} ms, bells {apart_ms:.0} ms apart): if more bells ring, give every bell's {noun}, treble \
                  first; the rows, places and odd-struckness are wrong without them"
             )
         }

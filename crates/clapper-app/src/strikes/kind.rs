@@ -170,24 +170,31 @@ pub(super) fn octave_warnings(voices: &[BellVoice]) -> Vec<String> {
 /// treble first). (A bell not heard at all is warned of by the strike
 /// finder.)
 pub(super) fn few_strikes_warnings(strikes: &[usize]) -> Vec<String> {
+    let typical = median(strikes.iter().map(|&n| n as f64).collect()).unwrap_or(0.0);
+    few_bells(strikes)
+        .into_iter()
+        .map(|b| {
+            format!(
+                "bell {b}: heard at only {} strikes, where a typical bell is heard at {typical:.0}: it is quiet, or \
+                 its nominal is not right; its strikes missed are not in the report, and its striking is judged on \
+                 few",
+                strikes[b - 1]
+            )
+        })
+        .collect()
+}
+
+/// The bells (from 1) [`few_strikes_warnings`] warns of, `strikes` each
+/// bell's, treble first.
+pub(super) fn few_bells(strikes: &[usize]) -> Vec<usize> {
     let Some(typical) = median(strikes.iter().map(|&n| n as f64).collect()) else {
         return vec![];
     };
     if strikes.len() < 2 || typical < 6.0 {
         return vec![];
     }
-    strikes
-        .iter()
-        .enumerate()
-        .filter(|(_, &n)| n > 0 && (n as f64) < FEW * typical)
-        .map(|(i, &n)| {
-            format!(
-                "bell {}: heard at only {n} strikes, where a typical bell is heard at {typical:.0}: it is quiet, or \
-                 its nominal is not right; its strikes missed are not in the report, and its striking is judged on \
-                 few",
-                i + 1
-            )
-        })
+    (1..=strikes.len())
+        .filter(|&b| strikes[b - 1] > 0 && (strikes[b - 1] as f64) < FEW * typical)
         .collect()
 }
 

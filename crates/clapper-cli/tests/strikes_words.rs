@@ -1,0 +1,127 @@
+//! The words of `clapper strikes` read as a ringer reads them (tester15
+//! fault 6): the ring-size warning names what was given (templates, not
+//! nominals), and a spread that cannot be measured is not printed as 0.
+
+mod common;
+
+use clapper_io::signal_file::write_wav;
+use clapper_signal::sampled_ring::{sampled_ring, UntunedStrike};
+use clapper_signal::tower::{major_scale, Method, TowerSpec};
+use clapper_signal::Signal;
+use common::clapper;
+
+/// Four bells' templates in `dir`/t and a ring of them with a handstroke
+/// gap of eight intervals (room for more bells than four), `dir`/ring.wav.
+fn ring_with_room(dir: &std::path::Path) {
+    let rate = 16_000.0;
+    let bells = major_scale(4, 1000.0).unwrap();
+    let templates: Vec<Signal> = bells
+        .iter()
+        .map(|b| {
+            UntunedStrike {
+                nominal_hz: b.nominal_hz,
+                rise_s: 0.01,
+                decay_s: 0.6,
+                length_s: 1.2,
+                blow: None,
+            }
+            .signal(rate)
+        })
+        .collect();
+    std::fs::create_dir(dir.join("t")).unwrap();
+    for (i, t) in templates.iter().enumerate() {
+        write_wav(&dir.join(format!("t/{}.wav", i + 1)), t, 0.9).unwrap();
+    }
+    let spec = TowerSpec {
+        rate,
+        rows: 16,
+        method: Method::PlainHunt,
+        handstroke_gap: 8.0,
+        snr_db: Some(30.0),
+        ..TowerSpec::new(bells)
+    };
+    let (sig, _) = sampled_ring(&spec, &templates).unwrap();
+    write_wav(&dir.join("ring.wav"), &sig, 0.9).unwrap();
+}
+
+#[test]
+fn the_ring_size_warning_with_templates_says_templates_were_given() {
+    let dir = tempfile::tempdir().unwrap();
+    ring_with_room(dir.path());
+    let out = clapper()
+        .arg("strikes")
+        .arg(dir.path().join("ring.wav"))
+        .arg("--templates")
+        .arg(dir.path().join("t"))
+        .arg("--json")
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    let w = common::summary_warnings(&j);
+    // Before: "4 nominal(s) given, .. give every bell's nominal".
+    assert!(
+        w.iter()
+            .any(|w| w.starts_with("4 template(s) given, but the strikes leave room for")
+                && w.contains("give every bell's template")),
+        "{w:?}"
+    );
+    assert!(!w.iter().any(|w| w.contains("nominal")), "{w:?}");
+}
+
+/// `ring` written as a stereo file whose second channel is `late_s` later
+/// (and 3 dB quieter), 16-bit.
+fn stereo_late(path: &std::path::Path, ring: &Signal, late_s: f64) {
+    let spec = hound::WavSpec {
+        channels: 2,
+        sample_rate: ring.rate as u32,
+        bits_per_sample: 16,
+        sample_format: hound::SampleFormat::Int,
+    };
+    let peak = ring.samples.iter().fold(0.0f64, |p, v| p.max(v.abs())).max(1e-9);
+    let lag = (late_s * ring.rate).round() as usize;
+    let mut w = hound::WavWriter::create(path, spec).unwrap();
+    for i in 0..ring.samples.len() {
+        let right = if i >= lag { 0.7 * ring.samples[i - lag] } else { 0.0 };
+        for v in [ring.samples[i], right] {
+            w.write_sample((0.9 * 32767.0 * v / peak) as i16).unwrap();
+        }
+    }
+    w.finalize().unwrap();
+}
+
+/// Tester14 fault 12: a stereo file whose right channel is 20 ms late was
+/// mixed without a word; the report now says the channels disagree, and
+/// says nothing of a stereo file whose channels agree.
+#[test]
+fn a_stereo_file_whose_channels_disagree_in_time_is_told() {
+    let dir = tempfile::tempdir().unwrap();
+    ring_with_room(dir.path());
+    let ring = clapper_io::signal_file::read_recording(&dir.path().join("ring.wav")).unwrap();
+    let warned = |late_s: f64| -> Vec<String> {
+        let path = dir.path().join(format!("st{late_s}.wav"));
+        stereo_late(&path, &ring, late_s);
+        let out = clapper()
+            .arg("strikes")
+            .arg(&path)
+            .arg("--templates")
+            .arg(dir.path().join("t"))
+            .arg("--json")
+            .output()
+            .unwrap();
+        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+        let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+        common::summary_warnings(&j)
+    };
+    let late = warned(0.02);
+    assert!(
+        late.iter()
+            .any(|w| w.starts_with("the recording's channels disagree in time: channel 2 is heard 20 ms later")),
+        "{late:?}"
+    );
+    let together = warned(0.0);
+    assert!(
+        !together.iter().any(|w| w.contains("channels disagree")),
+        "{together:?}"
+    );
+}
