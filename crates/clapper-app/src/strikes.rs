@@ -457,7 +457,8 @@ impl StrikesReport {
         }
         warnings.extend(together);
         warnings.extend(doubt::ring_size_warning(&timed, bells, doubt::given_as(templates)));
-        warnings.extend(one_stroke::one_stroke_warnings(&timed, bells));
+        let one_stroke = one_stroke::one_stroke_warnings(&timed, bells);
+        warnings.extend(one_stroke.iter().map(|(_, w)| w.clone()));
         let strikes: Vec<StrikeReport> = heard
             .strikes
             .iter()
@@ -481,7 +482,10 @@ impl StrikesReport {
             .collect();
         let counts: Vec<usize> = per_bell.iter().map(|b| b.strikes).collect();
         warnings.extend(kind::few_strikes_warnings(&counts));
-        let few = kind::few_bells(&counts);
+        // Bells already warned of (heard far less often, or at one stroke
+        // only) are not warned of again as short.
+        let mut few = kind::few_bells(&counts);
+        few.extend(one_stroke.iter().map(|(b, _)| *b));
         warnings.extend(ringer::missing_warnings(&strikes, bells, r.rows, r.strokes_known, &few));
         warnings.extend(ringer::pace_warning(&timed));
         let errs: Vec<f64> = strikes.iter().filter_map(|s| s.error_ms).collect();

@@ -8,14 +8,14 @@ use clapper_signal::striking::Timed;
 /// 2 n + 1 places over n or n + 1, for rings of three to sixteen).
 const TWO_ROWS: (f64, f64) = (1.7, 2.4);
 
-/// A warning per bell of the `bells` (treble first) heard at one stroke
-/// only in `timed` (in time order): at most 0.6 of the typical bell's
+/// Each bell of the `bells` (treble first) heard at one stroke only in
+/// `timed`, with its warning (in time order): at most 0.6 of the typical bell's
 /// strikes (six at least), three in four of its intervals two rows (s,
 /// the ring's row the median over the bells of each one's median
 /// interval; [`TWO_ROWS`]). The tester's six with bell 5 silent at every
 /// backstroke (A6_quiet60) was reported with no word of it, its empty
 /// place read as a handstroke gap.
-pub(super) fn one_stroke_warnings(timed: &[Timed], bells: usize) -> Vec<String> {
+pub(super) fn one_stroke_warnings(timed: &[Timed], bells: usize) -> Vec<(usize, String)> {
     let per: Vec<Vec<f64>> = (1..=bells)
         .map(|b| timed.iter().filter(|s| s.bell == b).map(|s| s.t).collect())
         .collect();
@@ -40,12 +40,13 @@ pub(super) fn one_stroke_warnings(timed: &[Timed], bells: usize) -> Vec<String> 
             4 * two >= 3 * g.len()
         })
         .map(|(i, t)| {
-            format!(
+            let w = format!(
                 "bell {}: heard at one stroke only ({} strikes, where a typical bell has {typical}, nearly all two \
                  rows apart): it is silent or too quiet to be heard at its other stroke, whose strikes are not in the report",
                 i + 1,
                 t.len()
-            )
+            );
+            (i + 1, w)
         })
         .collect()
 }
@@ -82,8 +83,9 @@ mod tests {
         };
         let w = one_stroke_warnings(&ring(&|row, bell| bell != 5 || row % 2 == 0), 6);
         assert_eq!(w.len(), 1, "{w:?}");
+        assert_eq!(w[0].0, 5);
         assert!(
-            w[0].starts_with("bell 5: heard at one stroke only (20 strikes"),
+            w[0].1.starts_with("bell 5: heard at one stroke only (20 strikes"),
             "{w:?}"
         );
         assert!(one_stroke_warnings(&ring(&|_, _| true), 6).is_empty());
