@@ -9,7 +9,9 @@
 //! step this sharp is taken as the start as it stands, and the bell's
 //! strikes are lined up near their times heard.
 
-use super::{block_energy, heard_in, mad, reline, step_of, whiten, LATEST_STEP_S, RELINE_SPREAD_S, SHIFT_S};
+use super::line_up::{heard_in, mad, reline};
+use super::start::{block_energy, step_of, whiten, LATEST_STEP_S};
+use super::{RELINE_SPREAD_S, SHIFT_S};
 use crate::Signal;
 
 /// The whitened average's step at a sharp blow: this many times or more
