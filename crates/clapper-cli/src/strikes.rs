@@ -2,7 +2,7 @@
 //! from a recording of a ring; `clapper synth-ring`: a synthetic recording
 //! of a ring with its truth beside it (the test data of docs/strikes.md).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 use anyhow::{bail, Context, Result};
 use clap::Args;
@@ -12,7 +12,7 @@ use clapper_app::strikes::{
 use clapper_io::signal_file::{read_recording, read_recording_told, write_wav};
 use clapper_io::strike_file::{csv_text, lowndes};
 use clapper_io::wav_stream::WavStream;
-use clapper_signal::strikes::{BellVoice, InMemory, Windows};
+use clapper_signal::strikes::{BellVoice, InMemory, StrikeOptions, Windows};
 use clapper_signal::tower::{
     major_scale, tower_recording, tuned_ring, Attack, DoubleStrikeSpec, Doublets, Method, Noise, PlainCourse, Room,
     Scale, Swing, TowerSpec, Voice,
@@ -198,20 +198,7 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         samples: vec![],
     };
     let keep_strip = args.plot.is_some().then_some(&mut strip);
-    let windows = Windows::default();
-    let (report, told) = match WavStream::open(&args.file)? {
-        Some(mut s) => {
-            let r = StrikesReport::streamed(&mut s, &voices, &opts, timing, &windows, keep_strip);
-            (r, s.warnings().to_vec())
-        }
-        None => {
-            let (sig, told) = read_recording_told(&args.file)?;
-            let r = StrikesReport::streamed(&mut InMemory::new(&sig), &voices, &opts, timing, &windows, keep_strip);
-            (r, told)
-        }
-    };
-    let mut report = report.with_context(|| args.file.display().to_string())?;
-    report.note_recording(&told);
+    let mut report = heard_in_file(&args.file, &voices, &opts, timing, keep_strip)?;
     if let Some(l) = learned {
         report.note_learned(l);
     }
@@ -233,6 +220,34 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
     print_report(&report, args.json, || report.text(&args.file.display().to_string()))
 }
 
+/// The strikes of the recording at `file`, heard through `voices` timed
+/// by `timing`, streamed in windows where its layout allows (memory does
+/// not grow with its length), else read whole; what reading it told (its
+/// channels disagreeing in time) noted in the report.
+fn heard_in_file(
+    file: &Path,
+    voices: &[BellVoice],
+    opts: &StrikeOptions,
+    timing: Timing,
+    strip: Option<&mut Signal>,
+) -> Result<StrikesReport> {
+    let windows = Windows::default();
+    let (report, told) = match WavStream::open(file)? {
+        Some(mut s) => {
+            let r = StrikesReport::streamed(&mut s, voices, opts, timing, &windows, strip);
+            (r, s.warnings().to_vec())
+        }
+        None => {
+            let (sig, told) = read_recording_told(file)?;
+            let r = StrikesReport::streamed(&mut InMemory::new(&sig), voices, opts, timing, &windows, strip);
+            (r, told)
+        }
+    };
+    let mut report = report.with_context(|| file.display().to_string())?;
+    report.note_recording(&told);
+    Ok(report)
+}
+
 /// About the nominals given, or with `--bells N` those `learned`, the
 /// bells' voices and timing as `--timing` asks (`--self-calibrate`: the
 /// recording's), tried on the recording's first window; none with templates.
@@ -240,7 +255,7 @@ fn chosen_timing(
     args: &StrikesArgs,
     learned: Option<&clapper_app::strikes::Learned>,
     kind: Voice,
-    opts: &clapper_signal::strikes::StrikeOptions,
+    opts: &StrikeOptions,
 ) -> Result<Option<clapper_app::strikes::Chosen>> {
     let about: Vec<f64> = match (&args.nominals, learned) {
         (Some(n), _) => n.0.clone(),
