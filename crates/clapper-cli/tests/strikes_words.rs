@@ -48,17 +48,7 @@ fn ring_with_room(dir: &std::path::Path) {
 fn the_ring_size_warning_with_templates_says_templates_were_given() {
     let dir = tempfile::tempdir().unwrap();
     ring_with_room(dir.path());
-    let out = clapper()
-        .arg("strikes")
-        .arg(dir.path().join("ring.wav"))
-        .arg("--templates")
-        .arg(dir.path().join("t"))
-        .arg("--json")
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    let w = common::summary_warnings(&j);
+    let w = warned_with_templates(&dir.path().join("ring.wav"), &dir.path().join("t"));
     // Before: "4 nominal(s) given, .. give every bell's nominal".
     assert!(
         w.iter()
@@ -67,6 +57,22 @@ fn the_ring_size_warning_with_templates_says_templates_were_given() {
         "{w:?}"
     );
     assert!(!w.iter().any(|w| w.contains("nominal")), "{w:?}");
+}
+
+/// The report's warnings on the recording `wav` heard with the templates
+/// in `templates` (`--json`); the run must succeed.
+fn warned_with_templates(wav: &std::path::Path, templates: &std::path::Path) -> Vec<String> {
+    let out = clapper()
+        .arg("strikes")
+        .arg(wav)
+        .arg("--templates")
+        .arg(templates)
+        .arg("--json")
+        .output()
+        .unwrap();
+    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    common::summary_warnings(&j)
 }
 
 /// `ring` written as a stereo file whose second channel is `late_s` later
@@ -101,17 +107,7 @@ fn a_stereo_file_whose_channels_disagree_in_time_is_told() {
     let warned = |late_s: f64| -> Vec<String> {
         let path = dir.path().join(format!("st{late_s}.wav"));
         stereo_late(&path, &ring, late_s);
-        let out = clapper()
-            .arg("strikes")
-            .arg(&path)
-            .arg("--templates")
-            .arg(dir.path().join("t"))
-            .arg("--json")
-            .output()
-            .unwrap();
-        assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-        let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-        common::summary_warnings(&j)
+        warned_with_templates(&path, &dir.path().join("t"))
     };
     let late = warned(0.02);
     assert!(

@@ -382,15 +382,15 @@ fn strikes(
 /// A WAV recording read as the CLI reads one (channels mixed to mono):
 /// returns (samples as f64 bytes, rate in Hz).
 #[pyfunction]
-fn read_wav<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<(Bound<'py, PyBytes>, f64)> {
+fn read_wav<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<(Bound<'py, PyBytes>, f64, Vec<String>)> {
     use clapper_io::signal_file::SignalFileError;
-    let sig = clapper_io::signal_file::read_recording(&path).map_err(|e| match e {
+    let (sig, told) = clapper_io::signal_file::read_recording_told(&path).map_err(|e| match e {
         // The Python half has opened the file already (a missing one is
         // FileNotFoundError there); what fails here is reading it.
         SignalFileError::Read { .. } | SignalFileError::Write { .. } => PyOSError::new_err(e.to_string()),
         SignalFileError::Content { .. } => PyValueError::new_err(e.to_string()),
     })?;
-    Ok((f64_bytes(py, sig.samples.iter().copied()), sig.rate))
+    Ok((f64_bytes(py, sig.samples.iter().copied()), sig.rate, told))
 }
 
 /// The native module `clapper._clapper`.

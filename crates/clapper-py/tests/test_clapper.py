@@ -425,3 +425,36 @@ def test_chart_takes_threads_and_the_count_changes_nothing():
     for bad in [0, 2000]:
         with pytest.raises(ValueError, match="threads"):
             clapper.chart(grid=3, threads=bad)
+
+
+def _stereo_wav(path, left, right, rate):
+    """`left` and `right` (equal lengths, within ±1) as a 16-bit stereo WAV."""
+    pcm = (np.stack([left, right], axis=1) * 30000).astype("<i2").tobytes()
+    header = b"RIFF" + (36 + len(pcm)).to_bytes(4, "little") + b"WAVEfmt " + (16).to_bytes(4, "little")
+    header += (1).to_bytes(2, "little") + (2).to_bytes(2, "little") + rate.to_bytes(4, "little")
+    header += (4 * rate).to_bytes(4, "little") + (4).to_bytes(2, "little") + (16).to_bytes(2, "little")
+    path.write_bytes(header + b"data" + len(pcm).to_bytes(4, "little") + pcm)
+
+
+def test_read_wav_warns_of_channels_that_disagree_in_time(tmp_path):
+    # Synthetic: strikes (1 kHz, decaying) at uneven times over 30 s; the
+    # second channel the first 20 ms later (tester14's late stereo channel),
+    # then the two together.
+    rate = 16000
+    t = np.arange(30 * rate) / rate
+    x = np.zeros_like(t)
+    rng = np.random.default_rng(7)
+    for t0 in np.cumsum(rng.uniform(0.2, 0.3, 110)):
+        on = t >= t0
+        x[on] += np.sin(2 * np.pi * 1000 * (t[on] - t0)) * np.exp(-(t[on] - t0) / 0.08)
+    x /= 1.2 * np.abs(x).max()
+    lag = int(0.020 * rate)
+    late = np.concatenate([np.zeros(lag), x[:-lag]])
+    _stereo_wav(tmp_path / "late.wav", x, 0.7 * late, rate)
+    _stereo_wav(tmp_path / "together.wav", x, 0.7 * x, rate)
+    with pytest.warns(clapper.ClapperWarning, match=r"channel 2 is heard 20 ms later than channel 1"):
+        samples, r = clapper.read_wav(tmp_path / "late.wav")
+    assert r == rate and len(samples) == len(x)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        clapper.read_wav(tmp_path / "together.wav")

@@ -874,11 +874,16 @@ def strikes(
 
 def read_wav(path: PathLike) -> Tuple[np.ndarray, float]:
     """A WAV file's samples (channels mixed to one) and its rate (Hz). A
-    file that is not there raises ``FileNotFoundError``."""
+    file that is not there raises ``FileNotFoundError``. Channels that
+    disagree in time (one heard 5 ms or more after another: their mix
+    blurs every strike) are warned of as :class:`ClapperWarning`, as
+    ``clapper strikes`` warns of them in its report."""
     path = os.fspath(path)
     # Opened here first so that a missing or unreadable file raises what
     # open() raises (FileNotFoundError, PermissionError), as elsewhere.
     with open(path, "rb"):
         pass
-    data, rate = _clapper.read_wav(path)
+    data, rate, told = _clapper.read_wav(path)
+    for w in told:
+        _warnings.warn(w, ClapperWarning, stacklevel=2)
     return _f64(data), rate

@@ -791,12 +791,7 @@ mod tests {
         let secs = 7000.0 * 512.0 / 12_000.0;
         assert!(pick_onsets(&flux, 2.0).len() < 10);
         let heard = onsets_of(&flux, secs);
-        let found = strikes.iter().filter(|p| heard.contains(p)).count();
-        assert!(
-            found as f64 >= 0.99 * strikes.len() as f64,
-            "{found} of {}",
-            strikes.len()
-        );
+        assert_nearly_all_heard(&strikes, &heard);
         assert!(heard.len() <= strikes.len() + 5, "{} onsets", heard.len());
         // The noise's rise wavers by 29 % over its lower quartile (white
         // noise's, measured): no onset.
@@ -825,7 +820,11 @@ mod tests {
         let secs = 7000.0 * 512.0 / 12_000.0;
         let first = pick_onsets(&flux, 2.0).len() as f64 / secs;
         assert!((1.5..2.5).contains(&first), "{first} onsets a second");
-        let heard = onsets_of(&flux, secs);
+        assert_nearly_all_heard(&strikes, &onsets_of(&flux, secs));
+    }
+
+    /// 99 % of the `strikes` (frames) among the onsets `heard`.
+    fn assert_nearly_all_heard(strikes: &[usize], heard: &[usize]) {
         let found = strikes.iter().filter(|p| heard.contains(p)).count();
         assert!(
             found as f64 >= 0.99 * strikes.len() as f64,
