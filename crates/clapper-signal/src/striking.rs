@@ -447,7 +447,8 @@ pub struct RingRoom {
     /// The median over bells' strikes of half the time from a strike to
     /// the strike after next (s): a row and half the handstroke gap, which
     /// the median of single intervals, alternately short and long, is not;
-    /// those that span a strike missed left out ([`MISSED_PULL`]).
+    /// those that span a strike missed left out (over 1.4 times the tenth
+    /// shortest).
     pub row_s: f64,
     /// The interval between successive bells (s), which bells not listened
     /// for leave as it is: the median of the times between successive
