@@ -335,6 +335,16 @@ mod tests {
         strikes_under_ringing_at(rate, 0.15)
     }
 
+    /// Other bells ringing on at time `t` (s): partials at 523, 697 and
+    /// 1046 Hz, unit amplitude, at the first three of `phases` (rad).
+    fn other_bells(t: f64, phases: &[f64]) -> f64 {
+        [523.0, 697.0, 1046.0]
+            .iter()
+            .zip(phases)
+            .map(|(f, p)| (2.0 * std::f64::consts::PI * f * t + p).sin())
+            .sum()
+    }
+
     /// The same, the blow's level `blow_level` against the partial's.
     fn strikes_under_ringing_at(rate: f64, blow_level: f64) -> (Vec<Vec<f64>>, usize) {
         let (len, at) = ((0.5 * rate) as usize, (0.3 * rate) as usize);
@@ -357,11 +367,7 @@ mod tests {
                 (0..len)
                     .map(|i| {
                         let t = i as f64 / rate;
-                        let ringing: f64 = [523.0, 697.0, 1046.0]
-                            .iter()
-                            .zip(&phases)
-                            .map(|(f, p)| (2.0 * std::f64::consts::PI * f * t + p).sin())
-                            .sum();
+                        let ringing = other_bells(t, &phases);
                         let own = if i >= at {
                             let u = (i - at) as f64 / rate;
                             blow_level * blow[i] * (-u / 0.01).exp()
@@ -603,11 +609,7 @@ mod tests {
                 (0..len)
                     .map(|i| {
                         let t = i as f64 / rate;
-                        let ringing: f64 = [523.0, 697.0, 1046.0]
-                            .iter()
-                            .zip(&phases)
-                            .map(|(f, p)| (tau * f * t + p).sin())
-                            .sum();
+                        let ringing = other_bells(t, &phases);
                         let own = if i >= at {
                             let u = (i - at) as f64 / rate;
                             0.3 * blow[i] * (-u / 0.01).exp()
