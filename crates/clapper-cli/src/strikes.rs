@@ -9,7 +9,7 @@ use clap::Args;
 use clapper_app::strikes::{
     choose_timing, learned_voices, strike_options, StrikesReport, StrikingFigure, Timing, TimingAsked,
 };
-use clapper_io::signal_file::{read_recording, read_recording_told, write_wav};
+use clapper_io::signal_file::{read_recording, read_recording_chosen, write_wav, ChannelChoice};
 use clapper_io::strike_file::{csv_text, lowndes};
 use clapper_io::wav_stream::WavStream;
 use clapper_signal::strikes::{BellVoice, InMemory, StrikeOptions, Windows};
@@ -91,6 +91,14 @@ pub struct StrikesArgs {
     /// A second strike at least this loud against the first (amplitude ratio) is a double strike.
     #[arg(long, default_value_t = clapper_app::strikes::DEFAULT_DOUBLE_MIN_RATIO, value_name = "RATIO")]
     pub double_min_ratio: f64,
+    /// Which of a stereo recording's channels to hear: a channel's number
+    /// (1 the first, the left), `mix` or `auto`. By default (`auto`) they are mixed, unless
+    /// they disagree in time (one heard over 5 ms after the other: their
+    /// mix would blur each strike), when the one whose strikes stand
+    /// clearest over its noise (or the first) is heard alone and the report
+    /// says which.
+    #[arg(long, value_name = "N|mix|auto", value_parser = str::parse::<ChannelChoice>)]
+    pub channel: Option<ChannelChoice>,
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
@@ -163,13 +171,14 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         );
     }
     let kind = if args.handbells { Voice::Handbell } else { Voice::Tower };
+    let channel = args.channel.unwrap_or_default();
     let mut learned = None;
     let (voices, recorded) = match (&args.nominals, &args.templates, args.bells) {
         (Some(_), _, _) => (vec![], vec![]),
         (None, Some(dir), _) => templates(dir)?,
         (None, None, Some(n)) => {
             // Learned from the whole recording, read at once.
-            let sig = read_recording(&args.file)?;
+            let (sig, _) = read_recording_chosen(&args.file, channel)?;
             let (voices, l) = learned_voices(&sig, n, kind).with_context(|| args.file.display().to_string())?;
             learned = Some(l);
             (voices, vec![])
@@ -198,7 +207,7 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         samples: vec![],
     };
     let keep_strip = args.plot.is_some().then_some(&mut strip);
-    let mut report = heard_in_file(&args.file, &voices, &opts, timing, keep_strip)?;
+    let mut report = heard_in_file(&args.file, channel, &voices, &opts, timing, keep_strip)?;
     if let Some(l) = learned {
         report.note_learned(l);
     }
@@ -220,25 +229,27 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
     print_report(&report, args.json, || report.text(&args.file.display().to_string()))
 }
 
-/// The strikes of the recording at `file`, heard through `voices` timed
+/// The strikes of the recording at `file` (its channels heard as
+/// `channel` asks), heard through `voices` timed
 /// by `timing`, streamed in windows where its layout allows (memory does
 /// not grow with its length), else read whole; what reading it told (its
 /// channels disagreeing in time) noted in the report.
 fn heard_in_file(
     file: &Path,
+    channel: ChannelChoice,
     voices: &[BellVoice],
     opts: &StrikeOptions,
     timing: Timing,
     strip: Option<&mut Signal>,
 ) -> Result<StrikesReport> {
     let windows = Windows::default();
-    let (report, told) = match WavStream::open(file)? {
+    let (report, told) = match WavStream::open_chosen(file, channel)? {
         Some(mut s) => {
             let r = StrikesReport::streamed(&mut s, voices, opts, timing, &windows, strip);
             (r, s.warnings().to_vec())
         }
         None => {
-            let (sig, told) = read_recording_told(file)?;
+            let (sig, told) = read_recording_chosen(file, channel)?;
             let r = StrikesReport::streamed(&mut InMemory::new(&sig), voices, opts, timing, &windows, strip);
             (r, told)
         }
@@ -274,16 +285,17 @@ fn chosen_timing(
             samples: vec![],
         }
     } else {
-        recording_head(&args.file, Windows::default().whole_s)?
+        recording_head(&args.file, args.channel.unwrap_or_default(), Windows::default().whole_s)?
     };
     let chosen = choose_timing(&head, &about, kind, asked, opts).with_context(|| args.file.display().to_string())?;
     Ok(Some(chosen))
 }
 
-/// The first `seconds` of the recording at `path` (all of a shorter one).
-fn recording_head(path: &std::path::Path, seconds: f64) -> Result<Signal> {
+/// The first `seconds` of the recording at `path` (all of a shorter one),
+/// its channels heard as `channel` asks.
+fn recording_head(path: &std::path::Path, channel: ChannelChoice, seconds: f64) -> Result<Signal> {
     use clapper_signal::strikes::RecordingBlocks;
-    match WavStream::open(path)? {
+    match WavStream::open_chosen(path, channel)? {
         Some(mut s) => {
             let rate = s.rate();
             let want = ((seconds * rate) as usize).min(s.total());
@@ -300,7 +312,7 @@ fn recording_head(path: &std::path::Path, seconds: f64) -> Result<Signal> {
             Ok(Signal { rate, samples })
         }
         None => {
-            let mut sig = read_recording(path)?;
+            let (mut sig, _) = read_recording_chosen(path, channel)?;
             sig.samples.truncate((seconds * sig.rate) as usize);
             Ok(sig)
         }

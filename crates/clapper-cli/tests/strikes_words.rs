@@ -59,20 +59,26 @@ fn the_ring_size_warning_with_templates_says_templates_were_given() {
     assert!(!w.iter().any(|w| w.contains("nominal")), "{w:?}");
 }
 
-/// The report's warnings on the recording `wav` heard with the templates
-/// in `templates` (`--json`); the run must succeed.
-fn warned_with_templates(wav: &std::path::Path, templates: &std::path::Path) -> Vec<String> {
+/// The report (`--json`) on the recording `wav` heard with the templates
+/// in `templates`, and `more` arguments; the run must succeed.
+fn heard_with_templates(wav: &std::path::Path, templates: &std::path::Path, more: &[&str]) -> serde_json::Value {
     let out = clapper()
         .arg("strikes")
         .arg(wav)
         .arg("--templates")
         .arg(templates)
         .arg("--json")
+        .args(more)
         .output()
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    let j: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
-    common::summary_warnings(&j)
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
+/// The report's warnings on the recording `wav` heard with the templates
+/// in `templates` (`--json`); the run must succeed.
+fn warned_with_templates(wav: &std::path::Path, templates: &std::path::Path) -> Vec<String> {
+    common::summary_warnings(&heard_with_templates(wav, templates, &[]))
 }
 
 /// `ring` written as a stereo file whose second channel is `late_s` later
@@ -98,26 +104,43 @@ fn stereo_late(path: &std::path::Path, ring: &Signal, late_s: f64) {
 
 /// Tester14 fault 12: a stereo file whose right channel is 20 ms late was
 /// mixed without a word; the report now says the channels disagree, and
-/// says nothing of a stereo file whose channels agree.
+/// (tester16 fault 7) hears the first channel alone, as `--channel 1`
+/// does; `--channel mix` mixes them as before and says so. A stereo file
+/// whose channels agree is mixed without a word.
 #[test]
-fn a_stereo_file_whose_channels_disagree_in_time_is_told() {
+fn a_stereo_file_whose_channels_disagree_in_time_is_told_and_one_heard() {
     let dir = tempfile::tempdir().unwrap();
     ring_with_room(dir.path());
     let ring = clapper_io::signal_file::read_recording(&dir.path().join("ring.wav")).unwrap();
-    let warned = |late_s: f64| -> Vec<String> {
+    let heard = |late_s: f64, more: &[&str]| -> (Vec<String>, serde_json::Value) {
         let path = dir.path().join(format!("st{late_s}.wav"));
         stereo_late(&path, &ring, late_s);
-        warned_with_templates(&path, &dir.path().join("t"))
+        let j = heard_with_templates(&path, &dir.path().join("t"), more);
+        (common::summary_warnings(&j), j["strikes"].clone())
     };
-    let late = warned(0.02);
+    let (late, alone) = heard(0.02, &[]);
     assert!(
-        late.iter()
-            .any(|w| w.starts_with("the recording's channels disagree in time: channel 2 is heard 20 ms later")),
+        late.iter().any(|w| w.starts_with(
+            "the recording's channels disagree in time: channel 2 is heard 20 ms later than channel 1: \
+             channel 1 used alone"
+        )),
         "{late:?}"
     );
-    let together = warned(0.0);
+    let (first, asked) = heard(0.02, &["--channel", "1"]);
+    assert_eq!(asked, alone);
+    assert!(!first.iter().any(|w| w.contains("channels disagree")), "{first:?}");
+    let (mixed, blurred) = heard(0.02, &["--channel", "mix"]);
+    assert_ne!(blurred, alone);
+    assert!(
+        mixed
+            .iter()
+            .any(|w| w.contains("20 ms later") && w.ends_with("record in mono, or keep one channel")),
+        "{mixed:?}"
+    );
+    let (together, both) = heard(0.0, &[]);
     assert!(
         !together.iter().any(|w| w.contains("channels disagree")),
         "{together:?}"
     );
+    assert_eq!(heard(0.0, &["--channel", "mix"]).1, both);
 }

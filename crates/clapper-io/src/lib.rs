@@ -10,7 +10,7 @@
 pub mod accel_log;
 pub mod answers;
 pub mod bell_file;
-mod channels;
+pub mod channels;
 pub mod chart_csv;
 pub mod clapper_input;
 pub mod hanging_input;

@@ -6,6 +6,8 @@ use std::path::Path;
 use clapper_core::vibration::Mode;
 use clapper_signal::Signal;
 
+pub use crate::channels::ChannelChoice;
+
 /// Why a signal file cannot be used. Every message is one line.
 #[derive(Debug, thiserror::Error)]
 pub enum SignalFileError {
@@ -56,8 +58,9 @@ pub fn read_signal(path: &Path, channel: usize) -> Result<Signal, SignalFileErro
 }
 
 /// Read a recording of a ring: a WAV file (mono or more channels, mixed
-/// to one by their mean, or the loudest if their mean cancels; 8- to
-/// 32-bit integer or 32- or 64-bit float samples).
+/// to one by their mean, or the loudest if their mean cancels, or one
+/// heard alone where they disagree in time; 8- to 32-bit integer or 32-
+/// or 64-bit float samples).
 pub fn read_recording(path: &Path) -> Result<Signal, SignalFileError> {
     read_recording_told(path).map(|(sig, _)| sig)
 }
@@ -69,8 +72,13 @@ pub fn recording_from_bytes(bytes: &[u8], name: &str) -> Result<Signal, SignalFi
 }
 
 /// [`read_recording`], with what the report should be told of the file
-/// in words: its channels disagreeing in time (the mix blurs each strike).
+/// in words: its channels disagreeing in time (then one is heard alone).
 pub fn read_recording_told(path: &Path) -> Result<(Signal, Vec<String>), SignalFileError> {
+    read_recording_chosen(path, ChannelChoice::Auto)
+}
+
+/// [`read_recording_told`], its channels heard as `choice` asks.
+pub fn read_recording_chosen(path: &Path, choice: ChannelChoice) -> Result<(Signal, Vec<String>), SignalFileError> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     if ext.as_deref() != Some("wav") {
         return Err(content(path, "a recording must be a .wav file"));
@@ -79,25 +87,43 @@ pub fn read_recording_told(path: &Path) -> Result<(Signal, Vec<String>), SignalF
         path: path.display().to_string(),
         message: e.to_string(),
     })?;
-    recording_from_bytes_told(&bytes, &path.display().to_string())
+    recording_from_bytes_chosen(&bytes, &path.display().to_string(), choice)
 }
 
 /// [`recording_from_bytes`], with what the report should be told of the
 /// file in words ([`read_recording_told`]).
 pub fn recording_from_bytes_told(bytes: &[u8], name: &str) -> Result<(Signal, Vec<String>), SignalFileError> {
+    recording_from_bytes_chosen(bytes, name, ChannelChoice::Auto)
+}
+
+/// [`recording_from_bytes_told`], its channels heard as `choice` asks.
+pub fn recording_from_bytes_chosen(
+    bytes: &[u8],
+    name: &str,
+    choice: ChannelChoice,
+) -> Result<(Signal, Vec<String>), SignalFileError> {
     let here = Path::new(name);
     let (rate, nch, all) = decode_wav(bytes).map_err(|m| content(here, m))?;
-    let samples = mix_to_one(&all, nch);
+    let mut times = crate::channels::ChannelTimes::new(nch, rate);
+    if nch > 1 {
+        for f in all.chunks_exact(nch) {
+            if times.full() {
+                break;
+            }
+            times.push(f);
+        }
+    }
+    let (one, told) = crate::channels::decide(choice, nch, &times).map_err(|m| content(here, m))?;
+    let samples = match one {
+        Some(k) => all.iter().skip(k).step_by(nch).copied().collect(),
+        None => mix_to_one(&all, nch),
+    };
     if samples.is_empty() {
         return Err(content(here, "no samples"));
     }
-    let mut told = crate::channels::ChannelTimes::new(nch, rate);
-    if nch > 1 {
-        all.chunks_exact(nch).for_each(|f| told.push(f));
-    }
     let sig = Signal { rate, samples };
     sig.validate().map_err(|e| content(here, e.to_string()))?;
-    Ok((sig, told.warning().into_iter().collect()))
+    Ok((sig, told))
 }
 
 /// Interleaved channels mixed to one: their mean, unless that cancels

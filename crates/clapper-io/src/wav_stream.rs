@@ -15,7 +15,7 @@ use std::path::{Path, PathBuf};
 use clapper_signal::strikes::RecordingBlocks;
 use clapper_signal::SignalError;
 
-use crate::signal_file::SignalFileError;
+use crate::signal_file::{ChannelChoice, SignalFileError};
 
 /// How one sample is stored.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -60,7 +60,8 @@ impl Kind {
 enum Mix {
     /// Their mean.
     Mean,
-    /// One channel (the loudest, where the mean cancels).
+    /// One channel (the loudest, where the mean cancels; or the one heard
+    /// alone where they disagree in time, or the one asked for).
     Channel(usize),
 }
 
@@ -167,8 +168,16 @@ impl WavStream {
     /// Open `path` to be read in blocks, or `None` where its layout is one
     /// read whole ([`read_recording`](crate::signal_file::read_recording)).
     /// A file of several channels is read through once first, to choose
-    /// the mix (their mean, or the loudest channel where the mean cancels).
+    /// the mix (their mean, or the loudest channel where the mean cancels,
+    /// or one heard alone where they disagree in time).
     pub fn open(path: &Path) -> Result<Option<Self>, SignalFileError> {
+        Self::open_chosen(path, ChannelChoice::Auto)
+    }
+
+    /// [`WavStream::open`], its channels heard as `choice` asks (as
+    /// [`read_recording_chosen`](crate::signal_file::read_recording_chosen)
+    /// hears them).
+    pub fn open_chosen(path: &Path, choice: ChannelChoice) -> Result<Option<Self>, SignalFileError> {
         let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
         if ext.as_deref() != Some("wav") {
             return Err(content(path, "a recording must be a .wav file"));
@@ -198,9 +207,7 @@ impl WavStream {
             bytes: vec![],
             warnings: vec![],
         };
-        if channels > 1 {
-            s.mix = s.choose_mix()?;
-        }
+        s.mix = s.choose_mix(choice)?;
         s.file
             .seek(SeekFrom::Start(data_start))
             .map_err(|e| read_error(path, e))?;
@@ -219,15 +226,20 @@ impl WavStream {
         self.rate
     }
 
-    /// The mix of the channels, from their powers over the whole file, as
+    /// The mix of the channels as `choice` asks: where they are mixed,
+    /// from their powers over the whole file, as
     /// [`read_recording`](crate::signal_file::read_recording) chooses it
-    /// (the same sums in the same order).
-    fn choose_mix(&mut self) -> Result<Mix, SignalFileError> {
+    /// (the same sums in the same order). A mono file is not read here.
+    fn choose_mix(&mut self, choice: ChannelChoice) -> Result<Mix, SignalFileError> {
         let nch = self.channels;
+        let mut told = crate::channels::ChannelTimes::new(nch, self.rate);
+        if nch < 2 {
+            let (one, _) = crate::channels::decide(choice, nch, &told).map_err(|m| content(&self.path, m))?;
+            return Ok(one.map_or(Mix::Mean, Mix::Channel));
+        }
         let mut powers = vec![0.0f64; nch];
         let mut mean_power = 0.0f64;
         let mut frame = vec![0.0; nch];
-        let mut told = crate::channels::ChannelTimes::new(nch, self.rate);
         while let Some(n) = self.next_frames()? {
             let w = nch * self.kind.bytes();
             for k in 0..n {
@@ -241,7 +253,11 @@ impl WavStream {
             }
         }
         self.done = 0;
-        self.warnings.extend(told.warning());
+        let (one, words) = crate::channels::decide(choice, nch, &told).map_err(|m| content(&self.path, m))?;
+        self.warnings.extend(words);
+        if let Some(k) = one {
+            return Ok(Mix::Channel(k));
+        }
         let channel_power = powers.iter().sum::<f64>() / nch as f64;
         if mean_power >= 0.25 * channel_power {
             return Ok(Mix::Mean);
@@ -401,5 +417,56 @@ mod tests {
         let p = dir.path().join("odd.wav");
         wav(&p, 1, 12, 1, b"", &[0u8; 64]);
         assert!(WavStream::open(&p).unwrap().is_none());
+    }
+    /// Tester16 fault 7: a stereo file whose second channel is 20 ms late
+    /// is heard through its first channel alone, streamed as read whole,
+    /// with the same words; asked to mix, the two are mixed; channels that
+    /// agree are mixed as before.
+    #[test]
+    fn a_late_channel_is_left_out_streamed_as_read_whole() {
+        use crate::signal_file::read_recording_chosen;
+        let dir = tempfile::tempdir().unwrap();
+        let strike = |t: f64| -> f64 {
+            let k = (t / 0.23).floor();
+            let dt = t - 0.23 * k;
+            if k < 0.0 {
+                0.0
+            } else {
+                (-dt / 0.3).exp() * (2.0 * std::f64::consts::PI * (900.0 + 37.0 * (k % 7.0)) * dt).sin()
+            }
+        };
+        let q = |v: f64| (v * 20000.0).round() as i16;
+        for late_s in [0.02, 0.0] {
+            let mut data = vec![];
+            for i in 0..160_000 {
+                let t = f64::from(i) / 8000.0;
+                data.extend_from_slice(&q(strike(t)).to_le_bytes());
+                data.extend_from_slice(&q(0.7 * strike(t - late_s)).to_le_bytes());
+            }
+            let p = dir.path().join(format!("st{late_s}.wav"));
+            wav(&p, 1, 16, 2, b"", &data);
+            let first: Vec<f64> = (0..160_000)
+                .map(|i| f64::from(q(strike(f64::from(i) / 8000.0))) / 32768.0)
+                .collect();
+            for choice in [ChannelChoice::Auto, ChannelChoice::Mix, ChannelChoice::One(0)] {
+                let (whole, told) = read_recording_chosen(&p, choice).unwrap();
+                let mut s = WavStream::open_chosen(&p, choice).unwrap().unwrap();
+                let mut streamed = vec![];
+                while s.read(&mut streamed, 5000).unwrap() > 0 {}
+                assert_eq!(s.warnings(), &told[..]);
+                assert!(streamed
+                    .iter()
+                    .zip(&whole.samples)
+                    .all(|(a, b)| a.to_bits() == b.to_bits()));
+                let alone = late_s > 0.0 && choice == ChannelChoice::Auto || choice == ChannelChoice::One(0);
+                assert_eq!(whole.samples == first, alone, "{late_s} {choice:?}");
+                assert_eq!(told.len(), usize::from(late_s > 0.0 && choice != ChannelChoice::One(0)));
+            }
+            let e = WavStream::open_chosen(&p, ChannelChoice::One(2))
+                .err()
+                .unwrap()
+                .to_string();
+            assert!(e.contains("channel 3 asked, the recording has 2"), "{e}");
+        }
     }
 }

@@ -379,7 +379,8 @@ fn strikes(
     Ok((to_json(&r)?, r.text(name)))
 }
 
-/// A WAV recording read as the CLI reads one (channels mixed to mono):
+/// A WAV recording read as the CLI reads one (channels mixed to mono, or
+/// one heard alone where they disagree in time):
 /// returns (samples as f64 bytes, rate in Hz).
 #[pyfunction]
 fn read_wav<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<(Bound<'py, PyBytes>, f64, Vec<String>)> {

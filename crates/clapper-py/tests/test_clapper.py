@@ -452,9 +452,12 @@ def test_read_wav_warns_of_channels_that_disagree_in_time(tmp_path):
     late = np.concatenate([np.zeros(lag), x[:-lag]])
     _stereo_wav(tmp_path / "late.wav", x, 0.7 * late, rate)
     _stereo_wav(tmp_path / "together.wav", x, 0.7 * x, rate)
-    with pytest.warns(clapper.ClapperWarning, match=r"channel 2 is heard 20 ms later than channel 1"):
+    told = r"channel 2 is heard 20 ms later than channel 1: channel 1 used alone"
+    with pytest.warns(clapper.ClapperWarning, match=told):
         samples, r = clapper.read_wav(tmp_path / "late.wav")
     assert r == rate and len(samples) == len(x)
+    # The first channel alone, not the two mixed (tester16 fault 7).
+    np.testing.assert_array_equal(samples, (x * 30000).astype("<i2") / 32768.0)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         clapper.read_wav(tmp_path / "together.wav")

@@ -623,10 +623,10 @@ pub(crate) async fn listening_analyse(
     Ok(Json(json!({"analysis": rep, "plot_svg": svg})).into_response())
 }
 
-/// `POST /api/strikes?nominals=F1,F2,..[&double_min_ratio=R][&handbells=true][&timing=auto|plain|recording]`
+/// `POST /api/strikes?nominals=F1,F2,..[&double_min_ratio=R][&handbells=true][&timing=auto|plain|recording][&channel=N|mix|auto]`
 /// (or `bells=N` for the nominals learned from the recording, as `--bells
 /// N`; `handbells=true` as `--handbells`; `timing` as `--timing`, auto
-/// unless asked):
+/// unless asked; `channel` as `--channel`):
 /// a recording of a ring (the body: a WAV file, mono or stereo, 8 to 192
 /// kHz) heard as `clapper strikes` hears it: `{"report": {...}, "csv":
 /// "...", "plot_svg": "<svg ..."}`, the report as `clapper strikes --json`,
@@ -653,6 +653,12 @@ pub(crate) async fn strikes(
     };
     let asked: clapper_app::strikes::TimingAsked = q.timing.as_deref().unwrap_or("auto").parse()?;
     let nominals = asked_nominals(&q, kind)?;
+    let channel: clapper_io::signal_file::ChannelChoice = q
+        .channel
+        .as_deref()
+        .unwrap_or("auto")
+        .parse()
+        .map_err(ApiError::BadRequest)?;
     if wav.is_empty() {
         return Err(ApiError::BadRequest(
             "no recording: send the WAV file as the request's body".into(),
@@ -665,7 +671,7 @@ pub(crate) async fn strikes(
     let out = s
         .jobs
         .run(move || {
-            let (sig, told) = clapper_io::signal_file::recording_from_bytes_told(&wav, "the recording")
+            let (sig, told) = clapper_io::signal_file::recording_from_bytes_chosen(&wav, "the recording", channel)
                 .map_err(|e| clapper_app::AppError::Request(e.to_string()))?;
             let (nominals, learned) = match nominals {
                 Some(n) => (n, None),
@@ -740,4 +746,7 @@ pub(crate) struct StrikesQuery {
     handbells: Option<bool>,
     /// How strikes are timed: auto (the default), plain or recording, as `--timing`.
     timing: Option<String>,
+    /// Which of the recording's channels are heard: a number (1 the
+    /// first), mix or auto (the default), as `--channel`.
+    channel: Option<String>,
 }

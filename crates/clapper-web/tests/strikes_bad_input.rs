@@ -186,4 +186,21 @@ async fn silence_one_bell_and_speech_are_answered_with_a_warning_first() {
             .contains("bell 2's strongest partial, 5000 Hz"),
         "{v}"
     );
+
+    // A channel the recording lacks, or not a channel: refused, as `--channel`.
+    let (status, v) = post_wav(addr, "1400&channel=2", &one).await;
+    assert_eq!(status, 400, "{v}");
+    assert!(
+        v["error"]
+            .as_str()
+            .unwrap()
+            .contains("channel 2 asked, the recording has 1"),
+        "{v}"
+    );
+    let (status, v) = post_wav(addr, "1400&channel=left", &one).await;
+    assert_eq!(status, 400, "{v}");
+    assert_eq!(
+        post_wav(addr, "1400&channel=1", &one).await.1["report"]["summary"]["strikes"],
+        12
+    );
 }

@@ -876,8 +876,10 @@ def read_wav(path: PathLike) -> Tuple[np.ndarray, float]:
     """A WAV file's samples (channels mixed to one) and its rate (Hz). A
     file that is not there raises ``FileNotFoundError``. Channels that
     disagree in time (one heard 5 ms or more after another: their mix
-    blurs every strike) are warned of as :class:`ClapperWarning`, as
-    ``clapper strikes`` warns of them in its report."""
+    would blur every strike) are not mixed: one is read alone (the first,
+    unless another's strikes stand clearly clearer over its noise), and
+    this is warned of as :class:`ClapperWarning`, as ``clapper strikes``
+    reads such a file and warns of it in its report."""
     path = os.fspath(path)
     # Opened here first so that a missing or unreadable file raises what
     # open() raises (FileNotFoundError, PermissionError), as elsewhere.
