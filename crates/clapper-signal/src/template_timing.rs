@@ -191,9 +191,13 @@ fn settle(
         return Ok(None);
     };
     for round in 0..3 {
-        let Some((a, gain)) = pairs.aligned(left, bell, (t * m.rate).round() as i64)? else {
+        let Some(al) = pairs.aligned(left, bell, (t * m.rate).round() as i64)? else {
             return Ok(None);
         };
+        // Moved earlier where the whole template says so (a side peak of
+        // the first 150 ms taken: `doubles::EARLIER_S`).
+        t += al.moved;
+        let (a, gain) = (al.c, al.gain);
         let later = if round < 2 {
             pairs.louder_later(bell, &a, window)
         } else {
@@ -270,12 +274,13 @@ fn retime_judging(
     }
     // Strikes the band finder missed, where the rhythm leaves room.
     for (bell, t, q) in missing(&m, &left, &matched, &mut sc)? {
-        let (Some((a, gain)), Some(Some(tm))) = (
+        let (Some(al), Some(Some(tm))) = (
             pairs.aligned(&left, bell, (t * m.rate).round() as i64)?,
             m.bells.get(bell - 1),
         ) else {
             continue;
         };
+        let (t, a, gain) = (t + al.moved, al.c, al.gain);
         m.subtract(&mut left, tm, t, gain);
         judged.push((heard.strikes.len(), (bell, a)));
         heard.strikes.push(HeardStrike {
