@@ -18,8 +18,10 @@ pub struct LearnedNominal {
     pub bell: usize,
     /// Its nominal (Hz).
     pub nominal_hz: f64,
-    /// How sure (0 to 1): its `support`; 0 for a note of the ring
-    /// guessed, no bell heard there.
+    /// How sure (0 to 1): its `support`, less where a step to a
+    /// neighbouring nominal is no whole number of semitones, and no surer
+    /// than the set where that is doubtful (below 0.5); 0 for a note of
+    /// the ring guessed, no bell heard there.
     pub confidence: f64,
     /// The onsets (strikes heard rising) its nominal rose most at.
     pub onsets: usize,
@@ -36,8 +38,10 @@ pub struct LearnedNominal {
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct LearnedSet {
     /// How sure (0 to 1): its bells heard's mean confidence times their
-    /// share, at most 0.4 with a note guessed, less where the onsets'
-    /// rhythm says another number of bells ring; below 0.5 warned of.
+    /// share, at most 0.4 with a note guessed or fewer bells learned than
+    /// asked, less where the onsets' rhythm (of the bells heard well) says
+    /// another number of bells ring or two neighbouring nominals step by
+    /// no whole number of semitones; below 0.5 warned of.
     pub confidence: f64,
     /// Bells heard (learned from their strikes, not guessed).
     pub heard: usize,

@@ -15,7 +15,10 @@ use super::band::decimate;
 use super::learn_gaps::{ringing, unheard_notes, Heard, IN_TUNE};
 use super::learn_pick::{apart, mean_rise};
 use super::learn_scale::{octave_fits, octaves_into_ring, ring_octaves, OCTAVES};
-use super::learn_sure::{bell_sure, doubt_of_set, learned_set_sure, octave_share, sounds, warnings_of, DOUBTFUL};
+use super::learn_sure::{
+    bell_sure, bells_as_sure_as_their_set, doubt_of_set, learned_set_sure, octave_share, ring_size, sounds,
+    warnings_of, DOUBTFUL,
+};
 use crate::{Signal, SignalError};
 
 /// One bell learned.
@@ -23,8 +26,10 @@ use crate::{Signal, SignalError};
 pub struct LearnedBell {
     /// Its nominal (Hz).
     pub nominal_hz: f64,
-    /// How sure (0 to 1): its `support` (`learn_sure`); 0 for a note of
-    /// the ring guessed, no bell heard there.
+    /// How sure (0 to 1): its `support` (`learn_sure`), less where a step
+    /// to a neighbour is no whole number of semitones, no surer than the
+    /// set where that is doubtful; 0 for a note of the ring guessed, no
+    /// bell heard there.
     pub confidence: f64,
     /// The onsets its nominal rose most at.
     pub onsets: usize,
@@ -44,8 +49,9 @@ pub struct Learned {
     /// Onsets heard in the recording.
     pub onsets: usize,
     /// How sure the set is (0 to 1): its bells heard's mean confidence
-    /// times their share, doubtful with a note guessed, less where the
-    /// onsets' rhythm says another number of bells ring.
+    /// times their share, doubtful with a note guessed or fewer bells
+    /// learned than asked, less where the onsets' rhythm says another
+    /// number of bells ring or two neighbours step oddly (`learn_sure`).
     pub confidence: f64,
     /// How many bells ring, from the onsets' rhythm (`None` if it says nothing).
     pub ringing: Option<f64>,
@@ -241,7 +247,7 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
     let groups = group_notes(notes, df);
     let heard = bells_of(&groups, &rises, k_lo, df, bells);
     let (ring, few) = ring_of(heard, &onsets, &rises, k_lo, df, bells);
-    let rhythm = ringing(&ring, &onsets);
+    let rhythm = ring_size(&ring, &onsets);
     // A bell's share against the typical learned bell's: every bell of a
     // ring strikes as often as the others (onsets of the room, the noise
     // and strikes heard at another partial are no bell's).
@@ -256,12 +262,13 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
         .map(|(b, f)| learned_bell(b, *f, typical, &rises, &onsets, &frames, &low))
         .collect();
     learned.sort_by(|a, b| b.nominal_hz.total_cmp(&a.nominal_hz));
-    let learned = one_per_nominal(learned);
-    let confidence = learned_set_sure(&learned, rhythm);
+    let mut learned = one_per_nominal(learned);
+    let confidence = learned_set_sure(&learned, rhythm, bells, few);
     let mut warnings = warnings_of(&learned, bells, few);
     if confidence < DOUBTFUL && !learned.is_empty() {
         warnings.push(doubt_of_set(&learned, confidence, rhythm));
     }
+    bells_as_sure_as_their_set(&mut learned, confidence);
     Ok(Learned {
         bells: learned,
         onsets: onsets.len(),
