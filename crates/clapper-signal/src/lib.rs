@@ -27,15 +27,18 @@ pub mod template_timing;
 pub mod tower;
 pub mod tower_effects;
 
-/// The median of `v` (the upper of the middle two), 0 for none.
+/// The median of `v` (the upper of the middle two), 0 for none: the
+/// element the sorted order puts at the middle, found by selection (in
+/// linear time: the double judge takes hundreds of thousands of medians
+/// on ten minutes; the same value as sorting, `total_cmp` being a total
+/// order).
 pub(crate) fn median(v: &[f64]) -> f64 {
     let mut s = v.to_vec();
-    s.sort_by(f64::total_cmp);
     if s.is_empty() {
-        0.0
-    } else {
-        s[s.len() / 2]
+        return 0.0;
     }
+    let k = s.len() / 2;
+    *s.select_nth_unstable_by(k, f64::total_cmp).1
 }
 
 /// A signal: samples at a fixed rate.

@@ -284,7 +284,7 @@ pub(super) fn bands(sig: &Signal, specs: &[(f64, f64, usize)]) -> Vec<Band> {
 }
 
 pub(super) fn diff(a: (f64, f64), b: (f64, f64)) -> f64 {
-    (a.0 - b.0).hypot(a.1 - b.1)
+    super::stats::hypot(a.0 - b.0, a.1 - b.1)
 }
 
 /// Each bell's bands as (frequency Hz, weight, box length in samples).

@@ -29,7 +29,7 @@ pub(super) fn mean_spectrum(sig: &Signal) -> (f64, Vec<f64>) {
         }
         if fft.process(&mut buf, &mut spec).is_ok() {
             for (a, c) in acc.iter_mut().zip(&spec) {
-                *a += c.norm();
+                *a += super::stats::hypot(c.re, c.im);
             }
         }
     }

@@ -262,8 +262,16 @@ fn whole(
     ncc: &mut Vec<f64>,
 ) -> Result<Vec<bool>, SignalError> {
     let span = m.span();
-    proj.resize(chunks.len(), 0.0);
-    ncc.resize(chunks.len(), 0.0);
+    for v in [&mut *proj, &mut *ncc] {
+        if v.is_empty() {
+            // Zeroed by the allocator (the system's zero pages, touched
+            // only where a stretch is made), not written over: a
+            // window's match is made in few of its stretches.
+            *v = vec![0.0; chunks.len()];
+        } else {
+            v.resize(chunks.len(), 0.0);
+        }
+    }
     let norm = t.energy().sqrt();
     let mut made = vec![false; chunks.spectra.len()];
     for (c, made) in made.iter_mut().enumerate() {

@@ -218,7 +218,9 @@ impl Matcher {
 
     /// `sc.out[k]`: the recording `x` from sample `start + k` against
     /// template `t` (its sound from `start + k + pre`), for k up to
-    /// [`Self::span`]; raw (not normalised).
+    /// [`Self::span`]; raw (not normalised). (The match is normalised
+    /// by [`Self::normalised`]; this is its test's.)
+    #[cfg(test)]
     pub fn correlate(&self, x: &[f64], t: &Template, start: i64, sc: &mut Scratch) -> Result<(), SignalError> {
         self.spectrum(x, start, sc)?;
         self.times_template(t, sc)
@@ -227,10 +229,17 @@ impl Matcher {
     /// `sc.spec`: the spectrum of the recording `x` from sample `start`,
     /// as [`Self::correlate`] takes it.
     pub fn spectrum(&self, x: &[f64], start: i64, sc: &mut Scratch) -> Result<(), SignalError> {
+        self.spectrum_read(x, start, sc).map(|_| ())
+    }
+
+    /// [`Self::spectrum`], and whether it read the recording: `sc.levels`
+    /// then holds its samples from `start` as recorded (a transform's
+    /// length of them), not where the spectrum was kept.
+    fn spectrum_read(&self, x: &[f64], start: i64, sc: &mut Scratch) -> Result<bool, SignalError> {
         let key = (x.as_ptr() as usize, x.len());
         if let Some(k) = sc.kept.as_ref().filter(|k| k.x == key && k.start == start) {
             sc.spec.copy_from_slice(&k.spec);
-            return Ok(());
+            return Ok(false);
         }
         levels(x, start, sc.buf.len(), false, &mut sc.levels);
         sc.buf.copy_from_slice(&sc.levels);
@@ -241,7 +250,7 @@ impl Matcher {
             k.start = start;
             k.spec.clone_from(&sc.spec);
         }
-        Ok(())
+        Ok(true)
     }
 
     /// [`Self::correlate`] from the recording's spectrum `spec` there
@@ -294,12 +303,17 @@ impl Matcher {
         lags: usize,
         sc: &mut Scratch,
     ) -> Result<(), SignalError> {
-        self.correlate(x, t, start, sc)?;
+        let read = self.spectrum_read(x, start, sc)?;
+        self.times_template(t, sc)?;
         let len = self.len;
         let lags = lags.min(self.span());
         // The recording's level at each sample the lags reach, found once
-        // (each was found twice, through a check of its bounds).
-        levels(x, start, lags + len + 1, t.weighted, &mut sc.levels);
+        // (each was found twice, through a check of its bounds); as
+        // recorded, those the spectrum read (`lags + len + 1` is at most
+        // the transform's length: the same numbers).
+        if t.weighted || !read {
+            levels(x, start, lags + len + 1, t.weighted, &mut sc.levels);
+        }
         let lv = &sc.levels;
         let mut e: f64 = lv[..len].iter().map(|v| v.powi(2)).sum();
         let norm = t.energy().sqrt();
@@ -436,6 +450,52 @@ mod tests {
                 "onset {onset}"
             );
             assert_ne!(x, x0);
+        }
+    }
+
+    /// The normalised match reads the levels its transform read where it
+    /// can (as recorded, the spectrum not kept): the same match, to the
+    /// bit, as with the levels found again, with the spectrum transformed
+    /// or kept, as recorded and weighted, over the recording's edges too.
+    #[test]
+    fn a_match_normalised_on_the_levels_its_transform_read_is_the_same() {
+        let rate = 8000.0;
+        let mut m = Matcher::new(rate, &[slow_bell(rate, 900.0, 0.03)]).unwrap();
+        let x: Vec<f64> = (0..30_000).map(|k| ((k * 7919) % 263) as f64 / 263.0 - 0.5).collect();
+        for weighted in [false, true] {
+            m.bells[0].as_mut().unwrap().weighted = weighted;
+            let t = m.bells[0].as_ref().unwrap();
+            let mut sc = m.scratch();
+            for (start, lags) in [(-500i64, 900usize), (0, m.span()), (4_000, 300), (29_000, 2_000)] {
+                // As it was: correlated, then the levels found anew.
+                m.correlate(&x, t, start, &mut sc).unwrap();
+                let raw = sc.out.clone();
+                let mut lv = vec![];
+                levels(&x, start, lags + m.len + 1, weighted, &mut lv);
+                let mut e: f64 = lv[..m.len].iter().map(|v| v.powi(2)).sum();
+                let norm = t.energy().sqrt();
+                let mut want = vec![];
+                for k in 0..=lags {
+                    want.push(if e > 1e-300 { raw[k] / (e.sqrt() * norm) } else { 0.0 });
+                    e = (e - lv[k] * lv[k] + lv[k + m.len] * lv[k + m.len]).max(0.0);
+                }
+                m.normalised(&x, t, start, lags, &mut sc).unwrap();
+                let fresh = sc.out[..=lags].to_vec();
+                let kept = sc
+                    .keeping(&x, |sc| {
+                        m.normalised(&x, t, start, lags, sc)?;
+                        m.normalised(&x, t, start, lags, sc)?;
+                        Ok(sc.out[..=lags].to_vec())
+                    })
+                    .unwrap();
+                for got in [&fresh, &kept] {
+                    assert!(
+                        got.iter().zip(&want).all(|(a, b)| a.to_bits() == b.to_bits()),
+                        "weighted {weighted}, from {start}"
+                    );
+                }
+                assert!(want.iter().any(|v| *v != 0.0));
+            }
         }
     }
 
