@@ -103,10 +103,13 @@ pub(super) fn typical_peak(v: &[f64], sep: usize) -> f64 {
         .unwrap_or(1.0)
 }
 
-/// `x.hypot(y)` as glibc 2.35's `hypot` finds it (without fused
-/// multiply-adds, as x86-64's libm is built), to the bit, inlined: the
-/// band finder takes one at every sample of every band (4.6 % of the
-/// ten minutes' time was the calls). Where one of `x` and `y` is not
+/// `x.hypot(y)` by C. F. Borges's corrected square root ("An Improved
+/// Algorithm for hypot(a, b)", ACM TOMS 47(1), 2021, algorithm 1014), the
+/// method glibc 2.35 and later use, so that on such a system it is the
+/// library's `hypot` to the bit (without fused multiply-adds, as x86-64's
+/// libm is built), inlined: the band finder takes one at every sample of
+/// every band (4.6 % of the ten minutes' time was the calls), and on other
+/// systems the strikes no longer depend on their libm. Where one of `x` and `y` is not
 /// finite, is past 2^511 or under 2^-459 (none of a recording's levels),
 /// `f64::hypot` itself.
 #[inline]
@@ -122,7 +125,7 @@ pub(super) fn hypot(x: f64, y: f64) -> f64 {
     if ay <= ax * EPS {
         return ax + ay;
     }
-    // The root corrected by its residual (glibc's `kernel`).
+    // The root corrected by its residual (Borges's correction).
     let h = (ax * ax + ay * ay).sqrt();
     let (t1, t2) = if h <= 2.0 * ay {
         let d = h - ay;
