@@ -146,6 +146,13 @@ pub struct StrikesSummary {
     /// highest partial at least 0.3 of its strongest: `RisePartial`). Under 0.5 it does not
     /// (noise, a steady tone: a warning says so); none without strikes.
     pub plausibility: Option<f64>,
+    /// The strikes do not keep the rhythm of rows of the bells given (a
+    /// warning says why): the rows, places and odd-struckness mean nothing,
+    /// and each bell's odd-struckness is left out.
+    pub rows_doubted: bool,
+    /// Why a hand or back column is empty or of one strike, in one line
+    /// (`ringer::columns_why`); none when every column is measured.
+    pub columns_why: Option<String>,
     /// What could not be heard or placed, in words.
     pub warnings: Vec<String>,
 }
@@ -459,25 +466,8 @@ impl StrikesReport {
         warnings.extend(doubt::ring_size_warning(&timed, bells, doubt::given_as(templates)));
         let one_stroke = one_stroke::one_stroke_warnings(&timed, bells);
         warnings.extend(one_stroke.iter().map(|(_, w)| w.clone()));
-        let strikes: Vec<StrikeReport> = heard
-            .strikes
-            .iter()
-            .zip(&r.placed)
-            .map(|(s, p)| StrikeReport {
-                bell: s.bell,
-                t_s: s.t,
-                stroke: p.hand.map(|h| if h { "hand" } else { "back" }),
-                row: p.row,
-                place: p.place,
-                error_ms: p.error.map(|e| e * 1e3),
-                double: s.double.map(|d| DoubleReport {
-                    delay_ms: d.delay_s * 1e3,
-                    amplitude_ratio: d.amplitude_ratio,
-                    d_index: double_strike_index(d.amplitude_ratio, d.delay_s * 1e3),
-                }),
-            })
-            .collect();
-        let per_bell: Vec<BellStriking> = (1..=bells)
+        let strikes = strike_reports(heard, &r);
+        let mut per_bell: Vec<BellStriking> = (1..=bells)
             .map(|bell| bell_striking(bell, &strikes, &r, &timed))
             .collect();
         let counts: Vec<usize> = per_bell.iter().map(|b| b.strikes).collect();
@@ -491,7 +481,17 @@ impl StrikesReport {
         let errs: Vec<f64> = strikes.iter().filter_map(|s| s.error_ms).collect();
         let rms = (!errs.is_empty()).then(|| (errs.iter().map(|e| e * e).sum::<f64>() / errs.len() as f64).sqrt());
         let interval_ms = r.interval.map(|i| i * 1e3);
-        warnings.extend(doubt::misfit_warning(rms, interval_ms, bells));
+        let misfit = doubt::misfit_warning(rms, interval_ms, bells);
+        let rows_doubted = misfit.is_some();
+        warnings.extend(misfit);
+        if rows_doubted {
+            // Each bell's odd-struckness is read against those rows: not
+            // printed as if it meant something (tester16 fault 1).
+            for b in &mut per_bell {
+                (b.odd_struck_ms, b.odd_struck_se_ms) = (None, None);
+            }
+        }
+        let columns_why = ringer::columns_why(&strikes, &per_bell, &r.one_stroke);
         let summary = StrikesSummary {
             duration_s,
             strikes: strikes.len(),
@@ -505,6 +505,8 @@ impl StrikesReport {
             strokes_known: r.strokes_known,
             method: method::method_of(&strikes, r.rows, bells),
             plausibility: None,
+            rows_doubted,
+            columns_why,
             warnings,
         };
         StrikesReport {
@@ -550,6 +552,7 @@ impl StrikesReport {
             let odd = match (b.odd_struck_ms, b.odd_struck_se_ms) {
                 (Some(o), Some(se)) => format!("{o:+.1} ± {se:.1}"),
                 (Some(o), None) => format!("{o:+.1} (no se)"),
+                _ if s.rows_doubted && b.strikes > 0 => "- (rows doubted)".into(),
                 _ => "-".into(),
             };
             let _ = writeln!(
@@ -563,6 +566,13 @@ impl StrikesReport {
                 format!("{} ({:.0} %)", b.double_strikes, 100.0 * b.double_rate),
                 opt(b.mean_d, 1)
             );
+        }
+        if let Some(why) = &s.columns_why {
+            let _ = writeln!(o, "{why}");
+        }
+        if self.per_bell.iter().any(|b| b.mean_d.is_some()) {
+            o.push_str(MEAN_D_WORDS);
+            o.push('\n');
         }
         if let Some(l) = &self.learned_nominals_hz {
             let list: Vec<String> = l
@@ -615,9 +625,12 @@ impl StrikesReport {
             &|b| (b.learned_from > 0).then_some(b.lateness_ms),
             "not learned, nothing taken off",
         );
+        // The bell's strikes were found (their count is in the table):
+        // only matching them to its template failed (tester16 fault 6).
         let moved = dash(
             &|b| b.matched_ms,
-            "no strike of it could be matched: timed as heard, less its lateness if learned",
+            "its strikes were found, but none matched its template well enough to be moved: timed as heard, less \
+             its lateness if learned",
         );
         if let Some(c) = &t.choice {
             let _ = writeln!(o, "{}", c.line());
@@ -627,12 +640,12 @@ impl StrikesReport {
         } else if t.source == "recording" {
             writeln!(
                 o,
-                "timing from the recording's own clean strikes: the band finder hears each bell late by (ms) {late}, against the start of its average strike's sound; each strike, lined up on that average, moved by (median ms) {moved}"
+                "timing from the recording's own clean strikes: the band finder hears each bell late by (ms) {late}, against the start of its average strike's sound; each strike, lined up on that average, moved by (median ms: the band finder's lateness in this recording, taken off) {moved}"
             )
         } else {
             writeln!(
                 o,
-                "timing from the {}: the band finder hears each bell late by (ms) {late}, against the start of its template's sound (measured on a ring of the templates); each strike, matched to its template, moved by (median ms) {moved}",
+                "timing from the {}: the band finder hears each bell late by (ms) {late}, against the start of its template's sound (measured on a ring of the templates); each strike, matched to its template, moved by (median ms: the band finder's lateness in this recording, taken off) {moved}",
                 t.source
             )
         };
@@ -747,6 +760,13 @@ fn recording_timing(c: &SelfCalibration, matched: &[Option<f64>], warnings: &mut
     }
 }
 
+/// The table's "mean D" in words, printed under it where a bell has
+/// doubles (tester16 fault 6: no unit, no meaning).
+const MEAN_D_WORDS: &str =
+    "mean D: the double strike index of the bell's doubles heard, max(0, A - 0.2) x max(0, dt - 22) / \
+     2.25 with A the second strike's amplitude over the first's and dt its delay (ms), as docs/model.md (33): no unit; \
+     0 where the second strike is too weak or too soon to count, the larger the plainer the double";
+
 /// One stroke's striking from its place errors `v` (ms): one strike has
 /// no spread (none, not 0: tester15 read "± 0.0" for every bell).
 fn stroke_stats(v: &[f64]) -> StrokeStats {
@@ -756,6 +776,28 @@ fn stroke_stats(v: &[f64]) -> StrokeStats {
         mean_error_ms: ms.map(|x| x.0),
         spread_ms: ms.filter(|_| v.len() > 1).map(|x| x.1),
     }
+}
+
+/// Each strike of `heard` as the report gives it, placed by the rhythm `r`.
+fn strike_reports(heard: &Heard, r: &Rhythm) -> Vec<StrikeReport> {
+    heard
+        .strikes
+        .iter()
+        .zip(&r.placed)
+        .map(|(s, p)| StrikeReport {
+            bell: s.bell,
+            t_s: s.t,
+            stroke: p.hand.map(|h| if h { "hand" } else { "back" }),
+            row: p.row,
+            place: p.place,
+            error_ms: p.error.map(|e| e * 1e3),
+            double: s.double.map(|d| DoubleReport {
+                delay_ms: d.delay_s * 1e3,
+                amplitude_ratio: d.amplitude_ratio,
+                d_index: double_strike_index(d.amplitude_ratio, d.delay_s * 1e3),
+            }),
+        })
+        .collect()
 }
 
 /// Bell `bell`'s striking from the report's `strikes` and the rhythm `r`

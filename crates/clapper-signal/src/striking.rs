@@ -13,7 +13,10 @@
 //! moves its ideal, nor lends itself to the others'.
 
 mod even;
+mod one_stroke;
 mod rows;
+
+pub use one_stroke::{heard_at_one_stroke, typical_strikes, TWO_ROWS};
 
 /// A strike to place: bell (from 1) and onset (s).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -55,25 +58,38 @@ pub struct Rhythm {
     /// The strokes are known from the rhythm: the handstroke gap stood out
     /// from the striking errors.
     pub strokes_known: bool,
+    /// Bells (from 1) heard at one stroke only ([`heard_at_one_stroke`]):
+    /// placed where heard, not asked for in the rows of their other stroke.
+    pub one_stroke: Vec<usize>,
 }
 
 /// Place `strikes` (any order) of a ring of `bells` bells.
 pub fn rhythm(strikes: &[Timed], bells: usize) -> Rhythm {
     let mut order: Vec<usize> = (0..strikes.len()).collect();
     order.sort_by(|&a, &b| strikes[a].t.total_cmp(&strikes[b].t));
-    let (mut hand, votes_strength, votes_total) = strokes_by_bell(strikes, bells, &order);
+    let one_stroke = heard_at_one_stroke(strikes, bells);
+    let (mut hand, votes_strength, votes_total) = strokes_by_bell(strikes, bells, &order, &one_stroke);
     fill_strokes(strikes, bells, &order, &mut hand);
     // Known when the alternating sums stood out: the gap is more than a
     // tenth of the interval on the strikes' average.
     let strokes_known = votes_total > 0.0 && votes_strength / votes_total > 0.02;
-    let heard = bells_heard(strikes, bells);
-    let (row_of, rows) = split_rows(strikes, &order, &mut hand, bells, &heard, strokes_known);
+    let heard = Heard::new(strikes, bells, &one_stroke);
+    let votes = hand.clone();
+    let (mut row_of, mut rows) = split_rows(strikes, &order, &mut hand, bells, &heard, strokes_known);
+    if !one_stroke.is_empty() {
+        // A bell heard at one stroke only strikes at the stroke most of its
+        // strikes' rows have: each of its strikes votes so, and the rows are
+        // split again (its strike at the end of one row, a row short of it
+        // after, could as well lead that row: tester15 A6_quiet60).
+        hand = votes_at_one_stroke(strikes, &one_stroke, &hand, votes);
+        (row_of, rows) = split_rows(strikes, &order, &mut hand, bells, &heard, strokes_known);
+    }
     let rp = place_rows(strikes, &rows, bells, &heard, &hand);
     let t: Vec<f64> = strikes.iter().map(|s| s.t).collect();
     let bell: Vec<usize> = strikes.iter().map(|s| s.bell).collect();
     let error = even::errors(&t, &bell, &rp.full_rows, bells);
     let interval = (!rp.intervals.is_empty()).then(|| rp.intervals.iter().sum::<f64>() / rp.intervals.len() as f64);
-    let handstroke_gap = interval.and_then(|iv| handstroke_gap(strikes, &rows, &hand, &rp.full, iv));
+    let handstroke_gap = interval.and_then(|iv| handstroke_gap(strikes, &rows, &hand, &rp, bells, iv));
     let placed = (0..strikes.len())
         .map(|i| Placed {
             hand: hand[i],
@@ -89,6 +105,53 @@ pub fn rhythm(strikes: &[Timed], bells: usize) -> Rhythm {
         interval,
         handstroke_gap,
         strokes_known,
+        one_stroke,
+    }
+}
+
+/// The stroke votes `votes` with each strike of a bell of `one_stroke`
+/// given the stroke most of that bell's strikes have in `hand` (ties:
+/// handstroke).
+fn votes_at_one_stroke(
+    strikes: &[Timed],
+    one_stroke: &[usize],
+    hand: &[Option<bool>],
+    mut votes: Vec<Option<bool>>,
+) -> Vec<Option<bool>> {
+    for &b in one_stroke {
+        let mine = || (0..strikes.len()).filter(move |&i| strikes[i].bell == b);
+        let at_hand = mine().filter(|&i| hand[i] == Some(true)).count();
+        let at_back = mine().filter(|&i| hand[i] == Some(false)).count();
+        for i in mine() {
+            votes[i] = Some(at_hand >= at_back);
+        }
+    }
+    votes
+}
+
+/// Which bells (index from 1) hold a place in the rows.
+struct Heard {
+    /// Heard enough to hold a place in the rows (`bells_heard`).
+    any: Vec<bool>,
+    /// Of those, heard at one stroke only: a row may lack them.
+    optional: Vec<bool>,
+}
+
+impl Heard {
+    fn new(strikes: &[Timed], bells: usize, one_stroke: &[usize]) -> Heard {
+        let any = bells_heard(strikes, bells);
+        let optional = (0..any.len()).map(|b| any[b] && one_stroke.contains(&b)).collect();
+        Heard { any, optional }
+    }
+
+    /// The bells heard.
+    fn count(&self) -> usize {
+        self.any.iter().filter(|h| **h).count()
+    }
+
+    /// The bells every row holds (heard at both strokes).
+    fn required(&self) -> usize {
+        self.count() - self.optional.iter().filter(|h| **h).count()
     }
 }
 
@@ -119,13 +182,13 @@ fn split_rows(
     order: &[usize],
     hand: &mut [Option<bool>],
     bells: usize,
-    heard: &[bool],
+    heard: &Heard,
     strokes_known: bool,
 ) -> (Vec<Option<usize>>, Vec<Vec<usize>>) {
     let t: Vec<f64> = order.iter().map(|&i| strikes[i].t).collect();
     let bell: Vec<usize> = order.iter().map(|&i| strikes[i].bell).collect();
     let vote: Vec<Option<bool>> = order.iter().map(|&i| hand[i]).collect();
-    let n = heard.iter().filter(|h| **h).count().max(1);
+    let n = heard.count().max(1);
     let interval = ring_room(strikes).map_or(0.0, |r| r.interval_s);
     // The gap the bells' own votes found, where they found one.
     let (_, runs) = rows_of(order, hand, bells);
@@ -133,7 +196,7 @@ fn split_rows(
     let gap = match first.intervals.is_empty() {
         false if strokes_known => {
             let iv = first.intervals.iter().sum::<f64>() / first.intervals.len() as f64;
-            handstroke_gap(strikes, &runs, hand, &first.full, iv).unwrap_or(1.0)
+            handstroke_gap(strikes, &runs, hand, &first, bells, iv).unwrap_or(1.0)
         }
         true if strokes_known => 1.0,
         _ => 0.0,
@@ -145,6 +208,7 @@ fn split_rows(
     };
     let costs = rows::Costs {
         bells: n,
+        optional: n - heard.required().min(n),
         places: bells,
         interval,
         gap: gap.clamp(0.0, 2.0),
@@ -165,11 +229,18 @@ fn split_rows(
 /// Step 1: each bell's strokes, in runs of its strikes without a missing
 /// or extra one, from the alternating sum of its intervals. Returns the
 /// strokes (per strike, as given) and the votes' strength and total.
-fn strokes_by_bell(strikes: &[Timed], bells: usize, order: &[usize]) -> (Vec<Option<bool>>, f64, f64) {
+fn strokes_by_bell(
+    strikes: &[Timed],
+    bells: usize,
+    order: &[usize],
+    one_stroke: &[usize],
+) -> (Vec<Option<bool>>, f64, f64) {
     let mut hand: Vec<Option<bool>> = vec![None; strikes.len()];
     let mut votes_strength = 0.0;
     let mut votes_total = 0.0;
-    for bell in 1..=bells {
+    // A bell heard at one stroke only has no alternate intervals to read:
+    // its strikes take their neighbours' stroke (`fill_strokes`).
+    for bell in (1..=bells).filter(|b| !one_stroke.contains(b)) {
         let mine: Vec<usize> = order.iter().copied().filter(|&i| strikes[i].bell == bell).collect();
         if mine.len() < 3 {
             continue;
@@ -273,34 +344,37 @@ struct RowPlaces {
     intervals: Vec<f64>,
     /// Whether each row holds every bell once.
     full: Vec<bool>,
+    /// Some bell heard at one stroke only stands out of the rows of its
+    /// other stroke.
+    one_stroke_rows: bool,
 }
 
 /// Step 4: each strike's place in the rows holding every bell heard once
 /// (their errors are found together after, `even`). A row with a bell twice (a false strike) is placed without
 /// the one of the two its rhythm fits worse; one bell never heard is
 /// placed around (`slots`).
-fn place_rows(
-    strikes: &[Timed],
-    rows: &[Vec<usize>],
-    bells: usize,
-    heard: &[bool],
-    hand: &[Option<bool>],
-) -> RowPlaces {
-    let n = heard.iter().filter(|h| **h).count();
+fn place_rows(strikes: &[Timed], rows: &[Vec<usize>], bells: usize, heard: &Heard, hand: &[Option<bool>]) -> RowPlaces {
+    let n = heard.count();
     let mut out = RowPlaces {
         place: vec![None; strikes.len()],
         full_rows: vec![],
         intervals: vec![],
         full: vec![false; rows.len()],
+        one_stroke_rows: heard.required() < n,
     };
     if n < 3 || n + 1 < bells {
         return out;
     }
     let mut missing_at = None;
     for (r, members) in rows.iter().enumerate() {
-        let Some(members) = one_each(strikes, members, heard, n) else {
+        let Some(members) = one_each(strikes, members, heard) else {
             continue;
         };
+        // A row lacking a bell heard at one stroke only and a bell never
+        // heard has two places empty: `slots` places around one.
+        if members.len() + 1 < bells {
+            continue;
+        }
         let slots = slots(strikes, &members, bells, &mut missing_at);
         out.full[r] = true;
         let pts: Vec<(f64, f64)> = members
@@ -323,23 +397,26 @@ fn place_rows(
     out
 }
 
-/// The row's strikes (time order) holding each of the `n` bells heard
-/// once: as they are, or with one strike left out (a bell's second, or a
-/// bell's not heard) where that leaves such a row, the one whose rhythm
-/// the rest fit best; `None` otherwise.
-fn one_each(strikes: &[Timed], members: &[usize], heard: &[bool], n: usize) -> Option<Vec<usize>> {
+/// The row's strikes (time order) holding each bell heard once (a bell
+/// heard at one stroke only, at most once): as they are, or with one
+/// strike left out (a bell's second, or a bell's not heard) where that
+/// leaves such a row, the one whose rhythm the rest fit best; `None`
+/// otherwise.
+fn one_each(strikes: &[Timed], members: &[usize], heard: &Heard) -> Option<Vec<usize>> {
+    let required = heard.required();
     let ok = |m: &[usize]| {
-        let mut seen = vec![false; heard.len()];
-        m.len() == n
-            && m.iter().all(|&i| {
-                let b = strikes[i].bell;
-                heard.get(b) == Some(&true) && !std::mem::replace(&mut seen[b], true)
-            })
+        let mut seen = vec![false; heard.any.len()];
+        let distinct = m.iter().all(|&i| {
+            let b = strikes[i].bell;
+            heard.any.get(b) == Some(&true) && !std::mem::replace(&mut seen[b], true)
+        });
+        let optional = m.iter().filter(|&&i| heard.optional[strikes[i].bell]).count();
+        distinct && m.len() == required + optional
     };
     if ok(members) {
         return Some(members.to_vec());
     }
-    if members.len() != n + 1 {
+    if !(required + 1..=heard.count() + 1).contains(&members.len()) {
         return None;
     }
     let mut best: Option<(f64, Vec<usize>)> = None;
@@ -393,23 +470,44 @@ fn slots(strikes: &[Timed], members: &[usize], bells: usize, missing_at: &mut Op
 }
 
 /// The handstroke gap (intervals of `iv` s): the mean over hand rows after
-/// full back rows, both full.
+/// full back rows, both full, from the back row's last strike placed to the
+/// hand row's first, less the places between them (a row of `bells` may
+/// lack a bell never heard, or one heard at the other stroke only: its
+/// empty place is no gap).
 fn handstroke_gap(
     strikes: &[Timed],
     rows: &[Vec<usize>],
     hand: &[Option<bool>],
-    full: &[bool],
+    rp: &RowPlaces,
+    bells: usize,
     iv: f64,
 ) -> Option<f64> {
     let mut gaps = vec![];
+    let placed = |i: &usize| rp.place[*i].map(|p| (p, *i));
     for r in 1..rows.len() {
         let (prev, this) = (&rows[r - 1], &rows[r]);
         let is_hand = this.first().and_then(|&i| hand[i]) == Some(true);
-        if is_hand && full[r] && full[r - 1] {
-            let (Some(&a), Some(&b)) = (prev.last(), this.first()) else {
+        if is_hand && rp.full[r] && rp.full[r - 1] {
+            let (Some((pa, a)), Some((pb, b))) = (
+                prev.iter().filter_map(placed).max(),
+                this.iter().filter_map(placed).min(),
+            ) else {
                 continue;
             };
-            gaps.push((strikes[b].t - strikes[a].t) / iv - 1.0);
+            // Without a bell heard at one stroke only, from the rows' ends
+            // as before: a bell never heard leaves its place a guess at the
+            // row's ends (`slots`), and its guessed places read worse
+            // (tester15 A8_quietback `--nominals`: strokes right 0.96
+            // against 0.99).
+            let (pa, pb, a, b) = match rp.one_stroke_rows {
+                true => (pa, pb, a, b),
+                false => match (prev.last(), this.first()) {
+                    (Some(&a), Some(&b)) => (bells, 1, a, b),
+                    _ => continue,
+                },
+            };
+            let places = (bells + pb).saturating_sub(pa) as f64;
+            gaps.push((strikes[b].t - strikes[a].t) / iv - places);
         }
     }
     (!gaps.is_empty()).then(|| gaps.iter().sum::<f64>() / gaps.len() as f64)
@@ -878,6 +976,37 @@ mod tests {
             );
             let odd = r.odd_struck(&timed, 3).unwrap() * 1e3;
             assert!((odd - 20.0).abs() < 3.0, "{method:?}: odd-struck {odd} ms");
+        }
+    }
+
+    /// Tester16 fault 3: one bell silent at every backstroke (a bell
+    /// heard at one stroke only). Its strikes two rows apart are not a
+    /// handstroke gap of two intervals; the other bells' rows, strokes and
+    /// odd-struckness come from the bells heard at both strokes.
+    #[test]
+    fn a_bell_silent_at_backstroke_does_not_make_the_gap() {
+        for method in [Method::Rounds, Method::PlainHunt] {
+            let truth: Vec<_> = tower_strikes(&spec(method))
+                .unwrap()
+                .into_iter()
+                .filter(|s| s.bell != 5 || s.hand)
+                .collect();
+            let timed: Vec<Timed> = truth.iter().map(|s| Timed { bell: s.bell, t: s.t }).collect();
+            let r = rhythm(&timed, 6);
+            let gap = r.handstroke_gap.unwrap_or(f64::NAN);
+            assert!((gap - 1.0).abs() < 0.1, "{method:?}: gap {gap}");
+            let right = truth
+                .iter()
+                .zip(&r.placed)
+                .filter(|(s, p)| p.hand == Some(s.hand))
+                .count();
+            assert_eq!(right, truth.len(), "{method:?}");
+            let odd = r.odd_struck(&timed, 3).unwrap() * 1e3;
+            assert!((odd - 20.0).abs() < 3.0, "{method:?}: odd-struck {odd} ms");
+            for bell in [1, 2, 4, 6] {
+                let odd = r.odd_struck(&timed, bell).unwrap() * 1e3;
+                assert!(odd.abs() < 4.0, "{method:?}: bell {bell} odd-struck {odd} ms");
+            }
         }
     }
 

@@ -4,7 +4,7 @@
 
 use clapper_signal::striking::{ring_room, Timed};
 
-use super::StrikeReport;
+use super::{BellStriking, StrikeReport};
 
 /// The share of the rows a bell's strikes may fall short of (or stand over)
 /// one a row before it is said: a tenth (three of 30 rows; a bell's
@@ -50,6 +50,52 @@ fn named(bells: &[usize]) -> String {
         1 => format!("bell {}", list[0]),
         _ => format!("bells {}", list.join(", ")),
     }
+}
+
+/// Why a hand or back column of the table holds one strike or none
+/// (tester16 fault 3: "(n = 1)" alone said nothing): a stroke's errors are
+/// measured in full rows only (every bell heard once), so the line gives
+/// how many rows of each stroke were full. Bells heard at one stroke only
+/// (`one_stroke`, warned of on their own) and bells not heard are left out;
+/// none when every other bell has two strikes or more at each stroke.
+pub(super) fn columns_why(strikes: &[StrikeReport], per_bell: &[BellStriking], one_stroke: &[usize]) -> Option<String> {
+    let short = |hand: bool| -> Vec<usize> {
+        per_bell
+            .iter()
+            .filter(|b| b.strikes > 0 && !one_stroke.contains(&b.bell))
+            .filter(|b| if hand { b.hand.n } else { b.back.n } < 2)
+            .map(|b| b.bell)
+            .collect()
+    };
+    let (hand, back) = (short(true), short(false));
+    if hand.is_empty() && back.is_empty() {
+        return None;
+    }
+    // Rows of each stroke, and those full (their strikes placed).
+    let mut rows: std::collections::BTreeMap<usize, (bool, bool)> = std::collections::BTreeMap::new();
+    for s in strikes {
+        if let (Some(r), Some(k)) = (s.row, s.stroke) {
+            let e = rows.entry(r).or_insert((k == "hand", false));
+            e.1 |= s.place.is_some();
+        }
+    }
+    let of = |hand: bool| {
+        let mine = rows.values().filter(|v| v.0 == hand);
+        (mine.clone().filter(|v| v.1).count(), mine.count())
+    };
+    let mut parts = vec![];
+    for (stroke, bells, (full, all)) in [("hand", &hand, of(true)), ("back", &back, of(false))] {
+        if !bells.is_empty() {
+            parts.push(format!(
+                "{} at {stroke}: {full} of the {all} {stroke}stroke rows held every bell once",
+                named(bells)
+            ));
+        }
+    }
+    Some(format!(
+        "columns of one strike or none: {} (a stroke's errors, and so the odd-struckness, are measured in such rows only)",
+        parts.join("; ")
+    ))
 }
 
 /// Warnings for bells whose strikes fall short of one in each of the

@@ -46,6 +46,8 @@ fn one_bell(hand: StrokeStats, back: StrokeStats, matched_ms: Option<f64>) -> St
             strokes_known: false,
             method: None,
             plausibility: None,
+            rows_doubted: false,
+            columns_why: None,
             warnings: vec![],
         },
     }
@@ -72,9 +74,105 @@ fn a_dash_in_the_timing_line_says_what_it_means() {
         "{text}"
     );
     assert!(
-        text.contains("moved by (median ms) 1 - (-: no strike of it could be matched"),
+        text.contains("1 - (-: its strikes were found, but none matched its template"),
         "{text}"
     );
     let text = one_bell(s, s, Some(-3.0)).text("r");
-    assert!(text.contains("moved by (median ms) 1 -3.0\n"), "{text}");
+    assert!(text.contains("taken off) 1 -3.0\n"), "{text}");
+}
+
+/// Rounds of six, 0.25 s apart with a handstroke gap, 40 rows; `keep` says
+/// which strikes (row, bell) are heard; `late` adds to each handstroke of
+/// a bell (s); `jitter` spreads every strike (s, from a fixed sequence).
+fn rounds_heard(
+    bells: usize,
+    keep: &dyn Fn(usize, usize) -> bool,
+    late: &dyn Fn(usize) -> f64,
+    jitter: f64,
+) -> clapper_signal::strikes::Heard {
+    let mut strikes = vec![];
+    let mut seed = 7u64;
+    for row in 0..40 {
+        let start = 1.0 + row as f64 * bells as f64 * 0.25 + (row / 2) as f64 * 0.25;
+        for bell in 1..=bells {
+            seed = seed.wrapping_mul(6364136223846793005).wrapping_add(1442695040888963407);
+            let u = (seed >> 33) as f64 / (1u64 << 31) as f64 - 0.5;
+            if keep(row, bell) {
+                let t = start + 0.25 * (bell - 1) as f64 + if row % 2 == 0 { late(bell) } else { 0.0 };
+                strikes.push(clapper_signal::strikes::HeardStrike {
+                    bell,
+                    t: t + jitter * u,
+                    strength: 1.0,
+                    double: None,
+                });
+            }
+        }
+    }
+    clapper_signal::strikes::Heard {
+        strikes,
+        warnings: vec![],
+    }
+}
+
+/// Tester16 fault 3: bell 5 silent at every backstroke read as a
+/// handstroke gap of two intervals, every backstroke column "(n = 1)" and
+/// every odd-struckness "(no se)". The others' columns are measured, and
+/// bell 3's 20 ms odd-struckness read.
+#[test]
+fn a_bell_silent_at_backstroke_leaves_the_others_columns_measured() {
+    let heard = rounds_heard(
+        6,
+        &|row, bell| bell != 5 || row % 2 == 0,
+        &|b| if b == 3 { 0.02 } else { 0.0 },
+        0.0,
+    );
+    let r = StrikesReport::of(&heard, 6, 130.0, vec![], None, false);
+    let gap = r.summary.handstroke_gap_intervals.unwrap_or(f64::NAN);
+    assert!((gap - 1.0).abs() < 0.05, "gap {gap}");
+    for b in r.per_bell.iter().filter(|b| b.bell != 5) {
+        assert!(b.hand.n >= 19 && b.back.n >= 19, "{b:?}");
+        let want = if b.bell == 3 { 20.0 } else { 0.0 };
+        assert!((b.odd_struck_ms.unwrap() - want).abs() < 1.0, "{b:?}");
+    }
+    assert_eq!(r.summary.columns_why, None);
+    let text = r.text("r");
+    assert!(!text.contains("(n = 1)") && !text.contains("(no se)"), "{text}");
+}
+
+/// Two bells silent at backstroke leave no backstroke row full: the
+/// others' back columns are empty, and one line says why.
+#[test]
+fn an_empty_column_says_why() {
+    let heard = rounds_heard(6, &|row, bell| (bell != 5 && bell != 2) || row % 2 == 0, &|_| 0.0, 0.0);
+    let r = StrikesReport::of(&heard, 6, 130.0, vec![], None, false);
+    let text = r.text("r");
+    assert!(
+        text.contains("bells 1, 3, 4, 6 at back: 0 of the 20 backstroke rows held every bell once"),
+        "{text}"
+    );
+}
+
+/// Tester16 fault 1: where the strikes do not keep the rhythm of rows, the
+/// report says the odd-struckness means nothing, and prints none per bell.
+#[test]
+fn odd_struckness_is_not_printed_where_the_rows_mean_nothing() {
+    let heard = rounds_heard(8, &|_, _| true, &|_| 0.0, 0.3);
+    let r = StrikesReport::of(&heard, 8, 130.0, vec![], None, false);
+    assert!(r.summary.rows_doubted, "{}", r.text("r"));
+    assert!(r.per_bell.iter().all(|b| b.odd_struck_ms.is_none()));
+    let text = r.text("r");
+    assert!(text.contains("- (rows doubted)"), "{text}");
+    assert!(text.contains("odd-struckness below mean nothing"), "{text}");
+}
+
+/// Tester16 fault 6: the table's "mean D" is told under it.
+#[test]
+fn mean_d_is_told() {
+    let s = stroke_stats(&[1.0, 2.0]);
+    let mut r = one_bell(s, s, Some(-3.0));
+    assert!(!r.text("r").contains("mean D: the double strike index"));
+    r.per_bell[0].mean_d = Some(4.2);
+    let text = r.text("r");
+    assert!(text.contains("mean D: the double strike index"), "{text}");
+    assert!(text.contains("no unit"), "{text}");
 }

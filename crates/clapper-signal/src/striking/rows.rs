@@ -30,6 +30,8 @@ pub(super) struct Sequence<'a> {
 pub(super) struct Costs {
     /// Strikes per row: the bells heard.
     pub bells: usize,
+    /// Of those, how many a row may lack: bells heard at one stroke only.
+    pub optional: usize,
     /// Places per row: the bells listened for (a bell never heard leaves
     /// its place empty in every row).
     pub places: usize,
@@ -169,7 +171,7 @@ fn row_cost(seq: &Sequence, c: &Costs, interval: f64, i: usize, end: usize, hand
     // A row cut by the recording's start or end costs as a row short of
     // strikes does: it is one whatever the split, and a discount there let
     // a false strike before the first row stand as a row of its own.
-    let (lo, hi) = (c.bells, c.places.max(c.bells));
+    let (lo, hi) = (c.bells - c.optional.min(c.bells), c.places.max(c.bells));
     let size = SIZE * (lo.saturating_sub(spans) + spans.saturating_sub(hi) + holes.saturating_sub(hi - lo)) as f64;
     let mut seen = [0u64; 4];
     let mut twice = 0;
@@ -221,6 +223,7 @@ mod tests {
     fn split_every(t: &[f64], bell: &[usize], vote: &[Option<bool>], bells: usize) -> Vec<Row> {
         let c = Costs {
             bells,
+            optional: 0,
             places: bells,
             interval: 0.2,
             gap: 1.0,
