@@ -347,7 +347,6 @@ fn in_the_rings_rhythm(
     let Some(period) = ring_period(heard, &gaps) else {
         return firsts;
     };
-    one_stroke_heard_at_both(heard, &mut firsts, period, bells, opts);
     let mut others: Vec<f64> = firsts.iter().flatten().map(|x| x.0).collect();
     others.sort_by(f64::total_cmp);
     let place = period / (bells as f64 + 0.5);
@@ -370,39 +369,6 @@ fn in_the_rings_rhythm(
         }
     }
     firsts
-}
-
-/// Each bell whose strikes (`firsts`, six or more) keep two rows apart
-/// (their median interval [`ONE_STROKE_RATIO`] times the ring's
-/// `period`, s) heard again with its quieter strokes looked for
-/// ([`BellHearing::firsts_both_strokes`]): a bell 6-12 dB quieter at one
-/// stroke has its quiet strokes below the split between strikes and the
-/// rest. With templates they are looked for at every bell; with the
-/// bells' nominals a recorded bell's sound swells again about a second
-/// after its strike (a bump a row after it in rounds), so only where the
-/// ring's rhythm says the bell is heard at one stroke.
-fn one_stroke_heard_at_both(
-    heard: &[BellHearing],
-    firsts: &mut [Vec<(f64, f64)>],
-    period: f64,
-    bells: usize,
-    opts: &StrikeOptions,
-) {
-    if opts.quiet_strokes {
-        return;
-    }
-    for (h, f) in heard.iter().zip(firsts.iter_mut()) {
-        if f.len() < 6 {
-            continue;
-        }
-        let Some(gap) = median(f.windows(2).map(|w| w[1].0 - w[0].0).collect()) else {
-            continue;
-        };
-        let r = gap / period;
-        if r >= ONE_STROKE_RATIO.0 && r <= ONE_STROKE_RATIO.1 {
-            *f = h.firsts_both_strokes(opts, bells);
-        }
-    }
 }
 
 /// How many times the ring's period a bell heard at one stroke only

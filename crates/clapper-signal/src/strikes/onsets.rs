@@ -93,18 +93,6 @@ impl BellHearing {
 
     /// The strikes: (onset s, strength).
     pub(super) fn firsts(&self, opts: &StrikeOptions, bells: usize) -> Vec<(f64, f64)> {
-        self.firsts_at(opts, bells, opts.quiet_strokes)
-    }
-
-    /// [`Self::firsts`] with the bell's quieter strokes looked for
-    /// ([`other_stroke`]) whatever the options say: for a bell the ring's
-    /// rhythm says is heard at one stroke only (`super::find`).
-    pub(super) fn firsts_both_strokes(&self, opts: &StrikeOptions, bells: usize) -> Vec<(f64, f64)> {
-        self.firsts_at(opts, bells, true)
-    }
-
-    /// The strikes, the quieter strokes looked for where `quiet`.
-    fn firsts_at(&self, opts: &StrikeOptions, bells: usize, quiet: bool) -> Vec<(f64, f64)> {
         let heights: Vec<f64> = self.candidates.iter().map(|c| c.1).collect();
         let Some(threshold) = strike_threshold(&heights, self.floor) else {
             return vec![];
@@ -116,7 +104,7 @@ impl BellHearing {
         if self.echo_of_the_last(&kept) {
             kept.pop();
         }
-        let quiet = if quiet {
+        let quiet = if opts.quiet_strokes {
             other_stroke(&self.candidates, &kept, bells)
         } else {
             vec![]
@@ -646,28 +634,11 @@ mod tests {
     /// to two rows); they are strikes, and the other bells keep theirs.
     #[test]
     fn a_bell_quieter_at_backstroke_is_heard_at_both_strokes() {
-        assert_both_strokes_heard(true);
-    }
-
-    /// As [`a_bell_quieter_at_backstroke_is_heard_at_both_strokes`] with
-    /// the quieter strokes not looked for at every bell (`--nominals`):
-    /// the ring's rhythm says bell 5 is heard every two rows, and its
-    /// quieter strokes are looked for (tester 15's C6_quietback: 0 of 41
-    /// found before).
-    #[test]
-    fn a_bell_the_rings_rhythm_hears_at_one_stroke_is_heard_at_both() {
-        assert_both_strokes_heard(false);
-    }
-
-    /// Bell 5 of [`quiet_at_backstroke`] heard at both strokes, the other
-    /// bells at theirs; the quieter strokes looked for at every bell where
-    /// `quiet_strokes`.
-    fn assert_both_strokes_heard(quiet_strokes: bool) {
         use crate::strikes::{find_strikes, BellVoice};
         let (sig, truth, templates) = quiet_at_backstroke(16_000.0);
         let voices: Vec<BellVoice> = templates.iter().map(|t| BellVoice::from_template(t).unwrap()).collect();
         let opts = StrikeOptions {
-            quiet_strokes,
+            quiet_strokes: true,
             ..StrikeOptions::default()
         };
         let heard = find_strikes(&sig, &voices, &opts).unwrap();
