@@ -121,7 +121,19 @@ pub fn hear_strikes(sig: &Signal, voices: &[BellVoice], opts: &StrikeOptions) ->
         .collect();
     drop(low);
     let (heard, again) = without_sharers(heard, &sharers, voices.len(), opts);
-    Ok(strikes_of(heard, again, shared_bands, sharers, voices.len(), opts))
+    let loudest: Vec<f64> = voices.iter().map(loudest_partial).collect();
+    Ok(strikes_of(heard, again, shared_bands, sharers, &loudest, opts))
+}
+
+/// The frequency (Hz) of `voice`'s strongest partial (the first of the
+/// strongest).
+fn loudest_partial(voice: &BellVoice) -> f64 {
+    let top = voice.partials.iter().map(|p| p.strength).fold(0.0, f64::max);
+    voice
+        .partials
+        .iter()
+        .find(|p| p.strength == top)
+        .map_or(f64::NAN, |p| p.freq_hz)
 }
 
 /// Each bell heard only in bands it shares (`sharers[b][i]`: the bells
@@ -228,15 +240,17 @@ fn check_inputs(sig: &Signal, voices: &[BellVoice], opts: &StrikeOptions) -> Res
 
 /// Steps 2 and 3: the strikes of every bell from its hearing (`heard`,
 /// with the bands it shares), timed, in time order; their double strikes
-/// judged when asked.
+/// judged when asked. `loudest`: each bell's strongest partial (Hz), for
+/// the warning where it is not listened for.
 fn strikes_of(
     mut heard: Vec<BellHearing>,
     again: Vec<bool>,
     mut shared_bands: Vec<Vec<SharedBand>>,
     sharers: Vec<Vec<Vec<usize>>>,
-    bells: usize,
+    loudest: &[f64],
     opts: &StrikeOptions,
 ) -> Hearing {
+    let bells = loudest.len();
     explain_shared(&mut heard, &sharers, &again);
     let mut warnings = vec![];
     // 3. Per bell, the strikes: candidates standing clear of the rest,
@@ -249,8 +263,9 @@ fn strikes_of(
         .map(|(b, h)| {
             if h.bands.is_empty() {
                 warnings.push(format!(
-                    "bell {}: its strongest partial is not in the recording, or none of its partials can be told from other bells'",
-                    b + 1
+                    "bell {}: not listened for: the partial it is heard loudest at ({:.0} Hz) does not stand out in the recording as a whole (the bell not rung, far quieter than the others, not at the nominal given, or that partial learned wrong), or each of its partials lies on another bell's",
+                    b + 1,
+                    loudest.get(b).copied().unwrap_or(f64::NAN)
                 ));
                 return vec![];
             }
@@ -488,6 +503,36 @@ fn explain_shared(heard: &mut [BellHearing], sharers: &[Vec<Vec<usize>>], again:
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// A bell whose strongest partial sounds nowhere in the recording is
+    /// not listened for, and the warning says so in a ringer's words, at
+    /// that partial's frequency, with the bell not rung or its partial
+    /// learned wrong among the causes (tester 16's fault 4: it read "its
+    /// strongest partial is not in the recording", blaming the recording
+    /// for a bell rung at every handstroke).
+    #[test]
+    fn a_bell_not_listened_for_is_told_why_at_its_loudest_partial() {
+        let rate = 8000.0;
+        let samples: Vec<f64> = (0..(4.0 * rate) as usize)
+            .map(|i| {
+                (2.0 * std::f64::consts::PI * 1000.0 * i as f64 / rate).sin() * (-((i % 8000) as f64) / 2000.0).exp()
+            })
+            .collect();
+        let sig = Signal { rate, samples };
+        let voice = |f: f64| BellVoice {
+            partials: vec![crate::strikes::VoicePartial {
+                freq_hz: f,
+                strength: 1.0,
+                uncertainty: 0.004,
+            }],
+        };
+        let heard = hear_strikes(&sig, &[voice(1000.0), voice(2750.0)], &StrikeOptions::default()).unwrap();
+        let told: Vec<&String> = heard.warnings.iter().filter(|w| w.starts_with("bell 2:")).collect();
+        assert_eq!(told.len(), 1, "{:?}", heard.warnings);
+        for words in ["not listened for", "(2750 Hz)", "the bell not rung", "learned wrong"] {
+            assert!(told[0].contains(words), "{words:?} not in {:?}", told[0]);
+        }
+    }
 
     /// A bell heard at `candidates` (band sample at 1 kHz, height), with
     /// one band or none.
