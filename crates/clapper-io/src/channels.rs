@@ -236,12 +236,12 @@ pub(crate) fn decide(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
 
     /// A decaying 900 Hz strike every 0.23 s (its pitch stepping so no two
     /// neighbours are alike), `t` s into the ring.
-    fn strike(t: f64) -> f64 {
+    pub(crate) fn strike(t: f64) -> f64 {
         let k = (t / 0.23).floor();
         let dt = t - 0.23 * k;
         if k < 0.0 {

@@ -426,15 +426,7 @@ mod tests {
     fn a_late_channel_is_left_out_streamed_as_read_whole() {
         use crate::signal_file::read_recording_chosen;
         let dir = tempfile::tempdir().unwrap();
-        let strike = |t: f64| -> f64 {
-            let k = (t / 0.23).floor();
-            let dt = t - 0.23 * k;
-            if k < 0.0 {
-                0.0
-            } else {
-                (-dt / 0.3).exp() * (2.0 * std::f64::consts::PI * (900.0 + 37.0 * (k % 7.0)) * dt).sin()
-            }
-        };
+        use crate::channels::tests::strike;
         let q = |v: f64| (v * 20000.0).round() as i16;
         for late_s in [0.02, 0.0] {
             let mut data = vec![];
