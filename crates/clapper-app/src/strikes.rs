@@ -75,6 +75,13 @@ pub struct StrikeReport {
     pub double: Option<DoubleReport>,
 }
 
+/// A stroke's column of fewer strikes than this (placed in full rows) is
+/// printed with its count, not a spread: two or three strikes' standard
+/// deviation reads as a measured figure and is not one (tester17: a
+/// bell's backstroke "+8.3 ± 13.6" stood on two strikes). The JSON keeps
+/// the numbers.
+pub const FEW_IN_COLUMN: usize = 5;
+
 /// One stroke's striking for a bell.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct StrokeStats {
@@ -545,8 +552,8 @@ impl StrikesReport {
         );
         for b in &self.per_bell {
             let ms = |st: &StrokeStats| match (st.mean_error_ms, st.spread_ms) {
-                (Some(m), Some(sd)) => format!("{m:+.1} ± {sd:.1}"),
-                (Some(m), None) => format!("{m:+.1} (n = {})", st.n),
+                (Some(m), Some(sd)) if st.n >= FEW_IN_COLUMN => format!("{m:+.1} ± {sd:.1}"),
+                (Some(m), _) => format!("{m:+.1} (n = {})", st.n),
                 _ => "-".into(),
             };
             let odd = match (b.odd_struck_ms, b.odd_struck_se_ms) {

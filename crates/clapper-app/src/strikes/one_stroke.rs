@@ -17,8 +17,9 @@ pub(super) fn one_stroke_warnings(timed: &[Timed], bells: usize) -> Vec<(usize, 
             let n = timed.iter().filter(|s| s.bell == b).count();
             let w = format!(
                 "bell {b}: heard at one stroke only ({n} strikes, where a typical bell has {typical}, nearly all two \
-                 rows apart): it is silent or too quiet to be heard at its other stroke, whose strikes are not in the report; \
-                 the rows of that stroke are read without it"
+                 rows apart): at its other stroke it is silent, or too quiet to be heard apart from the other bells (a bell's own \
+                 recorded strike, --templates, hears quieter strokes); that stroke's strikes are nearly all missing from the \
+                 report, and its rows are read without the bell"
             );
             (b, w)
         })

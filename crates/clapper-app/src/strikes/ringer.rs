@@ -52,18 +52,19 @@ fn named(bells: &[usize]) -> String {
     }
 }
 
-/// Why a hand or back column of the table holds one strike or none
-/// (tester16 fault 3: "(n = 1)" alone said nothing): a stroke's errors are
+/// Why a hand or back column of the table holds fewer than
+/// [`super::FEW_IN_COLUMN`] strikes (tester16 fault 3: "(n = 1)" alone
+/// said nothing): a stroke's errors are
 /// measured in full rows only (every bell heard once), so the line gives
 /// how many rows of each stroke were full. Bells heard at one stroke only
 /// (`one_stroke`, warned of on their own) and bells not heard are left out;
-/// none when every other bell has two strikes or more at each stroke.
+/// none when every other bell has that many or more at each stroke.
 pub(super) fn columns_why(strikes: &[StrikeReport], per_bell: &[BellStriking], one_stroke: &[usize]) -> Option<String> {
     let short = |hand: bool| -> Vec<usize> {
         per_bell
             .iter()
             .filter(|b| b.strikes > 0 && !one_stroke.contains(&b.bell))
-            .filter(|b| if hand { b.hand.n } else { b.back.n } < 2)
+            .filter(|b| if hand { b.hand.n } else { b.back.n } < super::FEW_IN_COLUMN)
             .map(|b| b.bell)
             .collect()
     };
@@ -93,7 +94,8 @@ pub(super) fn columns_why(strikes: &[StrikeReport], per_bell: &[BellStriking], o
         }
     }
     Some(format!(
-        "columns of one strike or none: {} (a stroke's errors, and so the odd-struckness, are measured in such rows only)",
+        "columns of fewer than {} strikes: {} (a stroke's errors, and so the odd-struckness, are measured in such rows only)",
+        super::FEW_IN_COLUMN,
         parts.join("; ")
     ))
 }

@@ -60,7 +60,11 @@ fn a_spread_of_one_strike_is_not_printed_as_zero() {
     assert!((two.spread_ms.unwrap() - 7.07).abs() < 0.01);
     let text = one_bell(one, two, Some(-3.0)).text("r");
     assert!(text.contains("+86.8 (n = 1)"), "{text}");
-    assert!(text.contains("+85.0 ± 7.1"), "{text}");
+    assert!(text.contains("+85.0 (n = 2)"), "{text}");
+    // Five strikes make a spread worth printing.
+    let five = stroke_stats(&[80.0, 90.0, 85.0, 80.0, 90.0]);
+    let text = one_bell(five, five, Some(-3.0)).text("r");
+    assert!(text.contains("+85.0 ± 5.0"), "{text}");
     assert!(text.contains("+199.0 (no se)"), "{text}");
     assert!(!text.contains("± 0.0"), "{text}");
 }
