@@ -335,6 +335,13 @@ mod tests {
         strikes_under_ringing_at(rate, 0.15)
     }
 
+    /// The bell's own sound `u` s after its blow: the blow (`blow`, its
+    /// sample at that time) dying in 10 ms, and a 1318 Hz partial at phase
+    /// `phase` (rad) rising over 40 ms.
+    fn own_sound(u: f64, blow: f64, phase: f64) -> f64 {
+        blow * (-u / 0.01).exp() + (1.0 - (-u / 0.04).exp()) * (2.0 * std::f64::consts::PI * 1318.0 * u + phase).sin()
+    }
+
     /// Other bells ringing on at time `t` (s): partials at 523, 697 and
     /// 1046 Hz, unit amplitude, at the first three of `phases` (rad).
     fn other_bells(t: f64, phases: &[f64]) -> f64 {
@@ -370,8 +377,7 @@ mod tests {
                         let ringing = other_bells(t, &phases);
                         let own = if i >= at {
                             let u = (i - at) as f64 / rate;
-                            blow_level * blow[i] * (-u / 0.01).exp()
-                                + (1.0 - (-u / 0.04).exp()) * (2.0 * std::f64::consts::PI * 1318.0 * u).sin()
+                            own_sound(u, blow_level * blow[i], 0.0)
                         } else {
                             0.0
                         };
@@ -612,8 +618,7 @@ mod tests {
                         let ringing = other_bells(t, &phases);
                         let own = if i >= at {
                             let u = (i - at) as f64 / rate;
-                            0.3 * blow[i] * (-u / 0.01).exp()
-                                + (1.0 - (-u / 0.04).exp()) * (tau * 1318.0 * u + phases[3]).sin()
+                            own_sound(u, 0.3 * blow[i], phases[3])
                         } else {
                             0.0
                         };

@@ -454,6 +454,14 @@ fn ratios(c: &[f64], t: &Long, lo: usize, hi: usize) -> Vec<(f64, f64)> {
 mod tests {
     use super::*;
 
+    /// `t` at gain `g` added into `x` from sample `at` (what lies past
+    /// `x`'s end left out).
+    fn add(x: &mut [f64], t: &[f64], at: usize, g: f64) {
+        for (y, v) in x.iter_mut().skip(at).zip(t) {
+            *y += g * v;
+        }
+    }
+
     /// A bell's sound: noise from a small LCG, smoothed over 6 ms (so it
     /// matches itself at 0.4 of its energy 3.5 ms off, as a bell's
     /// partials do, and not at all 10 ms off), dying away over 0.15 s,
@@ -527,13 +535,7 @@ mod tests {
         let t = sound(rate);
         let (gap, n) = ((0.6 * rate) as usize, 12);
         let mut x = vec![0.0; gap * (n + 2)];
-        let mut put = |at: usize, g: f64| {
-            for (k, v) in t.iter().enumerate() {
-                if let Some(y) = x.get_mut(at + k) {
-                    *y += g * v;
-                }
-            }
-        };
+        let mut put = |at: usize, g: f64| add(&mut x, &t, at, g);
         let ms = |m: f64| (m * 1e-3 * rate).round() as usize;
         for s in 0..n {
             let at = gap * (s + 1);
@@ -578,13 +580,7 @@ mod tests {
         let t = sound(rate);
         let (gap, n) = ((0.6 * rate) as usize, 12);
         let mut x = vec![0.0; gap * (n + 2)];
-        let mut put = |at: usize, g: f64| {
-            for (k, v) in t.iter().enumerate() {
-                if let Some(y) = x.get_mut(at + k) {
-                    *y += g * v;
-                }
-            }
-        };
+        let mut put = |at: usize, g: f64| add(&mut x, &t, at, g);
         let ms = |m: f64| (m * 1e-3 * rate).round() as usize;
         let spread = [0.0, 0.6, 0.1, 0.5, 0.2, 0.4, 0.0, 0.6, 0.3, 0.05, 0.55, 0.15];
         for (s, g) in spread.iter().enumerate() {
@@ -623,13 +619,7 @@ mod tests {
         let (gap, n) = ((0.6 * rate) as usize, 12);
         let early = (0.1 * rate) as usize;
         let mut x = vec![0.0; gap * (n + 2)];
-        let mut put = |at: usize, g: f64| {
-            for (k, v) in t.iter().enumerate() {
-                if let Some(y) = x.get_mut(at + k) {
-                    *y += g * v;
-                }
-            }
-        };
+        let mut put = |at: usize, g: f64| add(&mut x, &t, at, g);
         for s in 0..n {
             put(gap * (s + 1), 1.0);
             if s == 5 {
@@ -667,13 +657,7 @@ mod tests {
         let (gap, n) = ((0.6 * rate) as usize, 12);
         let ms = |m: f64| (m * 1e-3 * rate).round() as usize;
         let mut x = vec![0.0; gap * (n + 2)];
-        let mut put = |at: usize, g: f64| {
-            for (k, v) in t.iter().enumerate() {
-                if let Some(y) = x.get_mut(at + k) {
-                    *y += g * v;
-                }
-            }
-        };
+        let mut put = |at: usize, g: f64| add(&mut x, &t, at, g);
         for s in 0..n {
             put(gap * (s + 1), 1.0);
             if s == 5 {
