@@ -3,8 +3,6 @@
 //! their D (33), and each bell's striking: place errors, odd-struckness,
 //! double-strike rate.
 
-use std::fmt::Write as _;
-
 use clapper_core::stroke::double_strike_index;
 use clapper_signal::lateness::Lateness;
 use clapper_signal::self_calibrate::{calibrate, SelfCalibration};
@@ -37,6 +35,9 @@ use input::signal_error;
 pub use input::{NO_STRIKES, ONE_BELL};
 pub use method::MethodReport;
 mod retime;
+mod sure;
+mod text;
+pub use text::MEAN_D_WORDS;
 
 use retime::{in_core, lateness_of, lateness_used, timed_again};
 
@@ -95,7 +96,7 @@ pub struct StrokeStats {
 }
 
 /// A bell's striking.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct BellStriking {
     /// Bell, counting from 1.
     pub bell: usize,
@@ -119,6 +120,12 @@ pub struct BellStriking {
     /// Mean double strike index D (eq. 33, dimensionless) of its double
     /// strikes.
     pub mean_d: Option<f64>,
+    /// Why the listener's own timing of this bell's strikes is in doubt, in
+    /// a ringer's words (their scatter far over the other bells', a steady
+    /// error at both strokes, where its sound starts learned from few
+    /// strikes, few strikes heard); none when it is not. Its figures here
+    /// may show the listener's mistiming rather than the ringer's striking.
+    pub timing_doubt: Option<String>,
 }
 
 /// The recording as a whole.
@@ -140,6 +147,10 @@ pub struct StrikesSummary {
     pub handstroke_gap_ms: Option<f64>,
     /// Root-mean-square place error over every placed strike (ms).
     pub rms_error_ms: Option<f64>,
+    /// The same over the strikes of the bells whose timing is not in doubt
+    /// ([`BellStriking::timing_doubt`], ms); none when no bell's is, or
+    /// fewer than two bells are left.
+    pub rms_error_sure_ms: Option<f64>,
     /// Double strikes heard.
     pub double_strikes: usize,
     /// Strokes told from the rhythm (the handstroke gap stood out).
@@ -416,9 +427,6 @@ impl StrikesReport {
         kind::warn_of(&mut warnings, matches!(timing, Timing::AsHeard), voices, &below);
         let tpl = matches!(timing, Timing::Templates(_));
         let mut report = Self::of(&heard, voices.len(), duration_s, warnings, timing_report, tpl);
-        let s = &report.summary;
-        let loose = doubt::loose_warning(s.rms_error_ms, s.interval_ms, (&timing).into());
-        report.summary.warnings.extend(loose);
         doubt::once_each(&mut report.summary.warnings);
         report.summary.plausibility = plausibility;
         Ok(report)
@@ -450,7 +458,9 @@ impl StrikesReport {
     }
 
     /// The report of the strikes `heard` of `bells` bells in a recording
-    /// `duration_s` long: rows, places and each bell's striking.
+    /// `duration_s` long: rows, places and each bell's striking. The
+    /// warnings that say the table's rows mean little stand first, after
+    /// those about the recording itself.
     fn of(
         heard: &Heard,
         bells: usize,
@@ -464,13 +474,14 @@ impl StrikesReport {
         if !heard.strikes.is_empty() && !r.strokes_known {
             warnings.push("no handstroke gap stands out: hand and back are a guess".into());
         }
+        let mut wide = vec![];
         let together = doubt::struck_together(&timed);
         if together.is_none() {
             let heard = (1..=bells).filter(|b| timed.iter().any(|s| s.bell == *b)).count();
-            warnings.extend(doubt::no_full_row(timed.len(), r.rows, r.full_rows, heard, bells));
+            wide.extend(doubt::no_full_row(timed.len(), r.rows, r.full_rows, heard, bells));
         }
-        warnings.extend(together);
-        warnings.extend(doubt::ring_size_warning(&timed, bells, doubt::given_as(templates)));
+        wide.extend(together);
+        wide.extend(doubt::ring_size_warning(&timed, bells, doubt::given_as(templates)));
         let one_stroke = one_stroke::one_stroke_warnings(&timed, bells);
         warnings.extend(one_stroke.iter().map(|(_, w)| w.clone()));
         let strikes = strike_reports(heard, &r);
@@ -478,10 +489,12 @@ impl StrikesReport {
             .map(|bell| bell_striking(bell, &strikes, &r, &timed))
             .collect();
         let counts: Vec<usize> = per_bell.iter().map(|b| b.strikes).collect();
+        kind::unheard_warnings(&counts, duration_s, templates, &mut warnings);
         warnings.extend(kind::few_strikes_warnings(&counts));
         // Bells already warned of (heard far less often, or at one stroke
         // only) are not warned of again as short.
         let mut few = kind::few_bells(&counts);
+        let doubts = sure::timing_doubts(&strikes, &per_bell, timing.as_ref(), &few);
         few.extend(one_stroke.iter().map(|(b, _)| *b));
         warnings.extend(ringer::missing_warnings(&strikes, bells, r.rows, r.strokes_known, &few));
         warnings.extend(ringer::pace_warning(&timed));
@@ -490,14 +503,27 @@ impl StrikesReport {
         let interval_ms = r.interval.map(|i| i * 1e3);
         let misfit = doubt::misfit_warning(rms, interval_ms, bells);
         let rows_doubted = misfit.is_some();
-        warnings.extend(misfit);
-        if rows_doubted {
-            // Each bell's odd-struckness is read against those rows: not
-            // printed as if it meant something (tester16 fault 1).
-            for b in &mut per_bell {
+        wide.extend(misfit);
+        wide.extend(doubt::loose_warning(
+            rms,
+            interval_ms,
+            doubt::timed_by(templates, timing.as_ref()),
+        ));
+        let lead = input::leading(&warnings);
+        warnings.splice(lead..lead, wide);
+        for (b, d) in per_bell.iter_mut().zip(doubts) {
+            b.timing_doubt = d;
+            if rows_doubted {
+                // Each bell's odd-struckness is read against those rows: not
+                // printed as if it meant something (tester16 fault 1).
                 (b.odd_struck_ms, b.odd_struck_se_ms) = (None, None);
             }
         }
+        let doubted: Vec<usize> = per_bell
+            .iter()
+            .filter(|b| b.timing_doubt.is_some())
+            .map(|b| b.bell)
+            .collect();
         let columns_why = ringer::columns_why(&strikes, &per_bell, &r.one_stroke);
         let summary = StrikesSummary {
             duration_s,
@@ -508,6 +534,7 @@ impl StrikesReport {
             handstroke_gap_intervals: r.handstroke_gap,
             handstroke_gap_ms: r.handstroke_gap.zip(interval_ms).map(|(g, i)| g * i),
             rms_error_ms: rms,
+            rms_error_sure_ms: sure::rms_without(&strikes, &doubted, bells),
             double_strikes: strikes.iter().filter(|s| s.double.is_some()).count(),
             strokes_known: r.strokes_known,
             method: method::method_of(&strikes, r.rows, bells),
@@ -525,137 +552,6 @@ impl StrikesReport {
             per_bell,
             summary,
         }
-    }
-
-    /// The readable report, for the recording `name`.
-    pub fn text(&self, name: &str) -> String {
-        let s = &self.summary;
-        let mut o = format!(
-            "{name}: {:.1} s, {} bell(s), {} strike(s) heard in {} row(s) ({} full)\n",
-            s.duration_s, self.bells, s.strikes, s.rows, s.full_rows
-        );
-        let opt = |v: Option<f64>, digits: usize| v.map_or("-".to_string(), |x| format!("{x:.digits$}"));
-        let _ = writeln!(
-            o,
-            "interval {} ms, handstroke gap {} interval(s) ({} ms extra), RMS striking error {} ms, double strikes {}",
-            opt(s.interval_ms, 1),
-            opt(s.handstroke_gap_intervals, 2),
-            opt(s.handstroke_gap_ms, 0),
-            opt(s.rms_error_ms, 1),
-            s.double_strikes
-        );
-        o.push_str(&s.method.as_ref().map_or(String::new(), |m| m.line() + "\n"));
-        let _ = writeln!(
-            o,
-            "  {:>4} {:>7} {:>18} {:>18} {:>18} {:>9} {:>6}",
-            "bell", "strikes", "hand mean±sd (ms)", "back mean±sd (ms)", "odd-struck±se (ms)", "doubles", "mean D"
-        );
-        for b in &self.per_bell {
-            let ms = |st: &StrokeStats| match (st.mean_error_ms, st.spread_ms) {
-                (Some(m), Some(sd)) if st.n >= FEW_IN_COLUMN => format!("{m:+.1} ± {sd:.1}"),
-                (Some(m), _) => format!("{m:+.1} (n = {})", st.n),
-                _ => "-".into(),
-            };
-            let odd = match (b.odd_struck_ms, b.odd_struck_se_ms) {
-                (Some(o), Some(se)) => format!("{o:+.1} ± {se:.1}"),
-                (Some(o), None) => format!("{o:+.1} (no se)"),
-                _ if s.rows_doubted && b.strikes > 0 => "- (rows doubted)".into(),
-                _ => "-".into(),
-            };
-            let _ = writeln!(
-                o,
-                "  {:>4} {:>7} {:>18} {:>18} {:>18} {:>9} {:>6}",
-                b.bell,
-                b.strikes,
-                ms(&b.hand),
-                ms(&b.back),
-                odd,
-                format!("{} ({:.0} %)", b.double_strikes, 100.0 * b.double_rate),
-                opt(b.mean_d, 1)
-            );
-        }
-        if let Some(why) = &s.columns_why {
-            let _ = writeln!(o, "{why}");
-        }
-        if self.per_bell.iter().any(|b| b.mean_d.is_some()) {
-            o.push_str(MEAN_D_WORDS);
-            o.push('\n');
-        }
-        if let Some(l) = &self.learned_nominals_hz {
-            let list: Vec<String> = l
-                .iter()
-                .map(|b| format!("{} {:.1} Hz ({:.0} % sure)", b.bell, b.nominal_hz, 100.0 * b.confidence))
-                .collect();
-            let _ = writeln!(o, "nominals learned from the recording: {}", list.join(", "));
-        }
-        if let Some(set) = &self.learned_set {
-            let rhythm = set
-                .ringing
-                .map_or(String::new(), |r| format!(", the rhythm says about {r:.1} ring"));
-            let _ = writeln!(
-                o,
-                "the set learned: {:.0} % sure ({} bell(s) heard{rhythm})",
-                100.0 * set.confidence,
-                set.heard
-            );
-        }
-        self.timing_text(&mut o);
-        for w in &s.warnings {
-            let _ = writeln!(o, "warning: {w}");
-        }
-        o
-    }
-
-    /// The report's "timing" in words, appended to `o`: the choice made,
-    /// and each bell's lateness and the strikes' moves.
-    fn timing_text(&self, o: &mut String) {
-        let Some(t) = &self.timing else {
-            return;
-        };
-        let list = |f: &dyn Fn(&BellTiming) -> Option<f64>| {
-            t.per_bell
-                .iter()
-                .map(|b| f(b).map_or(format!("{} -", b.bell), |v| format!("{} {v:+.1}", b.bell)))
-                .collect::<Vec<_>>()
-                .join(", ")
-        };
-        // A dash said once, after its list, for a ringer (tester15).
-        let dash = |f: &dyn Fn(&BellTiming) -> Option<f64>, why: &str| {
-            let l = list(f);
-            if t.per_bell.iter().any(|b| f(b).is_none()) {
-                format!("{l} (-: {why})")
-            } else {
-                l
-            }
-        };
-        let late = dash(
-            &|b| (b.learned_from > 0).then_some(b.lateness_ms),
-            "not learned, nothing taken off",
-        );
-        // The bell's strikes were found (their count is in the table):
-        // only matching them to its template failed (tester16 fault 6).
-        let moved = dash(
-            &|b| b.matched_ms,
-            "its strikes were found, but none matched its template well enough to be moved: timed as heard, less \
-             its lateness if learned",
-        );
-        if let Some(c) = &t.choice {
-            let _ = writeln!(o, "{}", c.line());
-        }
-        let _ = if t.source == "plain" {
-            Ok(())
-        } else if t.source == "recording" {
-            writeln!(
-                o,
-                "timing from the recording's own clean strikes: the band finder hears each bell late by (ms) {late}, against the start of its average strike's sound; each strike, lined up on that average, moved by (median ms: the band finder's lateness in this recording, taken off) {moved}"
-            )
-        } else {
-            writeln!(
-                o,
-                "timing from the {}: the band finder hears each bell late by (ms) {late}, against the start of its template's sound (measured on a ring of the templates); each strike, matched to its template, moved by (median ms: the band finder's lateness in this recording, taken off) {moved}",
-                t.source
-            )
-        };
     }
 
     /// The strikes as CSV rows (bell, t_s, stroke, row, place, error_ms,
@@ -767,13 +663,6 @@ fn recording_timing(c: &SelfCalibration, matched: &[Option<f64>], warnings: &mut
     }
 }
 
-/// The table's "mean D" in words, printed under it where a bell has
-/// doubles (tester16 fault 6: no unit, no meaning).
-const MEAN_D_WORDS: &str =
-    "mean D: the double strike index of the bell's doubles heard, max(0, A - 0.2) x max(0, dt - 22) / \
-     2.25 with A the second strike's amplitude over the first's and dt its delay (ms), as docs/model.md (33): no unit; \
-     0 where the second strike is too weak or too soon to count, the larger the plainer the double";
-
 /// One stroke's striking from its place errors `v` (ms): one strike has
 /// no spread (none, not 0: tester15 read "± 0.0" for every bell).
 fn stroke_stats(v: &[f64]) -> StrokeStats {
@@ -845,6 +734,7 @@ fn bell_striking(bell: usize, strikes: &[StrikeReport], r: &Rhythm, timed: &[Tim
             ds.len() as f64 / mine.len() as f64
         },
         mean_d: mean_sd(&ds).map(|x| x.0),
+        timing_doubt: None,
     }
 }
 

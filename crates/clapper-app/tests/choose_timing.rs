@@ -64,7 +64,11 @@ fn auto_times_late_bells_from_the_recording() {
     assert_eq!(t.source, "recording");
     assert_eq!(t.choice.as_ref().unwrap().used, "recording");
     let text = report.text("ring");
-    assert!(text.contains("timing recording (asked auto)"), "{text}");
+    assert!(
+        text.contains("strikes timed from each bell's own sound, learned from its clean strikes"),
+        "{text}"
+    );
+    assert!(report.text_verbose("ring").contains("timing recording (asked auto)"));
 }
 
 #[test]

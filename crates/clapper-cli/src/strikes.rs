@@ -102,6 +102,11 @@ pub struct StrikesArgs {
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
+    /// With the text report, the developer's detail of how the strikes were
+    /// timed (the timings tried, each bell's lateness and where it was
+    /// learned); the JSON holds it all.
+    #[arg(long, conflicts_with = "json")]
+    pub verbose: bool,
     /// Write every strike as CSV; `-` is standard output.
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
@@ -226,7 +231,14 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         let fig = StrikingFigure::new(&report, &strip, &name, &voices)?;
         crate::files::write_atomically(path, |tmp| Ok(clapper_plot::striking_plot(tmp, &fig.plot())?))?;
     }
-    print_report(&report, args.json, || report.text(&args.file.display().to_string()))
+    let title = args.file.display().to_string();
+    print_report(&report, args.json, || {
+        if args.verbose {
+            report.text_verbose(&title)
+        } else {
+            report.text(&title)
+        }
+    })
 }
 
 /// The strikes of the recording at `file` (its channels heard as

@@ -111,7 +111,10 @@ fn strikes_self_calibrated_from_the_recording_times_a_bell_at_the_start_of_its_s
     assert!(after.abs() <= 3.0, "self-calibrated: {after:.2} ms");
     // In words too.
     let text = String::from_utf8(run(&["--self-calibrate"])).unwrap();
-    assert!(text.contains("timing from the recording's own clean strikes"), "{text}");
+    assert!(
+        text.contains("timed at the start of its sound, learned from its own clean strikes"),
+        "{text}"
+    );
 }
 
 /// In rounds each bell strikes just after the same one, whose sound fills

@@ -1062,19 +1062,27 @@ function renderStrikes() {
 
 function strikesHtml(r) {
   const s = r.summary;
+  const doubted = r.per_bell.filter((b) => b.timing_doubt);
+  const sure = doubted.length && s.rms_error_sure_ms !== null
+    ? ` (${fmt(s.rms_error_sure_ms, 1)} ms leaving out bell${doubted.length > 1 ? "s" : ""} ${doubted.map((b) => b.bell).join(", ")}, whose timing is in doubt)` : "";
   const beside = lastDiagnosis && lastDiagnosis.bells.length > 0;
   let h = `<h2>Striking</h2><p>${s.strikes} strikes in ${s.rows} rows (${s.full_rows} full); interval ${fmt(s.interval_ms, 1)} ms,
-    handstroke gap ${fmt(s.handstroke_gap_intervals, 2)} interval(s), RMS striking error ${fmt(s.rms_error_ms, 1)} ms,
+    handstroke gap ${fmt(s.handstroke_gap_intervals, 2)} interval(s), RMS striking error ${fmt(s.rms_error_ms, 1)} ms${sure},
     ${s.double_strikes} double strike(s).
     <button type="button" id="download-strikes-json">Download JSON</button>
     <button type="button" id="download-strikes-csv">Download CSV</button></p>`;
   if (s.warnings.length) h += `<ul id="strikes-warnings" class="warnings">${s.warnings.map((w) => `<li class="problem">Warning: ${esc(w)}</li>`).join("")}</ul>`;
+  // Bells whose strikes the listener may have timed wrongly, before the table that rests on them (marked ? in it).
+  if (doubted.length) {
+    h += `<p>Timing in doubt (marked ? in the table): the listener may have timed these bells' strikes, or placed them in rows, wrongly, so their figures may show its error rather than the ringer's striking:</p>`;
+    h += `<ul id="strikes-doubts" class="warnings">${doubted.map((b) => `<li class="problem">Bell ${b.bell}: ${esc(b.timing_doubt)}</li>`).join("")}</ul>`;
+  }
   h += "<table id=\"strikes-table\"><tr><th>bell</th><th>strikes</th><th>hand mean ± sd (ms)</th><th>back mean ± sd (ms)</th><th>odd-struck (ms)</th><th>double strikes</th><th>mean D</th>";
   if (beside) h += "<th>bell diagnosed</th><th>odd-struck, model (ms)</th><th>D, model (R = 0.1)</th>";
   h += "</tr>";
   const ms = (st) => (st.mean_error_ms === null ? "–" : `${fmt(st.mean_error_ms, 1)} ± ${fmt(st.spread_ms, 1)}`);
   for (const b of r.per_bell) {
-    h += `<tr><td>${b.bell}</td><td>${b.strikes}</td><td>${ms(b.hand)}</td><td>${ms(b.back)}</td>
+    h += `<tr><td>${b.bell}${b.timing_doubt ? "?" : ""}</td><td>${b.strikes}</td><td>${ms(b.hand)}</td><td>${ms(b.back)}</td>
       <td>${b.odd_struck_ms === null ? "–" : fmt(b.odd_struck_ms, 1) + (b.odd_struck_se_ms === null ? "" : " ± " + fmt(b.odd_struck_se_ms, 1))}</td>
       <td>${b.double_strikes} (${fmt(100 * b.double_rate, 0)} %)</td><td>${fmt(b.mean_d, 1)}</td>`;
     if (beside) {

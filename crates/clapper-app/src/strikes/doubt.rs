@@ -124,13 +124,13 @@ pub(super) enum TimedBy {
     Recording,
 }
 
-impl From<&super::Timing<'_>> for TimedBy {
-    fn from(t: &super::Timing<'_>) -> Self {
-        match t {
-            super::Timing::AsHeard => TimedBy::AsHeard,
-            super::Timing::Templates(_) => TimedBy::Templates,
-            super::Timing::Recording(_) => TimedBy::Recording,
-        }
+/// How the strikes of a report were timed: from `templates`, else as its
+/// `timing` report's source says (the recording's own strikes, or as heard).
+pub(super) fn timed_by(templates: bool, timing: Option<&super::TimingReport>) -> TimedBy {
+    match timing.map(|t| t.source) {
+        _ if templates => TimedBy::Templates,
+        Some("recording") => TimedBy::Recording,
+        _ => TimedBy::AsHeard,
     }
 }
 

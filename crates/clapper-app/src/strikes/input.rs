@@ -43,18 +43,30 @@ pub(super) fn heard_at(rate_hz: f64, voices: &[BellVoice]) -> Result<(), AppErro
     Ok(())
 }
 
+/// How [`not_bells`]'s warning starts.
+const NOT_BELLS_START: &str = "this does not sound like a recording of bells";
+
 /// The warning, first, when only the share `p` (under
 /// [`PLAUSIBLE_SHARE`](clapper_signal::strikes::PLAUSIBLE_SHARE)) of the
 /// strikes heard rise and ring on as a bell's strike does.
 pub(super) fn not_bells(p: f64) -> String {
     format!(
-        "this does not sound like a recording of bells: across only {:.0} % of the strikes heard does their \
+        "{NOT_BELLS_START}: across only {:.0} % of the strikes heard does their \
          bell's partial listened to rise and ring on (its strongest, or with templates its highest strong one: a \
          bell's strike starts it and it rings for seconds; noise or a steady tone does not rise, a syllable of \
          speech stops within a fifth of a second); the strikes, rows and double strikes below are not to be \
          trusted",
         100.0 * p
     )
+}
+
+/// How many of `warnings` at their head are about the recording as a
+/// whole (silent, no strikes heard, not bells): they stand before every
+/// other.
+pub(super) fn leading(warnings: &[String]) -> usize {
+    let about_recording =
+        |w: &String| w == "the recording is silent" || w == NO_STRIKES || w.starts_with(NOT_BELLS_START);
+    warnings.iter().take_while(|w| about_recording(w)).count()
 }
 
 /// Add to `warnings` what makes the report no ring's: silence (the

@@ -198,6 +198,50 @@ pub(super) fn few_bells(strikes: &[usize]) -> Vec<usize> {
         .collect()
 }
 
+/// Whether `w` names bell `b` ("bell 4: ...", "bell 4 (1458.2 Hz)",
+/// "bell 4's nominal").
+fn names(w: &str, b: usize) -> bool {
+    [":", " (", "'s"]
+        .iter()
+        .any(|end| w.contains(&format!("bell {b}{end}")))
+}
+
+/// Every bell heard at no strike (`strikes`: each bell's count, treble
+/// first) named in `warnings` with why where it is known (tester17: on a
+/// 2.1 s clip a bell with no strike found was named nowhere): the finder's
+/// bare "bell N: no strikes heard" said again with why, and a bell no
+/// warning names added. `duration_s`: the recording's length (s);
+/// `templates`: the bells were given by their recorded strikes.
+pub(super) fn unheard_warnings(strikes: &[usize], duration_s: f64, templates: bool, warnings: &mut Vec<String>) {
+    let heard: Vec<f64> = strikes.iter().filter(|&&n| n > 0).map(|&n| n as f64).collect();
+    let Some(typical) = median(heard) else {
+        return;
+    };
+    for b in (1..=strikes.len()).filter(|&b| strikes[b - 1] == 0) {
+        let why = if typical < 6.0 {
+            format!(
+                "in {duration_s:.1} s the other bells are heard only {typical:.0} time(s) each, and a bell's strike \
+                 lost under another bell's or cut at the recording's ends leaves it unheard: a longer recording \
+                 hears it"
+            )
+        } else {
+            let own = if templates {
+                "its recorded strike given is not its own"
+            } else {
+                "the nominal given is not its own"
+            };
+            format!("it did not ring, or it is far quieter than the others, or {own}")
+        };
+        let said = format!("bell {b}: not heard at all (no strike found): {why}");
+        let bare = format!("bell {b}: no strikes heard");
+        if let Some(w) = warnings.iter_mut().find(|w| **w == bare) {
+            *w = said;
+        } else if !warnings.iter().any(|w| names(w, b)) {
+            warnings.push(said);
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -231,6 +275,33 @@ mod tests {
         let mut one = ring;
         one.swap(2, 3);
         assert_eq!(order_warning(&one), None);
+    }
+
+    /// Tester17: a bell with no strike found on a 2.1 s clip was named
+    /// nowhere. Every such bell is named, with why; one named already is
+    /// not named twice.
+    #[test]
+    fn a_bell_heard_at_no_strike_is_named_with_why() {
+        let mut w = vec![];
+        unheard_warnings(&[2, 2, 0, 2, 2, 2], 2.1, false, &mut w);
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(
+            w[0].starts_with("bell 3: not heard at all") && w[0].contains("2.1 s"),
+            "{w:?}"
+        );
+        let mut w = vec![
+            "bell 6: no strikes heard".to_string(),
+            "bell 2: not listened for: ..".to_string(),
+        ];
+        unheard_warnings(&[40, 0, 40, 40, 40, 0], 60.0, true, &mut w);
+        assert_eq!(w.len(), 2, "{w:?}");
+        assert!(
+            w[0].starts_with("bell 6: not heard at all") && w[0].contains("recorded strike"),
+            "{w:?}"
+        );
+        let mut w = vec![];
+        unheard_warnings(&[40, 39, 40], 60.0, false, &mut w);
+        assert!(w.is_empty());
     }
 
     #[test]

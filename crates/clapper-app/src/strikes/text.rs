@@ -1,0 +1,282 @@
+//! The report as a ringer reads it (tester17, session 17): what qualifies
+//! the table (every warning, and the bells whose timing is in doubt) is
+//! said before it; the timing in a ringer's words, the developer's detail
+//! in [`StrikesReport::text_verbose`] (and the JSON).
+
+use std::fmt::Write as _;
+
+use super::{BellTiming, StrikesReport, StrokeStats, TimingChoice, AUTO_MARGIN, FEW_IN_COLUMN};
+
+/// The table's "mean D" in words, printed under it where a bell has
+/// doubles (tester16 fault 6: no unit, no meaning).
+pub const MEAN_D_WORDS: &str =
+    "mean D: how plainly a bell's double strikes are heard, from the second blow's loudness against the first \
+     (A) and how long after it it comes (dt, ms): max(0, A - 0.2) x max(0, dt - 22) / 2.25, no unit; 0 where the \
+     second blow is too weak or too soon to be heard apart, the larger the plainer the double";
+
+/// The mark after a bell's number in the table whose timing is in doubt.
+const DOUBT_MARK: &str = "?";
+
+/// `v` to `digits` places, or "-" where there is none.
+fn opt(v: Option<f64>, digits: usize) -> String {
+    v.map_or("-".to_string(), |x| format!("{x:.digits$}"))
+}
+
+/// Bells as a ringer lists them: "bell 3" or "bells 2, 4, 5".
+fn named(bells: &[usize]) -> String {
+    let list: Vec<String> = bells.iter().map(|b| b.to_string()).collect();
+    match bells.len() {
+        1 => format!("bell {}", list[0]),
+        _ => format!("bells {}", list.join(", ")),
+    }
+}
+
+impl StrikesReport {
+    /// The readable report, for the recording `name`: the figures for the
+    /// whole ring, then everything that qualifies the table (warnings, and
+    /// the bells whose timing is in doubt), the table, and how the strikes
+    /// were timed.
+    pub fn text(&self, name: &str) -> String {
+        self.text_as(name, false)
+    }
+
+    /// [`Self::text`] with the developer's detail of how the strikes were
+    /// timed (the timings tried and how each bell's lateness was learned).
+    pub fn text_verbose(&self, name: &str) -> String {
+        self.text_as(name, true)
+    }
+
+    /// [`Self::text`], with the developer's timing detail if `verbose`.
+    fn text_as(&self, name: &str, verbose: bool) -> String {
+        let s = &self.summary;
+        let mut o = format!(
+            "{name}: {:.1} s, {} bell(s), {} strike(s) heard in {} row(s) ({} full)\n",
+            s.duration_s, self.bells, s.strikes, s.rows, s.full_rows
+        );
+        let doubted: Vec<usize> = (self.per_bell.iter())
+            .filter(|b| b.timing_doubt.is_some())
+            .map(|b| b.bell)
+            .collect();
+        let sure = match s.rms_error_sure_ms {
+            Some(v) if !doubted.is_empty() => {
+                format!(" ({v:.1} ms leaving out {}, whose timing is in doubt)", named(&doubted))
+            }
+            _ => String::new(),
+        };
+        let _ = writeln!(
+            o,
+            "interval {} ms, handstroke gap {} interval(s) ({} ms extra), RMS striking error {} ms{sure}, double strikes {}",
+            opt(s.interval_ms, 1),
+            opt(s.handstroke_gap_intervals, 2),
+            opt(s.handstroke_gap_ms, 0),
+            opt(s.rms_error_ms, 1),
+            s.double_strikes
+        );
+        o.push_str(&s.method.as_ref().map_or(String::new(), |m| m.line() + "\n"));
+        for w in &s.warnings {
+            let _ = writeln!(o, "warning: {w}");
+        }
+        self.doubts_text(&mut o);
+        self.table_text(&mut o);
+        self.learned_text(&mut o);
+        self.timing_text(&mut o);
+        if verbose {
+            self.timing_detail(&mut o);
+        }
+        o
+    }
+
+    /// The bells whose timing is in doubt, each with why, appended to `o`.
+    fn doubts_text(&self, o: &mut String) {
+        let doubted: Vec<(usize, &String)> = (self.per_bell.iter())
+            .filter_map(|b| b.timing_doubt.as_ref().map(|w| (b.bell, w)))
+            .collect();
+        if doubted.is_empty() {
+            return;
+        }
+        let _ = writeln!(
+            o,
+            "timing in doubt (marked {DOUBT_MARK} in the table): the listener may have timed these bells' strikes, \
+             or placed them in rows, wrongly, so their figures below may show its error rather than the ringer's \
+             striking:"
+        );
+        for (b, w) in doubted {
+            let _ = writeln!(o, "  bell {b}: {w}");
+        }
+    }
+
+    /// The table of each bell's striking and what is said under it,
+    /// appended to `o`.
+    fn table_text(&self, o: &mut String) {
+        let s = &self.summary;
+        let _ = writeln!(
+            o,
+            "  {:>4} {:>7} {:>18} {:>18} {:>18} {:>9} {:>6}",
+            "bell", "strikes", "hand mean±sd (ms)", "back mean±sd (ms)", "odd-struck±se (ms)", "doubles", "mean D"
+        );
+        for b in &self.per_bell {
+            let ms = |st: &StrokeStats| match (st.mean_error_ms, st.spread_ms) {
+                (Some(m), Some(sd)) if st.n >= FEW_IN_COLUMN => format!("{m:+.1} ± {sd:.1}"),
+                (Some(m), _) => format!("{m:+.1} (n = {})", st.n),
+                _ => "-".into(),
+            };
+            let odd = match (b.odd_struck_ms, b.odd_struck_se_ms) {
+                (Some(o), Some(se)) => format!("{o:+.1} ± {se:.1}"),
+                (Some(o), None) => format!("{o:+.1} (no se)"),
+                _ if s.rows_doubted && b.strikes > 0 => "- (rows doubted)".into(),
+                _ => "-".into(),
+            };
+            let mark = if b.timing_doubt.is_some() { DOUBT_MARK } else { "" };
+            let _ = writeln!(
+                o,
+                "  {:>4} {:>7} {:>18} {:>18} {:>18} {:>9} {:>6}",
+                format!("{}{mark}", b.bell),
+                b.strikes,
+                ms(&b.hand),
+                ms(&b.back),
+                odd,
+                format!("{} ({:.0} %)", b.double_strikes, 100.0 * b.double_rate),
+                opt(b.mean_d, 1)
+            );
+        }
+        if let Some(why) = &s.columns_why {
+            let _ = writeln!(o, "{why}");
+        }
+        if self.per_bell.iter().any(|b| b.mean_d.is_some()) {
+            o.push_str(MEAN_D_WORDS);
+            o.push('\n');
+        }
+    }
+
+    /// The nominals learned from the recording and how sure the set is
+    /// (`--bells N`), appended to `o`.
+    fn learned_text(&self, o: &mut String) {
+        if let Some(l) = &self.learned_nominals_hz {
+            let list: Vec<String> = l
+                .iter()
+                .map(|b| format!("{} {:.1} Hz ({:.0} % sure)", b.bell, b.nominal_hz, 100.0 * b.confidence))
+                .collect();
+            let _ = writeln!(o, "nominals learned from the recording: {}", list.join(", "));
+        }
+        if let Some(set) = &self.learned_set {
+            let rhythm = set
+                .ringing
+                .map_or(String::new(), |r| format!(", the rhythm says about {r:.1} ring"));
+            let _ = writeln!(
+                o,
+                "the set learned: {:.0} % sure ({} bell(s) heard{rhythm})",
+                100.0 * set.confidence,
+                set.heard
+            );
+        }
+    }
+
+    /// How the strikes were timed, in a ringer's words (tester17: "band
+    /// finder" and "docs/model.md" are the developers' words), appended to
+    /// `o`; the numbers are the JSON's `timing`.
+    fn timing_text(&self, o: &mut String) {
+        let Some(t) = &self.timing else {
+            return;
+        };
+        if let Some(c) = &t.choice {
+            let _ = writeln!(o, "{}", choice_words(c));
+        }
+        let list = |f: &dyn Fn(&BellTiming) -> Option<f64>, dash: &str| {
+            let l: Vec<String> = (t.per_bell.iter())
+                .map(|b| f(b).map_or(format!("{} -", b.bell), |v| format!("{} {v:+.1}", b.bell)))
+                .collect();
+            let none = t.per_bell.iter().any(|b| f(b).is_none());
+            format!(
+                "{}{}",
+                l.join(", "),
+                if none { format!(" (-: {dash})") } else { String::new() }
+            )
+        };
+        let late = list(
+            &|b| (b.learned_from > 0).then_some(b.lateness_ms),
+            "not learned, nothing taken off",
+        );
+        let _ = match t.source {
+            "recording" => writeln!(
+                o,
+                "each bell's strikes timed at the start of its sound, learned from its own clean strikes in this \
+                 recording: a bell is heard some time after its clapper strikes, by (ms) {late}; each bell's strikes \
+                 were moved by (ms, the median) {}",
+                list(&|b| b.matched_ms, "not moved: timed as first heard")
+            ),
+            "templates" => writeln!(
+                o,
+                "each bell's strikes timed at the start of its sound, against its own recorded strike: a bell is \
+                 heard some time after its clapper strikes, by (ms) {late}; each bell's strikes were moved by (ms, \
+                 the median) {}",
+                list(
+                    &|b| b.matched_ms,
+                    "its strikes were found, but none matched its recorded strike well enough to be moved: timed as \
+                     first heard, less the first figure if there is one"
+                )
+            ),
+            _ => Ok(()),
+        };
+    }
+
+    /// The developer's detail of the timing ([`Self::text_verbose`]): the
+    /// choice's figures and what the band finder heard, appended to `o`.
+    fn timing_detail(&self, o: &mut String) {
+        let Some(t) = &self.timing else {
+            return;
+        };
+        if let Some(c) = &t.choice {
+            let _ = writeln!(o, "detail: {}", c.line());
+        }
+        for b in &t.per_bell {
+            let _ = writeln!(
+                o,
+                "detail: bell {}: the band finder's lateness {:+.1} ms (spread {:.1} ms, MAD) learned from {} strike(s) \
+                 ({}); matched to its template, moved by (median) {} ms",
+                b.bell,
+                b.lateness_ms,
+                b.spread_ms,
+                b.learned_from,
+                if t.source == "recording" {
+                    "the recording's own clean strikes, against the start of its average strike's sound"
+                } else {
+                    "a ring of the templates, against the start of its template's sound"
+                },
+                opt(b.matched_ms, 1)
+            );
+        }
+    }
+}
+
+/// How the strikes were timed with nominals and why, in a ringer's words
+/// (the figures as [`TimingChoice::line`] gives them).
+fn choice_words(c: &TimingChoice) -> String {
+    let how = if c.used == "recording" {
+        "from each bell's own sound, learned from its clean strikes in this recording"
+    } else {
+        "as each bell is first heard, its sound taken as a tuned bell's (nothing learned from this recording)"
+    };
+    let n = |v: Option<usize>| v.map_or("-".to_string(), |x| x.to_string());
+    let why = match (c.window_s, c.plain_unevenness_ms, c.recording_unevenness_ms) {
+        (Some(w), Some(p), Some(r)) => {
+            let kept = if c.used == "recording" {
+                "the evener kept".to_string()
+            } else if r < AUTO_MARGIN * p {
+                format!(
+                    "learned from the recording, {} strikes were found against {}: not kept",
+                    n(c.recording_strikes),
+                    n(c.plain_strikes)
+                )
+            } else {
+                "learning from the recording was not evener enough to be kept".to_string()
+            };
+            format!(
+                " (both ways tried on the first {w:.0} s: the gaps between successive strikes varied by {r:.1} ms \
+                 timed from each bell's own sound, {p:.1} ms timed as first heard; {kept})"
+            )
+        }
+        (Some(w), _, _) => format!(" (both ways tried on the first {w:.0} s: too few strikes to compare)"),
+        _ => " (as asked)".to_string(),
+    };
+    format!("strikes timed {how}{why}")
+}
