@@ -35,6 +35,23 @@ fn line_plot_scaled(
 #[derive(Clone, Debug)]
 pub struct Drops(pub Vec<Vec<f64>>);
 
+/// A channel (or a CSV's value column) as the readers take it, counted
+/// from 0; a type of its own, so that the command line's check of plain
+/// counts (`main.rs`, `command_line`) leaves [`parse_channel`] in place.
+#[derive(Clone, Copy, Debug)]
+pub struct ChannelIndex(pub usize);
+
+/// `--channel N`: a channel's number as a user counts it (1 the first, as
+/// `strikes --channel` and the report's words count), as the index from 0
+/// that the readers take; 0 is refused with why.
+pub(crate) fn parse_channel(s: &str) -> std::result::Result<ChannelIndex, String> {
+    match s.trim().parse::<usize>() {
+        Ok(0) => Err("channel 0: channels (and a CSV's value columns) count from 1, the first".into()),
+        Ok(k) => Ok(ChannelIndex(k - 1)),
+        Err(_) => Err(format!("channel '{s}': a channel's number, counted from 1 (the first)")),
+    }
+}
+
 fn parse_jumps(s: &str) -> std::result::Result<Drops, String> {
     s.split(';')
         .map(|drop| {
@@ -58,9 +75,9 @@ pub struct RestitutionArgs {
     /// An accelerometer recording of clapper drops (.wav or .csv).
     #[arg(long, value_name = "FILE")]
     pub accel: Option<PathBuf>,
-    /// WAV channel (from 0) or CSV value column (from 0 after the time column).
-    #[arg(long, default_value_t = 0)]
-    pub channel: usize,
+    /// WAV channel or CSV value column after the time column, counted from 1 (the first), as `strikes --channel` counts.
+    #[arg(long, default_value = "1", value_parser = parse_channel)]
+    pub channel: ChannelIndex,
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
@@ -73,7 +90,7 @@ pub fn restitution(args: RestitutionArgs) -> Result<()> {
     let (drops, times) = match (&args.jumps, &args.accel) {
         (Some(j), _) => (j.0.clone(), None),
         (None, Some(p)) => {
-            let sig = read_signal(p, args.channel)?;
+            let sig = read_signal(p, args.channel.0)?;
             let j = velocity_jumps(&sig, &JumpOptions::default()).with_context(|| p.display().to_string())?;
             if j.len() < 2 {
                 bail!("{}: found {} impact(s); at least two are needed", p.display(), j.len());
@@ -128,9 +145,9 @@ pub fn print_report<T: serde::Serialize>(report: &T, json: bool, text: impl FnOn
 pub struct ContactsArgs {
     /// A contact-detector recording (.wav or .csv).
     pub file: PathBuf,
-    /// WAV channel or CSV value column.
-    #[arg(long, default_value_t = 0)]
-    pub channel: usize,
+    /// WAV channel or CSV value column after the time column, counted from 1 (the first).
+    #[arg(long, default_value = "1", value_parser = parse_channel)]
+    pub channel: ChannelIndex,
     /// The higher level means "in contact" (the paper's circuit: the lower).
     #[arg(long)]
     pub contact_high: bool,
@@ -143,7 +160,7 @@ pub struct ContactsArgs {
 }
 
 pub fn contacts(args: ContactsArgs) -> Result<()> {
-    let sig = read_signal(&args.file, args.channel)?;
+    let sig = read_signal(&args.file, args.channel.0)?;
     let report = ContactsReport::new(&sig, args.contact_high, args.min_gap_ms)
         .with_context(|| args.file.display().to_string())?;
     print_report(&report, args.json, || report.text(&args.file.display().to_string()))
@@ -168,9 +185,9 @@ pub struct SpectrogramArgs {
     /// Highest frequency shown (Hz).
     #[arg(long, default_value_t = 3000.0)]
     pub fmax: f64,
-    /// WAV channel or CSV value column.
-    #[arg(long, default_value_t = 0)]
-    pub channel: usize,
+    /// WAV channel or CSV value column after the time column, counted from 1 (the first).
+    #[arg(long, default_value = "1", value_parser = parse_channel)]
+    pub channel: ChannelIndex,
 }
 
 /// Most columns of a drawn spectrogram: more than a picture's pixels across.
@@ -178,7 +195,7 @@ const SPECTROGRAM_COLUMNS: usize = 2048;
 
 pub fn spectrogram_cmd(args: SpectrogramArgs) -> Result<()> {
     clapper_plot::format_of(&args.out)?;
-    let sig = read_signal(&args.file, args.channel)?;
+    let sig = read_signal(&args.file, args.channel.0)?;
     // A picture has no use for more columns than pixels: a long recording's
     // frames are merged (the loudest of each run), so that memory does not
     // grow with it.
@@ -246,9 +263,9 @@ pub struct DecayArgs {
     /// standard output.
     #[arg(long, value_name = "FILE")]
     pub csv: Option<PathBuf>,
-    /// WAV channel or CSV value column.
-    #[arg(long, default_value_t = 0)]
-    pub channel: usize,
+    /// WAV channel or CSV value column after the time column, counted from 1 (the first).
+    #[arg(long, default_value = "1", value_parser = parse_channel)]
+    pub channel: ChannelIndex,
     /// Print JSON, with the moment the decay rate changes most (after the
     /// loudest frame): where a resting clapper starts to damp the bell.
     #[arg(long)]
@@ -257,7 +274,7 @@ pub struct DecayArgs {
 
 pub fn decay(args: DecayArgs) -> Result<()> {
     crate::files::claim_stdout(&[("--csv", args.csv.as_deref())], args.json)?;
-    let sig = read_signal(&args.file, args.channel)?;
+    let sig = read_signal(&args.file, args.channel.0)?;
     let report = DecayReport::new(&sig, args.freq, args.window, args.overlap)?;
     if let Some(p) = &args.plot {
         let bin = report.bin_hz;
@@ -296,13 +313,13 @@ pub struct ModesArgs {
     /// Print JSON.
     #[arg(long)]
     pub json: bool,
-    /// WAV channel or CSV value column.
-    #[arg(long, default_value_t = 0)]
-    pub channel: usize,
+    /// WAV channel or CSV value column after the time column, counted from 1 (the first).
+    #[arg(long, default_value = "1", value_parser = parse_channel)]
+    pub channel: ChannelIndex,
 }
 
 pub fn modes(args: ModesArgs) -> Result<()> {
-    let sig = read_signal(&args.file, args.channel)?;
+    let sig = read_signal(&args.file, args.channel.0)?;
     let report = ModesReport::new(&sig, args.range_db).with_context(|| args.file.display().to_string())?;
     print_report(&report, args.json, || report.text(&args.file.display().to_string()))
 }

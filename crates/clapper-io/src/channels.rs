@@ -32,7 +32,8 @@ impl std::str::FromStr for ChannelChoice {
             "auto" => Ok(ChannelChoice::Auto),
             "mix" => Ok(ChannelChoice::Mix),
             n => match n.parse::<usize>() {
-                Ok(k) if k >= 1 => Ok(ChannelChoice::One(k - 1)),
+                Ok(0) => Err("channel 0: channels count from 1 (1 the first, the left), or mix or auto".into()),
+                Ok(k) => Ok(ChannelChoice::One(k - 1)),
                 _ => Err(format!("channel '{n}': a channel's number (1 the first), mix or auto")),
             },
         }
@@ -303,7 +304,8 @@ pub(crate) mod tests {
         assert_eq!("2".parse(), Ok(ChannelChoice::One(1)));
         assert_eq!(" mix".parse(), Ok(ChannelChoice::Mix));
         assert_eq!("auto".parse(), Ok(ChannelChoice::Auto));
-        assert!("0".parse::<ChannelChoice>().is_err() && "left".parse::<ChannelChoice>().is_err());
+        assert!("0".parse::<ChannelChoice>().unwrap_err().contains("count from 1"));
+        assert!("left".parse::<ChannelChoice>().is_err());
         let mono = ChannelTimes::new(1, 8000.0);
         assert_eq!(decide(ChannelChoice::Auto, 1, &mono).unwrap(), (None, vec![]));
     }

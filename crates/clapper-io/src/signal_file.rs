@@ -45,7 +45,8 @@ fn content(path: &Path, message: impl Into<String>) -> SignalFileError {
 }
 
 /// Read a signal; `channel` counts from 0 (WAV), or names the value column
-/// by position after the time column (CSV).
+/// by position after the time column (CSV); errors name it as a user
+/// counts, from 1.
 pub fn read_signal(path: &Path, channel: usize) -> Result<Signal, SignalFileError> {
     let ext = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
     let sig = match ext.as_deref() {
@@ -159,7 +160,8 @@ fn read_wav(path: &Path, channel: usize) -> Result<Signal, SignalFileError> {
     if channel >= nch {
         return Err(content(
             path,
-            format!("channel {channel} asked, the file has {nch} (0 to {})", nch - 1),
+            // Said as a user counts channels, from 1 (`--channel`).
+            format!("channel {} asked, the file has {nch} (1 to {nch})", channel + 1),
         ));
     }
     let samples: Vec<f64> = all.iter().skip(channel).step_by(nch).copied().collect();
@@ -437,7 +439,10 @@ mod tests {
         w.finalize().unwrap();
         let s = read_signal(&p2, 1).unwrap();
         assert!((s.samples[10] - 10000.0 / 8388608.0).abs() < 1e-12);
-        assert!(read_signal(&p2, 2).unwrap_err().to_string().contains("channel 2"));
+        assert!(read_signal(&p2, 2)
+            .unwrap_err()
+            .to_string()
+            .contains("channel 3 asked, the file has 2 (1 to 2)"));
     }
 
     /// A WAV with a LIST chunk of odd length (padded, as RIFF wants) before

@@ -379,13 +379,21 @@ fn strikes(
     Ok((to_json(&r)?, r.text(name)))
 }
 
-/// A WAV recording read as the CLI reads one (channels mixed to mono, or
-/// one heard alone where they disagree in time):
-/// returns (samples as f64 bytes, rate in Hz).
+/// A WAV recording read as the CLI reads one, its channels heard as
+/// `channel` asks (as `strikes --channel`: a channel's number from 1,
+/// "mix", or "auto": mixed to mono, or one heard alone where they disagree
+/// in time): returns (samples as f64 bytes, rate in Hz, what reading it
+/// told in words).
 #[pyfunction]
-fn read_wav<'py>(py: Python<'py>, path: std::path::PathBuf) -> PyResult<(Bound<'py, PyBytes>, f64, Vec<String>)> {
-    use clapper_io::signal_file::SignalFileError;
-    let (sig, told) = clapper_io::signal_file::read_recording_told(&path).map_err(|e| match e {
+#[pyo3(signature = (path, channel = "auto"))]
+fn read_wav<'py>(
+    py: Python<'py>,
+    path: std::path::PathBuf,
+    channel: &str,
+) -> PyResult<(Bound<'py, PyBytes>, f64, Vec<String>)> {
+    use clapper_io::signal_file::{ChannelChoice, SignalFileError};
+    let choice: ChannelChoice = channel.parse().map_err(PyValueError::new_err)?;
+    let (sig, told) = clapper_io::signal_file::read_recording_chosen(&path, choice).map_err(|e| match e {
         // The Python half has opened the file already (a missing one is
         // FileNotFoundError there); what fails here is reading it.
         SignalFileError::Read { .. } | SignalFileError::Write { .. } => PyOSError::new_err(e.to_string()),

@@ -436,6 +436,26 @@ def _stereo_wav(path, left, right, rate):
     path.write_bytes(header + b"data" + len(pcm).to_bytes(4, "little") + pcm)
 
 
+def test_read_wav_hears_the_channel_asked_counted_from_1(tmp_path):
+    # Session 17's tester: read_wav had no channel argument where the CLI
+    # has --channel N|mix|auto (from 1) and the web channel=. Two channels
+    # of different levels; each asked for alone, mixed, and 0 refused.
+    rate = 8000
+    left = 0.5 * np.sin(2 * np.pi * 440 * np.arange(rate) / rate)
+    right = 0.25 * np.sin(2 * np.pi * 660 * np.arange(rate) / rate)
+    _stereo_wav(tmp_path / "two.wav", left, right, rate)
+    q = lambda x: (x * 30000).astype("<i2") / 32768.0  # noqa: E731
+    np.testing.assert_array_equal(clapper.read_wav(tmp_path / "two.wav", channel=1)[0], q(left))
+    np.testing.assert_array_equal(clapper.read_wav(tmp_path / "two.wav", channel=2)[0], q(right))
+    mixed = clapper.read_wav(tmp_path / "two.wav", channel="mix")[0]
+    np.testing.assert_allclose(mixed, 0.5 * (q(left) + q(right)), atol=1e-12)
+    np.testing.assert_array_equal(clapper.read_wav(tmp_path / "two.wav")[0], mixed)
+    with pytest.raises(ValueError, match="count from 1"):
+        clapper.read_wav(tmp_path / "two.wav", channel=0)
+    with pytest.raises(ValueError, match="channel 3 asked, the recording has 2"):
+        clapper.read_wav(tmp_path / "two.wav", channel=3)
+
+
 def test_read_wav_warns_of_channels_that_disagree_in_time(tmp_path):
     # Synthetic: strikes (1 kHz, decaying) at uneven times over 30 s; the
     # second channel the first 20 ms later (tester14's late stereo channel),

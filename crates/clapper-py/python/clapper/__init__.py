@@ -872,20 +872,25 @@ def strikes(
     return report
 
 
-def read_wav(path: PathLike) -> Tuple[np.ndarray, float]:
-    """A WAV file's samples (channels mixed to one) and its rate (Hz). A
-    file that is not there raises ``FileNotFoundError``. Channels that
-    disagree in time (one heard 5 ms or more after another: their mix
-    would blur every strike) are not mixed: one is read alone (the first,
-    unless another's strikes stand clearly clearer over its noise), and
-    this is warned of as :class:`ClapperWarning`, as ``clapper strikes``
-    reads such a file and warns of it in its report."""
+def read_wav(path: PathLike, channel: Union[int, str] = "auto") -> Tuple[np.ndarray, float]:
+    """A WAV file's samples and its rate (Hz), its channels heard as
+    ``channel`` asks, as ``clapper strikes --channel`` and the web's
+    ``channel=`` do: a channel's number counted from 1 (1 the first, the
+    left; 0 raises ``ValueError``), ``"mix"`` (mixed to one), or ``"auto"``
+    (the default: mixed to one, unless they disagree in time, one heard 5
+    ms or more after another, when their mix would blur every strike: one
+    is then read alone, the first unless another's strikes stand clearly
+    clearer over its noise, and this is warned of as
+    :class:`ClapperWarning`, as ``clapper strikes`` warns of it in its
+    report). A file that is not there raises ``FileNotFoundError``."""
     path = os.fspath(path)
+    if isinstance(channel, bool) or not isinstance(channel, (int, str)):
+        raise TypeError(f"channel: a channel's number (from 1), 'mix' or 'auto', not {channel!r}")
     # Opened here first so that a missing or unreadable file raises what
     # open() raises (FileNotFoundError, PermissionError), as elsewhere.
     with open(path, "rb"):
         pass
-    data, rate, told = _clapper.read_wav(path)
+    data, rate, told = _clapper.read_wav(path, str(channel))
     for w in told:
         _warnings.warn(w, ClapperWarning, stacklevel=2)
     return _f64(data), rate
