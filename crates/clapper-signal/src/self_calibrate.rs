@@ -42,7 +42,7 @@ mod start;
 
 use joint::Joint;
 use line_up::{best_lag, heard_in, line_up, mad, reline};
-use start::start_of;
+use start::{level_step, settle_start, start_of};
 
 use crate::strikes::{learn_voices, BellVoice, Heard, HeardStrike, Hearing, StrikeOptions};
 use crate::{Signal, SignalError};
@@ -70,6 +70,16 @@ const RELINE_S: f64 = 0.0025;
 const LEAD_S: f64 = 0.04;
 /// Fewest clean strikes a template is learned from.
 const FEWEST: usize = 4;
+/// A bell's lateness learned from fewer clean strikes than this is
+/// reported as not sure (tuning ring A8_wet: bell 6 learned from 5, 14 ms
+/// off).
+const SURE_FEWEST: usize = 8;
+/// A bell's lateness whose spread over its clean strikes is more than
+/// this is reported as not sure (s): the band finder hears a bell's
+/// strikes within 0.3-3 ms of one another where it hears them well; at 6
+/// ms and more on the tuning rings three bells in four so scattered were
+/// 6-27 ms off (session 17's tester: a bell scattered 22 ms, 15-45 ms off).
+const SURE_SPREAD_S: f64 = 0.006;
 
 /// One bell's calibration.
 #[derive(Clone, Debug, PartialEq)]
@@ -241,6 +251,7 @@ pub fn calibrate_heard(
         };
         match t {
             Some(t) => {
+                warnings.extend(unsure(bell, &t, clean.len()));
                 bells.push(BellCalibration {
                     bell,
                     partials_learned: lv.learned && kept[k],
@@ -321,6 +332,44 @@ struct Learned {
     average: Average,
     lateness_s: f64,
     spread_s: f64,
+    /// Where the start of its sound is not sure: how far apart its signs
+    /// lie (s; infinite where the level shows no rise at all).
+    unclear_s: Option<f64>,
+}
+
+/// Why bell `bell`'s lateness learned as `t` from `clean` clean strikes
+/// is not sure, in words, if it is not: its start not clear, its strikes
+/// scattered ([`SURE_SPREAD_S`]) or too few ([`SURE_FEWEST`]). The
+/// recording cannot tell such a bell's lateness: its strikes may be
+/// timed off by as much, early or late, at both strokes alike.
+fn unsure(bell: usize, t: &Learned, clean: usize) -> Option<String> {
+    let mut why = vec![];
+    if let Some(d) = t.unclear_s {
+        why.push(if d.is_finite() {
+            format!(
+                "the start of its sound is not clear in its average strike (two signs {:.0} ms apart)",
+                d * 1e3
+            )
+        } else {
+            "the start of its sound is not clear in its average strike".to_string()
+        });
+    }
+    if t.spread_s > SURE_SPREAD_S {
+        why.push(format!(
+            "its clean strikes were heard scattered ({:.0} ms about their lateness)",
+            t.spread_s * 1e3
+        ));
+    }
+    if clean < SURE_FEWEST {
+        why.push(format!("it was learned from only {clean} clean strikes"));
+    }
+    (!why.is_empty()).then(|| {
+        format!(
+            "bell {bell}: how late its strikes sound after the blow ({:.1} ms, learned from the recording) is not sure: {}; its strikes may all be timed early or late by as much",
+            t.lateness_s * 1e3,
+            why.join("; ")
+        )
+    })
 }
 
 /// The template of one bell from its clean strikes heard at `times` (s).
@@ -366,7 +415,13 @@ fn template_of(sig: &Signal, times: &[f64]) -> Option<Learned> {
         start = start_in(&r, &l);
         (reference, lags, reach) = (r, l, ((RELINE_S * rate) as usize).min(shift));
     }
-    let start = start?;
+    // A clear rise of the average's own level far from that start is the
+    // start (the other signs took another sound's on the tuning rings,
+    // 7-13 ms early); where there is none and the two disagree, it is not sure.
+    let (start, unclear_s) = match start? {
+        s if is_sharp => (s, None),
+        s => settle_start(s, level_step(&reference, rate, heard_in(&lags, before, shift)), rate),
+    };
     // Each clean strike's start of sound, and how late it was heard.
     let mut late: Vec<f64> = starts
         .iter()
@@ -391,6 +446,7 @@ fn template_of(sig: &Signal, times: &[f64]) -> Option<Learned> {
         },
         lateness_s,
         spread_s: dev[dev.len() / 2],
+        unclear_s,
     })
 }
 
@@ -532,6 +588,36 @@ mod tests {
             let m = median_ms(b.bell);
             assert!(m.abs() <= 3.0, "bell {}: median error {m:.2} ms", b.bell);
         }
+    }
+
+    /// A bell whose lateness the recording cannot tell (its start not
+    /// clear, its clean strikes scattered, or too few) is said not sure,
+    /// naming the bell and why; a bell learned well is not (session 17's
+    /// tester: a bell scattered 22 ms and 15-45 ms off, with no word).
+    #[test]
+    fn a_bell_whose_lateness_the_recording_cannot_tell_is_said_not_sure() {
+        let learned = |spread_s: f64, unclear_s: Option<f64>| Learned {
+            template: no_template(16_000.0),
+            average: Average {
+                samples: vec![],
+                start: 0,
+                reach: 0,
+                sharp: false,
+            },
+            lateness_s: 0.0204,
+            spread_s,
+            unclear_s,
+        };
+        assert_eq!(unsure(3, &learned(0.001, None), 30), None);
+        let w = unsure(3, &learned(0.001, Some(0.0165)), 30).unwrap();
+        assert!(
+            w.starts_with("bell 3: ") && w.contains("not sure") && w.contains("16 ms apart"),
+            "{w}"
+        );
+        let w = unsure(2, &learned(0.022, None), 30).unwrap();
+        assert!(w.starts_with("bell 2: ") && w.contains("scattered (22 ms"), "{w}");
+        let w = unsure(5, &learned(0.001, None), 5).unwrap();
+        assert!(w.starts_with("bell 5: ") && w.contains("only 5 clean strikes"), "{w}");
     }
 
     /// In rounds a bell always strikes just after the same one, whose

@@ -133,6 +133,65 @@ pub(super) fn start_of(reference: &[f64], segs: &[&[f64]], heard: usize, rate: f
     }
 }
 
+/// The raw average's level is compared over this long after a block
+/// against this long before (s): the recorded strikes' blow lifts it
+/// 6-14 dB within a block over the ring's other sound where their average
+/// is clean, and then builds up by a few dB in 5 ms.
+const LEVEL_W_S: f64 = 0.005;
+/// A rise of the raw average's level this clear (dB, [`level_step`]) is
+/// the blow: on ten of the tuning rings (`A6_*`, `A8_*`, session 18)
+/// every rise of 7 dB or more lay within 3.5 ms of the true start (most
+/// within 2); under 7 dB some lay 10-130 ms off (another bell's sound,
+/// the room) and some right.
+pub(super) const CLEAR_LEVEL_DB: f64 = 7.0;
+/// A start found by the other signs more than this from a clear rise of
+/// the level is another sound's (s): on the tuning rings the two lay
+/// 5-13 ms apart where the other signs were wrong. (On d8, whose blow
+/// rises in two steps a few ms apart, they lay 3-4 ms apart and the
+/// level's rise was the later: d8 then moved from 0 to +3 ms on four
+/// rings; docs/strikes.md, nom-9.)
+pub(super) const LEVEL_AGREE_S: f64 = 0.003;
+
+/// The greatest rise of the level (energy) of the raw average `reference`,
+/// over [`LEVEL_W_S`] after a block against as long before, from
+/// [`LATEST_S`] before `heard` (samples) to 5 ms after: where (samples)
+/// and by how much (dB). Not whitened: a bell whose blow is soft (muffled,
+/// or its top tilted down) still lifts the level with its own partials,
+/// which the whitening presses down.
+pub(super) fn level_step(reference: &[f64], rate: f64, heard: usize) -> Option<(usize, f64)> {
+    let b = block_len(rate);
+    let e = block_energy(reference, rate);
+    let w = ((LEVEL_W_S / BLOCK_S).round() as usize).max(1);
+    let lo = (heard.saturating_sub((LATEST_S * rate) as usize) / b).max(w);
+    let hi = ((heard + (0.005 * rate) as usize) / b).min(e.len().saturating_sub(w));
+    let mean = |r: std::ops::Range<usize>| e[r.clone()].iter().sum::<f64>() / r.len() as f64;
+    (lo..hi)
+        .map(|k| {
+            (
+                k,
+                10.0 * (mean(k..k + w).max(1e-300) / mean(k - w..k).max(1e-300)).log10(),
+            )
+        })
+        .max_by(|p, q| p.1.total_cmp(&q.1))
+        .map(|(k, d)| (k * b, d))
+}
+
+/// The start (samples) given the start the other signs found, `found`,
+/// and the raw level's greatest rise `level` ([`level_step`]: where,
+/// dB): a clear rise ([`CLEAR_LEVEL_DB`]) more than [`LEVEL_AGREE_S`] from
+/// `found` is the start. And how far apart the two lie (s) where the
+/// start is not sure: no clear rise, and `found` more than
+/// [`LEVEL_AGREE_S`] from the rise there is (or none at all).
+pub(super) fn settle_start(found: usize, level: Option<(usize, f64)>, rate: f64) -> (usize, Option<f64>) {
+    let near = (LEVEL_AGREE_S * rate) as usize;
+    match level {
+        Some((k, _)) if k.abs_diff(found) <= near => (found, None),
+        Some((k, db)) if db >= CLEAR_LEVEL_DB => (k, None),
+        Some((k, _)) => (found, Some(k.abs_diff(found) as f64 / rate)),
+        None => (found, Some(f64::INFINITY)),
+    }
+}
+
 /// The second difference of `x` (0 at its ends).
 fn second_difference(x: &[f64]) -> Vec<f64> {
     (0..x.len())
@@ -387,6 +446,84 @@ mod tests {
             })
             .collect();
         (strikes, at)
+    }
+
+    /// Strikes of a bell whose own partial (1318 Hz) comes in at full
+    /// strength within a millisecond at sample `at`, with no broadband
+    /// blow (a muffled bell, or its top tilted down), under three other
+    /// bells ringing on (phases differing from strike to strike) and a
+    /// 3100 Hz sound the same at every strike from 13 ms before `at`
+    /// (what another bell, always just before, leaves there): (the
+    /// strikes, `at`).
+    fn soft_blow_after_an_agreeing_sound(rate: f64) -> (Vec<Vec<f64>>, usize) {
+        let (len, at) = ((0.5 * rate) as usize, (0.3 * rate) as usize);
+        let early = at - (0.013 * rate) as usize;
+        let tau = 2.0 * std::f64::consts::PI;
+        let mut rng = rand_pcg::Pcg64::seed_from_u64(18);
+        let strikes = (0..20)
+            .map(|_| {
+                let phases: Vec<f64> = (0..3).map(|_| rng.random_range(0.0..tau)).collect();
+                let noise: Vec<f64> = (0..len).map(|_| rng.random_range(-0.05..0.05)).collect();
+                (0..len)
+                    .map(|i| {
+                        let t = i as f64 / rate;
+                        let before = if i >= early {
+                            0.3 * (tau * 3100.0 * (i - early) as f64 / rate).sin()
+                        } else {
+                            0.0
+                        };
+                        let own = if i >= at {
+                            let u = (i - at) as f64 / rate;
+                            2.0 * (1.0 - (-u / 0.001).exp()) * (tau * 1318.0 * u).sin()
+                        } else {
+                            0.0
+                        };
+                        other_bells(t, &phases) + before + own + noise[i]
+                    })
+                    .collect()
+            })
+            .collect();
+        (strikes, at)
+    }
+
+    /// A soft blow after a sound the same at every strike: the average's
+    /// level rises clearly at the bell's own start (over 7 dB), and that
+    /// rise is the start, within a millisecond, whatever the other signs
+    /// found (on the tuning rings they took another sound's, 7-13 ms early).
+    #[test]
+    fn a_clear_rise_of_the_averages_level_is_the_start() {
+        let rate = 16_000.0;
+        let (strikes, at) = soft_blow_after_an_agreeing_sound(rate);
+        let heard = at + (0.05 * rate) as usize;
+        let mean = average(&strikes);
+        let segs: Vec<&[f64]> = strikes.iter().map(|s| s.as_slice()).collect();
+        let found = start_of(&mean, &segs, heard, rate, true).unwrap();
+        let level = level_step(&mean, rate, heard);
+        let (k, db) = level.unwrap();
+        assert!(db >= CLEAR_LEVEL_DB, "the level rose {db:.1} dB");
+        assert!(k.abs_diff(at) as f64 <= 0.001 * rate, "the rise {k} (true {at})");
+        let (start, unclear) = settle_start(found, level, rate);
+        let off_ms = (start as f64 - at as f64) / rate * 1e3;
+        assert!(off_ms.abs() <= 1.0, "start {off_ms:.2} ms off (other signs {found})");
+        assert_eq!(unclear, None);
+    }
+
+    /// A start the other signs found is kept where the level's rise is
+    /// near it, or taken for the rise where that is clear and far; where the
+    /// rise is not clear and far off, the start is kept and said not sure
+    /// (by how far the two lie apart).
+    #[test]
+    fn a_start_far_from_a_weak_rise_is_kept_and_said_not_sure() {
+        let rate = 16_000.0;
+        let ms = |v: f64| (v * 1e-3 * rate) as usize;
+        let found = ms(200.0);
+        assert_eq!(settle_start(found, Some((ms(201.5), 12.0)), rate), (found, None));
+        assert_eq!(settle_start(found, Some((ms(213.0), 9.0)), rate), (ms(213.0), None));
+        let (start, unclear) = settle_start(found, Some((ms(183.0), 5.0)), rate);
+        assert_eq!(start, found);
+        let apart = unclear.unwrap();
+        assert!((apart - 0.017).abs() < 1e-3, "{apart}");
+        assert_eq!(settle_start(found, None, rate), (found, Some(f64::INFINITY)));
     }
 
     /// Under other bells ringing on louder than its blow, the strikes'
