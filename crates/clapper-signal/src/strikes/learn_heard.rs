@@ -171,14 +171,15 @@ fn heard_warnings(bells: &[LearnedBell], heard: &[BellHeard], asked: usize, few:
         if b.onsets == 0 && h.share >= HEARD {
             w.push(format!(
                 "bell {bell} (about {:.1} Hz): its nominal was not learned (it rose most at too few of the \
-                 recording's onsets) but guessed as its note of the ring's scale; {} strikes were heard there, so a \
-                 bell rings there, but its nominal may be a semitone out",
+                 recording's onsets) but guessed as its note of the ring's scale, so that it keeps its place and the \
+                 other bells their numbers; {} strikes were heard there, so a bell rings there, but its nominal may \
+                 be a semitone out",
                 b.nominal_hz, h.strikes
             ));
         } else if b.onsets == 0 {
             w.push(format!(
                 "bell {bell} (about {:.1} Hz): its nominal was not learned but guessed as its note of the ring's \
-                 scale, and only {} strikes were heard there, {:.0} % of a typical bell's: the bell is muffled or \
+                 scale (it keeps its place, so that the other bells keep their numbers), and only {} strikes were heard there, {:.0} % of a typical bell's: the bell is muffled or \
                  silent, or the ring's scale was placed wrong",
                 b.nominal_hz,
                 h.strikes,
