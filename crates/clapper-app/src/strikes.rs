@@ -10,7 +10,7 @@ use clapper_signal::strikes::{
     find_strikes_streamed_heard, rising_at, BellVoice, Heard, Hearing, InMemory, RecordingBlocks, RisePartial,
     StrikeOptions, Window, Windows, PLAUSIBLE_SHARE,
 };
-use clapper_signal::striking::{mean_sd, rhythm, steady, Rhythm, Timed};
+use clapper_signal::striking::{mean_sd, rhythm, rows_the_time_holds, steady, Rhythm, Timed, ROWS_OVER};
 use clapper_signal::template_timing::median_of;
 use clapper_signal::Signal;
 use serde::Serialize;
@@ -451,6 +451,9 @@ impl StrikesReport {
             self.summary.warnings.retain(|w| *w != given);
             self.summary.warnings.extend(worded);
         }
+        // The strikes heard about the nominals say more than the onsets
+        // they were learned at (bells-9).
+        let learned = learned.as_heard(&timed);
         self.summary.warnings.splice(0..0, learned.warnings);
         doubt::once_each(&mut self.summary.warnings);
         self.learned_nominals_hz = Some(learned.nominals);
@@ -502,8 +505,10 @@ impl StrikesReport {
         let rms = (!errs.is_empty()).then(|| (errs.iter().map(|e| e * e).sum::<f64>() / errs.len() as f64).sqrt());
         let interval_ms = r.interval.map(|i| i * 1e3);
         let misfit = doubt::misfit_warning(rms, interval_ms, bells);
-        let rows_doubted = misfit.is_some();
+        let slipped = rows_slipped(&timed, bells, r.rows);
+        let rows_doubted = misfit.is_some() || slipped.is_some();
         wide.extend(misfit);
+        wide.extend(slipped);
         wide.extend(doubt::loose_warning(
             rms,
             interval_ms,
@@ -830,5 +835,48 @@ impl StrikingFigure {
                 range_db: 70.0,
             },
         }
+    }
+}
+
+/// Rows found (`rows`) beyond what the ringing of `timed` holds, `bells`
+/// a row ([`rows_the_time_holds`]), in words: some rows were split half a
+/// row out, their strokes wrong.
+fn rows_slipped(timed: &[Timed], bells: usize, rows: usize) -> Option<String> {
+    let held = rows_the_time_holds(timed, bells)?;
+    (rows as f64 > held + ROWS_OVER).then(|| {
+        format!(
+            "{rows} rows read where the ringing's length holds about {held:.0}: some rows are split half a row \
+             out (strikes missing there), so their strokes, rows and places are wrong and odd-struckness is not \
+             given"
+        )
+    })
+}
+
+#[cfg(test)]
+mod slip_tests {
+    use super::*;
+
+    /// Tester 17's S6 (`--bells 6`): 84 rows read for 82, without a word.
+    /// Rows read beyond what the ringing's length holds are warned of.
+    #[test]
+    fn rows_read_beyond_what_the_ringing_holds_are_warned_of() {
+        let mut timed = vec![];
+        let mut t = 1.0;
+        for r in 0..40 {
+            if r % 2 == 0 && r > 0 {
+                t += 0.22;
+            }
+            for bell in 1..=6 {
+                timed.push(Timed { bell, t });
+                t += 0.22;
+            }
+        }
+        assert_eq!(rows_slipped(&timed, 6, 40), None);
+        assert_eq!(rows_slipped(&timed, 6, 41), None);
+        let w = rows_slipped(&timed, 6, 42).unwrap_or_default();
+        assert!(
+            w.starts_with("42 rows read where the ringing's length holds about 40"),
+            "{w}"
+        );
     }
 }

@@ -17,6 +17,7 @@ mod one_stroke;
 mod rows;
 
 pub use one_stroke::{heard_at_one_stroke, typical_strikes, TWO_ROWS};
+pub use rows::{rows_the_time_holds, ROWS_OVER};
 
 /// A strike to place: bell (from 1) and onset (s).
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -4,6 +4,7 @@
 //! The CLI, the web server and Python share these.
 
 use clapper_signal::strikes::BellVoice;
+use clapper_signal::striking::Timed;
 use clapper_signal::Signal;
 use serde::Serialize;
 
@@ -43,7 +44,9 @@ pub struct LearnedSet {
     /// another number of bells ring or two neighbouring nominals step by
     /// no whole number of semitones; below 0.5 warned of.
     pub confidence: f64,
-    /// Bells heard (learned from their strikes, not guessed).
+    /// Bells heard: learned from their strikes' rise, not guessed; once
+    /// the strikes are heard about them, heard at half a typical bell's
+    /// strikes or more.
     pub heard: usize,
     /// How many bells ring by the onsets' rhythm (`None` if it says nothing).
     pub ringing: Option<f64>,
@@ -99,29 +102,54 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, AppError> {
             l.onsets
         )));
     }
-    let learned = l
-        .bells
-        .iter()
-        .enumerate()
-        .map(|(i, b)| LearnedNominal {
-            bell: i + 1,
-            nominal_hz: b.nominal_hz,
-            confidence: b.confidence,
-            onsets: b.onsets,
-            support: b.support,
-            partials_fit: b.partials_fit,
-        })
-        .collect();
-    let set = LearnedSet {
-        confidence: l.confidence,
-        heard: l.bells.iter().filter(|b| b.onsets > 0).count(),
-        ringing: l.ringing,
-    };
-    Ok(Learned {
-        nominals: learned,
-        set,
-        warnings: l.warnings,
-    })
+    Ok(Learned::of(l))
+}
+
+impl Learned {
+    /// What the learner `l` learned, in the report's terms.
+    fn of(l: clapper_signal::strikes::Learned) -> Learned {
+        let nominals = l
+            .bells
+            .iter()
+            .enumerate()
+            .map(|(i, b)| LearnedNominal {
+                bell: i + 1,
+                nominal_hz: b.nominal_hz,
+                confidence: b.confidence,
+                onsets: b.onsets,
+                support: b.support,
+                partials_fit: b.partials_fit,
+            })
+            .collect();
+        let set = LearnedSet {
+            confidence: l.confidence,
+            heard: l.bells.iter().filter(|b| b.onsets > 0).count(),
+            ringing: l.ringing,
+        };
+        Learned {
+            nominals,
+            set,
+            warnings: l.warnings.clone(),
+            learner: l,
+        }
+    }
+
+    /// The nominals judged again by the `strikes` heard about them (bell
+    /// from 1, onset s): each bell as sure as its strikes bear it out, a
+    /// typical bell's share and none with another bell's, and the
+    /// learner's warnings said in the strikes' words (a note guessed and
+    /// then heard at every row is said so, not "not heard").
+    pub fn as_heard(&self, strikes: &[Timed]) -> Learned {
+        let mut l = Learned::of(self.learner.as_heard(strikes));
+        let count = |bell: usize| strikes.iter().filter(|s| s.bell == bell).count();
+        let mut counts: Vec<usize> = (1..=l.nominals.len()).map(count).collect();
+        counts.sort_unstable();
+        let typical = counts.get(counts.len() / 2).copied().unwrap_or(0);
+        l.set.heard = (1..=l.nominals.len())
+            .filter(|&b| 2 * count(b) >= typical && count(b) > 0)
+            .count();
+        l
+    }
 }
 
 /// The voices of `bells` bells of the kind `kind` whose nominals are
@@ -143,4 +171,6 @@ pub struct Learned {
     pub set: LearnedSet,
     /// What made the learning unsure, in words.
     pub warnings: Vec<String>,
+    /// What the learner learned, for [`Learned::as_heard`].
+    pub learner: clapper_signal::strikes::Learned,
 }

@@ -57,6 +57,11 @@ pub struct Learned {
     pub ringing: Option<f64>,
     /// What made it unsure, in words.
     pub warnings: Vec<String>,
+    /// The bells asked for.
+    pub asked: usize,
+    /// Far fewer bells heard than asked: each sound heard is a bell, no
+    /// note guessed for the rest (one bell struck again and again).
+    pub few: bool,
 }
 
 /// Highest frequency looked at (Hz): above a light ring's treble nominal.
@@ -275,6 +280,8 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
         confidence,
         ringing: rhythm,
         warnings,
+        asked: bells,
+        few,
     })
 }
 

@@ -337,7 +337,7 @@ pub(super) fn doubt_of_set(learned: &[LearnedBell], sure: f64, ringing: Option<f
                  number of semitones as a ring's bells are tuned: one is in the wrong place"
             )
         }
-        Some(b) if b.onsets == 0 => format!("bell {} was guessed, not heard", i + 1),
+        Some(b) if b.onsets == 0 => format!("bell {} was guessed, its nominal not learned", i + 1),
         Some(b) => format!(
             "bell {} was heard at {:.0} % of a typical bell's strikes",
             i + 1,

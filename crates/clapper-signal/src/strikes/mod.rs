@@ -25,6 +25,7 @@ mod fit;
 mod heard;
 mod learn;
 mod learn_gaps;
+mod learn_heard;
 mod learn_pick;
 mod learn_scale;
 mod learn_sure;
