@@ -14,7 +14,8 @@ pub(super) fn signal_error(e: clapper_signal::SignalError) -> AppError {
 /// The warning, first, when a recording that is not silent holds no strike
 /// of the bells given (speech, music, another ring).
 pub const NO_STRIKES: &str = "no strikes heard: nothing here starts the given bells' partials as a bell's strike \
-                              does; is this a recording of these bells ringing, and are the nominals theirs?";
+                              does; is this a recording of these bells ringing, and are the nominals or recorded strikes given \
+                              theirs?";
 
 /// The warning for one bell: its strikes are real, but striking is judged
 /// between bells.

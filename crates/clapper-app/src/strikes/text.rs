@@ -211,8 +211,8 @@ impl StrikesReport {
                  the median) {}",
                 list(
                     &|b| b.matched_ms,
-                    "its strikes were found, but none matched its recorded strike well enough to be moved: timed as \
-                     first heard, less the first figure if there is one"
+                    "none of its strikes (if any was found) matched its recorded strike well enough to be moved: \
+                     timed as first heard, less the first figure if there is one"
                 )
             ),
             _ => Ok(()),

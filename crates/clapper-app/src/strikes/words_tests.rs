@@ -80,7 +80,7 @@ fn a_dash_in_the_timing_line_says_what_it_means() {
         "{text}"
     );
     assert!(
-        text.contains("1 - (-: its strikes were found, but none matched its recorded strike"),
+        text.contains("1 - (-: none of its strikes (if any was found) matched its recorded strike"),
         "{text}"
     );
     let text = one_bell(s, s, Some(-3.0)).text("r");

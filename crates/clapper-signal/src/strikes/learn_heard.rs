@@ -105,6 +105,9 @@ impl Learned {
         let mut bells: Vec<LearnedBell> = self.bells.clone();
         for (b, h) in bells.iter_mut().zip(&heard) {
             b.confidence = match b.onsets {
+                // Learned, but not one strike heard there (a 2 s clip:
+                // tester18 read "100 % sure (0 bell(s) heard)").
+                _ if h.strikes == 0 => 0.0,
                 0 if h.share >= HEARD => GUESSED_HEARD,
                 0 => 0.0,
                 _ => b.support.clamp(0.0, 1.0),
@@ -121,10 +124,21 @@ impl Learned {
             bells[i].confidence = 0.0;
             set = 0.0;
         }
+        // A product of sureness may be -0.0: printed "-0 %".
+        let set = set.max(0.0);
+        let unheard = (0..bells.len()).find(|&i| heard[i].strikes == 0);
         let mut warnings = heard_warnings(&bells, &heard, self.asked, self.few);
         if set < DOUBTFUL && !bells.is_empty() {
-            warnings.push(match primes.first() {
-                Some(&i) => format!(
+            warnings.push(match (primes.first(), unheard) {
+                (None, Some(i)) => format!(
+                    "the nominals learned are doubtful ({:.0} % sure): bell {} ({:.1} Hz) was learned but not \
+                     heard at any strike; if the bells' nominals are known, give them (--nominals), else check \
+                     the learned ones against the bells' notes",
+                    100.0 * set,
+                    i + 1,
+                    bells[i].nominal_hz
+                ),
+                (Some(&i), _) => format!(
                     "the nominals learned are doubtful (0 % sure): bell {} ({:.1} Hz) is bell {}'s prime, not a bell, \
                      so a bell of the ring was not learned; if the bells' nominals are known, give them \
                      (--nominals), else check the learned ones against the bells' notes",
@@ -132,7 +146,7 @@ impl Learned {
                     bells[i].nominal_hz,
                     heard[i].prime_of.unwrap_or(0) + 1
                 ),
-                None => doubt_of_set(&bells, set, ringing),
+                (None, None) => doubt_of_set(&bells, set, ringing),
             });
         }
         bells_as_sure_as_their_set(&mut bells, set);
@@ -250,6 +264,29 @@ mod tests {
             asked: onsets.len(),
             few: false,
         }
+    }
+
+    /// Tester 18's 2 s clip (`--bells 6`): one bell learned, not one
+    /// strike heard, yet "100 % sure (0 bell(s) heard)". A bell heard at
+    /// no strike is not sure, nor is its set.
+    #[test]
+    fn a_bell_heard_at_no_strike_is_not_sure() {
+        let l = learned(&[30, 30, 30, 30, 30, 30, 30, 30], 1.0, 8.0, &[]);
+        let h = l.as_heard(&[]);
+        assert!(h.bells.iter().all(|b| b.confidence == 0.0), "{:?}", h.bells);
+        assert_eq!(h.confidence, 0.0);
+        assert!(h.confidence.is_sign_positive(), "printed -0 %");
+        assert!(
+            h.warnings.iter().any(|w| w.contains("not heard at any strike")),
+            "{:?}",
+            h.warnings
+        );
+        let mut one_silent = rounds(40, 8);
+        one_silent.retain(|s| s.bell != 3);
+        let h = l.as_heard(&one_silent);
+        assert_eq!(h.bells[2].confidence, 0.0);
+        // The others heard keep some sureness (no surer than their set).
+        assert!(h.bells[0].confidence > 0.0, "{:?}", h.bells);
     }
 
     /// Tester 17's eight (`--bells 8`): "only 7 nominals heard again and
