@@ -597,6 +597,21 @@ mod tests {
     /// its median (without the spread, one of the 0.6s was). The
     /// double struck 60 ms apart at 0.7, where no other strike has a
     /// second copy, is found.
+    /// The strikes of one bell (template `t`), struck every `gap` samples
+    /// `n` times in `x`, called double: (strike, delay ms).
+    fn called_double(x: &[f64], t: &[f64], gap: usize, n: usize, rate: f64) -> Vec<(usize, f64)> {
+        let mut pairs = Pairs::new(rate, &[Some(t)], &[], 0.15).unwrap();
+        let strikes: Vec<(usize, Vec<f64>)> = (0..n)
+            .map(|s| (1, pairs.aligned(x, 1, (gap * (s + 1)) as i64).unwrap().unwrap().c))
+            .collect();
+        let judged = pairs.judge(&strikes, (0.01, 0.15), 0.3);
+        judged
+            .iter()
+            .enumerate()
+            .filter_map(|(s, d)| d.map(|d| (s, d.delay_s * 1e3)))
+            .collect()
+    }
+
     #[test]
     fn a_second_copy_that_spreads_over_a_bells_single_strikes_is_not_a_double() {
         let rate = 8000.0;
@@ -614,16 +629,7 @@ mod tests {
                 put(at + ms(60.0), 0.7);
             }
         }
-        let mut pairs = Pairs::new(rate, &[Some(&t)], &[], 0.15).unwrap();
-        let strikes: Vec<(usize, Vec<f64>)> = (0..n)
-            .map(|s| (1, pairs.aligned(&x, 1, (gap * (s + 1)) as i64).unwrap().unwrap().c))
-            .collect();
-        let judged = pairs.judge(&strikes, (0.01, 0.15), 0.3);
-        let called: Vec<(usize, f64)> = judged
-            .iter()
-            .enumerate()
-            .filter_map(|(s, d)| d.map(|d| (s, d.delay_s * 1e3)))
-            .collect();
+        let called = called_double(&x, &t, gap, n, rate);
         assert_eq!(called.len(), 1, "{called:?}");
         assert_eq!(called[0].0, 5);
         assert!((called[0].1 - 60.0).abs() < 2.0, "{called:?}");
@@ -733,16 +739,7 @@ mod tests {
                 put(at + ms(80.0), 0.7);
             }
         }
-        let mut pairs = Pairs::new(rate, &[Some(&t)], &[], 0.15).unwrap();
-        let strikes: Vec<(usize, Vec<f64>)> = (0..n)
-            .map(|s| (1, pairs.aligned(&x, 1, (gap * (s + 1)) as i64).unwrap().unwrap().c))
-            .collect();
-        let judged = pairs.judge(&strikes, (0.01, 0.15), 0.3);
-        let called: Vec<(usize, f64)> = judged
-            .iter()
-            .enumerate()
-            .filter_map(|(s, d)| d.map(|d| (s, d.delay_s * 1e3)))
-            .collect();
+        let called = called_double(&x, &t, gap, n, rate);
         assert_eq!(called.len(), 1, "{called:?}");
         assert_eq!(called[0].0, 2);
         assert!((called[0].1 - 80.0).abs() < 2.0, "{called:?}");
