@@ -95,11 +95,12 @@ pub(super) fn bells_heard(strikes: &[Timed], bells: &[LearnedBell]) -> Vec<BellH
 impl Learned {
     /// The set judged again by the `strikes` heard about its nominals
     /// (bells from 1, treble first, as learned): a note guessed and heard
-    /// at [`HEARD`] of a typical bell's strikes, none with a bell's an
-    /// octave above, is [`GUESSED_HEARD`] sure (the set at most that);
+    /// at `HEARD` (0.5) of a typical bell's strikes, none with a bell's an
+    /// octave above, is `GUESSED_HEARD` (0.5) sure (the set at most that);
     /// every bell so heard, the onsets' rhythm is not counted; a bell that
-    /// is another's prime ([`BellHeard::prime_of`]) is not sure, nor the
-    /// set. The warnings are said again in the strikes' words.
+    /// is another's prime (`BellHeard::prime_of`) is not sure, nor the
+    /// set; a bell heard at no strike is 0 % sure, and so is the set. The
+    /// warnings are said again in the strikes' words.
     pub fn as_heard(&self, strikes: &[Timed]) -> Learned {
         let heard = bells_heard(strikes, &self.bells);
         let mut bells: Vec<LearnedBell> = self.bells.clone();
