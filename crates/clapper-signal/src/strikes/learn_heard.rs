@@ -99,8 +99,8 @@ impl Learned {
     /// octave above, is `GUESSED_HEARD` (0.5) sure (the set at most that);
     /// every bell so heard, the onsets' rhythm is not counted; a bell that
     /// is another's prime (`BellHeard::prime_of`) is not sure, nor the
-    /// set; a bell heard at no strike is 0 % sure, and so is the set. The
-    /// warnings are said again in the strikes' words.
+    /// set; a bell heard at no strike is 0 % sure (and the set, where no
+    /// bell is heard). The warnings are said again in the strikes' words.
     pub fn as_heard(&self, strikes: &[Timed]) -> Learned {
         let heard = bells_heard(strikes, &self.bells);
         let mut bells: Vec<LearnedBell> = self.bells.clone();
