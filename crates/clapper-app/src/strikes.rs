@@ -22,7 +22,9 @@ mod beside;
 pub use beside::{beside, HeardBeside, RecordingBeside};
 mod choose;
 pub use bells::{learn_nominals, learned_voices, voices_from_nominals, Learned, LearnedNominal, LearnedSet};
-pub use choose::{choose_timing, opening, Chosen, TimingAsked, TimingChoice, AUTO_LEAST_FOUND, AUTO_MARGIN};
+pub use choose::{
+    choose_timing, opening, Chosen, TimingAsked, TimingChoice, AUTO_LEAST_FOUND, AUTO_MARGIN, EVEN_SHARE,
+};
 mod doubt;
 mod input;
 mod kind;

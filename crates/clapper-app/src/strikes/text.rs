@@ -259,8 +259,10 @@ fn choice_words(c: &TimingChoice) -> String {
     let n = |v: Option<usize>| v.map_or("-".to_string(), |x| x.to_string());
     let why = match (c.window_s, c.plain_unevenness_ms, c.recording_unevenness_ms) {
         (Some(w), Some(p), Some(r)) => {
-            let kept = if c.used == "recording" {
+            let kept = if c.used == "recording" && r < AUTO_MARGIN * p {
                 "the evener kept".to_string()
+            } else if c.used == "recording" {
+                "timed as first heard they were far from even, so each bell's own sound was kept".to_string()
             } else if r < AUTO_MARGIN * p {
                 format!(
                     "learned from the recording, {} strikes were found against {}: not kept",
