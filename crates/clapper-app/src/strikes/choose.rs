@@ -387,10 +387,10 @@ impl TimingChoice {
 mod tests {
     use super::*;
 
-    /// Figures as measured on a ring of eight recorded bells (d4-d11,
-    /// rounds, 184 ms intervals) where plain timing lost nine strikes in
-    /// ten, every bell late by its own build-up: plain's strikes far from
-    /// even, the recording's no 0.7 of them.
+    /// The unevenness measured on a ring of eight recorded bells (d4-d11,
+    /// rounds; the interval about its own) where plain timing lost nine
+    /// strikes in ten, every bell late by its own build-up: plain's
+    /// strikes far from even, the recording's not under 0.7 of them.
     #[test]
     fn plain_far_from_even_is_not_kept_though_the_recording_is_not_evener_by_the_margin() {
         let (recording, reason, doubt) = decide((329, Some((99.5, 184.0))), (354, Some((73.4, 184.0))));
