@@ -313,7 +313,7 @@ fn decide(plain: Trial, rec: Trial) -> (bool, String, Option<String>) {
     let (u, g) = if recording { (ru, rg) } else { (pu, pg) };
     let doubt = (u >= EVEN_SHARE * g).then(|| {
         format!(
-            "the strikes came unevenly timed either way ({ru:.1} ms timed from the recording, {pu:.1} ms as heard, in intervals of {g:.0} ms; a band's are nearer a tenth): some bells' lateness after the blow could not be told from this recording, so all of such a bell's strikes may be timed tens of ms early or late, bell by bell (or the ringing is itself far from even); a template of each bell (a strike of it alone) times each from its own sound"
+            "the strikes came unevenly timed either way ({ru:.1} ms timed from the recording, {pu:.1} ms as heard, in intervals of {g:.0} ms; a band's are nearer a tenth): some bells' lateness after the blow could not be told from this recording, so all of such a bell's strikes may be timed tens of ms early or late, bell by bell (or more bells ring than were given: give every bell that rings; or the ringing is itself far from even); a template of each bell (a strike of it alone) times each from its own sound"
         )
     });
     (recording, reason, doubt)
