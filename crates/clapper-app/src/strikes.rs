@@ -194,6 +194,16 @@ pub struct BellTiming {
     /// How far its strikes then moved (the median, ms) when timed against
     /// its template; none without templates.
     pub matched_ms: Option<f64>,
+    /// Timed from the recording: the start of its sound is not clear in
+    /// its average strike, so its lateness may be off by tens of ms (the
+    /// warnings say why). Left out of the JSON where false.
+    #[serde(skip_serializing_if = "is_false")]
+    pub start_unclear: bool,
+}
+
+/// For serde: a flag left out where false.
+fn is_false(b: &bool) -> bool {
+    !*b
 }
 
 /// The timing corrections used.
@@ -641,6 +651,7 @@ fn correct_lateness(
                 spread_ms: b.spread_s * 1e3,
                 learned_from: b.strikes,
                 matched_ms: matched.get(b.bell - 1).copied().flatten().map(|m| m * 1e3),
+                start_unclear: false,
             })
             .collect(),
         choice: None,
@@ -664,6 +675,7 @@ fn recording_timing(c: &SelfCalibration, matched: &[Option<f64>], warnings: &mut
                 spread_ms: b.spread_s * 1e3,
                 learned_from: b.strikes,
                 matched_ms: matched.get(b.bell - 1).copied().flatten().map(|m| m * 1e3),
+                start_unclear: b.start_unclear,
             })
             .collect(),
         choice: None,

@@ -80,6 +80,18 @@ const SURE_FEWEST: usize = 8;
 /// ms and more on the tuning rings three bells in four so scattered were
 /// 6-27 ms off (session 17's tester: a bell scattered 22 ms, 15-45 ms off).
 const SURE_SPREAD_S: f64 = 0.006;
+/// A start where the average's level rises by less than this (dB) is
+/// faint...
+const FAINT_RISE_DB: f64 = 6.0;
+/// ...and a bell started so whose clean strikes scatter more than this
+/// (s) is reported as not sure: on the tuning rings (session 19) the two
+/// bells so, the level's faint rise agreeing with the other signs, were
+/// started 27 and 10 ms off (A6_dry bell 5, 5.6 dB, 5.7 ms; A6_pace bell
+/// 5, 4.9 dB, 3.0 ms), two more within 2.4 ms; every other bell started
+/// by a rise under 6 dB whose strikes scattered 2.9 ms or less was within
+/// 4.4 ms (most within 3). Lined up that loosely, its average is smeared
+/// and its start may be another sound's.
+const SMEARED_SPREAD_S: f64 = 0.0029;
 
 /// One bell's calibration.
 #[derive(Clone, Debug, PartialEq)]
@@ -96,6 +108,24 @@ pub struct BellCalibration {
     pub spread_s: f64,
     /// Clean strikes its template was learned from (0: none learned).
     pub strikes: usize,
+    /// Whether the start of its sound is not clear in its average strike
+    /// (the calibration's warnings say why): its lateness may be off by
+    /// tens of ms, all its strikes early or late alike.
+    pub start_unclear: bool,
+}
+
+impl BellCalibration {
+    /// Bell `bell` with no template learned (its strikes timed as heard).
+    fn unlearned(bell: usize, partials_learned: bool) -> Self {
+        BellCalibration {
+            bell,
+            partials_learned,
+            lateness_s: None,
+            spread_s: 0.0,
+            strikes: 0,
+            start_unclear: false,
+        }
+    }
 }
 
 /// The ring's calibration from the recording itself.
@@ -258,6 +288,7 @@ pub fn calibrate_heard(
                     lateness_s: Some(t.lateness_s),
                     spread_s: t.spread_s,
                     strikes: clean.len(),
+                    start_unclear: start_doubt(&t).is_some(),
                 });
                 templates.push(t.template);
                 averages.push(Some(t.average));
@@ -267,13 +298,7 @@ pub fn calibrate_heard(
                     "bell {bell}: no template learned from the recording ({} clean strike(s) heard, no start of its sound found): its strikes are timed as heard",
                     clean.len()
                 ));
-                bells.push(BellCalibration {
-                    bell,
-                    partials_learned: lv.learned && kept[k],
-                    lateness_s: None,
-                    spread_s: 0.0,
-                    strikes: 0,
-                });
+                bells.push(BellCalibration::unlearned(bell, lv.learned && kept[k]));
                 templates.push(no_template(sig.rate));
                 averages.push(None);
             }
@@ -335,17 +360,17 @@ struct Learned {
     /// Where the start of its sound is not sure: how far apart its signs
     /// lie (s; infinite where the level shows no rise at all).
     unclear_s: Option<f64>,
+    /// Where the level's rise at its start is under [`FAINT_RISE_DB`]: by
+    /// how much (dB).
+    faint_rise_db: Option<f64>,
 }
 
-/// Why bell `bell`'s lateness learned as `t` from `clean` clean strikes
-/// is not sure, in words, if it is not: its start not clear, its strikes
-/// scattered ([`SURE_SPREAD_S`]) or too few ([`SURE_FEWEST`]). The
-/// recording cannot tell such a bell's lateness: its strikes may be
-/// timed off by as much, early or late, at both strokes alike.
-fn unsure(bell: usize, t: &Learned, clean: usize) -> Option<String> {
-    let mut why = vec![];
+/// Why the start of a bell's sound learned as `t` is not sure, in words:
+/// its signs disagree, or it is a faint rise ([`FAINT_RISE_DB`]) and its
+/// strikes were lined up loosely ([`SMEARED_SPREAD_S`]). None if sure.
+fn start_doubt(t: &Learned) -> Option<String> {
     if let Some(d) = t.unclear_s {
-        why.push(if d.is_finite() {
+        return Some(if d.is_finite() {
             format!(
                 "the start of its sound is not clear in its average strike (two signs {:.0} ms apart)",
                 d * 1e3
@@ -354,6 +379,23 @@ fn unsure(bell: usize, t: &Learned, clean: usize) -> Option<String> {
             "the start of its sound is not clear in its average strike".to_string()
         });
     }
+    t.faint_rise_db.filter(|_| t.spread_s > SMEARED_SPREAD_S).map(|db| {
+        format!(
+            "the start of its sound is not clear in its average strike (its level rises there by only {db:.1} dB, \
+             and its clean strikes scatter {:.1} ms: the start found may be another sound's)",
+            t.spread_s * 1e3
+        )
+    })
+}
+
+/// Why bell `bell`'s lateness learned as `t` from `clean` clean strikes
+/// is not sure, in words, if it is not: its start not clear
+/// ([`start_doubt`]), its strikes scattered ([`SURE_SPREAD_S`]) or too
+/// few ([`SURE_FEWEST`]). The recording cannot tell such a bell's
+/// lateness: its strikes may be timed off by as much, early or late, at
+/// both strokes alike.
+fn unsure(bell: usize, t: &Learned, clean: usize) -> Option<String> {
+    let mut why: Vec<String> = start_doubt(t).into_iter().collect();
     if t.spread_s > SURE_SPREAD_S {
         why.push(format!(
             "its clean strikes were heard scattered ({:.0} ms about their lateness)",
@@ -418,10 +460,16 @@ fn template_of(sig: &Signal, times: &[f64]) -> Option<Learned> {
     // A clear rise of the average's own level far from that start is the
     // start (the other signs took another sound's on the tuning rings,
     // 7-13 ms early); where there is none and the two disagree, it is not sure.
+    let level = level_step(&reference, rate, heard_in(&lags, before, shift));
     let (start, unclear_s) = match start? {
         s if is_sharp => (s, None),
-        s => settle_start(s, level_step(&reference, rate, heard_in(&lags, before, shift)), rate),
+        s => settle_start(s, level, rate),
     };
+    // A start the level agrees with, but by a faint rise: sure only where
+    // the strikes were lined up closely (below, `unsure`).
+    let faint_rise_db = level
+        .map(|(_, db)| db)
+        .filter(|&db| !is_sharp && unclear_s.is_none() && db < FAINT_RISE_DB);
     // Each clean strike's start of sound, and how late it was heard.
     let mut late: Vec<f64> = starts
         .iter()
@@ -447,6 +495,7 @@ fn template_of(sig: &Signal, times: &[f64]) -> Option<Learned> {
         lateness_s,
         spread_s: dev[dev.len() / 2],
         unclear_s,
+        faint_rise_db,
     })
 }
 
@@ -607,6 +656,7 @@ mod tests {
             lateness_s: 0.0204,
             spread_s,
             unclear_s,
+            faint_rise_db: None,
         };
         assert_eq!(unsure(3, &learned(0.001, None), 30), None);
         let w = unsure(3, &learned(0.001, Some(0.0165)), 30).unwrap();
@@ -618,6 +668,37 @@ mod tests {
         assert!(w.starts_with("bell 2: ") && w.contains("scattered (22 ms"), "{w}");
         let w = unsure(5, &learned(0.001, None), 5).unwrap();
         assert!(w.starts_with("bell 5: ") && w.contains("only 5 clean strikes"), "{w}");
+    }
+
+    /// A start the level agrees with, but where it rises by under 6 dB,
+    /// is not sure where the bell's clean strikes scatter over 2.9 ms
+    /// (tuning ring A6_dry's bell 5: 5.6 dB, 5.7 ms, started 27 ms early
+    /// with no word); lined up closely, or by a clear rise, it is.
+    #[test]
+    fn a_faint_rise_in_a_smeared_average_is_said_not_sure() {
+        let learned = |spread_s: f64, faint_rise_db: Option<f64>| Learned {
+            template: no_template(16_000.0),
+            average: Average {
+                samples: vec![],
+                start: 0,
+                reach: 0,
+                sharp: false,
+            },
+            lateness_s: 0.042,
+            spread_s,
+            unclear_s: None,
+            faint_rise_db,
+        };
+        let smeared = learned(0.0057, Some(5.6));
+        let w = unsure(5, &smeared, 40).unwrap();
+        assert!(
+            w.starts_with("bell 5: ") && w.contains("not clear") && w.contains("5.6 dB"),
+            "{w}"
+        );
+        assert!(start_doubt(&smeared).is_some());
+        assert_eq!(unsure(5, &learned(0.0015, Some(5.6)), 40), None);
+        assert_eq!(unsure(5, &learned(0.0057, None), 40), None);
+        assert!(start_doubt(&learned(0.0057, None)).is_none());
     }
 
     /// In rounds a bell always strikes just after the same one, whose

@@ -18,6 +18,7 @@ fn one_bell(hand: StrokeStats, back: StrokeStats, matched_ms: Option<f64>) -> St
                 spread_ms: 1.0,
                 learned_from: 0,
                 matched_ms,
+                start_unclear: false,
             }],
             choice: None,
         }),
