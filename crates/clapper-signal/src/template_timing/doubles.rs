@@ -382,7 +382,10 @@ impl Pairs {
         strikes
             .iter()
             .zip(&curves)
-            .map(|((b, _), curve)| self.one(curve, &room[b - 1], lo, from[b - 1], min_ratio))
+            .map(|((b, _), curve)| {
+                self.one(curve, &room[b - 1], lo, from[b - 1], min_ratio)
+                    .filter(HeardDouble::is_heard_double)
+            })
             .collect()
     }
 
