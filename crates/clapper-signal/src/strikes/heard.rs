@@ -52,32 +52,6 @@ pub struct HeardDouble {
     pub amplitude_ratio: f64,
 }
 
-impl HeardDouble {
-    /// Whether this second blow may be reported as a double strike: a
-    /// second blow a listener hears as one. Its double strike index D
-    /// (eq. 33, `clapper_core::stroke::double_strike_index`, delay in ms)
-    /// is at least 1, the listeners' threshold (Fig 13): so no second
-    /// blow under 24.8 ms at any ratio up to 1, none under 29.5 ms at 0.5.
-    /// And its amplitude ratio is at most [`SECOND_BLOW_MAX`]: D was fitted
-    /// on second blows no louder than the first, and a copy far louder
-    /// says the first was not the strike. Every mode's doubles are judged
-    /// by it (the band finder's and the templates').
-    pub fn is_heard_double(&self) -> bool {
-        let d = clapper_core::stroke::double_strike_index(self.amplitude_ratio, self.delay_s * 1e3);
-        self.amplitude_ratio <= SECOND_BLOW_MAX && d >= 1.0
-    }
-}
-
-/// The loudest second blow (amplitude ratio to the first) reported as a
-/// double strike: the listening test's loudest (1, Fig 13), with room for
-/// its reading (planted ratios of 0.9-1.0 on the tuning rings of
-/// docs/strikes.md, dbl-3, were read at up to 1.11 with templates and
-/// 1.03 with nominals; the band finder's false doubles there read
-/// 1.05-1.49, most over 1.2). The model lets a bounce return harder (the
-/// lab bell's first, at R 0.02-0.2, 240-350 ms on at 0.9-1.5), but that
-/// far on, past the double-strike window.
-pub const SECOND_BLOW_MAX: f64 = 1.2;
-
 /// A strike heard.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct HeardStrike {
@@ -131,29 +105,5 @@ pub(super) fn check_options(o: &StrikeOptions) -> Result<(), SignalError> {
             "strike options (separation {} s, double-strike window {} to {} ms, ratio {}): separation 0.2 to 5 s, a double-strike window from 5 ms up and shorter than the separation, a ratio in (0, 2]",
             o.min_separation_s, o.double_window_ms.0, o.double_window_ms.1, o.double_min_ratio
         )))
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// A double strike is reported only where a listener hears one: D at
-    /// least 1 (eq. 33) and the second blow no louder than the first but
-    /// for the reading's slack.
-    #[test]
-    fn a_double_is_what_a_listener_hears_as_one() {
-        let d = |ms: f64, ratio: f64| HeardDouble {
-            delay_s: ms * 1e-3,
-            amplitude_ratio: ratio,
-        };
-        // The planted doubles of issue 43 (45-90 ms, 0.5-1.0) are doubles.
-        for (ms, r) in [(45.0, 0.5), (90.0, 1.0), (60.0, 0.3), (80.0, 1.1)] {
-            assert!(d(ms, r).is_heard_double(), "{ms} ms at {r}");
-        }
-        // Too soon for their size (D < 1), or far louder than the first.
-        for (ms, r) in [(24.0, 1.0), (29.0, 0.5), (40.0, 0.25), (60.0, 1.3), (120.0, 1.5)] {
-            assert!(!d(ms, r).is_heard_double(), "{ms} ms at {r}");
-        }
     }
 }

@@ -382,10 +382,7 @@ impl Pairs {
         strikes
             .iter()
             .zip(&curves)
-            .map(|((b, _), curve)| {
-                self.one(curve, &room[b - 1], lo, from[b - 1], min_ratio)
-                    .filter(HeardDouble::is_heard_double)
-            })
+            .map(|((b, _), curve)| self.one(curve, &room[b - 1], lo, from[b - 1], min_ratio))
             .collect()
     }
 
