@@ -16,8 +16,8 @@ use super::learn_gaps::{ringing, unheard_notes, Heard, IN_TUNE};
 use super::learn_pick::{apart, mean_rise};
 use super::learn_scale::{octave_fits, octaves_into_ring, ring_octaves, OCTAVES};
 use super::learn_sure::{
-    bell_sure, bells_as_sure_as_their_set, doubt_of_set, learned_set_sure, octave_share, ring_size, sounds,
-    warnings_of, DOUBTFUL,
+    bell_sure, bells_as_sure_as_their_set, doubt_of_set, learned_set_sure, octave_share, ring_size, rival_doubt,
+    rival_sure, sounds, warnings_of, DOUBTFUL,
 };
 use crate::{Signal, SignalError};
 
@@ -62,6 +62,12 @@ pub struct Learned {
     /// Far fewer bells heard than asked: each sound heard is a bell, no
     /// note guessed for the rest (one bell struck again and again).
     pub few: bool,
+    /// How far the ring learned fits its bells' partials better than the
+    /// best other ring of the scale (a sum of bells' fits, 0 to about one
+    /// a bell; infinite where no other ring fits or no scale was chosen):
+    /// near 0 the recording fits another set of nominals as well, and the
+    /// set is no surer than `rival_sure` of it (the margin over 0.2).
+    pub margin: f64,
 }
 
 /// Highest frequency looked at (Hz): above a light ring's treble nominal.
@@ -251,7 +257,7 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
         .collect();
     let groups = group_notes(notes, df);
     let heard = bells_of(&groups, &rises, k_lo, df, bells);
-    let (ring, few) = ring_of(heard, &onsets, &rises, k_lo, df, bells);
+    let (ring, few, margin) = ring_of(heard, &onsets, &rises, k_lo, df, bells);
     let rhythm = ring_size(&ring, &onsets);
     // A bell's share against the typical learned bell's: every bell of a
     // ring strikes as often as the others (onsets of the room, the noise
@@ -268,10 +274,10 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
         .collect();
     learned.sort_by(|a, b| b.nominal_hz.total_cmp(&a.nominal_hz));
     let mut learned = one_per_nominal(learned);
-    let confidence = learned_set_sure(&learned, rhythm, bells, few);
+    let confidence = learned_set_sure(&learned, rhythm, bells, few).min(rival_sure(margin));
     let mut warnings = warnings_of(&learned, bells, few);
     if confidence < DOUBTFUL && !learned.is_empty() {
-        warnings.push(doubt_of_set(&learned, confidence, rhythm));
+        warnings.push(rival_doubt(margin).unwrap_or_else(|| doubt_of_set(&learned, confidence, rhythm)));
     }
     bells_as_sure_as_their_set(&mut learned, confidence);
     Ok(Learned {
@@ -282,13 +288,15 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
         warnings,
         asked: bells,
         few,
+        margin,
     })
 }
 
 /// The ring's bells among those `heard`, each with its nominal (Hz) as
 /// placed, and whether far fewer were heard than the `bells` asked for
 /// (then each sound heard is a bell and no note is guessed; else
-/// [`on_the_scale`]).
+/// [`on_the_scale`]), and the ring's margin over the next best
+/// ([`Learned::margin`]).
 fn ring_of(
     heard: Vec<Heard>,
     onsets: &[usize],
@@ -296,30 +304,31 @@ fn ring_of(
     k_lo: usize,
     df: f64,
     bells: usize,
-) -> (Vec<(Heard, f64)>, bool) {
+) -> (Vec<(Heard, f64)>, bool, f64) {
     // A recording of far fewer bells than asked (one bell struck again and
     // again): each sound heard is a bell, and no note is guessed for the
     // rest. A third or fewer heard, not a half: ten handbells 150 ms apart
     // are heard as five, and their notes' guesses are right.
     let few = FEW * heard.len() <= bells;
     let heard_sounds = if few { sounds(&heard, rises, k_lo, df) } else { vec![] };
-    let ring = if few {
+    let (ring, margin) = if few {
         // Each at [`LEAST`] of the most heard one's onsets at least (as a
         // ring's bells against one bell's share): a partial of it noted
         // at a few onsets is no bell.
         let most = heard_sounds.iter().map(|b| b.onsets.len()).max().unwrap_or(0) as f64;
-        heard_sounds
+        let ring = heard_sounds
             .into_iter()
             .filter(|b| b.onsets.len() as f64 >= LEAST * most)
             .map(|b| {
                 let f = b.nominal_hz;
                 (b, f)
             })
-            .collect()
+            .collect();
+        (ring, f64::INFINITY)
     } else {
         on_the_scale(heard, onsets, rises, k_lo, df, bells)
     };
-    (ring, few)
+    (ring, few, margin)
 }
 
 /// The bell `b` heard, its nominal moved to `f` (Hz), learned: its
@@ -363,7 +372,9 @@ fn learned_bell(
 /// octaves: each bell's octave chosen with the others' (a ring is a
 /// scale, [`ring_octaves`]), the bells heard that fit no note left out
 /// and the empty notes filled ([`fill_empty_notes`]); failing that, the
-/// `bells` heard most, each moved into the ring's span alone.
+/// `bells` heard most, each moved into the ring's span alone. With the
+/// ring's margin over the next best ([`Learned::margin`]; infinite
+/// with no scale).
 fn on_the_scale(
     heard: Vec<Heard>,
     onsets: &[usize],
@@ -371,7 +382,7 @@ fn on_the_scale(
     k_lo: usize,
     df: f64,
     bells: usize,
-) -> Vec<(Heard, f64)> {
+) -> (Vec<(Heard, f64)>, f64) {
     let pool: Vec<&Heard> = heard.iter().collect();
     match ring_octaves(&pool, rises, k_lo, df, bells) {
         Some(fit) => {
@@ -394,14 +405,14 @@ fn on_the_scale(
                 };
                 (b, f)
             }));
-            ring
+            (ring, fit.margin)
         }
         None => {
             let mut heard = heard;
             heard.truncate(bells);
             let hz: Vec<f64> = heard.iter().map(|b| b.nominal_hz).collect();
             let moved = octaves_into_ring(&hz, bells);
-            heard.into_iter().zip(moved).collect()
+            (heard.into_iter().zip(moved).collect(), f64::INFINITY)
         }
     }
 }

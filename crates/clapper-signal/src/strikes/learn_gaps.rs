@@ -33,6 +33,10 @@ pub(super) struct RingFit {
     /// nearest first, as many as it has): where bells not heard at an end
     /// of the ring may be instead.
     pub(super) beyond: (Vec<f64>, Vec<f64>),
+    /// How far this ring's fit stands above the best other ring's (a sum
+    /// of bells' fits, 0 to about one a bell; infinite if no other fits):
+    /// near 0, the recording fits another set of notes as well.
+    pub(super) margin: f64,
 }
 
 /// The notes (semitones) of the diatonic scale beyond an end of a ring

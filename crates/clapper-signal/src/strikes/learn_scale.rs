@@ -101,6 +101,10 @@ pub(super) fn ring_octaves(
     // The fit, its placing, the scale's notes and those beyond its ends.
     type Best = (f64, Placing, Vec<f64>, (Vec<f64>, Vec<f64>), usize);
     let mut best: Option<Best> = None;
+    // Every ring tried, its fit and its bells' octaves: how far the best
+    // stands above the best other ring is how well the recording tells
+    // them apart.
+    let mut rings: Vec<(f64, Vec<Option<i32>>)> = vec![];
     // The scale is set on each bell's nominal moved by exact octaves.
     for b in chosen {
         for o_ref in -OCTAVES..=OCTAVES {
@@ -111,6 +115,9 @@ pub(super) fn ring_octaves(
                     // The reference bell's nominal on note `on` of the scale.
                     let pos: Vec<f64> = notes.iter().map(|n| n - on).collect();
                     let (sum, placed) = best_octaves(&hz, &fits, at, &pos);
+                    if placed.iter().any(Option::is_some) {
+                        rings.push((sum, octaves_of(&placed)));
+                    }
                     if best.as_ref().is_none_or(|b| sum > b.0 + 1e-9) {
                         let notes_hz = pos.iter().map(|p| at * 2f64.powf(p / 12.0)).collect();
                         let hz = |p: f64| at * 2f64.powf(p / 12.0);
@@ -122,7 +129,8 @@ pub(super) fn ring_octaves(
             }
         }
     }
-    let (_, placed, notes_hz, beyond, degree) = best?;
+    let (sum, placed, notes_hz, beyond, degree) = best?;
+    let margin = rival_margin(&rings, sum, &octaves_of(&placed));
     if placed.iter().all(Option::is_none) {
         return None;
     }
@@ -140,7 +148,30 @@ pub(super) fn ring_octaves(
             .map(|(f, p)| p.map(|(_, o)| f[(o + OCTAVES) as usize]))
             .collect(),
         empty,
+        margin,
     })
+}
+
+/// Each bell's octave moved by in a placing, `None` where left out: the
+/// same octaves on a scale slid a note are the same ring.
+fn octaves_of(placed: &Placing) -> Vec<Option<i32>> {
+    placed.iter().map(|p| p.map(|(_, o)| o)).collect()
+}
+
+/// How far (a sum of fits, as [`pattern_fit`]'s) the best ring (fit
+/// `best`, its bells' octaves `octaves`) stands above the best of the
+/// other `rings` tried (fit, octaves): another ring places a bell the
+/// best leaves out, leaves out one it places, or moves one by another
+/// octave (the same bells slid a note, an empty note moved from one end
+/// to the other, fit alike: that is a guessed note's doubt, not this);
+/// infinite if none other places a bell.
+fn rival_margin(rings: &[(f64, Vec<Option<i32>>)], best: f64, octaves: &[Option<i32>]) -> f64 {
+    rings
+        .iter()
+        .filter(|(_, o)| o.as_slice() != octaves)
+        .map(|(s, _)| best - s)
+        .fold(f64::INFINITY, f64::min)
+        .max(0.0)
 }
 
 /// A bell's fit ([`pattern_fit`]) to its nominal heard at `f` (Hz) moved
@@ -325,6 +356,59 @@ mod tests {
         ]);
         let fits = octave_fits(&recorded, 1300.0, 30, 5.0);
         assert!(fits[OCTAVES as usize] > 0.0, "{fits:?}");
+    }
+
+    /// Heard bells, one onset each, each rising as a tuned bell at its
+    /// nominal (Hz): hum, prime, tierce, nominal, superquint, octave.
+    fn tuned_bells(nominals: &[f64]) -> (Vec<Heard>, Vec<Vec<f64>>) {
+        let rises = nominals
+            .iter()
+            .map(|&f| {
+                rise_of(&[
+                    (0.25 * f, 0.3),
+                    (0.5 * f, 0.5),
+                    (0.5946 * f, 0.4),
+                    (f, 1.0),
+                    (1.5 * f, 0.5),
+                    (2.0 * f, 0.3),
+                ])
+            })
+            .collect();
+        let heard = nominals
+            .iter()
+            .enumerate()
+            .map(|(i, &f)| Heard {
+                nominal_hz: f,
+                onsets: vec![i],
+            })
+            .collect();
+        (heard, rises)
+    }
+
+    /// Tester 18's ring E: a ninth sound heard a tone over the treble
+    /// fitted as a bell as well as the tenor did, the two cannot share an
+    /// eight's octave, and the ring chosen (the treble invented, the
+    /// tenor left out) stood no higher than the other: its margin is
+    /// nothing. The eight alone stand far above any other ring.
+    #[test]
+    fn a_ring_another_fits_as_well_has_no_margin() {
+        // A major eight from the tenor at 871.5 Hz.
+        let eight: Vec<f64> = [12.0, 11.0, 9.0, 7.0, 5.0, 4.0, 2.0, 0.0]
+            .iter()
+            .map(|s: &f64| 871.5 * 2f64.powf(s / 12.0))
+            .collect();
+        let (heard, rises) = tuned_bells(&eight);
+        let chosen: Vec<&Heard> = heard.iter().collect();
+        let fit = ring_octaves(&chosen, &rises, 30, 5.0, 8).unwrap();
+        assert!(fit.moved.iter().all(Option::is_some), "{:?}", fit.moved);
+        assert!(fit.margin > 0.5, "{}", fit.margin);
+        let mut nine = eight.clone();
+        nine.insert(0, 871.5 * 2f64.powf(14.0 / 12.0));
+        let (heard, rises) = tuned_bells(&nine);
+        let chosen: Vec<&Heard> = heard.iter().collect();
+        let fit = ring_octaves(&chosen, &rises, 30, 5.0, 8).unwrap();
+        assert!(fit.margin < 0.01, "{}", fit.margin);
+        assert!(super::super::learn_sure::rival_sure(fit.margin) < super::super::learn_sure::DOUBTFUL);
     }
 
     /// A bell heard at its octave nominal 2.06 times its nominal (d11 of

@@ -311,6 +311,34 @@ pub(super) fn learned_set_sure(learned: &[LearnedBell], ringing: Option<f64>, be
     }
 }
 
+/// A ring's margin over the next best ring ([`super::learn::Learned::margin`])
+/// at which the set may be wholly sure: below it the set is at most
+/// the margin's share of it.
+const RIVAL_FULL: f64 = 0.2;
+
+/// How sure a set can be whose ring fits its bells' partials `margin`
+/// (a sum of bells' fits) better than the best other ring: where
+/// another ring fits nearly as well (tester 18's ring E: a treble at a
+/// bell's superquint, 0.36, against the tenor left out, 0.33) the
+/// recording cannot tell which is rung.
+pub(super) fn rival_sure(margin: f64) -> f64 {
+    (margin / RIVAL_FULL).clamp(0.0, 1.0)
+}
+
+/// The doubt of a set whose ring's `margin` over the next best leaves it
+/// under [`DOUBTFUL`] ([`rival_sure`]), in words; `None` otherwise.
+pub(super) fn rival_doubt(margin: f64) -> Option<String> {
+    (rival_sure(margin) < DOUBTFUL).then(|| {
+        format!(
+            "the nominals learned are doubtful ({:.0} % sure): another set of notes, a bell or more moved or \
+             another left out, fits the recording's strikes nearly as well (one bell's partial may have been \
+             taken for a bell, or a bell missed); if the bells' nominals are known, give them (--nominals), else \
+             check the learned ones against the bells' notes",
+            100.0 * rival_sure(margin)
+        )
+    })
+}
+
 /// The warning for a set of bells `learned` only `sure` sure (below
 /// [`DOUBTFUL`]): two of its nominals too close, else a step between
 /// neighbours that no ring has ([`steps_sure`]), else its least sure bell
