@@ -65,6 +65,12 @@ pub enum AppError {
     /// Sound could not be synthesised or encoded.
     #[error("sound: {0}")]
     Sound(String),
+    /// No bell's strike heard to learn the bells from (`--bells N` on a
+    /// silent, steady or bell-less recording): what was heard, in words.
+    /// Front ends that report strikes report none
+    /// ([`strikes::StrikesReport::unheard`]), as with nominals given.
+    #[error("{0}")]
+    NothingHeard(String),
 }
 
 impl From<SimError> for AppError {
@@ -84,7 +90,11 @@ impl AppError {
     pub fn is_bad_input(&self) -> bool {
         matches!(
             self,
-            AppError::Request(_) | AppError::BellFile(_) | AppError::Answers(_) | AppError::Param(_)
+            AppError::Request(_)
+                | AppError::BellFile(_)
+                | AppError::Answers(_)
+                | AppError::Param(_)
+                | AppError::NothingHeard(_)
         )
     }
 }

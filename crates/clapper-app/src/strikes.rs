@@ -139,8 +139,13 @@ pub struct StrikesSummary {
     pub strikes: usize,
     /// Rows found.
     pub rows: usize,
-    /// Rows holding every bell once.
+    /// Rows holding every bell of the ring once (a row lacking a bell,
+    /// whatever the cause, is not full).
     pub full_rows: usize,
+    /// Rows placed (each bell's striking judged in them): the full rows,
+    /// and rows lacking one bell (never heard, or heard at one stroke
+    /// only) whose empty place is left for it.
+    pub placed_rows: usize,
     /// Mean interval between successive bells (ms).
     pub interval_ms: Option<f64>,
     /// The handstroke gap (intervals; 1 in good striking).
@@ -451,6 +456,27 @@ impl StrikesReport {
         doubt::once_each(&mut self.summary.warnings);
     }
 
+    /// The report of `sig`, listened to for `bells` bells whose nominals
+    /// could not be learned from it because no bell's strike is in it
+    /// (`why`, [`AppError::NothingHeard`]'s words): no strikes, said as
+    /// with nominals given (a recording with no strikes is a result, not
+    /// a failure: `clapper strikes` exits 0 in every mode).
+    pub fn unheard(sig: &Signal, bells: usize, why: &str) -> Self {
+        let peak = sig.samples.iter().fold(0.0f64, |p, v| p.max(v.abs()));
+        let warnings = vec![match peak > 0.0 {
+            true => format!("nothing to learn the bells from: {why}"),
+            false => "the recording is silent".to_string(),
+        }];
+        let heard = Heard {
+            strikes: vec![],
+            warnings: vec![],
+        };
+        let duration_s = sig.samples.len() as f64 / sig.rate;
+        let mut report = Self::of(&heard, bells, duration_s, warnings, None, false);
+        doubt::once_each(&mut report.summary.warnings);
+        report
+    }
+
     /// Say in the report that its bells' nominals were `learned` from the
     /// recording: the nominals (`learned_nominals_hz`), and what made them
     /// unsure first among the warnings.
@@ -493,7 +519,7 @@ impl StrikesReport {
         let together = doubt::struck_together(&timed);
         if together.is_none() {
             let heard = (1..=bells).filter(|b| timed.iter().any(|s| s.bell == *b)).count();
-            wide.extend(doubt::no_full_row(timed.len(), r.rows, r.full_rows, heard, bells));
+            wide.extend(doubt::no_full_row(timed.len(), r.rows, r.placed_rows, heard, bells));
         }
         wide.extend(together);
         wide.extend(doubt::ring_size_warning(&timed, bells, doubt::given_as(templates)));
@@ -547,6 +573,7 @@ impl StrikesReport {
             strikes: strikes.len(),
             rows: r.rows,
             full_rows: r.full_rows,
+            placed_rows: r.placed_rows,
             interval_ms,
             handstroke_gap_intervals: r.handstroke_gap,
             handstroke_gap_ms: r.handstroke_gap.zip(interval_ms).map(|(g, i)| g * i),

@@ -94,6 +94,10 @@ enum Command {
     Impulse(measure::ImpulseArgs),
     /// Strikes heard in a recording of a ring: each bell's strikes, hand and
     /// back, double strikes, place errors and odd-struckness (docs/strikes.md).
+    ///
+    /// A recording with no strikes heard (silent, or no bell in it) is a
+    /// result, not a failure: the report says so, with 0 strikes, and the
+    /// exit status is 0 with --nominals, --templates and --bells alike.
     Strikes(strikes::StrikesArgs),
     /// A synthetic recording of a ring ringing rounds or plain hunt, with its
     /// truth beside it: striking errors, odd-struck bells, double strikes, a room, noise.

@@ -9,6 +9,7 @@ use clap::Args;
 use clapper_app::strikes::{
     choose_timing, learned_voices, strike_options, StrikesReport, StrikingFigure, Timing, TimingAsked,
 };
+use clapper_app::AppError;
 use clapper_io::signal_file::{read_recording, read_recording_chosen, write_wav, ChannelChoice};
 use clapper_io::strike_file::{csv_text, lowndes};
 use clapper_io::wav_stream::WavStream;
@@ -184,9 +185,18 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         (None, None, Some(n)) => {
             // Learned from the whole recording, read at once.
             let (sig, _) = read_recording_chosen(&args.file, channel)?;
-            let (voices, l) = learned_voices(&sig, n, kind).with_context(|| args.file.display().to_string())?;
-            learned = Some(l);
-            (voices, vec![])
+            match learned_voices(&sig, n, kind) {
+                Ok((voices, l)) => {
+                    learned = Some(l);
+                    (voices, vec![])
+                }
+                // No strike to learn from: a report of none, as with
+                // --nominals or --templates (tester18: exit 1 here only).
+                Err(AppError::NothingHeard(why)) => {
+                    return write_report(&args, &StrikesReport::unheard(&sig, n, &why), None);
+                }
+                Err(e) => return Err(e).with_context(|| args.file.display().to_string()),
+            }
         }
         (None, None, None) => {
             bail!("say which bells to listen for: --nominals F1,F2,.. (Hz, treble first), --templates DIR or --bells N")
@@ -219,6 +229,13 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
     if let Some(c) = chosen {
         report.note_choice(c.choice);
     }
+    write_report(&args, &report, Some((&strip, voices.as_slice())))
+}
+
+/// Write `report` as `args` ask: CSV, Lowndes, the plot (of `heard`: the
+/// recording's first seconds and the voices listened for; none where no
+/// bell was learned) and the report itself.
+fn write_report(args: &StrikesArgs, report: &StrikesReport, heard: Option<(&Signal, &[BellVoice])>) -> Result<()> {
     let name = crate::files::title_name(&args.file);
     if let Some(path) = &args.csv {
         write_bytes(path, csv_text(&report.csv_rows()).map_err(anyhow::Error::msg)?)?;
@@ -227,12 +244,16 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         let text = lowndes(&report.lowndes_blows(), &name, report.bells).map_err(anyhow::Error::msg)?;
         write_bytes(path, text)?;
     }
-    if let Some(path) = &args.plot {
-        let fig = StrikingFigure::new(&report, &strip, &name, &voices)?;
-        crate::files::write_atomically(path, |tmp| Ok(clapper_plot::striking_plot(tmp, &fig.plot())?))?;
+    match (&args.plot, heard) {
+        (Some(path), Some((strip, voices))) => {
+            let fig = StrikingFigure::new(report, strip, &name, voices)?;
+            crate::files::write_atomically(path, |tmp| Ok(clapper_plot::striking_plot(tmp, &fig.plot())?))?;
+        }
+        (Some(path), None) => eprintln!("{}: not drawn: no bell learned to draw", path.display()),
+        _ => {}
     }
     let title = args.file.display().to_string();
-    print_report(&report, args.json, || {
+    print_report(report, args.json, || {
         if args.verbose {
             report.text_verbose(&title)
         } else {

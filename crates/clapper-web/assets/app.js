@@ -1066,7 +1066,7 @@ function strikesHtml(r) {
   const sure = doubted.length && s.rms_error_sure_ms !== null
     ? ` (${fmt(s.rms_error_sure_ms, 1)} ms leaving out bell${doubted.length > 1 ? "s" : ""} ${doubted.map((b) => b.bell).join(", ")}, whose timing is in doubt)` : "";
   const beside = lastDiagnosis && lastDiagnosis.bells.length > 0;
-  let h = `<h2>Striking</h2><p>${s.strikes} strikes in ${s.rows} rows (${s.full_rows} full); interval ${fmt(s.interval_ms, 1)} ms,
+  let h = `<h2>Striking</h2><p>${s.strikes} strikes in ${s.rows} rows (${s.full_rows} full${s.placed_rows > s.full_rows ? `, ${s.placed_rows - s.full_rows} lacking one bell` : ''}); interval ${fmt(s.interval_ms, 1)} ms,
     handstroke gap ${fmt(s.handstroke_gap_intervals, 2)} interval(s), RMS striking error ${fmt(s.rms_error_ms, 1)} ms${sure},
     ${s.double_strikes} double strike(s).
     <button type="button" id="download-strikes-json">Download JSON</button>

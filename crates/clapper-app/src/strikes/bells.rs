@@ -90,14 +90,18 @@ pub fn voices_from_nominals(nominals: &[f64], kind: Voice) -> Result<Vec<BellVoi
 /// The nominals of `bells` bells (3 to 16) learned from the recording
 /// `sig` alone ([`clapper_signal::strikes::learn_nominals`]), treble first,
 /// how sure the set is and what made it unsure, in words. Refused when no
-/// bell is heard.
+/// bell is heard ([`AppError::NothingHeard`]: no onset, or none a bell's).
 pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, AppError> {
     if !(3..=16).contains(&bells) {
         return Err(AppError::Request(format!("--bells {bells}: from 3 to 16 bells")));
     }
-    let l = clapper_signal::strikes::learn_nominals(sig, bells).map_err(signal_error)?;
+    let l = clapper_signal::strikes::learn_nominals(sig, bells).map_err(|e| match e {
+        // The learner's one Invalid: no onset at all (silent or steady).
+        clapper_signal::SignalError::Invalid(m) => AppError::NothingHeard(m),
+        e => signal_error(e),
+    })?;
     if l.bells.is_empty() {
-        return Err(AppError::Request(format!(
+        return Err(AppError::NothingHeard(format!(
             "strikes: no bell's nominal heard again and again at {} onsets: is it a recording of bells ringing?",
             l.onsets
         )));

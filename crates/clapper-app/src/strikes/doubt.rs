@@ -48,13 +48,20 @@ pub(super) fn struck_together(timed: &[Timed]) -> Option<String> {
 }
 
 /// A warning when `strikes` strikes make `rows` rows, none with every
-/// bell: of only `heard` bells, half or fewer of the `bells` given, no
+/// bell (`placed_rows` 0: none placed, a row lacking one bell never heard
+/// is placed): of only `heard` bells, half or fewer of the `bells` given, no
 /// ring rung in rows; of every bell, no bell's striking can be judged
 /// (each bell's figures come from full rows: a tester's phone recording
 /// of six in wind and traffic read "0 full rows" and "-" for every bell,
 /// with no word why). A bell or two not heard is warned of alone.
-pub(super) fn no_full_row(strikes: usize, rows: usize, full_rows: usize, heard: usize, bells: usize) -> Option<String> {
-    if bells < 2 || full_rows > 0 || strikes < 4 * bells.max(3) {
+pub(super) fn no_full_row(
+    strikes: usize,
+    rows: usize,
+    placed_rows: usize,
+    heard: usize,
+    bells: usize,
+) -> Option<String> {
+    if bells < 2 || placed_rows > 0 || strikes < 4 * bells.max(3) {
         return None;
     }
     if 2 * heard > bells && heard < bells {

@@ -1,5 +1,6 @@
 //! What the rows heard were: rounds or a method's plain course
-//! (`clapper_signal::methods::recognise`), from the rows heard whole.
+//! (`clapper_signal::methods::recognise`), from the rows heard whole (a
+//! row lacking one bell is whole: its empty place is that bell's).
 
 use serde::Serialize;
 
@@ -32,6 +33,20 @@ impl MethodReport {
     }
 }
 
+/// `row` (each place's bell, from 0, of `bells`) with its one empty place
+/// given the one bell it lacks: a row is every bell once, so a bell not
+/// heard in it (quiet at that stroke, tester18's ring A with `--nominals`:
+/// Plain Bob named with `--templates` only) stood where no bell was heard.
+/// Rows with more than one place empty are as they were.
+fn one_place_filled(mut row: Vec<Option<usize>>, bells: usize) -> Vec<Option<usize>> {
+    let empty: Vec<usize> = (0..row.len()).filter(|&p| row[p].is_none()).collect();
+    let lacking: Vec<usize> = (0..bells).filter(|b| !row.contains(&Some(*b))).collect();
+    if let ([p], [b]) = (empty.as_slice(), lacking.as_slice()) {
+        row[*p] = Some(*b);
+    }
+    row
+}
+
 /// What the rows of `rows` rows the `strikes` were placed in were
 /// (`clapper_signal::methods::recognise`), from the rows heard whole: each
 /// of the `bells` bells once, in places 1 to `bells`.
@@ -54,7 +69,7 @@ pub(super) fn method_of(strikes: &[StrikeReport], rows: usize, bells: usize) -> 
         .into_iter()
         .zip(spoilt)
         .map(|(r, bad)| {
-            let r: Option<Vec<usize>> = r.into_iter().collect();
+            let r: Option<Vec<usize>> = one_place_filled(r, bells).into_iter().collect();
             r.filter(|r| {
                 !bad && {
                     let mut seen = vec![false; bells];
@@ -68,4 +83,54 @@ pub(super) fn method_of(strikes: &[StrikeReport], rows: usize, bells: usize) -> 
         changes_fitting: m.fitting,
         changes_judged: m.judged,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use clapper_signal::methods::PlainCourse;
+
+    /// Two courses of Plain Bob Minor as strikes placed in their rows,
+    /// less bell `quiet`'s (from 1) at every backstroke (odd row).
+    fn plain_bob_less(quiet: Option<usize>) -> Vec<StrikeReport> {
+        let course = PlainCourse::PlainBob.course(6).unwrap();
+        let rows = course.iter().chain(&course);
+        let mut out = vec![];
+        for (r, row) in rows.enumerate() {
+            for (p, &b) in row.iter().enumerate() {
+                if r % 2 == 1 && quiet == Some(b + 1) {
+                    continue;
+                }
+                out.push(StrikeReport {
+                    bell: b + 1,
+                    t_s: r as f64,
+                    stroke: None,
+                    row: Some(r),
+                    place: Some(p + 1),
+                    error_ms: None,
+                    double: None,
+                });
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn a_bell_quiet_at_one_stroke_does_not_hide_the_method() {
+        let rows = 2 * PlainCourse::PlainBob.course(6).unwrap().len();
+        let named = |s: &[StrikeReport]| method_of(s, rows, 6).map(|m| m.name);
+        assert_eq!(named(&plain_bob_less(None)).as_deref(), Some("Plain Bob"));
+        // Tester18's ring A with --nominals: bell 5 not heard at backstroke.
+        assert_eq!(named(&plain_bob_less(Some(5))).as_deref(), Some("Plain Bob"));
+    }
+
+    #[test]
+    fn a_row_lacking_two_bells_is_not_filled() {
+        let row = vec![Some(0), None, Some(2), None];
+        assert_eq!(one_place_filled(row.clone(), 4), row);
+        assert_eq!(
+            one_place_filled(vec![Some(3), None, Some(0), Some(1)], 4),
+            vec![Some(3), Some(2), Some(0), Some(1)]
+        );
+    }
 }

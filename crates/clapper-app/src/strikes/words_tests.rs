@@ -40,6 +40,7 @@ fn one_bell(hand: StrokeStats, back: StrokeStats, matched_ms: Option<f64>) -> St
             strikes: hand.n + back.n,
             rows: 2,
             full_rows: 2,
+            placed_rows: 2,
             interval_ms: None,
             handstroke_gap_intervals: None,
             handstroke_gap_ms: None,
