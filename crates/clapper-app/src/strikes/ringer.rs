@@ -147,9 +147,9 @@ pub(super) fn missing_warnings(
             let (n, hand, back) = c[b - 1];
             let one = |a: usize, other: usize| strokes_known && (a as f64) < ONE_STROKE_SHARE * other as f64;
             let why = if one(back, hand) {
-                format!("{hand} handstrokes, {back} backstrokes: quieter or muffled at backstroke?")
+                format!("heard at {hand} handstrokes and {back} backstrokes: quieter or muffled at backstroke?")
             } else if one(hand, back) {
-                format!("{hand} handstrokes, {back} backstrokes: quieter or muffled at handstroke?")
+                format!("heard at {hand} handstrokes and {back} backstrokes: quieter or muffled at handstroke?")
             } else {
                 "weak or muffled strikes, a clapper that jams, or strikes not heard apart from the others?".to_string()
             };
@@ -242,7 +242,7 @@ mod tests {
         let w = missing_warnings(&s, 6, rows, true, &[]);
         assert_eq!(
             w,
-            vec!["bell 5: 20 strikes in 40 rows: 20 missing (20 handstrokes, 0 backstrokes: quieter or muffled at backstroke?)"]
+            vec!["bell 5: 20 strikes in 40 rows: 20 missing (heard at 20 handstrokes and 0 backstrokes: quieter or muffled at backstroke?)"]
         );
         assert!(missing_warnings(&s, 6, rows, true, &[5]).is_empty());
     }
