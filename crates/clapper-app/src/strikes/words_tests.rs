@@ -206,7 +206,11 @@ fn what_qualifies_the_table_stands_before_it() {
     // those of single bells.
     let at = |start: &str| r.summary.warnings.iter().position(|w| w.starts_with(start));
     let (misfit, missing) = (at("the strikes do not keep the rhythm"), at("bell 5: "));
-    assert!(matches!((misfit, missing), (Some(a), Some(b)) if a < b), "{:?}", r.summary.warnings);
+    assert!(
+        matches!((misfit, missing), (Some(a), Some(b)) if a < b),
+        "{:?}",
+        r.summary.warnings
+    );
 }
 
 /// Tester17: an RMS striking error of 16-41 ms where the truth was 7-8 ms,
