@@ -51,6 +51,11 @@ fn one_place_filled(mut row: Vec<Option<usize>>, bells: usize) -> Vec<Option<usi
 /// (`clapper_signal::methods::recognise`), from the rows heard whole: each
 /// of the `bells` bells once, in places 1 to `bells`.
 pub(super) fn method_of(strikes: &[StrikeReport], rows: usize, bells: usize) -> Option<MethodReport> {
+    // One or two bells make no method: every row of one bell is "rounds"
+    // (tester19: one nominal given read "rounds (18 of 18 changes)").
+    if bells < 3 {
+        return None;
+    }
     let mut heard: Vec<Vec<Option<usize>>> = vec![vec![None; bells]; rows];
     let mut spoilt = vec![false; rows];
     for s in strikes {
@@ -122,6 +127,15 @@ mod tests {
         assert_eq!(named(&plain_bob_less(None)).as_deref(), Some("Plain Bob"));
         // Tester18's ring A with --nominals: bell 5 not heard at backstroke.
         assert_eq!(named(&plain_bob_less(Some(5))).as_deref(), Some("Plain Bob"));
+    }
+
+    #[test]
+    fn one_or_two_bells_make_no_method() {
+        let rows = 2 * PlainCourse::PlainBob.course(6).unwrap().len();
+        let one: Vec<StrikeReport> = plain_bob_less(None).into_iter().filter(|s| s.bell == 1).collect();
+        let one: Vec<StrikeReport> = one.into_iter().map(|s| StrikeReport { place: Some(1), ..s }).collect();
+        assert!(method_of(&one, rows, 1).is_none());
+        assert!(method_of(&plain_bob_less(None), rows, 6).is_some());
     }
 
     #[test]
