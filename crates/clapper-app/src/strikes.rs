@@ -21,7 +21,10 @@ mod bells;
 mod beside;
 pub use beside::{beside, HeardBeside, RecordingBeside};
 mod choose;
-pub use bells::{learn_nominals, learned_voices, voices_from_nominals, Learned, LearnedNominal, LearnedSet};
+pub use bells::{
+    learn_nominals, learned_or_none, learned_voices, voices_from_nominals, Learned, LearnedNominal, LearnedSet,
+    Learning,
+};
 pub use choose::{
     choose_timing, opening, Chosen, TimingAsked, TimingChoice, AUTO_LEAST_FOUND, AUTO_MARGIN, EVEN_SHARE,
 };
@@ -440,7 +443,7 @@ impl StrikesReport {
             warnings.insert(0, input::not_bells(p));
         }
         input::drop_before_start(&mut heard, &mut warnings);
-        input::warn_of(&mut warnings, peak, heard.strikes.len(), voices.len());
+        input::warn_of(&mut warnings, peak, duration_s, heard.strikes.len(), voices.len());
         kind::warn_of(&mut warnings, matches!(timing, Timing::AsHeard), voices, &below);
         let tpl = matches!(timing, Timing::Templates(_));
         let mut report = Self::of(&heard, voices.len(), duration_s, warnings, timing_report, tpl);
@@ -463,15 +466,18 @@ impl StrikesReport {
     /// a failure: `clapper strikes` exits 0 in every mode).
     pub fn unheard(sig: &Signal, bells: usize, why: &str) -> Self {
         let peak = sig.samples.iter().fold(0.0f64, |p, v| p.max(v.abs()));
-        let warnings = vec![match peak > 0.0 {
+        let duration_s = sig.samples.len() as f64 / sig.rate;
+        let mut warnings = vec![match peak > 0.0 {
             true => format!("nothing to learn the bells from: {why}"),
             false => "the recording is silent".to_string(),
         }];
+        if duration_s < input::SHORTEST_RING_S {
+            warnings.insert(0, input::too_short(duration_s));
+        }
         let heard = Heard {
             strikes: vec![],
             warnings: vec![],
         };
-        let duration_s = sig.samples.len() as f64 / sig.rate;
         let mut report = Self::of(&heard, bells, duration_s, warnings, None, false);
         doubt::once_each(&mut report.summary.warnings);
         report

@@ -7,9 +7,8 @@ use std::path::{Path, PathBuf};
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use clapper_app::strikes::{
-    choose_timing, learned_voices, strike_options, StrikesReport, StrikingFigure, Timing, TimingAsked,
+    choose_timing, learned_or_none, strike_options, Learning, StrikesReport, StrikingFigure, Timing, TimingAsked,
 };
-use clapper_app::AppError;
 use clapper_io::signal_file::{read_recording, read_recording_chosen, write_wav, ChannelChoice};
 use clapper_io::strike_file::{csv_text, lowndes};
 use clapper_io::wav_stream::WavStream;
@@ -185,17 +184,14 @@ pub fn strikes(args: StrikesArgs) -> Result<()> {
         (None, None, Some(n)) => {
             // Learned from the whole recording, read at once.
             let (sig, _) = read_recording_chosen(&args.file, channel)?;
-            match learned_voices(&sig, n, kind) {
-                Ok((voices, l)) => {
-                    learned = Some(l);
+            match learned_or_none(&sig, n, kind).with_context(|| args.file.display().to_string())? {
+                Learning::Learned(voices, l) => {
+                    learned = Some(*l);
                     (voices, vec![])
                 }
                 // No strike to learn from: a report of none, as with
                 // --nominals or --templates (tester18: exit 1 here only).
-                Err(AppError::NothingHeard(why)) => {
-                    return write_report(&args, &StrikesReport::unheard(&sig, n, &why), None);
-                }
-                Err(e) => return Err(e).with_context(|| args.file.display().to_string()),
+                Learning::Unheard(report) => return write_report(&args, &report, None),
             }
         }
         (None, None, None) => {

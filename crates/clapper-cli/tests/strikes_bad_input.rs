@@ -156,9 +156,15 @@ fn chant(seconds: f64, f0: f64, seed: u64) -> Vec<f64> {
 /// (text, JSON) of `clapper strikes FILE --nominals N`, both succeeding
 /// without a panic.
 fn heard(path: &std::path::Path, nominals: &str) -> (String, serde_json::Value) {
+    heard_as(path, &["--nominals", nominals])
+}
+
+/// (text, JSON) of `clapper strikes FILE ARGS..`, both succeeding without
+/// a panic.
+fn heard_as(path: &std::path::Path, args: &[&str]) -> (String, serde_json::Value) {
     let run = |json: bool| {
         let mut c = clapper();
-        c.arg("strikes").arg(path).args(["--nominals", nominals]);
+        c.arg("strikes").arg(path).args(args);
         if json {
             c.arg("--json");
         }
@@ -179,6 +185,26 @@ fn silence_is_said_to_be_silent() {
     assert_eq!(j["summary"]["strikes"], 0);
     assert_eq!(warnings(&j)[0], "the recording is silent");
     assert!(text.contains("warning: the recording is silent"), "{text}");
+}
+
+#[test]
+fn a_clip_of_two_ms_is_said_to_be_too_short_in_every_mode() {
+    // tester19: with --bells an error (exit 1), with --nominals "silent".
+    let dir = tempfile::tempdir().unwrap();
+    let p = dir.path().join("clip.wav");
+    let mut s = Pcg64::seed_from_u64(5);
+    let clip: Vec<f64> = (0..RATE / 500).map(|_| 0.5 * (2.0 * uniform(&mut s) - 1.0)).collect();
+    write(&p, &clip, RATE);
+    for args in [["--nominals", EIGHT], ["--bells", "6"]] {
+        let (text, j) = heard_as(&p, &args);
+        assert_eq!(j["summary"]["strikes"], 0, "{args:?}");
+        assert!(
+            warnings(&j)[0].starts_with("the recording is only 2 ms long"),
+            "{args:?}: {:?}",
+            warnings(&j)
+        );
+        assert!(text.contains("warning: the recording is only 2 ms long"), "{text}");
+    }
 }
 
 #[test]

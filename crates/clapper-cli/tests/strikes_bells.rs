@@ -30,17 +30,11 @@ fn synth(dir: &Path, args: &[&str]) -> Vec<f64> {
     list.split(',').map(|f| f.parse().unwrap()).collect()
 }
 
-/// `clapper strikes WAV ARGS --json`.
+/// `clapper strikes WAV ARGS --json`, succeeding.
 fn strikes(wav: &Path, args: &[&str]) -> serde_json::Value {
-    let out = clapper()
-        .arg("strikes")
-        .arg(wav)
-        .args(args)
-        .arg("--json")
-        .output()
-        .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    serde_json::from_slice(&out.stdout).unwrap()
+    let (ok, j, err) = common::strikes_run(wav, args);
+    assert!(ok, "{err}");
+    j
 }
 
 /// The learned nominals of `j`, treble first, each within 1 % of `truth`.

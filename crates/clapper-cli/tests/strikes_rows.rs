@@ -8,25 +8,9 @@ mod common;
 use clapper_signal::sampled_ring::octave_heavy_strike;
 use clapper_signal::tower::{tower_strikes, tuned_ring, Method, PlainCourse, Scale, TowerSpec};
 use clapper_signal::Signal;
-use common::clapper;
+use common::strikes_run as strikes;
 
 const RATE: f64 = 22_050.0;
-
-/// `clapper strikes WAV ARGS --json`: its exit status and its JSON (Null
-/// when it printed none).
-fn strikes(wav: &std::path::Path, args: &[&str]) -> (bool, serde_json::Value, String) {
-    let out = clapper()
-        .arg("strikes")
-        .arg(wav)
-        .args(args)
-        .arg("--json")
-        .output()
-        .unwrap();
-    let err = String::from_utf8_lossy(&out.stderr).to_string();
-    assert!(!err.contains("panicked"), "{err}");
-    let j = serde_json::from_slice(&out.stdout).unwrap_or(serde_json::Value::Null);
-    (out.status.success(), j, err)
-}
 
 /// A Plain Bob Minor ring of one recorded-like strike per bell (written
 /// to `dir` as ring.wav, each bell's strike as templates/N.wav), bell

@@ -22,7 +22,9 @@ use clapper_app::diagnosis::{self, DiagnoseRequest};
 use clapper_app::liftoff::{BellLiftoffReport, FormulaReport};
 use clapper_app::measure::{ModesReport, RestitutionReport};
 use clapper_app::simulate::{self as sim_app, SimulateRequest};
-use clapper_app::strikes::{choose_timing, learned_voices, opening, strike_options, StrikesReport, TimingAsked, Voice};
+use clapper_app::strikes::{
+    choose_timing, learned_or_none, opening, strike_options, Learning, StrikesReport, TimingAsked, Voice,
+};
 use clapper_app::AppError;
 use clapper_core::chart::{sweep, ChartCell};
 use clapper_core::Choice;
@@ -355,10 +357,11 @@ fn strikes(
         .detach(|| {
             let (nominals, learned) = match (nominals_hz, bells) {
                 (Some(n), None) => (n, None),
-                (None, Some(b)) => {
-                    let (_, l) = learned_voices(&sig, b, kind)?;
-                    (l.nominals.iter().map(|x| x.nominal_hz).collect(), Some(l))
-                }
+                (None, Some(b)) => match learned_or_none(&sig, b, kind)? {
+                    Learning::Learned(_, l) => (l.nominals.iter().map(|x| x.nominal_hz).collect(), Some(*l)),
+                    // No bell's strike to learn from: the report of none, as the CLI's.
+                    Learning::Unheard(r) => return Ok(*r),
+                },
                 _ => {
                     return Err(clapper_app::AppError::Request(
                         "strikes: give the bells' nominals_hz or bells= (how many ring, their nominals learned), one of the two"

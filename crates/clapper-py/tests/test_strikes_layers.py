@@ -262,6 +262,22 @@ def test_silence_one_bell_and_speech_are_warned_of_in_all_three(tmp_path):
     assert len(by_cli["strikes"]) == 12
 
 
+def test_nothing_to_learn_bells_from_is_a_report_of_none_in_all_three(tmp_path):
+    # Session 19: with bells=N silence was a report of none from the CLI,
+    # an error from the web server and Python; a 2 ms clip an error even
+    # from the CLI (tester19).
+    silence, clip = tmp_path / "silence.wav", tmp_path / "clip.wav"
+    write_wav(silence, np.zeros(RATE * 5))
+    write_wav(clip, np.clip(0.3 * np.random.default_rng(3).standard_normal(RATE // 500), -1, 1))
+    with Server() as web:
+        for wav, first in ((silence, "the recording is silent"), (clip, "the recording is only 2 ms long")):
+            by_cli = cli_report(wav, bells=6)
+            assert by_cli["strikes"] == [] and by_cli["summary"]["warnings"][0].startswith(first), by_cli
+            assert web.strikes(wav, bells=6) == by_cli
+            by_py, warned = python_report(wav, bells=6)
+            assert by_py == by_cli and warned == by_cli["summary"]["warnings"]
+
+
 def test_strikes_warnings_point_at_the_callers_line():
     x = np.zeros(RATE * 3)
     with warnings.catch_warnings(record=True) as caught:

@@ -18,6 +18,7 @@ use clapper_app::clapper_design::{design, DesignRequest};
 use clapper_app::diagnosis::{diagnose_bells, report_page, DiagnoseRequest};
 use clapper_app::listening::{analyse, figure, StimulusSet, DEFAULT_RATE_HZ};
 use clapper_app::simulate::{simulate_traced, SimulateRequest};
+use clapper_app::strikes::Learning;
 use clapper_core::chart::sweep_cells_until;
 use clapper_core::listening::Answer;
 use serde::{Deserialize, Serialize};
@@ -673,12 +674,17 @@ pub(crate) async fn strikes(
         .run(move || {
             let (sig, told) = clapper_io::signal_file::recording_from_bytes_chosen(&wav, "the recording", channel)
                 .map_err(|e| clapper_app::AppError::Request(e.to_string()))?;
+            let bells = q.bells.unwrap_or_default();
             let (nominals, learned) = match nominals {
                 Some(n) => (n, None),
-                None => {
-                    let (_, l) = clapper_app::strikes::learned_voices(&sig, q.bells.unwrap_or_default(), kind)?;
-                    (l.nominals.iter().map(|b| b.nominal_hz).collect(), Some(l))
-                }
+                None => match clapper_app::strikes::learned_or_none(&sig, bells, kind)? {
+                    Learning::Learned(_, l) => (l.nominals.iter().map(|b| b.nominal_hz).collect(), Some(*l)),
+                    // No bell's strike to learn from: the report of none, as the CLI's.
+                    Learning::Unheard(mut report) => {
+                        report.note_recording(&told);
+                        return Ok(strikes_json(&report, &sig, &[])?);
+                    }
+                },
             };
             // Timed as the CLI times them, chosen on the same opening window.
             let head = clapper_app::strikes::opening(&sig);
@@ -690,13 +696,23 @@ pub(crate) async fn strikes(
             }
             report.note_choice(chosen.choice.clone());
             report.note_recording(&told);
-            let csv = clapper_io::strike_file::csv_text(&report.csv_rows()).map_err(clapper_app::AppError::Request)?;
-            let fig = clapper_app::strikes::StrikingFigure::new(&report, &sig, "the recording", voices)?;
-            let svg = clapper_plot::striking_plot_svg(&fig.plot()).map_err(clapper_app::AppError::from)?;
-            Ok(json!({ "report": report, "csv": csv, "plot_svg": svg }))
+            Ok(strikes_json(&report, &sig, voices)?)
         })
         .await?;
     Ok(Json(out).into_response())
+}
+
+/// A strikes `report` of `sig` heard about `voices` as the page takes it:
+/// the report, its CSV and its plot.
+fn strikes_json(
+    report: &clapper_app::strikes::StrikesReport,
+    sig: &clapper_signal::Signal,
+    voices: &[clapper_signal::strikes::BellVoice],
+) -> Result<serde_json::Value, clapper_app::AppError> {
+    let csv = clapper_io::strike_file::csv_text(&report.csv_rows()).map_err(clapper_app::AppError::Request)?;
+    let fig = clapper_app::strikes::StrikingFigure::new(report, sig, "the recording", voices)?;
+    let svg = clapper_plot::striking_plot_svg(&fig.plot()).map_err(clapper_app::AppError::from)?;
+    Ok(json!({ "report": report, "csv": csv, "plot_svg": svg }))
 }
 
 /// The nominals (Hz, treble first) a strikes query `q` gives, checked as

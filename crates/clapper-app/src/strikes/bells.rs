@@ -96,8 +96,10 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, AppError> {
         return Err(AppError::Request(format!("--bells {bells}: from 3 to 16 bells")));
     }
     let l = clapper_signal::strikes::learn_nominals(sig, bells).map_err(|e| match e {
-        // The learner's one Invalid: no onset at all (silent or steady).
-        clapper_signal::SignalError::Invalid(m) => AppError::NothingHeard(m),
+        // The learner's one Invalid: no onset at all (silent or steady);
+        // too short to learn from is as little a ring (tester19: a 2 ms
+        // file refused here, a report of none in the other modes).
+        clapper_signal::SignalError::Invalid(m) | clapper_signal::SignalError::TooShort(m) => AppError::NothingHeard(m),
         e => signal_error(e),
     })?;
     if l.bells.is_empty() {
@@ -164,6 +166,31 @@ pub fn learned_voices(sig: &Signal, bells: usize, kind: Voice) -> Result<(Vec<Be
     let learned = learn_nominals(sig, bells)?;
     let hz: Vec<f64> = learned.nominals.iter().map(|b| b.nominal_hz).collect();
     Ok((voices_from_nominals(&hz, kind)?, learned))
+}
+
+/// What `bells` bells' nominals learned from a recording came to
+/// ([`learned_or_none`]).
+#[derive(Clone, Debug)]
+pub enum Learning {
+    /// The bells' voices, with what was learned.
+    Learned(Vec<BellVoice>, Box<Learned>),
+    /// No bell's strike is in the recording: its report, of no strikes
+    /// ([`StrikesReport::unheard`](super::StrikesReport::unheard)).
+    Unheard(Box<super::StrikesReport>),
+}
+
+/// The voices of `bells` bells of the kind `kind` learned from `sig`
+/// ([`learned_voices`]), or, where no bell's strike is in it, the report
+/// of none: a recording with no strikes is a result, not a failure, in
+/// the CLI, the web server and Python alike (session 19: only the CLI).
+pub fn learned_or_none(sig: &Signal, bells: usize, kind: Voice) -> Result<Learning, AppError> {
+    match learned_voices(sig, bells, kind) {
+        Ok((voices, l)) => Ok(Learning::Learned(voices, Box::new(l))),
+        Err(AppError::NothingHeard(why)) => Ok(Learning::Unheard(Box::new(super::StrikesReport::unheard(
+            sig, bells, &why,
+        )))),
+        Err(e) => Err(e),
+    }
 }
 
 /// Nominals learned from a recording and what made them unsure.

@@ -105,9 +105,9 @@ pub(super) fn misfit_warning(rms_ms: Option<f64>, interval_ms: Option<f64>, give
     (interval > 0.0 && rms > MISFIT_OF_INTERVAL * interval).then(|| {
         format!(
             "the strikes do not keep the rhythm of rows of {given} bells: the RMS striking error is {rms:.0} ms in \
-             {interval:.0} ms intervals (a band's is nearer a tenth of its interval): if more or other bells ring \
-             than were given, give every bell that rings, else some bell is heard at the wrong time; the rows, places \
-             and odd-struckness below mean nothing"
+             {interval:.0} ms intervals (a band's is nearer a tenth of its interval): some bell is heard at the wrong \
+             time (all its strikes timed early or late, or given to another bell), or more or other bells ring than \
+             were given (then give every bell that rings); the rows, places and odd-struckness below mean nothing"
         )
     })
 }

@@ -61,23 +61,48 @@ pub(super) fn not_bells(p: f64) -> String {
     )
 }
 
+/// Under this length (s) a recording holds no ring to judge: the learner
+/// of `--bells N` asks a second of ringing, and a row of even six bells
+/// takes over a second (six places of 0.2 s).
+pub const SHORTEST_RING_S: f64 = 1.0;
+
+/// How [`too_short`]'s warning starts.
+const TOO_SHORT_START: &str = "the recording is only";
+
+/// The warning, first, for a recording `duration_s` (s) long, shorter
+/// than [`SHORTEST_RING_S`] (tester19: a 2 ms file was said to be silent).
+pub(super) fn too_short(duration_s: f64) -> String {
+    format!(
+        "{TOO_SHORT_START} {:.0} ms long: a ring's strikes need seconds of recording (is this the whole file?)",
+        1000.0 * duration_s
+    )
+}
+
 /// How many of `warnings` at their head are about the recording as a
-/// whole (silent, no strikes heard, not bells): they stand before every
-/// other.
+/// whole (silent, too short, no strikes heard, not bells): they stand
+/// before every other.
 pub(super) fn leading(warnings: &[String]) -> usize {
-    let about_recording =
-        |w: &String| w == "the recording is silent" || w == NO_STRIKES || w.starts_with(NOT_BELLS_START);
+    let about_recording = |w: &String| {
+        w == "the recording is silent"
+            || w == NO_STRIKES
+            || w.starts_with(NOT_BELLS_START)
+            || w.starts_with(TOO_SHORT_START)
+    };
     warnings.iter().take_while(|w| about_recording(w)).count()
 }
 
 /// Add to `warnings` what makes the report no ring's: silence (the
-/// recording's `peak` 0), no strike heard (first, in words, so that an
-/// empty table is not read as a quiet ring), one bell of `bells`.
-pub(super) fn warn_of(warnings: &mut Vec<String>, peak: f64, strikes: usize, bells: usize) {
+/// recording's `peak` 0), a recording `duration_s` (s) too short to hold a
+/// ring, no strike heard (first, in words, so that an empty table is not
+/// read as a quiet ring), one bell of `bells`.
+pub(super) fn warn_of(warnings: &mut Vec<String>, peak: f64, duration_s: f64, strikes: usize, bells: usize) {
     if peak == 0.0 {
         warnings.insert(0, "the recording is silent".into());
     } else if strikes == 0 {
         warnings.insert(0, NO_STRIKES.into());
+    }
+    if duration_s < SHORTEST_RING_S {
+        warnings.insert(0, too_short(duration_s));
     }
     if bells == 1 && strikes > 0 {
         warnings.push(ONE_BELL.into());

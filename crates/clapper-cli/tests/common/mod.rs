@@ -19,6 +19,22 @@ pub fn json(args: &[&str]) -> serde_json::Value {
     serde_json::from_slice(&out.stdout).unwrap()
 }
 
+/// `clapper strikes WAV ARGS --json`, never panicking: whether it
+/// succeeded, its JSON (Null when it printed none) and its stderr.
+pub fn strikes_run(wav: &std::path::Path, args: &[&str]) -> (bool, serde_json::Value, String) {
+    let out = clapper()
+        .arg("strikes")
+        .arg(wav)
+        .args(args)
+        .arg("--json")
+        .output()
+        .unwrap();
+    let err = String::from_utf8_lossy(&out.stderr).to_string();
+    assert!(!err.contains("panicked"), "{err}");
+    let j = serde_json::from_slice(&out.stdout).unwrap_or(serde_json::Value::Null);
+    (out.status.success(), j, err)
+}
+
 /// The warnings of a `strikes --json` report (its summary's).
 pub fn summary_warnings(j: &serde_json::Value) -> Vec<String> {
     j["summary"]["warnings"]
