@@ -676,7 +676,7 @@ mod tests {
                 } else {
                     1.0 + (t * 0.003).sin()
                 };
-                let scale = 10f64.powi((i % 37) as i32 / 4 - 4);
+                let scale = 10f64.powi((i % 37) / 4 - 4);
                 (
                     level * scale * (t * 0.21).cos() * (-(t % 400.0) / 150.0).exp(),
                     level * scale * (((i * 7919) % 1009) as f64 / 1009.0 - 0.5),
