@@ -274,26 +274,41 @@ fn near_power(x: &[f64], w: &[f64], f: f64, rate: f64) -> f64 {
 fn near_peak(x: &[f64], w: &[f64], f: f64, rate: f64) -> (f64, f64) {
     // Each frequency's phasor turned a step at a time (a tenth of a
     // second: no rounding to speak of), the seven side by side so that no
-    // one's chain of products waits on another's (each as alone, bit for bit).
-    let mut turn = [(0.0f64, 0.0f64); 7];
+    // one's chain of products waits on another's (each as alone, bit for
+    // bit). Held as eight lanes of each part (the eighth a copy of the
+    // seventh, not read), four at a time, so the compiler turns and sums
+    // them in vectors (speed-8: as seven (re, im) pairs it did not, 3.3 %
+    // of the ten minutes with templates).
     let at = |k: i32| f * (1.0 + 0.005 * f64::from(k));
-    for (t, k) in turn.iter_mut().zip(-3..=3) {
+    let mut turn = ([0.0f64; 8], [0.0f64; 8]);
+    for (l, k) in (0..8).zip((-3..=3).chain([3])) {
         let om = 2.0 * PI * f * (1.0 + 0.005 * f64::from(k)) / rate;
-        *t = (om.cos(), -om.sin());
+        (turn.0[l], turn.1[l]) = (om.cos(), -om.sin());
     }
-    let mut p = [(1.0f64, 0.0f64); 7];
-    let mut sum = [(0.0f64, 0.0f64); 7];
-    for (v, wi) in x.iter().zip(w) {
-        let a = v * wi;
-        for ((s, p), &(c, si)) in sum.iter_mut().zip(p.iter_mut()).zip(&turn) {
-            *s = (s.0 + a * p.0, s.1 + a * p.1);
-            *p = (p.0 * c - p.1 * si, p.0 * si + p.1 * c);
+    // Four lanes at a time (eight held all at once left the registers).
+    let (mut sr, mut sim) = ([0.0f64; 8], [0.0f64; 8]);
+    for h in [0, 4] {
+        let c: [f64; 4] = turn.0[h..h + 4].try_into().expect("four");
+        let si: [f64; 4] = turn.1[h..h + 4].try_into().expect("four");
+        let (mut pr, mut pi) = ([1.0f64; 4], [0.0f64; 4]);
+        let (mut r, mut i) = ([0.0f64; 4], [0.0f64; 4]);
+        for (v, wi) in x.iter().zip(w) {
+            let a = v * wi;
+            for l in 0..4 {
+                r[l] += a * pr[l];
+                i[l] += a * pi[l];
+                let (p0, p1) = (pr[l], pi[l]);
+                pr[l] = p0 * c[l] - p1 * si[l];
+                pi[l] = p0 * si[l] + p1 * c[l];
+            }
         }
+        sr[h..h + 4].copy_from_slice(&r);
+        sim[h..h + 4].copy_from_slice(&i);
     }
     // The first of equal powers, as a fold of max kept the value.
     let mut best = (0.0, f);
-    for (s, k) in sum.iter().zip(-3..=3) {
-        let p = s.0 * s.0 + s.1 * s.1;
+    for (l, k) in (-3..=3).enumerate() {
+        let p = sr[l] * sr[l] + sim[l] * sim[l];
         if p > best.0 {
             best = (p, at(k));
         }

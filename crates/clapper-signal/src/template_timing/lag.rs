@@ -95,12 +95,21 @@ pub(super) fn best_match(
     let rate = m.rate;
     let start = (from * rate).round() as i64;
     let lags = (((to - from) * rate).round() as usize).min(MOST_SPANS * m.span());
-    let out = &curve(m, x, t, start, lags, sc)?;
-    let top = (0..=lags).map(|k| out[k].abs()).fold(0.0, f64::max);
+    // Within one span (most searches) the match is read where the
+    // transform leaves it, not copied out (speed-8).
+    let whole;
+    let out: &[f64] = if lags <= m.span() {
+        m.normalised(x, t, start, lags, sc)?;
+        &sc.out[..=lags]
+    } else {
+        whole = curve(m, x, t, start, lags, sc)?;
+        &whole
+    };
+    let (top, top_k) = top_of(out);
     if top == 0.0 {
         return Ok(None);
     }
-    let best = first_blow(out, lags, top, rate);
+    let best = first_blow_from(out, lags, top, top_k, rate);
     // The peak between samples, from the parabola through its neighbours.
     let off = if best > 0 && best < lags {
         let (a, b, c) = (out[best - 1].abs(), out[best].abs(), out[best + 1].abs());
@@ -160,10 +169,42 @@ fn curve(
 /// double strike's first blow): then the best within 10 ms of the earliest
 /// such. Without the dip it is the same strike matching broadly (partials
 /// near whole ratios keep in step with themselves for tens of ms).
+#[cfg(test)]
 fn first_blow(out: &[f64], lags: usize, top: f64, rate: f64) -> usize {
     let top_k = (0..=lags)
         .max_by(|&a, &b| out[a].abs().total_cmp(&out[b].abs()))
         .unwrap_or(0);
+    first_blow_from(out, lags, top, top_k, rate)
+}
+
+/// The largest |v| of `out` (0 if none is above 0), and the last lag
+/// where |v| is largest: what a fold of `f64::max` and a `max_by` of
+/// `total_cmp` give, in one pass (speed-8: the two passes, one a chain
+/// of `max`, the other of comparisons through the bits, were most of
+/// [`best_match`]'s own time). Where a NaN lies in `out` (it never does:
+/// the recording's samples are finite, the template's energy above 0),
+/// the two passes themselves, which rank it otherwise.
+fn top_of(out: &[f64]) -> (f64, usize) {
+    let (mut top, mut top_k, mut nan) = (0.0f64, 0usize, false);
+    for (k, v) in out.iter().enumerate() {
+        let a = v.abs();
+        nan |= a.is_nan();
+        if a >= top {
+            (top, top_k) = (a, k);
+        }
+    }
+    if !nan {
+        return (top, top_k);
+    }
+    let top = out.iter().map(|v| v.abs()).fold(0.0, f64::max);
+    let top_k = (0..out.len())
+        .max_by(|&a, &b| out[a].abs().total_cmp(&out[b].abs()))
+        .unwrap_or(0);
+    (top, top_k)
+}
+
+/// [`first_blow`] with the last lag of the largest |v|, `top_k`, known.
+fn first_blow_from(out: &[f64], lags: usize, top: f64, top_k: usize, rate: f64) -> usize {
     let gap = (GAP_S * rate).round() as usize;
     let half = (0.0015 * rate).round() as usize;
     // A first blow's envelope reaches FIRST_SHARE of the top somewhere
