@@ -41,7 +41,7 @@ mod sharp;
 mod start;
 
 use joint::Joint;
-use line_up::{best_lag, heard_in, line_up, mad, reline};
+use line_up::{heard_in, line_up, mad, reline};
 use start::{level_step, settle_start, start_of};
 
 use crate::strikes::{learn_voices, BellVoice, Heard, HeardStrike, Hearing, StrikeOptions};
@@ -59,6 +59,13 @@ const AFTER_S: f64 = 0.3;
 const CORE_S: f64 = 0.02;
 /// How far a strike may be moved to line it up (s).
 const SHIFT_S: f64 = 0.06;
+/// A bell heard late after its blow is heard at the blow on a few
+/// strikes (the tuning rings' slow bells, 85-110 ms late: 2-8 strikes of
+/// 40 heard 85-90 ms early): a strike may be lined up as far as this
+/// past its time heard (s), for a bell heard up to [`BLOW_LATE_S`] late...
+const BLOW_PAST_S: f64 = 0.008;
+/// ...this (s).
+const BLOW_LATE_S: f64 = 0.2;
 /// Where lining up moves one bell's strikes about more than this (s, the
 /// median absolute deviation; the band finder hears them within 0.3-2 ms
 /// of one another), they are lined up again...
@@ -182,61 +189,88 @@ impl SelfCalibration {
     /// Time each strike of `heard` (times from the start of `sig`, as the
     /// band finder heard them through [`SelfCalibration::voices`]) again:
     /// lined up on its bell's average strike as the clean strikes were,
-    /// within `SHIFT_S` of its time heard, its start is the average's.
-    /// In place (the strikes then out of time order); how far each moved
-    /// (s; none where its bell has no average or the recording ends).
+    /// within `SHIFT_S` of its time heard less its bell's lateness, or
+    /// later as far as its time heard (a strike heard at its blow), its
+    /// start is the average's. In place (the strikes then out of time
+    /// order); how far each moved (s; none where its bell has no average or
+    /// the recording ends).
     pub fn retime_each(&self, sig: &Signal, heard: &mut Heard) -> Vec<Option<f64>> {
         let rate = sig.rate;
-        let (before, after) = ((BEFORE_S * rate).round() as usize, (AFTER_S * rate).round() as usize);
-        let shift = (SHIFT_S * rate).round() as usize;
-        let n = sig.samples.len();
-        // Every strike's fitted sound placed at its time heard: what the
-        // other bells leave under a strike, taken out before lining it up.
-        let origin = |s: &HeardStrike| {
-            let k = self.kernels.get(s.bell - 1)?.as_ref()?;
-            let o = ((s.t * rate).round() as usize).checked_sub(k.offset)?;
-            (o + k.samples.len() <= n).then_some((o, &k.samples))
-        };
-        let mut model = vec![];
-        if self.kernels.iter().any(Option::is_some) {
-            model = vec![0.0; n];
-            for (o, h) in heard.strikes.iter().filter_map(origin) {
-                model[o..o + h.len()].iter_mut().zip(h).for_each(|(m, v)| *m += v);
-            }
-        }
+        let model = self.others_model(sig, heard);
         heard
             .strikes
             .iter_mut()
             .map(|s| {
-                let a = self.averages.get(s.bell - 1)?.as_ref()?;
-                let (avg, start) = (&a.samples, a.start);
-                let at = (s.t * rate).round() as usize;
-                let from = at.checked_sub(before + shift)?;
-                let end = from + before + after + 2 * shift;
-                if end > n || avg.len() != before + after {
-                    return None;
-                }
-                let mut x = sig.samples[from..end].to_vec();
-                if let Some((o, h)) = origin(s) {
-                    // The recording less every fitted strike but this one.
-                    for (j, v) in x.iter_mut().enumerate() {
-                        let i = from + j;
-                        let own = if i >= o && i < o + h.len() { h[i - o] } else { 0.0 };
-                        *v -= model[i] - own;
-                    }
-                }
-                let reach = if a.sharp {
-                    a.reach.min(sharp::reach(rate))
-                } else {
-                    a.reach
-                };
-                let lag = best_lag(&x, avg, shift, before, rate, reach);
-                let t = (from + lag + start) as f64 / rate;
+                let t = self.lined_up(sig, s, &model)? as f64 / rate;
                 let moved = t - s.t;
                 s.t = t;
                 Some(moved)
             })
             .collect()
+    }
+
+    /// Where bell `s.bell`'s fitted strike lies for strike `s` in a
+    /// recording of `n` samples at `rate`, and its samples.
+    fn origin(&self, s: &HeardStrike, rate: f64, n: usize) -> Option<(usize, &[f64])> {
+        let k = self.kernels.get(s.bell - 1)?.as_ref()?;
+        let o = ((s.t * rate).round() as usize).checked_sub(k.offset)?;
+        (o + k.samples.len() <= n).then_some((o, &k.samples[..]))
+    }
+
+    /// Every strike of `heard`'s fitted sound placed at its time heard:
+    /// what the other bells leave under a strike, taken out before lining
+    /// it up (empty where no bell's strike was fitted).
+    fn others_model(&self, sig: &Signal, heard: &Heard) -> Vec<f64> {
+        let n = sig.samples.len();
+        let mut model = vec![];
+        if self.kernels.iter().any(Option::is_some) {
+            model = vec![0.0; n];
+            for (o, h) in heard.strikes.iter().filter_map(|s| self.origin(s, sig.rate, n)) {
+                model[o..o + h.len()].iter_mut().zip(h).for_each(|(m, v)| *m += v);
+            }
+        }
+        model
+    }
+
+    /// Where strike `s`'s sound starts (the sample), lined up on its bell's
+    /// average at the lag it matches best, the recording less every fitted
+    /// strike but its own (`model`, [`Self::others_model`]). None where its
+    /// bell has no average or the recording ends.
+    fn lined_up(&self, sig: &Signal, s: &HeardStrike, model: &[f64]) -> Option<usize> {
+        let rate = sig.rate;
+        let (before, after) = ((BEFORE_S * rate).round() as usize, (AFTER_S * rate).round() as usize);
+        let shift = (SHIFT_S * rate).round() as usize;
+        let n = sig.samples.len();
+        let a = self.averages.get(s.bell - 1)?.as_ref()?;
+        let reach = if a.sharp {
+            a.reach.min(sharp::reach(rate))
+        } else {
+            a.reach
+        };
+        // A bell heard late after its blow is heard at the blow on some
+        // strikes: such a strike may be moved back as far as to its time heard.
+        let late = self.bells.get(s.bell - 1).and_then(|b| b.lateness_s).unwrap_or(0.0);
+        let above = if reach == shift {
+            reach.max(((late.min(BLOW_LATE_S) + BLOW_PAST_S) * rate).round() as usize)
+        } else {
+            reach
+        };
+        let at = (s.t * rate).round() as usize;
+        let from = at.checked_sub(before + shift)?;
+        let end = from + before + after + shift + above;
+        if end > n || a.samples.len() != before + after {
+            return None;
+        }
+        let mut x = sig.samples[from..end].to_vec();
+        if let (Some((o, h)), false) = (self.origin(s, rate, n), model.is_empty()) {
+            for (j, v) in x.iter_mut().enumerate() {
+                let i = from + j;
+                let own = if i >= o && i < o + h.len() { h[i - o] } else { 0.0 };
+                *v -= model[i] - own;
+            }
+        }
+        let (lo, scores) = line_up::lag_scores(&x, &a.samples, shift, before, rate, (reach, above));
+        Some(from + line_up::widest(lo, &scores)? + a.start)
     }
 }
 

@@ -130,22 +130,42 @@ fn coherence<'a>(
 /// best, over the reference from [`CORE_S`] before its time heard (`at`)
 /// to its end.
 pub(super) fn best_lag(x: &[f64], reference: &[f64], shift: usize, at: usize, rate: f64, reach: usize) -> usize {
+    let (lo, scores) = lag_scores(x, reference, shift, at, rate, (reach, reach));
+    widest(lo, &scores).unwrap_or(shift)
+}
+
+/// How well `x` matches `reference` (its core, as [`best_lag`] takes it)
+/// at each lag from `shift` less `reach.0` to `shift` and `reach.1`
+/// samples: the first lag, and the correlation at it and each after.
+pub(super) fn lag_scores(
+    x: &[f64],
+    reference: &[f64],
+    shift: usize,
+    at: usize,
+    rate: f64,
+    reach: (usize, usize),
+) -> (usize, Vec<f64>) {
     let from = at.saturating_sub((CORE_S * rate) as usize);
     let core = &reference[from..];
     // Only the lags sought are transformed: x from the first of them (the
     // core starts `from` into the reference) to as far as the core reaches
     // from the last; the transform need hold no more than the core and the
     // lags without wrapping (half the length of the whole x and core).
-    let (lo, reach) = (shift.saturating_sub(reach), reach.min(shift));
+    let (below, above) = (reach.0.min(shift), reach.1);
+    let lo = shift - below;
     let first = (lo + from).min(x.len());
-    let y = &x[first..(first + 2 * reach + core.len()).min(x.len())];
-    let n = (core.len() + 2 * reach + 1).next_power_of_two();
+    let y = &x[first..(first + below + above + core.len()).min(x.len())];
+    let n = (core.len() + below + above + 1).next_power_of_two();
     // out[j]: the core against x from lag lo + j.
-    crate::fft::correlate(y, core, n, |out| {
-        (lo..=shift + reach)
-            .max_by(|&p, &q| out[p - lo].total_cmp(&out[q - lo]))
-            .unwrap_or(shift)
-    })
+    let scores = crate::fft::correlate(y, core, n, |out| out[..=below + above].to_vec());
+    (lo, scores)
+}
+
+/// The best of `scores` (lags from `lo`), the last of equals: None if empty.
+pub(super) fn widest(lo: usize, scores: &[f64]) -> Option<usize> {
+    (0..scores.len())
+        .max_by(|&p, &q| scores[p].total_cmp(&scores[q]))
+        .map(|j| lo + j)
 }
 
 #[cfg(test)]
@@ -224,5 +244,31 @@ mod tests {
             }
         }
         assert_eq!(checked, 36);
+    }
+
+    /// The lags sought may reach further after than before: a sound 90 ms
+    /// after where the reference puts it is found with a reach of 60 ms
+    /// before and 100 ms after (a strike heard at its blow, 90 ms before
+    /// its bell is heard on the rest), not with 60 ms either way.
+    #[test]
+    fn lags_reach_further_after_where_asked() {
+        let rate = 8000.0;
+        let (shift, at) = ((SHIFT_S * rate) as usize, 400);
+        let sound = |i: usize| {
+            if i < at {
+                0.0
+            } else {
+                (0.3 * i as f64).sin() * (-((i - at) as f64) / 400.0).exp()
+            }
+        };
+        let reference: Vec<f64> = (0..1600).map(sound).collect();
+        let late = (0.09 * rate) as usize;
+        let x: Vec<f64> = (0..1600 + shift + late + 100)
+            .map(|i| if i < shift + late { 0.0 } else { sound(i - shift - late) })
+            .collect();
+        let (lo, scores) = lag_scores(&x, &reference, shift, at, rate, (shift, (0.1 * rate) as usize));
+        assert_eq!(widest(lo, &scores), Some(shift + late));
+        let (lo, scores) = lag_scores(&x, &reference, shift, at, rate, (shift, shift));
+        assert_ne!(widest(lo, &scores), Some(shift + late));
     }
 }
