@@ -13,9 +13,12 @@
 //! moves its ideal, nor lends itself to the others'.
 
 mod even;
+mod far_off;
+mod figures;
 mod one_stroke;
 mod rows;
 
+pub use figures::{odd_struck, OddDoubt, OddStruck, ODD_DISAGREE, ODD_FEW};
 pub use one_stroke::{heard_at_one_stroke, typical_strikes, TWO_ROWS};
 pub use rows::{rows_the_time_holds, ROWS_OVER};
 
@@ -39,6 +42,11 @@ pub struct Placed {
     pub place: Option<usize>,
     /// Onset less its ideal time (s), when placed.
     pub error: Option<f64>,
+    /// Far off its row's rhythm (a false strike, or one heard far from
+    /// its time): left out of the line its row's ideal times are read
+    /// from, so that it spoils no other strike's error; placed, with its
+    /// error, only where it lies between its place's neighbours in time.
+    pub far_off: bool,
 }
 
 /// The rhythm of a recording.
@@ -101,6 +109,7 @@ pub fn rhythm(strikes: &[Timed], bells: usize) -> Rhythm {
             row: row_of[i],
             place: rp.place[i],
             error: error[i],
+            far_off: rp.far_off[i],
         })
         .collect();
     Rhythm {
@@ -347,6 +356,8 @@ fn rows_of(order: &[usize], hand: &[Option<bool>], bells: usize) -> (Vec<Option<
 /// Places and errors in full rows (step 4).
 struct RowPlaces {
     place: Vec<Option<usize>>,
+    /// Each strike left out of its row's line (`far_off`).
+    far_off: Vec<bool>,
     /// The rows holding every bell heard once, for their errors (`even`).
     full_rows: Vec<even::FullRow>,
     /// Each full row's interval (s).
@@ -368,6 +379,7 @@ fn place_rows(strikes: &[Timed], rows: &[Vec<usize>], bells: usize, heard: &Hear
     let n = heard.count();
     let mut out = RowPlaces {
         place: vec![None; strikes.len()],
+        far_off: vec![false; strikes.len()],
         full_rows: vec![],
         intervals: vec![],
         full: vec![false; rows.len()],
@@ -390,24 +402,103 @@ fn place_rows(strikes: &[Timed], rows: &[Vec<usize>], bells: usize, heard: &Hear
         let slots = slots(strikes, &members, bells, &mut missing_at);
         out.full[r] = true;
         out.whole += usize::from(members.len() == bells);
-        let pts: Vec<(f64, f64)> = members
-            .iter()
-            .zip(&slots)
-            .map(|(&i, &p)| (p as f64, strikes[i].t))
+        // A row lacking a bell has its one empty place already.
+        let row = match members.len() == bells {
+            true => reread_far_off(strikes, rows, r, hand, members, slots, &mut out),
+            false => even::FullRow {
+                hand: hand[members[0]],
+                far: vec![false; members.len()],
+                members,
+                slots,
+            },
+        };
+        let pts: Vec<(f64, f64)> = (row.members.iter().zip(&row.slots).zip(&row.far))
+            .filter(|(_, far)| !**far)
+            .map(|((&i, &p), _)| (p as f64, strikes[i].t))
             .collect();
         if let Some((_, slope)) = line(&pts) {
             out.intervals.push(slope);
         }
-        for (&i, &p) in members.iter().zip(&slots) {
+        for (&i, &p) in row.members.iter().zip(&row.slots) {
             out.place[i] = Some(p + 1);
         }
-        out.full_rows.push(even::FullRow {
-            hand: hand[members[0]],
-            members,
-            slots,
-        });
+        out.full_rows.push(row);
     }
     out
+}
+
+/// Row `r` of `rows`, holding each of the ring's bells once as `members`
+/// (time order) at `slots`, read again without a strike far off its rhythm
+/// where there is one (`far_off`): that strike marked in `out`, and kept
+/// in the row (at the place left empty, out of its line) only where it
+/// lies between that place's neighbours in time.
+fn reread_far_off(
+    strikes: &[Timed],
+    rows: &[Vec<usize>],
+    r: usize,
+    hand: &[Option<bool>],
+    members: Vec<usize>,
+    slots: Vec<usize>,
+    out: &mut RowPlaces,
+) -> even::FullRow {
+    let t: Vec<f64> = members.iter().map(|&i| strikes[i].t).collect();
+    // The row's median interval: its far-off strike moves it little.
+    let mut d: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
+    d.sort_by(f64::total_cmp);
+    let iv = d.get(d.len() / 2).copied().unwrap_or(0.0);
+    // Beyond one interval, and the handstroke gap (taken as one interval)
+    // before a handstroke row.
+    let extra = |a: f64, b: f64, next: Option<&usize>| {
+        let gap = f64::from(u8::from(next.and_then(|&i| hand[i]) == Some(true)));
+        (iv > 0.0).then(|| (b - a) / iv - 1.0 - gap)
+    };
+    let (first, last) = (t[0], t[t.len() - 1]);
+    let ends = far_off::Ends {
+        before: (r > 0)
+            .then(|| rows[r - 1].last())
+            .flatten()
+            .and_then(|&i| extra(strikes[i].t, first, members.first())),
+        after: rows
+            .get(r + 1)
+            .and_then(|n| n.first())
+            .and_then(|i| extra(last, strikes[*i].t, Some(i))),
+    };
+    let row = |members: Vec<usize>, slots: Vec<usize>, far: Vec<bool>| even::FullRow {
+        hand: hand[members[0]],
+        members,
+        slots,
+        far,
+    };
+    // Each bell's slot in the row before, where that row was placed.
+    let before = |i: usize| {
+        let b = strikes[i].bell;
+        let prev = rows.get(r.wrapping_sub(1))?;
+        prev.iter()
+            .find(|&&j| strikes[j].bell == b)
+            .and_then(|&j| out.place[j])
+            .map(|p| p - 1)
+    };
+    let prev: Vec<Option<usize>> = members.iter().map(|&i| before(i)).collect();
+    let Some(rr) = far_off::reread(&t, &slots, slots.len(), ends, &prev) else {
+        let n = members.len();
+        return row(members, slots, vec![false; n]);
+    };
+    out.far_off[members[rr.out]] = true;
+    let mut kept: Vec<(usize, usize, bool)> = (members.iter().enumerate())
+        .filter(|(k, _)| *k != rr.out)
+        .map(|(_, &i)| i)
+        .zip(rr.slots)
+        .map(|(i, p)| (i, p, false))
+        .collect();
+    if let Some(h) = rr.hole {
+        kept.push((members[rr.out], h, true));
+        kept.sort_by_key(|x| x.1);
+    }
+    row(
+        kept.iter().map(|x| x.0).collect(),
+        kept.iter().map(|x| x.1).collect(),
+        kept.iter().map(|x| x.2).collect(),
+    )
 }
 
 /// The row's strikes (time order) holding each bell heard once (a bell

@@ -364,3 +364,45 @@ fn a_stretch_of_strikes_lost_leaves_room_for_the_bells_that_ring() {
     let room = ring_room(&timed).unwrap();
     assert!((room.bells - bells as f64).abs() < 1.0, "{bells} bells: {room:?}");
 }
+
+/// Tester19 fault 4 (ring D `--templates`): in one row of plain hunt on
+/// eight, a bell's strike is not heard and a false strike of it is heard
+/// just before the row's first. Read through it in time order, the row's
+/// later strikes stood a place out and every error of the row was off by
+/// up to 262 ms; the false strike is now far off, and the row's other
+/// strikes keep errors true to their times.
+#[test]
+fn a_false_strike_and_a_lost_one_spoil_no_other_strike_of_their_row() {
+    let mut s = spec(Method::PlainHunt);
+    s.bells = (0..8)
+        .map(|i| RingBell {
+            nominal_hz: 1000.0 - 40.0 * i as f64,
+            mass_kg: 200.0,
+            odd_struck_ms: 0.0,
+        })
+        .collect();
+    s.rows = 24;
+    s.jitter = 0.003 * 3f64.sqrt();
+    let truth = tower_strikes(&s).unwrap();
+    let row = 12;
+    let lost = truth.iter().position(|x| x.row == row && x.place == 5).unwrap();
+    let first = truth.iter().position(|x| x.row == row && x.place == 1).unwrap();
+    let mut timed: Vec<Timed> = truth.iter().map(|x| Timed { bell: x.bell, t: x.t }).collect();
+    timed[lost].t = truth[first].t - 0.037;
+    let r = rhythm(&timed, 8);
+    assert!(r.placed[lost].far_off, "{:?}", r.placed[lost]);
+    assert_eq!(r.placed[lost].error, None);
+    for (k, x) in truth.iter().enumerate().filter(|(k, x)| x.row == row && *k != lost) {
+        let p = &r.placed[k];
+        assert!(!p.far_off, "{p:?}");
+        assert_eq!(p.place, Some(x.place), "{p:?}");
+        // The true error, less the row's own timing: a few ms.
+        let e = p.error.unwrap();
+        assert!(
+            (e - (x.t - x.ideal_t)).abs() < 0.012,
+            "bell {}: {:.1} ms",
+            x.bell,
+            e * 1e3
+        );
+    }
+}
