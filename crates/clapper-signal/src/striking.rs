@@ -97,7 +97,7 @@ pub fn rhythm(strikes: &[Timed], bells: usize) -> Rhythm {
         hand = votes_at_one_stroke(strikes, &one_stroke, &hand, votes);
         (row_of, rows) = split_rows(strikes, &order, &mut hand, bells, &heard, strokes_known);
     }
-    let rp = place_rows(strikes, &rows, bells, &heard, &hand);
+    let rp = place_rows(strikes, &rows, bells, &heard, &hand, true);
     let t: Vec<f64> = strikes.iter().map(|s| s.t).collect();
     let bell: Vec<usize> = strikes.iter().map(|s| s.bell).collect();
     let error = even::errors(&t, &bell, &rp.full_rows, bells);
@@ -207,7 +207,10 @@ fn split_rows(
     let interval = ring_room(strikes).map_or(0.0, |r| r.interval_s);
     // The gap the bells' own votes found, where they found one.
     let (_, runs) = rows_of(order, hand, bells);
-    let first = place_rows(strikes, &runs, bells, heard, hand);
+    // Rows not read again for far-off strikes (`far_off`): the gap the
+    // rows are split by is the one read before (tester19 D `--nominals`:
+    // read again, 38 strikes changed row).
+    let first = place_rows(strikes, &runs, bells, heard, hand, false);
     let gap = match first.intervals.is_empty() {
         false if strokes_known => {
             let iv = first.intervals.iter().sum::<f64>() / first.intervals.len() as f64;
@@ -374,8 +377,16 @@ struct RowPlaces {
 /// Step 4: each strike's place in the rows holding every bell heard once
 /// (their errors are found together after, `even`). A row with a bell twice (a false strike) is placed without
 /// the one of the two its rhythm fits worse; one bell never heard is
-/// placed around (`slots`).
-fn place_rows(strikes: &[Timed], rows: &[Vec<usize>], bells: usize, heard: &Heard, hand: &[Option<bool>]) -> RowPlaces {
+/// placed around (`slots`); with `reread`, a row with a strike far off its
+/// rhythm is read again without it (`reread_far_off`).
+fn place_rows(
+    strikes: &[Timed],
+    rows: &[Vec<usize>],
+    bells: usize,
+    heard: &Heard,
+    hand: &[Option<bool>],
+    reread: bool,
+) -> RowPlaces {
     let n = heard.count();
     let mut out = RowPlaces {
         place: vec![None; strikes.len()],
@@ -402,8 +413,9 @@ fn place_rows(strikes: &[Timed], rows: &[Vec<usize>], bells: usize, heard: &Hear
         let slots = slots(strikes, &members, bells, &mut missing_at);
         out.full[r] = true;
         out.whole += usize::from(members.len() == bells);
-        // A row lacking a bell has its one empty place already.
-        let row = match members.len() == bells {
+        // A row lacking a bell has its one empty place already; `reread`
+        // false, each row as it stands.
+        let row = match reread && members.len() == bells {
             true => reread_far_off(strikes, rows, r, hand, members, slots, &mut out),
             false => even::FullRow {
                 hand: hand[members[0]],
