@@ -32,6 +32,7 @@ mod doubt;
 mod input;
 mod kind;
 mod method;
+mod odd;
 mod one_stroke;
 mod ringer;
 #[cfg(test)]
@@ -79,6 +80,11 @@ pub struct StrikeReport {
     pub error_ms: Option<f64>,
     /// The clapper's second strike, if heard.
     pub double: Option<DoubleReport>,
+    /// Far off its row's rhythm (a false strike, or one heard far from its
+    /// time): left out of the line the row's ideal times are read from;
+    /// placed, with an error, only where it lies between its place's
+    /// neighbours in time (`clapper_signal::striking::Placed::far_off`).
+    pub far_off: bool,
 }
 
 /// A stroke's column of fewer strikes than this (placed in full rows) is
@@ -91,8 +97,13 @@ pub const FEW_IN_COLUMN: usize = 5;
 /// One stroke's striking for a bell.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct StrokeStats {
-    /// Strikes placed.
+    /// Strikes placed whose errors are counted here: those far from the
+    /// rest (`left_out`) are not.
     pub n: usize,
+    /// Strikes placed whose errors lie far from the rest of the stroke's
+    /// (`clapper_signal::striking::steady`): left out of the mean, the
+    /// spread and the odd-struckness, which is the columns' difference.
+    pub left_out: usize,
     /// Mean place error (ms): positive is late.
     pub mean_error_ms: Option<f64>,
     /// Standard deviation of the place error (ms); none under two strikes
@@ -112,12 +123,18 @@ pub struct BellStriking {
     /// Backstrokes.
     pub back: StrokeStats,
     /// Odd-struckness: steady handstroke error less steady backstroke error
-    /// (ms), against the even rhythm of the rest of the ring; each the mean
-    /// of the stroke's errors less any strike heard far off
-    /// (`clapper_signal::striking::steady`).
+    /// (ms), against the even rhythm of the rest of the ring: the hand
+    /// column's mean less the back column's (each the mean of the stroke's
+    /// errors less any far from the rest, `clapper_signal::striking::steady`);
+    /// none where a stroke's errors disagree (`odd_struck_doubt`).
     pub odd_struck_ms: Option<f64>,
-    /// Standard error of the odd-struckness (ms).
+    /// Standard error of the odd-struckness (ms); none where a stroke holds
+    /// too few errors to measure a spread (`odd_struck_doubt`).
     pub odd_struck_se_ms: Option<f64>,
+    /// Why the odd-struckness is not to be trusted as it stands (too few
+    /// errors at a stroke, or a stroke's errors disagree), in a ringer's
+    /// words; none when it is.
+    pub odd_struck_doubt: Option<String>,
     /// Double strikes heard.
     pub double_strikes: usize,
     /// Double strikes over strikes.
@@ -565,7 +582,7 @@ impl StrikesReport {
             if rows_doubted {
                 // Each bell's odd-struckness is read against those rows: not
                 // printed as if it meant something (tester16 fault 1).
-                (b.odd_struck_ms, b.odd_struck_se_ms) = (None, None);
+                (b.odd_struck_ms, b.odd_struck_se_ms, b.odd_struck_doubt) = (None, None, None);
             }
         }
         let doubted: Vec<usize> = per_bell
@@ -715,14 +732,16 @@ fn recording_timing(c: &SelfCalibration, matched: &[Option<f64>], warnings: &mut
     }
 }
 
-/// One stroke's striking from its place errors `v` (ms): one strike has
-/// no spread (none, not 0: tester15 read "± 0.0" for every bell).
+/// One stroke's striking from its place errors `v` (s): those far from
+/// the rest left out (`steady`), as the odd-struckness leaves them; one
+/// strike has no spread (none, not 0: tester15 read "± 0.0" for every bell).
 fn stroke_stats(v: &[f64]) -> StrokeStats {
-    let ms = mean_sd(v);
+    let st = steady(v);
     StrokeStats {
-        n: v.len(),
-        mean_error_ms: ms.map(|x| x.0),
-        spread_ms: ms.filter(|_| v.len() > 1).map(|x| x.1),
+        n: st.map_or(0, |s| s.kept),
+        left_out: st.map_or(0, |s| s.left_out),
+        mean_error_ms: st.map(|s| s.mean * 1e3),
+        spread_ms: st.filter(|s| s.kept > 1).map(|s| s.sd * 1e3),
     }
 }
 
@@ -744,6 +763,7 @@ fn strike_reports(heard: &Heard, r: &Rhythm) -> Vec<StrikeReport> {
                 amplitude_ratio: d.amplitude_ratio,
                 d_index: double_strike_index(d.amplitude_ratio, d.delay_s * 1e3),
             }),
+            far_off: p.far_off,
         })
         .collect()
 }
@@ -752,25 +772,10 @@ fn strike_reports(heard: &Heard, r: &Rhythm) -> Vec<StrikeReport> {
 /// of the strikes `timed`.
 fn bell_striking(bell: usize, strikes: &[StrikeReport], r: &Rhythm, timed: &[Timed]) -> BellStriking {
     let mine: Vec<&StrikeReport> = strikes.iter().filter(|s| s.bell == bell).collect();
-    let errors = |hand| -> Vec<f64> { r.stroke_errors(timed, bell, hand).iter().map(|e| e * 1e3).collect() };
-    let (h, b) = (errors(true), errors(false));
+    let (h, b) = (r.stroke_errors(timed, bell, true), r.stroke_errors(timed, bell, false));
     let (hs, bs) = (stroke_stats(&h), stroke_stats(&b));
-    // Odd-struckness from the steady errors: a strike mistimed in hearing
-    // left out (clapper_signal::striking::steady, in s).
-    let (sh, sb) = (
-        steady(&r.stroke_errors(timed, bell, true)),
-        steady(&r.stroke_errors(timed, bell, false)),
-    );
-    let odd = match (sh, sb) {
-        (Some(a), Some(c)) => Some((a.mean - c.mean) * 1e3),
-        _ => None,
-    };
-    let se = match (sh, sb) {
-        (Some(a), Some(c)) if a.kept > 1 && c.kept > 1 => {
-            Some((a.sd * a.sd / a.kept as f64 + c.sd * c.sd / c.kept as f64).sqrt() * 1e3)
-        }
-        _ => None,
-    };
+    // The columns' difference, or why not (odd.rs).
+    let (odd, se, doubt) = odd::odd_struck_ms(&h, &b);
     let ds: Vec<f64> = mine.iter().filter_map(|s| s.double.map(|d| d.d_index)).collect();
     BellStriking {
         bell,
@@ -779,6 +784,7 @@ fn bell_striking(bell: usize, strikes: &[StrikeReport], r: &Rhythm, timed: &[Tim
         back: bs,
         odd_struck_ms: odd,
         odd_struck_se_ms: se,
+        odd_struck_doubt: doubt,
         double_strikes: ds.len(),
         double_rate: if mine.is_empty() {
             0.0

@@ -114,6 +114,7 @@ mod tests {
                     place: Some(p + 1),
                     error_ms: None,
                     double: None,
+                    far_off: false,
                 });
             }
         }

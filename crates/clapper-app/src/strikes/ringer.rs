@@ -211,6 +211,7 @@ mod tests {
             place: None,
             error_ms: None,
             double: None,
+            far_off: false,
         }
     }
 

@@ -200,12 +200,14 @@ mod tests {
             place: Some(bell),
             error_ms: Some(error_ms),
             double: None,
+            far_off: false,
         }
     }
 
     fn bell(b: usize, strikes: usize, hand: f64, back: f64) -> BellStriking {
         let st = |m: f64| StrokeStats {
             n: strikes / 2,
+            left_out: 0,
             mean_error_ms: Some(m),
             spread_ms: Some(5.0),
         };
@@ -216,6 +218,7 @@ mod tests {
             back: st(back),
             odd_struck_ms: None,
             odd_struck_se_ms: None,
+            odd_struck_doubt: None,
             double_strikes: 0,
             double_rate: 0.0,
             mean_d: None,

@@ -126,9 +126,11 @@ impl StrikesReport {
                 (Some(m), _) => format!("{m:+.1} (n = {})", st.n),
                 _ => "-".into(),
             };
-            let odd = match (b.odd_struck_ms, b.odd_struck_se_ms) {
-                (Some(o), Some(se)) => format!("{o:+.1} ± {se:.1}"),
-                (Some(o), None) => format!("{o:+.1} (no se)"),
+            let odd = match (b.odd_struck_ms, b.odd_struck_se_ms, &b.odd_struck_doubt) {
+                (Some(o), Some(se), _) => format!("{o:+.1} ± {se:.1}"),
+                (Some(o), None, Some(_)) => format!("{o:+.1} {DOUBT_MARK}"),
+                (Some(o), None, None) => format!("{o:+.1} (no se)"),
+                (None, _, Some(_)) => format!("- {DOUBT_MARK}"),
                 _ if s.rows_doubted && b.strikes > 0 => "- (rows doubted)".into(),
                 _ => "-".into(),
             };
@@ -148,9 +150,34 @@ impl StrikesReport {
         if let Some(why) = &s.columns_why {
             let _ = writeln!(o, "{why}");
         }
+        self.odd_legend(o);
         if self.per_bell.iter().any(|b| b.mean_d.is_some()) {
             o.push_str(MEAN_D_WORDS);
             o.push('\n');
+        }
+    }
+
+    /// What the hand, back and odd-struck columns leave out, and each
+    /// odd-struckness in doubt with why (tester19 fault 3, 4), appended to
+    /// `o`; nothing where none is left out or in doubt.
+    fn odd_legend(&self, o: &mut String) {
+        let left: usize = self.per_bell.iter().map(|b| b.hand.left_out + b.back.left_out).sum();
+        let doubts: Vec<(usize, &String)> = (self.per_bell.iter())
+            .filter_map(|b| b.odd_struck_doubt.as_ref().map(|w| (b.bell, w)))
+            .collect();
+        if left > 0 {
+            let _ = writeln!(
+                o,
+                "hand, back: each stroke's mean place error and its spread, leaving out {left} strike(s) whose \
+                 errors lie far from the rest of their bell's at that stroke; odd-struck: the hand mean less the \
+                 back mean, from the same errors"
+            );
+        }
+        if !doubts.is_empty() {
+            let _ = writeln!(o, "odd-struckness in doubt (marked {DOUBT_MARK} in its column):");
+            for (b, w) in doubts {
+                let _ = writeln!(o, "  bell {b}: {w}");
+            }
         }
     }
 

@@ -30,6 +30,7 @@ fn one_bell(hand: StrokeStats, back: StrokeStats, matched_ms: Option<f64>) -> St
             back,
             odd_struck_ms: Some(199.0),
             odd_struck_se_ms: None,
+            odd_struck_doubt: None,
             double_strikes: 0,
             double_rate: 0.0,
             mean_d: None,
@@ -59,14 +60,14 @@ fn one_bell(hand: StrokeStats, back: StrokeStats, matched_ms: Option<f64>) -> St
 
 #[test]
 fn a_spread_of_one_strike_is_not_printed_as_zero() {
-    let (one, two) = (stroke_stats(&[86.8]), stroke_stats(&[80.0, 90.0]));
+    let (one, two) = (stroke_stats(&[0.0868]), stroke_stats(&[0.080, 0.090]));
     assert_eq!(one.spread_ms, None);
     assert!((two.spread_ms.unwrap() - 7.07).abs() < 0.01);
     let text = one_bell(one, two, Some(-3.0)).text("r");
     assert!(text.contains("+86.8 (n = 1)"), "{text}");
     assert!(text.contains("+85.0 (n = 2)"), "{text}");
     // Five strikes make a spread worth printing.
-    let five = stroke_stats(&[80.0, 90.0, 85.0, 80.0, 90.0]);
+    let five = stroke_stats(&[0.080, 0.090, 0.085, 0.080, 0.090]);
     let text = one_bell(five, five, Some(-3.0)).text("r");
     assert!(text.contains("+85.0 ± 5.0"), "{text}");
     assert!(text.contains("+199.0 (no se)"), "{text}");
@@ -75,7 +76,7 @@ fn a_spread_of_one_strike_is_not_printed_as_zero() {
 
 #[test]
 fn a_dash_in_the_timing_line_says_what_it_means() {
-    let s = stroke_stats(&[1.0, 2.0]);
+    let s = stroke_stats(&[0.001, 0.002]);
     let text = one_bell(s, s, None).text("r");
     assert!(
         text.contains("by (ms) 1 - (-: not learned, nothing taken off)"),
@@ -176,7 +177,7 @@ fn odd_struckness_is_not_printed_where_the_rows_mean_nothing() {
 /// Tester16 fault 6: the table's "mean D" is told under it.
 #[test]
 fn mean_d_is_told() {
-    let s = stroke_stats(&[1.0, 2.0]);
+    let s = stroke_stats(&[0.001, 0.002]);
     let mut r = one_bell(s, s, Some(-3.0));
     assert!(!r.text("r").contains("mean D: how plainly"));
     r.per_bell[0].mean_d = Some(4.2);

@@ -31,6 +31,9 @@ pub(super) struct FullRow {
     pub slots: Vec<usize>,
     /// Its stroke: hand, back, or not known.
     pub hand: Option<bool>,
+    /// Each member far off the row's rhythm (`far_off`): left out of the
+    /// line through the row, its own error read against the rest.
+    pub far: Vec<bool>,
 }
 
 /// The rounds of the alternation; each lowers the squares, and a recording
@@ -48,11 +51,9 @@ pub(super) fn errors(t: &[f64], bell: &[usize], rows: &[FullRow], bells: usize) 
     for row in rows {
         let pts = corrected(t, bell, row, &mean[stroke(row.hand)]);
         for (k, (&i, &p)) in row.members.iter().zip(&row.slots).enumerate() {
-            let others: Vec<(f64, f64)> = pts
-                .iter()
-                .enumerate()
-                .filter(|(q, _)| *q != k)
-                .map(|(_, x)| *x)
+            let others: Vec<(f64, f64)> = (pts.iter().zip(&row.far).enumerate())
+                .filter(|(q, (_, far))| *q != k && !**far)
+                .map(|(_, (x, _))| *x)
                 .collect();
             if let Some((a, b)) = super::line(&others) {
                 out[i] = Some(t[i] - (a + b * p as f64));
@@ -94,11 +95,14 @@ fn steady_means(t: &[f64], bell: &[usize], rows: &[FullRow], bells: usize) -> [V
         for row in rows {
             let s = stroke(row.hand);
             let pts = corrected(t, bell, row, &mean[s]);
-            let Some((a, b)) = super::line(&pts) else {
+            let near = |k: &usize| !row.far[*k];
+            let kept: Vec<(f64, f64)> = (0..pts.len()).filter(near).map(|k| pts[k]).collect();
+            let Some((a, b)) = super::line(&kept) else {
                 continue;
             };
-            for (&i, (x, y)) in row.members.iter().zip(&pts) {
-                left[s][bell[i]].push(y - (a + b * x));
+            for k in (0..pts.len()).filter(near) {
+                let (x, y) = pts[k];
+                left[s][bell[row.members[k]]].push(y - (a + b * x));
             }
         }
         let mut moved = 0.0f64;
