@@ -347,6 +347,9 @@ fn in_the_rings_rhythm(
     let Some(period) = ring_period(heard, &gaps) else {
         return firsts;
     };
+    if opts.rhythm_strokes && !opts.quiet_strokes {
+        at_both_strokes(heard, &mut firsts, bells, period, opts);
+    }
     let mut others: Vec<f64> = firsts.iter().flatten().map(|x| x.0).collect();
     others.sort_by(f64::total_cmp);
     let place = period / (bells as f64 + 0.5);
@@ -369,6 +372,39 @@ fn in_the_rings_rhythm(
         }
     }
     firsts
+}
+
+/// Each bell heard at one stroke only (its kept strikes two rows apart)
+/// with its quieter strokes listened for where the ring's rhythm
+/// (`period`, s: a bell's typical interval) says they must be
+/// ([`BellHearing::firsts_at_both_strokes`]), none on another bell's
+/// strike (`firsts`, each bell's strikes: onset s, strength). With
+/// templates they were looked for already ([`StrikeOptions::quiet_strokes`]);
+/// only where asked ([`StrikeOptions::rhythm_strokes`]: not in the
+/// calibration from the recording's own strikes).
+fn at_both_strokes(
+    heard: &[BellHearing],
+    firsts: &mut [Vec<(f64, f64)>],
+    bells: usize,
+    period: f64,
+    opts: &StrikeOptions,
+) {
+    let all: Vec<Vec<f64>> = firsts.iter().map(|f| f.iter().map(|x| x.0).collect()).collect();
+    for (b, (h, f)) in heard.iter().zip(firsts.iter_mut()).enumerate() {
+        if f.len() < 6 {
+            continue;
+        }
+        let mut others: Vec<f64> = all
+            .iter()
+            .enumerate()
+            .filter(|(o, _)| *o != b)
+            .flat_map(|x| x.1.iter().copied())
+            .collect();
+        others.sort_by(f64::total_cmp);
+        if let Some(both) = h.firsts_at_both_strokes(opts, bells, period, &others) {
+            *f = both;
+        }
+    }
 }
 
 /// How many times the ring's period a bell heard at one stroke only
