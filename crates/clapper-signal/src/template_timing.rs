@@ -10,7 +10,9 @@
 //! The match is the cross-correlation of the recording with the first
 //! 150 ms of the template's sound, and 40 ms of silence before it, both
 //! for a bell whose room moves its match (`weight`) taken as their second
-//! difference (weighted toward the upper partials,
+//! or third difference (the third where the template carries its
+//! partials above 3 kHz: `matcher::Matcher::order_for`; weighted toward
+//! the upper partials,
 //! where a room's tail is weaker than the direct sound: `matcher::heard`), over
 //! the recording's level there (its
 //! magnitude: a bell struck on the other side sounds with some partials'

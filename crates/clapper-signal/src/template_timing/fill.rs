@@ -12,7 +12,7 @@ use super::lag::best_match;
 use realfft::num_complex::Complex;
 use std::cell::OnceCell;
 
-use super::matcher::{at, heard, Matcher, Scratch, Template};
+use super::matcher::{heard, Matcher, Scratch, Template};
 use crate::SignalError;
 
 /// A match this share of the bell's typical one is a strike.
@@ -186,9 +186,9 @@ impl Room<'_> {
 pub(super) struct Chunks<'a> {
     x: &'a [f64],
     spectra: Vec<OnceCell<Vec<Complex<f64>>>>,
-    /// As recorded, and weighted as a template matched weighted is
-    /// ([`super::matcher::heard`]).
-    roots: [Vec<OnceCell<Vec<f64>>>; 2],
+    /// As recorded (`[0]`), and by the difference a template matched
+    /// weighted is (`[2]`, `[3]`: by its order, [`super::matcher::heard`]).
+    roots: [Vec<OnceCell<Vec<f64>>>; 4],
 }
 
 impl<'a> Chunks<'a> {
@@ -198,7 +198,7 @@ impl<'a> Chunks<'a> {
         Ok(Chunks {
             x,
             spectra: (0..count).map(|_| OnceCell::new()).collect(),
-            roots: [(); 2].map(|_| (0..count).map(|_| OnceCell::new()).collect()),
+            roots: [(); 4].map(|_| (0..count).map(|_| OnceCell::new()).collect()),
         })
     }
 
@@ -217,10 +217,11 @@ impl<'a> Chunks<'a> {
         Ok(cell.get().map_or(&[], |v| &v[..]))
     }
 
-    /// Stretch `c`'s levels, as recorded or `weighted`.
-    fn roots(&self, m: &Matcher, c: usize, weighted: bool) -> &[f64] {
-        let level = if weighted { heard } else { at };
-        self.roots[usize::from(weighted)][c].get_or_init(|| roots(m, self.x, c, level))
+    /// Stretch `c`'s levels, as recorded (`order` 0) or by the difference
+    /// of that order (a template matched weighted, [`heard`]).
+    fn roots(&self, m: &Matcher, c: usize, order: u32) -> &[f64] {
+        let level = |x: &[f64], j: i64| heard(x, j, order);
+        self.roots[order as usize][c].get_or_init(|| roots(m, self.x, c, level))
     }
 }
 
@@ -283,7 +284,7 @@ fn whole(
         *made = true;
         let spec = chunks.spectrum(m, c, sc)?;
         m.correlate_spectrum(spec, t, sc)?;
-        let roots = chunks.roots(m, c, t.weighted);
+        let roots = chunks.roots(m, c, t.level_order());
         // Filled in place, a stretch at a time (so the divisions run
         // side by side).
         let outs = proj[from..to].iter_mut().zip(&mut ncc[from..to]);

@@ -17,6 +17,22 @@ pub(super) const PRE_S: f64 = 0.04;
 /// The widest stretch of lags one transform covers (s).
 pub(super) const SPAN_S: f64 = 0.3;
 
+/// How long a strike's blow lasts (s): its click, left out where the
+/// template's partials are weighed ([`Matcher::order_for`]).
+const BLOW_S: f64 = 0.02;
+/// The frequency (Hz) above which a template's partials must carry
+/// [`HIGH_SHARE`] of its sound to be matched by the third difference
+/// (tmpl-11): the recorded tower bells d1-d12 carry 3-17 % of their sound
+/// past the blow above it, the synthetic test bells of 700 and 1000 Hz
+/// at 16 kHz (partials to three times the prime) none, and matched by the
+/// third difference those rested on their blow's click and were matched
+/// off (`a_bell_in_a_room_with_a_darker_tail_matches_at_its_direct_sound`
+/// and `a_bell_heard_far_later_than_its_lateness_is_timed_at_its_sound`
+/// fail with every template taken by the third).
+const CORNER_HZ: f64 = 3000.0;
+/// That share.
+const HIGH_SHARE: f64 = 0.01;
+
 /// Linear resampling of `s` to `rate` (Hz): templates recorded at another
 /// rate than the recording.
 fn resample(s: &Signal, rate: f64) -> Signal {
@@ -41,14 +57,18 @@ fn resample(s: &Signal, rate: f64) -> Signal {
 pub(super) struct Template {
     /// The conjugated spectrum of `pre` samples of silence and the first
     /// `len - pre` of the template's sound, as recorded (`[0]`) and
-    /// weighted toward its upper partials (`[1]`: times the second
-    /// difference's power, [`heard`]), against the recording as recorded.
+    /// weighted toward its upper partials (`[1]`: times the power of the
+    /// difference of [`Self::order`], [`heard`]), against the recording as
+    /// recorded.
     pub specs: [Vec<Complex<f64>>; 2],
     /// The energy of the part matched, as recorded and as weighted.
     pub energies: [f64; 2],
     /// Whether it is matched weighted ([`super::weight`]); as recorded
     /// until chosen.
     pub weighted: bool,
+    /// The difference taken where it is matched weighted ([`heard`]: 2 or
+    /// 3, by [`order_for`]).
+    pub order: u32,
     /// The template's whole sound, from its onset.
     pub sound: Vec<f64>,
     /// The sign its strikes match the recording with (+1 or -1), where
@@ -66,6 +86,16 @@ impl Template {
     /// The energy matched.
     pub fn energy(&self) -> f64 {
         self.energies[usize::from(self.weighted)]
+    }
+
+    /// The difference the recording is matched by: [`Self::order`] where
+    /// weighted, else 0 (as recorded).
+    pub fn level_order(&self) -> u32 {
+        if self.weighted {
+            self.order
+        } else {
+            0
+        }
     }
 }
 
@@ -176,10 +206,11 @@ impl Matcher {
         let mut buf = self.fwd.make_input_vec();
         buf[pre..len].copy_from_slice(&sound[..len - pre]);
         let energy = buf.iter().map(|v| v * v).sum();
-        // Weighted: the second difference's energy, and its power on the
-        // spectrum (the recording's own spectrum is taken as recorded).
-        let weighted_energy = (0..buf.len() as i64).map(|j| heard(&buf, j).powi(2)).sum();
         let mut spec = self.fwd.make_output_vec();
+        let order = self.order_for(sound, &mut spec)?;
+        // Weighted: the difference's energy, and its power on the
+        // spectrum (the recording's own spectrum is taken as recorded).
+        let weighted_energy = (0..buf.len() as i64).map(|j| heard(&buf, j, order).powi(2)).sum();
         self.fwd
             .process(&mut buf, &mut spec)
             .map_err(|e| SignalError::Invalid(e.to_string()))?;
@@ -188,15 +219,40 @@ impl Matcher {
         let weighted = plain
             .iter()
             .enumerate()
-            .map(|(k, c)| c * (2.0 - 2.0 * (step * k as f64).cos()).powi(2))
+            .map(|(k, c)| c * (2.0 - 2.0 * (step * k as f64).cos()).powi(order as i32))
             .collect();
         Ok(Template {
             specs: [plain, weighted],
             energies: [energy, weighted_energy],
             weighted: false,
+            order,
             sound: sound.to_vec(),
             polarity: 0.0,
         })
+    }
+
+    /// The difference a template of `sound` (from its onset) is matched
+    /// weighted by (`spec` a spectrum's buffer): the third where its sound
+    /// past the blow carries [`HIGH_SHARE`] of its energy above
+    /// [`CORNER_HZ`], else the second.
+    fn order_for(&self, sound: &[f64], spec: &mut Vec<Complex<f64>>) -> Result<u32, SignalError> {
+        let mut buf = self.fwd.make_input_vec();
+        let from = ((BLOW_S * self.rate).round() as usize).min(sound.len());
+        let to = (self.len - self.pre).min(sound.len()).max(from);
+        buf[..to - from].copy_from_slice(&sound[from..to]);
+        self.fwd
+            .process(&mut buf, spec)
+            .map_err(|e| SignalError::Invalid(e.to_string()))?;
+        let bin = self.rate / self.n as f64;
+        let (mut high, mut all) = (0.0, 0.0);
+        for (k, c) in spec.iter().enumerate() {
+            let e = c.norm_sqr();
+            all += e;
+            if k as f64 * bin > CORNER_HZ {
+                high += e;
+            }
+        }
+        Ok(if all > 0.0 && high >= HIGH_SHARE * all { 3 } else { 2 })
     }
 
     pub fn scratch(&self) -> Scratch {
@@ -239,7 +295,7 @@ impl Matcher {
         match inside(x, start, sc.buf.len()) {
             Some(s) => sc.buf.copy_from_slice(s),
             None => {
-                levels(x, start, sc.buf.len(), false, &mut sc.levels);
+                levels(x, start, sc.buf.len(), 0, &mut sc.levels);
                 sc.buf.copy_from_slice(&sc.levels);
             }
         }
@@ -326,7 +382,7 @@ impl Matcher {
         let lv = match inside(x, start, count) {
             Some(s) if !t.weighted => s,
             _ => {
-                levels(x, start, count, t.weighted, &mut sc.levels);
+                levels(x, start, count, t.level_order(), &mut sc.levels);
                 &sc.levels[..]
             }
         };
@@ -458,9 +514,10 @@ fn inside(x: &[f64], start: i64, count: usize) -> Option<&[f64]> {
     x.get(s..s.checked_add(count)?)
 }
 
-/// The recording `x` at sample `j` as it is matched: its second
-/// difference (`x[j] - 2 x[j-1] + x[j-2]`, 0 outside `x`), which weights
-/// the match by the frequency to the fourth power (the cross-spectrum is
+/// The recording `x` at sample `j` as it is matched by the difference of
+/// `order` (0: as recorded; 2: `x[j] - 2 x[j-1] + x[j-2]`; 3: `x[j] -
+/// 3 x[j-1] + 3 x[j-2] - x[j-3]`; 0 outside `x`), which weights the match
+/// by the frequency to the power 2 `order` (the cross-spectrum is
 /// weighted twice). A room's tail is darker than the direct sound (high
 /// frequencies die first), so at a bell's low partials the reverberation
 /// can be louder than the direct sound, and matched as recorded the tail's
@@ -469,9 +526,16 @@ fn inside(x: &[f64], start: i64, count: usize) -> Option<&[f64]> {
 /// y[n] = x[n] + 0.6 y[n-1] at 0 dB direct-to-reverberant: searched 150 ms
 /// either side of the true time, 165 of 464 strikes matched over 10 ms
 /// off; by the second difference 1; on r4 by the first difference 53 of
-/// 272, against 97 as recorded and 0 by the second).
-pub(super) fn heard(x: &[f64], j: i64) -> f64 {
-    at(x, j) - 2.0 * at(x, j - 1) + at(x, j - 2)
+/// 272, against 97 as recorded and 0 by the second). The third (tmpl-10):
+/// with the tail low-passed at 3 kHz and 2 dB louder than the direct
+/// sound, the treble d1 (1967 Hz) matched 50-70 ms late at 13 of its
+/// first 14 strikes by the second difference, at none by the third.
+pub(super) fn heard(x: &[f64], j: i64, order: u32) -> f64 {
+    match order {
+        0 => at(x, j),
+        2 => at(x, j) - 2.0 * at(x, j - 1) + at(x, j - 2),
+        _ => at(x, j) - 3.0 * at(x, j - 1) + 3.0 * at(x, j - 2) - at(x, j - 3),
+    }
 }
 
 /// The recording `x` at sample `j` as a double strike of a bell matched
@@ -487,21 +551,17 @@ pub(super) fn sloped(x: &[f64], j: i64) -> f64 {
 }
 
 /// Into `out`, the recording `x` at `count` samples from `start` as
-/// [`heard`] gives it where `weighted`, else as [`at`] does (the same
-/// numbers: indexed directly where the stretch lies inside `x`).
-pub(super) fn levels(x: &[f64], start: i64, count: usize, weighted: bool, out: &mut Vec<f64>) {
+/// [`heard`] gives it by the difference of `order` (0: as recorded; the
+/// same numbers, indexed directly where the stretch lies inside `x`).
+pub(super) fn levels(x: &[f64], start: i64, count: usize, order: u32, out: &mut Vec<f64>) {
     out.clear();
-    let inside = start >= 2 && start.saturating_add(count as i64) <= x.len() as i64;
-    match (inside, weighted) {
-        (true, false) => out.extend_from_slice(&x[start as usize..start as usize + count]),
-        (true, true) => {
-            let s = start as usize;
-            out.extend((s..s + count).map(|i| x[i] - 2.0 * x[i - 1] + x[i - 2]));
-        }
-        (false, w) => {
-            let level = if w { heard } else { at };
-            out.extend((0..count).map(|j| level(x, start + j as i64)));
-        }
+    let inside = start >= 3 && start.saturating_add(count as i64) <= x.len() as i64;
+    let s = start as usize;
+    match (inside, order) {
+        (true, 0) => out.extend_from_slice(&x[s..s + count]),
+        (true, 2) => out.extend((s..s + count).map(|i| x[i] - 2.0 * x[i - 1] + x[i - 2])),
+        (true, _) => out.extend((s..s + count).map(|i| x[i] - 3.0 * x[i - 1] + 3.0 * x[i - 2] - x[i - 3])),
+        (false, o) => out.extend((0..count).map(|j| heard(x, start + j as i64, o))),
     }
 }
 
@@ -516,8 +576,28 @@ pub(super) fn at(x: &[f64], j: i64) -> f64 {
 
 #[cfg(test)]
 mod tests {
-    use super::{at, heard, levels, Matcher};
+    use super::{heard, levels, Matcher};
     use crate::template_timing::tests::slow_bell;
+
+    /// A template whose partials lie below 3 kHz (the synthetic 700 and
+    /// 1000 Hz bells, partials to three times the prime) is matched
+    /// weighted by the second difference, one whose partials reach above
+    /// it (1400 Hz: 3.8 and 4.2 kHz) by the third, at 16 and 44.1 kHz.
+    #[test]
+    fn a_template_is_weighted_by_the_third_difference_only_where_it_sounds_above_the_corner() {
+        for rate in [16_000.0, 44_100.0] {
+            let orders: Vec<u32> = [700.0, 1000.0, 1400.0]
+                .iter()
+                .map(|&f| {
+                    Matcher::new(rate, &[slow_bell(rate, f, 0.03)]).unwrap().bells[0]
+                        .as_ref()
+                        .unwrap()
+                        .order
+                })
+                .collect();
+            assert_eq!(orders, [2, 2, 3], "at {rate} Hz");
+        }
+    }
 
     /// A strike's sound taken out side by side is taken out as sample by
     /// sample (the old loop), to the bit, inside the recording and over
@@ -569,7 +649,7 @@ mod tests {
                 m.correlate(&x, t, start, &mut sc).unwrap();
                 let raw = sc.out.clone();
                 let mut lv = vec![];
-                levels(&x, start, lags + m.len + 1, weighted, &mut lv);
+                levels(&x, start, lags + m.len + 1, t.level_order(), &mut lv);
                 let mut e: f64 = lv[..m.len].iter().map(|v| v.powi(2)).sum();
                 let norm = t.energy().sqrt();
                 let mut want = vec![];
@@ -603,8 +683,7 @@ mod tests {
     fn levels_a_stretch_at_a_time_are_levels_sample_by_sample() {
         let x: Vec<f64> = (0..300).map(|k| ((k * 7919) % 263) as f64 / 263.0 - 0.5).collect();
         let mut out = vec![];
-        for weighted in [false, true] {
-            let level = if weighted { heard } else { at };
+        for order in [0, 2, 3] {
             for (start, count) in [
                 (-5i64, 40usize),
                 (0, 10),
@@ -614,11 +693,11 @@ mod tests {
                 (250, 80),
                 (299, 3),
             ] {
-                levels(&x, start, count, weighted, &mut out);
-                let direct: Vec<f64> = (0..count).map(|j| level(&x, start + j as i64)).collect();
+                levels(&x, start, count, order, &mut out);
+                let direct: Vec<f64> = (0..count).map(|j| heard(&x, start + j as i64, order)).collect();
                 assert_eq!(out.len(), count);
                 for (a, b) in out.iter().zip(&direct) {
-                    assert_eq!(a.to_bits(), b.to_bits(), "weighted {weighted}, from {start}");
+                    assert_eq!(a.to_bits(), b.to_bits(), "order {order}, from {start}");
                 }
             }
         }

@@ -8,10 +8,13 @@
 //! tail carries less, and times the direct sound; but where the room does
 //! not darken, the weighted match is the worse (it rests on fewer, fainter
 //! partials and the blow's click: synthetic bells at 16 kHz turned half a
-//! period or near-harmonic matched a few tens of ms off). So a bell is
-//! matched weighted only where, at most of its strikes, its two matches
-//! part by the same amount and the weighted match rejects the plain one's
-//! time.
+//! period or near-harmonic matched a few tens of ms off; a bell muffled
+//! in the ring has no upper partials to match). So a bell is matched
+//! weighted only where, at most of its strikes, its two matches part by
+//! the same amount and the weighted match rejects the plain one's time,
+//! or where at a fair share the weighted match lies well before the plain
+//! one (a tail comes after the direct sound) and rejects its time at
+//! nearly all of those ([`is_weighted`]).
 
 use super::lag::{best_match, voters, TURNED};
 use super::matcher::{Matcher, Scratch, PRE_S};
@@ -32,13 +35,25 @@ const KEEP: f64 = 0.85;
 const SAME_S: f64 = 0.005;
 /// The share of a bell's votes that must fall so.
 const SHARE: f64 = 0.5;
+/// The share of a bell's votes whose weighted match lies over [`APART_S`]
+/// before the plain one, over which it is matched weighted where its
+/// weighted match can tell its strike (tmpl-11, from tmpl-10's rule): in
+/// the tune set's rooms whose tail was low-passed at 3 kHz and as loud as
+/// the direct sound the plain match lay 8-73 ms late at most strikes of a
+/// bell, by amounts that differ strike to strike, and the weighted match
+/// found the plain one's time 0.80-0.98 of its best, so tmpl-7's rule
+/// left them plain (A8_dark's treble 57 ms late at every strike).
+const EARLY: f64 = 0.25;
+/// The share of a bell's votes, weighted early, at which the weighted
+/// match finds the plain one's time at least [`KEEP`] of its best, over
+/// which it cannot tell its strike (a bell muffled in the ring, its upper
+/// partials gone: the tune set's A6_all bell 2).
+const AGAINST: f64 = 0.2;
 
 /// Each bell's choice (treble first): whether its strikes `sought` (bell
 /// from 1, and where its template is sought, s, s) in the recording `x`
-/// match weighted over [`APART_S`] from as recorded, the weighted match
-/// at the plain one's time under [`KEEP`] of its best, and moved within
-/// [`SAME_S`] of their median move, at over [`SHARE`] of up to [`VOTES`](super::lag::VOTES)
-/// of them. Matched by magnitude (before the polarities are known);
+/// are matched weighted, as [`is_weighted`] reads up to
+/// [`VOTES`](super::lag::VOTES) of them. Matched by magnitude (before the polarities are known);
 /// leaves every template matched as recorded. With it, the sign each bell
 /// matches with as chosen, from the same matches: what
 /// [`super::lag::polarities`] gives once the choice is made (its
@@ -78,7 +93,9 @@ fn choose_one(
     sought: &[(usize, (f64, f64))],
     sc: &mut Scratch,
 ) -> Result<(bool, [usize; 2], usize), SignalError> {
-    let (mut apart, mut n) = (vec![], 0usize);
+    // Each voting strike's move (weighted less plain, s) and whether
+    // the weighted match rejects the plain one's time.
+    let mut parts = vec![];
     let (mut turned, mut voted) = ([0usize; 2], 0usize);
     for (from, to) in voters(sought, b + 1) {
         voted += 1;
@@ -98,18 +115,33 @@ fn choose_one(
             Some(v) => v,
             None => best(m, x, b, near.0, near.1, sc)?.map_or(0.0, |f| f.1),
         };
-        n += 1;
-        // The plain match's time, not the weighted's strike, and far
-        // from it.
-        if (w.0 - p.0).abs() > APART_S && at_p < KEEP * w.1 {
-            apart.push(w.0 - p.0);
-        }
+        parts.push((w.0 - p.0, at_p < KEEP * w.1));
     }
     set(m, b, false);
-    // A room moves a bell's match the same at every strike.
+    Ok((is_weighted(&parts), turned, voted))
+}
+
+/// Whether a bell whose voting strikes' two matches part as `parts` say
+/// (the weighted match's time less the plain one's, s, and whether the
+/// weighted match there rejects the plain one's time) is matched
+/// weighted: where over [`SHARE`] of them move over [`APART_S`], rejected,
+/// within [`SAME_S`] of their median move (tmpl-7: a room moves a bell
+/// alike), or where over [`EARLY`] of them are weighted over [`APART_S`]
+/// before the plain match and at no more than [`AGAINST`] of them is the
+/// plain one's time not rejected (a room's tail comes after the direct
+/// sound, so it pulls the plain match late, not always by the same).
+fn is_weighted(parts: &[(f64, bool)]) -> bool {
+    let n = parts.len() as f64;
+    let apart: Vec<f64> = parts
+        .iter()
+        .filter(|(d, rejected)| d.abs() > APART_S && *rejected)
+        .map(|p| p.0)
+        .collect();
     let mid = if apart.is_empty() { 0.0 } else { crate::median(&apart) };
     let votes = apart.iter().filter(|d| (*d - mid).abs() <= SAME_S).count();
-    Ok((n > 0 && votes as f64 > SHARE * n as f64, turned, voted))
+    let early: Vec<bool> = parts.iter().filter(|p| p.0 < -APART_S).map(|p| p.1).collect();
+    let against = early.iter().filter(|rejected| !**rejected).count();
+    n > 0.0 && (votes as f64 > SHARE * n || (early.len() as f64 > EARLY * n && against as f64 <= AGAINST * n))
 }
 
 /// The best match (by magnitude) from `near.0` to `near.1` (s), read from
@@ -165,7 +197,7 @@ fn best(
 mod tests {
     use super::super::lag::polarities;
     use super::super::matcher::Matcher;
-    use super::{best, choose, read_within, set, NEAR_S, PRE_S};
+    use super::{best, choose, is_weighted, read_within, set, NEAR_S, PRE_S};
     use crate::template_timing::tests::slow_bell;
 
     /// The signs read from the choice's own matches are those
@@ -214,6 +246,46 @@ mod tests {
             seen.extend(signs);
         }
         assert!(seen.contains(&-1.0) && seen.contains(&1.0), "{seen:?}");
+    }
+
+    /// A bell whose plain match a dark tail pulls late by amounts that
+    /// differ strike to strike (the weighted match 8-73 ms earlier,
+    /// rejecting the plain time) is matched weighted, as tmpl-7's rule
+    /// (the same move at over half) did not; one whose matches part late,
+    /// or early where the weighted match cannot tell its strike (a muffled
+    /// bell), or at a few strikes, is not.
+    #[test]
+    fn a_bell_whose_plain_match_the_tail_pulls_late_is_matched_weighted() {
+        let dark: Vec<(f64, bool)> = [
+            -0.058,
+            -0.037,
+            -0.014,
+            -0.073,
+            -0.008 - 1e-3,
+            -0.02,
+            -0.045,
+            0.0,
+            -0.03,
+            0.001,
+        ]
+        .iter()
+        .map(|&d| (d, true))
+        .collect();
+        assert!(is_weighted(&dark));
+        let late: Vec<(f64, bool)> = dark.iter().map(|&(d, r)| (-d, r)).collect();
+        assert!(!is_weighted(&late));
+        let unsure: Vec<(f64, bool)> = dark.iter().enumerate().map(|(k, &(d, _))| (d, k % 3 != 0)).collect();
+        assert!(!is_weighted(&unsure));
+        let few: Vec<(f64, bool)> = dark
+            .iter()
+            .enumerate()
+            .map(|(k, &(d, r))| if k < 2 { (d, r) } else { (0.0, r) })
+            .collect();
+        assert!(!is_weighted(&few));
+        // tmpl-7's rule still holds: the same move at over half, late too.
+        let same: Vec<(f64, bool)> = (0..10).map(|k| (if k < 6 { 0.02 } else { 0.0 }, true)).collect();
+        assert!(is_weighted(&same));
+        assert!(!is_weighted(&[]));
     }
 
     /// The weighted match at the plain match's time read from the
