@@ -67,7 +67,7 @@ pub(super) struct Template {
     /// until chosen.
     pub weighted: bool,
     /// The difference taken where it is matched weighted ([`heard`]: 2 or
-    /// 3, by [`order_for`]).
+    /// 3, by [`Matcher::order_for`]).
     pub order: u32,
     /// The template's whole sound, from its onset.
     pub sound: Vec<f64>,
@@ -235,7 +235,7 @@ impl Matcher {
     /// weighted by (`spec` a spectrum's buffer): the third where its sound
     /// past the blow carries [`HIGH_SHARE`] of its energy above
     /// [`CORNER_HZ`], else the second.
-    fn order_for(&self, sound: &[f64], spec: &mut Vec<Complex<f64>>) -> Result<u32, SignalError> {
+    fn order_for(&self, sound: &[f64], spec: &mut [Complex<f64>]) -> Result<u32, SignalError> {
         let mut buf = self.fwd.make_input_vec();
         let from = ((BLOW_S * self.rate).round() as usize).min(sound.len());
         let to = (self.len - self.pre).min(sound.len()).max(from);
