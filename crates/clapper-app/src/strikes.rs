@@ -552,7 +552,7 @@ impl StrikesReport {
         }
         wide.extend(together);
         wide.extend(doubt::ring_size_warning(&timed, bells, doubt::given_as(templates)));
-        let one_stroke = one_stroke::one_stroke_warnings(&timed, bells);
+        let one_stroke = one_stroke::one_stroke_warnings(&timed, bells, templates);
         warnings.extend(one_stroke.iter().map(|(_, w)| w.clone()));
         let strikes = strike_reports(heard, &r);
         let mut per_bell: Vec<BellStriking> = (1..=bells)

@@ -6,20 +6,26 @@ use clapper_signal::striking::{heard_at_one_stroke, typical_strikes, Timed};
 /// Each bell of the `bells` (treble first) heard at one stroke only in
 /// `timed` (`striking::heard_at_one_stroke`: at most 0.6 of the typical
 /// bell's strikes, three in four of its intervals two rows), with its
-/// warning. The tester's six with bell 5 silent at every backstroke
+/// warning; heard with `templates`, the warning does not advise them
+/// (tester20). The tester's six with bell 5 silent at every backstroke
 /// (A6_quiet60) was reported with no word of it, its empty place read as
 /// a handstroke gap.
-pub(super) fn one_stroke_warnings(timed: &[Timed], bells: usize) -> Vec<(usize, String)> {
+pub(super) fn one_stroke_warnings(timed: &[Timed], bells: usize, templates: bool) -> Vec<(usize, String)> {
     let typical = typical_strikes(timed, bells).unwrap_or(0);
+    let hint = if templates {
+        ""
+    } else {
+        " (a bell's own recorded strike, --templates, hears quieter strokes)"
+    };
     heard_at_one_stroke(timed, bells)
         .into_iter()
         .map(|b| {
             let n = timed.iter().filter(|s| s.bell == b).count();
             let w = format!(
                 "bell {b}: heard at one stroke only ({n} strikes, where a typical bell has {typical}, nearly all two \
-                 rows apart): at its other stroke it is silent, or too quiet to be heard apart from the other bells (a bell's own \
-                 recorded strike, --templates, hears quieter strokes); that stroke's strikes are nearly all missing from the \
-                 report, and its rows are read without the bell"
+                 rows apart): at its other stroke it is silent, or too quiet to be heard apart from the other \
+                 bells{hint}; that stroke's strikes are nearly all missing from the report, and its rows are read \
+                 without the bell"
             );
             (b, w)
         })
@@ -50,14 +56,18 @@ mod tests {
             }
             v
         };
-        let w = one_stroke_warnings(&ring(&|row, bell| bell != 5 || row % 2 == 0), 6);
+        let w = one_stroke_warnings(&ring(&|row, bell| bell != 5 || row % 2 == 0), 6, false);
         assert_eq!(w.len(), 1, "{w:?}");
         assert_eq!(w[0].0, 5);
         assert!(
             w[0].1.starts_with("bell 5: heard at one stroke only (20 strikes"),
             "{w:?}"
         );
-        assert!(one_stroke_warnings(&ring(&|_, _| true), 6).is_empty());
-        assert!(one_stroke_warnings(&ring(&|row, bell| bell != 5 || row % 3 != 0), 6).is_empty());
+        assert!(w[0].1.contains("--templates, hears quieter strokes"), "{w:?}");
+        // Heard with templates already: not advised to give them.
+        let w = one_stroke_warnings(&ring(&|row, bell| bell != 5 || row % 2 == 0), 6, true);
+        assert!(!w[0].1.contains("--templates"), "{w:?}");
+        assert!(one_stroke_warnings(&ring(&|_, _| true), 6, false).is_empty());
+        assert!(one_stroke_warnings(&ring(&|row, bell| bell != 5 || row % 3 != 0), 6, false).is_empty());
     }
 }

@@ -277,7 +277,7 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
     let confidence = learned_set_sure(&learned, rhythm, bells, few).min(rival_sure(margin));
     let mut warnings = warnings_of(&learned, bells, few);
     if confidence < DOUBTFUL && !learned.is_empty() {
-        warnings.push(rival_doubt(margin).unwrap_or_else(|| doubt_of_set(&learned, confidence, rhythm)));
+        warnings.push(rival_doubt(margin, confidence).unwrap_or_else(|| doubt_of_set(&learned, confidence, rhythm)));
     }
     bells_as_sure_as_their_set(&mut learned, confidence);
     Ok(Learned {

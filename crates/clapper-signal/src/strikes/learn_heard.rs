@@ -149,7 +149,7 @@ impl Learned {
                     bells[i].nominal_hz,
                     heard[i].prime_of.unwrap_or(0) + 1
                 ),
-                (None, None) => rival_doubt(self.margin).unwrap_or_else(|| doubt_of_set(&bells, set, ringing)),
+                (None, None) => rival_doubt(self.margin, set).unwrap_or_else(|| doubt_of_set(&bells, set, ringing)),
             });
         }
         bells_as_sure_as_their_set(&mut bells, set);

@@ -326,15 +326,17 @@ pub(super) fn rival_sure(margin: f64) -> f64 {
 }
 
 /// The doubt of a set whose ring's `margin` over the next best leaves it
-/// under [`DOUBTFUL`] ([`rival_sure`]), in words; `None` otherwise.
-pub(super) fn rival_doubt(margin: f64) -> Option<String> {
+/// under [`DOUBTFUL`] ([`rival_sure`]), in words, saying the set's
+/// sureness `sure` (at most the margin's: tester20 read "21 % sure" here
+/// and "0 % sure" for the same set below the table); `None` otherwise.
+pub(super) fn rival_doubt(margin: f64, sure: f64) -> Option<String> {
     (rival_sure(margin) < DOUBTFUL).then(|| {
         format!(
             "the nominals learned are doubtful ({:.0} % sure): another set of notes, a bell or more moved or \
              another left out, fits the recording's strikes nearly as well (one bell's partial may have been \
              taken for a bell, or a bell missed); if the bells' nominals are known, give them (--nominals), else \
              check the learned ones against the bells' notes",
-            100.0 * rival_sure(margin)
+            100.0 * sure.min(rival_sure(margin))
         )
     })
 }
@@ -389,6 +391,18 @@ pub(super) fn doubt_of_set(learned: &[LearnedBell], sure: f64, ringing: Option<f
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// The rival ring's doubt says the set's own sureness where that is
+    /// lower than the margin's (tester20's R11: "21 % sure" in it, "0 %
+    /// sure" for the set).
+    #[test]
+    fn the_rival_rings_doubt_says_the_sets_sureness() {
+        let w = rival_doubt(0.042, 0.0).unwrap();
+        assert!(w.starts_with("the nominals learned are doubtful (0 % sure)"), "{w}");
+        let w = rival_doubt(0.042, 1.0).unwrap();
+        assert!(w.starts_with("the nominals learned are doubtful (21 % sure)"), "{w}");
+        assert!(rival_doubt(0.5, 0.0).is_none());
+    }
     use crate::strikes::learn_pick::tests::spectrum;
 
     /// One bell's strikes noted at its nominal, its superquint and its

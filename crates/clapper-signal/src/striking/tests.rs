@@ -318,16 +318,22 @@ fn no_gap_means_strokes_unknown() {
     assert!(rhythm(&[], 6).placed.is_empty());
 }
 
-#[test]
-fn the_strikes_of_three_bells_of_eight_leave_room_for_eight() {
-    let mut s = spec(Method::PlainHunt);
-    s.bells = (0..8)
+/// Eight bells of 200 kg, none odd-struck, the treble at 1000 Hz and
+/// each bell `step_hz` (Hz) under the one before.
+fn eight_bells(step_hz: f64) -> Vec<RingBell> {
+    (0..8)
         .map(|i| RingBell {
-            nominal_hz: 1000.0 - 50.0 * i as f64,
+            nominal_hz: 1000.0 - step_hz * i as f64,
             mass_kg: 200.0,
             odd_struck_ms: 0.0,
         })
-        .collect();
+        .collect()
+}
+
+#[test]
+fn the_strikes_of_three_bells_of_eight_leave_room_for_eight() {
+    let mut s = spec(Method::PlainHunt);
+    s.bells = eight_bells(50.0);
     s.rows = 12;
     s.jitter = 0.02;
     let truth = tower_strikes(&s).unwrap();
@@ -374,13 +380,7 @@ fn a_stretch_of_strikes_lost_leaves_room_for_the_bells_that_ring() {
 #[test]
 fn a_false_strike_and_a_lost_one_spoil_no_other_strike_of_their_row() {
     let mut s = spec(Method::PlainHunt);
-    s.bells = (0..8)
-        .map(|i| RingBell {
-            nominal_hz: 1000.0 - 40.0 * i as f64,
-            mass_kg: 200.0,
-            odd_struck_ms: 0.0,
-        })
-        .collect();
+    s.bells = eight_bells(40.0);
     s.rows = 24;
     s.jitter = 0.003 * 3f64.sqrt();
     let truth = tower_strikes(&s).unwrap();
