@@ -16,8 +16,8 @@ use super::learn_gaps::{ringing, unheard_notes, Heard, IN_TUNE};
 use super::learn_pick::{apart, mean_rise};
 use super::learn_scale::{octave_fits, octaves_into_ring, ring_octaves, OCTAVES};
 use super::learn_sure::{
-    bell_sure, bells_as_sure_as_their_set, doubt_of_set, learned_set_sure, octave_share, ring_size, rival_doubt,
-    rival_sure, sounds, warnings_of, DOUBTFUL,
+    bell_sure, bells_as_sure_as_their_set, doubt_first, doubt_of_set, learned_set_sure, octave_share, ring_size,
+    rival_doubt, rival_sure, sounds, warnings_of, DOUBTFUL,
 };
 use crate::{Signal, SignalError};
 
@@ -277,7 +277,8 @@ pub fn learn_nominals(sig: &Signal, bells: usize) -> Result<Learned, SignalError
     let confidence = learned_set_sure(&learned, rhythm, bells, few).min(rival_sure(margin));
     let mut warnings = warnings_of(&learned, bells, few);
     if confidence < DOUBTFUL && !learned.is_empty() {
-        warnings.push(rival_doubt(margin, confidence).unwrap_or_else(|| doubt_of_set(&learned, confidence, rhythm)));
+        let doubt = rival_doubt(margin, confidence).unwrap_or_else(|| doubt_of_set(&learned, confidence, rhythm));
+        doubt_first(&mut warnings, doubt);
     }
     bells_as_sure_as_their_set(&mut learned, confidence);
     Ok(Learned {

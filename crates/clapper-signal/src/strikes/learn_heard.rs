@@ -13,7 +13,7 @@
 
 use super::learn::{Learned, LearnedBell};
 use super::learn_sure::{
-    bells_as_sure_as_their_set, doubt_of_set, learned_set_sure, rival_doubt, rival_sure, DOUBTFUL,
+    bells_as_sure_as_their_set, doubt_first, doubt_of_set, learned_set_sure, rival_doubt, rival_sure, DOUBTFUL,
 };
 use crate::striking::{heard_at_one_stroke, Timed};
 
@@ -132,7 +132,7 @@ impl Learned {
         let unheard = (0..bells.len()).find(|&i| heard[i].strikes == 0);
         let mut warnings = heard_warnings(&bells, &heard, self.asked, self.few);
         if set < DOUBTFUL && !bells.is_empty() {
-            warnings.push(match (primes.first(), unheard) {
+            let doubt = match (primes.first(), unheard) {
                 (None, Some(i)) => format!(
                     "the nominals learned are doubtful ({:.0} % sure): bell {} ({:.1} Hz) was learned but not \
                      heard at any strike; if the bells' nominals are known, give them (--nominals), else check \
@@ -150,7 +150,8 @@ impl Learned {
                     heard[i].prime_of.unwrap_or(0) + 1
                 ),
                 (None, None) => rival_doubt(self.margin, set).unwrap_or_else(|| doubt_of_set(&bells, set, ringing)),
-            });
+            };
+            doubt_first(&mut warnings, doubt);
         }
         bells_as_sure_as_their_set(&mut bells, set);
         Learned {
@@ -336,7 +337,7 @@ mod tests {
             .any(|w| w.starts_with("bell 8 (982.4 Hz): 100 % of its strikes fall with bell 1's, an octave")));
         assert!(h
             .warnings
-            .last()
+            .first()
             .is_some_and(|w| w.contains("bell 8 (982.4 Hz) is bell 1's prime")));
         // Two bells not an octave apart whose strikes fall together (one
         // heard at some of the other's blows: tester 15's G6_tilt) are
@@ -395,7 +396,7 @@ mod tests {
         assert!(h.warnings.iter().any(|w| w.contains("only 0 strikes were heard there")));
         assert!(h
             .warnings
-            .last()
+            .first()
             .is_some_and(|w| w.starts_with("the nominals learned are doubtful (40 % sure)")));
     }
 }
