@@ -459,8 +459,9 @@ const IN_RHYTHM_MIN: f64 = 0.1;
 /// places, hand to back a row and back to hand a row and the handstroke
 /// gap) two rows of a bell heard at one stroke only span, at least and at
 /// most: two rows are 2 `bells` + 1 places, two more or less for a bell
-/// moving a place each row (hunting), so from (2 `bells` − 1) / (`bells` +
-/// 1) to (2 `bells` + 3) / `bells`: 1.57-2.5 on six, 1.67-2.38 on eight.
+/// moving a place each row (hunting), so from (2 `bells` − 1) over
+/// `bells` + 1 to (2 `bells` + 3) over `bells`: 1.57-2.5 on six, 1.67-2.38
+/// on eight.
 /// A bell heard at both strokes keeps at most (`bells` + 2) / `bells`
 /// between strikes (1.4 on five). At 1.7-2.4 a hunting six's intervals
 /// down (1.6-1.7) failed: tester20's R1 (Plain Bob Minor, bell 5 9 dB
