@@ -7,8 +7,8 @@ use clapper_core::stroke::double_strike_index;
 use clapper_signal::lateness::Lateness;
 use clapper_signal::self_calibrate::{calibrate, SelfCalibration};
 use clapper_signal::strikes::{
-    find_strikes_streamed_heard, rising_at, BellVoice, Heard, Hearing, InMemory, RecordingBlocks, RisePartial,
-    StrikeOptions, Window, Windows, PLAUSIBLE_SHARE,
+    find_strikes_streamed_heard, rising_at, BellVoice, Heard, Hearing, InMemory, QuietStrokes, RecordingBlocks,
+    RisePartial, StrikeOptions, Window, Windows, PLAUSIBLE_SHARE,
 };
 use clapper_signal::striking::{mean_sd, rhythm, rows_the_time_holds, steady, Rhythm, Timed, ROWS_OVER};
 use clapper_signal::template_timing::median_of;
@@ -296,16 +296,19 @@ fn rise_partial(timing: &Timing) -> RisePartial {
 
 /// The band finder's options `opts` for `timing`: a bell heard at one
 /// stroke only has its quieter strokes looked for (issue 43): with
-/// templates between its kept strikes ([`StrikeOptions::quiet_strokes`]),
-/// else where the ring's rhythm puts them ([`StrikeOptions::rhythm_strokes`]),
+/// templates between its kept strikes ([`QuietStrokes::Between`]), else
+/// where the ring's rhythm puts them ([`QuietStrokes::ByRhythm`]),
 /// only in the hearing reported (`judged`): neither in the calibration,
 /// which is handed `opts` as asked, nor in the choice's trials (with them
 /// plain's strikes came a hair evener on tune ring A8_tilt `--bells 8`
 /// and plain was chosen, 0.541 -> 0.322 within 10 ms).
 fn heard_with(timing: &Timing, opts: &StrikeOptions, judged: bool) -> StrikeOptions {
     StrikeOptions {
-        quiet_strokes: matches!(timing, Timing::Templates(_)),
-        rhythm_strokes: judged && !matches!(timing, Timing::Templates(_)),
+        quiet_strokes: match timing {
+            Timing::Templates(_) => QuietStrokes::Between,
+            _ if judged => QuietStrokes::ByRhythm,
+            _ => QuietStrokes::Off,
+        },
         ..*opts
     }
 }

@@ -4,7 +4,7 @@
 use std::cell::OnceCell;
 
 use super::band::{bands, decimate, Band, SharedBand};
-use super::heard::{check_options, Heard, HeardDouble, HeardStrike, StrikeOptions};
+use super::heard::{check_options, Heard, HeardDouble, HeardStrike, QuietStrokes, StrikeOptions};
 use super::onsets::{hear_bell, BellHearing};
 use super::plan::{mean_spectrum, plan_bands};
 use super::stats::median;
@@ -347,7 +347,7 @@ fn in_the_rings_rhythm(
     let Some(period) = ring_period(heard, &gaps) else {
         return firsts;
     };
-    if opts.rhythm_strokes && !opts.quiet_strokes {
+    if opts.quiet_strokes == QuietStrokes::ByRhythm {
         at_both_strokes(heard, &mut firsts, bells, period, opts);
     }
     let mut others: Vec<f64> = firsts.iter().flatten().map(|x| x.0).collect();
@@ -378,10 +378,10 @@ fn in_the_rings_rhythm(
 /// with its quieter strokes listened for where the ring's rhythm
 /// (`period`, s: a bell's typical interval) says they must be
 /// ([`BellHearing::firsts_at_both_strokes`]), none on another bell's
-/// strike (`firsts`, each bell's strikes: onset s, strength). With
-/// templates they were looked for already ([`StrikeOptions::quiet_strokes`]);
-/// only where asked ([`StrikeOptions::rhythm_strokes`]: not in the
-/// calibration from the recording's own strikes).
+/// strike (`firsts`, each bell's strikes: onset s, strength). Only where
+/// asked ([`QuietStrokes::ByRhythm`]: not in the calibration from the
+/// recording's own strikes; with templates they are looked for otherwise,
+/// [`QuietStrokes::Between`]).
 fn at_both_strokes(
     heard: &[BellHearing],
     firsts: &mut [Vec<(f64, f64)>],

@@ -18,26 +18,36 @@ pub struct StrikeOptions {
     /// listeners heard no double strike at any delay (eq. 33's A − 0.2 is
     /// small).
     pub double_min_ratio: f64,
-    /// Whether a bell heard at one stroke only, two rows apart, has its
-    /// quieter strokes looked for between (issue 43: a bell quieter at
-    /// backstroke). Default false: with the nominals' assumed partials a
+    /// Whether and how a bell heard at one stroke only has its quieter
+    /// strokes looked for (issue 43: a tower bell's level is not the same
+    /// at hand and back). Default [`QuietStrokes::Off`].
+    pub quiet_strokes: QuietStrokes,
+}
+
+/// How a bell heard at one stroke only (its kept strikes two rows apart)
+/// has its quieter strokes looked for ([`StrikeOptions::quiet_strokes`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum QuietStrokes {
+    /// Not looked for (the default): with the nominals' assumed partials a
     /// recorded ring in rounds (RT60 1.2 s) has a bump a row after every
-    /// strike at half the strike's height, and it was taken (precision
-    /// within 10 ms 0.902 -> 0.758); on with templates
-    /// (`clapper_app`'s `--templates`), where it was not.
-    pub quiet_strokes: bool,
-    /// Whether a bell heard at one stroke only, its kept strikes two rows
-    /// apart, has its quieter strokes listened for where the ring's rhythm
-    /// puts them (issue 43, `--nominals` and `--bells N`: a bell 9 dB
-    /// quieter at one stroke lost every strike at it), when
-    /// [`Self::quiet_strokes`] is off. Default false: the calibration from
-    /// the recording's own strikes hears without them, so that strokes
-    /// found so (timed by the bell's louder strokes, tens of ms off where
-    /// the bell's spectrum varies) never move the lateness it learns nor
-    /// the other bells' fitted strikes (quiet-2, session 18: tune ring
-    /// A8_tilt 0.725 -> 0.572 within 10 ms); on in the hearing timed with
-    /// that calibration (`clapper_app`'s `--nominals`, `--bells N`).
-    pub rhythm_strokes: bool,
+    /// strike at half the strike's height, and a search among the
+    /// candidates took it (precision within 10 ms 0.902 -> 0.758); and the
+    /// calibration from the recording's own strikes hears without them, so
+    /// that strokes found so never move the lateness it learns nor the
+    /// other bells' fitted strikes (quiet-2, session 18: tune ring A8_tilt
+    /// 0.725 -> 0.572 within 10 ms).
+    #[default]
+    Off,
+    /// Among the bell's candidates, one in the middle of each interval
+    /// between its kept strikes: with templates (`clapper_app`'s
+    /// `--templates`), where the bump a row after each strike was not taken.
+    Between,
+    /// Where the ring's rhythm puts them, at the highest peak of the bell's
+    /// onset function there (issue 43, `--nominals` and `--bells N`: a bell
+    /// 9 dB quieter at one stroke lost every strike at it): in the hearing
+    /// timed with the calibration from the recording's own strikes, not in
+    /// the calibration itself.
+    ByRhythm,
 }
 
 /// The default [`StrikeOptions::double_min_ratio`] (see there why), for
@@ -50,8 +60,7 @@ impl Default for StrikeOptions {
             min_separation_s: 0.5,
             double_window_ms: (10.0, 150.0),
             double_min_ratio: DEFAULT_DOUBLE_MIN_RATIO,
-            quiet_strokes: false,
-            rhythm_strokes: false,
+            quiet_strokes: QuietStrokes::Off,
         }
     }
 }

@@ -39,7 +39,7 @@ mod timing;
 mod voice;
 
 pub use find::{find_strikes, hear_strikes, Hearing};
-pub use heard::{Heard, HeardDouble, HeardStrike, StrikeOptions, DEFAULT_DOUBLE_MIN_RATIO};
+pub use heard::{Heard, HeardDouble, HeardStrike, QuietStrokes, StrikeOptions, DEFAULT_DOUBLE_MIN_RATIO};
 pub use learn::{learn_nominals, Learned, LearnedBell};
 pub use learn_voices::{learn_voices, LearnedVoice, LearnedVoices};
 pub use plausible::{

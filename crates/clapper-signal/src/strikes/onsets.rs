@@ -2,7 +2,7 @@
 //! strikes (a bell strikes once a row), and each strike timed.
 
 use super::band::{change, Band, SharedBand, BAND_RATE};
-use super::heard::StrikeOptions;
+use super::heard::{QuietStrokes, StrikeOptions};
 use super::stats::{local_peaks, median, typical_peak};
 use super::timing::{band_onset, on_one_footing, onset_time, ONSET_LEVEL};
 
@@ -164,7 +164,7 @@ impl BellHearing {
         if self.echo_of_the_last(&kept) {
             kept.pop();
         }
-        let quiet = if opts.quiet_strokes {
+        let quiet = if opts.quiet_strokes == QuietStrokes::Between {
             other_stroke(&self.candidates, &kept, bells)
         } else {
             vec![]
@@ -454,18 +454,44 @@ const IN_RHYTHM_PLACES: f64 = 1.25;
 /// [`QUIET_STROKE_MIN`], the window being narrower.
 const IN_RHYTHM_MIN: f64 = 0.1;
 
+/// How many times the ring's typical interval between a bell's strikes
+/// (its period: a bell's median interval, between `bells` and `bells` + 1
+/// places, hand to back a row and back to hand a row and the handstroke
+/// gap) two rows of a bell heard at one stroke only span, at least and at
+/// most: two rows are 2 `bells` + 1 places, two more or less for a bell
+/// moving a place each row (hunting), so from (2 `bells` − 1) over
+/// `bells` + 1 to (2 `bells` + 3) over `bells`: 1.57-2.5 on six, 1.67-2.38
+/// on eight.
+/// A bell heard at both strokes keeps at most (`bells` + 2) / `bells`
+/// between strikes (1.4 on five). At 1.7-2.4 a hunting six's intervals
+/// down (1.6-1.7) failed: tester20's R1 (Plain Bob Minor, bell 5 9 dB
+/// quieter at hand, the period read as 6.1 places) had 12 of 15 of its
+/// intervals there and no quiet stroke was looked for; at 1.5-2.6, 14.
+const ONE_STROKE_ROWS: (f64, f64) = (1.5, 2.6);
+
 /// The rows (two or four) an interval `d` (band samples) between the
 /// strikes of a bell heard at one stroke only spans, the ring's typical
-/// interval between a bell's strikes being `period` (band samples): 1.7
-/// to 2.4 periods, or twice that (a louder stroke lost between); else
-/// none.
+/// interval between a bell's strikes being `period` (band samples):
+/// [`ONE_STROKE_ROWS`] periods, or twice that (a louder stroke lost
+/// between); else none.
 fn rows_between(d: usize, period: f64) -> Option<usize> {
     let x = d as f64 / period;
     [2, 4].into_iter().find(|&k| {
         let r = x / (k / 2) as f64;
-        (1.7..=2.4).contains(&r)
+        (ONE_STROKE_ROWS.0..=ONE_STROKE_ROWS.1).contains(&r)
     })
 }
+
+/// How far after another bell's strike (its time heard) a peak of a
+/// quiet bell's onset function is taken for that strike heard in its
+/// bands ([`quiet_stroke_in_rhythm`]), in places (a quarter of a place
+/// before it): in a room whose tail is as loud as the direct sound a
+/// strike's step in a neighbour's bands goes on rising after it is heard,
+/// and the next bell's strike stood 70-90 ms (a third of a place) after
+/// its time heard, higher than the quiet stroke a place before it
+/// (tester20's R1, bell 5: 3 of its 12 quiet strokes taken there, a
+/// place late).
+const AFTER_OTHER_PLACES: f64 = 0.5;
 
 /// A bell heard at one stroke only with the band finder's split between
 /// strikes and the rest (`kept`, band sample, height; in time order):
@@ -479,9 +505,9 @@ fn rows_between(d: usize, period: f64) -> Option<usize> {
 /// quieter strokes are then the highest peaks of its onset function
 /// `onset` (at least [`IN_RHYTHM_MIN`]) within [`IN_RHYTHM_PLACES`] of
 /// the middle of each pair of rows (a place being
-/// `period` over `bells` + ½), none within a quarter of a place of
-/// another bell's strike (`others`, band samples, in time order: heard in
-/// this bell's bands), taken where three in four of those places or more
+/// `period` over `bells` + ½), none from a quarter of a place before
+/// another bell's strike to [`AFTER_OTHER_PLACES`] after it (`others`,
+/// band samples, in time order: heard in this bell's bands), taken where three in four of those places or more
 /// (five at least) have one; else none. The onset function itself, not the
 /// candidates: a candidate is the highest peak within half a second, and
 /// a quiet stroke often stands beside another bell's strike or its own
@@ -505,10 +531,10 @@ fn quiet_stroke_in_rhythm(
     }
     let place = period / (bells as f64 + 0.5);
     let tol = IN_RHYTHM_PLACES * place;
-    let apart = (0.25 * place) as usize;
+    let (before, after) = ((0.25 * place) as usize, (AFTER_OTHER_PLACES * place) as usize);
     let near_other = |m: usize| {
         let k = others.partition_point(|&u| u < m);
-        others.get(k).is_some_and(|&u| u - m <= apart) || (k > 0 && m - others[k - 1] <= apart)
+        others.get(k).is_some_and(|&u| u - m <= before) || (k > 0 && m - others[k - 1] <= after)
     };
     let (mut places, mut found) = (0, vec![]);
     for (w, k) in kept.windows(2).zip(rows) {
@@ -821,6 +847,34 @@ mod tests {
         assert!(quiet_stroke_in_rhythm(&onset, &both, &[], 6, period).is_empty());
     }
 
+    /// A bell of six heard at one stroke only while it hunts (rows of six
+    /// at 220 ms with a handstroke gap, its period 1.43 s: two rows less
+    /// two places, 2.42 s, is 1.69 periods, then two rows and two places)
+    /// has its quieter strokes taken (tester20's R1); and a peak a third
+    /// of a place after another bell's strike is that strike heard in its
+    /// bands, not taken.
+    #[test]
+    fn a_hunting_six_heard_at_one_stroke_has_its_quiet_strokes_listened_for() {
+        let period = 1430.0;
+        let mut hand: Vec<(usize, f64)> = vec![(500, 1.0)];
+        for k in 1..12 {
+            let d = if k % 2 == 1 { 2420 } else { 3300 };
+            hand.push((hand[k - 1].0 + d, 1.0));
+        }
+        let back: Vec<(usize, f64)> = hand.windows(2).map(|w| ((w[0].0 + w[1].0) / 2, 0.3)).collect();
+        let len = hand[11].0 + 2000;
+        let mut all = hand.clone();
+        all.extend(back.iter().copied());
+        let onset = onset_of(&all, len);
+        let found = quiet_stroke_in_rhythm(&onset, &hand, &[], 6, period);
+        let want: Vec<usize> = back.iter().map(|b| b.0).collect();
+        assert_eq!(found.iter().map(|f| f.0).collect::<Vec<_>>(), want);
+        // Each backstroke's peak 80 ms (0.36 of a 220 ms place) after
+        // another bell's strike: not taken.
+        let others: Vec<usize> = want.iter().map(|m| m - 80).collect();
+        assert!(quiet_stroke_in_rhythm(&onset, &hand, &others, 6, period).is_empty());
+    }
+
     /// A bell 9 dB quieter at every backstroke (issue 43; the tester's
     /// A6_quietback, bell 5): its backstrokes were lost (0 of 24 found
     /// without [`other_stroke`]: its louder strokes alone set its rhythm
@@ -831,7 +885,7 @@ mod tests {
         let (sig, truth, templates) = quiet_at_backstroke(16_000.0);
         let voices: Vec<BellVoice> = templates.iter().map(|t| BellVoice::from_template(t).unwrap()).collect();
         let opts = StrikeOptions {
-            quiet_strokes: true,
+            quiet_strokes: QuietStrokes::Between,
             ..StrikeOptions::default()
         };
         let heard = find_strikes(&sig, &voices, &opts).unwrap();
