@@ -3,7 +3,7 @@
 
 use super::band::{Band, SharedBand, C, SHARED_BAND_QUIET};
 use super::fit::{conj, dot, dots, fit_alone, fit_gram3};
-use super::heard::{HeardDouble, StrikeOptions};
+use super::heard::{HeardDouble, QuietStrokes, StrikeOptions};
 use super::onsets::BellHearing;
 use clapper_core::stroke::double_strike_index;
 
@@ -91,13 +91,13 @@ impl BellHearing {
                 best_copy(&use_, t, opts)
             })
             .collect();
-        // Judged anew only in the hearing reported (`rhythm_strokes`, which
+        // Judged anew only in the hearing reported (`QuietStrokes::ByRhythm`, which
         // the app sets there alone with `--nominals` and `--bells N`): the
         // calibration learns each bell from its strikes not called double
         // (`self_calibrate::clean_strikes`), and with this judge there it
         // learned worse (held G6_wet `--bells` 0.787 -> 0.208 within 10 ms);
         // the template path's band doubles stay as they were.
-        if opts.rhythm_strokes {
+        if opts.quiet_strokes == QuietStrokes::ByRhythm {
             judge_bell(&copies, opts)
         } else {
             copies.iter().map(|c| judge_plain(c.as_ref(), opts)).collect()
