@@ -34,6 +34,7 @@ mod kind;
 mod method;
 mod odd;
 mod one_stroke;
+mod order;
 mod ringer;
 #[cfg(test)]
 mod words_tests;
@@ -608,7 +609,7 @@ impl StrikesReport {
             placed_rows: r.placed_rows,
             interval_ms,
             handstroke_gap_intervals: r.handstroke_gap,
-            handstroke_gap_ms: r.handstroke_gap.zip(interval_ms).map(|(g, i)| g * i),
+            handstroke_gap_ms: r.handstroke_gap_s.map(|g| g * 1e3),
             rms_error_ms: rms,
             rms_error_sure_ms: sure::rms_without(&strikes, &doubted, bells),
             double_strikes: strikes.iter().filter(|s| s.double.is_some()).count(),
@@ -722,7 +723,7 @@ fn correct_lateness(
 /// moved when lined up on its average strike (`matched`, per bell); the
 /// calibration's warnings added to `warnings`.
 fn recording_timing(c: &SelfCalibration, matched: &[Option<f64>], warnings: &mut Vec<String>) -> TimingReport {
-    warnings.extend(c.warnings.iter().cloned());
+    warnings.extend(c.warnings.iter().map(|w| text::plain_words(w)));
     TimingReport {
         source: "recording",
         per_bell: c

@@ -110,6 +110,11 @@ pub struct Recognised {
     /// The changes heard it was judged on: every one, for rounds; else
     /// those not from rounds to rounds (the rounds rung before and after).
     pub judged: usize,
+    /// The other methods that make as many of the changes heard: the
+    /// changes heard do not tell them from it (a lead of Plain Bob is
+    /// plain hunt but for its lead end: heard without it, the two are
+    /// alike). Empty where it alone makes the most.
+    pub alike: Vec<&'static str>,
 }
 
 /// The share of the changes judged a candidate must make to be named.
@@ -142,6 +147,7 @@ pub fn recognise(rows: &[Option<Vec<usize>>], bells: usize) -> Option<Recognised
             name: "rounds",
             fitting: in_rounds,
             judged: changes.len(),
+            alike: vec![],
         });
     }
     let judged: Vec<_> = changes
@@ -154,26 +160,36 @@ pub fn recognise(rows: &[Option<Vec<usize>>], bells: usize) -> Option<Recognised
             courses.push((m.name(), c));
         }
     }
-    let mut best: Option<Recognised> = None;
-    for (name, course) in courses {
-        let at: std::collections::HashMap<&[usize], usize> =
-            course.iter().enumerate().map(|(i, r)| (r.as_slice(), i)).collect();
-        let fitting = judged
-            .iter()
-            .filter(|(a, b)| {
-                at.get(a.as_slice())
-                    .is_some_and(|&i| course[(i + 1) % course.len()] == **b)
-            })
-            .count();
-        if best.as_ref().is_none_or(|b| fitting > b.fitting) {
-            best = Some(Recognised {
-                name,
-                fitting,
-                judged: judged.len(),
-            });
-        }
-    }
-    best.filter(|b| b.fitting as f64 >= RECOGNISED_SHARE * b.judged as f64)
+    let fits: Vec<(&'static str, usize)> = courses
+        .iter()
+        .map(|(name, course)| (*name, fitting_changes(course, &judged)))
+        .collect();
+    // The first that makes the most (plain hunt before the methods it is
+    // the start of), with every other that makes as many.
+    let most = fits.iter().map(|f| f.1).max()?;
+    let mut alike = fits.iter().filter(|f| f.1 == most).map(|f| f.0);
+    let name = alike.next()?;
+    let best = Recognised {
+        name,
+        fitting: most,
+        judged: judged.len(),
+        alike: alike.collect(),
+    };
+    (best.fitting as f64 >= RECOGNISED_SHARE * best.judged as f64).then_some(best)
+}
+
+/// How many of the changes `judged` (whole rows, one after the other)
+/// the plain course `course` makes.
+fn fitting_changes(course: &[Vec<usize>], judged: &[&(&Vec<usize>, &Vec<usize>)]) -> usize {
+    let at: std::collections::HashMap<&[usize], usize> =
+        course.iter().enumerate().map(|(i, r)| (r.as_slice(), i)).collect();
+    judged
+        .iter()
+        .filter(|(a, b)| {
+            at.get(a.as_slice())
+                .is_some_and(|&i| course[(i + 1) % course.len()] == **b)
+        })
+        .count()
 }
 
 /// A place's character in place notation: 1-9, 0 (10), E (11), T (12).
@@ -218,6 +234,27 @@ mod tests {
         }
         let rounds = rung(&plain_hunt(8)[..1], 30, 0);
         assert_eq!(recognise(&rounds, 8).unwrap().name, "rounds");
+    }
+
+    /// Tester20's R8 and R9: a lead of Plain Bob Major, then rounds. Heard
+    /// without its lead end, plain hunt and Plain Bob make every change
+    /// alike and both are named; with it, Plain Bob alone.
+    #[test]
+    fn a_lead_of_plain_bob_without_its_lead_end_is_plain_hunt_or_plain_bob() {
+        let lead = &PlainCourse::PlainBob.course(8).unwrap()[..17];
+        let mut rows = rung(&plain_hunt(8)[..1], 4, 0);
+        rows.extend(lead.iter().cloned().map(Some));
+        let lead_end = rows.len() - 1;
+        rows.extend(rung(&plain_hunt(8)[..1], 4, 0));
+        let named = recognise(&rows, 8).unwrap();
+        assert_eq!((named.name, named.alike.clone()), ("Plain Bob", vec![]), "{named:?}");
+        // The lead end's row not heard whole.
+        rows[lead_end] = None;
+        let named = recognise(&rows, 8).unwrap();
+        assert_eq!((named.name, named.alike), ("plain hunt", vec!["Plain Bob"]));
+        // Two leads of plain hunt's own course: plain hunt alone.
+        let ph = recognise(&rung(&plain_hunt(8), 2, 2), 8).unwrap();
+        assert!(ph.alike.is_empty(), "{ph:?}");
     }
 
     #[test]

@@ -82,10 +82,17 @@ pub(super) fn no_full_row(
     })
 }
 
-/// Each warning once, where it first stands (two layers may say one thing).
+/// Each warning once, where it first stands (two layers may say one
+/// thing), in a ringer's words (`text::plain_words`), in the order a
+/// ringer acts on them (`order::rank`): the CLI's text and the web page's
+/// list alike.
 pub(super) fn once_each(warnings: &mut Vec<String>) {
+    for w in warnings.iter_mut() {
+        *w = super::text::plain_words(w);
+    }
     let mut seen = std::collections::HashSet::new();
     warnings.retain(|w| seen.insert(w.clone()));
+    super::order::rank(warnings);
 }
 
 /// The RMS striking error over the interval above which the strikes are
@@ -177,6 +184,12 @@ pub(super) fn given_as(templates: bool) -> &'static str {
     }
 }
 
+/// The widest [`clapper_signal::striking::RingRoom::spread`] a ring's
+/// size is read from: 0.05-0.20 where bells were left out of rings of
+/// recorded bells (four to six of eight given), 0.33-0.61 where strikes
+/// were timed astray (tester20's six and eights in dark rooms).
+const ROOM_GATHERED: f64 = 0.3;
+
 /// A warning that more bells ring than `given` were, each by its `noun`
 /// ([`given_as`]), from the strikes' spacing
 /// ([`clapper_signal::striking::ring_room`]).
@@ -203,7 +216,11 @@ pub(super) fn ring_size_warning_as(timed: &[Timed], given: usize, learned: bool,
             room.interval_s * 1e3
         ));
     }
-    (room.bells >= k + 2.0 + 0.1 * k).then(|| {
+    // Strikes timed astray scatter their spacings, and the room read from
+    // them is no ring's (tester20's fast dark eights, 0.16 s: "room for
+    // about 17-23 bells"): not said. The rhythm warnings say what is wrong.
+    let gathered = room.spread <= ROOM_GATHERED;
+    (gathered && room.bells >= k + 2.0 + 0.1 * k).then(|| {
         let (bells, row_ms, apart_ms) = (room.bells.round(), room.row_s * 1e3, room.interval_s * 1e3);
         if learned {
             format!(
@@ -224,6 +241,45 @@ pub(super) fn ring_size_warning_as(timed: &[Timed], given: usize, learned: bool,
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    /// Rounds on `bells` bells, `rows` rows, `iv` (s) apart with a gap of
+    /// one interval before each handstroke, each strike timed astray by up
+    /// to ± `astray_s` (s, uniform, a fixed seed).
+    fn rounds(bells: usize, rows: usize, iv: f64, astray_s: f64) -> Vec<Timed> {
+        let mut seed = 12_345_u64;
+        let mut next = || {
+            seed = seed
+                .wrapping_mul(6_364_136_223_846_793_005)
+                .wrapping_add(1_442_695_040_888_963_407);
+            2.0 * ((seed >> 11) as f64 / (1_u64 << 53) as f64) - 1.0
+        };
+        let mut out = vec![];
+        let mut t = 1.0;
+        for r in 0..rows {
+            t += if r % 2 == 0 { iv } else { 0.0 };
+            for bell in 1..=bells {
+                out.push(Timed {
+                    bell,
+                    t: t + astray_s * next(),
+                });
+                t += iv;
+            }
+        }
+        out
+    }
+
+    /// Tester20's fast eights in dark rooms (0.16 s, strikes timed some
+    /// 100 ms astray) read "room for about 17-23 bells": their spacings
+    /// scatter and no size is said; four of eight given, well timed, still
+    /// leave room for eight.
+    #[test]
+    fn strikes_timed_astray_leave_no_room_to_read() {
+        let astray = rounds(8, 24, 0.16, 0.1);
+        assert_eq!(ring_size_warning(&astray, 8, "nominal"), None);
+        let four: Vec<Timed> = rounds(8, 24, 0.16, 0.01).into_iter().filter(|s| s.bell <= 4).collect();
+        let w = ring_size_warning(&four, 4, "nominal").expect("warned");
+        assert!(w.contains("room for about 8 bells"), "{w}");
+    }
 
     #[test]
     fn strikes_looser_than_a_band_say_what_to_try() {

@@ -16,19 +16,39 @@ pub struct MethodReport {
     /// The changes heard it was judged on (for a method, those not rounds
     /// to rounds).
     pub changes_judged: usize,
+    /// Other methods that make as many of the changes heard, which these
+    /// rows cannot tell from it (a lead of Plain Bob heard without its lead
+    /// end is plain hunt too: tester20's R8 and R9 were named "plain hunt"
+    /// by one timing and "Plain Bob" by another). Left out of the JSON
+    /// where empty.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub alike: Vec<String>,
 }
 
 impl MethodReport {
     /// The report's line for it.
     pub(super) fn line(&self) -> String {
         let rounds = self.name == "rounds";
-        format!(
-            "rows: {} ({}{} of {} changes heard in whole rows{})",
-            self.name,
+        let counted = format!(
+            "{}{} of {} changes heard in whole rows{}",
             if rounds { "" } else { "its plain course: " },
             self.changes_fitting,
             self.changes_judged,
             if rounds { "" } else { ", rounds left out" }
+        );
+        if self.alike.is_empty() {
+            return format!("rows: {} ({counted})", self.name);
+        }
+        let mut names = vec![self.name.as_str()];
+        names.extend(self.alike.iter().map(String::as_str));
+        let last = names.pop().unwrap_or_default();
+        format!(
+            "rows: {} or {last} ({} makes {} of the {} changes heard in whole rows, rounds left out; the changes \
+             where they part, at a lead end, were not heard: too short a touch, or rows missed, to tell which)",
+            names.join(", "),
+            if self.alike.len() == 1 { "each" } else { "every one" },
+            self.changes_fitting,
+            self.changes_judged
         )
     }
 }
@@ -87,6 +107,7 @@ pub(super) fn method_of(strikes: &[StrikeReport], rows: usize, bells: usize) -> 
         name: m.name.to_string(),
         changes_fitting: m.fitting,
         changes_judged: m.judged,
+        alike: m.alike.iter().map(|n| n.to_string()).collect(),
     })
 }
 
@@ -128,6 +149,27 @@ mod tests {
         assert_eq!(named(&plain_bob_less(None)).as_deref(), Some("Plain Bob"));
         // Tester18's ring A with --nominals: bell 5 not heard at backstroke.
         assert_eq!(named(&plain_bob_less(Some(5))).as_deref(), Some("Plain Bob"));
+    }
+
+    #[test]
+    fn methods_the_rows_cannot_tell_apart_are_both_named() {
+        let m = MethodReport {
+            name: "plain hunt".into(),
+            changes_fitting: 12,
+            changes_judged: 13,
+            alike: vec!["Plain Bob".into()],
+        };
+        let line = m.line();
+        assert!(
+            line.starts_with("rows: plain hunt or Plain Bob (each makes 12 of the 13"),
+            "{line}"
+        );
+        assert!(line.contains("to tell which"), "{line}");
+        let alone = MethodReport { alike: vec![], ..m };
+        assert_eq!(
+            alone.line(),
+            "rows: plain hunt (its plain course: 12 of 13 changes heard in whole rows, rounds left out)"
+        );
     }
 
     #[test]

@@ -99,6 +99,10 @@ fn from_strikes(b: &BellStriking, scatter: &[Option<f64>]) -> Vec<String> {
     why
 }
 
+/// A bell heard more than this (ms) before where its sound was found to
+/// start is in doubt: a start is found to within a few ms.
+const BEFORE_MS: f64 = 5.0;
+
 /// Why the timing of bell `bell` (heard at `heard` strikes) rests on what
 /// the listener learned of its sound (`t`): learned from few strikes or
 /// none, a start that varied, or strikes that matched their bell's own
@@ -128,6 +132,15 @@ fn from_timing(bell: usize, heard: usize, t: &TimingReport) -> Vec<String> {
                  timed early or late alike, by tens of ms"
                     .to_string(),
             );
+        }
+        if me.learned_from > 0 && me.lateness_ms < -BEFORE_MS {
+            // Tester20 read "-34.0" as a lateness: a bell is heard after
+            // its blow, so the start found lies after its real start.
+            why.push(format!(
+                "it was heard {:.0} ms before where its sound was found to start, which cannot be: that start is \
+                 another sound's, so its strikes are timed late by at least as much",
+                -me.lateness_ms
+            ));
         }
         if me.learned_from > 0 && me.spread_ms >= LEARNED_SPREAD_MS {
             why.push(format!(

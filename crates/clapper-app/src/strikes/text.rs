@@ -8,11 +8,15 @@ use std::fmt::Write as _;
 use super::{BellTiming, StrikesReport, StrokeStats, TimingChoice, AUTO_MARGIN, FEW_IN_COLUMN};
 
 /// The table's "mean D" in words, printed under it where a bell has
-/// doubles (tester16 fault 6: no unit, no meaning).
+/// doubles (tester16 fault 6: no unit, no meaning; tester20 fault 8: its
+/// formula is the developer's, said with `--verbose`).
 pub const MEAN_D_WORDS: &str =
-    "mean D: how plainly a bell's double strikes are heard, from the second blow's loudness against the first \
-     (A) and how long after it it comes (dt, ms): max(0, A - 0.2) x max(0, dt - 22) / 2.25, no unit; 0 where the \
-     second blow is too weak or too soon to be heard apart, the larger the plainer the double";
+    "mean D: how plainly a bell's double strikes are heard: 0 where the second blow is too weak or too soon after \
+     the first to be heard apart, the larger the plainer";
+
+/// How "mean D" is reckoned, with `--verbose`.
+const MEAN_D_FORMULA: &str = "detail: mean D from the second blow's loudness against the first (A) and how long \
+     after it it comes (dt, ms): max(0, A - 0.2) x max(0, dt - 22) / 2.25, no unit";
 
 /// The mark after a bell's number in the table whose timing is in doubt.
 const DOUBT_MARK: &str = "?";
@@ -20,6 +24,15 @@ const DOUBT_MARK: &str = "?";
 /// `v` to `digits` places, or "-" where there is none.
 fn opt(v: Option<f64>, digits: usize) -> String {
     v.map_or("-".to_string(), |x| format!("{x:.digits$}"))
+}
+
+/// The bell the warning `w` is about alone, said with it after the table
+/// ([`super::order::Weight::Bell`]).
+fn bell_of(w: &str) -> Option<usize> {
+    match super::order::weight(w) {
+        super::order::Weight::Bell(b) => Some(b),
+        _ => None,
+    }
 }
 
 /// Bells as a ringer lists them: "bell 3" or "bells 2, 4, 5".
@@ -79,36 +92,78 @@ impl StrikesReport {
             s.double_strikes
         );
         o.push_str(&s.method.as_ref().map_or(String::new(), |m| m.line() + "\n"));
-        for w in &s.warnings {
+        // The warnings about the whole ring, most serious first; a bell's
+        // own are said with it after the table (tester20 fault 8).
+        let mut ranked = s.warnings.clone();
+        super::order::rank(&mut ranked);
+        // A bell heard at no strike stays before it (tester17: such a bell
+        // was named nowhere); its line in the table is empty.
+        let heard = |b: usize| self.per_bell.iter().any(|x| x.bell == b && x.strikes > 0);
+        let (own, ring): (Vec<String>, Vec<String>) = (ranked.into_iter()).partition(|w| bell_of(w).is_some_and(heard));
+        for w in &ring {
             let _ = writeln!(o, "warning: {w}");
         }
-        self.doubts_text(&mut o);
         self.table_text(&mut o);
+        let unsaid = self.bells_text(&mut o, &own);
         self.learned_text(&mut o);
         self.timing_text(&mut o);
         if verbose {
             self.timing_detail(&mut o);
+            for w in &unsaid {
+                let _ = writeln!(o, "detail: {w}");
+            }
+            if self.per_bell.iter().any(|b| b.mean_d.is_some()) {
+                let _ = writeln!(o, "{MEAN_D_FORMULA}");
+            }
         }
         o
     }
 
-    /// The bells whose timing is in doubt, each with why, appended to `o`.
-    fn doubts_text(&self, o: &mut String) {
-        let doubted: Vec<(usize, &String)> = (self.per_bell.iter())
-            .filter_map(|b| b.timing_doubt.as_ref().map(|w| (b.bell, w)))
-            .collect();
-        if doubted.is_empty() {
-            return;
+    /// After the table, a line for each bell whose timing is in doubt
+    /// (marked in the table) or with warnings of its own (`own`, each about
+    /// one bell): why its timing is in doubt, else its first warning, and
+    /// how many more there are; one bell per line, so that the ring's
+    /// warnings before the table are not buried (tester20 fault 8). Returns
+    /// the warnings not said, which `--verbose` lists.
+    fn bells_text(&self, o: &mut String, own: &[String]) -> Vec<String> {
+        let mut unsaid = vec![];
+        let mut lines = vec![];
+        for b in &self.per_bell {
+            let mut said: Vec<String> = b.timing_doubt.iter().map(|d| format!("bell {}: {d}", b.bell)).collect();
+            said.extend(
+                own.iter()
+                    .filter(|w| super::order::one_bell(w) == Some(b.bell))
+                    .cloned(),
+            );
+            let Some(first) = said.first() else {
+                continue;
+            };
+            let more = match said.len() - 1 {
+                0 => String::new(),
+                n => format!(" (and {n} more)"),
+            };
+            lines.push(format!("  {first}{more}"));
+            unsaid.extend(said.into_iter().skip(1));
+        }
+        if lines.is_empty() {
+            return unsaid;
         }
         let _ = writeln!(
             o,
-            "timing in doubt (marked {DOUBT_MARK} in the table): the listener may have timed these bells' strikes, \
-             or placed them in rows, wrongly, so their figures below may show its error rather than the ringer's \
-             striking:"
+            "single bells (those marked {DOUBT_MARK} in the table the listener may have timed, or placed in rows, \
+             wrongly, so that their figures may show its error rather than the ringer's striking):"
         );
-        for (b, w) in doubted {
-            let _ = writeln!(o, "  bell {b}: {w}");
+        for l in lines {
+            let _ = writeln!(o, "{l}");
         }
+        if !unsaid.is_empty() {
+            let _ = writeln!(
+                o,
+                "{} more about single bells: --verbose lists them at the end",
+                unsaid.len()
+            );
+        }
+        unsaid
     }
 
     /// The table of each bell's striking and what is said under it,
@@ -225,10 +280,24 @@ impl StrikesReport {
                 if none { format!(" (-: {dash})") } else { String::new() }
             )
         };
-        let late = list(
+        let mut late = list(
             &|b| (b.learned_from > 0).then_some(b.lateness_ms),
             "not learned, nothing taken off",
         );
+        // A bell is heard after its blow, never before: a lateness under 0
+        // (tester20: "-34.0") is a start of its sound found wrong.
+        let before: Vec<usize> = (t.per_bell.iter())
+            .filter(|b| b.learned_from > 0 && b.lateness_ms < 0.0)
+            .map(|b| b.bell)
+            .collect();
+        if !before.is_empty() {
+            let _ = write!(
+                late,
+                " (under 0: {} heard before where its sound was found to start, which cannot be: that start is \
+                 another sound's, and its strikes are timed late by at least as much)",
+                named(&before)
+            );
+        }
         let _ = match t.source {
             "recording" => writeln!(
                 o,
@@ -320,6 +389,29 @@ fn choice_words(c: &TimingChoice) -> String {
     format!("strikes timed {how}{why}")
 }
 
+/// A warning of the listener's said in a ringer's words (tester20 fault 8):
+/// "the start ... (two signs 87 ms apart)", the signal layer's, says how
+/// far apart two readings of that start lie: "(it could lie anywhere over
+/// 87 ms)"; an "onset" (the learner's) is a strike heard.
+pub(super) fn plain_words(w: &str) -> String {
+    const SIGNS: &str = "(two signs ";
+    let w = &w
+        .replace("onsets'", "strikes'")
+        .replace("recording's onsets", "strikes heard")
+        .replace("onsets of the recording", "strikes heard in the recording")
+        .replace(" onsets", " strikes heard");
+    let Some(at) = w.find(SIGNS) else {
+        return w.to_string();
+    };
+    let rest = &w[at + SIGNS.len()..];
+    match rest.split_once(" ms apart)") {
+        Some((ms, after)) if ms.parse::<f64>().is_ok() => {
+            format!("{}(it could lie anywhere over {ms} ms){}", &w[..at], plain_words(after))
+        }
+        _ => w.to_string(),
+    }
+}
+
 /// Where a bell timed from the recording was moved by more or less than
 /// its lateness ([`PARTED_MS`] or more apart), why, in words (tester19
 /// read "heard ... by 8 +52.8" beside "moved by 8 -104.3" and could not
@@ -353,7 +445,27 @@ const PARTED_MS: f64 = 5.0;
 
 #[cfg(test)]
 mod parted_tests {
-    use super::{parted_words, BellTiming};
+    use super::{parted_words, plain_words, BellTiming};
+
+    #[test]
+    fn two_signs_are_said_as_how_far_the_start_may_lie() {
+        let w = "bell 1: how late (33.2 ms) is not sure: the start of its sound is not clear in its average strike \
+                 (two signs 4 ms apart); its strikes may all be timed early or late by as much";
+        let said = plain_words(w);
+        assert!(!said.contains("signs"), "{said}");
+        assert!(
+            said.contains("strike (it could lie anywhere over 4 ms); its strikes"),
+            "{said}"
+        );
+        assert_eq!(
+            plain_words("bell 2: (two signs x ms apart)"),
+            "bell 2: (two signs x ms apart)"
+        );
+        assert_eq!(
+            plain_words("bell 6 (1237.9 Hz): its nominal rose most at only 8 onsets, 44 % of a typical bell's"),
+            "bell 6 (1237.9 Hz): its nominal rose most at only 8 strikes heard, 44 % of a typical bell's"
+        );
+    }
 
     fn bell(bell: usize, lateness_ms: f64, matched_ms: Option<f64>) -> BellTiming {
         BellTiming {

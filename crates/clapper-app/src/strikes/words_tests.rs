@@ -185,7 +185,9 @@ fn mean_d_is_told() {
     assert!(text.contains("mean D: how plainly"), "{text}");
     // A ringer's words: no developer's file named.
     assert!(!text.contains("docs/") && !text.contains("band finder"), "{text}");
-    assert!(text.contains("no unit"), "{text}");
+    // Its formula is the developer's (tester20 fault 8): with --verbose.
+    assert!(!text.contains("max(0"), "{text}");
+    assert!(r.text_verbose("r").contains("no unit"), "{text}");
 }
 
 /// Tester17: warnings that qualify the table (its rows meaning nothing)
@@ -219,9 +221,11 @@ fn what_qualifies_the_table_stands_before_it() {
 /// strikes scatter far over the others' (bell 4, in the middle of the row:
 /// a treble or tenor beside it would be read as scattering too, its ideal
 /// time drawn from its neighbours) is named before the table with why,
-/// marked in it, and the RMS error is given without it too.
+/// marked in it, and the RMS error is given without it too. Said after the
+/// table, one line a bell (tester20 fault 8: 14-22 lines before it buried
+/// the warning that mattered).
 #[test]
-fn a_bell_timed_in_doubt_is_named_before_the_table_and_marked() {
+fn a_bell_timed_in_doubt_is_named_after_the_table_and_marked() {
     let mut heard = rounds_heard(6, &|_, _| true, &|_| 0.0, 0.0);
     for (k, s) in heard.strikes.iter_mut().filter(|s| s.bell == 4).enumerate() {
         s.t += 0.025 * ((k * 7 % 5) as f64 - 2.0);
@@ -239,7 +243,7 @@ fn a_bell_timed_in_doubt_is_named_before_the_table_and_marked() {
     assert!(sure < 0.7 * all, "{sure} against {all}");
     let text = r.text("r");
     let table = text.find("  bell strikes").expect("a table");
-    assert!(text.find("  bell 4: its strikes scatter").unwrap() < table, "{text}");
+    assert!(text.find("  bell 4: its strikes scatter").unwrap() > table, "{text}");
     assert!(
         text.contains("ms leaving out bell 4, whose timing is in doubt"),
         "{text}"

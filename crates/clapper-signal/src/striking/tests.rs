@@ -2,7 +2,7 @@
 //! known truth placed again.
 
 use super::*;
-use crate::tower::{tower_strikes, Method, RingBell, TowerSpec, Variation};
+use crate::tower::{tower_strikes, Method, PlainCourse, RingBell, TowerSpec, Variation};
 
 fn spec(method: Method) -> TowerSpec {
     TowerSpec {
@@ -269,6 +269,31 @@ fn a_bell_never_heard_is_placed_around() {
         );
         let odd = r.odd_struck(&timed, 3).unwrap() * 1e3;
         assert!((odd - 20.0).abs() < 3.0, "{method:?}: odd-struck {odd} ms");
+    }
+}
+
+/// Tester20 fault 8: the handstroke gap read 2.3-3.3 intervals on fast
+/// eights (true 1), from the ends of rows lacking a bell or with strikes
+/// out of order. Read from each bell's own strikes, it is the gap rung,
+/// with the tenor never heard (each row's last place empty), in rounds,
+/// plain hunt and Plain Bob, and at gaps of half an interval to two.
+#[test]
+fn the_handstroke_gap_is_each_bells_own() {
+    for method in [Method::Rounds, Method::PlainHunt, Method::Course(PlainCourse::PlainBob)] {
+        for gap in [0.5, 1.0, 2.0] {
+            let mut s = spec(method);
+            s.handstroke_gap = gap;
+            s.bells[2].odd_struck_ms = 0.0;
+            let timed: Vec<Timed> = (tower_strikes(&s).unwrap().iter())
+                .filter(|x| x.bell != 6)
+                .map(|x| Timed { bell: x.bell, t: x.t })
+                .collect();
+            let r = rhythm(&timed, 6);
+            let read = r.handstroke_gap.unwrap_or(f64::NAN);
+            assert!((read - gap).abs() < 0.1, "{method:?} gap {gap}: read {read}");
+            let ms = r.handstroke_gap_s.unwrap_or(f64::NAN) * 1e3;
+            assert!((ms - gap * 200.0).abs() < 20.0, "{method:?} gap {gap}: {ms} ms");
+        }
     }
 }
 
