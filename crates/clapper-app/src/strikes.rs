@@ -723,7 +723,7 @@ fn correct_lateness(
 /// moved when lined up on its average strike (`matched`, per bell); the
 /// calibration's warnings added to `warnings`.
 fn recording_timing(c: &SelfCalibration, matched: &[Option<f64>], warnings: &mut Vec<String>) -> TimingReport {
-    warnings.extend(c.warnings.iter().map(|w| text::plain_words(w)));
+    warnings.extend(c.warnings.iter().cloned());
     TimingReport {
         source: "recording",
         per_bell: c

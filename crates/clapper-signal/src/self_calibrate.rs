@@ -406,7 +406,7 @@ fn start_doubt(t: &Learned) -> Option<String> {
     if let Some(d) = t.unclear_s {
         return Some(if d.is_finite() {
             format!(
-                "the start of its sound is not clear in its average strike (two signs {:.0} ms apart)",
+                "the start of its sound is not clear in its average strike (it could lie anywhere over {:.0} ms)",
                 d * 1e3
             )
         } else {

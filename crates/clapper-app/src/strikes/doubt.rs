@@ -83,13 +83,9 @@ pub(super) fn no_full_row(
 }
 
 /// Each warning once, where it first stands (two layers may say one
-/// thing), in a ringer's words (`text::plain_words`), in the order a
-/// ringer acts on them (`order::rank`): the CLI's text and the web page's
-/// list alike.
+/// thing), in the order a ringer acts on them (`order::rank`): the CLI's
+/// text and the web page's list alike.
 pub(super) fn once_each(warnings: &mut Vec<String>) {
-    for w in warnings.iter_mut() {
-        *w = super::text::plain_words(w);
-    }
     let mut seen = std::collections::HashSet::new();
     warnings.retain(|w| seen.insert(w.clone()));
     super::order::rank(warnings);

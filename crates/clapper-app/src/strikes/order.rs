@@ -77,7 +77,7 @@ mod tests {
     #[test]
     fn the_warning_that_voids_the_table_comes_first_and_single_bells_last() {
         let mut w: Vec<String> = [
-            "bell 6 (1237.9 Hz): its nominal rose most at only 8 onsets",
+            "bell 6 (1237.9 Hz): its nominal rose most at only 8 strikes heard",
             "bell 2: how late its strikes sound after the blow is not sure",
             "3 strike(s) timed before the recording starts: left out",
             "8 nominal(s) given, but the strikes leave room for about 10 bells: give every bell's nominal",

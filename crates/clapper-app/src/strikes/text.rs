@@ -389,29 +389,6 @@ fn choice_words(c: &TimingChoice) -> String {
     format!("strikes timed {how}{why}")
 }
 
-/// A warning of the listener's said in a ringer's words (tester20 fault 8):
-/// "the start ... (two signs 87 ms apart)", the signal layer's, says how
-/// far apart two readings of that start lie: "(it could lie anywhere over
-/// 87 ms)"; an "onset" (the learner's) is a strike heard.
-pub(super) fn plain_words(w: &str) -> String {
-    const SIGNS: &str = "(two signs ";
-    let w = &w
-        .replace("onsets'", "strikes'")
-        .replace("recording's onsets", "strikes heard")
-        .replace("onsets of the recording", "strikes heard in the recording")
-        .replace(" onsets", " strikes heard");
-    let Some(at) = w.find(SIGNS) else {
-        return w.to_string();
-    };
-    let rest = &w[at + SIGNS.len()..];
-    match rest.split_once(" ms apart)") {
-        Some((ms, after)) if ms.parse::<f64>().is_ok() => {
-            format!("{}(it could lie anywhere over {ms} ms){}", &w[..at], plain_words(after))
-        }
-        _ => w.to_string(),
-    }
-}
-
 /// Where a bell timed from the recording was moved by more or less than
 /// its lateness ([`PARTED_MS`] or more apart), why, in words (tester19
 /// read "heard ... by 8 +52.8" beside "moved by 8 -104.3" and could not
@@ -445,27 +422,7 @@ const PARTED_MS: f64 = 5.0;
 
 #[cfg(test)]
 mod parted_tests {
-    use super::{parted_words, plain_words, BellTiming};
-
-    #[test]
-    fn two_signs_are_said_as_how_far_the_start_may_lie() {
-        let w = "bell 1: how late (33.2 ms) is not sure: the start of its sound is not clear in its average strike \
-                 (two signs 4 ms apart); its strikes may all be timed early or late by as much";
-        let said = plain_words(w);
-        assert!(!said.contains("signs"), "{said}");
-        assert!(
-            said.contains("strike (it could lie anywhere over 4 ms); its strikes"),
-            "{said}"
-        );
-        assert_eq!(
-            plain_words("bell 2: (two signs x ms apart)"),
-            "bell 2: (two signs x ms apart)"
-        );
-        assert_eq!(
-            plain_words("bell 6 (1237.9 Hz): its nominal rose most at only 8 onsets, 44 % of a typical bell's"),
-            "bell 6 (1237.9 Hz): its nominal rose most at only 8 strikes heard, 44 % of a typical bell's"
-        );
-    }
+    use super::{parted_words, BellTiming};
 
     fn bell(bell: usize, lateness_ms: f64, matched_ms: Option<f64>) -> BellTiming {
         BellTiming {

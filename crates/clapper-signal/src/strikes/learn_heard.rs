@@ -205,7 +205,7 @@ fn heard_warnings(bells: &[LearnedBell], heard: &[BellHeard], asked: usize, few:
             ));
         } else if b.support < 0.5 {
             w.push(format!(
-                "bell {bell} ({:.1} Hz): its nominal rose most at only {} onsets, {:.0} % of a typical bell's: unsure",
+                "bell {bell} ({:.1} Hz): its nominal rose most at only {} strikes heard, {:.0} % of a typical bell's: unsure",
                 b.nominal_hz,
                 b.onsets,
                 100.0 * b.support

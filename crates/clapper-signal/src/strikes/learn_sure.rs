@@ -263,7 +263,7 @@ pub(super) fn warnings_of(learned: &[LearnedBell], bells: usize, few: bool) -> V
             ));
         } else if b.support < 0.5 {
             w.push(format!(
-                "bell {} ({:.1} Hz): its nominal rose most at only {} onsets, {:.0} % of a typical bell's: unsure",
+                "bell {} ({:.1} Hz): its nominal rose most at only {} strikes heard, {:.0} % of a typical bell's: unsure",
                 i + 1,
                 b.nominal_hz,
                 b.onsets,
@@ -389,7 +389,7 @@ pub(super) fn doubt_of_set(learned: &[LearnedBell], sure: f64, ringing: Option<f
     };
     let rhythm = ringing.map_or(String::new(), |r| {
         format!(
-            "; the onsets' rhythm says about {r:.1} bells ring, {} were learned",
+            "; the strikes' rhythm says about {r:.1} bells ring, {} were learned",
             learned.len()
         )
     });

@@ -308,7 +308,7 @@ impl<'a> OnsetRises<'a> {
             bells[k].onsets = counts[k];
             if (counts[k] as f64) < (0.3 * typical).max(3.0) {
                 warnings.push(format!(
-                    "bell {} ({:.1} Hz): its nominal rose at only {} onsets of the recording: its partials are assumed from a tuned bell's",
+                    "bell {} ({:.1} Hz): its nominal rose at only {} strikes heard in the recording: its partials are assumed from a tuned bell's",
                     k + 1,
                     self.nominals_hz[k],
                     counts[k]
