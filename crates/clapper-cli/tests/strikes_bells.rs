@@ -20,14 +20,10 @@ fn synth(dir: &Path, args: &[&str]) -> Vec<f64> {
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let text = String::from_utf8_lossy(&out.stdout).to_string() + &String::from_utf8_lossy(&out.stderr);
-    let list = text
-        .split("--nominals ")
-        .nth(1)
-        .unwrap()
-        .split_whitespace()
-        .next()
-        .unwrap();
-    list.split(',').map(|f| f.parse().unwrap()).collect()
+    common::nominals_said(&text)
+        .split(',')
+        .map(|f| f.parse().unwrap())
+        .collect()
 }
 
 /// `clapper strikes WAV ARGS --json`, succeeding.

@@ -19,14 +19,7 @@ fn heard(method: Option<&str>, bells: usize) -> (serde_json::Value, String) {
     let out = synth.output().unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let said = String::from_utf8(out.stdout).unwrap();
-    let nominals = said
-        .split("--nominals ")
-        .nth(1)
-        .unwrap()
-        .split_whitespace()
-        .next()
-        .unwrap()
-        .to_string();
+    let nominals = common::nominals_said(&said).to_string();
     let run = |extra: &[&str]| {
         let out = clapper()
             .arg("strikes")

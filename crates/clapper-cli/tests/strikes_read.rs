@@ -19,14 +19,7 @@ fn synth(dir: &std::path::Path, args: &[&str]) -> (std::path::PathBuf, String) {
         .unwrap();
     assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
     let said = String::from_utf8(out.stdout).unwrap();
-    let nominals = said
-        .split("--nominals ")
-        .nth(1)
-        .unwrap()
-        .split_whitespace()
-        .next()
-        .unwrap();
-    (wav, nominals.to_string())
+    (wav, common::nominals_said(&said).to_string())
 }
 
 /// `clapper strikes WAV ARGS` (text, and with `--json` parsed).

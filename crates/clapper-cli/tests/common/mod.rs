@@ -45,6 +45,17 @@ pub fn summary_warnings(j: &serde_json::Value) -> Vec<String> {
         .collect()
 }
 
+/// The nominals `synth-ring` suggests in what it `said` (the list after
+/// "--nominals ", Hz, comma-separated, treble first).
+pub fn nominals_said(said: &str) -> &str {
+    said.split("--nominals ")
+        .nth(1)
+        .unwrap()
+        .split_whitespace()
+        .next()
+        .unwrap()
+}
+
 /// The nominals (Hz) a `strikes --bells N --json` report learned, in its order.
 pub fn learned_nominals(j: &serde_json::Value) -> Vec<f64> {
     j["learned_nominals_hz"]

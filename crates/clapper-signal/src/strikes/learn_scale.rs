@@ -432,15 +432,7 @@ mod tests {
                 ])
             })
             .collect();
-        let heard = nominals
-            .iter()
-            .enumerate()
-            .map(|(i, &f)| Heard {
-                nominal_hz: f,
-                onsets: vec![i],
-            })
-            .collect();
-        (heard, rises)
+        (heard_once(nominals), rises)
     }
 
     /// Tester 18's ring E: a ninth sound heard a tone over the treble
@@ -513,19 +505,24 @@ mod tests {
         let mut rises: Vec<Vec<f64>> = [982.4, 871.5, 817.7, 727.8, 647.5].iter().map(|&f| tuned(f)).collect();
         rises.push(rise_of(&[(549.0, 0.29), (1102.0, 1.0), (1644.0, 0.29), (2268.0, 0.64)]));
         rises.push(rise_of(&[(775.0, 0.27), (1303.0, 0.43), (1938.0, 1.0), (2656.0, 0.49)]));
-        let heard: Vec<Heard> = [982.4, 871.5, 817.7, 727.8, 647.5, 1102.0, 1938.0]
+        let heard = heard_once(&[982.4, 871.5, 817.7, 727.8, 647.5, 1102.0, 1938.0]);
+        let chosen: Vec<&Heard> = heard.iter().collect();
+        let fit = ring_octaves(&chosen, &rises, 30, 5.0, 8).unwrap();
+        assert_eq!(fit.moved[5], Some(1102.0), "{:?}", fit.moved);
+        assert!(fit.moved[6].is_none_or(|f| f > 1000.0), "{:?}", fit.moved);
+        assert!(fit.notes.iter().all(|&n| n > 600.0), "{:?}", fit.notes);
+    }
+
+    /// Groups heard at `nominals` (Hz), each at one onset of its own.
+    fn heard_once(nominals: &[f64]) -> Vec<Heard> {
+        nominals
             .iter()
             .enumerate()
             .map(|(i, &f)| Heard {
                 nominal_hz: f,
                 onsets: vec![i],
             })
-            .collect();
-        let chosen: Vec<&Heard> = heard.iter().collect();
-        let fit = ring_octaves(&chosen, &rises, 30, 5.0, 8).unwrap();
-        assert_eq!(fit.moved[5], Some(1102.0), "{:?}", fit.moved);
-        assert!(fit.moved[6].is_none_or(|f| f > 1000.0), "{:?}", fit.moved);
-        assert!(fit.notes.iter().all(|&n| n > 600.0), "{:?}", fit.notes);
+            .collect()
     }
 
     /// Tester20's R6dry (d3-d10): the tenor's partial at 2.09 times its
@@ -553,15 +550,7 @@ mod tests {
             (2821.0, 0.45),
         ]);
         rises.push(rise_of(&[(1231.0, 0.3), (1367.0, 0.3), (1712.0, 1.0), (2236.0, 0.3)]));
-        let heard: Vec<Heard> = nominals
-            .iter()
-            .chain(&[1712.0])
-            .enumerate()
-            .map(|(i, &f)| Heard {
-                nominal_hz: f,
-                onsets: vec![i],
-            })
-            .collect();
+        let heard = heard_once(&[&nominals[..], &[1712.0]].concat());
         let chosen: Vec<&Heard> = heard.iter().collect();
         let fit = ring_octaves(&chosen, &rises, 30, 5.0, 8).unwrap();
         assert_eq!(fit.moved[7], Some(817.7), "{:?}", fit.moved);
