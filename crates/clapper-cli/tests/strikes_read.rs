@@ -79,7 +79,7 @@ fn a_bells_own_warnings_follow_the_table_one_line_a_bell() {
         !text.lines().any(|l| l.starts_with("warning: ") && one_bells(&l[9..])),
         "{text}"
     );
-    let block = text.find("single bells (").expect("the bells' block");
+    let block = text.find("about each bell (").expect("the bells' block");
     assert!(block > table, "{text}");
     // One line a bell, each saying its first; the rest listed with --verbose.
     let lines: Vec<&str> = text[block..]

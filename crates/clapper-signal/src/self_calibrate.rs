@@ -702,7 +702,7 @@ mod tests {
         assert_eq!(unsure(3, &learned(0.001, None), 30), None);
         let w = unsure(3, &learned(0.001, Some(0.0165)), 30).unwrap();
         assert!(
-            w.starts_with("bell 3: ") && w.contains("not sure") && w.contains("16 ms apart"),
+            w.starts_with("bell 3: ") && w.contains("not sure") && w.contains("anywhere over 16 ms"),
             "{w}"
         );
         let w = unsure(2, &learned(0.022, None), 30).unwrap();

@@ -65,8 +65,9 @@ pub struct Rhythm {
     /// The mean interval between successive bells in full rows (s).
     pub interval: Option<f64>,
     /// The handstroke gap: the extra time before handstroke rows, in
-    /// intervals (1 in good striking), from each bell's own strikes
-    /// ([`gap_by_bells`]).
+    /// intervals (1 in good striking), from each bell's own strikes: where
+    /// a handstroke lies between two backstrokes, its back-to-hand interval
+    /// less its hand-to-back one, so that the places it hunts cancel.
     pub handstroke_gap: Option<f64>,
     /// The same gap in seconds.
     pub handstroke_gap_s: Option<f64>,

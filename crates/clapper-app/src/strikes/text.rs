@@ -150,8 +150,8 @@ impl StrikesReport {
         }
         let _ = writeln!(
             o,
-            "single bells (those marked {DOUBT_MARK} in the table the listener may have timed, or placed in rows, \
-             wrongly, so that their figures may show its error rather than the ringer's striking):"
+            "about each bell (one marked {DOUBT_MARK} in the table the listener may have timed, or placed in rows, \
+             wrongly, so that its figures may show that error rather than the ringer's striking):"
         );
         for l in lines {
             let _ = writeln!(o, "{l}");
@@ -159,7 +159,7 @@ impl StrikesReport {
         if !unsaid.is_empty() {
             let _ = writeln!(
                 o,
-                "{} more about single bells: --verbose lists them at the end",
+                "{} more about these bells: --verbose lists them at the end",
                 unsaid.len()
             );
         }

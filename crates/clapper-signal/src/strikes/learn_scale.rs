@@ -33,17 +33,8 @@ const NOMINAL_PICKED: f64 = 0.12;
 /// A bell placed on a note counts this much beyond its fit: of two
 /// placings that fit alike the one placing more bells (a treble heard at
 /// its prime may fit nothing at its nominal, and was left out for a note
-/// beyond the tenor). Only where it fits, or is moved up from where it
-/// was picked ([`placed_counts`]).
+/// beyond the tenor).
 const PLACED: f64 = 1e-3;
-/// A bell placed where it was picked (octave 0) counts this much more:
-/// a tuned bell's partials fit its nominal and the octave below it alike
-/// (prime, superquint and octave against nominal, twelfth and octave),
-/// and of two such rings the one keeping the peak heard as the nominal is
-/// the likelier (tester20's R12: d7 at 1101.8 Hz fitted 0.60 there and
-/// an octave down, and the ring slid three notes low). Less than
-/// [`PLACED`]: placing a bell more still counts for more.
-const AS_HEARD: f64 = 1e-4;
 /// Octaves a heard nominal may be moved by, down and up.
 pub(super) const OCTAVES: i32 = 2;
 
@@ -123,7 +114,7 @@ pub(super) fn ring_octaves(
                 for &on in &notes {
                     // The reference bell's nominal on note `on` of the scale.
                     let pos: Vec<f64> = notes.iter().map(|n| n - on).collect();
-                    let (sum, placed) = best_apart(&hz, &fits, at, &pos, &[]);
+                    let (sum, placed) = best_octaves(&hz, &fits, at, &pos);
                     if placed.iter().any(Option::is_some) {
                         rings.push((sum, octaves_of(&placed)));
                     }
@@ -229,15 +220,13 @@ type Placing = Vec<Option<(usize, i32)>>;
 /// [`octave_hz`]), or left out, no two on one note, the octaves fitting
 /// best in all (`fits[bell][octave + OCTAVES]`): the sum of fits and each
 /// bell's note and octave (`None`: left out, as a bell on no note is).
-fn best_octaves(hz: &[Vec<f64>], fits: &[Vec<f64>], at: f64, pos: &[f64], out: &[usize]) -> (f64, Placing) {
+fn best_octaves(hz: &[Vec<f64>], fits: &[Vec<f64>], at: f64, pos: &[f64]) -> (f64, Placing) {
     // Per bell, the (note, octave) it may take: one a pitch class, so
     // only bells of one pitch class (an octave apart) compete for notes.
     let options: Vec<Vec<(usize, i32)>> = hz
         .iter()
-        .enumerate()
-        .map(|(i, f)| {
+        .map(|f| {
             (-OCTAVES..=OCTAVES)
-                .filter(|_| !out.contains(&i))
                 .filter_map(|o| {
                     let x = 12.0 * (f[(o + OCTAVES) as usize] / at).log2();
                     pos.iter().position(|p| (x - p).abs() < IN_TUNE).map(|k| (k, o))
@@ -268,38 +257,6 @@ fn best_octaves(hz: &[Vec<f64>], fits: &[Vec<f64>], at: f64, pos: &[f64], out: &
     (total, octaves)
 }
 
-/// As [`best_octaves`] with the bells `out` left out, no two bells
-/// placed closer than [`CLOSE`]: no ring is tuned so close, so one of
-/// them is another bell's partial. Of such a pair, the better placing
-/// with either left out (tester20's R6dry, d3-d10: the tenor's partial
-/// at 2.09 times its nominal, 1712 Hz, placed 67 cents over the treble
-/// at 1647 Hz, left the tenor out and every bell was numbered one low).
-fn best_apart(hz: &[Vec<f64>], fits: &[Vec<f64>], at: f64, pos: &[f64], out: &[usize]) -> (f64, Placing) {
-    let (sum, placed) = best_octaves(hz, fits, at, pos, out);
-    let moved: Vec<(usize, f64)> = placed
-        .iter()
-        .enumerate()
-        .filter_map(|(i, p)| p.map(|(_, o)| (i, hz[i][(o + OCTAVES) as usize])))
-        .collect();
-    let close = moved.iter().enumerate().find_map(|(a, &(i, f))| {
-        moved[a + 1..]
-            .iter()
-            .find(|(_, g)| (f - g).abs() < CLOSE * f.max(*g))
-            .map(|&(j, _)| (i, j))
-    });
-    // Each pair parted costs two placings more; three deep is plenty.
-    let Some((i, j)) = close.filter(|_| out.len() < 3) else {
-        return (sum, placed);
-    };
-    let without = |b: usize| best_apart(hz, fits, at, pos, &[out, &[b]].concat());
-    let (a, b) = (without(i), without(j));
-    if a.0 >= b.0 {
-        a
-    } else {
-        b
-    }
-}
-
 /// The best assignment of `class`'s bells (from the `at`th) to distinct
 /// notes, each bell placed where it can be before it is left out.
 fn assign(
@@ -324,27 +281,12 @@ fn assign(
         }
         taken.push(Some((k, o)));
         let fit = fits[bell][(o + OCTAVES) as usize];
-        let placed = if placed_counts(fit, o) { PLACED } else { 0.0 };
-        let heard = if o == 0 { AS_HEARD } else { 0.0 };
-        assign(class, options, fits, at + 1, taken, sum + fit + placed + heard, best);
+        assign(class, options, fits, at + 1, taken, sum + fit + PLACED, best);
         taken.pop();
     }
     taken.push(None);
     assign(class, options, fits, at + 1, taken, sum, best);
     taken.pop();
-}
-
-/// Whether a bell placed `o` octaves from where it was picked, fitting
-/// there `fit` ([`pattern_fit`]), counts [`PLACED`]: where it fits, or
-/// moved up (a treble heard at its prime, its nominal rising too little
-/// to fit). Moved down to where nothing fits, its peak heard is no
-/// partial of a bell there: tester20's R12 (d5-d12) placed d5's
-/// superquint (1938 Hz) two octaves down at 484.5 Hz with fit 0, the
-/// ring slid three notes low and won by that placing alone (the recorded
-/// d1-d12 rise most as struck at 0.99-1.48 times their nominal, at
-/// 2.06-2.76 times it for d10-d12, never at four times it).
-fn placed_counts(fit: f64, o: i32) -> bool {
-    fit > 0.0 || o > 0
 }
 
 /// Semitones from the tenor to the treble of a ring of `bells` tuned to
@@ -432,7 +374,15 @@ mod tests {
                 ])
             })
             .collect();
-        (heard_once(nominals), rises)
+        let heard = nominals
+            .iter()
+            .enumerate()
+            .map(|(i, &f)| Heard {
+                nominal_hz: f,
+                onsets: vec![i],
+            })
+            .collect();
+        (heard, rises)
     }
 
     /// Tester 18's ring E: a ninth sound heard a tone over the treble
@@ -481,79 +431,5 @@ mod tests {
         assert!(fits[OCTAVES as usize - 1] > 0.3, "{fits:?}");
         // Up an octave is an exact octave: a prime is half its nominal.
         assert_eq!(octave_hz(&d11, 363.0, 1, 30, 5.0), 726.0);
-    }
-
-    /// Tester20's R12 (d5-d12, its groups printed by a debug build): d5
-    /// and d6 have no group of their own, d7's rise (peaks at 549, 1102,
-    /// 1644 and 2268 Hz) fits its nominal and the octave below alike, and
-    /// d5's superquint (1938 Hz) is a group of its own. Moved two octaves
-    /// down onto a note below the tenor where nothing rises, it fitted
-    /// nothing, yet its placing alone (`PLACED`) chose a ring three notes
-    /// low. Now d7 keeps its nominal as heard and the superquint is no bell
-    /// under the tenor.
-    #[test]
-    fn a_bell_moved_down_where_nothing_fits_does_not_choose_the_ring() {
-        let tuned = |f: f64| {
-            rise_of(&[
-                (0.5 * f, 0.3),
-                (0.5946 * f, 0.25),
-                (f, 1.0),
-                (1.5 * f, 0.35),
-                (2.06 * f, 0.3),
-            ])
-        };
-        let mut rises: Vec<Vec<f64>> = [982.4, 871.5, 817.7, 727.8, 647.5].iter().map(|&f| tuned(f)).collect();
-        rises.push(rise_of(&[(549.0, 0.29), (1102.0, 1.0), (1644.0, 0.29), (2268.0, 0.64)]));
-        rises.push(rise_of(&[(775.0, 0.27), (1303.0, 0.43), (1938.0, 1.0), (2656.0, 0.49)]));
-        let heard = heard_once(&[982.4, 871.5, 817.7, 727.8, 647.5, 1102.0, 1938.0]);
-        let chosen: Vec<&Heard> = heard.iter().collect();
-        let fit = ring_octaves(&chosen, &rises, 30, 5.0, 8).unwrap();
-        assert_eq!(fit.moved[5], Some(1102.0), "{:?}", fit.moved);
-        assert!(fit.moved[6].is_none_or(|f| f > 1000.0), "{:?}", fit.moved);
-        assert!(fit.notes.iter().all(|&n| n > 600.0), "{:?}", fit.notes);
-    }
-
-    /// Groups heard at `nominals` (Hz), each at one onset of its own.
-    fn heard_once(nominals: &[f64]) -> Vec<Heard> {
-        nominals
-            .iter()
-            .enumerate()
-            .map(|(i, &f)| Heard {
-                nominal_hz: f,
-                onsets: vec![i],
-            })
-            .collect()
-    }
-
-    /// Tester20's R6dry (d3-d10): the tenor's partial at 2.09 times its
-    /// nominal (1712 Hz, its rise 1231, 1367, 1712 and 2236 Hz) is a
-    /// group of its own, and placed 67 cents over the treble it left the
-    /// tenor out (the eight then ran from d9 to 1712 Hz). No two bells are
-    /// placed so close: the tenor keeps its place and the partial is none.
-    #[test]
-    fn two_bells_closer_than_a_ring_is_tuned_are_not_both_placed() {
-        let nominals = [1645.9, 1458.2, 1308.9, 1237.2, 1103.1, 982.4, 871.5, 817.7];
-        let mut rises: Vec<Vec<f64>> = nominals
-            .iter()
-            .map(|&f| rise_of(&[(0.5 * f, 0.3), (0.5946 * f, 0.25), (f, 1.0), (1.5 * f, 0.3)]))
-            .collect();
-        // The tenor's rise as in the recording: other bells' partials
-        // beside its own, so that it fits less well than the partial.
-        rises[7] = rise_of(&[
-            (409.0, 0.2),
-            (817.7, 1.0),
-            (983.0, 0.3),
-            (1095.0, 0.3),
-            (1242.0, 0.4),
-            (1723.0, 0.6),
-            (2247.0, 0.5),
-            (2821.0, 0.45),
-        ]);
-        rises.push(rise_of(&[(1231.0, 0.3), (1367.0, 0.3), (1712.0, 1.0), (2236.0, 0.3)]));
-        let heard = heard_once(&[&nominals[..], &[1712.0]].concat());
-        let chosen: Vec<&Heard> = heard.iter().collect();
-        let fit = ring_octaves(&chosen, &rises, 30, 5.0, 8).unwrap();
-        assert_eq!(fit.moved[7], Some(817.7), "{:?}", fit.moved);
-        assert_eq!(fit.moved[8], None, "{:?}", fit.moved);
     }
 }
