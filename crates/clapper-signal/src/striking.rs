@@ -688,8 +688,7 @@ fn gap_by_bells(strikes: &[Timed], order: &[usize], hand: &[Option<bool>], bells
     if diffs.len() < FEWEST_GAPS {
         return None;
     }
-    diffs.sort_by(f64::total_cmp);
-    let seconds = diffs[diffs.len() / 2];
+    let seconds = crate::median(&diffs);
     let whole: Vec<f64> = pulls
         .iter()
         .copied()

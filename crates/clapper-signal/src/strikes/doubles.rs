@@ -173,9 +173,7 @@ fn typical_gain(copies: &[Option<Copy2>]) -> Option<f64> {
     if copies.len() < TYPICAL_FEWEST {
         return None;
     }
-    let mut g: Vec<f64> = copies.iter().map(|c| c.map_or(0.0, |c| c.gain)).collect();
-    g.sort_by(f64::total_cmp);
-    Some(g[g.len() / 2])
+    super::stats::median(copies.iter().map(|c| c.map_or(0.0, |c| c.gain)).collect())
 }
 
 /// The bells sharing each band of `fits` (`with`, per band of `bands`;
