@@ -136,7 +136,7 @@ impl Learned {
         let ringing = if all_heard { None } else { self.ringing };
         let mut set = learned_set_sure(&bells, ringing, self.asked, self.few).min(rival_sure(self.margin));
         // Each note guessed is its own coin: two guessed, the set is right
-        // only if both are (bells-13: one guessed, 15 sets right of 30 on
+        // only if both are (bells-13: one guessed, 15 sets right of 31 on
         // every ring we have; two, 1 of 7).
         let guessed: Vec<usize> = (0..bells.len()).filter(|&i| bells[i].onsets == 0).collect();
         if !guessed.is_empty() {
