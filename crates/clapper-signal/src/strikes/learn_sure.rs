@@ -341,6 +341,11 @@ pub(super) fn rival_doubt(margin: f64, sure: f64) -> Option<String> {
     })
 }
 
+/// What a set under [`DOUBTFUL`] is, said first (tester21: the figure
+/// alone, "50 % sure", did not tell a ringer whether to trust the
+/// table).
+pub(super) const CANNOT_TELL: &str = "cannot tell which bells these are";
+
 /// What a doubtful set means for the report, said after its doubt.
 const DOUBT_MEANS: &str = "until then the bells' numbers in the table below may each be another bell's, and every \
                            figure by bell with them";
@@ -350,7 +355,7 @@ const DOUBT_MEANS: &str = "until then the bells' numbers in the table below may 
 /// normal table under sets learned 23-35 % off, their doubt third among
 /// the learner's warnings and saying nothing of the table.
 pub(super) fn doubt_first(warnings: &mut Vec<String>, doubt: String) {
-    warnings.insert(0, format!("{doubt}; {DOUBT_MEANS}"));
+    warnings.insert(0, format!("{CANNOT_TELL}: {doubt}; {DOUBT_MEANS}"));
 }
 
 /// The warning for a set of bells `learned` only `sure` sure (below
