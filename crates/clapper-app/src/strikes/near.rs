@@ -28,7 +28,7 @@ pub const NEAR_HEARD: f64 = 0.02;
 const SAME_NOTE: f64 = 0.0015;
 
 /// The nominals given, each moved to the nearest of `heard` (Hz) within
-/// [`NEAR_HEARD`] of it; `None` where none moves past [`SAME_NOTE`] or two
+/// [`NEAR_HEARD`] of it; `None` where none moves past `SAME_NOTE` or two
 /// would then lie within half a percent (one bell heard for two).
 pub fn moved_near(given: &[f64], heard: &[f64]) -> Option<Vec<f64>> {
     let off = |h: f64, g: f64| (h / g - 1.0).abs();
@@ -53,7 +53,7 @@ pub struct NearTrial {
     pub calibration: SelfCalibration,
     /// Strikes found in the opening window.
     pub strikes: usize,
-    /// Their unevenness (ms; [`evenness`]), under [`EVEN_SHARE`] of
+    /// Their unevenness (ms; `evenness`), under [`EVEN_SHARE`] of
     /// their median interval.
     pub unevenness_ms: f64,
     /// Their RMS striking error in the window's rows (ms).
@@ -89,7 +89,7 @@ pub fn near_trial(
         return Ok(None);
     };
     Ok(
-        kept((found, unevenness_ms), (r.strikes.len(), u, g)).then(|| NearTrial {
+        kept((found, unevenness_ms), (r.strikes.len(), u, g)).then_some(NearTrial {
             nominals: near,
             calibration: c,
             strikes: r.strikes.len(),
