@@ -32,6 +32,7 @@ mod doubt;
 mod input;
 mod kind;
 mod method;
+mod near;
 mod odd;
 mod one_stroke;
 mod order;

@@ -103,6 +103,20 @@ pub struct TimingChoice {
     pub plain_rms_ms: Option<f64>,
     /// The recording timing's RMS striking error in the window's rows (ms).
     pub recording_rms_ms: Option<f64>,
+    /// Where neither timing's strikes were even, the nominals listened for
+    /// instead, each moved to where the recording's bells are heard
+    /// nearest it (Hz, treble first; `None`: those given).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub nominals_heard_hz: Option<Vec<f64>>,
+    /// Strikes those nominals found in the window, timed from the recording.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub near_strikes: Option<usize>,
+    /// Their unevenness (ms).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub near_unevenness_ms: Option<f64>,
+    /// Their RMS striking error in the window's rows (ms).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub near_rms_ms: Option<f64>,
     /// Why, in words.
     pub reason: String,
     /// Doubts about the nominals the choice was made for (e.g. given
@@ -152,7 +166,7 @@ fn unevenness_ms(report: &StrikesReport) -> Option<f64> {
 
 /// [`unevenness_ms`] and the median interval between successive strikes
 /// (ms), which it is judged against ([`EVEN_SHARE`]).
-fn evenness(report: &StrikesReport) -> Option<(f64, f64)> {
+pub(super) fn evenness(report: &StrikesReport) -> Option<(f64, f64)> {
     let gaps: Vec<f64> = report.strikes.windows(2).map(|w| w[1].t_s - w[0].t_s).collect();
     if gaps.len() < 4 {
         return None;
@@ -257,6 +271,17 @@ fn auto(head: &Signal, nominals: &[f64], plain: Vec<BellVoice>, opts: &StrikeOpt
     let (np, nr) = (p.strikes.len(), r.strikes.len());
     let (recording, reason, doubt) = decide((np, evenness(&p)), (nr, evenness(&r)));
     choice.reason = reason;
+    // Neither even: the nominals moved to where the bells are heard tried.
+    let kept_ms = if recording {
+        choice.recording_unevenness_ms
+    } else {
+        choice.plain_unevenness_ms
+    };
+    if let (Some(_), Some(u)) = (&doubt, kept_ms) {
+        if let Some(t) = super::near::near_trial(head, nominals, opts, np, u)? {
+            return Ok(near_chosen(t, nominals, u, choice));
+        }
+    }
     choice.warnings.extend(doubt);
     Ok(if recording {
         choice.used = "recording";
@@ -272,6 +297,25 @@ fn auto(head: &Signal, nominals: &[f64], plain: Vec<BellVoice>, opts: &StrikeOpt
             choice,
         }
     })
+}
+
+/// The nominals moved near where their bells are heard (`t`, tried on
+/// the window as [`super::near::near_trial`] says), timed from the
+/// recording; the nominals `given` and their timing's unevenness
+/// (`given_ms`) said why. Their strikes are even: no doubt said.
+fn near_chosen(t: super::near::NearTrial, given: &[f64], given_ms: f64, mut choice: TimingChoice) -> Chosen {
+    choice.used = "recording";
+    choice.reason = t.reason(given, given_ms);
+    choice.near_strikes = Some(t.strikes);
+    choice.near_unevenness_ms = Some(t.unevenness_ms);
+    choice.near_rms_ms = t.rms_ms;
+    choice.warnings.push(t.warning(given));
+    choice.nominals_heard_hz = Some(t.nominals);
+    Chosen {
+        voices: t.calibration.voices.clone(),
+        calibration: Some(t.calibration),
+        choice,
+    }
 }
 
 /// One trial's strikes found and their [`evenness`] (unevenness, median
@@ -325,7 +369,7 @@ impl StrikesReport {
     /// finder's double-strike fits (a quarter of its time) are not made.
     /// `ready`, if given, is the finder's hearing of `sig` through `voices`
     /// (the calibration's, made on the same window): not heard again.
-    fn timed_singles(
+    pub(super) fn timed_singles(
         sig: &Signal,
         voices: &[BellVoice],
         opts: &StrikeOptions,
