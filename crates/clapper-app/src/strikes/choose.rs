@@ -109,7 +109,7 @@ pub struct TimingChoice {
     /// tenor first): [`StrikesReport::note_choice`] adds them to the
     /// report's warnings.
     #[serde(skip)]
-    pub warnings: Vec<String>,
+    pub warnings: Vec<super::Warning>,
 }
 
 /// The bells' voices and timing chosen: with a calibration, time the
@@ -173,7 +173,8 @@ pub fn choose_timing(
     opts: &StrikeOptions,
 ) -> Result<Chosen, AppError> {
     let mut chosen = choose(head, nominals, kind, asked, opts)?;
-    chosen.choice.warnings.extend(super::kind::order_warning(nominals));
+    let order = super::kind::order_warning(nominals);
+    (chosen.choice.warnings).extend(order.map(|w| super::Warning::new(super::WarningKind::Give, w)));
     Ok(chosen)
 }
 
@@ -257,7 +258,9 @@ fn auto(head: &Signal, nominals: &[f64], plain: Vec<BellVoice>, opts: &StrikeOpt
     let (np, nr) = (p.strikes.len(), r.strikes.len());
     let (recording, reason, doubt) = decide((np, evenness(&p)), (nr, evenness(&r)));
     choice.reason = reason;
-    choice.warnings.extend(doubt);
+    choice
+        .warnings
+        .extend(doubt.map(|w| super::Warning::new(super::WarningKind::Note, w)));
     Ok(if recording {
         choice.used = "recording";
         Chosen {
@@ -348,6 +351,7 @@ impl StrikesReport {
     /// (`choice`, from [`choose_timing`]).
     pub fn note_choice(&mut self, mut choice: TimingChoice) {
         self.summary.warnings.append(&mut choice.warnings);
+        super::doubt::once_each(&mut self.summary.warnings);
         match &mut self.timing {
             Some(t) => t.choice = Some(choice),
             None => {

@@ -53,7 +53,7 @@ fn one_bell(hand: StrokeStats, back: StrokeStats, matched_ms: Option<f64>) -> St
             plausibility: None,
             rows_doubted: false,
             columns_why: None,
-            warnings: vec![],
+            warnings: Warnings::default(),
         },
     }
 }
@@ -207,7 +207,7 @@ fn what_qualifies_the_table_stands_before_it() {
     assert!(text.rfind("warning: ").unwrap() < table, "{text}");
     // In the JSON too, the warnings that the rows mean little stand before
     // those of single bells.
-    let at = |start: &str| r.summary.warnings.iter().position(|w| w.starts_with(start));
+    let at = |start: &str| r.summary.warnings.iter().position(|w| w.text.starts_with(start));
     let (misfit, missing) = (at("the strikes do not keep the rhythm"), at("bell 5: "));
     assert!(
         matches!((misfit, missing), (Some(a), Some(b)) if a < b),
