@@ -52,7 +52,7 @@ pub(super) fn one_bell(w: &str) -> Option<usize> {
 /// weight, as they were; a bell's after the warnings about the whole
 /// ring, treble first).
 pub(super) fn rank(warnings: &mut [Warning]) {
-    warnings.sort_by_key(|w| weight(w));
+    warnings.sort_by_key(weight);
 }
 
 #[cfg(test)]
