@@ -45,7 +45,9 @@ pub use method::MethodReport;
 mod retime;
 mod sure;
 mod text;
+mod warning;
 pub use text::MEAN_D_WORDS;
+pub use warning::{Warning, WarningKind, Warnings};
 
 use retime::{in_core, lateness_of, lateness_used, timed_again};
 
@@ -128,7 +130,8 @@ pub struct BellStriking {
     /// (ms), against the even rhythm of the rest of the ring: the hand
     /// column's mean less the back column's (each the mean of the stroke's
     /// errors less any far from the rest, `clapper_signal::striking::steady`);
-    /// none where a stroke's errors disagree (`odd_struck_doubt`).
+    /// none where a stroke's errors disagree, or where its standard error
+    /// is over 10 ms (`odd_struck_doubt` says why).
     pub odd_struck_ms: Option<f64>,
     /// Standard error of the odd-struckness (ms); none where a stroke holds
     /// too few errors to measure a spread (`odd_struck_doubt`).
@@ -200,8 +203,11 @@ pub struct StrikesSummary {
     /// Why a hand or back column is empty or of one strike, in one line
     /// (`ringer::columns_why`); none when every column is measured.
     pub columns_why: Option<String>,
-    /// What could not be heard or placed, in words.
-    pub warnings: Vec<String>,
+    /// What could not be heard or placed, each with its kind, in the order
+    /// a ringer reads them: in the JSON, `warnings` (words) and
+    /// `warning_kinds` (one for each, [`WarningKind`]).
+    #[serde(flatten)]
+    pub warnings: Warnings,
 }
 
 /// One bell's timing against its template (issue 43): how long after the
@@ -456,8 +462,10 @@ impl StrikesReport {
         let mut heard =
             find_strikes_streamed_heard(src, voices, opts, windows, ready, &mut each).map_err(signal_error)?;
         let matched: Vec<Option<f64>> = moved.into_iter().map(median_of).collect();
-        let mut warnings = std::mem::take(&mut heard.warnings);
-        warnings.extend(no_lateness);
+        // The finder's and the lateness's warnings, given a kind here.
+        let received = |w: String| Warning::received(WarningKind::Note, w);
+        let mut warnings: Vec<Warning> = std::mem::take(&mut heard.warnings).into_iter().map(received).collect();
+        warnings.extend(no_lateness.into_iter().map(received));
         let timing_report = match timing {
             Timing::Recording(c) => Some(recording_timing(c, &matched, &mut warnings)),
             Timing::Templates(t) => lateness
@@ -468,9 +476,13 @@ impl StrikesReport {
         };
         let plausibility = (rises.0 > 0).then(|| rises.1 as f64 / rises.0 as f64);
         if let Some(p) = plausibility.filter(|p| *p < PLAUSIBLE_SHARE) {
-            warnings.insert(0, input::not_bells(p));
+            warnings.insert(0, Warning::new(WarningKind::Recording, input::not_bells(p)));
         }
         input::drop_before_start(&mut heard, &mut warnings);
+        if let (Timing::Templates(t), true) = (timing, doubles) {
+            let low = input::low_rate_doubles(rate, t.first().map_or(rate, |s| s.rate));
+            warnings.extend(low.map(|w| Warning::new(WarningKind::Give, w)));
+        }
         input::warn_of(&mut warnings, peak, duration_s, heard.strikes.len(), voices.len());
         kind::warn_of(&mut warnings, matches!(timing, Timing::AsHeard), voices, &below);
         let tpl = matches!(timing, Timing::Templates(_));
@@ -483,7 +495,8 @@ impl StrikesReport {
     /// Say in the report what reading the recording found (`warnings`, in
     /// words: clapper-io's, e.g. its channels disagreeing in time), first.
     pub fn note_recording(&mut self, warnings: &[String]) {
-        self.summary.warnings.splice(0..0, warnings.iter().cloned());
+        let read = warnings.iter().map(|w| Warning::received(WarningKind::Note, w.clone()));
+        self.summary.warnings.splice(0..0, read);
         doubt::once_each(&mut self.summary.warnings);
     }
 
@@ -495,12 +508,15 @@ impl StrikesReport {
     pub fn unheard(sig: &Signal, bells: usize, why: &str) -> Self {
         let peak = sig.samples.iter().fold(0.0f64, |p, v| p.max(v.abs()));
         let duration_s = sig.samples.len() as f64 / sig.rate;
-        let mut warnings = vec![match peak > 0.0 {
-            true => format!("nothing to learn the bells from: {why}"),
-            false => "the recording is silent".to_string(),
-        }];
+        let mut warnings = vec![Warning::new(
+            WarningKind::Recording,
+            match peak > 0.0 {
+                true => format!("nothing to learn the bells from: {why}"),
+                false => "the recording is silent".to_string(),
+            },
+        )];
         if duration_s < input::SHORTEST_RING_S {
-            warnings.insert(0, input::too_short(duration_s));
+            warnings.insert(0, Warning::new(WarningKind::Recording, input::too_short(duration_s)));
         }
         let heard = Heard {
             strikes: vec![],
@@ -518,15 +534,19 @@ impl StrikesReport {
         // No nominals were given: the ring-size warning says so.
         let timed: Vec<Timed> = self.strikes.iter().map(|s| Timed { bell: s.bell, t: s.t_s }).collect();
         let noun = doubt::given_as(false);
+        let asked = Some(learned.learner.asked);
         if let Some(given) = doubt::ring_size_warning(&timed, self.bells, noun) {
-            let worded = doubt::ring_size_warning_as(&timed, self.bells, true, noun);
-            self.summary.warnings.retain(|w| *w != given);
-            self.summary.warnings.extend(worded);
+            let worded = doubt::ring_size_warning_as(&timed, self.bells, asked, noun);
+            self.summary.warnings.retain(|w| w.text != given);
+            (self.summary.warnings).extend(worded.map(|w| Warning::new(WarningKind::Give, w)));
         }
         // The strikes heard about the nominals say more than the onsets
-        // they were learned at (bells-9).
+        // they were learned at (bells-9). The learner's warnings ask for
+        // other bells (more, fewer, or their nominals given), unless about
+        // one bell.
         let learned = learned.as_heard(&timed);
-        self.summary.warnings.splice(0..0, learned.warnings);
+        let words = learned.warnings.into_iter();
+        (self.summary.warnings).splice(0..0, words.map(|w| Warning::received(WarningKind::Give, w)));
         doubt::once_each(&mut self.summary.warnings);
         self.learned_nominals_hz = Some(learned.nominals);
         self.learned_set = Some(learned.set);
@@ -540,52 +560,63 @@ impl StrikesReport {
         heard: &Heard,
         bells: usize,
         duration_s: f64,
-        mut warnings: Vec<String>,
+        mut warnings: Vec<Warning>,
         timing: Option<TimingReport>,
         templates: bool,
     ) -> Self {
         let timed: Vec<Timed> = heard.strikes.iter().map(|s| Timed { bell: s.bell, t: s.t }).collect();
         let r = rhythm(&timed, bells);
         if !heard.strikes.is_empty() && !r.strokes_known {
-            warnings.push("no handstroke gap stands out: hand and back are a guess".into());
+            warnings.push(Warning::new(
+                WarningKind::Note,
+                "no handstroke gap stands out: hand and back are a guess",
+            ));
         }
         let mut wide = vec![];
         let together = doubt::struck_together(&timed);
+        let rows_void = |w: String| Warning::new(WarningKind::Rows, w);
         if together.is_none() {
             let heard = (1..=bells).filter(|b| timed.iter().any(|s| s.bell == *b)).count();
-            wide.extend(doubt::no_full_row(timed.len(), r.rows, r.placed_rows, heard, bells));
+            wide.extend(doubt::no_full_row(timed.len(), r.rows, r.placed_rows, heard, bells).map(rows_void));
         }
-        wide.extend(together);
-        wide.extend(doubt::ring_size_warning(&timed, bells, doubt::given_as(templates)));
+        wide.extend(together.map(|w| Warning::new(WarningKind::Recording, w)));
+        let size = doubt::ring_size_warning(&timed, bells, doubt::given_as(templates));
+        wide.extend(size.map(|w| Warning::new(WarningKind::Give, w)));
         let one_stroke = one_stroke::one_stroke_warnings(&timed, bells, templates);
-        warnings.extend(one_stroke.iter().map(|(_, w)| w.clone()));
+        warnings.extend(
+            one_stroke
+                .iter()
+                .map(|(_, w)| Warning::new(WarningKind::OneStroke, w.clone())),
+        );
         let strikes = strike_reports(heard, &r);
         let mut per_bell: Vec<BellStriking> = (1..=bells)
             .map(|bell| bell_striking(bell, &strikes, &r, &timed))
             .collect();
         let counts: Vec<usize> = per_bell.iter().map(|b| b.strikes).collect();
         kind::unheard_warnings(&counts, duration_s, templates, &mut warnings);
-        warnings.extend(kind::few_strikes_warnings(&counts));
+        let bell_note = |w: String| Warning::received(WarningKind::Note, w);
+        warnings.extend(kind::few_strikes_warnings(&counts).into_iter().map(bell_note));
         // Bells already warned of (heard far less often, or at one stroke
         // only) are not warned of again as short.
         let mut few = kind::few_bells(&counts);
         let doubts = sure::timing_doubts(&strikes, &per_bell, timing.as_ref(), &few);
         few.extend(one_stroke.iter().map(|(b, _)| *b));
-        warnings.extend(ringer::missing_warnings(&strikes, bells, r.rows, r.strokes_known, &few));
-        warnings.extend(ringer::pace_warning(&timed));
+        let missing = ringer::missing_warnings(&strikes, bells, r.rows, r.strokes_known, &few);
+        warnings.extend(missing.into_iter().map(bell_note));
         let errs: Vec<f64> = strikes.iter().filter_map(|s| s.error_ms).collect();
         let rms = (!errs.is_empty()).then(|| (errs.iter().map(|e| e * e).sum::<f64>() / errs.len() as f64).sqrt());
         let interval_ms = r.interval.map(|i| i * 1e3);
         let misfit = doubt::misfit_warning(rms, interval_ms, bells);
         let slipped = rows_slipped(&timed, bells, r.rows);
         let rows_doubted = misfit.is_some() || slipped.is_some();
-        wide.extend(misfit);
-        wide.extend(slipped);
-        wide.extend(doubt::loose_warning(
-            rms,
-            interval_ms,
-            doubt::timed_by(templates, timing.as_ref()),
-        ));
+        wide.extend(misfit.map(rows_void));
+        wide.extend(slipped.map(rows_void));
+        let loose = doubt::loose_warning(rms, interval_ms, doubt::timed_by(templates, timing.as_ref()));
+        wide.extend(loose.map(bell_note));
+        // Strikes that do not keep rows read no pace either (tester21's E8
+        // `--nominals`: 123 and 109 ms a minute apart beside an interval of
+        // 171 ms, on a steady 190 ms ring).
+        warnings.extend(ringer::pace_warning(&timed).filter(|_| !rows_doubted).map(bell_note));
         let lead = input::leading(&warnings);
         warnings.splice(lead..lead, wide);
         for (b, d) in per_bell.iter_mut().zip(doubts) {
@@ -619,7 +650,7 @@ impl StrikesReport {
             plausibility: None,
             rows_doubted,
             columns_why,
-            warnings,
+            warnings: Warnings(warnings),
         };
         StrikesReport {
             bells,
@@ -690,7 +721,7 @@ fn correct_lateness(
     rate: f64,
     matched: &[Option<f64>],
     heard: &mut Heard,
-    warnings: &mut Vec<String>,
+    warnings: &mut Vec<Warning>,
 ) -> Result<TimingReport, clapper_signal::SignalError> {
     let used = lateness_used(&l, matched, templates, rate)?;
     used.correct(heard);
@@ -700,7 +731,8 @@ fn correct_lateness(
     // median it blamed a bell heard in full when the others were short
     // (tester15 A8_level), so every bell is given the same count here.
     let can = clapper_signal::template_timing::matchable(rate, templates)?;
-    warnings.extend(l.warnings_after_matching(&can, &vec![heard.strikes.len(); l.bells.len()]));
+    let said = l.warnings_after_matching(&can, &vec![heard.strikes.len(); l.bells.len()]);
+    warnings.extend(said.into_iter().map(|w| Warning::received(WarningKind::Note, w)));
     Ok(TimingReport {
         source: l.source,
         per_bell: l
@@ -723,8 +755,12 @@ fn correct_lateness(
 /// bell's lateness found on its clean strikes, and how far its strikes
 /// moved when lined up on its average strike (`matched`, per bell); the
 /// calibration's warnings added to `warnings`.
-fn recording_timing(c: &SelfCalibration, matched: &[Option<f64>], warnings: &mut Vec<String>) -> TimingReport {
-    warnings.extend(c.warnings.iter().cloned());
+fn recording_timing(c: &SelfCalibration, matched: &[Option<f64>], warnings: &mut Vec<Warning>) -> TimingReport {
+    warnings.extend(
+        c.warnings
+            .iter()
+            .map(|w| Warning::received(WarningKind::Note, w.clone())),
+    );
     TimingReport {
         source: "recording",
         per_bell: c

@@ -1071,19 +1071,17 @@ function strikesHtml(r) {
     ${s.double_strikes} double strike(s).
     <button type="button" id="download-strikes-json">Download JSON</button>
     <button type="button" id="download-strikes-csv">Download CSV</button></p>`;
-  if (s.warnings.length) h += `<ul id="strikes-warnings" class="warnings">${s.warnings.map((w) => `<li class="problem">Warning: ${esc(w)}</li>`).join("")}</ul>`;
-  // Bells whose strikes the listener may have timed wrongly, before the table that rests on them (marked ? in it).
-  if (doubted.length) {
-    h += `<p>Timing in doubt (marked ? in the table): the listener may have timed these bells' strikes, or placed them in rows, wrongly, so their figures may show its error rather than the ringer's striking:</p>`;
-    h += `<ul id="strikes-doubts" class="warnings">${doubted.map((b) => `<li class="problem">Bell ${b.bell}: ${esc(b.timing_doubt)}</li>`).join("")}</ul>`;
-  }
+  // As clapper strikes prints them (clapper-app's strikes/text.rs): the ring's warnings, most serious first, before
+  // the table; a warning about one bell heard (kind "bell") with that bell after it.
+  const { ring, own } = splitWarnings(r);
+  if (ring.length) h += `<ul id="strikes-warnings" class="warnings">${ring.map((w) => `<li class="problem">Warning: ${esc(w)}</li>`).join("")}</ul>`;
   h += "<table id=\"strikes-table\"><tr><th>bell</th><th>strikes</th><th>hand mean ± sd (ms)</th><th>back mean ± sd (ms)</th><th>odd-struck (ms)</th><th>double strikes</th><th>mean D</th>";
   if (beside) h += "<th>bell diagnosed</th><th>odd-struck, model (ms)</th><th>D, model (R = 0.1)</th>";
   h += "</tr>";
   const ms = (st) => (st.mean_error_ms === null ? "–" : `${fmt(st.mean_error_ms, 1)} ± ${fmt(st.spread_ms, 1)}`);
   for (const b of r.per_bell) {
     h += `<tr><td>${b.bell}${b.timing_doubt ? "?" : ""}</td><td>${b.strikes}</td><td>${ms(b.hand)}</td><td>${ms(b.back)}</td>
-      <td>${b.odd_struck_ms === null ? "–" : fmt(b.odd_struck_ms, 1) + (b.odd_struck_se_ms === null ? "" : " ± " + fmt(b.odd_struck_se_ms, 1))}</td>
+      <td>${b.odd_struck_ms === null ? "–" + (b.odd_struck_doubt ? " ?" : "") : fmt(b.odd_struck_ms, 1) + (b.odd_struck_se_ms === null ? "" : " ± " + fmt(b.odd_struck_se_ms, 1))}</td>
       <td>${b.double_strikes} (${fmt(100 * b.double_rate, 0)} %)</td><td>${fmt(b.mean_d, 1)}</td>`;
     if (beside) {
       const d = lastDiagnosis.bells[b.bell - 1];
@@ -1094,6 +1092,28 @@ function strikesHtml(r) {
     h += "</tr>";
   }
   h += "</table>";
+  const odd = r.per_bell.filter((b) => b.odd_struck_doubt);
+  if (odd.length) h += `<p>Odd-struckness in doubt (marked ? in its column):</p><ul class="warnings">${odd.map((b) => `<li>Bell ${b.bell}: ${esc(b.odd_struck_doubt)}</li>`).join("")}</ul>`;
+  // About each bell: why its timing is in doubt (marked ? in the table), then its own warnings.
+  const each = r.per_bell.filter((b) => b.timing_doubt || own[b.bell]);
+  if (each.length) {
+    h += `<p>About each bell (one marked ? in the table the listener may have timed, or placed in rows, wrongly, so that its figures may show that error rather than the ringer's striking):</p>`;
+    h += `<ul id="strikes-doubts" class="warnings">${each.map((b) => [b.timing_doubt ? `Bell ${b.bell}: ${b.timing_doubt}` : null, ...(own[b.bell] || [])]
+      .filter((w) => w).map((w) => `<li class="problem">${esc(w)}</li>`).join("")).join("")}</ul>`;
+  }
   h += `<div class="plot">${lastStrikes.plot_svg}</div>`;
   return h;
+}
+
+// The report's warnings (already in the order a ringer reads them) split as the CLI splits them: those about one bell
+// heard (kind "bell", their words starting "bell N:" or "bell N (") by bell, the rest for before the table.
+function splitWarnings(r) {
+  const s = r.summary, kinds = s.warning_kinds || [], ring = [], own = {};
+  const heard = (n) => r.per_bell.some((b) => b.bell === n && b.strikes > 0);
+  s.warnings.forEach((w, i) => {
+    const m = kinds[i] === "bell" ? /^bell (\d+)(:| \()/.exec(w) : null;
+    const b = m && heard(+m[1]) ? +m[1] : null;
+    if (b === null) ring.push(w); else (own[b] = own[b] || []).push(w);
+  });
+  return { ring, own };
 }

@@ -50,6 +50,9 @@ pub struct LearnedSet {
     pub heard: usize,
     /// How many bells ring by the onsets' rhythm (`None` if it says nothing).
     pub ringing: Option<f64>,
+    /// Bells asked for (`--bells N`): more than those learned where some
+    /// could not be (the report's header says both, tester21 fault 7b).
+    pub asked: usize,
 }
 
 /// Nominals (Hz) to voices, checked: each bell's other partials assumed
@@ -131,6 +134,7 @@ impl Learned {
             confidence: l.confidence,
             heard: l.bells.iter().filter(|b| b.onsets > 0).count(),
             ringing: l.ringing,
+            asked: l.asked,
         };
         Learned {
             nominals,

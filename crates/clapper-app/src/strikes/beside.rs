@@ -51,11 +51,15 @@ pub struct RecordingBeside {
 pub fn beside(diag: &crate::diagnosis::DiagnosisReport, heard: &StrikesReport, file: &str) -> RecordingBeside {
     let mut summary = heard.summary.clone();
     if diag.bells.len() != heard.bells {
-        summary.warnings.push(format!(
-            "the ring file has {} bell(s), the recording was listened to for {}: the first {} are set side by side",
-            diag.bells.len(),
-            heard.bells,
-            diag.bells.len().min(heard.bells)
+        summary.warnings.push(super::Warning::new(
+            super::WarningKind::Give,
+            format!(
+                "the ring file has {} bell(s), the recording was listened to for {}: the first {} are set side by \
+                 side",
+                diag.bells.len(),
+                heard.bells,
+                diag.bells.len().min(heard.bells)
+            ),
         ));
     }
     let bells = diag
@@ -155,7 +159,7 @@ impl RecordingBeside {
                 let _ = writeln!(o, "       {w}");
             }
         }
-        for w in &s.warnings {
+        for w in s.warnings.iter() {
             let _ = writeln!(o, "warning: {w}");
         }
         o

@@ -123,7 +123,7 @@ pub struct TimingChoice {
     /// tenor first): [`StrikesReport::note_choice`] adds them to the
     /// report's warnings.
     #[serde(skip)]
-    pub warnings: Vec<String>,
+    pub warnings: Vec<super::Warning>,
 }
 
 /// The bells' voices and timing chosen: with a calibration, time the
@@ -187,7 +187,8 @@ pub fn choose_timing(
     opts: &StrikeOptions,
 ) -> Result<Chosen, AppError> {
     let mut chosen = choose(head, nominals, kind, asked, opts)?;
-    chosen.choice.warnings.extend(super::kind::order_warning(nominals));
+    let order = super::kind::order_warning(nominals);
+    (chosen.choice.warnings).extend(order.map(|w| super::Warning::new(super::WarningKind::Give, w)));
     Ok(chosen)
 }
 
@@ -282,7 +283,9 @@ fn auto(head: &Signal, nominals: &[f64], plain: Vec<BellVoice>, opts: &StrikeOpt
             return Ok(near_chosen(t, nominals, u, choice));
         }
     }
-    choice.warnings.extend(doubt);
+    choice
+        .warnings
+        .extend(doubt.map(|w| super::Warning::new(super::WarningKind::Note, w)));
     Ok(if recording {
         choice.used = "recording";
         Chosen {
@@ -309,7 +312,7 @@ fn near_chosen(t: super::near::NearTrial, given: &[f64], given_ms: f64, mut choi
     choice.near_strikes = Some(t.strikes);
     choice.near_unevenness_ms = Some(t.unevenness_ms);
     choice.near_rms_ms = t.rms_ms;
-    choice.warnings.push(t.warning(given));
+    choice.warnings.push(super::Warning::new(super::WarningKind::Give, t.warning(given)));
     choice.nominals_heard_hz = Some(t.nominals);
     Chosen {
         voices: t.calibration.voices.clone(),
@@ -392,6 +395,7 @@ impl StrikesReport {
     /// (`choice`, from [`choose_timing`]).
     pub fn note_choice(&mut self, mut choice: TimingChoice) {
         self.summary.warnings.append(&mut choice.warnings);
+        super::doubt::once_each(&mut self.summary.warnings);
         match &mut self.timing {
             Some(t) => t.choice = Some(choice),
             None => {

@@ -85,9 +85,9 @@ pub(super) fn no_full_row(
 /// Each warning once, where it first stands (two layers may say one
 /// thing), in the order a ringer acts on them (`order::rank`): the CLI's
 /// text and the web page's list alike.
-pub(super) fn once_each(warnings: &mut Vec<String>) {
+pub(super) fn once_each(warnings: &mut Vec<super::Warning>) {
     let mut seen = std::collections::HashSet::new();
-    warnings.retain(|w| seen.insert(w.clone()));
+    warnings.retain(|w| seen.insert(w.text.clone()));
     super::order::rank(warnings);
 }
 
@@ -184,19 +184,21 @@ pub(super) fn given_as(templates: bool) -> &'static str {
 /// size is read from: 0.05-0.20 where bells were left out of rings of
 /// recorded bells (four to six of eight given), 0.33-0.61 where strikes
 /// were timed astray (tester20's six and eights in dark rooms).
-const ROOM_GATHERED: f64 = 0.3;
+pub(super) const ROOM_GATHERED: f64 = 0.3;
 
 /// A warning that more bells ring than `given` were, each by its `noun`
 /// ([`given_as`]), from the strikes' spacing
 /// ([`clapper_signal::striking::ring_room`]).
 pub(super) fn ring_size_warning(timed: &[Timed], given: usize, noun: &str) -> Option<String> {
-    ring_size_warning_as(timed, given, false, noun)
+    ring_size_warning_as(timed, given, None, noun)
 }
 
 /// [`ring_size_warning`], worded for `given` nominals learned from the
-/// recording (`--bells N`) when `learned`: none were given, and the
+/// recording when `asked` (`--bells N`, N asked): none were given, and the
 /// spacing of strikes heard about nominals learned wrong says so too.
-pub(super) fn ring_size_warning_as(timed: &[Timed], given: usize, learned: bool, noun: &str) -> Option<String> {
+/// Fewer learned than asked for, it says so with the number the ringer
+/// typed (tester21 fault 7b: "--bells 4" to one who typed `--bells 8`).
+pub(super) fn ring_size_warning_as(timed: &[Timed], given: usize, asked: Option<usize>, noun: &str) -> Option<String> {
     let k = given as f64;
     // With every bell given it read n - 1.1 to n + 2.6 on 120 synthetic
     // rings (4 to 16 bells, striking errors to ±40 ms, handstroke gaps 0.5
@@ -218,9 +220,16 @@ pub(super) fn ring_size_warning_as(timed: &[Timed], given: usize, learned: bool,
     let gathered = room.spread <= ROOM_GATHERED;
     (gathered && room.bells >= k + 2.0 + 0.1 * k).then(|| {
         let (bells, row_ms, apart_ms) = (room.bells.round(), room.row_s * 1e3, room.interval_s * 1e3);
-        if learned {
+        if let Some(asked) = asked.filter(|a| *a > given) {
             format!(
-                "--bells {given}, but the strikes heard about the nominals learned leave room for about {bells:.0} \
+                "--bells {asked}, but only {given} nominal(s) learned, and the strikes heard about them leave room \
+                 for about {bells:.0} bells (a bell strikes every {row_ms:.0} ms, bells {apart_ms:.0} ms apart): \
+                 the bells not learned ring too, their strikes are missing, and the rows, places and odd-struckness \
+                 are wrong"
+            )
+        } else if let Some(asked) = asked {
+            format!(
+                "--bells {asked}, but the strikes heard about the nominals learned leave room for about {bells:.0} \
                  bells (a bell strikes every {row_ms:.0} ms, bells {apart_ms:.0} ms apart): if more bells ring, ask \
                  for them all; else some nominals learned are wrong, and so are the rows, places and odd-struckness"
             )
@@ -337,8 +346,9 @@ mod tests {
 
     #[test]
     fn a_warning_said_twice_is_said_once_where_it_first_stands() {
-        let mut w: Vec<String> = ["a", "b", "a", "c", "b"].map(String::from).to_vec();
+        let note = |t: &str| super::super::Warning::new(super::super::WarningKind::Note, t);
+        let mut w = ["a", "b", "a", "c", "b"].map(note).to_vec();
         once_each(&mut w);
-        assert_eq!(w, ["a", "b", "c"]);
+        assert_eq!(w, ["a", "b", "c"].map(note));
     }
 }

@@ -4,6 +4,7 @@
 
 use clapper_signal::strikes::{BellVoice, Heard};
 
+use super::warning::{Warning, WarningKind};
 use crate::AppError;
 
 /// A signal-processing error as a refused request, said as the strike finder's.
@@ -79,33 +80,67 @@ pub(super) fn too_short(duration_s: f64) -> String {
 }
 
 /// How many of `warnings` at their head are about the recording as a
-/// whole (silent, too short, no strikes heard, not bells): they stand
-/// before every other.
-pub(super) fn leading(warnings: &[String]) -> usize {
-    let about_recording = |w: &String| {
-        w == "the recording is silent"
-            || w == NO_STRIKES
-            || w.starts_with(NOT_BELLS_START)
-            || w.starts_with(TOO_SHORT_START)
-    };
-    warnings.iter().take_while(|w| about_recording(w)).count()
+/// whole (silent, too short, no strikes heard, not bells: their kind
+/// [`WarningKind::Recording`]): they stand before every other.
+pub(super) fn leading(warnings: &[Warning]) -> usize {
+    warnings.iter().take_while(|w| w.kind == WarningKind::Recording).count()
+}
+
+/// Under this sample rate (Hz) the recording's double strikes judged
+/// against recorded strikes (templates) at a higher rate are not to be
+/// trusted: tester21's six (I6, 6 doubles struck), made 8 kHz, gave 40
+/// doubles with its 44.1 kHz templates, and the same with them made
+/// 8 kHz first; at 11.025 kHz 7, at 16 kHz 6; with `--nominals` at 8 kHz, 5.
+pub const TEMPLATE_DOUBLES_LEAST_RATE_HZ: f64 = 11_000.0;
+
+/// A warning when the recording's rate `rate` (Hz) is under
+/// [`TEMPLATE_DOUBLES_LEAST_RATE_HZ`] and the templates' `template_rate`
+/// (Hz) is higher: its double strikes may be false.
+pub(super) fn low_rate_doubles(rate: f64, template_rate: f64) -> Option<String> {
+    (rate < TEMPLATE_DOUBLES_LEAST_RATE_HZ && template_rate > rate).then(|| {
+        format!(
+            "the recording is at {:.1} kHz, the recorded strikes given at {:.1} kHz: heard against them at so low a \
+             rate, many single strikes are taken for double strikes (a tester's six at 8 kHz: 40 doubles for 6 \
+             struck); record at 16 kHz or more, or judge the doubles with --nominals",
+            rate / 1e3,
+            template_rate / 1e3
+        )
+    })
+}
+
+/// Under this length (s) a recording holds a row or two at most: its
+/// strikes are listed, but a bell's striking is not judged on so few
+/// (tester21: a 2 s clip read "10 strikes in 4 rows" without a word, where
+/// 0.5 s was warned of). Six bells at 0.2 s ring two whole pulls in 5.2 s.
+pub const SHORT_RING_S: f64 = 5.0;
+
+/// The warning for a recording `duration_s` (s) long, at least
+/// [`SHORTEST_RING_S`] but under [`SHORT_RING_S`].
+pub(super) fn short(duration_s: f64) -> String {
+    format!(
+        "{TOO_SHORT_START} {duration_s:.1} s long: a row or two at most, too few strikes to judge a bell's striking \
+         by (is this the whole file?)"
+    )
 }
 
 /// Add to `warnings` what makes the report no ring's: silence (the
 /// recording's `peak` 0), a recording `duration_s` (s) too short to hold a
 /// ring, no strike heard (first, in words, so that an empty table is not
 /// read as a quiet ring), one bell of `bells`.
-pub(super) fn warn_of(warnings: &mut Vec<String>, peak: f64, duration_s: f64, strikes: usize, bells: usize) {
+pub(super) fn warn_of(warnings: &mut Vec<Warning>, peak: f64, duration_s: f64, strikes: usize, bells: usize) {
+    let recording = |t: String| Warning::new(WarningKind::Recording, t);
     if peak == 0.0 {
-        warnings.insert(0, "the recording is silent".into());
+        warnings.insert(0, recording("the recording is silent".into()));
     } else if strikes == 0 {
-        warnings.insert(0, NO_STRIKES.into());
+        warnings.insert(0, recording(NO_STRIKES.into()));
     }
     if duration_s < SHORTEST_RING_S {
-        warnings.insert(0, too_short(duration_s));
+        warnings.insert(0, recording(too_short(duration_s)));
+    } else if duration_s < SHORT_RING_S && strikes > 0 {
+        warnings.insert(0, recording(short(duration_s)));
     }
     if bells == 1 && strikes > 0 {
-        warnings.push(ONE_BELL.into());
+        warnings.push(Warning::new(WarningKind::Give, ONE_BELL));
     }
 }
 
@@ -113,14 +148,17 @@ pub(super) fn warn_of(warnings: &mut Vec<String>, peak: f64, duration_s: f64, st
 /// a sound heard in its first moments: a tester's chatter before the ring
 /// gave a strike at -0.124 s) dropped from `heard`, with a warning in
 /// `warnings`: no strike's sound starts before the recording does.
-pub(super) fn drop_before_start(heard: &mut Heard, warnings: &mut Vec<String>) {
+pub(super) fn drop_before_start(heard: &mut Heard, warnings: &mut Vec<Warning>) {
     let first = heard.strikes.iter().map(|s| s.t).fold(0.0, f64::min);
     let before = heard.strikes.iter().filter(|s| s.t < 0.0).count();
     if before > 0 {
         heard.strikes.retain(|s| s.t >= 0.0);
-        warnings.push(format!(
-            "{before} strike(s) timed before the recording starts (the first at {first:.3} s): left out; a sound \
-             heard as the recording starts is a strike cut short, or not a bell's"
+        warnings.push(Warning::new(
+            WarningKind::Note,
+            format!(
+                "{before} strike(s) timed before the recording starts (the first at {first:.3} s): left out; a \
+                 sound heard as the recording starts is a strike cut short, or not a bell's"
+            ),
         ));
     }
 }
@@ -129,6 +167,15 @@ pub(super) fn drop_before_start(heard: &mut Heard, warnings: &mut Vec<String>) {
 mod tests {
     use super::*;
     use clapper_signal::strikes::HeardStrike;
+
+    /// Tester21: an 8 kHz recording with 44.1 kHz templates gave 12.6 %
+    /// false doubles without a word.
+    #[test]
+    fn doubles_at_a_telephones_rate_against_finer_templates_are_doubted() {
+        assert!(low_rate_doubles(8_000.0, 44_100.0).is_some_and(|w| w.contains("8.0 kHz")));
+        assert_eq!(low_rate_doubles(16_000.0, 44_100.0), None);
+        assert_eq!(low_rate_doubles(8_000.0, 8_000.0), None);
+    }
 
     #[test]
     fn a_strike_timed_before_the_recording_starts_is_left_out_and_said() {
@@ -146,7 +193,7 @@ mod tests {
         drop_before_start(&mut heard, &mut w);
         assert_eq!(heard.strikes.len(), 2);
         assert!(heard.strikes.iter().all(|s| s.t >= 0.0));
-        assert!(w.len() == 1 && w[0].contains("-0.124 s"), "{w:?}");
+        assert!(w.len() == 1 && w[0].text.contains("-0.124 s"), "{w:?}");
         let mut again = vec![];
         drop_before_start(&mut heard, &mut again);
         assert!(again.is_empty());

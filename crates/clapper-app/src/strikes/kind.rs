@@ -6,6 +6,7 @@
 use clapper_signal::strikes::{below_nominal, BellVoice, HeardStrike, Window, HANDBELL_BELOW, TOWER_BELOW};
 
 use super::retime::in_core;
+use super::warning::{Warning, WarningKind};
 
 /// A bell's strikes under this share of the typical bell's are warned of.
 const FEW: f64 = 0.5;
@@ -58,14 +59,17 @@ pub(super) fn below_in(
 /// strikes timed as heard), a nominal an octave off ([`octave_warnings`]) and bells that
 /// do not sound of the kind listened for ([`kind_warning`], from
 /// `below`; voices all of one kind).
-pub(super) fn warn_of(warnings: &mut Vec<String>, nominals: bool, voices: &[BellVoice], below: &[f64]) {
+/// Both ask the ringer to give other nominals or options
+/// ([`WarningKind::Give`]).
+pub(super) fn warn_of(warnings: &mut Vec<Warning>, nominals: bool, voices: &[BellVoice], below: &[f64]) {
     if !nominals {
         return;
     }
-    warnings.extend(octave_warnings(voices));
+    let act = |t: String| Warning::new(WarningKind::Give, t);
+    warnings.extend(octave_warnings(voices).into_iter().map(act));
     let handbells = voices.iter().all(is_handbell);
     if handbells || !voices.iter().any(is_handbell) {
-        warnings.extend(kind_warning(below, handbells));
+        warnings.extend(kind_warning(below, handbells).map(act));
     }
 }
 
@@ -212,7 +216,8 @@ fn names(w: &str, b: usize) -> bool {
 /// bare "bell N: no strikes heard" said again with why, and a bell no
 /// warning names added. `duration_s`: the recording's length (s);
 /// `templates`: the bells were given by their recorded strikes.
-pub(super) fn unheard_warnings(strikes: &[usize], duration_s: f64, templates: bool, warnings: &mut Vec<String>) {
+/// Each is of the kind [`WarningKind::Unheard`].
+pub(super) fn unheard_warnings(strikes: &[usize], duration_s: f64, templates: bool, warnings: &mut Vec<Warning>) {
     let heard: Vec<f64> = strikes.iter().filter(|&&n| n > 0).map(|&n| n as f64).collect();
     let Some(typical) = median(heard) else {
         return;
@@ -232,11 +237,14 @@ pub(super) fn unheard_warnings(strikes: &[usize], duration_s: f64, templates: bo
             };
             format!("it did not ring, or it is far quieter than the others, or {own}")
         };
-        let said = format!("bell {b}: not heard at all (no strike found): {why}");
+        let said = Warning::new(
+            WarningKind::Unheard,
+            format!("bell {b}: not heard at all (no strike found): {why}"),
+        );
         let bare = format!("bell {b}: no strikes heard");
-        if let Some(w) = warnings.iter_mut().find(|w| **w == bare) {
+        if let Some(w) = warnings.iter_mut().find(|w| w.text == bare) {
             *w = said;
-        } else if !warnings.iter().any(|w| names(w, b)) {
+        } else if !warnings.iter().any(|w| names(&w.text, b)) {
             warnings.push(said);
         }
     }
@@ -286,17 +294,18 @@ mod tests {
         unheard_warnings(&[2, 2, 0, 2, 2, 2], 2.1, false, &mut w);
         assert_eq!(w.len(), 1, "{w:?}");
         assert!(
-            w[0].starts_with("bell 3: not heard at all") && w[0].contains("2.1 s"),
+            w[0].text.starts_with("bell 3: not heard at all") && w[0].text.contains("2.1 s"),
             "{w:?}"
         );
+        assert_eq!(w[0].kind, WarningKind::Unheard);
         let mut w = vec![
-            "bell 6: no strikes heard".to_string(),
-            "bell 2: not listened for: ..".to_string(),
+            Warning::received(WarningKind::Note, "bell 6: no strikes heard"),
+            Warning::received(WarningKind::Note, "bell 2: not listened for: .."),
         ];
         unheard_warnings(&[40, 0, 40, 40, 40, 0], 60.0, true, &mut w);
         assert_eq!(w.len(), 2, "{w:?}");
         assert!(
-            w[0].starts_with("bell 6: not heard at all") && w[0].contains("recorded strike"),
+            w[0].text.starts_with("bell 6: not heard at all") && w[0].text.contains("recorded strike"),
             "{w:?}"
         );
         let mut w = vec![];

@@ -23,15 +23,25 @@ pub struct MethodReport {
     /// where empty.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub alike: Vec<String>,
+    /// The changes of its plain course on these bells (none for rounds):
+    /// the changes heard are counted against those the rows hold, not
+    /// against it (tester21's E8: "64 of 64 changes" read as the course
+    /// of a method whose course is 112).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub course_changes: Option<usize>,
 }
 
 impl MethodReport {
     /// The report's line for it.
     pub(super) fn line(&self) -> String {
         let rounds = self.name == "rounds";
+        let course = match self.course_changes {
+            Some(n) => format!("its plain course, {n} changes long: "),
+            None if rounds => String::new(),
+            None => "its plain course: ".to_string(),
+        };
         let counted = format!(
-            "{}{} of {} changes heard in whole rows{}",
-            if rounds { "" } else { "its plain course: " },
+            "{course}{} of the {} changes heard in whole rows are its{}",
             self.changes_fitting,
             self.changes_judged,
             if rounds { "" } else { ", rounds left out" }
@@ -108,7 +118,22 @@ pub(super) fn method_of(strikes: &[StrikeReport], rows: usize, bells: usize) -> 
         changes_fitting: m.fitting,
         changes_judged: m.judged,
         alike: m.alike.iter().map(|n| n.to_string()).collect(),
+        course_changes: course_changes(m.name, bells),
     })
+}
+
+/// The changes of the plain course of the method `name` on `bells` bells
+/// (a course's rows from rounds to the row before rounds comes again make
+/// as many changes); none for rounds or a name not known.
+fn course_changes(name: &str, bells: usize) -> Option<usize> {
+    use clapper_signal::methods::{plain_hunt, PlainCourse};
+    if name == "plain hunt" {
+        return Some(plain_hunt(bells).len());
+    }
+    let m = [PlainCourse::PlainBob, PlainCourse::Grandsire, PlainCourse::Stedman]
+        .into_iter()
+        .find(|m| m.name() == name)?;
+    m.course(bells).ok().map(|c| c.len())
 }
 
 #[cfg(test)]
@@ -158,6 +183,7 @@ mod tests {
             changes_fitting: 12,
             changes_judged: 13,
             alike: vec!["Plain Bob".into()],
+            course_changes: Some(12),
         };
         let line = m.line();
         assert!(
@@ -168,7 +194,27 @@ mod tests {
         let alone = MethodReport { alike: vec![], ..m };
         assert_eq!(
             alone.line(),
-            "rows: plain hunt (its plain course: 12 of 13 changes heard in whole rows, rounds left out)"
+            "rows: plain hunt (its plain course, 12 changes long: 12 of the 13 changes heard in whole rows are \
+             its, rounds left out)"
+        );
+    }
+
+    /// Tester21's E8 `--templates`: "its plain course: 64 of 64 changes"
+    /// on a course of 112; the course's own length is said beside the
+    /// changes heard.
+    #[test]
+    fn the_plain_course_is_said_with_its_own_length() {
+        assert_eq!(course_changes("Plain Bob", 8), Some(112));
+        assert_eq!(course_changes("plain hunt", 6), Some(12));
+        assert_eq!(course_changes("Stedman", 7), Some(84));
+        assert_eq!(course_changes("rounds", 6), None);
+        let rows = 2 * PlainCourse::PlainBob.course(6).unwrap().len();
+        let m = method_of(&plain_bob_less(None), rows, 6)
+            .map(|m| m.line())
+            .unwrap_or_default();
+        assert!(
+            m.starts_with("rows: Plain Bob (its plain course, 60 changes long: "),
+            "{m}"
         );
     }
 

@@ -2,7 +2,10 @@
 //! lines stood before the table and buried the one that mattered): those
 //! that make the table mean nothing, then those that ask the ringer to
 //! give something else, then the rest; a warning about one bell alone
-//! is said with that bell after the table.
+//! is said with that bell after the table. Ranked by each warning's kind
+//! ([`WarningKind`]), not its words (tester21 fault 7b).
+
+use super::warning::{Warning, WarningKind};
 
 /// How much a warning weighs with the ringer (the order they are said in).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
@@ -18,35 +21,17 @@ pub(super) enum Weight {
     Bell(usize),
 }
 
-/// Words only the warnings that make the whole report void say.
-const VOID: [&str; 8] = [
-    "mean nothing",
-    "the recording is silent",
-    "no strikes heard",
-    "does not sound like a recording of bells",
-    "the recording is only",
-    "not a ring rung in rows",
-    "no bell's striking can be judged",
-    "heard as several bells",
-];
-
-/// Words of a warning that asks the ringer to give something else: an
-/// option, or "give".
-const ACT: [&str; 3] = ["give ", "--", "ask for"];
-
-/// How much the warning `w` weighs ([`Weight`]). A bell not heard at all
-/// stays before the table (tester17: such a bell was named nowhere).
-pub(super) fn weight(w: &str) -> Weight {
-    if VOID.iter().any(|v| w.contains(v)) {
-        return Weight::Void;
-    }
-    if let Some(b) = one_bell(w).filter(|_| !w.contains("not heard at all")) {
-        return Weight::Bell(b);
-    }
-    if ACT.iter().any(|a| w.contains(a)) {
-        Weight::Act
-    } else {
-        Weight::Note
+/// How much the warning `w` weighs ([`Weight`]), by its kind
+/// ([`WarningKind`]): a bell not heard at all, or heard at one stroke
+/// only, stays before the table (tester17: such a bell was named nowhere;
+/// tester21 fault 7a: one heard at one stroke only was said under the
+/// table, its line not marked, though every figure of it changes).
+pub(super) fn weight(w: &Warning) -> Weight {
+    match w.kind {
+        WarningKind::Recording | WarningKind::Rows => Weight::Void,
+        WarningKind::Give => Weight::Act,
+        WarningKind::Note | WarningKind::OneStroke | WarningKind::Unheard => Weight::Note,
+        WarningKind::Bell => w.bell().map_or(Weight::Note, Weight::Bell),
     }
 }
 
@@ -66,8 +51,8 @@ pub(super) fn one_bell(w: &str) -> Option<usize> {
 /// `warnings` in the order a ringer acts on them ([`Weight`]; within a
 /// weight, as they were; a bell's after the warnings about the whole
 /// ring, treble first).
-pub(super) fn rank(warnings: &mut [String]) {
-    warnings.sort_by_key(|w| weight(w));
+pub(super) fn rank(warnings: &mut [Warning]) {
+    warnings.sort_by_key(weight);
 }
 
 #[cfg(test)]
@@ -76,23 +61,52 @@ mod tests {
 
     #[test]
     fn the_warning_that_voids_the_table_comes_first_and_single_bells_last() {
-        let mut w: Vec<String> = [
-            "bell 6 (1237.9 Hz): its nominal rose most at only 8 strikes heard",
-            "bell 2: how late its strikes sound after the blow is not sure",
-            "3 strike(s) timed before the recording starts: left out",
-            "8 nominal(s) given, but the strikes leave room for about 10 bells: give every bell's nominal",
-            "bell 5: not heard at all (no strike found): it did not ring",
-            "the strikes do not keep the rhythm of rows of 8 bells: the rows, places and odd-struckness below \
-             mean nothing",
+        use WarningKind::*;
+        let mut w: Vec<Warning> = [
+            (
+                Bell,
+                "bell 6 (1237.9 Hz): its nominal rose most at only 8 strikes heard",
+            ),
+            (Bell, "bell 2: how late its strikes sound after the blow is not sure"),
+            (Note, "3 strike(s) timed before the recording starts: left out"),
+            (
+                Give,
+                "8 nominal(s) given, but the strikes leave room for about 10 bells: give every bell's nominal",
+            ),
+            (Unheard, "bell 5: not heard at all (no strike found): it did not ring"),
+            (
+                Rows,
+                "the strikes do not keep the rhythm of rows of 8 bells: the rows mean nothing",
+            ),
         ]
-        .map(String::from)
+        .map(|(k, t)| Warning::new(k, t))
         .to_vec();
         rank(&mut w);
-        assert!(w[0].starts_with("the strikes do not keep the rhythm"), "{w:?}");
-        assert!(w[1].starts_with("8 nominal(s) given"), "{w:?}");
-        assert!(w[2].starts_with("3 strike(s)"), "{w:?}");
-        assert!(w[3].starts_with("bell 5: not heard at all"), "{w:?}");
-        assert!(w[4].starts_with("bell 2:") && w[5].starts_with("bell 6 ("), "{w:?}");
+        let t: Vec<&str> = w.iter().map(|w| w.text.as_str()).collect();
+        assert!(t[0].starts_with("the strikes do not keep the rhythm"), "{t:?}");
+        assert!(t[1].starts_with("8 nominal(s) given"), "{t:?}");
+        assert!(t[2].starts_with("3 strike(s)"), "{t:?}");
+        assert!(t[3].starts_with("bell 5: not heard at all"), "{t:?}");
+        assert!(t[4].starts_with("bell 2:") && t[5].starts_with("bell 6 ("), "{t:?}");
+    }
+
+    /// Tester21's G8 `--bells 8`: the warning that fewer bells were learned
+    /// than asked for came 5th of 5, after notes, by its words; by its kind
+    /// it comes straight after those that void the table.
+    #[test]
+    fn fewer_bells_learned_than_asked_for_comes_before_every_note() {
+        let mut w: Vec<Warning> = vec![
+            Warning::new(
+                WarningKind::Rows,
+                "the strikes do not keep the rhythm of rows of 4 bells",
+            ),
+            Warning::new(WarningKind::Note, "the strikes came unevenly timed either way"),
+            Warning::received(WarningKind::Note, "bells 3 and 8: their partials rise alike"),
+            Warning::received(WarningKind::Give, "8 bells asked for, but only 4 nominal(s) learned"),
+        ];
+        rank(&mut w);
+        assert!(w[1].text.starts_with("8 bells asked for"), "{w:?}");
+        assert_eq!(weight(&w[3]), Weight::Note);
     }
 
     #[test]
@@ -103,8 +117,15 @@ mod tests {
         assert_eq!(one_bell("bell 4's nominal"), None);
         assert_eq!(one_bell("the bells"), None);
         assert_eq!(
-            weight("bells 3 and 5: one's strikes may be taken for the other's"),
+            weight(&Warning::received(
+                WarningKind::Note,
+                "bells 3 and 5: one's strikes may be taken"
+            )),
             Weight::Note
+        );
+        assert_eq!(
+            weight(&Warning::received(WarningKind::Note, "bell 3: few")),
+            Weight::Bell(3)
         );
     }
 }

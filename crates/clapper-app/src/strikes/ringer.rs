@@ -173,7 +173,8 @@ pub(super) fn missing_warnings(
 
 /// A warning that the pace changed: the interval between successive bells
 /// in the first and last minute of `timed` (any order) differ by over
-/// [`PACE_CHANGE`]; none for a recording under two and a half minutes.
+/// [`PACE_CHANGE`]; none for a recording under two and a half minutes,
+/// or where either minute's strikes are spaced too unevenly to read.
 pub(super) fn pace_warning(timed: &[Timed]) -> Option<String> {
     let (start, end) = timed
         .iter()
@@ -187,7 +188,11 @@ pub(super) fn pace_warning(timed: &[Timed]) -> Option<String> {
             .copied()
             .filter(|s| (from..from + PACE_STRETCH_S).contains(&s.t))
             .collect();
-        ring_room(&some).map(|r| r.interval_s * 1e3)
+        // A spacing scattered (strikes timed astray) reads no pace, as it
+        // reads no ring's size (`doubt::ROOM_GATHERED`).
+        ring_room(&some)
+            .filter(|r| r.spread <= super::doubt::ROOM_GATHERED)
+            .map(|r| r.interval_s * 1e3)
     };
     let (first, last) = (within(start)?, within(end - PACE_STRETCH_S)?);
     ((first - last).abs() > PACE_CHANGE * 0.5 * (first + last)).then(|| {

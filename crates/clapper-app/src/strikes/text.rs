@@ -5,7 +5,7 @@
 
 use std::fmt::Write as _;
 
-use super::{BellTiming, StrikesReport, StrokeStats, TimingChoice, AUTO_MARGIN, FEW_IN_COLUMN};
+use super::{BellTiming, StrikesReport, StrokeStats, TimingChoice, Warning, AUTO_MARGIN, FEW_IN_COLUMN};
 
 /// The table's "mean D" in words, printed under it where a bell has
 /// doubles (tester16 fault 6: no unit, no meaning; tester20 fault 8: its
@@ -18,6 +18,11 @@ pub const MEAN_D_WORDS: &str =
 const MEAN_D_FORMULA: &str = "detail: mean D from the second blow's loudness against the first (A) and how long \
      after it it comes (dt, ms): max(0, A - 0.2) x max(0, dt - 22) / 2.25, no unit";
 
+/// The line for rows in which no method was found (tester21 fault 6: no
+/// `rows:` line at all did not say that it could not be told).
+pub const NO_METHOD: &str = "rows: the method could not be told (too few rows heard whole, or not rounds or the plain \
+                             course of plain hunt, Plain Bob, Grandsire or Stedman)";
+
 /// The mark after a bell's number in the table whose timing is in doubt.
 const DOUBT_MARK: &str = "?";
 
@@ -28,7 +33,7 @@ fn opt(v: Option<f64>, digits: usize) -> String {
 
 /// The bell the warning `w` is about alone, said with it after the table
 /// ([`super::order::Weight::Bell`]).
-fn bell_of(w: &str) -> Option<usize> {
+fn bell_of(w: &Warning) -> Option<usize> {
     match super::order::weight(w) {
         super::order::Weight::Bell(b) => Some(b),
         _ => None,
@@ -68,8 +73,14 @@ impl StrikesReport {
             0 => String::new(),
             n => format!(", {n} lacking one bell"),
         };
+        // Fewer bells learned than asked for: both said (tester21's G8
+        // `--bells 8` read "4 bell(s)" and nothing of the 8).
+        let asked = match &self.learned_set {
+            Some(l) if l.asked > self.bells => format!(" (of {} asked for)", l.asked),
+            _ => String::new(),
+        };
         let mut o = format!(
-            "{name}: {:.1} s, {} bell(s), {} strike(s) heard in {} row(s) ({} full{lacking})\n",
+            "{name}: {:.1} s, {} bell(s){asked}, {} strike(s) heard in {} row(s) ({} full{lacking})\n",
             s.duration_s, self.bells, s.strikes, s.rows, s.full_rows
         );
         let doubted: Vec<usize> = (self.per_bell.iter())
@@ -91,15 +102,21 @@ impl StrikesReport {
             opt(s.rms_error_ms, 1),
             s.double_strikes
         );
-        o.push_str(&s.method.as_ref().map_or(String::new(), |m| m.line() + "\n"));
+        o.push_str(&match &s.method {
+            Some(m) => m.line() + "\n",
+            // Said plainly, not left out (tester21 fault 6).
+            None if s.strikes > 0 && self.bells >= 3 => format!("{NO_METHOD}\n"),
+            None => String::new(),
+        });
         // The warnings about the whole ring, most serious first; a bell's
         // own are said with it after the table (tester20 fault 8).
-        let mut ranked = s.warnings.clone();
+        let mut ranked = s.warnings.0.clone();
         super::order::rank(&mut ranked);
         // A bell heard at no strike stays before it (tester17: such a bell
         // was named nowhere); its line in the table is empty.
         let heard = |b: usize| self.per_bell.iter().any(|x| x.bell == b && x.strikes > 0);
-        let (own, ring): (Vec<String>, Vec<String>) = (ranked.into_iter()).partition(|w| bell_of(w).is_some_and(heard));
+        let (own, ring): (Vec<Warning>, Vec<Warning>) =
+            (ranked.into_iter()).partition(|w| bell_of(w).is_some_and(heard));
         for w in &ring {
             let _ = writeln!(o, "warning: {w}");
         }
@@ -108,6 +125,7 @@ impl StrikesReport {
         self.learned_text(&mut o);
         self.timing_text(&mut o);
         if verbose {
+            self.lateness_text(&mut o);
             self.timing_detail(&mut o);
             for w in &unsaid {
                 let _ = writeln!(o, "detail: {w}");
@@ -125,15 +143,15 @@ impl StrikesReport {
     /// how many more there are; one bell per line, so that the ring's
     /// warnings before the table are not buried (tester20 fault 8). Returns
     /// the warnings not said, which `--verbose` lists.
-    fn bells_text(&self, o: &mut String, own: &[String]) -> Vec<String> {
+    fn bells_text(&self, o: &mut String, own: &[Warning]) -> Vec<String> {
         let mut unsaid = vec![];
         let mut lines = vec![];
         for b in &self.per_bell {
             let mut said: Vec<String> = b.timing_doubt.iter().map(|d| format!("bell {}: {d}", b.bell)).collect();
             said.extend(
                 own.iter()
-                    .filter(|w| super::order::one_bell(w) == Some(b.bell))
-                    .cloned(),
+                    .filter(|w| bell_of(w) == Some(b.bell))
+                    .map(|w| w.text.clone()),
             );
             let Some(first) = said.first() else {
                 continue;
@@ -249,7 +267,7 @@ impl StrikesReport {
         if let Some(set) = &self.learned_set {
             let rhythm = set
                 .ringing
-                .map_or(String::new(), |r| format!(", the rhythm says about {r:.1} ring"));
+                .map_or(String::new(), |r| format!(", the rhythm says about {r:.0} ring"));
             let _ = writeln!(
                 o,
                 "the set learned: {:.0} % sure ({} bell(s) heard{rhythm})",
@@ -261,7 +279,8 @@ impl StrikesReport {
 
     /// How the strikes were timed, in a ringer's words (tester17: "band
     /// finder" and "docs/model.md" are the developers' words), appended to
-    /// `o`; the numbers are the JSON's `timing`.
+    /// `o`; the numbers are the JSON's `timing`, and with `--verbose`
+    /// [`Self::lateness_text`]'s.
     fn timing_text(&self, o: &mut String) {
         let Some(t) = &self.timing else {
             return;
@@ -269,6 +288,25 @@ impl StrikesReport {
         if let Some(c) = &t.choice {
             let _ = writeln!(o, "{}", choice_words(c));
         }
+        let how = match t.source {
+            "recording" => "learned from its own clean strikes in this recording",
+            "templates" => "against its own recorded strike",
+            _ => return,
+        };
+        let _ = writeln!(
+            o,
+            "each bell's strikes timed at the start of its sound, {how} (--verbose gives each bell's figures)"
+        );
+    }
+
+    /// Each bell's lateness and how far its strikes were moved, appended
+    /// to `o` with `--verbose` only: a ringer cannot use them, and they
+    /// read as bells struck 100 ms late on rings timed to 0.3 ms, or as
+    /// a bell heard before its blow (tester21 fault 7c, 7f).
+    fn lateness_text(&self, o: &mut String) {
+        let Some(t) = &self.timing else {
+            return;
+        };
         let list = |f: &dyn Fn(&BellTiming) -> Option<f64>, dash: &str| {
             let l: Vec<String> = (t.per_bell.iter())
                 .map(|b| f(b).map_or(format!("{} -", b.bell), |v| format!("{} {v:+.1}", b.bell)))

@@ -53,7 +53,7 @@ fn one_bell(hand: StrokeStats, back: StrokeStats, matched_ms: Option<f64>) -> St
             plausibility: None,
             rows_doubted: false,
             columns_why: None,
-            warnings: vec![],
+            warnings: Warnings::default(),
         },
     }
 }
@@ -77,7 +77,11 @@ fn a_spread_of_one_strike_is_not_printed_as_zero() {
 #[test]
 fn a_dash_in_the_timing_line_says_what_it_means() {
     let s = stroke_stats(&[0.001, 0.002]);
-    let text = one_bell(s, s, None).text("r");
+    // Each bell's figures with --verbose only (tester21 fault 7f).
+    let plain = one_bell(s, s, None).text("r");
+    assert!(!plain.contains("by (ms)"), "{plain}");
+    assert!(plain.contains("--verbose gives each bell's figures"), "{plain}");
+    let text = one_bell(s, s, None).text_verbose("r");
     assert!(
         text.contains("by (ms) 1 - (-: not learned, nothing taken off)"),
         "{text}"
@@ -86,7 +90,7 @@ fn a_dash_in_the_timing_line_says_what_it_means() {
         text.contains("1 - (-: none of its strikes (if any was found) matched its recorded strike"),
         "{text}"
     );
-    let text = one_bell(s, s, Some(-3.0)).text("r");
+    let text = one_bell(s, s, Some(-3.0)).text_verbose("r");
     assert!(text.contains("the median) 1 -3.0\n"), "{text}");
 }
 
@@ -207,7 +211,7 @@ fn what_qualifies_the_table_stands_before_it() {
     assert!(text.rfind("warning: ").unwrap() < table, "{text}");
     // In the JSON too, the warnings that the rows mean little stand before
     // those of single bells.
-    let at = |start: &str| r.summary.warnings.iter().position(|w| w.starts_with(start));
+    let at = |start: &str| r.summary.warnings.iter().position(|w| w.text.starts_with(start));
     let (misfit, missing) = (at("the strikes do not keep the rhythm"), at("bell 5: "));
     assert!(
         matches!((misfit, missing), (Some(a), Some(b)) if a < b),
