@@ -596,6 +596,12 @@ impl StrikesReport {
         kind::unheard_warnings(&counts, duration_s, templates, &mut warnings);
         let bell_note = |w: String| Warning::received(WarningKind::Note, w);
         warnings.extend(kind::few_strikes_warnings(&counts).into_iter().map(bell_note));
+        let doubles: Vec<usize> = per_bell.iter().map(|b| b.double_strikes).collect();
+        warnings.extend(
+            kind::mostly_double_warnings(&doubles, &counts)
+                .into_iter()
+                .map(bell_note),
+        );
         // Bells already warned of (heard far less often, or at one stroke
         // only) are not warned of again as short.
         let mut few = kind::few_bells(&counts);

@@ -19,7 +19,7 @@ mod one_stroke;
 mod rows;
 
 pub use figures::{odd_struck, OddDoubt, OddStruck, ODD_DISAGREE, ODD_FEW};
-pub use one_stroke::{heard_at_one_stroke, typical_strikes, TWO_ROWS};
+pub use one_stroke::{heard_at_one_stroke, heard_mostly_at_one_stroke, typical_strikes, TWO_ROWS};
 pub use rows::{rows_the_time_holds, ROWS_OVER};
 
 /// A strike to place: bell (from 1) and onset (s).
@@ -84,12 +84,16 @@ pub fn rhythm(strikes: &[Timed], bells: usize) -> Rhythm {
     let mut order: Vec<usize> = (0..strikes.len()).collect();
     order.sort_by(|&a, &b| strikes[a].t.total_cmp(&strikes[b].t));
     let one_stroke = heard_at_one_stroke(strikes, bells);
-    let (mut hand, votes_strength, votes_total) = strokes_by_bell(strikes, bells, &order, &one_stroke);
+    // A bell heard mostly at one stroke neither votes on strokes nor is
+    // asked for in every row; only one heard at one stroke alone has its
+    // strikes all given that stroke (its others are that bell's own).
+    let mostly = heard_mostly_at_one_stroke(strikes, bells);
+    let (mut hand, votes_strength, votes_total) = strokes_by_bell(strikes, bells, &order, &mostly);
     fill_strokes(strikes, bells, &order, &mut hand);
     // Known when the alternating sums stood out: the gap is more than a
     // tenth of the interval on the strikes' average.
     let strokes_known = votes_total > 0.0 && votes_strength / votes_total > 0.02;
-    let heard = Heard::new(strikes, bells, &one_stroke);
+    let heard = Heard::new(strikes, bells, &mostly);
     let votes = hand.clone();
     let (mut row_of, mut rows) = split_rows(strikes, &order, &mut hand, bells, &heard, strokes_known);
     if !one_stroke.is_empty() {

@@ -312,7 +312,9 @@ fn near_chosen(t: super::near::NearTrial, given: &[f64], given_ms: f64, mut choi
     choice.near_strikes = Some(t.strikes);
     choice.near_unevenness_ms = Some(t.unevenness_ms);
     choice.near_rms_ms = t.rms_ms;
-    choice.warnings.push(super::Warning::new(super::WarningKind::Give, t.warning(given)));
+    choice
+        .warnings
+        .push(super::Warning::new(super::WarningKind::Give, t.warning(given)));
     choice.nominals_heard_hz = Some(t.nominals);
     Chosen {
         voices: t.calibration.voices.clone(),

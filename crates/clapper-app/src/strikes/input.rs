@@ -100,8 +100,7 @@ pub(super) fn low_rate_doubles(rate: f64, template_rate: f64) -> Option<String> 
     (rate < TEMPLATE_DOUBLES_LEAST_RATE_HZ && template_rate > rate).then(|| {
         format!(
             "the recording is at {:.1} kHz, the recorded strikes given at {:.1} kHz: heard against them at so low a \
-             rate, many single strikes are taken for double strikes (a tester's six at 8 kHz: 40 doubles for 6 \
-             struck); record at 16 kHz or more, or judge the doubles with --nominals",
+             rate, many single strikes are taken for double strikes; record at 16 kHz or more, or judge the doubles with --nominals",
             rate / 1e3,
             template_rate / 1e3
         )

@@ -250,6 +250,31 @@ pub(super) fn unheard_warnings(strikes: &[usize], duration_s: f64, templates: bo
     }
 }
 
+/// A bell heard double at more than this share of its strikes is warned
+/// of: tester22's dark rooms read "48 (100 %)" with no word, where the
+/// room's echo, low-passed and as loud as the bell, was heard as a second
+/// blow; a clapper bouncing at every blow is a real fault too, so the
+/// warning names both and asks the ringer to listen.
+pub const MOSTLY_DOUBLE: f64 = 0.5;
+
+/// Warnings for bells (from 1) heard double at more than [`MOSTLY_DOUBLE`]
+/// of their strikes (eight at least): `doubles` and `strikes` each bell's
+/// counts, treble first.
+pub(super) fn mostly_double_warnings(doubles: &[usize], strikes: &[usize]) -> Vec<String> {
+    (1..=strikes.len().min(doubles.len()))
+        .filter(|&b| strikes[b - 1] >= 8 && doubles[b - 1] as f64 > MOSTLY_DOUBLE * strikes[b - 1] as f64)
+        .map(|b| {
+            format!(
+                "bell {b}: heard double at {} of its {} strikes: either its clapper bounces at nearly every blow \
+                 (a fault to see to in the tower), or the room's echo is heard as a second blow; listen to it \
+                 before trusting its double strikes",
+                doubles[b - 1],
+                strikes[b - 1]
+            )
+        })
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -319,5 +344,17 @@ mod tests {
         assert_eq!(w.len(), 1);
         assert!(w[0].starts_with("bell 3: heard at only 5 strikes"), "{w:?}");
         assert!(few_strikes_warnings(&[24, 24, 20, 24, 0, 24]).is_empty());
+    }
+
+    /// Tester22's dark rooms: a bell heard double at every strike was
+    /// printed "48 (100 %)" without a word; half or fewer is not warned of.
+    #[test]
+    fn a_bell_heard_double_at_most_strikes_is_warned_of() {
+        let w = mostly_double_warnings(&[48, 24, 2, 5], &[48, 48, 48, 6]);
+        assert_eq!(w.len(), 1, "{w:?}");
+        assert!(
+            w[0].starts_with("bell 1: heard double at 48 of its 48 strikes"),
+            "{w:?}"
+        );
     }
 }

@@ -35,13 +35,15 @@ impl MethodReport {
     /// The report's line for it.
     pub(super) fn line(&self) -> String {
         let rounds = self.name == "rounds";
+        // The course's length after the count, not before: plain hunt
+        // rung twice read "its plain course, 12 changes long: 26 of the 26
+        // changes" (tester22), as if 26 were of 12.
         let course = match self.course_changes {
-            Some(n) => format!("its plain course, {n} changes long: "),
-            None if rounds => String::new(),
-            None => "its plain course: ".to_string(),
+            Some(n) => format!("; its plain course is {n} changes"),
+            None => String::new(),
         };
         let counted = format!(
-            "{course}{} of the {} changes heard in whole rows are its{}",
+            "{} of the {} changes heard in whole rows are its{}{course}",
             self.changes_fitting,
             self.changes_judged,
             if rounds { "" } else { ", rounds left out" }
@@ -194,8 +196,8 @@ mod tests {
         let alone = MethodReport { alike: vec![], ..m };
         assert_eq!(
             alone.line(),
-            "rows: plain hunt (its plain course, 12 changes long: 12 of the 13 changes heard in whole rows are \
-             its, rounds left out)"
+            "rows: plain hunt (12 of the 13 changes heard in whole rows are its, rounds left out; its plain \
+             course is 12 changes)"
         );
     }
 
@@ -213,7 +215,7 @@ mod tests {
             .map(|m| m.line())
             .unwrap_or_default();
         assert!(
-            m.starts_with("rows: Plain Bob (its plain course, 60 changes long: "),
+            m.starts_with("rows: Plain Bob (") && m.ends_with("; its plain course is 60 changes)"),
             "{m}"
         );
     }

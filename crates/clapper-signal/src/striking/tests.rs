@@ -331,6 +331,41 @@ fn a_bell_silent_at_backstroke_does_not_make_the_gap() {
     }
 }
 
+/// Tester21's G8 `--templates`: a bell quieter at backstroke heard at some
+/// of its backstrokes (16 of 61) was neither heard at one stroke only nor
+/// at both: the rows lacking it were left unplaced (places right 1.00 ->
+/// 0.60). Heard mostly at one stroke, its rows may lack it.
+#[test]
+fn a_bell_heard_at_a_few_of_its_backstrokes_leaves_their_rows_placed() {
+    for method in [Method::Rounds, Method::PlainHunt] {
+        let mut back = 0;
+        let truth: Vec<_> = tower_strikes(&spec(method))
+            .unwrap()
+            .into_iter()
+            .filter(|s| {
+                if s.bell != 5 || s.hand {
+                    return true;
+                }
+                back += 1;
+                back % 4 == 0
+            })
+            .collect();
+        let timed: Vec<Timed> = truth.iter().map(|s| Timed { bell: s.bell, t: s.t }).collect();
+        let r = rhythm(&timed, 6);
+        assert_eq!((r.rows, r.placed_rows), (60, 60), "{method:?}");
+        let right = truth
+            .iter()
+            .zip(&r.placed)
+            .filter(|(s, p)| p.place == Some(s.place) && p.hand == Some(s.hand))
+            .count();
+        // Where the bell lacking stood at the row's end, its place is
+        // guessed from where it last stood (`slots`)
+        // (plain hunt: 316 of 337, the three rows it leads guessed at the
+        // back, and one handstroke at the back taken to lead the row after.)
+        assert!(10 * right >= 9 * truth.len(), "{method:?}: {right} of {}", truth.len());
+    }
+}
+
 #[test]
 fn no_gap_means_strokes_unknown() {
     let mut s = spec(Method::Rounds);
