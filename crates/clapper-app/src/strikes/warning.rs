@@ -56,7 +56,7 @@ impl Warning {
     /// A warning `text` received from another layer (the signal layer's
     /// finder, learner or calibration, the file reader): about one bell
     /// ([`WarningKind::Bell`]) where its words name one bell first
-    /// ([`super::order::one_bell`]), else of the kind `kind`.
+    /// (`order::one_bell`), else of the kind `kind`.
     pub fn received(kind: WarningKind, text: impl Into<String>) -> Self {
         let text = text.into();
         match super::order::one_bell(&text) {
