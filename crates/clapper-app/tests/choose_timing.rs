@@ -100,3 +100,22 @@ fn handbells_are_timed_as_heard() {
     assert!(refused.is_err());
     assert!("sometimes".parse::<TimingAsked>().is_err());
 }
+
+/// Nominals given a little off where the recording's bells are heard
+/// (nom-14, tester21's fault 2): only where neither timing's strikes come
+/// even are the nominals moved to the learner's nearby ones tried; a ring
+/// timed evenly as given keeps the nominals given (a guard: it passes
+/// without that trial too).
+#[test]
+fn a_bell_given_a_little_off_its_note_but_timed_evenly_is_listened_for_as_given() {
+    let (sig, mut nominals) = late_bells();
+    // Bell 2 given 1.5 % sharp: the recording's timing still times it
+    // evenly (21 ms in 300 ms intervals), so nothing is moved.
+    nominals[1] *= 1.015;
+    let opts = strike_options(0.3).unwrap();
+    let c = choose_timing(&opening(&sig), &nominals, Voice::Tower, TimingAsked::Auto, &opts).unwrap();
+    let ch = &c.choice;
+    assert_eq!(ch.used, "recording", "{ch:?}");
+    assert!(ch.nominals_heard_hz.is_none() && ch.near_strikes.is_none(), "{ch:?}");
+    assert!(!ch.reason.contains("listened for"), "{}", ch.reason);
+}
