@@ -385,7 +385,7 @@ mod tests {
     /// named in one warning; a tenth or fewer, or three doubles, is not.
     #[test]
     fn double_strikes_beyond_a_bells_own_are_doubted() {
-        let (bells, w) = doubted_doubles(&[48, 14, 4, 5, 3, 12], &[48, 48, 48, 48, 20, 41]);
+        let (bells, w) = doubted_doubles(&[48, 14, 4, 4, 3, 12], &[48, 48, 48, 48, 20, 41]);
         assert_eq!(bells, vec![1, 2, 6]);
         let w = w.unwrap_or_default();
         assert!(
