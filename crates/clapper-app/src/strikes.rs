@@ -3,14 +3,13 @@
 //! their D (33), and each bell's striking: place errors, odd-struckness,
 //! double-strike rate.
 
-use clapper_core::stroke::double_strike_index;
 use clapper_signal::lateness::Lateness;
 use clapper_signal::self_calibrate::{calibrate, SelfCalibration};
 use clapper_signal::strikes::{
     find_strikes_streamed_heard, rising_at, BellVoice, Heard, Hearing, InMemory, QuietStrokes, RecordingBlocks,
     RisePartial, StrikeOptions, Window, Windows, PLAUSIBLE_SHARE,
 };
-use clapper_signal::striking::{mean_sd, rhythm, rows_the_time_holds, steady, Rhythm, Timed, ROWS_OVER};
+use clapper_signal::striking::{rhythm, Timed};
 use clapper_signal::template_timing::median_of;
 use clapper_signal::Signal;
 use serde::Serialize;
@@ -19,7 +18,9 @@ use crate::AppError;
 
 mod bells;
 mod beside;
+mod figure;
 pub use beside::{beside, HeardBeside, RecordingBeside};
+pub use figure::{StrikingFigure, STRIP_S};
 mod choose;
 pub use bells::{
     learn_nominals, learned_or_none, learned_voices, voices_from_nominals, Learned, LearnedNominal, LearnedSet,
@@ -36,11 +37,18 @@ mod near;
 mod odd;
 mod one_stroke;
 mod order;
+mod per_bell;
+#[cfg(test)]
+use per_bell::stroke_stats;
+use per_bell::{bell_striking, strike_reports};
+#[cfg(test)]
+mod report_tests;
 mod ringer;
 #[cfg(test)]
 mod words_tests;
 use input::signal_error;
 pub use input::{NO_STRIKES, ONE_BELL};
+pub use kind::{DOUBTED_DOUBLES, DOUBTED_DOUBLES_LEAST};
 pub use method::MethodReport;
 mod retime;
 mod sure;
@@ -185,6 +193,12 @@ pub struct StrikesSummary {
     pub rms_error_sure_ms: Option<f64>,
     /// Double strikes heard.
     pub double_strikes: usize,
+    /// The bells (from 1) whose double strikes are not to be believed:
+    /// heard double at more than a tenth of their strikes
+    /// ([`DOUBTED_DOUBLES`]; a warning says so first). Left out of the JSON
+    /// where none.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub doubles_doubted: Vec<usize>,
     /// Strokes told from the rhythm (the handstroke gap stood out).
     pub strokes_known: bool,
     /// What the rows heard whole were: rounds or a method's plain course
@@ -540,6 +554,12 @@ impl StrikesReport {
             self.summary.warnings.retain(|w| w.text != given);
             (self.summary.warnings).extend(worded.map(|w| Warning::new(WarningKind::Give, w)));
         }
+        if let Some(given) = doubt::gap_warning(&self.strikes, self.bells, None, noun) {
+            let worded = doubt::gap_warning(&self.strikes, self.bells, asked, noun);
+            for w in self.summary.warnings.iter_mut().filter(|w| w.text == given) {
+                w.text = worded.clone().unwrap_or_default();
+            }
+        }
         // The strikes heard about the nominals say more than the onsets
         // they were learned at (bells-9). The learner's warnings ask for
         // other bells (more, fewer, or their nominals given), unless about
@@ -572,6 +592,10 @@ impl StrikesReport {
                 "no handstroke gap stands out: hand and back are a guess",
             ));
         }
+        if !heard.strikes.is_empty() {
+            let short = input::short_for_pace(duration_s, bells, r.interval);
+            warnings.splice(0..0, short.map(|w| Warning::new(WarningKind::Recording, w)));
+        }
         let mut wide = vec![];
         let together = doubt::struck_together(&timed);
         let rows_void = |w: String| Warning::new(WarningKind::Rows, w);
@@ -589,6 +613,10 @@ impl StrikesReport {
                 .map(|(_, w)| Warning::new(WarningKind::OneStroke, w.clone())),
         );
         let strikes = strike_reports(heard, &r);
+        if !wide.iter().any(|w| w.kind == WarningKind::Give) {
+            let gap = doubt::gap_warning(&strikes, bells, None, doubt::given_as(templates));
+            wide.extend(gap.map(|w| Warning::new(WarningKind::Give, w)));
+        }
         let mut per_bell: Vec<BellStriking> = (1..=bells)
             .map(|bell| bell_striking(bell, &strikes, &r, &timed))
             .collect();
@@ -597,11 +625,8 @@ impl StrikesReport {
         let bell_note = |w: String| Warning::received(WarningKind::Note, w);
         warnings.extend(kind::few_strikes_warnings(&counts).into_iter().map(bell_note));
         let doubles: Vec<usize> = per_bell.iter().map(|b| b.double_strikes).collect();
-        warnings.extend(
-            kind::mostly_double_warnings(&doubles, &counts)
-                .into_iter()
-                .map(bell_note),
-        );
+        let (doubles_doubted, doubled) = kind::doubted_doubles(&doubles, &counts);
+        wide.extend(doubled.map(|w| Warning::new(WarningKind::Doubles, w)));
         // Bells already warned of (heard far less often, or at one stroke
         // only) are not warned of again as short.
         let mut few = kind::few_bells(&counts);
@@ -613,7 +638,7 @@ impl StrikesReport {
         let rms = (!errs.is_empty()).then(|| (errs.iter().map(|e| e * e).sum::<f64>() / errs.len() as f64).sqrt());
         let interval_ms = r.interval.map(|i| i * 1e3);
         let misfit = doubt::misfit_warning(rms, interval_ms, bells);
-        let slipped = rows_slipped(&timed, bells, r.rows);
+        let slipped = doubt::rows_slipped(&timed, bells, r.rows);
         let rows_doubted = misfit.is_some() || slipped.is_some();
         wide.extend(misfit.map(rows_void));
         wide.extend(slipped.map(rows_void));
@@ -632,6 +657,7 @@ impl StrikesReport {
                 // printed as if it meant something (tester16 fault 1).
                 (b.odd_struck_ms, b.odd_struck_se_ms, b.odd_struck_doubt) = (None, None, None);
             }
+            odd::doubt_mistimed(b, doubles_doubted.contains(&b.bell));
         }
         let doubted: Vec<usize> = per_bell
             .iter()
@@ -651,6 +677,7 @@ impl StrikesReport {
             rms_error_ms: rms,
             rms_error_sure_ms: sure::rms_without(&strikes, &doubted, bells),
             double_strikes: strikes.iter().filter(|s| s.double.is_some()).count(),
+            doubles_doubted,
             strokes_known: r.strokes_known,
             method: method::method_of(&strikes, r.rows, bells),
             plausibility: None,
@@ -782,207 +809,5 @@ fn recording_timing(c: &SelfCalibration, matched: &[Option<f64>], warnings: &mut
             })
             .collect(),
         choice: None,
-    }
-}
-
-/// One stroke's striking from its place errors `v` (s): those far from
-/// the rest left out (`steady`), as the odd-struckness leaves them; one
-/// strike has no spread (none, not 0: tester15 read "± 0.0" for every bell).
-fn stroke_stats(v: &[f64]) -> StrokeStats {
-    let st = steady(v);
-    StrokeStats {
-        n: st.map_or(0, |s| s.kept),
-        left_out: st.map_or(0, |s| s.left_out),
-        mean_error_ms: st.map(|s| s.mean * 1e3),
-        spread_ms: st.filter(|s| s.kept > 1).map(|s| s.sd * 1e3),
-    }
-}
-
-/// Each strike of `heard` as the report gives it, placed by the rhythm `r`.
-fn strike_reports(heard: &Heard, r: &Rhythm) -> Vec<StrikeReport> {
-    heard
-        .strikes
-        .iter()
-        .zip(&r.placed)
-        .map(|(s, p)| StrikeReport {
-            bell: s.bell,
-            t_s: s.t,
-            stroke: p.hand.map(|h| if h { "hand" } else { "back" }),
-            row: p.row,
-            place: p.place,
-            error_ms: p.error.map(|e| e * 1e3),
-            double: s.double.map(|d| DoubleReport {
-                delay_ms: d.delay_s * 1e3,
-                amplitude_ratio: d.amplitude_ratio,
-                d_index: double_strike_index(d.amplitude_ratio, d.delay_s * 1e3),
-            }),
-            far_off: p.far_off,
-        })
-        .collect()
-}
-
-/// Bell `bell`'s striking from the report's `strikes` and the rhythm `r`
-/// of the strikes `timed`.
-fn bell_striking(bell: usize, strikes: &[StrikeReport], r: &Rhythm, timed: &[Timed]) -> BellStriking {
-    let mine: Vec<&StrikeReport> = strikes.iter().filter(|s| s.bell == bell).collect();
-    let (h, b) = (r.stroke_errors(timed, bell, true), r.stroke_errors(timed, bell, false));
-    let (hs, bs) = (stroke_stats(&h), stroke_stats(&b));
-    // The columns' difference, or why not (odd.rs).
-    let (odd, se, doubt) = odd::odd_struck_ms(&h, &b);
-    let ds: Vec<f64> = mine.iter().filter_map(|s| s.double.map(|d| d.d_index)).collect();
-    BellStriking {
-        bell,
-        strikes: mine.len(),
-        hand: hs,
-        back: bs,
-        odd_struck_ms: odd,
-        odd_struck_se_ms: se,
-        odd_struck_doubt: doubt,
-        double_strikes: ds.len(),
-        double_rate: if mine.is_empty() {
-            0.0
-        } else {
-            ds.len() as f64 / mine.len() as f64
-        },
-        mean_d: mean_sd(&ds).map(|x| x.0),
-        timing_doubt: None,
-    }
-}
-
-/// The opening stretch of the recording drawn in the striking plot's
-/// spectrogram strip (s): a few rows, enough to see each bell's onsets.
-pub const STRIP_S: f64 = 8.0;
-
-/// `clapper strikes --plot`: the striking diagram and the spectrogram strip
-/// of the recording's opening [`STRIP_S`] seconds, as data to draw.
-#[derive(Clone, Debug, PartialEq)]
-pub struct StrikingFigure {
-    title: String,
-    strip_title: String,
-    bells: usize,
-    interval_ms: f64,
-    strikes: Vec<clapper_plot::PlotStrike>,
-    spectrogram: clapper_signal::spectrogram::Spectrogram,
-    fmax_hz: f64,
-}
-
-impl StrikingFigure {
-    /// The figure of `report` heard in `sig` (the recording `name`) for the
-    /// bells `voices`; the strip is drawn up to 1.6 times the highest bell's
-    /// strongest partial (a tuned bell's nominal), and over every partial
-    /// at least 0.3 of its bell's strongest: a recorded bell's strongest
-    /// partial is often its prime, an octave under its nominal, and a strip
-    /// up to 1.6 times that left the trebles' nominals out.
-    pub fn new(report: &StrikesReport, sig: &Signal, name: &str, voices: &[BellVoice]) -> Result<Self, AppError> {
-        let fmax_hz = voices
-            .iter()
-            .filter_map(|v| {
-                let top = v.partials.iter().max_by(|a, b| a.strength.total_cmp(&b.strength))?;
-                let strong = v.partials.iter().filter(|p| p.strength >= 0.3 * top.strength);
-                Some(strong.map(|p| 1.1 * p.freq_hz).fold(1.6 * top.freq_hz, f64::max))
-            })
-            .fold(0.0, f64::max);
-        let end = ((STRIP_S * sig.rate) as usize).min(sig.samples.len());
-        let opening = Signal {
-            rate: sig.rate,
-            samples: sig.samples[..end].to_vec(),
-        };
-        // 46 ms windows (1024 samples at 22.05 kHz), 90 % overlap: a strike's
-        // onset is sharp to a few ms in the picture.
-        let window = ((0.046 * sig.rate) as usize).next_power_of_two().min(end.max(16));
-        let spectrogram =
-            clapper_signal::spectrogram::spectrogram(&opening, window, 0.9, 70.0).map_err(signal_error)?;
-        let s = &report.summary;
-        let interval_ms = s.interval_ms.unwrap_or(200.0);
-        Ok(StrikingFigure {
-            title: format!(
-                "{name}: {} strikes of {} bells, RMS error {} ms, {} double strike(s) (ringed)",
-                s.strikes,
-                report.bells,
-                s.rms_error_ms.map_or("-".into(), |v| format!("{v:.1}")),
-                s.double_strikes
-            ),
-            strip_title: format!(
-                "the first {:.0} s: strikes heard, by bell",
-                (end as f64 / sig.rate).min(STRIP_S)
-            ),
-            bells: report.bells,
-            interval_ms,
-            strikes: report
-                .strikes
-                .iter()
-                .map(|st| clapper_plot::PlotStrike {
-                    bell: st.bell,
-                    t_s: st.t_s,
-                    row_place: st.row.zip(st.place),
-                    error_ms: st.error_ms,
-                    hand: st.stroke.map(|k| k == "hand"),
-                    double: st.double.is_some(),
-                })
-                .collect(),
-            spectrogram,
-            fmax_hz: fmax_hz.min(0.5 * sig.rate),
-        })
-    }
-
-    /// What to draw.
-    pub fn plot(&self) -> clapper_plot::StrikingPlot<'_> {
-        clapper_plot::StrikingPlot {
-            title: &self.title,
-            bells: self.bells,
-            interval_ms: self.interval_ms,
-            strikes: &self.strikes,
-            spectrogram: clapper_plot::SpectrogramPlot {
-                title: &self.strip_title,
-                times: &self.spectrogram.times,
-                freqs: &self.spectrogram.freqs,
-                db: &self.spectrogram.db,
-                fmax: self.fmax_hz,
-                range_db: 70.0,
-            },
-        }
-    }
-}
-
-/// Rows found (`rows`) beyond what the ringing of `timed` holds, `bells`
-/// a row ([`rows_the_time_holds`]), in words: some rows were split half a
-/// row out, their strokes wrong.
-fn rows_slipped(timed: &[Timed], bells: usize, rows: usize) -> Option<String> {
-    let held = rows_the_time_holds(timed, bells)?;
-    (rows as f64 > held + ROWS_OVER).then(|| {
-        format!(
-            "{rows} rows read where the ringing's length holds about {held:.0}: some rows are split half a row \
-             out (strikes missing there), so their strokes, rows and places are wrong and odd-struckness is not \
-             given"
-        )
-    })
-}
-
-#[cfg(test)]
-mod slip_tests {
-    use super::*;
-
-    /// Tester 17's S6 (`--bells 6`): 84 rows read for 82, without a word.
-    /// Rows read beyond what the ringing's length holds are warned of.
-    #[test]
-    fn rows_read_beyond_what_the_ringing_holds_are_warned_of() {
-        let mut timed = vec![];
-        let mut t = 1.0;
-        for r in 0..40 {
-            if r % 2 == 0 && r > 0 {
-                t += 0.22;
-            }
-            for bell in 1..=6 {
-                timed.push(Timed { bell, t });
-                t += 0.22;
-            }
-        }
-        assert_eq!(rows_slipped(&timed, 6, 40), None);
-        assert_eq!(rows_slipped(&timed, 6, 41), None);
-        let w = rows_slipped(&timed, 6, 42).unwrap_or_default();
-        assert!(
-            w.starts_with("42 rows read where the ringing's length holds about 40"),
-            "{w}"
-        );
     }
 }

@@ -52,6 +52,13 @@ fn the_rows_heard_are_named_by_their_method() {
             m["changes_judged"].as_u64().unwrap(),
         );
         assert!(judged >= 30 && fit * 10 >= judged * 9, "{method:?} on {bells}: {m}");
-        assert!(text.contains(&format!("rows: {name} (")), "{text}");
+        // A method's line says how often its course was rung (tester22
+        // fault 7); rounds' the changes.
+        let line = if name == "rounds" {
+            "rows: rounds (".to_string()
+        } else {
+            format!("rows: {name}, ")
+        };
+        assert!(text.contains(&line), "{text}");
     }
 }

@@ -126,6 +126,6 @@ fn a_touch_too_short_to_tell_plain_hunt_from_plain_bob_is_said_so() {
     assert_eq!(j["summary"]["method"]["alike"], serde_json::json!(["Plain Bob"]), "{j}");
     let (wav, nominals) = synth(dir.path(), &[&short[..], &["--rows", "24"]].concat());
     let (text, j) = strikes(&wav, &["--nominals", &nominals]);
-    assert!(text.contains("rows: Plain Bob ("), "{text}");
+    assert!(text.contains("rows: Plain Bob, "), "{text}");
     assert!(j["summary"]["method"].get("alike").is_none(), "{j}");
 }

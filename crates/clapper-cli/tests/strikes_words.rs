@@ -5,33 +5,16 @@
 mod common;
 
 use clapper_io::signal_file::write_wav;
-use clapper_signal::sampled_ring::{sampled_ring, UntunedStrike};
-use clapper_signal::tower::{major_scale, Method, TowerSpec};
+use clapper_signal::sampled_ring::sampled_ring;
+use clapper_signal::tower::{Method, TowerSpec};
 use clapper_signal::Signal;
-use common::clapper;
+use common::{clapper, untuned_templates};
 
 /// Four bells' templates in `dir`/t and a ring of them with a handstroke
 /// gap of eight intervals (room for more bells than four), `dir`/ring.wav.
 fn ring_with_room(dir: &std::path::Path) {
     let rate = 16_000.0;
-    let bells = major_scale(4, 1000.0).unwrap();
-    let templates: Vec<Signal> = bells
-        .iter()
-        .map(|b| {
-            UntunedStrike {
-                nominal_hz: b.nominal_hz,
-                rise_s: 0.01,
-                decay_s: 0.6,
-                length_s: 1.2,
-                blow: None,
-            }
-            .signal(rate)
-        })
-        .collect();
-    std::fs::create_dir(dir.join("t")).unwrap();
-    for (i, t) in templates.iter().enumerate() {
-        write_wav(&dir.join(format!("t/{}.wav", i + 1)), t, 0.9).unwrap();
-    }
+    let (bells, templates) = untuned_templates(dir, 4, rate);
     let spec = TowerSpec {
         rate,
         rows: 16,

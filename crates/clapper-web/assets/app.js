@@ -1081,8 +1081,8 @@ function strikesHtml(r) {
   const ms = (st) => (st.mean_error_ms === null ? "–" : `${fmt(st.mean_error_ms, 1)} ± ${fmt(st.spread_ms, 1)}`);
   for (const b of r.per_bell) {
     h += `<tr><td>${b.bell}${b.timing_doubt ? "?" : ""}</td><td>${b.strikes}</td><td>${ms(b.hand)}</td><td>${ms(b.back)}</td>
-      <td>${b.odd_struck_ms === null ? "–" + (b.odd_struck_doubt ? " ?" : "") : fmt(b.odd_struck_ms, 1) + (b.odd_struck_se_ms === null ? "" : " ± " + fmt(b.odd_struck_se_ms, 1))}</td>
-      <td>${b.double_strikes} (${fmt(100 * b.double_rate, 0)} %)</td><td>${fmt(b.mean_d, 1)}</td>`;
+      <td>${b.odd_struck_ms === null ? "–" + (b.odd_struck_doubt ? " ?" : "") : fmt(b.odd_struck_ms, 1) + (b.odd_struck_se_ms === null ? "" : " ± " + fmt(b.odd_struck_se_ms, 1)) + (b.odd_struck_doubt ? " ?" : "")}</td>
+      <td>${b.double_strikes} (${fmt(100 * b.double_rate, 0)} %)${(s.doubles_doubted || []).includes(b.bell) ? "?" : ""}</td><td>${fmt(b.mean_d, 1)}</td>`;
     if (beside) {
       const d = lastDiagnosis.bells[b.bell - 1];
       h += d

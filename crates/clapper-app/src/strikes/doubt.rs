@@ -243,6 +243,99 @@ pub(super) fn ring_size_warning_as(timed: &[Timed], given: usize, asked: Option<
     })
 }
 
+/// Warned when more than this share of the full rows (each bell given
+/// once) hold one gap of about two intervals, the rest even: a bell not
+/// given rings there (tester22's r6c with five nominals of its six: 51 of
+/// 72 rows, 0.71; with every bell given, at most 0.07 of any ring of
+/// tester22's in any mode; 0.24 with three of six learned).
+pub(super) const GAP_ROWS: f64 = 0.4;
+
+/// The fewest full rows the gap is looked for in.
+const GAP_FEWEST_ROWS: usize = 8;
+
+/// Of the full rows among `strikes` (each of `bells` bells once), how
+/// many hold one gap between successive strikes of 1.7 to 2.4 times the
+/// median gap within rows and every other 0.6 to 1.4 times it (a bell
+/// not given, striking in the gap), and of how many; none under
+/// [`GAP_FEWEST_ROWS`] full rows.
+pub(super) fn gapped_rows(strikes: &[super::StrikeReport], bells: usize) -> Option<(usize, usize)> {
+    let mut rows: std::collections::BTreeMap<usize, Vec<(f64, usize)>> = Default::default();
+    for s in strikes {
+        if let Some(r) = s.row {
+            rows.entry(r).or_default().push((s.t_s, s.bell));
+        }
+    }
+    let gaps: Vec<Vec<f64>> = (rows.into_values())
+        .filter(|r| {
+            let mut b: Vec<usize> = r.iter().map(|x| x.1).collect();
+            b.sort_unstable();
+            b.dedup();
+            r.len() == bells && b.len() == bells && bells >= 3
+        })
+        .map(|mut r| {
+            r.sort_by(|a, b| a.0.total_cmp(&b.0));
+            r.windows(2).map(|w| w[1].0 - w[0].0).collect()
+        })
+        .collect();
+    if gaps.len() < GAP_FEWEST_ROWS {
+        return None;
+    }
+    let mut all: Vec<f64> = gaps.iter().flatten().copied().collect();
+    all.sort_by(f64::total_cmp);
+    let m = all[all.len() / 2];
+    let gapped = gaps
+        .iter()
+        .filter(|g| {
+            let wide = g.iter().filter(|&&x| x > 1.7 * m && x < 2.4 * m).count();
+            let even = g.iter().filter(|&&x| x > 0.6 * m && x < 1.4 * m).count();
+            wide == 1 && even + 1 == g.len()
+        })
+        .count();
+    Some((gapped, gaps.len()))
+}
+
+/// A warning that a bell not given rings: more than [`GAP_ROWS`] of the
+/// full rows among `strikes` hold a gap of two intervals (tester22 fault
+/// 10: five nominals given for a six read "360 strikes in 72 rows (72
+/// full)" with no word of a sixth bell). `given` bells, each by its `noun`
+/// ([`given_as`]); worded for nominals learned where `asked` (`--bells N`).
+pub(super) fn gap_warning(
+    strikes: &[super::StrikeReport],
+    given: usize,
+    asked: Option<usize>,
+    noun: &str,
+) -> Option<String> {
+    let (gapped, full) = gapped_rows(strikes, given)?;
+    let rows = format!(
+        "{gapped} of the {full} full rows hold a gap of two intervals between successive strikes, the rest even: \
+         another bell seems to ring in it"
+    );
+    (gapped as f64 > GAP_ROWS * full as f64).then(|| match asked {
+        Some(asked) => format!(
+            "--bells {asked}: {given} nominal(s) learned, but {rows}, not learned; the rows, places and \
+             odd-struckness are wrong without it"
+        ),
+        None => format!(
+            "{given} {noun}(s) given, but {rows}; if more bells ring, give every bell's {noun}, treble first; the \
+             rows, places and odd-struckness are wrong without them"
+        ),
+    })
+}
+
+/// Rows found (`rows`) beyond what the ringing of `timed` holds, `bells`
+/// a row ([`clapper_signal::striking::rows_the_time_holds`]), in words: some rows were split half a
+/// row out, their strokes wrong.
+pub(super) fn rows_slipped(timed: &[Timed], bells: usize, rows: usize) -> Option<String> {
+    let held = clapper_signal::striking::rows_the_time_holds(timed, bells)?;
+    (rows as f64 > held + clapper_signal::striking::ROWS_OVER).then(|| {
+        format!(
+            "{rows} rows read where the ringing's length holds about {held:.0}: some rows are split half a row \
+             out (strikes missing there), so their strokes, rows and places are wrong and odd-struckness is not \
+             given"
+        )
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -350,5 +443,34 @@ mod tests {
         let mut w = ["a", "b", "a", "c", "b"].map(note).to_vec();
         once_each(&mut w);
         assert_eq!(w, ["a", "b", "c"].map(note));
+    }
+}
+
+#[cfg(test)]
+mod slip_tests {
+    use super::*;
+
+    /// Tester 17's S6 (`--bells 6`): 84 rows read for 82, without a word.
+    /// Rows read beyond what the ringing's length holds are warned of.
+    #[test]
+    fn rows_read_beyond_what_the_ringing_holds_are_warned_of() {
+        let mut timed = vec![];
+        let mut t = 1.0;
+        for r in 0..40 {
+            if r % 2 == 0 && r > 0 {
+                t += 0.22;
+            }
+            for bell in 1..=6 {
+                timed.push(Timed { bell, t });
+                t += 0.22;
+            }
+        }
+        assert_eq!(rows_slipped(&timed, 6, 40), None);
+        assert_eq!(rows_slipped(&timed, 6, 41), None);
+        let w = rows_slipped(&timed, 6, 42).unwrap_or_default();
+        assert!(
+            w.starts_with("42 rows read where the ringing's length holds about 40"),
+            "{w}"
+        );
     }
 }

@@ -122,6 +122,35 @@ pub(super) fn short(duration_s: f64) -> String {
     )
 }
 
+/// Under this many rows at the ring's pace a recording is short too,
+/// however many seconds: a bell's hand and back columns each need
+/// [`super::FEW_IN_COLUMN`] strikes, so no bell's striking at either
+/// stroke is measured in fewer (tester22 fault 11: a 6 s clip of a six
+/// with templates found 10 of some 27 strikes, three bells "not heard at
+/// all", with no word that the clip was short).
+pub const SHORT_RING_ROWS: usize = 2 * super::FEW_IN_COLUMN;
+
+/// The interval between bells (s) taken where none is heard: a fast
+/// ring's, so that the rows a recording holds are not undercounted.
+const FAST_INTERVAL_S: f64 = 0.2;
+
+/// The warning for a recording `duration_s` (s) long, [`SHORT_RING_S`] or
+/// longer, that holds fewer than [`SHORT_RING_ROWS`] rows of `bells`
+/// bells at the interval heard (`interval_s`, s; a fast ring's where
+/// none is): rows of `bells` places and a handstroke gap's half.
+pub(super) fn short_for_pace(duration_s: f64, bells: usize, interval_s: Option<f64>) -> Option<String> {
+    let row_s = (bells as f64 + 0.5) * interval_s.unwrap_or(FAST_INTERVAL_S);
+    let rows = duration_s / row_s;
+    (duration_s >= SHORT_RING_S && bells > 1 && rows < SHORT_RING_ROWS as f64).then(|| {
+        format!(
+            "{TOO_SHORT_START} {duration_s:.1} s long: about {rows:.0} rows of {bells} bells at this pace, too few \
+             for any bell's hand and back columns ({} strikes each) to be measured, or a bell missed at some strikes \
+             to be told from one not ringing (is this the whole file?)",
+            super::FEW_IN_COLUMN
+        )
+    })
+}
+
 /// Add to `warnings` what makes the report no ring's: silence (the
 /// recording's `peak` 0), a recording `duration_s` (s) too short to hold a
 /// ring, no strike heard (first, in words, so that an empty table is not

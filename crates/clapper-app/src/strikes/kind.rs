@@ -250,29 +250,63 @@ pub(super) fn unheard_warnings(strikes: &[usize], duration_s: f64, templates: bo
     }
 }
 
-/// A bell heard double at more than this share of its strikes is warned
-/// of: tester22's dark rooms read "48 (100 %)" with no word, where the
-/// room's echo, low-passed and as loud as the bell, was heard as a second
-/// blow; a clapper bouncing at every blow is a real fault too, so the
-/// warning names both and asks the ringer to listen.
-pub const MOSTLY_DOUBLE: f64 = 0.5;
+/// A bell heard double at more than this share of its strikes has its
+/// double strikes doubted, with [`DOUBTED_DOUBLES_LEAST`] at least: a bell
+/// in good order doubles at a few strikes in a hundred. In every one of
+/// tester22's 21 rings, 6 doubles were planted, at most 3 % of any bell's
+/// strikes, and every bell read over 10 % was false: its dark rooms read
+/// "48 (100 %)" (r6a `--templates`), 77 % (r8d), 29 % (s_d0); the rings
+/// heard right read 1-9 %.
+pub const DOUBTED_DOUBLES: f64 = 0.10;
 
-/// Warnings for bells (from 1) heard double at more than [`MOSTLY_DOUBLE`]
-/// of their strikes (eight at least): `doubles` and `strikes` each bell's
-/// counts, treble first.
-pub(super) fn mostly_double_warnings(doubles: &[usize], strikes: &[usize]) -> Vec<String> {
-    (1..=strikes.len().min(doubles.len()))
-        .filter(|&b| strikes[b - 1] >= 8 && doubles[b - 1] as f64 > MOSTLY_DOUBLE * strikes[b - 1] as f64)
-        .map(|b| {
-            format!(
-                "bell {b}: heard double at {} of its {} strikes: either its clapper bounces at nearly every blow \
-                 (a fault to see to in the tower), or the room's echo is heard as a second blow; listen to it \
-                 before trusting its double strikes",
-                doubles[b - 1],
-                strikes[b - 1]
-            )
+/// The fewest double strikes of a bell that are doubted: one or two on a
+/// short ring may be its own (2 of 16 strikes is 12 %).
+pub const DOUBTED_DOUBLES_LEAST: usize = 4;
+
+/// The bells (from 1) whose double strikes are not to be believed (over
+/// [`DOUBTED_DOUBLES`] of their strikes, [`DOUBTED_DOUBLES_LEAST`] at
+/// least), and the warning naming them, first in the report (tester22
+/// fault 2: "2? 48 (100 %)", 85 doubles, no warning line); `doubles` and
+/// `strikes` each bell's counts, treble first.
+pub(super) fn doubted_doubles(doubles: &[usize], strikes: &[usize]) -> (Vec<usize>, Option<String>) {
+    let bells: Vec<usize> = (1..=strikes.len().min(doubles.len()))
+        .filter(|&b| {
+            let (d, n) = (doubles[b - 1], strikes[b - 1]);
+            d >= DOUBTED_DOUBLES_LEAST && d as f64 > DOUBTED_DOUBLES * n as f64
         })
-        .collect()
+        .collect();
+    let Some(&first) = bells.first() else {
+        return (bells, None);
+    };
+    let mut each = vec![format!(
+        "bell {first} heard double at {} of its {} strikes",
+        doubles[first - 1],
+        strikes[first - 1]
+    )];
+    each.extend(
+        bells[1..]
+            .iter()
+            .map(|&b| format!("bell {b} at {} of {}", doubles[b - 1], strikes[b - 1])),
+    );
+    let heard = strikes.iter().filter(|&&n| n > 0).count();
+    if bells.len() == heard && heard > 2 {
+        // Every bell: the range says it, eight bells' counts bury it.
+        let share = |b: usize| 100.0 * doubles[b - 1] as f64 / strikes[b - 1] as f64;
+        let (lo, hi) = (bells.iter().map(|&b| share(b))).fold((100.0_f64, 0.0_f64), |(l, h), x| (x.min(l), x.max(h)));
+        each = vec![format!(
+            "every bell heard double, at {lo:.0} to {hi:.0} % of its strikes"
+        )];
+    }
+    let w = format!(
+        "double strikes not to be believed: {} (marked {} in the doubles column); a bell in good order doubles at a \
+         few strikes in a hundred, so the room's echo (a dark, reverberant tower) is likely heard as a second blow, \
+         or a clapper bounces (a fault to see to in the tower): listen to {} before trusting {} double strikes",
+        each.join(", "),
+        super::text::DOUBT_MARK,
+        if bells.len() == 1 { "that bell" } else { "those bells" },
+        if bells.len() == 1 { "its" } else { "their" },
+    );
+    (bells, Some(w))
 }
 
 #[cfg(test)]
@@ -347,14 +381,27 @@ mod tests {
     }
 
     /// Tester22's dark rooms: a bell heard double at every strike was
-    /// printed "48 (100 %)" without a word; half or fewer is not warned of.
+    /// printed "48 (100 %)" without a word. Every bell over a tenth is
+    /// named in one warning; a tenth or fewer, or three doubles, is not.
     #[test]
-    fn a_bell_heard_double_at_most_strikes_is_warned_of() {
-        let w = mostly_double_warnings(&[48, 24, 2, 5], &[48, 48, 48, 6]);
-        assert_eq!(w.len(), 1, "{w:?}");
+    fn double_strikes_beyond_a_bells_own_are_doubted() {
+        let (bells, w) = doubted_doubles(&[48, 14, 4, 4, 3, 12], &[48, 48, 48, 48, 20, 41]);
+        assert_eq!(bells, vec![1, 2, 6]);
+        let w = w.unwrap_or_default();
         assert!(
-            w[0].starts_with("bell 1: heard double at 48 of its 48 strikes"),
-            "{w:?}"
+            w.starts_with(
+                "double strikes not to be believed: bell 1 heard double at 48 of its 48 strikes, bell 2 at 14 of 48, \
+                 bell 6 at 12 of 41"
+            ),
+            "{w}"
+        );
+        assert!(w.contains("listen to those bells"), "{w}");
+        assert_eq!(doubted_doubles(&[2, 1, 3], &[72, 72, 16]), (vec![], None));
+        let (_, w) = doubted_doubles(&[45, 96, 26], &[123, 125, 94]);
+        let w = w.unwrap_or_default();
+        assert!(
+            w.starts_with("double strikes not to be believed: every bell heard double, at 28 to 77 % of its strikes"),
+            "{w}"
         );
     }
 }

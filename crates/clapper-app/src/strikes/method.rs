@@ -29,27 +29,30 @@ pub struct MethodReport {
     /// of a method whose course is 112).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub course_changes: Option<usize>,
+    /// The changes of the touch (none for rounds): from the last rounds
+    /// before the first row heard whole that is not rounds, to the rounds
+    /// after the last such row (or the last row heard); the rows not heard
+    /// whole counted in.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub touch_changes: Option<usize>,
 }
+
+/// Under this share of the touch's changes heard in whole rows, the
+/// method is said to be named from part of the touch (tester22's r6b:
+/// Plain Bob named from 18 of its 60 changes, not said).
+const PART_OF_TOUCH: f64 = 0.75;
 
 impl MethodReport {
     /// The report's line for it.
     pub(super) fn line(&self) -> String {
-        let rounds = self.name == "rounds";
-        // The course's length after the count, not before: plain hunt
-        // rung twice read "its plain course, 12 changes long: 26 of the 26
-        // changes" (tester22), as if 26 were of 12.
-        let course = match self.course_changes {
-            Some(n) => format!("; its plain course is {n} changes"),
-            None => String::new(),
-        };
-        let counted = format!(
-            "{} of the {} changes heard in whole rows are its{}{course}",
-            self.changes_fitting,
-            self.changes_judged,
-            if rounds { "" } else { ", rounds left out" }
-        );
+        if self.name == "rounds" {
+            return format!(
+                "rows: rounds ({} of the {} changes heard in whole rows are its)",
+                self.changes_fitting, self.changes_judged
+            );
+        }
         if self.alike.is_empty() {
-            return format!("rows: {} ({counted})", self.name);
+            return format!("rows: {}{}", self.name, self.counted());
         }
         let mut names = vec![self.name.as_str()];
         names.extend(self.alike.iter().map(String::as_str));
@@ -62,6 +65,46 @@ impl MethodReport {
             self.changes_fitting,
             self.changes_judged
         )
+    }
+
+    /// How much of the touch it is and how it was judged, after its name
+    /// (tester22 fault 7: plain hunt rung three times read "its plain
+    /// course, 12 changes long: 26 of the 26 changes"): how many times its
+    /// plain course was rung, the touch's changes, and where few of those
+    /// were heard in whole rows, that it is named from part of the touch.
+    fn counted(&self) -> String {
+        let (f, j) = (self.changes_fitting, self.changes_judged);
+        let Some(t) = self.touch_changes.filter(|&t| t >= j) else {
+            let course = self
+                .course_changes
+                .map_or(String::new(), |c| format!("; its plain course is {c} changes"));
+            return format!(" ({f} of the {j} changes heard in whole rows are its, rounds left out{course})");
+        };
+        let head = match self.course_changes {
+            Some(c) => {
+                let k = (t as f64 / c as f64).round() as usize;
+                let times = match k {
+                    1 => "once".to_string(),
+                    2 => "twice".to_string(),
+                    k => format!("{k} times"),
+                };
+                if k == 0 || t.abs_diff(k * c) * 4 > c {
+                    format!(", {t} changes (its plain course is {c})")
+                } else {
+                    let about = if t == k * c { "" } else { "about " };
+                    format!(", rung {about}{times} ({t} changes; its plain course is {c})")
+                }
+            }
+            None => format!(", {t} changes"),
+        };
+        if (j as f64) < PART_OF_TOUCH * t as f64 {
+            format!(
+                "{head}: named from part of the touch, the {j} of its {t} changes heard in whole rows ({f} of them \
+                 its)"
+            )
+        } else {
+            format!("{head}: {f} of the {j} changes heard in whole rows are its")
+        }
     }
 }
 
@@ -121,7 +164,19 @@ pub(super) fn method_of(strikes: &[StrikeReport], rows: usize, bells: usize) -> 
         changes_judged: m.judged,
         alike: m.alike.iter().map(|n| n.to_string()).collect(),
         course_changes: course_changes(m.name, bells),
+        touch_changes: (m.name != "rounds").then(|| touch_changes(&whole, bells)).flatten(),
     })
+}
+
+/// The changes of the touch among `whole` (each row heard whole, or
+/// none) of `bells` bells ([`MethodReport::touch_changes`]); none where
+/// no row heard whole is other than rounds.
+fn touch_changes(whole: &[Option<Vec<usize>>], bells: usize) -> Option<usize> {
+    let rounds: Vec<usize> = (0..bells).collect();
+    let changed = |r: &Option<Vec<usize>>| r.as_ref().is_some_and(|r| *r != rounds);
+    let first = whole.iter().position(changed)?;
+    let last = whole.iter().rposition(changed)?;
+    Some((last + 1).min(whole.len() - 1) - first.saturating_sub(1))
 }
 
 /// The changes of the plain course of the method `name` on `bells` bells
@@ -147,26 +202,9 @@ mod tests {
     /// less bell `quiet`'s (from 1) at every backstroke (odd row).
     fn plain_bob_less(quiet: Option<usize>) -> Vec<StrikeReport> {
         let course = PlainCourse::PlainBob.course(6).unwrap();
-        let rows = course.iter().chain(&course);
-        let mut out = vec![];
-        for (r, row) in rows.enumerate() {
-            for (p, &b) in row.iter().enumerate() {
-                if r % 2 == 1 && quiet == Some(b + 1) {
-                    continue;
-                }
-                out.push(StrikeReport {
-                    bell: b + 1,
-                    t_s: r as f64,
-                    stroke: None,
-                    row: Some(r),
-                    place: Some(p + 1),
-                    error_ms: None,
-                    double: None,
-                    far_off: false,
-                });
-            }
-        }
-        out
+        let rows: Vec<Vec<usize>> = course.iter().chain(&course).cloned().collect();
+        let lost = |s: &StrikeReport| s.row.is_some_and(|r| r % 2 == 1) && quiet == Some(s.bell);
+        placed(&rows, &[]).into_iter().filter(|s| !lost(s)).collect()
     }
 
     #[test]
@@ -186,6 +224,7 @@ mod tests {
             changes_judged: 13,
             alike: vec!["Plain Bob".into()],
             course_changes: Some(12),
+            touch_changes: None,
         };
         let line = m.line();
         assert!(
@@ -215,8 +254,58 @@ mod tests {
             .map(|m| m.line())
             .unwrap_or_default();
         assert!(
-            m.starts_with("rows: Plain Bob (") && m.ends_with("; its plain course is 60 changes)"),
+            m.starts_with("rows: Plain Bob, rung about twice (119 changes; its plain course is 60): "),
             "{m}"
+        );
+    }
+
+    /// Strikes placed in `rows` (each place's bell, from 0), every bell's
+    /// strike left out of the rows of `gaps` (by index) but one.
+    fn placed(rows: &[Vec<usize>], gaps: &[usize]) -> Vec<StrikeReport> {
+        let mut out = vec![];
+        for (r, row) in rows.iter().enumerate() {
+            let keep = if gaps.contains(&r) { 1 } else { row.len() };
+            for (p, &b) in row.iter().enumerate().take(keep) {
+                out.push(StrikeReport {
+                    bell: b + 1,
+                    t_s: r as f64,
+                    stroke: None,
+                    row: Some(r),
+                    place: Some(p + 1),
+                    error_ms: None,
+                    double: None,
+                    far_off: false,
+                });
+            }
+        }
+        out
+    }
+
+    /// Tester22 fault 7: plain hunt rung three times read "its plain
+    /// course, 12 changes long: 26 of the 26 changes", and Plain Bob named
+    /// from 18 of its 60 changes did not say so. The touch's length is said
+    /// as courses rung, and a method named from part of it says so.
+    #[test]
+    fn a_touch_is_said_as_courses_rung_and_named_from_part_when_so() {
+        use clapper_signal::methods::plain_hunt;
+        let rounds: Vec<usize> = (0..6).collect();
+        let mut rows = vec![rounds.clone(); 6];
+        for _ in 0..3 {
+            rows.extend(plain_hunt(6).into_iter().skip(1));
+            rows.push(rounds.clone());
+        }
+        rows.extend(vec![rounds.clone(); 5]);
+        let line = |gaps: &[usize]| method_of(&placed(&rows, gaps), rows.len(), 6).map(|m| m.line());
+        assert_eq!(
+            line(&[]).as_deref(),
+            Some("rows: plain hunt, rung 3 times (36 changes; its plain course is 12): 36 of the 36 changes heard in whole rows are its")
+        );
+        // Every fourth row of the touch not heard whole: 16 of 36 changes lost.
+        let gaps: Vec<usize> = (8..40).step_by(4).collect();
+        let part = line(&gaps).unwrap_or_default();
+        assert!(
+            part.starts_with("rows: plain hunt, rung 3 times (36 changes; its plain course is 12): named from part of the touch, the 20 of its 36"),
+            "{part}"
         );
     }
 

@@ -20,6 +20,30 @@ pub(super) fn odd_struck_ms(hand: &[f64], back: &[f64]) -> (Option<f64>, Option<
     }
 }
 
+/// Doubt `b`'s odd-struckness, where it is given and not doubted already,
+/// when the listener's timing of the bell is in doubt (its
+/// `timing_doubt`) or its double strikes are (`doubled`): the figure may
+/// be the listener's error (tester22 fault 8: r6a `--templates` bell 2,
+/// marked "2?", read "+12.8 ± 8.0" against a truth of about 0; r8d's
+/// bells 6 and 7, heard double at a fifth of their strikes, -8.8 and
+/// -8.1 against 0). The figure stays, marked in its column.
+pub(super) fn doubt_mistimed(b: &mut super::BellStriking, doubled: bool) {
+    if b.odd_struck_ms.is_none() || b.odd_struck_doubt.is_some() {
+        return;
+    }
+    b.odd_struck_doubt = if b.timing_doubt.is_some() {
+        Some("the listener's timing is in doubt (said below): the figure may be its error, not the ringer's".into())
+    } else if doubled {
+        Some(
+            "double strikes not to be believed (the room's echo heard as a second blow?): the same echo may move \
+             where the strikes are heard to start, so the figure may be the listener's error"
+                .into(),
+        )
+    } else {
+        None
+    };
+}
+
 /// The widest standard error (ms) an odd-struckness is given with: a
 /// ringer's odd-struckness worth naming is 10-30 ms, and one known to
 /// ± 10 ms or worse does not say whether there is any. On tester21's 14

@@ -28,7 +28,7 @@ pub(super) enum Weight {
 /// table, its line not marked, though every figure of it changes).
 pub(super) fn weight(w: &Warning) -> Weight {
     match w.kind {
-        WarningKind::Recording | WarningKind::Rows => Weight::Void,
+        WarningKind::Recording | WarningKind::Rows | WarningKind::Doubles => Weight::Void,
         WarningKind::Give => Weight::Act,
         WarningKind::Note | WarningKind::OneStroke | WarningKind::Unheard => Weight::Note,
         WarningKind::Bell => w.bell().map_or(Weight::Note, Weight::Bell),

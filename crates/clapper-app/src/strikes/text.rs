@@ -24,7 +24,7 @@ pub const NO_METHOD: &str = "rows: the method could not be told (too few rows he
                              course of plain hunt, Plain Bob, Grandsire or Stedman)";
 
 /// The mark after a bell's number in the table whose timing is in doubt.
-const DOUBT_MARK: &str = "?";
+pub(super) const DOUBT_MARK: &str = "?";
 
 /// `v` to `digits` places, or "-" where there is none.
 fn opt(v: Option<f64>, digits: usize) -> String {
@@ -200,7 +200,8 @@ impl StrikesReport {
                 _ => "-".into(),
             };
             let odd = match (b.odd_struck_ms, b.odd_struck_se_ms, &b.odd_struck_doubt) {
-                (Some(o), Some(se), _) => format!("{o:+.1} ± {se:.1}"),
+                (Some(o), Some(se), None) => format!("{o:+.1} ± {se:.1}"),
+                (Some(o), Some(se), Some(_)) => format!("{o:+.1} ± {se:.1} {DOUBT_MARK}"),
                 (Some(o), None, Some(_)) => format!("{o:+.1} {DOUBT_MARK}"),
                 (Some(o), None, None) => format!("{o:+.1} (no se)"),
                 (None, _, Some(_)) => format!("- {DOUBT_MARK}"),
@@ -208,6 +209,11 @@ impl StrikesReport {
                 _ => "-".into(),
             };
             let mark = if b.timing_doubt.is_some() { DOUBT_MARK } else { "" };
+            let doubled = if s.doubles_doubted.contains(&b.bell) {
+                DOUBT_MARK
+            } else {
+                ""
+            };
             let _ = writeln!(
                 o,
                 "  {:>4} {:>7} {:>18} {:>18} {:>18} {:>9} {:>6}",
@@ -216,7 +222,7 @@ impl StrikesReport {
                 ms(&b.hand),
                 ms(&b.back),
                 odd,
-                format!("{} ({:.0} %)", b.double_strikes, 100.0 * b.double_rate),
+                format!("{} ({:.0} %){doubled}", b.double_strikes, 100.0 * b.double_rate),
                 opt(b.mean_d, 1)
             );
         }
@@ -248,8 +254,17 @@ impl StrikesReport {
         }
         if !doubts.is_empty() {
             let _ = writeln!(o, "odd-struckness in doubt (marked {DOUBT_MARK} in its column):");
+            // Bells doubted for one reason share a line (tester22's r6a:
+            // three bells' doubles doubted, one line each, word for word).
+            let mut said: Vec<(Vec<usize>, &String)> = vec![];
             for (b, w) in doubts {
-                let _ = writeln!(o, "  bell {b}: {w}");
+                match said.iter_mut().find(|(_, x)| *x == w) {
+                    Some((bells, _)) => bells.push(b),
+                    None => said.push((vec![b], w)),
+                }
+            }
+            for (bells, w) in said {
+                let _ = writeln!(o, "  {}: {w}", bells_named(&bells));
             }
         }
     }
@@ -257,14 +272,11 @@ impl StrikesReport {
     /// The nominals learned from the recording and how sure the set is
     /// (`--bells N`), appended to `o`.
     fn learned_text(&self, o: &mut String) {
+        let set = self.learned_set.as_ref();
         if let Some(l) = &self.learned_nominals_hz {
-            let list: Vec<String> = l
-                .iter()
-                .map(|b| format!("{} {:.1} Hz ({:.0} % sure)", b.bell, b.nominal_hz, 100.0 * b.confidence))
-                .collect();
-            let _ = writeln!(o, "nominals learned from the recording: {}", list.join(", "));
+            let _ = writeln!(o, "{}", learned_line(l, set.map(|s| s.confidence)));
         }
-        if let Some(set) = &self.learned_set {
+        if let Some(set) = set {
             let rhythm = set
                 .ringing
                 .map_or(String::new(), |r| format!(", the rhythm says about {r:.0} ring"));
@@ -458,9 +470,70 @@ fn parted_words(per_bell: &[BellTiming]) -> String {
 /// A bell moved by more or less than its lateness by this much is said so (ms).
 const PARTED_MS: f64 = 5.0;
 
+/// "bell 4", or "bells 1, 4, 5": `bells` (from 1) named.
+fn bells_named(bells: &[usize]) -> String {
+    let list: Vec<String> = bells.iter().map(usize::to_string).collect();
+    match bells.len() {
+        1 => format!("bell {}", list[0]),
+        _ => format!("bells {}", list.join(", ")),
+    }
+}
+
+/// The line of the nominals learned `l`, each with how sure it is; where
+/// every bell's sureness is the set's (`set`: a doubtful set caps each
+/// bell's at its own), each with its own evidence instead, the set's
+/// sureness said once on the next line (tester22 fault 12: r6e read "25 %
+/// sure" for all six, the two bells guessed and the four heard alike).
+fn learned_line(l: &[super::LearnedNominal], set: Option<f64>) -> String {
+    let flat = l.len() > 1 && set.is_some_and(|s| l.iter().all(|b| b.confidence == s));
+    let list: Vec<String> = l
+        .iter()
+        .map(|b| match (flat, b.onsets) {
+            (false, _) => format!("{} {:.1} Hz ({:.0} % sure)", b.bell, b.nominal_hz, 100.0 * b.confidence),
+            (true, 0) => format!("{} {:.1} Hz (guessed: not heard rising)", b.bell, b.nominal_hz),
+            (true, _) => format!("{} {:.1} Hz ({:.0} %)", b.bell, b.nominal_hz, 100.0 * b.support),
+        })
+        .collect();
+    // The evidence's meaning after the list: the line starts as it did.
+    let why = if flat {
+        " (each the onsets it rose most at against a typical bell's: no bell is surer than the set, below)"
+    } else {
+        ""
+    };
+    format!("nominals learned from the recording: {}{why}", list.join(", "))
+}
+
 #[cfg(test)]
 mod parted_tests {
-    use super::{parted_words, BellTiming};
+    use super::{learned_line, parted_words, BellTiming};
+
+    /// Tester22 fault 12: r6e's six learned nominals each read "25 % sure",
+    /// the set's, two of them guessed. Where each bell's is the set's, each
+    /// bell's own evidence is printed; where not, each bell's sureness.
+    #[test]
+    fn each_learned_nominal_says_its_own_evidence() {
+        let bell = |b: usize, onsets: usize, support: f64, confidence: f64| crate::strikes::LearnedNominal {
+            bell: b,
+            nominal_hz: 2000.0 - 100.0 * b as f64,
+            confidence,
+            onsets,
+            support,
+            partials_fit: 1.0,
+        };
+        let flat = [bell(1, 62, 1.0, 0.25), bell(2, 0, 0.0, 0.25), bell(3, 24, 0.39, 0.25)];
+        let line = learned_line(&flat, Some(0.25));
+        assert_eq!(
+            line,
+            "nominals learned from the recording: 1 1900.0 Hz (100 %), 2 1800.0 Hz (guessed: not heard rising), 3 \
+             1700.0 Hz (39 %) (each the onsets it rose most at against a typical bell's: no bell is surer than the \
+             set, below)"
+        );
+        let own = [bell(1, 62, 1.0, 1.0), bell(2, 40, 0.6, 0.6)];
+        assert_eq!(
+            learned_line(&own, Some(0.8)),
+            "nominals learned from the recording: 1 1900.0 Hz (100 % sure), 2 1800.0 Hz (60 % sure)"
+        );
+    }
 
     fn bell(bell: usize, lateness_ms: f64, matched_ms: Option<f64>) -> BellTiming {
         BellTiming {

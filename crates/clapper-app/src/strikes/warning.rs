@@ -17,6 +17,10 @@ pub enum WarningKind {
     /// The strikes do not keep rows of the bells given: the rows, places
     /// and odd-struckness mean nothing.
     Rows,
+    /// The double strikes heard are not to be believed (a bell heard
+    /// double at more than a tenth of its strikes): said first, with the
+    /// warnings that make figures mean nothing.
+    Doubles,
     /// The ringer must give or ask for something else for the figures to
     /// hold: the bells given, asked for or learned are not those that ring
     /// (every nominal, templates, more bells), or the recording cannot

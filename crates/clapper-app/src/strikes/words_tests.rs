@@ -48,6 +48,7 @@ fn one_bell(hand: StrokeStats, back: StrokeStats, matched_ms: Option<f64>) -> St
             rms_error_ms: None,
             rms_error_sure_ms: None,
             double_strikes: 0,
+            doubles_doubted: vec![],
             strokes_known: false,
             method: None,
             plausibility: None,
@@ -97,7 +98,7 @@ fn a_dash_in_the_timing_line_says_what_it_means() {
 /// Rounds of six, 0.25 s apart with a handstroke gap, 40 rows; `keep` says
 /// which strikes (row, bell) are heard; `late` adds to each handstroke of
 /// a bell (s); `jitter` spreads every strike (s, from a fixed sequence).
-fn rounds_heard(
+pub(super) fn rounds_heard(
     bells: usize,
     keep: &dyn Fn(usize, usize) -> bool,
     late: &dyn Fn(usize) -> f64,

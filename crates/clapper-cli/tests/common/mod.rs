@@ -104,3 +104,32 @@ pub const TENOR_CLAPPER_PARTS: [&str; 8] = [
     "--ball-position",
     "0.76",
 ];
+
+/// `n` untuned bells a major scale down from 1000 Hz, each's template (a
+/// strike of it alone at `rate` Hz) written to `dir`/t/1.wav, 2.wav, ...:
+/// the bells and their templates.
+pub fn untuned_templates(
+    dir: &std::path::Path,
+    n: usize,
+    rate: f64,
+) -> (Vec<clapper_signal::tower::RingBell>, Vec<clapper_signal::Signal>) {
+    let bells = clapper_signal::tower::major_scale(n, 1000.0).unwrap();
+    let templates: Vec<clapper_signal::Signal> = bells
+        .iter()
+        .map(|b| {
+            clapper_signal::sampled_ring::UntunedStrike {
+                nominal_hz: b.nominal_hz,
+                rise_s: 0.01,
+                decay_s: 0.6,
+                length_s: 1.2,
+                blow: None,
+            }
+            .signal(rate)
+        })
+        .collect();
+    std::fs::create_dir_all(dir.join("t")).unwrap();
+    for (i, t) in templates.iter().enumerate() {
+        clapper_io::signal_file::write_wav(&dir.join(format!("t/{}.wav", i + 1)), t, 0.9).unwrap();
+    }
+    (bells, templates)
+}
