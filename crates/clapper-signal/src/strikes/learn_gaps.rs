@@ -181,7 +181,7 @@ pub(super) fn unheard_notes(
 /// How much `note` (Hz, within [`IN_TUNE`]) rises at the onsets not
 /// `taken`: each onset's rise there against its highest (`rises`: bins
 /// from `k_lo`, `df` Hz apart), summed.
-fn rise_at(note: f64, taken: &[bool], rises: &[Vec<f64>], k_lo: usize, df: f64) -> f64 {
+pub(super) fn rise_at(note: f64, taken: &[bool], rises: &[Vec<f64>], k_lo: usize, df: f64) -> f64 {
     let semitone = 2f64.powf(IN_TUNE / 12.0);
     let (lo, hi) = ((note / semitone / df) as usize, (note * semitone / df).ceil() as usize);
     if lo < k_lo || rises.is_empty() || hi >= k_lo + rises[0].len() {

@@ -135,6 +135,11 @@ impl Learned {
         let all_heard = heard.iter().all(|h| h.share >= HEARD);
         let ringing = if all_heard { None } else { self.ringing };
         let mut set = learned_set_sure(&bells, ringing, self.asked, self.few).min(rival_sure(self.margin));
+        // The bells are each as sure as the set before its guesses are
+        // counted: a guess doubts the set, not the bells heard beside it
+        // (tester22's r6e: every bell printed at the set's 25 %, none told
+        // from the two guessed).
+        let mut bells_cap = set;
         // Each note guessed is its own coin: two guessed, the set is right
         // only if both are (bells-13: one guessed, 15 sets right of 31 on
         // every ring we have; two, 1 of 7).
@@ -146,6 +151,7 @@ impl Learned {
         for &i in &primes {
             bells[i].confidence = 0.0;
             set = 0.0;
+            bells_cap = 0.0;
         }
         // A product of sureness may be -0.0: printed "-0 %".
         let set = set.max(0.0);
@@ -176,7 +182,7 @@ impl Learned {
             };
             doubt_first(&mut warnings, doubt);
         }
-        bells_as_sure_as_their_set(&mut bells, set);
+        bells_as_sure_as_their_set(&mut bells, bells_cap.max(0.0));
         Learned {
             bells,
             confidence: set,
@@ -442,5 +448,23 @@ mod tests {
             "{:?}",
             one.warnings
         );
+    }
+    /// tester22's r6e (fault 12): with two notes guessed the set is a
+    /// quarter sure, and every bell was printed at that quarter, the
+    /// guessed ones not told from the bells heard beside them. The set
+    /// stays doubtful; each bell heard keeps its own sureness, each guessed
+    /// note a guess's.
+    #[test]
+    fn bells_heard_beside_two_guessed_notes_keep_their_own_sureness() {
+        let l = learned(&[30, 0, 30, 30, 0, 30, 30, 30], 1.0, 8.0, &[]);
+        let h = l.as_heard(&rounds(40, 8));
+        assert!(h.confidence <= 0.25, "{}", h.confidence);
+        let sure: Vec<f64> = h.bells.iter().map(|b| b.confidence).collect();
+        for i in [0, 2, 3, 5, 6, 7] {
+            assert!(sure[i] > 0.5, "bell {}: {sure:?}", i + 1);
+        }
+        for i in [1, 4] {
+            assert!(sure[i] <= GUESSED_HEARD, "bell {}: {sure:?}", i + 1);
+        }
     }
 }
