@@ -310,16 +310,7 @@ fn set_polarities(
     lateness: &[Option<f64>],
     sc: &mut Scratch,
 ) -> Result<(), SignalError> {
-    let windows: Vec<(usize, (f64, f64))> = heard
-        .strikes
-        .iter()
-        .map(|s| {
-            (
-                s.bell,
-                sought(s.t, lateness.get(s.bell.wrapping_sub(1)).copied().flatten()),
-            )
-        })
-        .collect();
+    let windows = voter_windows(m.bells.len(), heard, lateness);
     // The signs (`lag::polarities`) read from the choice's own matches.
     let (chosen, signs) = weight::choose(m, &sig.samples, &windows, sc)?;
     for (t, w) in m.bells.iter_mut().zip(chosen) {
@@ -333,6 +324,33 @@ fn set_polarities(
         }
     }
     Ok(())
+}
+
+/// Where each strike of `heard` is sought when its bell's choice and
+/// sign are voted (bell, and from, to: s), its bell's `lateness` (s)
+/// taken off where known ([`sought`]); `bells` in all.
+///
+/// Where a bell's lateness is not known, its voters are sought as far
+/// back as its strikes are then matched ([`late::best_of`] from
+/// [`late::reach`]): sought only 200 ms back, the voters of a bell the
+/// band finder heard 290 ms late (tester22's r6a, bell 2 in a dark room)
+/// never reached its sound, both matches fell on the room's tail or
+/// another bell, the weighted one no earlier, and it was left plain:
+/// its plain match then took the tail, 9-16 ms late at most strikes
+/// (mean +12.0 ms; weighted: -0.1), and it was called double at all 48
+/// (now 22, most at 35 ms: the room's copy, still judged a second blow).
+fn voter_windows(bells: usize, heard: &Heard, lateness: &[Option<f64>]) -> Vec<(usize, (f64, f64))> {
+    let reach = late::reach(bells, heard);
+    heard
+        .strikes
+        .iter()
+        .map(|s| {
+            let late = lateness.get(s.bell.wrapping_sub(1)).copied().flatten();
+            let (from, to) = sought(s.t, late);
+            let back = reach.get(s.bell.wrapping_sub(1)).copied().unwrap_or(0.0);
+            (s.bell, (if late.is_none() { from.min(s.t - back) } else { from }, to))
+        })
+        .collect()
 }
 
 /// The strikes of `heard` no template judged (those not in `judged`, by
@@ -846,6 +864,46 @@ mod tests {
                     lead_s * 1e3
                 );
             }
+        }
+    }
+
+    /// A bell whose lateness is not known has its voters sought as far
+    /// back as its strikes are matched ([`late::reach`]: 0.6 s at 2 s a
+    /// strike), so a strike the band finder heard 290 ms after its sound
+    /// (tester22's r6a, bell 2) is within its voter's window; a bell whose
+    /// lateness is known keeps the search about its time less that. Sought
+    /// only 200 ms back, bell 2's voters never reached its sound.
+    #[test]
+    fn a_bell_of_unknown_lateness_votes_as_far_back_as_it_is_matched() {
+        let strikes = (0..24)
+            .map(|k| HeardStrike {
+                bell: 1 + k % 2,
+                t: 1.0 + k as f64,
+                strength: 1.0,
+                double: None,
+            })
+            .collect();
+        let heard = Heard {
+            strikes,
+            warnings: vec![],
+        };
+        let windows = voter_windows(2, &heard, &[Some(0.05), None]);
+        assert_eq!(windows.len(), 24);
+        for ((bell, (from, to)), s) in windows.iter().zip(&heard.strikes) {
+            let want = if *bell == 1 {
+                sought(s.t, Some(0.05))
+            } else {
+                (s.t - 0.6, s.t + WIDE_LATE_S)
+            };
+            assert!(
+                (from - want.0).abs() < 1e-9 && (to - want.1).abs() < 1e-9,
+                "bell {bell}: {from}, {to}"
+            );
+            assert!(
+                *bell == 1 || *from <= s.t - 0.29,
+                "bell 2 sought from {from} at {}",
+                s.t
+            );
         }
     }
 }
