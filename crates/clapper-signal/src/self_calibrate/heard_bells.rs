@@ -55,14 +55,21 @@ pub(super) fn hear_through(
     let hearing = hear_strikes(sig, &voices, opts)?;
     let assumed: Vec<BellVoice> = nominals_hz.iter().map(|&f| nominal_alone(f)).collect();
     let (voices, hearing, kept) = hear_every_bell(sig, &voices, &assumed, hearing, opts)?;
+    let (voices, hearing, apart) = hear_apart(sig, voices, &assumed, hearing, &kept, opts)?;
+    let kept: Vec<bool> = kept.iter().zip(&apart).map(|(&k, a)| k && a.is_none()).collect();
     let (voices, hearing) = hear_tilted_down(sig, nominals_hz, voices, hearing, &kept, opts)?;
     let warnings = (0..kept.len())
         .filter(|&k| !kept[k] && learned.bells.get(k).is_some_and(|b| b.learned))
-        .map(|k| {
-            format!(
+        .map(|k| match apart[k] {
+            Some(j) => format!(
+                "bell {}: heard at bell {}'s strikes through the partials learned for it: heard at its nominal alone",
+                k + 1,
+                j + 1
+            ),
+            None => format!(
                 "bell {}: never heard through the partials learned for it: heard at its nominal alone",
                 k + 1
-            )
+            ),
         })
         .collect();
     Ok(HeardThrough {
@@ -105,6 +112,89 @@ pub(super) fn hear_every_bell(
     }
     let (_, hearing, uses) = best;
     Ok((chosen(learned, assumed, &uses), hearing, uses))
+}
+
+/// Where a bell heard through the voice learned for it (`kept`) is heard
+/// within [`COINCIDE_S`] of one other bell's strikes at [`COINCIDE_SHARE`]
+/// or more of its own, `sig` heard again with such bells at their
+/// `assumed` voices (their nominals alone); kept where the strikes heard
+/// at another bell's fall to half or fewer and no bell goes unheard.
+/// Also, per bell, the other bell (from 0) whose strikes its learned
+/// voice heard, where swapped. On tester22's recorded rings (issue 43) a
+/// learned voice's strongest partial was another bell's nominal (r6d: d4
+/// and d5 learned at d7's 1101 Hz), so the bell was heard at that bell's
+/// strikes, 34-54 ms after its blow, and neither bell had a clean strike
+/// to learn its lateness from.
+pub(super) fn hear_apart(
+    sig: &Signal,
+    voices: Vec<BellVoice>,
+    assumed: &[BellVoice],
+    hearing: Hearing,
+    kept: &[bool],
+    opts: &StrikeOptions,
+) -> Result<(Vec<BellVoice>, Hearing, Vec<Option<usize>>), SignalError> {
+    let n = voices.len();
+    let (copied, together) = coinciding(&hearing, n);
+    let swap: Vec<Option<usize>> = (0..n)
+        .map(|k| copied[k].filter(|_| kept.get(k) == Some(&true)))
+        .collect();
+    if swap.iter().all(Option::is_none) {
+        return Ok((voices, hearing, vec![None; n]));
+    }
+    let tried: Vec<BellVoice> = (0..n)
+        .map(|k| {
+            if swap[k].is_some() {
+                assumed[k].clone()
+            } else {
+                voices[k].clone()
+            }
+        })
+        .collect();
+    let h = hear_strikes(sig, &tried, opts)?;
+    let count = |v: &[bool]| v.iter().filter(|&&x| x).count();
+    let fewer = 2 * coinciding(&h, n).1 <= together;
+    if fewer && count(&heard_bells(&h, n)) >= count(&heard_bells(&hearing, n)) {
+        Ok((tried, h, swap))
+    } else {
+        Ok((voices, hearing, vec![None; n]))
+    }
+}
+
+/// Two strikes of different bells this near (s) are one sound heard by
+/// both: in a ring, bells are a place apart (at least ~0.14 s).
+const COINCIDE_S: f64 = 0.03;
+/// A bell heard at another's strikes at this share of its own or more
+/// hears that bell.
+const COINCIDE_SHARE: f64 = 0.5;
+
+/// Per bell (of `bells`), the other bell (from 0) at whose strikes
+/// `hearing` hears it, within [`COINCIDE_S`], at [`COINCIDE_SHARE`] or
+/// more of its strikes (the most such, if any); and the strikes heard
+/// within [`COINCIDE_S`] of another bell's, over every bell.
+fn coinciding(hearing: &Hearing, bells: usize) -> (Vec<Option<usize>>, usize) {
+    let heard = hearing.singles();
+    let times: Vec<Vec<f64>> = (1..=bells)
+        .map(|b| heard.strikes.iter().filter(|s| s.bell == b).map(|s| s.t).collect())
+        .collect();
+    let near = |t: f64, of: &[f64]| of.iter().any(|&u| (u - t).abs() < COINCIDE_S);
+    let mut together = 0;
+    let copied = (0..bells)
+        .map(|k| {
+            let mine = &times[k];
+            together += mine
+                .iter()
+                .filter(|&&t| (0..bells).any(|j| j != k && near(t, &times[j])))
+                .count();
+            let shares = (0..bells)
+                .filter(|&j| j != k)
+                .map(|j| (j, mine.iter().filter(|&&t| near(t, &times[j])).count()));
+            shares
+                .max_by_key(|x| x.1)
+                .filter(|&(_, c)| !mine.is_empty() && c as f64 >= COINCIDE_SHARE * mine.len() as f64)
+                .map(|x| x.0)
+        })
+        .collect();
+    (copied, together)
 }
 
 /// A bell heard at its nominal alone (`nominal_hz`, within 0.4 %, as a
@@ -260,6 +350,65 @@ mod tests {
         assert_eq!(voices[1], assumed[1]);
         let after = count(&hearing);
         assert!(after * 10 >= of * 9, "bell 2 heard at {after} of {of}");
+    }
+
+    /// Four untuned bells in plain hunt; bell 2's learned voice a lone
+    /// partial on bell 3's nominal (as r6d's d4 learned at d7's): through
+    /// it bell 2 is heard at bell 3's strikes and at none of its own.
+    /// Heard apart, bell 2 is given its nominal alone and heard at three
+    /// quarters of its own strikes or more.
+    #[test]
+    fn a_bell_whose_learned_voice_hears_another_bells_strikes_is_heard_at_its_nominal() {
+        let rate = 16_000.0;
+        let bells = major_scale(4, 1000.0).unwrap();
+        let nominals: Vec<f64> = bells.iter().map(|b| b.nominal_hz).collect();
+        let strikes: Vec<Signal> = nominals
+            .iter()
+            .enumerate()
+            .map(|(i, &f)| UntunedStrike::with_noisy_blow(f, 0.02 + 0.003 * i as f64).signal(rate))
+            .collect();
+        let spec = TowerSpec {
+            rate,
+            rows: 20,
+            interval: 2.0 / 5.0,
+            method: Method::PlainHunt,
+            snr_db: Some(25.0),
+            ..TowerSpec::new(bells)
+        };
+        let (sig, truth) = sampled_ring(&spec, &strikes).unwrap();
+        let assumed: Vec<BellVoice> = nominals.iter().map(|&f| nominal_alone(f)).collect();
+        let mut learned: Vec<BellVoice> = nominals.iter().map(|&f| BellVoice::from_nominal(f)).collect();
+        learned[1] = nominal_alone(nominals[2]);
+        let opts = StrikeOptions::default();
+        // Bell 2's true strikes heard from 20 ms before to 150 ms after
+        // (bells are 0.4 s apart).
+        let own = |h: &Hearing| {
+            let heard = h.singles();
+            truth
+                .iter()
+                .filter(|s| s.bell == 2)
+                .filter(|s| {
+                    heard
+                        .strikes
+                        .iter()
+                        .any(|h| h.bell == 2 && h.t > s.t - 0.02 && h.t < s.t + 0.15)
+                })
+                .count()
+        };
+        let of = truth.iter().filter(|s| s.bell == 2).count();
+        let through_learned = hear_strikes(&sig, &learned, &opts).unwrap();
+        let (copied, _) = coinciding(&through_learned, 4);
+        assert_eq!(copied[1], Some(2), "bell 2 heard at bell 3's strikes first");
+        let before = own(&through_learned);
+        let (voices, hearing, apart) =
+            hear_apart(&sig, learned.clone(), &assumed, through_learned, &[true; 4], &opts).unwrap();
+        assert_eq!(apart[1], Some(2));
+        assert_eq!(voices[1], assumed[1]);
+        // Through the learned voice bell 2 is heard at none of its own
+        // strikes; at its nominal alone, at 16 of 20.
+        assert!(before * 4 <= of, "bell 2 heard at {before} of {of} before");
+        let after = own(&hearing);
+        assert!(after * 4 >= of * 3, "bell 2 heard at {after} of {of} (before {before})");
     }
 
     /// A strike of an untuned bell ([`crate::sampled_ring::RECORDED_PARTIALS`],
