@@ -594,7 +594,9 @@ impl StrikesReport {
         }
         if !heard.strikes.is_empty() {
             let short = input::short_for_pace(duration_s, bells, r.interval);
-            warnings.splice(0..0, short.map(|w| Warning::new(WarningKind::Recording, w)));
+            // After what says the recording is no ring's at all (not like bells).
+            let at = warnings.iter().take_while(|w| w.kind == WarningKind::Recording).count();
+            warnings.splice(at..at, short.map(|w| Warning::new(WarningKind::Recording, w)));
         }
         let mut wide = vec![];
         let together = doubt::struck_together(&timed);
