@@ -114,6 +114,10 @@ pub(super) fn hear_every_bell(
     Ok((chosen(learned, assumed, &uses), hearing, uses))
 }
 
+/// What [`hear_apart`] gives: each bell's voice, the hearing, and per bell
+/// the other bell (from 0) whose strikes its learned voice heard, where swapped.
+pub(super) type HeardApart = (Vec<BellVoice>, Hearing, Vec<Option<usize>>);
+
 /// Where a bell heard through the voice learned for it (`kept`) is heard
 /// within [`COINCIDE_S`] of one other bell's strikes at [`COINCIDE_SHARE`]
 /// or more of its own, `sig` heard again with such bells at their
@@ -132,7 +136,7 @@ pub(super) fn hear_apart(
     hearing: Hearing,
     kept: &[bool],
     opts: &StrikeOptions,
-) -> Result<(Vec<BellVoice>, Hearing, Vec<Option<usize>>), SignalError> {
+) -> Result<HeardApart, SignalError> {
     let n = voices.len();
     let (copied, together) = coinciding(&hearing, n);
     let swap: Vec<Option<usize>> = (0..n)
