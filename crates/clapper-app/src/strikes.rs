@@ -9,7 +9,7 @@ use clapper_signal::strikes::{
     find_strikes_streamed_heard, rising_at, BellVoice, Heard, Hearing, InMemory, QuietStrokes, RecordingBlocks,
     RisePartial, StrikeOptions, Window, Windows, PLAUSIBLE_SHARE,
 };
-use clapper_signal::striking::{rhythm, Timed};
+use clapper_signal::striking::{rhythm, Rhythm, Timed};
 use clapper_signal::template_timing::median_of;
 use clapper_signal::Signal;
 use serde::Serialize;
@@ -586,34 +586,7 @@ impl StrikesReport {
     ) -> Self {
         let timed: Vec<Timed> = heard.strikes.iter().map(|s| Timed { bell: s.bell, t: s.t }).collect();
         let r = rhythm(&timed, bells);
-        if !heard.strikes.is_empty() && !r.strokes_known {
-            warnings.push(Warning::new(
-                WarningKind::Note,
-                "no handstroke gap stands out: hand and back are a guess",
-            ));
-        }
-        if !heard.strikes.is_empty() {
-            let short = input::short_for_pace(duration_s, bells, r.interval);
-            // After what says the recording is no ring's at all (not like bells).
-            let at = warnings.iter().take_while(|w| w.kind == WarningKind::Recording).count();
-            warnings.splice(at..at, short.map(|w| Warning::new(WarningKind::Recording, w)));
-        }
-        let mut wide = vec![];
-        let together = doubt::struck_together(&timed);
-        let rows_void = |w: String| Warning::new(WarningKind::Rows, w);
-        if together.is_none() {
-            let heard = (1..=bells).filter(|b| timed.iter().any(|s| s.bell == *b)).count();
-            wide.extend(doubt::no_full_row(timed.len(), r.rows, r.placed_rows, heard, bells).map(rows_void));
-        }
-        wide.extend(together.map(|w| Warning::new(WarningKind::Recording, w)));
-        let size = doubt::ring_size_warning(&timed, bells, doubt::given_as(templates));
-        wide.extend(size.map(|w| Warning::new(WarningKind::Give, w)));
-        let one_stroke = one_stroke::one_stroke_warnings(&timed, bells, templates);
-        warnings.extend(
-            one_stroke
-                .iter()
-                .map(|(_, w)| Warning::new(WarningKind::OneStroke, w.clone())),
-        );
+        let (mut wide, one_stroke) = rhythm_warnings(&timed, &r, bells, duration_s, templates, &mut warnings);
         let strikes = strike_reports(heard, &r);
         if !wide.iter().any(|w| w.kind == WarningKind::Give) {
             let gap = doubt::gap_warning(&strikes, bells, None, doubt::given_as(templates));
@@ -636,20 +609,9 @@ impl StrikesReport {
         few.extend(one_stroke.iter().map(|(b, _)| *b));
         let missing = ringer::missing_warnings(&strikes, bells, r.rows, r.strokes_known, &few);
         warnings.extend(missing.into_iter().map(bell_note));
-        let errs: Vec<f64> = strikes.iter().filter_map(|s| s.error_ms).collect();
-        let rms = (!errs.is_empty()).then(|| (errs.iter().map(|e| e * e).sum::<f64>() / errs.len() as f64).sqrt());
+        let by = doubt::timed_by(templates, timing.as_ref());
+        let (rms, rows_doubted) = rows_fit(&strikes, &timed, &r, bells, by, &mut wide, &mut warnings);
         let interval_ms = r.interval.map(|i| i * 1e3);
-        let misfit = doubt::misfit_warning(rms, interval_ms, bells);
-        let slipped = doubt::rows_slipped(&timed, bells, r.rows);
-        let rows_doubted = misfit.is_some() || slipped.is_some();
-        wide.extend(misfit.map(rows_void));
-        wide.extend(slipped.map(rows_void));
-        let loose = doubt::loose_warning(rms, interval_ms, doubt::timed_by(templates, timing.as_ref()));
-        wide.extend(loose.map(bell_note));
-        // Strikes that do not keep rows read no pace either (tester21's E8
-        // `--nominals`: 123 and 109 ms a minute apart beside an interval of
-        // 171 ms, on a steady 190 ms ring).
-        warnings.extend(ringer::pace_warning(&timed).filter(|_| !rows_doubted).map(bell_note));
         let lead = input::leading(&warnings);
         warnings.splice(lead..lead, wide);
         for (b, d) in per_bell.iter_mut().zip(doubts) {
@@ -784,6 +746,85 @@ fn correct_lateness(
             .collect(),
         choice: None,
     })
+}
+
+/// The warnings the rhythm `r` of the strikes `timed` (of `bells` bells,
+/// in a recording `duration_s` (s) long; timed by templates where
+/// `templates`) gives before the strikes are placed: the strokes guessed,
+/// a short recording and each bell heard at one stroke only added to
+/// `warnings`; returned, the warnings that say the rows mean little or
+/// ask for other bells (said before the rest), and the bells heard at
+/// one stroke only with their warnings.
+fn rhythm_warnings(
+    timed: &[Timed],
+    r: &Rhythm,
+    bells: usize,
+    duration_s: f64,
+    templates: bool,
+    warnings: &mut Vec<Warning>,
+) -> (Vec<Warning>, Vec<(usize, String)>) {
+    if !timed.is_empty() && !r.strokes_known {
+        warnings.push(Warning::new(
+            WarningKind::Note,
+            "no handstroke gap stands out: hand and back are a guess",
+        ));
+    }
+    if !timed.is_empty() {
+        let short = input::short_for_pace(duration_s, bells, r.interval);
+        // After what says the recording is no ring's at all (not like bells).
+        let at = warnings.iter().take_while(|w| w.kind == WarningKind::Recording).count();
+        warnings.splice(at..at, short.map(|w| Warning::new(WarningKind::Recording, w)));
+    }
+    let mut wide = vec![];
+    let together = doubt::struck_together(timed);
+    if together.is_none() {
+        let heard = (1..=bells).filter(|b| timed.iter().any(|s| s.bell == *b)).count();
+        let none = doubt::no_full_row(timed.len(), r.rows, r.placed_rows, heard, bells);
+        wide.extend(none.map(|w| Warning::new(WarningKind::Rows, w)));
+    }
+    wide.extend(together.map(|w| Warning::new(WarningKind::Recording, w)));
+    let size = doubt::ring_size_warning(timed, bells, doubt::given_as(templates));
+    wide.extend(size.map(|w| Warning::new(WarningKind::Give, w)));
+    let one_stroke = one_stroke::one_stroke_warnings(timed, bells, templates);
+    warnings.extend(
+        one_stroke
+            .iter()
+            .map(|(_, w)| Warning::new(WarningKind::OneStroke, w.clone())),
+    );
+    (wide, one_stroke)
+}
+
+/// How the `strikes` (placed by the rhythm `r` of `timed`, `bells` bells,
+/// timed `by`) fit their rows: the RMS of their place errors (ms) and
+/// whether the rows are in doubt (too loose to be rows, or more rows read
+/// than the ringing holds); those warnings and a looser-than-a-band's
+/// added to `wide`, a pace read where the rows are not in doubt to
+/// `warnings`.
+fn rows_fit(
+    strikes: &[StrikeReport],
+    timed: &[Timed],
+    r: &Rhythm,
+    bells: usize,
+    by: doubt::TimedBy,
+    wide: &mut Vec<Warning>,
+    warnings: &mut Vec<Warning>,
+) -> (Option<f64>, bool) {
+    let errs: Vec<f64> = strikes.iter().filter_map(|s| s.error_ms).collect();
+    let rms = (!errs.is_empty()).then(|| (errs.iter().map(|e| e * e).sum::<f64>() / errs.len() as f64).sqrt());
+    let interval_ms = r.interval.map(|i| i * 1e3);
+    let misfit = doubt::misfit_warning(rms, interval_ms, bells);
+    let slipped = doubt::rows_slipped(timed, bells, r.rows);
+    let rows_doubted = misfit.is_some() || slipped.is_some();
+    let rows_void = |w: String| Warning::new(WarningKind::Rows, w);
+    wide.extend(misfit.map(rows_void));
+    wide.extend(slipped.map(rows_void));
+    let bell_note = |w: String| Warning::received(WarningKind::Note, w);
+    wide.extend(doubt::loose_warning(rms, interval_ms, by).map(bell_note));
+    // Strikes that do not keep rows read no pace either (tester21's E8
+    // `--nominals`: 123 and 109 ms a minute apart beside an interval of
+    // 171 ms, on a steady 190 ms ring).
+    warnings.extend(ringer::pace_warning(timed).filter(|_| !rows_doubted).map(bell_note));
+    (rms, rows_doubted)
 }
 
 /// The timing report of a calibration from the recording itself: each
